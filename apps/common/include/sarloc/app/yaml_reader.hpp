@@ -1,0 +1,83 @@
+#pragma once
+// Strict YAML reading for config structs: every key is type-checked, unknown keys are errors,
+// and every message names the key path and the offending value.
+//
+//   auto yaml = YamlReader::from_file("mission.yaml");
+//   auto sog = yaml.child("sog");
+//   sog.read("initial_components", config.initial_components);  // absent: keeps the default
+//   sog.expect_done();  // "sog.initial_componets: unknown key"
+//   yaml.expect_done();
+#include <yaml-cpp/yaml.h>
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "sarloc/core/common/errors.hpp"
+
+namespace sarloc::app {
+
+class YamlReader {
+ public:
+  static YamlReader from_file(const std::string& path);
+  static YamlReader from_string(const std::string& text, const std::string& name);
+
+  /// A reader over an already parsed node; `path` prefixes every message ("sog").
+  YamlReader(YAML::Node node, std::string path, std::string source);
+
+  bool has(const std::string& key) const;
+
+  /// Reads `key` into `value` when present; leaves `value` (the default) when absent.
+  template <class T>
+  void read(const std::string& key, T& value);
+
+  /// Like read() but a missing key is an error.
+  template <class T>
+  void require(const std::string& key, T& value);
+
+  /// The map under `key` (an empty map when absent).
+  YamlReader child(const std::string& key);
+
+  /// The maps of the sequence under `key` (empty when absent).
+  std::vector<YamlReader> child_list(const std::string& key);
+
+  /// Throws ConfigError naming every key that nobody read.
+  void expect_done() const;
+
+  const std::string& path() const { return path_; }
+  const std::string& source() const { return source_; }
+  const YAML::Node& node() const { return node_; }
+
+ private:
+  std::string key_path(const std::string& key) const;
+  [[noreturn]] void fail(const std::string& key, const std::string& rule) const;
+  YAML::Node lookup(const std::string& key);
+
+  YAML::Node node_;
+  std::string path_;
+  std::string source_;
+  std::shared_ptr<std::set<std::string>> consumed_;
+};
+
+// Conversions supported by read()/require(); defined in yaml_reader.cpp.
+template <> void YamlReader::read<bool>(const std::string&, bool&);
+template <> void YamlReader::read<int>(const std::string&, int&);
+template <> void YamlReader::read<unsigned>(const std::string&, unsigned&);
+template <> void YamlReader::read<std::uint64_t>(const std::string&, std::uint64_t&);
+template <> void YamlReader::read<std::int64_t>(const std::string&, std::int64_t&);
+template <> void YamlReader::read<double>(const std::string&, double&);
+template <> void YamlReader::read<std::string>(const std::string&, std::string&);
+template <> void YamlReader::read<std::vector<double>>(const std::string&, std::vector<double>&);
+template <> void YamlReader::read<std::vector<std::string>>(const std::string&, std::vector<std::string>&);
+template <> void YamlReader::read<Eigen::Vector3d>(const std::string&, Eigen::Vector3d&);
+
+template <class T>
+void YamlReader::require(const std::string& key, T& value) {
+  if (!has(key)) fail(key, "is required");
+  read(key, value);
+}
+
+}  // namespace sarloc::app

@@ -1,0 +1,27 @@
+#pragma once
+// Accountability of responders, grouped by team (personnel accountability report, PAR).
+#include <string>
+#include <vector>
+
+#include "sarloc/core/common/types.hpp"
+
+namespace sarloc::incident {
+
+enum class LinkState : std::uint8_t { kAlive = 0, kStale = 1, kLost = 2 };
+enum class AccountabilityState : std::uint8_t { kAccounted = 0, kPending = 1, kMissing = 2 };
+
+struct MemberStatus {
+  std::string responder_id;
+  GaussianPosition last_position;  ///< incident frame
+  TimestampNs last_seen = 0;
+  LinkState link = LinkState::kAlive;
+  AccountabilityState accountability = AccountabilityState::kPending;
+};
+
+struct TeamStatus {
+  std::string team_id;
+  std::vector<MemberStatus> members;
+  TimestampNs stamp = 0;
+};
+
+}  // namespace sarloc::incident

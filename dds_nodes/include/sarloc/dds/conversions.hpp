@@ -1,0 +1,50 @@
+#pragma once
+// The one place where IDL types (sarloc::X, generated) and core types (sarloc::avalanche::X,
+// sarloc::incident::X) meet. Every pair round-trips exactly (tests/unit/dds/conversions_test).
+//
+// to_core() rejects what the wire can carry but the core cannot mean: enum values out of range
+// (a peer built from a newer IDL) throw sarloc::InputError naming the field and value.
+// to_idl() rejects what the wire cannot carry: identifiers longer than sarloc::ID_MAX.
+// Finite-ness and plausibility of numbers are the core's input validation, not this layer's.
+#include "sarloc/core/avalanche/field_measurement.hpp"
+#include "sarloc/core/avalanche/guidance.hpp"
+#include "sarloc/core/avalanche/odometry.hpp"
+#include "sarloc/core/avalanche/victim_estimate.hpp"
+#include "sarloc/core/incident/fused_victim.hpp"
+#include "sarloc/core/incident/responder_position.hpp"
+#include "sarloc/core/incident/team_status.hpp"
+#include "sarloc/idl/avalanche.h"
+#include "sarloc/idl/common.h"
+#include "sarloc/idl/incident.h"
+
+namespace sarloc::dds {
+
+// Common value types.
+::sarloc::Vector3 to_idl(const Vec3& v);
+Vec3 to_core(const ::sarloc::Vector3& v);
+::sarloc::Quaternion to_idl(const Quat& q);
+Quat to_core(const ::sarloc::Quaternion& q);
+::sarloc::PositionWithCovariance to_idl(const GaussianPosition& p);
+GaussianPosition to_core(const ::sarloc::PositionWithCovariance& p);
+::sarloc::PoseWithCovariance to_idl(const GaussianPose& p);
+GaussianPose to_core(const ::sarloc::PoseWithCovariance& p);
+
+// Avalanche search.
+::sarloc::FieldMeasurement to_idl(const avalanche::FieldMeasurement& m);
+avalanche::FieldMeasurement to_core(const ::sarloc::FieldMeasurement& m);
+::sarloc::Odometry to_idl(const avalanche::Odometry& o);
+avalanche::Odometry to_core(const ::sarloc::Odometry& o);
+::sarloc::VictimEstimate to_idl(const avalanche::VictimEstimate& e, std::uint64_t measurement_sequence = 0);
+avalanche::VictimEstimate to_core(const ::sarloc::VictimEstimate& e);
+::sarloc::Guidance to_idl(const avalanche::Guidance& g, std::uint64_t measurement_sequence = 0);
+avalanche::Guidance to_core(const ::sarloc::Guidance& g);
+
+// Incident picture.
+::sarloc::ResponderPosition to_idl(const incident::ResponderPosition& r);
+incident::ResponderPosition to_core(const ::sarloc::ResponderPosition& r);
+::sarloc::FusedVictim to_idl(const incident::FusedVictim& v);
+incident::FusedVictim to_core(const ::sarloc::FusedVictim& v);
+::sarloc::TeamStatus to_idl(const incident::TeamStatus& t);
+incident::TeamStatus to_core(const ::sarloc::TeamStatus& t);
+
+}  // namespace sarloc::dds

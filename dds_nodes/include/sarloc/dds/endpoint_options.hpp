@@ -1,0 +1,16 @@
+#pragma once
+#include <string>
+#include <vector>
+
+namespace sarloc::dds {
+
+/// What a writer or reader may change on top of its topic's XML profile.
+struct EndpointOptions {
+  /// DDS partitions of the endpoint's publisher/subscriber (empty = the default partition).
+  /// Sectors of one incident use them to split rescuers between core daemons.
+  std::vector<std::string> partitions;
+  /// A profile name to use instead of the topic's own ("<topic>.writer" / "<topic>.reader").
+  std::string profile_override;
+};
+
+}  // namespace sarloc::dds

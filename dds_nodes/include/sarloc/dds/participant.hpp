@@ -1,0 +1,65 @@
+#pragma once
+// One DDS participant per process, created from a Fast DDS XML profile.
+//
+// Profiles only apply when the participant is created from them (NOTES: code that builds its
+// own DomainParticipantQos silently ignores the XML), so this is the only place sarloc creates
+// participants, and it always starts from the named profile.
+//
+//   ParticipantConfig cfg;                 // defaults: config/dds/localhost.xml, domain 0
+//   cfg.domain_id = 17;
+//   Participant participant(cfg);
+//   Writer<sarloc::FieldMeasurement> writer(participant);
+//   Reader<sarloc::VictimEstimate> reader(participant, [](const auto& sample, const auto& info) {...});
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+
+namespace sarloc::dds {
+
+struct ParticipantConfig {
+  /// Fast DDS XML file with the participant profile (localhost.xml, lan.xml, discovery-client.xml).
+  std::string profiles_file = SARLOC_DDS_CONFIG_DIR "/localhost.xml";
+  /// Participant profile name inside profiles_file.
+  std::string profile = "sarloc_localhost";
+  /// Per-topic writer/reader QoS profiles ("<topic>.writer" / "<topic>.reader").
+  std::string topics_file = SARLOC_DDS_CONFIG_DIR "/topics.xml";
+  /// DDS domain; Fast DDS maps it to UDP ports, so at most 232.
+  std::uint32_t domain_id = 0;
+  /// Participant name seen by discovery tools (fastdds discovery, monitor).
+  std::string name = "sarloc";
+
+  /// Throws ConfigError naming the field, the value and the rule.
+  void validate() const;
+};
+
+/// Owns the DomainParticipant and its topics; writers and readers keep it alive.
+class Participant {
+ public:
+  explicit Participant(const ParticipantConfig& config);
+  ~Participant();
+  Participant(const Participant&) = delete;
+  Participant& operator=(const Participant&) = delete;
+
+  eprosima::fastdds::dds::DomainParticipant* get() const { return participant_; }
+  const ParticipantConfig& config() const { return config_; }
+
+  /// The topic `name` of type `type` (registered and created once, then shared).
+  eprosima::fastdds::dds::Topic* topic(const std::string& name, eprosima::fastdds::dds::TypeSupport type);
+
+ private:
+  ParticipantConfig config_;
+  eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
+  std::mutex topics_mutex_;
+  std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
+};
+
+/// Loads a Fast DDS XML profile file once per process (throws DdsError naming the file).
+void load_profiles_file(const std::string& path);
+
+}  // namespace sarloc::dds

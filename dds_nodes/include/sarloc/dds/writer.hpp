@@ -1,0 +1,96 @@
+#pragma once
+// A typed DataWriter created from its topic's XML profile, deleted with its publisher.
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/DataWriterListener.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/publisher/qos/PublisherQos.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <thread>
+
+#include "sarloc/dds/dds_error.hpp"
+#include "sarloc/dds/endpoint_options.hpp"
+#include "sarloc/dds/participant.hpp"
+#include "sarloc/dds/topics.hpp"
+
+namespace sarloc::dds {
+
+namespace detail {
+
+// Always attached: a writer with a deadline and no listener can crash in Fast DDS 2.9 (NOTES).
+class CountingWriterListener : public eprosima::fastdds::dds::DataWriterListener {
+ public:
+  void on_publication_matched(eprosima::fastdds::dds::DataWriter*,
+                              const eprosima::fastdds::dds::PublicationMatchedStatus& status) override {
+    matched.store(status.current_count);
+  }
+  void on_offered_deadline_missed(eprosima::fastdds::dds::DataWriter*,
+                                  const eprosima::fastdds::dds::OfferedDeadlineMissedStatus&) override {
+    deadlines_missed.fetch_add(1);
+  }
+  std::atomic<int> matched{0};
+  std::atomic<std::uint64_t> deadlines_missed{0};
+};
+
+eprosima::fastdds::dds::Publisher* create_publisher(eprosima::fastdds::dds::DomainParticipant* participant,
+                                                    const EndpointOptions& options);
+
+}  // namespace detail
+
+template <class T>
+class Writer {
+ public:
+  explicit Writer(std::shared_ptr<Participant> participant, const EndpointOptions& options = {})
+      : participant_(std::move(participant)), listener_(std::make_unique<detail::CountingWriterListener>()) {
+    using Traits = TopicTraits<T>;
+    auto* topic = participant_->topic(Traits::kName, eprosima::fastdds::dds::TypeSupport(new typename Traits::PubSubType()));
+    publisher_ = detail::create_publisher(participant_->get(), options);
+    const std::string profile =
+        options.profile_override.empty() ? std::string(Traits::kProfile) + ".writer" : options.profile_override;
+    writer_ = publisher_->create_datawriter_with_profile(topic, profile, listener_.get());
+    if (writer_ == nullptr) {
+      participant_->get()->delete_publisher(publisher_);
+      throw DdsError("cannot create writer for '" + std::string(Traits::kName) + "' from profile '" + profile + "'");
+    }
+  }
+
+  ~Writer() {
+    if (writer_ != nullptr) publisher_->delete_datawriter(writer_);
+    if (publisher_ != nullptr) participant_->get()->delete_publisher(publisher_);
+  }
+  Writer(const Writer&) = delete;
+  Writer& operator=(const Writer&) = delete;
+
+  /// False when DDS refused the sample (history full past max_blocking_time, ...).
+  bool write(const T& sample) { return writer_->write(const_cast<T*>(&sample)); }
+
+  /// Disposes the instance whose key fields `key_holder` carries.
+  bool dispose(const T& key_holder) {
+    return writer_->dispose(const_cast<T*>(&key_holder), eprosima::fastrtps::rtps::InstanceHandle_t()) ==
+           eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+  }
+
+  int matched_readers() const { return listener_->matched.load(); }
+
+  /// Waits until at least `count` readers matched; false on timeout.
+  bool wait_for_readers(int count, std::chrono::milliseconds timeout) const {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (matched_readers() < count) {
+      if (std::chrono::steady_clock::now() > deadline) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return true;
+  }
+
+  eprosima::fastdds::dds::DataWriter* get() const { return writer_; }
+
+ private:
+  std::shared_ptr<Participant> participant_;
+  std::unique_ptr<detail::CountingWriterListener> listener_;  // outlives writer_
+  eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
+  eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
+};
+
+}  // namespace sarloc::dds

@@ -1,0 +1,314 @@
+#include "sarloc/dds/conversions.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "sarloc/core/common/errors.hpp"
+
+namespace sarloc::dds {
+namespace {
+
+using Identifier = eprosima::fastrtps::fixed_string<::sarloc::ID_MAX>;
+
+Identifier to_identifier(const std::string& value, const char* field) {
+  if (value.size() > ::sarloc::ID_MAX) {
+    throw InputError(std::string(field) + " = '" + value.substr(0, 16) + "...' has " + std::to_string(value.size()) +
+                     " characters: at most " + std::to_string(::sarloc::ID_MAX));
+  }
+  return Identifier(value);
+}
+
+// Row-major on the wire, whatever Eigen's storage order.
+template <int N, class Array>
+void matrix_to_array(const Eigen::Matrix<double, N, N>& m, Array& out) {
+  for (int r = 0; r < N; ++r)
+    for (int c = 0; c < N; ++c) out[static_cast<std::size_t>(r * N + c)] = m(r, c);
+}
+
+template <int N, class Array>
+Eigen::Matrix<double, N, N> array_to_matrix(const Array& in) {
+  Eigen::Matrix<double, N, N> m;
+  for (int r = 0; r < N; ++r)
+    for (int c = 0; c < N; ++c) m(r, c) = in[static_cast<std::size_t>(r * N + c)];
+  return m;
+}
+
+// Wire enums may hold values a newer peer defined: refuse them by name.
+template <class CoreEnum>
+CoreEnum checked_enum(std::uint32_t wire, std::uint32_t last, const char* field) {
+  if (wire > last) {
+    throw InputError(std::string(field) + " = " + std::to_string(wire) + ": unknown value (max " +
+                     std::to_string(last) + ")");
+  }
+  return static_cast<CoreEnum>(wire);
+}
+
+}  // namespace
+
+::sarloc::Vector3 to_idl(const Vec3& v) {
+  ::sarloc::Vector3 out;
+  out.x(v.x());
+  out.y(v.y());
+  out.z(v.z());
+  return out;
+}
+
+Vec3 to_core(const ::sarloc::Vector3& v) { return Vec3(v.x(), v.y(), v.z()); }
+
+::sarloc::Quaternion to_idl(const Quat& q) {
+  ::sarloc::Quaternion out;
+  out.x(q.x());
+  out.y(q.y());
+  out.z(q.z());
+  out.w(q.w());
+  return out;
+}
+
+Quat to_core(const ::sarloc::Quaternion& q) { return Quat(q.w(), q.x(), q.y(), q.z()); }
+
+::sarloc::PositionWithCovariance to_idl(const GaussianPosition& p) {
+  ::sarloc::PositionWithCovariance out;
+  out.position(to_idl(p.position));
+  matrix_to_array<3>(p.covariance, out.covariance());
+  return out;
+}
+
+GaussianPosition to_core(const ::sarloc::PositionWithCovariance& p) {
+  return GaussianPosition{to_core(p.position()), array_to_matrix<3>(p.covariance())};
+}
+
+::sarloc::PoseWithCovariance to_idl(const GaussianPose& p) {
+  ::sarloc::PoseWithCovariance out;
+  out.position(to_idl(p.position));
+  out.orientation(to_idl(p.orientation));
+  matrix_to_array<6>(p.covariance, out.covariance());
+  return out;
+}
+
+GaussianPose to_core(const ::sarloc::PoseWithCovariance& p) {
+  return GaussianPose{to_core(p.position()), to_core(p.orientation()), array_to_matrix<6>(p.covariance())};
+}
+
+::sarloc::FieldMeasurement to_idl(const avalanche::FieldMeasurement& m) {
+  ::sarloc::FieldMeasurement out;
+  out.rescuer_id(to_identifier(m.rescuer_id, "field_measurement.rescuer_id"));
+  out.signal_id(m.signal_id);
+  out.sequence_number(m.sequence);
+  out.stamp(m.stamp);
+  out.field(to_idl(m.field));
+  out.noise_stddev(to_idl(m.noise_stddev));
+  out.has_orientation(m.orientation.has_value());
+  if (m.orientation) {
+    out.orientation_rpy(to_idl(m.orientation->rpy));
+    matrix_to_array<3>(m.orientation->covariance, out.orientation_covariance());
+  }
+  return out;
+}
+
+avalanche::FieldMeasurement to_core(const ::sarloc::FieldMeasurement& m) {
+  avalanche::FieldMeasurement out;
+  out.rescuer_id = m.rescuer_id().to_string();
+  out.signal_id = m.signal_id();
+  out.sequence = m.sequence_number();
+  out.stamp = m.stamp();
+  out.field = to_core(m.field());
+  out.noise_stddev = to_core(m.noise_stddev());
+  if (m.has_orientation()) {
+    out.orientation = avalanche::OrientationObservation{to_core(m.orientation_rpy()),
+                                                        array_to_matrix<3>(m.orientation_covariance())};
+  }
+  return out;
+}
+
+::sarloc::Odometry to_idl(const avalanche::Odometry& o) {
+  ::sarloc::Odometry out;
+  out.rescuer_id(to_identifier(o.rescuer_id, "odometry.rescuer_id"));
+  out.sequence_number(o.sequence);
+  out.interval_start(o.interval_start);
+  out.interval_end(o.interval_end);
+  out.translation(to_idl(o.translation));
+  out.rotation_rpy(to_idl(o.rotation_rpy));
+  matrix_to_array<6>(o.covariance, out.covariance());
+  out.source(static_cast<::sarloc::OdometrySource>(o.source));
+  return out;
+}
+
+avalanche::Odometry to_core(const ::sarloc::Odometry& o) {
+  avalanche::Odometry out;
+  out.rescuer_id = o.rescuer_id().to_string();
+  out.sequence = o.sequence_number();
+  out.interval_start = o.interval_start();
+  out.interval_end = o.interval_end();
+  out.translation = to_core(o.translation());
+  out.rotation_rpy = to_core(o.rotation_rpy());
+  out.covariance = array_to_matrix<6>(o.covariance());
+  out.source = checked_enum<avalanche::OdometrySource>(o.source(), ::sarloc::ODOMETRY_OTHER, "odometry.source");
+  return out;
+}
+
+::sarloc::VictimEstimate to_idl(const avalanche::VictimEstimate& e, std::uint64_t measurement_sequence) {
+  ::sarloc::VictimEstimate out;
+  out.rescuer_id(to_identifier(e.rescuer_id, "victim_estimate.rescuer_id"));
+  out.signal_id(e.signal_id);
+  out.stamp(e.stamp);
+  out.measurement_sequence(measurement_sequence);
+  out.status(static_cast<::sarloc::EstimatorStatus>(e.status));
+  out.relative(to_idl(e.relative));
+  out.has_incident_position(e.incident.has_value());
+  if (e.incident) out.incident(to_idl(*e.incident));
+  const std::size_t n = std::min<std::size_t>(e.top_components.size(), ::sarloc::MIXTURE_SUMMARY_MAX);
+  out.top_components().reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    ::sarloc::MixtureComponent c;
+    c.weight(e.top_components[i].weight);
+    c.mean(to_idl(e.top_components[i].mean));
+    matrix_to_array<3>(e.top_components[i].covariance, c.covariance());
+    out.top_components().push_back(c);
+  }
+  out.live_components(e.live_components);
+  out.moment(to_idl(e.moment));
+  return out;
+}
+
+avalanche::VictimEstimate to_core(const ::sarloc::VictimEstimate& e) {
+  avalanche::VictimEstimate out;
+  out.rescuer_id = e.rescuer_id().to_string();
+  out.signal_id = e.signal_id();
+  out.stamp = e.stamp();
+  out.status = checked_enum<avalanche::EstimatorStatus>(e.status(), ::sarloc::ESTIMATOR_FOUND, "victim_estimate.status");
+  out.relative = to_core(e.relative());
+  if (e.has_incident_position()) out.incident = to_core(e.incident());
+  for (const auto& c : e.top_components()) {
+    out.top_components.push_back({c.weight(), to_core(c.mean()), array_to_matrix<3>(c.covariance())});
+  }
+  out.live_components = e.live_components();
+  out.moment = to_core(e.moment());
+  return out;
+}
+
+::sarloc::Guidance to_idl(const avalanche::Guidance& g, std::uint64_t measurement_sequence) {
+  ::sarloc::Guidance out;
+  out.rescuer_id(to_identifier(g.rescuer_id, "guidance.rescuer_id"));
+  out.signal_id(g.signal_id);
+  out.stamp(g.stamp);
+  out.measurement_sequence(measurement_sequence);
+  out.mode(static_cast<::sarloc::GuidanceMode>(g.mode));
+  out.bearing_rad(g.bearing_rad);
+  out.heading_rad(g.heading_rad);
+  out.distance_m(g.distance_m);
+  out.uncertainty_radius_m(g.uncertainty_radius_m);
+  return out;
+}
+
+avalanche::Guidance to_core(const ::sarloc::Guidance& g) {
+  avalanche::Guidance out;
+  out.rescuer_id = g.rescuer_id().to_string();
+  out.signal_id = g.signal_id();
+  out.stamp = g.stamp();
+  out.mode = checked_enum<avalanche::GuidanceMode>(g.mode(), ::sarloc::GUIDANCE_FOUND, "guidance.mode");
+  out.bearing_rad = g.bearing_rad();
+  out.heading_rad = g.heading_rad();
+  out.distance_m = g.distance_m();
+  out.uncertainty_radius_m = g.uncertainty_radius_m();
+  return out;
+}
+
+::sarloc::ResponderPosition to_idl(const incident::ResponderPosition& r) {
+  ::sarloc::ResponderPosition out;
+  out.responder_id(to_identifier(r.responder_id, "responder_position.responder_id"));
+  out.team_id(to_identifier(r.team_id, "responder_position.team_id"));
+  out.stamp(r.stamp);
+  out.position(to_idl(r.position));
+  out.heading_rad(r.heading_rad);
+  out.floor(r.floor);
+  out.source(static_cast<::sarloc::PositionSource>(r.source));
+  out.flags((r.converged ? ::sarloc::RESPONDER_FLAG_CONVERGED : 0U) |
+            (r.map_error_suspected ? ::sarloc::RESPONDER_FLAG_MAP_ERROR_SUSPECTED : 0U));
+  return out;
+}
+
+incident::ResponderPosition to_core(const ::sarloc::ResponderPosition& r) {
+  incident::ResponderPosition out;
+  out.responder_id = r.responder_id().to_string();
+  out.team_id = r.team_id().to_string();
+  out.stamp = r.stamp();
+  out.position = to_core(r.position());
+  out.heading_rad = r.heading_rad();
+  out.floor = r.floor();
+  out.source = checked_enum<incident::PositionSource>(r.source(), ::sarloc::POSITION_MANUAL, "responder_position.source");
+  out.converged = (r.flags() & ::sarloc::RESPONDER_FLAG_CONVERGED) != 0;
+  out.map_error_suspected = (r.flags() & ::sarloc::RESPONDER_FLAG_MAP_ERROR_SUSPECTED) != 0;
+  return out;
+}
+
+::sarloc::FusedVictim to_idl(const incident::FusedVictim& v) {
+  ::sarloc::FusedVictim out;
+  out.victim_id(v.victim_id);
+  out.position(to_idl(v.position));
+  const std::size_t n = std::min<std::size_t>(v.sources.size(), ::sarloc::VICTIM_SOURCES_MAX);
+  for (std::size_t i = 0; i < n; ++i) {
+    ::sarloc::VictimSource s;
+    s.rescuer_id(to_identifier(v.sources[i].rescuer_id, "fused_victim.sources.rescuer_id"));
+    s.signal_id(v.sources[i].signal_id);
+    s.last_update(v.sources[i].last_update);
+    out.sources().push_back(s);
+  }
+  out.state(static_cast<::sarloc::VictimState>(v.state));
+  out.first_seen(v.first_seen);
+  out.last_update(v.last_update);
+  out.located_at(v.located_at);
+  out.found_at(v.found_at);
+  return out;
+}
+
+incident::FusedVictim to_core(const ::sarloc::FusedVictim& v) {
+  incident::FusedVictim out;
+  out.victim_id = v.victim_id();
+  out.position = to_core(v.position());
+  for (const auto& s : v.sources()) {
+    out.sources.push_back({s.rescuer_id().to_string(), s.signal_id(), s.last_update()});
+  }
+  out.state = checked_enum<incident::VictimState>(v.state(), ::sarloc::VICTIM_RECOVERED, "fused_victim.state");
+  out.first_seen = v.first_seen();
+  out.last_update = v.last_update();
+  out.located_at = v.located_at();
+  out.found_at = v.found_at();
+  return out;
+}
+
+::sarloc::TeamStatus to_idl(const incident::TeamStatus& t) {
+  ::sarloc::TeamStatus out;
+  out.team_id(to_identifier(t.team_id, "team_status.team_id"));
+  out.stamp(t.stamp);
+  const std::size_t n = std::min<std::size_t>(t.members.size(), ::sarloc::TEAM_MEMBERS_MAX);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& m = t.members[i];
+    ::sarloc::MemberStatus s;
+    s.responder_id(to_identifier(m.responder_id, "team_status.members.responder_id"));
+    s.last_position(to_idl(m.last_position));
+    s.last_seen(m.last_seen);
+    s.link(static_cast<::sarloc::LinkState>(m.link));
+    s.accountability(static_cast<::sarloc::AccountabilityState>(m.accountability));
+    out.members().push_back(s);
+  }
+  return out;
+}
+
+incident::TeamStatus to_core(const ::sarloc::TeamStatus& t) {
+  incident::TeamStatus out;
+  out.team_id = t.team_id().to_string();
+  out.stamp = t.stamp();
+  for (const auto& s : t.members()) {
+    incident::MemberStatus m;
+    m.responder_id = s.responder_id().to_string();
+    m.last_position = to_core(s.last_position());
+    m.last_seen = s.last_seen();
+    m.link = checked_enum<incident::LinkState>(s.link(), ::sarloc::LINK_LOST, "team_status.members.link");
+    m.accountability = checked_enum<incident::AccountabilityState>(
+        s.accountability(), ::sarloc::ACCOUNTABILITY_MISSING, "team_status.members.accountability");
+    out.members.push_back(m);
+  }
+  return out;
+}
+
+}  // namespace sarloc::dds

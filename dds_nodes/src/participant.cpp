@@ -1,0 +1,85 @@
+#include "sarloc/dds/participant.hpp"
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+
+#include <filesystem>
+#include <set>
+
+#include "sarloc/dds/dds_error.hpp"
+
+namespace sarloc::dds {
+
+using eprosima::fastdds::dds::DomainParticipantFactory;
+using eprosima::fastdds::dds::DomainParticipantQos;
+using eprosima::fastrtps::types::ReturnCode_t;
+
+void ParticipantConfig::validate() const {
+  if (profiles_file.empty()) throw ConfigError("dds.profiles_file is empty: must name a Fast DDS XML file");
+  if (!std::filesystem::is_regular_file(profiles_file)) {
+    throw ConfigError("dds.profiles_file = '" + profiles_file + "': no such file");
+  }
+  if (!std::filesystem::is_regular_file(topics_file)) {
+    throw ConfigError("dds.topics_file = '" + topics_file + "': no such file");
+  }
+  if (profile.empty()) throw ConfigError("dds.profile is empty: must name a participant profile");
+  if (domain_id > 232) {
+    throw ConfigError("dds.domain_id = " + std::to_string(domain_id) + ": must be <= 232 (Fast DDS port mapping)");
+  }
+  if (name.empty()) throw ConfigError("dds.name is empty");
+}
+
+void load_profiles_file(const std::string& path) {
+  static std::mutex mutex;
+  static std::set<std::string> loaded;
+  std::lock_guard<std::mutex> lock(mutex);
+  const std::string canonical = std::filesystem::weakly_canonical(path).string();
+  if (loaded.count(canonical) != 0) return;
+  if (DomainParticipantFactory::get_instance()->load_XML_profiles_file(canonical) != ReturnCode_t::RETCODE_OK) {
+    throw DdsError("cannot load Fast DDS XML profiles from '" + canonical + "'");
+  }
+  loaded.insert(canonical);
+}
+
+Participant::Participant(const ParticipantConfig& config) : config_(config) {
+  config_.validate();
+  load_profiles_file(config_.profiles_file);
+  load_profiles_file(config_.topics_file);
+
+  // Start from the profile itself; only the name is ours (the profile's transports,
+  // locators and discovery settings all stay as written in the XML).
+  auto* factory = DomainParticipantFactory::get_instance();
+  DomainParticipantQos qos;
+  if (factory->get_participant_qos_from_profile(config_.profile, qos) != ReturnCode_t::RETCODE_OK) {
+    throw DdsError("participant profile '" + config_.profile + "' not found in '" + config_.profiles_file + "'");
+  }
+  qos.name(config_.name);
+  participant_ = factory->create_participant(static_cast<eprosima::fastdds::dds::DomainId_t>(config_.domain_id), qos);
+  if (participant_ == nullptr) {
+    throw DdsError("cannot create DDS participant '" + config_.name + "' on domain " +
+                   std::to_string(config_.domain_id) + " from profile '" + config_.profile + "'");
+  }
+}
+
+Participant::~Participant() {
+  // Writers and readers hold shared_ptrs to us, so only topics are left here.
+  for (auto& [name, topic] : topics_) participant_->delete_topic(topic);
+  participant_->delete_contained_entities();
+  DomainParticipantFactory::get_instance()->delete_participant(participant_);
+}
+
+eprosima::fastdds::dds::Topic* Participant::topic(const std::string& name,
+                                                  eprosima::fastdds::dds::TypeSupport type) {
+  std::lock_guard<std::mutex> lock(topics_mutex_);
+  if (auto it = topics_.find(name); it != topics_.end()) return it->second;
+  const std::string type_name = type.get_type_name();
+  if (type.register_type(participant_) != ReturnCode_t::RETCODE_OK) {
+    throw DdsError("cannot register type '" + type_name + "' for topic '" + name + "'");
+  }
+  auto* topic = participant_->create_topic(name, type_name, eprosima::fastdds::dds::TOPIC_QOS_DEFAULT);
+  if (topic == nullptr) throw DdsError("cannot create topic '" + name + "' of type '" + type_name + "'");
+  topics_.emplace(name, topic);
+  return topic;
+}
+
+}  // namespace sarloc::dds

@@ -1,0 +1,18 @@
+#pragma once
+// One DDS domain per test, so tests running in parallel (ctest -j) never see each other.
+// Add new ones here; a duplicate would make two tests talk across each other.
+#include <cstdint>
+
+namespace sarloc::test {
+
+enum DdsTestDomain : std::uint32_t {
+  kDomainRoundTripFirst = 100,  // round_trip_test: one per topic type, 100..119
+  kDomainLocalhostProfile = 120,
+  kDomainLocalhostDiscovery = 121,
+  kDomainLateJoiner = 122,
+  kDomainPartitions = 123,
+  kDomainLiveliness = 124,
+  kDomainWrongProfile = 125,
+};
+
+}  // namespace sarloc::test

@@ -1,0 +1,124 @@
+#pragma once
+// Core messages filled with distinctive, non-default values (every field differs from its
+// default, so a conversion that drops a field fails the round-trip comparison).
+#include "sarloc/core/avalanche/field_measurement.hpp"
+#include "sarloc/core/avalanche/guidance.hpp"
+#include "sarloc/core/avalanche/odometry.hpp"
+#include "sarloc/core/avalanche/victim_estimate.hpp"
+#include "sarloc/core/incident/fused_victim.hpp"
+#include "sarloc/core/incident/responder_position.hpp"
+#include "sarloc/core/incident/team_status.hpp"
+
+namespace sarloc::test {
+
+// A full matrix whose every entry differs (catches row/column-major mix-ups).
+template <int N>
+Eigen::Matrix<double, N, N> distinct_matrix(double base) {
+  Eigen::Matrix<double, N, N> m;
+  for (int r = 0; r < N; ++r)
+    for (int c = 0; c < N; ++c) m(r, c) = base + 10.0 * r + c + 0.25;
+  return m;
+}
+
+inline GaussianPosition sample_position(double base) {
+  return GaussianPosition{Vec3(base + 1.5, base - 2.25, base * 0.5 - 1.0), distinct_matrix<3>(base)};
+}
+
+inline avalanche::FieldMeasurement sample_field_measurement() {
+  avalanche::FieldMeasurement m;
+  m.rescuer_id = "rescuer-alpha";
+  m.signal_id = 7;
+  m.sequence = 123456789012ULL;
+  m.stamp = 1763731200123456789LL;
+  m.field = Vec3(1.5e-6, -2.5e-7, 3.25e-8);
+  m.noise_stddev = Vec3(1e-8, 2e-8, 3e-8);
+  m.orientation = avalanche::OrientationObservation{Vec3(0.1, -0.2, 1.3), distinct_matrix<3>(0.001)};
+  return m;
+}
+
+inline avalanche::Odometry sample_odometry() {
+  avalanche::Odometry o;
+  o.rescuer_id = "rescuer-bravo";
+  o.sequence = 42;
+  o.interval_start = 1763731200000000000LL;
+  o.interval_end = 1763731201000000000LL;
+  o.translation = Vec3(0.98, 0.05, -0.01);
+  o.rotation_rpy = Vec3(0.004, -0.006, 0.12);
+  o.covariance = distinct_matrix<6>(0.0001);
+  o.source = avalanche::OdometrySource::kFootMountedIns;
+  return o;
+}
+
+inline avalanche::VictimEstimate sample_victim_estimate() {
+  avalanche::VictimEstimate e;
+  e.rescuer_id = "rescuer-charlie";
+  e.signal_id = 3;
+  e.stamp = 1763731260000000000LL;
+  e.status = avalanche::EstimatorStatus::kLocated;
+  e.relative = sample_position(4.0);
+  e.incident = sample_position(120.0);
+  for (int i = 0; i < 3; ++i) {
+    e.top_components.push_back({0.5 - 0.1 * i, Vec3(i, -i, 0.5 * i), distinct_matrix<3>(i)});
+  }
+  e.live_components = 17;
+  e.moment = Vec3(0.01, -0.02, 0.005);
+  return e;
+}
+
+inline avalanche::Guidance sample_guidance() {
+  avalanche::Guidance g;
+  g.rescuer_id = "rescuer-delta";
+  g.signal_id = 2;
+  g.stamp = 1763731270000000000LL;
+  g.mode = avalanche::GuidanceMode::kFineSearch;
+  g.bearing_rad = -0.75;
+  g.heading_rad = 2.5;
+  g.distance_m = 3.25;
+  g.uncertainty_radius_m = 0.4;
+  return g;
+}
+
+inline incident::ResponderPosition sample_responder_position() {
+  incident::ResponderPosition r;
+  r.responder_id = "ff-engine-7-a";
+  r.team_id = "engine-7";
+  r.stamp = 1763731280000000000LL;
+  r.position = sample_position(30.0);
+  r.heading_rad = 1.25;
+  r.floor = 3;
+  r.source = incident::PositionSource::kMapAided;
+  r.converged = true;
+  r.map_error_suspected = true;
+  return r;
+}
+
+inline incident::FusedVictim sample_fused_victim() {
+  incident::FusedVictim v;
+  v.victim_id = 11;
+  v.position = sample_position(55.0);
+  v.sources = {{"rescuer-alpha", 1, 1763731290000000000LL}, {"rescuer-bravo", 4, 1763731291000000000LL}};
+  v.state = incident::VictimState::kFound;
+  v.first_seen = 1763731200000000000LL;
+  v.last_update = 1763731291000000000LL;
+  v.located_at = 1763731250000000000LL;
+  v.found_at = 1763731290000000000LL;
+  return v;
+}
+
+inline incident::TeamStatus sample_team_status() {
+  incident::TeamStatus t;
+  t.team_id = "team-north";
+  t.stamp = 1763731300000000000LL;
+  for (int i = 0; i < 3; ++i) {
+    incident::MemberStatus m;
+    m.responder_id = "rescuer-" + std::to_string(i);
+    m.last_position = sample_position(10.0 * i);
+    m.last_seen = 1763731299000000000LL - i;
+    m.link = static_cast<incident::LinkState>(i);
+    m.accountability = static_cast<incident::AccountabilityState>(2 - i);
+    t.members.push_back(m);
+  }
+  return t;
+}
+
+}  // namespace sarloc::test

@@ -1,0 +1,173 @@
+// to_core(to_idl(x)) == x for every message, field by field; plus the wire rules.
+#include "sarloc/dds/conversions.hpp"
+
+#include "sarloc/core/common/errors.hpp"
+
+#include <gtest/gtest.h>
+
+#include "support/sample_messages.hpp"
+
+namespace sarloc::dds {
+namespace {
+
+void expect_same(const GaussianPosition& a, const GaussianPosition& b) {
+  EXPECT_EQ(a.position, b.position);
+  EXPECT_EQ(a.covariance, b.covariance);
+}
+
+TEST(Conversions, FieldMeasurementRoundTrips) {
+  const auto in = test::sample_field_measurement();
+  const auto out = to_core(to_idl(in));
+  EXPECT_EQ(out.rescuer_id, in.rescuer_id);
+  EXPECT_EQ(out.signal_id, in.signal_id);
+  EXPECT_EQ(out.sequence, in.sequence);
+  EXPECT_EQ(out.stamp, in.stamp);
+  EXPECT_EQ(out.field, in.field);
+  EXPECT_EQ(out.noise_stddev, in.noise_stddev);
+  ASSERT_TRUE(out.orientation.has_value());
+  EXPECT_EQ(out.orientation->rpy, in.orientation->rpy);
+  EXPECT_EQ(out.orientation->covariance, in.orientation->covariance);
+}
+
+TEST(Conversions, FieldMeasurementWithoutOrientationStaysWithout) {
+  auto in = test::sample_field_measurement();
+  in.orientation.reset();
+  EXPECT_FALSE(to_idl(in).has_orientation());
+  EXPECT_FALSE(to_core(to_idl(in)).orientation.has_value());
+}
+
+TEST(Conversions, CovarianceIsRowMajorOnTheWire) {
+  const auto in = test::sample_odometry();
+  const auto wire = to_idl(in);
+  EXPECT_EQ(wire.covariance()[1], in.covariance(0, 1));
+  EXPECT_EQ(wire.covariance()[6], in.covariance(1, 0));
+  EXPECT_EQ(wire.covariance()[35], in.covariance(5, 5));
+}
+
+TEST(Conversions, OdometryRoundTrips) {
+  const auto in = test::sample_odometry();
+  const auto out = to_core(to_idl(in));
+  EXPECT_EQ(out.rescuer_id, in.rescuer_id);
+  EXPECT_EQ(out.sequence, in.sequence);
+  EXPECT_EQ(out.interval_start, in.interval_start);
+  EXPECT_EQ(out.interval_end, in.interval_end);
+  EXPECT_EQ(out.translation, in.translation);
+  EXPECT_EQ(out.rotation_rpy, in.rotation_rpy);
+  EXPECT_EQ(out.covariance, in.covariance);
+  EXPECT_EQ(out.source, in.source);
+}
+
+TEST(Conversions, VictimEstimateRoundTrips) {
+  const auto in = test::sample_victim_estimate();
+  const auto wire = to_idl(in, 99);
+  EXPECT_EQ(wire.measurement_sequence(), 99U);
+  const auto out = to_core(wire);
+  EXPECT_EQ(out.rescuer_id, in.rescuer_id);
+  EXPECT_EQ(out.signal_id, in.signal_id);
+  EXPECT_EQ(out.stamp, in.stamp);
+  EXPECT_EQ(out.status, in.status);
+  expect_same(out.relative, in.relative);
+  ASSERT_TRUE(out.incident.has_value());
+  expect_same(*out.incident, *in.incident);
+  ASSERT_EQ(out.top_components.size(), in.top_components.size());
+  for (std::size_t i = 0; i < in.top_components.size(); ++i) {
+    EXPECT_EQ(out.top_components[i].weight, in.top_components[i].weight);
+    EXPECT_EQ(out.top_components[i].mean, in.top_components[i].mean);
+    EXPECT_EQ(out.top_components[i].covariance, in.top_components[i].covariance);
+  }
+  EXPECT_EQ(out.live_components, in.live_components);
+  EXPECT_EQ(out.moment, in.moment);
+}
+
+TEST(Conversions, VictimEstimateKeepsOnlyTheBoundedNumberOfComponents) {
+  auto in = test::sample_victim_estimate();
+  in.top_components.resize(::sarloc::MIXTURE_SUMMARY_MAX + 5, in.top_components.front());
+  EXPECT_EQ(to_idl(in).top_components().size(), ::sarloc::MIXTURE_SUMMARY_MAX);
+}
+
+TEST(Conversions, GuidanceRoundTrips) {
+  const auto in = test::sample_guidance();
+  const auto out = to_core(to_idl(in, 5));
+  EXPECT_EQ(out.rescuer_id, in.rescuer_id);
+  EXPECT_EQ(out.signal_id, in.signal_id);
+  EXPECT_EQ(out.stamp, in.stamp);
+  EXPECT_EQ(out.mode, in.mode);
+  EXPECT_EQ(out.bearing_rad, in.bearing_rad);
+  EXPECT_EQ(out.heading_rad, in.heading_rad);
+  EXPECT_EQ(out.distance_m, in.distance_m);
+  EXPECT_EQ(out.uncertainty_radius_m, in.uncertainty_radius_m);
+}
+
+TEST(Conversions, ResponderPositionRoundTrips) {
+  const auto in = test::sample_responder_position();
+  const auto out = to_core(to_idl(in));
+  EXPECT_EQ(out.responder_id, in.responder_id);
+  EXPECT_EQ(out.team_id, in.team_id);
+  EXPECT_EQ(out.stamp, in.stamp);
+  expect_same(out.position, in.position);
+  EXPECT_EQ(out.heading_rad, in.heading_rad);
+  EXPECT_EQ(out.floor, in.floor);
+  EXPECT_EQ(out.source, in.source);
+  EXPECT_EQ(out.converged, in.converged);
+  EXPECT_EQ(out.map_error_suspected, in.map_error_suspected);
+}
+
+TEST(Conversions, FusedVictimRoundTrips) {
+  const auto in = test::sample_fused_victim();
+  const auto out = to_core(to_idl(in));
+  EXPECT_EQ(out.victim_id, in.victim_id);
+  expect_same(out.position, in.position);
+  ASSERT_EQ(out.sources.size(), in.sources.size());
+  for (std::size_t i = 0; i < in.sources.size(); ++i) {
+    EXPECT_EQ(out.sources[i].rescuer_id, in.sources[i].rescuer_id);
+    EXPECT_EQ(out.sources[i].signal_id, in.sources[i].signal_id);
+    EXPECT_EQ(out.sources[i].last_update, in.sources[i].last_update);
+  }
+  EXPECT_EQ(out.state, in.state);
+  EXPECT_EQ(out.first_seen, in.first_seen);
+  EXPECT_EQ(out.last_update, in.last_update);
+  EXPECT_EQ(out.located_at, in.located_at);
+  EXPECT_EQ(out.found_at, in.found_at);
+}
+
+TEST(Conversions, TeamStatusRoundTrips) {
+  const auto in = test::sample_team_status();
+  const auto out = to_core(to_idl(in));
+  EXPECT_EQ(out.team_id, in.team_id);
+  EXPECT_EQ(out.stamp, in.stamp);
+  ASSERT_EQ(out.members.size(), in.members.size());
+  for (std::size_t i = 0; i < in.members.size(); ++i) {
+    EXPECT_EQ(out.members[i].responder_id, in.members[i].responder_id);
+    expect_same(out.members[i].last_position, in.members[i].last_position);
+    EXPECT_EQ(out.members[i].last_seen, in.members[i].last_seen);
+    EXPECT_EQ(out.members[i].link, in.members[i].link);
+    EXPECT_EQ(out.members[i].accountability, in.members[i].accountability);
+  }
+}
+
+TEST(Conversions, IdentifierLongerThanTheBoundIsRefusedByName) {
+  auto in = test::sample_field_measurement();
+  in.rescuer_id = std::string(::sarloc::ID_MAX + 1, 'x');
+  try {
+    (void)to_idl(in);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("field_measurement.rescuer_id"), std::string::npos) << e.what();
+  }
+  in.rescuer_id = std::string(::sarloc::ID_MAX, 'x');  // exactly the bound is fine
+  EXPECT_EQ(to_core(to_idl(in)).rescuer_id, in.rescuer_id);
+}
+
+TEST(Conversions, UnknownEnumValueFromTheWireIsRefusedByName) {
+  auto wire = to_idl(test::sample_guidance());
+  wire.mode(static_cast<::sarloc::GuidanceMode>(17));
+  try {
+    (void)to_core(wire);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("guidance.mode = 17"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace sarloc::dds
