@@ -196,6 +196,7 @@ avalanche::VictimEstimate to_core(const ::sarloc::VictimEstimate& e) {
   out.bearing_rad(g.bearing_rad);
   out.heading_rad(g.heading_rad);
   out.distance_m(g.distance_m);
+  out.step_m(g.step_m);
   out.uncertainty_radius_m(g.uncertainty_radius_m);
   return out;
 }
@@ -209,6 +210,7 @@ avalanche::Guidance to_core(const ::sarloc::Guidance& g) {
   out.bearing_rad = g.bearing_rad();
   out.heading_rad = g.heading_rad();
   out.distance_m = g.distance_m();
+  out.step_m = g.step_m();
   out.uncertainty_radius_m = g.uncertainty_radius_m();
   return out;
 }

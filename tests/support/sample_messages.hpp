@@ -74,6 +74,7 @@ inline avalanche::Guidance sample_guidance() {
   g.bearing_rad = -0.75;
   g.heading_rad = 2.5;
   g.distance_m = 3.25;
+  g.step_m = 0.75;
   g.uncertainty_radius_m = 0.4;
   return g;
 }

@@ -95,6 +95,7 @@ TEST(Conversions, GuidanceRoundTrips) {
   EXPECT_EQ(out.bearing_rad, in.bearing_rad);
   EXPECT_EQ(out.heading_rad, in.heading_rad);
   EXPECT_EQ(out.distance_m, in.distance_m);
+  EXPECT_EQ(out.step_m, in.step_m);
   EXPECT_EQ(out.uncertainty_radius_m, in.uncertainty_radius_m);
 }
 

@@ -16,6 +16,8 @@ struct MemberStatus {
   TimestampNs last_seen = 0;
   LinkState link = LinkState::kAlive;
   AccountabilityState accountability = AccountabilityState::kPending;
+  TimestampNs position_stamp = 0;  ///< device stamp of last_position (0 while none)
+  bool has_position = false;       ///< false: only liveliness heard so far, no position yet
 };
 
 struct TeamStatus {

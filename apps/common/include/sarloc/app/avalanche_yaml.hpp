@@ -1,0 +1,18 @@
+#pragma once
+// YAML sections of the avalanche estimator, shared by sarloc-eval and the mission apps so a
+// key means the same everywhere. Each reader consumes one section (a map) over the defaults
+// already in the struct and rejects unknown keys; validation is the struct's own validate().
+#include "sarloc/app/yaml_reader.hpp"
+#include "sarloc/core/avalanche/rescuer_search.hpp"
+#include "sarloc/core/avalanche/simulator.hpp"
+
+namespace sarloc::app {
+
+void read_transmitter_standard(YamlReader section, avalanche::TransmitterStandard& standard);
+void read_simulation(YamlReader section, avalanche::SimulationConfig& config);
+void read_sog(YamlReader section, avalanche::SogConfig& config);
+void read_search(YamlReader section, avalanche::SearchConfig& config);
+/// The rescuer_search: section (limits of the input gate, summary size).
+void read_rescuer_search(YamlReader section, avalanche::RescuerSearchConfig& config);
+
+}  // namespace sarloc::app

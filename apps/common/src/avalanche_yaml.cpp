@@ -1,0 +1,81 @@
+#include "sarloc/app/avalanche_yaml.hpp"
+
+namespace sarloc::app {
+
+void read_transmitter_standard(YamlReader r, avalanche::TransmitterStandard& s) {
+  r.read("field_min_A_per_m", s.field_min_A_per_m);
+  r.read("field_max_A_per_m", s.field_max_A_per_m);
+  r.read("reference_distance_m", s.reference_distance_m);
+  r.expect_done();
+}
+
+void read_simulation(YamlReader r, avalanche::SimulationConfig& c) {
+  r.read("start_distance_min_m", c.start_distance_min_m);
+  r.read("start_distance_max_m", c.start_distance_max_m);
+  r.read("burial_depth_p95_m", c.burial_depth_p95_m);
+  r.read("min_burial_depth_m", c.min_burial_depth_m);
+  r.read("antenna_height_m", c.antenna_height_m);
+  read_transmitter_standard(r.child("standard"), c.standard);
+  r.read("field_noise_relative", c.field_noise_relative);
+  r.read("field_noise_floor_A_per_m", c.field_noise_floor_A_per_m);
+  r.read("odometry_translation_relative", c.odometry_translation_relative);
+  r.read("odometry_translation_floor_m", c.odometry_translation_floor_m);
+  r.read("odometry_yaw_sigma_deg", c.odometry_yaw_sigma_deg);
+  r.read("odometry_roll_pitch_sigma_deg", c.odometry_roll_pitch_sigma_deg);
+  r.read("sway_roll_pitch_deg", c.sway_roll_pitch_deg);
+  r.read("attitude_roll_pitch_sigma_deg", c.attitude_roll_pitch_sigma_deg);
+  r.read("attitude_yaw_sigma_deg", c.attitude_yaw_sigma_deg);
+  r.read("attitude_updates", c.attitude_updates);
+  r.expect_done();
+}
+
+void read_sog(YamlReader r, avalanche::SogConfig& c) {
+  r.read("initial_components", c.initial_components);
+  read_transmitter_standard(r.child("standard"), c.standard);
+  r.read("antenna_height_m", c.antenna_height_m);
+  r.read("max_burial_depth_m", c.max_burial_depth_m);
+  r.read("depth_layers", c.depth_layers);
+  r.read("depth_sigma_factor", c.depth_sigma_factor);
+  r.read("horizontal_overlap", c.horizontal_overlap);
+  r.read("max_range_m", c.max_range_m);
+  r.read("range_noise_sigmas", c.range_noise_sigmas);
+  r.read("moment_margin", c.moment_margin);
+  r.read("jacobian_initial_weights", c.jacobian_initial_weights);
+  r.read("attitude_prior_sigma_rad", c.attitude_prior_sigma_rad);
+  r.read("noise_relative", c.noise_relative);
+  r.read("noise_floor_A_per_m", c.noise_floor_A_per_m);
+  r.read("idle_translation_sigma_m", c.idle_translation_sigma_m);
+  r.read("idle_rotation_sigma_rad", c.idle_rotation_sigma_rad);
+  r.read("use_orientation", c.use_orientation);
+  r.read("prune_log_weight", c.prune_log_weight);
+  r.read("merge_interval", c.merge_interval);
+  r.read("merge_cell_m", c.merge_cell_m);
+  r.read("merge_mahalanobis", c.merge_mahalanobis);
+  r.read("max_components", c.max_components);
+  r.read("converged_radius_m", c.converged_radius_m);
+  r.expect_done();
+}
+
+void read_search(YamlReader r, avalanche::SearchConfig& c) {
+  r.read("step_length_m", c.step_length_m);
+  r.read("approach_mahalanobis", c.approach_mahalanobis);
+  r.read("fine_search_radius_m", c.fine_search_radius_m);
+  r.read("located_radius_m", c.located_radius_m);
+  r.read("found_distance_m", c.found_distance_m);
+  r.read("probe_step_m", c.probe_step_m);
+  r.read("flux_smoothing", c.flux_smoothing);
+  r.read("flux_snr_cap", c.flux_snr_cap);
+  r.expect_done();
+}
+
+void read_rescuer_search(YamlReader r, avalanche::RescuerSearchConfig& c) {
+  unsigned summary = static_cast<unsigned>(c.summary_components);
+  r.read("summary_components", summary);
+  c.summary_components = summary;
+  r.read("max_signals", c.max_signals);
+  r.read("max_step_m", c.max_step_m);
+  r.read("max_rotation_rad", c.max_rotation_rad);
+  r.expect_done();
+}
+
+}  // namespace sarloc::app

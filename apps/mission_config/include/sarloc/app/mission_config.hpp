@@ -1,0 +1,49 @@
+#pragma once
+// One YAML file describes a whole (simulated) mission; every process of it reads the same
+// file and takes its own part: sarloc-core its sector, sarloc-rescuer its rescuer,
+// sarloc-command the incident, sarloc-mission all of it. docs/configuration.md lists the keys;
+// config/missions/default.yaml is the annotated default.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "sarloc/core/avalanche/rescuer_search.hpp"
+#include "sarloc/core/mission/mission_scenario.hpp"
+#include "sarloc/dds/command_node.hpp"
+#include "sarloc/dds/core_node.hpp"
+#include "sarloc/dds/participant.hpp"
+#include "sarloc/dds/rescuer_node.hpp"
+
+namespace sarloc::app {
+
+struct MissionConfig {
+  std::string name = "mission";
+  double time_limit_s = 900.0;  ///< mission seconds before sarloc-mission gives up
+  double speedup = 1.0;         ///< mission seconds per wall second (1 = real time)
+  double period_s = 1.0;        ///< one measurement epoch per mission second (seed 000, section V)
+
+  dds::ParticipantConfig dds;
+  mission::MissionScenario scenario;                  ///< victims, rescuers, sensors
+  std::map<std::string, std::string> sector_of;       ///< rescuer id -> sector name ("" = none)
+  std::vector<std::string> sectors;                   ///< one sarloc-core per sector (none: one core)
+  avalanche::RescuerSearchConfig search;
+  dds::CoreNodeConfig core;
+  dds::RescuerNodeConfig rescuer;                     ///< template: id/team/partitions filled per rescuer
+  dds::CommandNodeConfig command;
+
+  /// Throws ConfigError naming the key.
+  void validate() const;
+
+  /// The DDS partition of a sector ("sector-<name>"), or {} for no sector.
+  static std::vector<std::string> partitions_of_sector(const std::string& sector);
+  dds::CoreNodeConfig core_config(const std::string& sector) const;
+  dds::RescuerNodeConfig rescuer_config(const std::string& rescuer_id) const;
+  dds::CommandNodeConfig command_config() const;
+};
+
+/// Loads and validates a mission file (relative DDS file paths resolve against its folder).
+MissionConfig load_mission_config(const std::string& path);
+MissionConfig load_mission_config_text(const std::string& text, const std::string& name,
+                                       const std::string& base_dir = ".");
+
+}  // namespace sarloc::app

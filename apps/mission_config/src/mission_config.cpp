@@ -1,0 +1,224 @@
+#include "sarloc/app/mission_config.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "sarloc/app/avalanche_yaml.hpp"
+#include "sarloc/app/yaml_reader.hpp"
+
+namespace sarloc::app {
+namespace {
+
+void fail(const std::string& key, double value, const std::string& rule) {
+  std::ostringstream os;
+  os << key << " = " << value << ": " << rule;
+  throw ConfigError(os.str());
+}
+
+std::string resolve(const std::string& path, const std::string& base_dir) {
+  if (path.empty() || std::filesystem::path(path).is_absolute()) return path;
+  return (std::filesystem::path(base_dir) / path).lexically_normal().string();
+}
+
+void read_fusion(YamlReader r, incident::VictimFusionConfig& c) {
+  r.read("gate_probability", c.gate_probability);
+  r.read("keep_gate_probability", c.keep_gate_probability);
+  r.read("merge_gate_probability", c.merge_gate_probability);
+  r.read("source_timeout_s", c.source_timeout_s);
+  r.read("located_radius_m", c.located_radius_m);
+  std::string weighting = c.weighting == incident::CiWeighting::kInverseTrace ? "inverse_trace" : "min_trace";
+  r.read("weighting", weighting);
+  if (weighting == "inverse_trace") {
+    c.weighting = incident::CiWeighting::kInverseTrace;
+  } else if (weighting == "min_trace") {
+    c.weighting = incident::CiWeighting::kMinTrace;
+  } else {
+    throw ConfigError(r.source() + ": " + r.path() + ".weighting = '" + weighting +
+                      "': expected inverse_trace or min_trace");
+  }
+  r.expect_done();
+}
+
+}  // namespace
+
+std::vector<std::string> MissionConfig::partitions_of_sector(const std::string& sector) {
+  if (sector.empty()) return {};
+  return {"sector-" + sector};
+}
+
+void MissionConfig::validate() const {
+  if (!(time_limit_s > 0.0 && time_limit_s <= 24 * 3600.0)) fail("mission.time_limit_s", time_limit_s, "must be in (0, 86400]");
+  if (!(speedup >= 0.1 && speedup <= 100.0)) fail("mission.speedup", speedup, "must be in [0.1, 100]");
+  if (!(period_s >= 0.1 && period_s <= 10.0)) fail("mission.period_s", period_s, "must be in [0.1, 10]");
+  dds.validate();
+  scenario.validate();
+  search.validate();
+  std::set<std::string> known(sectors.begin(), sectors.end());
+  if (known.size() != sectors.size()) throw ConfigError("sectors: duplicate sector name");
+  for (const auto& r : scenario.rescuers) {
+    const auto it = sector_of.find(r.id);
+    const std::string sector = it == sector_of.end() ? "" : it->second;
+    if (!sectors.empty() && known.count(sector) == 0) {
+      throw ConfigError("rescuers[" + r.id + "].sector = '" + sector + "': must be one of the sectors");
+    }
+    if (sectors.empty() && !sector.empty()) {
+      throw ConfigError("rescuers[" + r.id + "].sector = '" + sector + "': no sectors are defined");
+    }
+  }
+  for (const auto& s : sectors) core_config(s).validate();
+  if (sectors.empty()) core_config("").validate();
+  for (const auto& r : scenario.rescuers) rescuer_config(r.id).validate();
+  command_config().validate();
+}
+
+dds::CoreNodeConfig MissionConfig::core_config(const std::string& sector) const {
+  dds::CoreNodeConfig c = core;
+  c.search = search;
+  c.partitions = partitions_of_sector(sector);
+  c.node_id = sector.empty() ? core.node_id : core.node_id + "-" + sector;
+  return c;
+}
+
+dds::RescuerNodeConfig MissionConfig::rescuer_config(const std::string& rescuer_id) const {
+  const auto& spec = scenario.rescuers.at(scenario.rescuer_index(rescuer_id));
+  dds::RescuerNodeConfig c = rescuer;
+  c.rescuer_id = spec.id;
+  c.team = spec.team;
+  c.search = search;
+  const auto it = sector_of.find(rescuer_id);
+  c.partitions = partitions_of_sector(it == sector_of.end() ? "" : it->second);
+  return c;
+}
+
+dds::CommandNodeConfig MissionConfig::command_config() const {
+  dds::CommandNodeConfig c = command;
+  if (!sectors.empty()) c.estimate_partitions = {"*"};
+  return c;
+}
+
+MissionConfig load_mission_config(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ConfigError(path + ": cannot open mission file");
+  std::stringstream text;
+  text << in.rdbuf();
+  return load_mission_config_text(text.str(), path, std::filesystem::path(path).parent_path().string());
+}
+
+MissionConfig load_mission_config_text(const std::string& text, const std::string& name, const std::string& base_dir) {
+  MissionConfig c;
+  auto root = YamlReader::from_string(text, name);
+  {
+    auto r = root.child("mission");
+    r.read("name", c.name);
+    r.read("seed", c.scenario.seed);
+    r.read("time_limit_s", c.time_limit_s);
+    r.read("speedup", c.speedup);
+    r.read("period_s", c.period_s);
+    r.expect_done();
+  }
+  {
+    auto r = root.child("incident");
+    r.read("id", c.command.incident_id);
+    r.read("name", c.command.incident_name);
+    r.read("latitude_deg", c.command.origin.latitude_deg);
+    r.read("longitude_deg", c.command.origin.longitude_deg);
+    r.read("altitude_m", c.command.origin.altitude_m);
+    r.expect_done();
+  }
+  {
+    auto r = root.child("dds");
+    r.read("profiles_file", c.dds.profiles_file);
+    r.read("profile", c.dds.profile);
+    r.read("topics_file", c.dds.topics_file);
+    r.read("domain_id", c.dds.domain_id);
+    r.expect_done();
+    if (r.has("profiles_file")) c.dds.profiles_file = resolve(c.dds.profiles_file, base_dir);
+    if (r.has("topics_file")) c.dds.topics_file = resolve(c.dds.topics_file, base_dir);
+  }
+  for (auto& r : root.child_list("victims")) {
+    mission::VictimSpec v;
+    r.read("name", v.name);
+    r.require("position", v.position);
+    r.require("moment", v.moment);
+    r.expect_done();
+    c.scenario.victims.push_back(v);
+  }
+  for (auto& r : root.child_list("rescuers")) {
+    mission::RescuerSpec s;
+    r.require("id", s.id);
+    r.require("team", s.team);
+    std::vector<double> start;
+    r.require("start", start);
+    if (start.size() != 2) throw ConfigError(name + ": " + r.path() + ".start: expected [x, y]");
+    s.start = Vec3(start[0], start[1], 0.0);
+    r.read("heading_deg", s.heading_deg);
+    std::string sector;
+    r.read("sector", sector);
+    r.expect_done();
+    c.sector_of[s.id] = sector;
+    c.scenario.rescuers.push_back(s);
+  }
+  for (auto& r : root.child_list("sectors")) {
+    std::string sector;
+    r.require("name", sector);
+    r.expect_done();
+    c.sectors.push_back(sector);
+  }
+  {
+    auto r = root.child("simulation");
+    // The mission's own keys first, then the shared sensor model keys.
+    r.read("detection_range_m", c.scenario.detection_range_m);
+    r.read("gnss_sigma_m", c.scenario.gnss_sigma_m);
+    r.read("gnss_correlation_s", c.scenario.gnss_correlation_s);
+    r.read("gnss_white_sigma_m", c.scenario.gnss_white_sigma_m);
+    read_simulation(r, c.scenario.sensors);
+  }
+  read_sog(root.child("sog"), c.search.sog);
+  read_search(root.child("search"), c.search.search);
+  read_rescuer_search(root.child("rescuer_search"), c.search);
+  {
+    auto r = root.child("core");
+    r.read("node_id", c.core.node_id);
+    r.read("workers", c.core.workers);
+    unsigned u = static_cast<unsigned>(c.core.max_rescuers);
+    r.read("max_rescuers", u);
+    c.core.max_rescuers = u;
+    u = static_cast<unsigned>(c.core.queue_limit);
+    r.read("queue_limit", u);
+    c.core.queue_limit = u;
+    r.read("status_period_s", c.core.status_period_s);
+    r.read("warning_interval_s", c.core.warning_interval_s);
+    r.expect_done();
+  }
+  {
+    auto r = root.child("rescuer");
+    r.read("fallback_timeout_s", c.rescuer.fallback_timeout_s);
+    r.read("guidance_wait_s", c.rescuer.guidance_wait_s);
+    r.expect_done();
+  }
+  {
+    auto r = root.child("command");
+    r.read("node_id", c.command.node_id);
+    r.read("cycle_s", c.command.cycle_s);
+    r.read("position_max_age_s", c.command.position_max_age_s);
+    // The receiver is held as the simulated one unless the file says otherwise.
+    c.command.antenna_height_m = c.scenario.sensors.antenna_height_m;
+    r.read("antenna_height_m", c.command.antenna_height_m);
+    r.read("antenna_height_sigma_m", c.command.antenna_height_sigma_m);
+    read_fusion(r.child("fusion"), c.command.fusion);
+    {
+      auto t = r.child("teams");
+      t.read("stale_after_s", c.command.teams.stale_after_s);
+      t.read("lost_after_s", c.command.teams.lost_after_s);
+      t.expect_done();
+    }
+    r.expect_done();
+  }
+  root.expect_done();
+  c.validate();
+  return c;
+}
+
+}  // namespace sarloc::app

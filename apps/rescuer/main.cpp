@@ -1,0 +1,157 @@
+// sarloc-rescuer: the app on a rescuer's device. Publishes field measurements, odometry and
+// its position; shows the rescuer what to do; keeps guiding on the device when the core
+// daemon is unreachable (dds/rescuer_node.hpp).
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <thread>
+
+#include "sarloc/app/logging.hpp"
+#include "sarloc/app/mission_config.hpp"
+#include "sarloc/app/run_main.hpp"
+#include "sarloc/app/shutdown_signal.hpp"
+#include "sensor_source.hpp"
+
+namespace {
+
+using namespace sarloc;
+
+const char* mode_name(avalanche::GuidanceMode mode) {
+  switch (mode) {
+    case avalanche::GuidanceMode::kFollowFluxLine: return "FOLLOW FLUX LINE";
+    case avalanche::GuidanceMode::kApproach: return "APPROACH";
+    case avalanche::GuidanceMode::kFineSearch: return "FINE SEARCH";
+    case avalanche::GuidanceMode::kFound: return "FOUND - PROBE HERE";
+  }
+  return "?";
+}
+
+const char* status_name(avalanche::EstimatorStatus status) {
+  switch (status) {
+    case avalanche::EstimatorStatus::kInitialising: return "init";
+    case avalanche::EstimatorStatus::kMultimodal: return "multimodal";
+    case avalanche::EstimatorStatus::kConverged: return "converged";
+    case avalanche::EstimatorStatus::kLocated: return "located";
+    case avalanche::EstimatorStatus::kFound: return "FOUND";
+  }
+  return "?";
+}
+
+// What the rescuer reads on the device: direction, distance, mode, victims.
+std::string display_line(const std::string& id, const sarloc::dds::EpochResult& r) {
+  std::string line = id + " | ";
+  if (!r.guidance) {
+    line += "no signal: walk straight ahead (primary search)";
+  } else {
+    const auto& g = *r.guidance;
+    const double deg = g.bearing_rad * 180.0 / M_PI;
+    char buf[200];
+    std::snprintf(buf, sizeof(buf), "signal %u | %-18s | turn %3.0f deg %-5s | walk %.1f m | dist %.1f m +- %.1f m",
+                  g.signal_id, mode_name(g.mode), std::fabs(deg), deg >= 0 ? "left" : "right", g.step_m,
+                  g.distance_m, g.uncertainty_radius_m);
+    line += buf;
+  }
+  line += " | victims:";
+  for (const auto& [signal, status] : r.signals) line += " " + std::to_string(signal) + "=" + status_name(status);
+  line += std::string(" | guidance: ") + sarloc::dds::to_string(r.source);
+  if (!r.daemon_reachable) line += " (core daemon unreachable)";
+  return line;
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return -1.0;
+  std::sort(v.begin(), v.end());
+  return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  app::install_shutdown_handlers();
+  CLI::App cli{"sarloc-rescuer: the rescuer's device app (simulated or recorded sensors)"};
+  std::string config_path;
+  std::string rescuer_id;
+  std::string source = "sim";
+  std::string summary_path;
+  std::string log_level = "info";
+  std::int64_t epoch_ns = 0;
+  bool quiet = false;
+  cli.add_option("-c,--config", config_path, "mission YAML (config/missions/default.yaml)")->required();
+  cli.add_option("--id", rescuer_id, "this rescuer's id (one of the mission's rescuers)")->required();
+  cli.add_option("--source", source, "'sim' (mission simulator) or a recorded sensor file (JSON lines)");
+  cli.add_option("--epoch-ns", epoch_ns, "mission start, ns since the Unix epoch (sarloc-mission sets it; default now)");
+  cli.add_option("--summary", summary_path, "write a JSON summary here on exit");
+  cli.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical, off");
+  cli.add_flag("--quiet", quiet, "do not print the guidance line every epoch");
+  cli.set_version_flag("--version", SARLOC_VERSION);
+  CLI11_PARSE(cli, argc, argv);
+
+  return app::run_main("sarloc-rescuer", [&] {
+    app::setup_logging(log_level, rescuer_id);
+    const auto mission = app::load_mission_config(config_path);
+    const auto node_config = mission.rescuer_config(rescuer_id);  // throws ConfigError for an unknown id
+    const TimestampNs epoch = epoch_ns > 0 ? epoch_ns : sarloc::dds::MissionClock::wall_now_ns();
+    const sarloc::dds::MissionClock clock(epoch, mission.speedup);
+
+    std::unique_ptr<rescuer::SensorSource> sensors;
+    if (source == "sim") {
+      sensors = std::make_unique<rescuer::SimulatedSource>(mission.scenario, rescuer_id,
+                                                           mission.search.search.step_length_m);
+    } else {
+      sensors = std::make_unique<rescuer::RecordedSource>(source, rescuer_id, node_config.team);
+    }
+
+    auto dds_config = mission.dds;
+    dds_config.name = "rescuer-" + rescuer_id;
+    auto participant = std::make_shared<sarloc::dds::Participant>(dds_config);
+    sarloc::dds::RescuerNode node(participant, node_config, clock);
+
+    std::optional<avalanche::Guidance> followed;
+    std::vector<double> latencies;
+    std::size_t epochs = 0;
+    const auto period_ns = static_cast<TimestampNs>(mission.period_s * 1e9);
+    sarloc::dds::EpochResult last;
+    for (std::size_t k = 0; !app::shutdown_requested(); ++k) {
+      const TimestampNs stamp = epoch + static_cast<TimestampNs>(k) * period_ns;
+      // Wait for this epoch's moment on the (possibly accelerated) mission clock.
+      while (!app::shutdown_requested() && clock.now() < stamp) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      }
+      if (app::shutdown_requested()) break;
+      auto samples = sensors->next(stamp, followed);
+      if (!samples) {
+        spdlog::info("sensor source exhausted after {} epochs", epochs);
+        break;
+      }
+      last = node.epoch(samples->odometry, samples->position, samples->measurements);
+      ++epochs;
+      if (last.latency_ms >= 0.0) latencies.push_back(last.latency_ms);
+      followed = last.guidance;
+      if (!quiet) spdlog::info("{}", display_line(rescuer_id, last));
+    }
+
+    if (!summary_path.empty()) {
+      nlohmann::json j;
+      j["rescuer_id"] = rescuer_id;
+      j["epochs"] = epochs;
+      j["distance_walked_m"] = sensors->distance_walked_m();
+      j["fallbacks"] = node.fallbacks();
+      j["latency_ms"] = {{"samples", latencies.size()},
+                         {"p50", percentile(latencies, 0.5)},
+                         {"p99", percentile(latencies, 0.99)}};
+      nlohmann::json signals = nlohmann::json::array();
+      for (const auto& [signal, status] : last.signals) {
+        nlohmann::json s{{"signal_id", signal}, {"status", status_name(status)}};
+        if (auto v = sensors->victim_of_signal(signal)) s["victim_index"] = *v;
+        signals.push_back(s);
+      }
+      j["signals"] = signals;
+      std::ofstream(summary_path) << j.dump(2) << "\n";
+    }
+    return app::ExitCode::kOk;
+  });
+}

@@ -1,0 +1,82 @@
+#pragma once
+// Where sarloc-rescuer's samples come from: the mission simulator (default; it walks where the
+// guidance says) or a recorded sensor file from a real device (guidance is only shown).
+#include <fstream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sarloc/core/avalanche/field_measurement.hpp"
+#include "sarloc/core/avalanche/guidance.hpp"
+#include "sarloc/core/avalanche/odometry.hpp"
+#include "sarloc/core/incident/responder_position.hpp"
+#include "sarloc/core/mission/simulated_rescuer.hpp"
+
+namespace sarloc::rescuer {
+
+struct SensorEpoch {
+  TimestampNs stamp = 0;
+  std::vector<avalanche::Odometry> odometry;  ///< motion since the previous epoch
+  std::optional<incident::ResponderPosition> position;
+  std::vector<avalanche::FieldMeasurement> measurements;
+};
+
+class SensorSource {
+ public:
+  virtual ~SensorSource() = default;
+  /// The samples of the epoch at `stamp`; `followed` is the guidance followed since the
+  /// previous epoch. nullopt when the source is exhausted.
+  virtual std::optional<SensorEpoch> next(TimestampNs stamp, const std::optional<avalanche::Guidance>& followed) = 0;
+  virtual double distance_walked_m() const = 0;
+  /// Truth for reports (simulation only): the victim index behind a signal id.
+  virtual std::optional<std::size_t> victim_of_signal(std::uint32_t) const { return std::nullopt; }
+};
+
+/// The mission simulator: one step per epoch along the followed guidance (no guidance yet:
+/// straight ahead, the primary search).
+class SimulatedSource : public SensorSource {
+ public:
+  SimulatedSource(const mission::MissionScenario& scenario, const std::string& rescuer_id, double step_length_m);
+  std::optional<SensorEpoch> next(TimestampNs stamp, const std::optional<avalanche::Guidance>& followed) override;
+  double distance_walked_m() const override { return sim_.distance_walked_m(); }
+  std::optional<std::size_t> victim_of_signal(std::uint32_t signal) const override {
+    return sim_.victim_of_signal(signal);
+  }
+
+ private:
+  mission::SimulatedRescuer sim_;
+  double step_length_m_;
+  std::optional<TimestampNs> previous_stamp_;
+};
+
+/// A recorded sensor file, JSON lines (docs/configuration.md, "Recorded sensor files"):
+///   {"type":"odometry","sequence":1,"interval_start_ns":..,"interval_end_ns":..,
+///    "translation":[x,y,z],"rotation_rpy":[r,p,y],"covariance":[36 numbers, row-major]}
+///   {"type":"position","stamp_ns":..,"position":[e,n,u],"covariance":[9 numbers]}
+///   {"type":"field","signal_id":1,"sequence":1,"stamp_ns":..,"field":[x,y,z],
+///    "noise_stddev":[x,y,z], optional "orientation_rpy":[r,p,y],"orientation_covariance":[9]}
+/// An epoch is every line up to and including the field samples sharing one stamp_ns; the
+/// file's own stamps are kept. A malformed line is skipped with a warning naming the line
+/// number and the field; nothing else is lost.
+class RecordedSource : public SensorSource {
+ public:
+  RecordedSource(const std::string& path, std::string rescuer_id, std::string team);
+  std::optional<SensorEpoch> next(TimestampNs stamp, const std::optional<avalanche::Guidance>& followed) override;
+  double distance_walked_m() const override { return walked_m_; }
+  std::size_t skipped_lines() const { return skipped_; }
+
+ private:
+  bool read_line(SensorEpoch& epoch, std::optional<TimestampNs>& field_stamp);
+
+  std::ifstream in_;
+  std::string path_;
+  std::string rescuer_id_;
+  std::string team_;
+  std::size_t line_number_ = 0;
+  std::size_t skipped_ = 0;
+  double walked_m_ = 0.0;
+  std::optional<std::string> pending_line_;
+};
+
+}  // namespace sarloc::rescuer

@@ -1,0 +1,77 @@
+#pragma once
+// Magnetic dipole measurement model and robocentric composition (seed 000, section II).
+//
+// State of one transmitter hypothesis (one Gaussian of the SOG filter, seed 000 eq. (1), (3)):
+//   x = [Psi (roll, pitch, yaw of R_k in G_k), p (transmitter in G_k), m (moment in G_k)]  (9)
+// Displacement between two measurements (eq. (4)):
+//   d = [t (translation of R_k in R_{k-1}), dPsi (rpy of R_k in R_{k-1})]                  (6)
+// Augmented state x* = [x; d] (eq. (10)).
+//
+// Measurement (eq. (12)-(14)): r = R(Psi) t - p is the transmitter -> receiver vector in
+// G_{k-1}, H_G = (3 (m.r) r / r^2 - m) / (4 pi r^3) = A m / (4 pi r^5), and
+//   z = h(x, d) = R_k^T H_G,   R_k = R(Psi) R(dPsi).
+// Composition (eq. (9)): Psi_k = rpy(R(Psi) R(dPsi)), p_k = p - R(Psi) t, m_k = m.
+//
+// Jacobians are optional outputs (J_out_in naming); each one is checked against central
+// differences in tests/unit/avalanche/dipole_model_test.cpp.
+//
+// Usage:
+//   Jacobian<3, 9> H_x; Jacobian<3, 6> H_d;
+//   Vec3 z_pred = MeasurementModel::h(x, d, &H_x, &H_d);
+//   StateVec x_next = CompositionModel::f(x, d, &F_x, &F_d);
+#include "sarloc/core/common/types.hpp"
+
+namespace sarloc::avalanche {
+
+/// Named indices into the 9-state x and the 6-vector d (never magic numbers).
+namespace idx {
+inline constexpr int kAtt = 0;   ///< roll, pitch, yaw of R_k in G_k (rad)
+inline constexpr int kPos = 3;   ///< transmitter position in G_k (m)
+inline constexpr int kMom = 6;   ///< magnetic moment in G_k (A m^2)
+inline constexpr int kStateDim = 9;
+inline constexpr int kTrans = 0;  ///< displacement translation in R_{k-1} (m)
+inline constexpr int kRot = 3;    ///< displacement rotation rpy of R_k in R_{k-1} (rad)
+inline constexpr int kDispDim = 6;
+inline constexpr int kAugDim = kStateDim + kDispDim;  ///< x* = [x; d], eq. (10)
+}  // namespace idx
+
+using StateVec = Eigen::Matrix<double, idx::kStateDim, 1>;
+using StateCov = Eigen::Matrix<double, idx::kStateDim, idx::kStateDim>;
+using DispVec = Vec6;
+using DispCov = Mat6;
+using AugVec = Eigen::Matrix<double, idx::kAugDim, 1>;
+
+inline constexpr double kPi = 3.14159265358979323846;
+
+/// Field of a point magnetic dipole, eq. (12)-(13): H = A(r) m / (4 pi r^5).
+struct DipoleField {
+  /// r: transmitter -> observation point (m), m: moment (A m^2). Returns H (A/m).
+  /// J_H_r = dH/dr, J_H_m = dH/dm = A / (4 pi r^5). r must be non-zero.
+  static Vec3 field(const Vec3& r, const Vec3& m, Mat3* J_H_r = nullptr, Mat3* J_H_m = nullptr);
+
+  /// Inverse of eq. (12) for the moment: m = 4 pi r^3 (1.5 r r^T / r^2 - I) H (used to initialise
+  /// each Gaussian, seed 000 section III-B). J_m_r = dm/dr, J_m_H = dm/dH.
+  static Vec3 moment(const Vec3& r, const Vec3& h, Mat3* J_m_r = nullptr, Mat3* J_m_H = nullptr);
+};
+
+/// Measurement function h of eq. (14) on the augmented state.
+struct MeasurementModel {
+  static Vec3 h(const StateVec& x, const DispVec& d, Jacobian<3, idx::kStateDim>* H_x = nullptr,
+                Jacobian<3, idx::kDispDim>* H_d = nullptr);
+  /// Same on x* = [x; d] with one 3x15 Jacobian (tests, documentation).
+  static Vec3 h(const AugVec& xa, Jacobian<3, idx::kAugDim>* H = nullptr);
+};
+
+/// Composition function f of eq. (9) / (15).
+struct CompositionModel {
+  static StateVec f(const StateVec& x, const DispVec& d, StateCov* F_x = nullptr,
+                    Jacobian<idx::kStateDim, idx::kDispDim>* F_d = nullptr);
+  static StateVec f(const AugVec& xa, Jacobian<idx::kStateDim, idx::kAugDim>* F = nullptr);
+};
+
+/// Composition of two displacements d1 (R_{a} -> R_{b}) then d2 (R_{b} -> R_{c}) into
+/// R_{a} -> R_{c}: t = t1 + R(dPsi1) t2, R = R(dPsi1) R(dPsi2). Used by OdometryAccumulator.
+DispVec compose_displacements(const DispVec& d1, const DispVec& d2, Mat6* J_d1 = nullptr,
+                              Mat6* J_d2 = nullptr);
+
+}  // namespace sarloc::avalanche

@@ -1,0 +1,105 @@
+#pragma once
+// Everything one rescuer's search needs, for every signal its receiver separates: one
+// SogFilter and SearchController per signal (nothing single-victim), the odometry fanned out
+// to all of them, a gate that refuses bad samples before they touch any filter, and the choice
+// of which signal to guide the rescuer to.
+//
+// Used identically by the core daemon (one RescuerSearch per rescuer it serves) and by the
+// rescuer's device when the daemon is unreachable, so both give the same guidance.
+//
+//   RescuerSearch search("r1", RescuerSearchConfig{});
+//   if (auto rejected = search.add_odometry(odo)) log(rejected->detail);
+//   auto outcome = search.process(measurement);
+//   if (auto* update = std::get_if<SearchUpdate>(&outcome)) publish(update->estimate, update->guidance);
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <variant>
+
+#include "sarloc/core/avalanche/search_controller.hpp"
+#include "sarloc/core/avalanche/sog_filter.hpp"
+
+namespace sarloc::avalanche {
+
+struct RescuerSearchConfig {
+  SogConfig sog;
+  SearchConfig search;
+  std::size_t summary_components = 5;  ///< components in each VictimEstimate (IDL bound: 8)
+  std::uint32_t max_signals = 8;       ///< receivers separate a handful of signals; more is bad input
+  double max_step_m = 10.0;            ///< one odometry sample moving further is absurd (m)
+  double max_rotation_rad = 3.2;       ///< |rpy| of one odometry sample beyond this is absurd
+
+  /// Throws ConfigError naming the key ("rescuer_search.max_signals = 0: must be in [1, 64]").
+  void validate() const;
+};
+
+/// Why a sample was refused; stable names, counted in NodeStatus.rejects.
+enum class RejectReason : std::uint8_t {
+  kInvalidValue,       ///< non-finite, absurd magnitude, non-PD covariance (filter's validation)
+  kWrongRescuer,       ///< sample for another rescuer reached this search
+  kDuplicateSequence,  ///< sequence number already seen
+  kSequenceBackwards,  ///< sequence number lower than the last accepted
+  kStampBackwards,     ///< timestamp not after the last accepted one
+  kTooManySignals,     ///< more separated signals than max_signals
+  kAbsurdMotion,       ///< odometry step or rotation beyond the limits
+};
+
+const char* to_string(RejectReason reason);
+
+struct Rejection {
+  RejectReason reason = RejectReason::kInvalidValue;
+  std::string detail;  ///< names rescuer, field and value
+};
+
+struct SearchUpdate {
+  VictimEstimate estimate;          ///< of the measured signal, status refined by assess()
+  std::optional<Guidance> guidance; ///< present when the measured signal is the target
+};
+
+class RescuerSearch {
+ public:
+  RescuerSearch(std::string rescuer_id, RescuerSearchConfig config);
+
+  /// Odometry for every signal's filter. Returns the rejection, if refused (state untouched).
+  std::optional<Rejection> add_odometry(const Odometry& odometry);
+
+  /// One field sample of one signal. Refused samples leave every filter untouched.
+  std::variant<SearchUpdate, Rejection> process(const FieldMeasurement& measurement);
+
+  /// The signal is a victim already found (by this rescuer or reported by incident command):
+  /// stop guiding to it.
+  void mark_done(std::uint32_t signal_id);
+
+  /// Signal the rescuer is guided to (nullopt before any measurement or when all are done).
+  std::optional<std::uint32_t> target_signal() const { return target_; }
+  const std::string& rescuer_id() const { return rescuer_id_; }
+  std::size_t signal_count() const { return signals_.size(); }
+  /// Latest estimate of a signal (nullopt if never measured).
+  std::optional<VictimEstimate> estimate(std::uint32_t signal_id) const;
+
+ private:
+  struct SignalState {
+    SogFilter filter;
+    SearchController controller;
+    std::uint64_t last_sequence = 0;
+    TimestampNs last_stamp = 0;
+    double last_field_norm = 0.0;
+    std::optional<VictimEstimate> estimate;
+    bool done = false;        ///< not to be guided to: found here or elsewhere
+    bool found_here = false;  ///< this rescuer stood over it (GuidanceMode::kFound)
+  };
+
+  std::optional<Rejection> gate(const FieldMeasurement& m) const;
+  void choose_target();
+
+  std::string rescuer_id_;
+  RescuerSearchConfig config_;
+  std::map<std::uint32_t, SignalState> signals_;
+  std::set<std::uint32_t> done_;
+  std::optional<std::uint32_t> target_;
+  std::optional<std::uint64_t> last_odometry_sequence_;
+  TimestampNs last_odometry_end_ = 0;
+};
+
+}  // namespace sarloc::avalanche

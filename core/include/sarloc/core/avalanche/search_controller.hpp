@@ -1,0 +1,68 @@
+#pragma once
+// Search control for one signal (seed 000, section III-C), and the uniform "located" / "found"
+// criterion used by the evaluation.
+//
+// Modes (GuidanceMode):
+//   kFollowFluxLine  walk along the horizontal projection of the measured field line,
+//                    SNR-weighted and low-pass filtered (flux_smoothing), its sense kept
+//                    continuous, the first one towards the mixture mean;
+//   kApproach        once the receiver is far enough from the mixture mean in Mahalanobis terms
+//                    (horizontal d^2 = p^T P^-1 p > approach_mahalanobis^2), walk to the mean;
+//   kFineSearch      horizontal distance < fine_search_radius_m: steps of min(step, distance);
+//   kFound           located AND the rescuer stands within found_distance_m of the estimate.
+// Criteria (applied identically in every trial):
+//   located: 95 % radius of the mixture position, sqrt(chi2_3(0.95) lambda_max(P_p)),
+//            <= located_radius_m (eq. (18) includes the spread between modes, so a multimodal
+//            mixture is never "located");
+//   found:   located and horizontal |p_mean| <= found_distance_m (G_k is rescuer-centred).
+//
+//   SearchController ctl(SearchConfig{});
+//   Guidance g = ctl.guide(filter, measurement);   // after filter.process(measurement)
+#include <optional>
+#include <string>
+
+#include "sarloc/core/avalanche/field_measurement.hpp"
+#include "sarloc/core/avalanche/guidance.hpp"
+#include "sarloc/core/avalanche/sog_filter.hpp"
+#include "sarloc/core/avalanche/victim_estimate.hpp"
+
+namespace sarloc::avalanche {
+
+struct SearchConfig {
+  double step_length_m = 1.0;          ///< nominal step (seed 000: 1 m/s, 1 measurement/s)
+  double approach_mahalanobis = 0.5;   ///< leave flux-line following beyond this distance
+  double fine_search_radius_m = 2.0;   ///< below this horizontal distance: fine search
+  double located_radius_m = 0.4;       ///< 95 % 3-D radius for "located"
+  double found_distance_m = 0.5;       ///< horizontal distance to the estimate for "found"
+  double probe_step_m = 0.5;           ///< sideways step when on top but not yet located
+  double flux_smoothing = 0.7;         ///< memory of the SNR-weighted flux-line direction
+  double flux_snr_cap = 10.0;          ///< SNR above which a direction gets no extra weight
+
+  /// Throws ConfigError "search.<key> = value: rule".
+  void validate() const;
+};
+
+class SearchController {
+ public:
+  explicit SearchController(SearchConfig config = {});
+
+  /// Guidance after the filter processed `measurement` (the same signal).
+  Guidance guide(const SogFilter& filter, const FieldMeasurement& measurement);
+  /// kLocated / kFound refinement of a filter estimate (same criteria as guide()).
+  EstimatorStatus assess(const VictimEstimate& estimate) const;
+  GuidanceMode mode() const { return mode_; }
+  const SearchConfig& config() const { return config_; }
+
+  /// 95 % radius (m) of a 3-D position covariance along its worst axis.
+  static double radius95_3d(const Mat3& covariance);
+  /// 95 % radius (m) of the horizontal 2-D marginal along its worst axis.
+  static double radius95_2d(const Mat3& covariance);
+
+ private:
+  SearchConfig config_;
+  GuidanceMode mode_ = GuidanceMode::kFollowFluxLine;
+  int probe_turn_ = 0;
+  Eigen::Vector2d flux_dir_ = Eigen::Vector2d::Zero();  ///< smoothed flux-line direction in G
+};
+
+}  // namespace sarloc::avalanche

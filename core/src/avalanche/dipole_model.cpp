@@ -1,0 +1,156 @@
+#include "sarloc/core/avalanche/dipole_model.hpp"
+
+#include <cmath>
+
+#include "sarloc/core/avalanche/rotation.hpp"
+
+namespace sarloc::avalanche {
+
+Vec3 DipoleField::field(const Vec3& r, const Vec3& m, Mat3* J_H_r, Mat3* J_H_m) {
+  const double r2 = r.squaredNorm();
+  const double rn = std::sqrt(r2);
+  const double inv = 1.0 / (4.0 * kPi * r2 * r2 * rn);  // 1 / (4 pi r^5)
+  const double mr = m.dot(r);
+  const Vec3 n = 3.0 * mr * r - r2 * m;  // A m, eq. (13)
+  if (J_H_r != nullptr) {
+    // d(A m)/dr = 3 (r m^T + (m.r) I) - 2 m r^T ; d(r^-5)/dr = -5 r^-7 r^T.
+    Mat3 dn = 3.0 * (r * m.transpose()) - 2.0 * (m * r.transpose());
+    dn.diagonal().array() += 3.0 * mr;
+    *J_H_r = inv * (dn - (5.0 / r2) * (n * r.transpose()));
+  }
+  if (J_H_m != nullptr) {
+    Mat3 a = 3.0 * (r * r.transpose());
+    a.diagonal().array() -= r2;
+    *J_H_m = inv * a;
+  }
+  return inv * n;
+}
+
+Vec3 DipoleField::moment(const Vec3& r, const Vec3& h, Mat3* J_m_r, Mat3* J_m_H) {
+  // B(r) = A / (4 pi r^5) has inverse 4 pi r^3 (1.5 r r^T / r^2 - I).
+  const double r2 = r.squaredNorm();
+  const double rn = std::sqrt(r2);
+  Mat3 b_inv = (1.5 / r2) * (r * r.transpose());
+  b_inv.diagonal().array() -= 1.0;
+  b_inv *= 4.0 * kPi * r2 * rn;
+  const Vec3 m = b_inv * h;
+  if (J_m_r != nullptr) {
+    // m = B^-1 h with h fixed: dm = -B^-1 (dB m) = -B^-1 J_H_r(r, m) dr.
+    Mat3 j_h_r;
+    DipoleField::field(r, m, &j_h_r, nullptr);
+    *J_m_r = -b_inv * j_h_r;
+  }
+  if (J_m_H != nullptr) *J_m_H = b_inv;
+  return m;
+}
+
+Vec3 MeasurementModel::h(const StateVec& x, const DispVec& d, Jacobian<3, idx::kStateDim>* H_x,
+                         Jacobian<3, idx::kDispDim>* H_d) {
+  const Vec3 psi = x.segment<3>(idx::kAtt);
+  const Vec3 p = x.segment<3>(idx::kPos);
+  const Vec3 m = x.segment<3>(idx::kMom);
+  const Vec3 t = d.segment<3>(idx::kTrans);
+  const Vec3 dpsi = d.segment<3>(idx::kRot);
+  const Mat3 r_g = rotation_from_rpy(psi);
+  const Mat3 r_d = rotation_from_rpy(dpsi);
+  const Mat3 r_k = r_g * r_d;
+  const Vec3 rt = r_g * t;
+  const Vec3 r = rt - p;  // transmitter -> receiver in G_{k-1}
+  Mat3 j_r, j_m;
+  const bool need = H_x != nullptr || H_d != nullptr;
+  const Vec3 field = DipoleField::field(r, m, need ? &j_r : nullptr, need ? &j_m : nullptr);
+  if (need) {
+    const Mat3 rkt = r_k.transpose();
+    const Mat3 rkt_jr = rkt * j_r;
+    const Mat3 h_skew = skew(field);
+    if (H_x != nullptr) {
+      H_x->block<3, 3>(0, idx::kAtt) =
+          rkt * (h_skew - j_r * skew(rt)) * euler_rate_to_world(psi);
+      H_x->block<3, 3>(0, idx::kPos) = -rkt_jr;
+      H_x->block<3, 3>(0, idx::kMom) = rkt * j_m;
+    }
+    if (H_d != nullptr) {
+      H_d->block<3, 3>(0, idx::kTrans) = rkt_jr * r_g;
+      H_d->block<3, 3>(0, idx::kRot) = rkt * h_skew * r_g * euler_rate_to_world(dpsi);
+    }
+  }
+  return r_k.transpose() * field;
+}
+
+Vec3 MeasurementModel::h(const AugVec& xa, Jacobian<3, idx::kAugDim>* H) {
+  Jacobian<3, idx::kStateDim> h_x;
+  Jacobian<3, idx::kDispDim> h_d;
+  const Vec3 z = h(StateVec(xa.head<idx::kStateDim>()), DispVec(xa.tail<idx::kDispDim>()),
+                   H != nullptr ? &h_x : nullptr, H != nullptr ? &h_d : nullptr);
+  if (H != nullptr) *H << h_x, h_d;
+  return z;
+}
+
+StateVec CompositionModel::f(const StateVec& x, const DispVec& d, StateCov* F_x,
+                             Jacobian<idx::kStateDim, idx::kDispDim>* F_d) {
+  const Vec3 psi = x.segment<3>(idx::kAtt);
+  const Vec3 t = d.segment<3>(idx::kTrans);
+  const Vec3 dpsi = d.segment<3>(idx::kRot);
+  const Mat3 r_g = rotation_from_rpy(psi);
+  const Mat3 r_k = r_g * rotation_from_rpy(dpsi);
+  const Vec3 psi_k = rpy_from_rotation(r_k);
+  const Vec3 rt = r_g * t;
+  StateVec out;
+  out.segment<3>(idx::kAtt) = psi_k;
+  out.segment<3>(idx::kPos) = x.segment<3>(idx::kPos) - rt;
+  out.segment<3>(idx::kMom) = x.segment<3>(idx::kMom);
+  if (F_x != nullptr || F_d != nullptr) {
+    const Mat3 e_inv_k = world_to_euler_rate(psi_k);
+    if (F_x != nullptr) {
+      F_x->setIdentity();
+      const Mat3 e_w = euler_rate_to_world(psi);
+      F_x->block<3, 3>(idx::kAtt, idx::kAtt) = e_inv_k * e_w;
+      F_x->block<3, 3>(idx::kPos, idx::kAtt) = skew(rt) * e_w;
+    }
+    if (F_d != nullptr) {
+      F_d->setZero();
+      F_d->block<3, 3>(idx::kAtt, idx::kRot) = e_inv_k * r_g * euler_rate_to_world(dpsi);
+      F_d->block<3, 3>(idx::kPos, idx::kTrans) = -r_g;
+    }
+  }
+  return out;
+}
+
+StateVec CompositionModel::f(const AugVec& xa, Jacobian<idx::kStateDim, idx::kAugDim>* F) {
+  StateCov f_x;
+  Jacobian<idx::kStateDim, idx::kDispDim> f_d;
+  const StateVec out = f(StateVec(xa.head<idx::kStateDim>()), DispVec(xa.tail<idx::kDispDim>()),
+                         F != nullptr ? &f_x : nullptr, F != nullptr ? &f_d : nullptr);
+  if (F != nullptr) *F << f_x, f_d;
+  return out;
+}
+
+DispVec compose_displacements(const DispVec& d1, const DispVec& d2, Mat6* J_d1, Mat6* J_d2) {
+  const Vec3 a1 = d1.segment<3>(idx::kRot);
+  const Vec3 a2 = d2.segment<3>(idx::kRot);
+  const Mat3 r1 = rotation_from_rpy(a1);
+  const Mat3 r12 = r1 * rotation_from_rpy(a2);
+  const Vec3 a12 = rpy_from_rotation(r12);
+  const Vec3 r1t2 = r1 * d2.segment<3>(idx::kTrans);
+  DispVec out;
+  out.segment<3>(idx::kTrans) = d1.segment<3>(idx::kTrans) + r1t2;
+  out.segment<3>(idx::kRot) = a12;
+  if (J_d1 != nullptr || J_d2 != nullptr) {
+    const Mat3 e_inv = world_to_euler_rate(a12);
+    if (J_d1 != nullptr) {
+      const Mat3 e1 = euler_rate_to_world(a1);
+      J_d1->setZero();
+      J_d1->block<3, 3>(idx::kTrans, idx::kTrans) = Mat3::Identity();
+      J_d1->block<3, 3>(idx::kTrans, idx::kRot) = -skew(r1t2) * e1;
+      J_d1->block<3, 3>(idx::kRot, idx::kRot) = e_inv * e1;
+    }
+    if (J_d2 != nullptr) {
+      J_d2->setZero();
+      J_d2->block<3, 3>(idx::kTrans, idx::kTrans) = r1;
+      J_d2->block<3, 3>(idx::kRot, idx::kRot) = e_inv * r1 * euler_rate_to_world(a2);
+    }
+  }
+  return out;
+}
+
+}  // namespace sarloc::avalanche

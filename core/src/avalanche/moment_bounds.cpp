@@ -1,0 +1,36 @@
+#include <cmath>
+#include <sstream>
+
+#include "sarloc/core/avalanche/dipole_model.hpp"
+#include "sarloc/core/avalanche/transmitter_standard.hpp"
+#include "sarloc/core/common/errors.hpp"
+
+namespace sarloc::avalanche {
+
+double TransmitterStandard::moment_min() const {
+  return 4.0 * kPi * std::pow(reference_distance_m, 3) * field_min_A_per_m;
+}
+double TransmitterStandard::moment_max() const {
+  return 4.0 * kPi * std::pow(reference_distance_m, 3) * field_max_A_per_m;
+}
+double TransmitterStandard::strongest_on_axis_field(double r) const {
+  return 2.0 * moment_max() / (4.0 * kPi * r * r * r);
+}
+
+void TransmitterStandard::validate(const std::string& prefix) const {
+  auto fail = [&](const char* key, double v, const char* rule) {
+    std::ostringstream os;
+    os << prefix << "." << key << " = " << v << ": " << rule;
+    throw ConfigError(os.str());
+  };
+  if (!std::isfinite(field_min_A_per_m) || field_min_A_per_m <= 0.0 || field_min_A_per_m > 1e-3)
+    fail("field_min_A_per_m", field_min_A_per_m, "must be in (0, 1e-3]");
+  if (!std::isfinite(field_max_A_per_m) || field_max_A_per_m < field_min_A_per_m ||
+      field_max_A_per_m > 1e-3)
+    fail("field_max_A_per_m", field_max_A_per_m, "must be in [field_min_A_per_m, 1e-3]");
+  if (!std::isfinite(reference_distance_m) || reference_distance_m <= 0.0 ||
+      reference_distance_m > 1000.0)
+    fail("reference_distance_m", reference_distance_m, "must be in (0, 1000]");
+}
+
+}  // namespace sarloc::avalanche

@@ -1,0 +1,152 @@
+#include "sarloc/core/avalanche/search_controller.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "sarloc/core/avalanche/rotation.hpp"
+#include "sarloc/core/common/errors.hpp"
+
+namespace sarloc::avalanche {
+namespace {
+
+constexpr double kChi2_3_95 = 7.814727903251178;
+constexpr double kChi2_2_95 = 5.991464547107979;
+
+void check(const char* key, double v, double lo, double hi, bool lo_open) {
+  const bool ok = std::isfinite(v) && (lo_open ? v > lo : v >= lo) && v <= hi;
+  if (!ok) {
+    std::ostringstream os;
+    os << "search." << key << " = " << v << ": must be in " << (lo_open ? "(" : "[") << lo << ", "
+       << hi << "]";
+    throw ConfigError(os.str());
+  }
+}
+
+}  // namespace
+
+void SearchConfig::validate() const {
+  check("step_length_m", step_length_m, 0.0, 10.0, true);
+  check("approach_mahalanobis", approach_mahalanobis, 0.0, 100.0, false);
+  check("fine_search_radius_m", fine_search_radius_m, 0.0, 50.0, false);
+  check("located_radius_m", located_radius_m, 0.0, 50.0, true);
+  check("found_distance_m", found_distance_m, 0.0, 50.0, true);
+  check("probe_step_m", probe_step_m, 0.0, 10.0, true);
+  check("flux_smoothing", flux_smoothing, 0.0, 0.99, false);
+  check("flux_snr_cap", flux_snr_cap, 0.0, 1000.0, true);
+}
+
+SearchController::SearchController(SearchConfig config) : config_(config) { config_.validate(); }
+
+double SearchController::radius95_3d(const Mat3& cov) {
+  const double l = Eigen::SelfAdjointEigenSolver<Mat3>(cov, Eigen::EigenvaluesOnly)
+                       .eigenvalues()
+                       .maxCoeff();
+  return std::sqrt(kChi2_3_95 * std::max(l, 0.0));
+}
+
+double SearchController::radius95_2d(const Mat3& cov) {
+  const Eigen::Matrix2d c = cov.topLeftCorner<2, 2>();
+  const double l = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(c, Eigen::EigenvaluesOnly)
+                       .eigenvalues()
+                       .maxCoeff();
+  return std::sqrt(kChi2_2_95 * std::max(l, 0.0));
+}
+
+EstimatorStatus SearchController::assess(const VictimEstimate& e) const {
+  if (e.status == EstimatorStatus::kInitialising) return e.status;
+  if (radius95_3d(e.relative.covariance) > config_.located_radius_m) return e.status;
+  if (e.relative.position.head<2>().norm() <= config_.found_distance_m)
+    return EstimatorStatus::kFound;
+  return EstimatorStatus::kLocated;
+}
+
+Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement& meas) {
+  Guidance g;
+  g.rescuer_id = meas.rescuer_id;
+  g.signal_id = meas.signal_id;
+  g.stamp = meas.stamp;
+  if (!filter.initialised()) {
+    g.mode = mode_;
+    g.step_m = 0.0;
+    return g;
+  }
+  const MixtureMoments mm = filter.moments();
+  const Vec3 mean = mm.mean.segment<3>(idx::kPos);
+  const Mat3 cov = mm.covariance.block<3, 3>(idx::kPos, idx::kPos);
+  const Vec3 psi = mm.mean.segment<3>(idx::kAtt);
+  const double yaw = psi.z();
+  const Eigen::Vector2d mean_h = mean.head<2>();
+  const double dist = mean_h.norm();
+  const double r95_h = radius95_2d(cov);
+  g.distance_m = dist;
+  g.uncertainty_radius_m = r95_h;
+
+  VictimEstimate e;
+  e.status = EstimatorStatus::kMultimodal;
+  e.relative.position = mean;
+  e.relative.covariance = cov;
+  const EstimatorStatus st = assess(e);
+
+  const Eigen::Matrix2d cov_h = cov.topLeftCorner<2, 2>();
+  const double maha2 = mean_h.dot(cov_h.ldlt().solve(mean_h));
+  const double thr2 = config_.approach_mahalanobis * config_.approach_mahalanobis;
+  if (st == EstimatorStatus::kFound) {
+    mode_ = GuidanceMode::kFound;
+  } else if (mode_ == GuidanceMode::kFollowFluxLine) {
+    if (maha2 > thr2) mode_ = GuidanceMode::kApproach;
+  } else {
+    // Back to the flux line only if the mixture spread out again around the receiver.
+    if (maha2 <= thr2 && r95_h > config_.fine_search_radius_m) mode_ = GuidanceMode::kFollowFluxLine;
+    else mode_ = dist < config_.fine_search_radius_m ? GuidanceMode::kFineSearch
+                                                     : GuidanceMode::kApproach;
+  }
+  g.mode = mode_;
+
+  double heading = std::atan2(mean_h.y(), mean_h.x());
+  double step = config_.step_length_m;
+  switch (mode_) {
+    case GuidanceMode::kFound:
+      step = 0.0;
+      break;
+    case GuidanceMode::kFollowFluxLine: {
+      // Horizontal flux-line direction in G, weighted by its signal-to-noise ratio and
+      // low-pass filtered: with a weak signal the measured direction is mostly noise and the
+      // rescuer keeps walking straight (a baseline that makes |z| informative) instead of
+      // dithering; with a strong one it follows the line. A flux line has no sense: keep the
+      // sense of the running direction, the first one towards the mixture mean.
+      const Vec3 h_g = rotation_from_rpy(psi) * meas.field;
+      Eigen::Vector2d dir = h_g.head<2>();
+      const double sigma = filter.config().noise_relative * meas.field.norm() +
+                           std::max(filter.config().noise_floor_A_per_m, meas.noise_stddev.maxCoeff());
+      const double snr = dir.norm() / (std::sqrt(2.0) * sigma);
+      if (dir.norm() > 0.0) {
+        dir.normalize();
+        const Eigen::Vector2d ref = flux_dir_.squaredNorm() > 0.0 ? flux_dir_ : mean_h;
+        if (dir.dot(ref) < 0.0) dir = -dir;
+        const double w = std::min(snr * snr, config_.flux_snr_cap * config_.flux_snr_cap);
+        flux_dir_ = config_.flux_smoothing * flux_dir_ + w * dir;
+      }
+      if (flux_dir_.squaredNorm() > 0.0) heading = std::atan2(flux_dir_.y(), flux_dir_.x());
+      break;
+    }
+    case GuidanceMode::kApproach:
+      break;
+    case GuidanceMode::kFineSearch:
+      if (dist > config_.found_distance_m) {
+        step = std::min(step, dist);
+      } else {
+        // On top of the estimate but not located: a short sideways probe to change geometry.
+        heading += 0.5 * kPi * (1 + 2 * (probe_turn_++ % 2));
+        step = config_.probe_step_m;
+      }
+      break;
+  }
+  g.heading_rad = wrap_angle(heading);
+  g.bearing_rad = wrap_angle(heading - yaw);
+  g.step_m = step;
+  return g;
+}
+
+}  // namespace sarloc::avalanche

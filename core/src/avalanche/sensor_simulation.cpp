@@ -1,0 +1,61 @@
+#include "sarloc/core/avalanche/sensor_simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "sarloc/core/avalanche/dipole_model.hpp"
+#include "sarloc/core/avalanche/rotation.hpp"
+
+namespace sarloc::avalanche {
+namespace {
+constexpr double kDeg = kPi / 180.0;
+}
+
+Vec3 simulate_field(const SimulationConfig& config, const ReceiverPose& receiver, const Vec3& transmitter,
+                    const Vec3& moment, std::mt19937_64& rng) {
+  std::normal_distribution<double> n01(0.0, 1.0);
+  const Vec3 h_world = DipoleField::field(receiver.position - transmitter, moment);
+  const double sigma = config.field_noise_relative * h_world.norm() + config.field_noise_floor_A_per_m;
+  const Mat3 r_world = rotation_from_rpy(receiver.rpy);
+  return r_world.transpose() * h_world + sigma * Vec3(n01(rng), n01(rng), n01(rng));
+}
+
+OrientationObservation simulate_attitude(const SimulationConfig& config, const ReceiverPose& receiver,
+                                         std::mt19937_64& rng) {
+  std::normal_distribution<double> n01(0.0, 1.0);
+  const double s_rp = config.attitude_roll_pitch_sigma_deg * kDeg;
+  const double s_y = config.attitude_yaw_sigma_deg * kDeg;
+  OrientationObservation o;
+  o.rpy = receiver.rpy + Vec3(s_rp * n01(rng), s_rp * n01(rng), s_y * n01(rng));
+  o.rpy.z() = wrap_angle(o.rpy.z());
+  o.covariance = Vec3(s_rp * s_rp, s_rp * s_rp, s_y * s_y).asDiagonal();
+  return o;
+}
+
+Odometry simulate_step(const SimulationConfig& config, ReceiverPose& receiver, double bearing_rad, double step_m,
+                       std::mt19937_64& rng) {
+  std::normal_distribution<double> n01(0.0, 1.0);
+  const Mat3 r_prev = rotation_from_rpy(receiver.rpy);
+  const double heading = wrap_angle(receiver.rpy.z() + bearing_rad);
+  const Vec3 delta(step_m * std::cos(heading), step_m * std::sin(heading), 0.0);
+  receiver.position += delta;
+  const double sway = config.sway_roll_pitch_deg * kDeg;
+  receiver.rpy = Vec3(sway * n01(rng), sway * n01(rng), heading);
+  const Mat3 r_now = rotation_from_rpy(receiver.rpy);
+  const Vec3 t_true = r_prev.transpose() * delta;
+  const Vec3 rot_true = rpy_from_rotation(r_prev.transpose() * r_now);
+
+  const double s_rp = config.odometry_roll_pitch_sigma_deg * kDeg;
+  const double s_y = config.odometry_yaw_sigma_deg * kDeg;
+  const double s_t = std::max(config.odometry_translation_relative * t_true.norm(), config.odometry_translation_floor_m);
+  Odometry o;
+  o.translation = t_true + s_t * Vec3(n01(rng), n01(rng), n01(rng));
+  o.rotation_rpy = rot_true + Vec3(s_rp * n01(rng), s_rp * n01(rng), s_y * n01(rng));
+  for (int k = 0; k < 3; ++k) o.rotation_rpy[k] = wrap_angle(o.rotation_rpy[k]);
+  o.covariance.setZero();
+  o.covariance.diagonal() << s_t * s_t, s_t * s_t, s_t * s_t, s_rp * s_rp, s_rp * s_rp, s_y * s_y;
+  o.source = OdometrySource::kSimulated;
+  return o;
+}
+
+}  // namespace sarloc::avalanche

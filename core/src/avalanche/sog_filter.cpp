@@ -1,0 +1,606 @@
+#include "sarloc/core/avalanche/sog_filter.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <unordered_map>
+
+#include "sarloc/core/avalanche/rotation.hpp"
+#include "sarloc/core/common/errors.hpp"
+
+namespace sarloc::avalanche {
+namespace {
+
+template <typename T>
+[[noreturn]] void config_fail(const char* key, const T& value, const char* rule) {
+  std::ostringstream os;
+  os << "sog." << key << " = " << value << ": " << rule;
+  throw ConfigError(os.str());
+}
+
+[[noreturn]] void input_fail(const std::string& field, const std::string& value,
+                             const std::string& rule) {
+  throw InputError("field_measurement." + field + " = " + value + ": " + rule);
+}
+
+std::string fmt(const Vec3& v) {
+  std::ostringstream os;
+  os << "[" << v.x() << ", " << v.y() << ", " << v.z() << "]";
+  return os.str();
+}
+
+bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
+
+// 95 % radius of a 3-D Gaussian along its worst axis: sqrt(chi2_3(0.95) * lambda_max).
+constexpr double kChi2_3_95 = 7.814727903251178;
+
+}  // namespace
+
+void SogConfig::validate() const {
+  if (initial_components == 0) config_fail("initial_components", initial_components, "must be > 0");
+  if (initial_components > max_components)
+    config_fail("initial_components", initial_components, "must be <= max_components");
+  if (max_components == 0) config_fail("max_components", max_components, "must be > 0");
+  standard.validate("sog.standard");
+  if (!std::isfinite(antenna_height_m) || antenna_height_m < 0.0 || antenna_height_m > 10.0)
+    config_fail("antenna_height_m", antenna_height_m, "must be in [0, 10]");
+  if (!finite_positive(max_burial_depth_m) || max_burial_depth_m > 20.0)
+    config_fail("max_burial_depth_m", max_burial_depth_m, "must be in (0, 20]");
+  if (depth_layers == 0 || depth_layers > 20)
+    config_fail("depth_layers", depth_layers, "must be in [1, 20]");
+  if (!finite_positive(depth_sigma_factor) || depth_sigma_factor > 5.0)
+    config_fail("depth_sigma_factor", depth_sigma_factor, "must be in (0, 5]");
+  if (!finite_positive(horizontal_overlap) || horizontal_overlap > 5.0)
+    config_fail("horizontal_overlap", horizontal_overlap, "must be in (0, 5]");
+  if (!finite_positive(max_range_m) || max_range_m > 500.0)
+    config_fail("max_range_m", max_range_m, "must be in (0, 500]");
+  if (!std::isfinite(range_noise_sigmas) || range_noise_sigmas < 0.0 || range_noise_sigmas > 10.0)
+    config_fail("range_noise_sigmas", range_noise_sigmas, "must be in [0, 10]");
+  if (!std::isfinite(moment_margin) || moment_margin < 0.0 || moment_margin >= 1.0)
+    config_fail("moment_margin", moment_margin, "must be in [0, 1)");
+  for (int i = 0; i < 3; ++i) {
+    if (!finite_positive(attitude_prior_sigma_rad[i]) || attitude_prior_sigma_rad[i] > kPi)
+      config_fail("attitude_prior_sigma_rad", fmt(attitude_prior_sigma_rad),
+                  "each must be in (0, pi]");
+  }
+  if (!std::isfinite(noise_relative) || noise_relative < 0.0 || noise_relative > 1.0)
+    config_fail("noise_relative", noise_relative, "must be in [0, 1]");
+  if (!finite_positive(noise_floor_A_per_m) || noise_floor_A_per_m > 1e-3)
+    config_fail("noise_floor_A_per_m", noise_floor_A_per_m, "must be in (0, 1e-3]");
+  if (!finite_positive(idle_translation_sigma_m) || idle_translation_sigma_m > 10.0)
+    config_fail("idle_translation_sigma_m", idle_translation_sigma_m, "must be in (0, 10]");
+  if (!finite_positive(idle_rotation_sigma_rad) || idle_rotation_sigma_rad > kPi)
+    config_fail("idle_rotation_sigma_rad", idle_rotation_sigma_rad, "must be in (0, pi]");
+  if (!finite_positive(prune_log_weight) || prune_log_weight > 700.0)
+    config_fail("prune_log_weight", prune_log_weight, "must be in (0, 700]");
+  if (!finite_positive(merge_cell_m) || merge_cell_m > 100.0)
+    config_fail("merge_cell_m", merge_cell_m, "must be in (0, 100]");
+  if (!std::isfinite(merge_mahalanobis) || merge_mahalanobis < 0.0 || merge_mahalanobis > 100.0)
+    config_fail("merge_mahalanobis", merge_mahalanobis, "must be in [0, 100]");
+  if (!finite_positive(converged_radius_m) || converged_radius_m > 1000.0)
+    config_fail("converged_radius_m", converged_radius_m, "must be in (0, 1000]");
+}
+
+void validate_field_measurement(const FieldMeasurement& m) {
+  if (!m.field.allFinite()) input_fail("field", fmt(m.field), "must be finite");
+  if (m.field.norm() > 10.0) input_fail("field", fmt(m.field), "|field| must be <= 10 A/m");
+  if (!m.noise_stddev.allFinite() || m.noise_stddev.minCoeff() < 0.0 ||
+      m.noise_stddev.maxCoeff() > 1.0)
+    input_fail("noise_stddev", fmt(m.noise_stddev), "must be finite and in [0, 1] A/m");
+  if (m.orientation) {
+    const auto& o = *m.orientation;
+    if (!o.rpy.allFinite() || o.rpy.cwiseAbs().maxCoeff() > kPi + 1e-9)
+      input_fail("orientation.rpy", fmt(o.rpy), "must be finite and within [-pi, pi]");
+    if (std::fabs(o.rpy.y()) > 1.4)
+      input_fail("orientation.rpy", fmt(o.rpy), "|pitch| must be <= 1.4 rad (Euler singularity)");
+    if (!o.covariance.allFinite() || !o.covariance.isApprox(o.covariance.transpose(), 1e-9))
+      input_fail("orientation.covariance", "non-finite or asymmetric", "must be symmetric");
+    Eigen::LLT<Mat3> llt(o.covariance);
+    if (llt.info() != Eigen::Success || o.covariance.diagonal().minCoeff() <= 0.0)
+      input_fail("orientation.covariance", "diag " + fmt(o.covariance.diagonal()),
+                 "must be positive definite");
+  }
+}
+
+SogFilter::SogFilter(SogConfig config, std::string rescuer_id, std::uint32_t signal_id)
+    : config_(std::move(config)),
+      rescuer_id_(std::move(rescuer_id)),
+      signal_id_(signal_id),
+      odometry_((config_.validate(), config_.idle_translation_sigma_m),
+                config_.idle_rotation_sigma_rad) {}
+
+void SogFilter::add_odometry(const Odometry& odometry) {
+  if (!rescuer_id_.empty() && !odometry.rescuer_id.empty() && odometry.rescuer_id != rescuer_id_)
+    throw InputError("odometry.rescuer_id = " + odometry.rescuer_id + ": filter belongs to " +
+                     rescuer_id_);
+  odometry_.add(odometry);
+}
+
+Vec3 SogFilter::noise_floor(const FieldMeasurement& m) const {
+  return m.noise_stddev.cwiseMax(config_.noise_floor_A_per_m);
+}
+
+SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
+  validate_field_measurement(measurement);
+  if (!rescuer_id_.empty() && !measurement.rescuer_id.empty() &&
+      measurement.rescuer_id != rescuer_id_)
+    throw InputError("field_measurement.rescuer_id = " + measurement.rescuer_id +
+                     ": filter belongs to " + rescuer_id_);
+  if (last_sequence_ && measurement.sequence <= *last_sequence_)
+    input_fail("sequence", std::to_string(measurement.sequence),
+               "must be > previous " + std::to_string(*last_sequence_));
+  SogStepResult result;
+  if (!initialised()) {
+    initialise(measurement);
+    odometry_.take();  // motion before the first measurement is irrelevant
+    result.initialised_now = true;
+    result.components_after = components_.size();
+    last_sequence_ = measurement.sequence;
+    last_stamp_ = measurement.stamp;
+    steps_ = 1;
+    return result;
+  }
+  last_sequence_ = measurement.sequence;
+  last_stamp_ = measurement.stamp;
+  result.components_before = components_.size();
+  const Displacement disp = odometry_.take();
+  const OrientationObservation* orientation =
+      measurement.orientation && config_.use_orientation ? &*measurement.orientation : nullptr;
+  update_field(measurement.field, noise_floor(measurement), disp, orientation, result);
+  normalise_and_prune();
+  ++steps_;
+  if (config_.merge_interval > 0 && steps_ % config_.merge_interval == 0) result.merged = merge();
+  result.components_after = components_.size();
+  return result;
+}
+
+void SogFilter::initialise(const FieldMeasurement& meas) {
+  validate_field_measurement(meas);
+  const Vec3 z = meas.field;
+  const double zn = z.norm();
+  if (!(zn > 0.0)) input_fail("field", fmt(z), "first measurement must be non-zero");
+  Vec3 psi0 = Vec3::Zero();
+  Mat3 p_psi = config_.attitude_prior_sigma_rad.cwiseAbs2().asDiagonal();
+  if (meas.orientation && config_.use_orientation) {
+    psi0 = meas.orientation->rpy;
+    p_psi = meas.orientation->covariance;
+  }
+  const Mat3 r_g = rotation_from_rpy(psi0);
+  const Vec3 h_g = r_g * z;  // G_1 z_1
+
+  const Vec3 floor = noise_floor(meas);
+  const Vec3 sigma_axis = Vec3::Constant(config_.noise_relative * zn) + floor;
+  const double sigma_norm = sigma_axis.norm();
+  const double m_lo = config_.standard.moment_min() * (1.0 - config_.moment_margin);
+  const double m_hi = config_.standard.moment_max() * (1.0 + config_.moment_margin);
+  // Seed 000, section III-B: r_min = (m_min / (4 pi |z|))^(1/3), r_max = (2 m_max / (4 pi |z|))^(1/3),
+  // evaluated at |z| +- k sigma so that noise cannot push the truth outside the ring.
+  const double z_hi = zn + config_.range_noise_sigmas * sigma_norm;
+  const double z_lo = zn - config_.range_noise_sigmas * sigma_norm;
+  const double r_min = std::cbrt(m_lo / (4.0 * kPi * z_hi));
+  const double r_max =
+      z_lo > 0.0 ? std::min(config_.max_range_m, std::cbrt(2.0 * m_hi / (4.0 * kPi * z_lo)))
+                 : config_.max_range_m;
+  const double h = config_.antenna_height_m;
+  const double deepest = h + config_.max_burial_depth_m;
+  const double rho_min = std::sqrt(std::max(0.0, r_min * r_min - deepest * deepest));
+  const double rho_max = std::max(r_max, rho_min + 0.5);
+  const std::uint32_t layers = config_.depth_layers;
+  const double thickness = config_.max_burial_depth_m / layers;
+  const double sigma_z = config_.depth_sigma_factor * thickness;
+
+  struct Candidate {
+    Vec3 p;
+    Vec3 m;
+  };
+  auto generate = [&](double s, bool check_moment, std::vector<Candidate>* out) {
+    std::size_t count = 0;
+    const double dy = s * std::sqrt(3.0) / 2.0;
+    const int ny = static_cast<int>(std::ceil(rho_max / dy));
+    for (int j = -ny; j <= ny; ++j) {
+      const double y = j * dy;
+      const double off = (j & 1) != 0 ? 0.5 * s : 0.0;
+      const int nx = static_cast<int>(std::ceil(rho_max / s)) + 1;
+      for (int i = -nx; i <= nx; ++i) {
+        const double x = i * s + off;
+        const double rho = std::hypot(x, y);
+        if (rho > rho_max || rho < rho_min) continue;
+        for (std::uint32_t l = 0; l < layers; ++l) {
+          const Vec3 p(x, y, -(h + (l + 0.5) * thickness));
+          const Vec3 m = DipoleField::moment(-p, h_g);
+          if (check_moment) {
+            const double mn = m.norm();
+            if (mn < m_lo || mn > m_hi) continue;
+          }
+          ++count;
+          if (out != nullptr) out->push_back({p, m});
+        }
+      }
+    }
+    return count;
+  };
+  const double target = config_.initial_components;
+  const double area = kPi * (rho_max * rho_max - rho_min * rho_min);
+  double s = std::sqrt(area * layers / target / (std::sqrt(3.0) / 2.0));
+  bool check = true;
+  std::size_t count = 0;
+  for (int it = 0; it < 8; ++it) {
+    count = generate(s, check, nullptr);
+    if (count == 0) {
+      if (!check) break;
+      check = false;  // |z_1| inconsistent with the standard: fall back to the plain ring
+      continue;
+    }
+    const double ratio = static_cast<double>(count) / target;
+    if (std::fabs(ratio - 1.0) < 0.02) break;
+    s *= std::sqrt(ratio);
+  }
+  // Never exceed the cap; shrink spacing only upward if needed.
+  while (count > config_.max_components) {
+    s *= 1.05;
+    count = generate(s, check, nullptr);
+  }
+  std::vector<Candidate> cands;
+  cands.reserve(count);
+  generate(s, check, &cands);
+  if (cands.empty()) input_fail("field", fmt(z), "no transmitter hypothesis fits this field");
+
+  const double sigma_h = config_.horizontal_overlap * s;
+  Mat3 p_pp = Mat3::Zero();
+  p_pp.diagonal() << sigma_h * sigma_h, sigma_h * sigma_h, sigma_z * sigma_z;
+  const Mat3 r_z = sigma_axis.cwiseAbs2().asDiagonal();
+  const Mat3 dhg_dpsi = -skew(h_g) * euler_rate_to_world(psi0);
+
+  components_.clear();
+  components_.reserve(cands.size());
+  for (const auto& c : cands) {
+    Mat3 j_m_r, j_m_h;
+    const Vec3 m = DipoleField::moment(-c.p, h_g, &j_m_r, &j_m_h);
+    // m = g(Psi, p, z): linearised joint covariance (r = -p, h_G = R(Psi) z).
+    const Mat3 g_p = -j_m_r;
+    const Mat3 g_psi = j_m_h * dhg_dpsi;
+    const Mat3 g_z = j_m_h * r_g;
+    SogComponent comp;
+    comp.x.segment<3>(idx::kAtt) = psi0;
+    comp.x.segment<3>(idx::kPos) = c.p;
+    comp.x.segment<3>(idx::kMom) = m;
+    comp.P.setZero();
+    comp.P.block<3, 3>(idx::kAtt, idx::kAtt) = p_psi;
+    comp.P.block<3, 3>(idx::kPos, idx::kPos) = p_pp;
+    comp.P.block<3, 3>(idx::kMom, idx::kMom) = g_p * p_pp * g_p.transpose() +
+                                             g_psi * p_psi * g_psi.transpose() +
+                                             g_z * r_z * g_z.transpose();
+    comp.P.block<3, 3>(idx::kMom, idx::kPos) = g_p * p_pp;
+    comp.P.block<3, 3>(idx::kPos, idx::kMom) = (g_p * p_pp).transpose();
+    comp.P.block<3, 3>(idx::kMom, idx::kAtt) = g_psi * p_psi;
+    comp.P.block<3, 3>(idx::kAtt, idx::kMom) = (g_psi * p_psi).transpose();
+    // Change of variables z -> m: p(p | z_1) ~ p_m(m(p)) |det dm/dz| ~ r^9 / |m|^2.
+    comp.log_weight = config_.jacobian_initial_weights
+                          ? 9.0 * std::log(c.p.norm()) - 2.0 * std::log(m.norm())
+                          : 0.0;
+    components_.push_back(comp);
+  }
+  normalise_and_prune();
+}
+
+namespace {
+
+// Linear Kalman update of Psi with an attitude-sensor reading (H = [I 0 0]); returns the
+// log-likelihood of the reading (eq. (17) for this extra observation).
+double orientation_update(SogComponent& c, const OrientationObservation& o) {
+  Vec3 nu = o.rpy - c.x.segment<3>(idx::kAtt);
+  for (int k = 0; k < 3; ++k) nu[k] = wrap_angle(nu[k]);
+  const Mat3 s = c.P.block<3, 3>(idx::kAtt, idx::kAtt) + o.covariance;
+  const Mat3 s_inv = s.inverse();
+  const Jacobian<idx::kStateDim, 3> pht = c.P.middleCols<3>(idx::kAtt);
+  const Jacobian<idx::kStateDim, 3> k = pht.lazyProduct(s_inv);
+  c.x += k * nu;
+  c.P.noalias() -= k.lazyProduct(pht.transpose());
+  c.P = 0.5 * (c.P + c.P.transpose()).eval();
+  c.x[idx::kAtt + 2] = wrap_angle(c.x[idx::kAtt + 2]);
+  return -0.5 * (nu.dot(s_inv * nu) + std::log(s.determinant()));
+}
+
+}  // namespace
+
+void SogFilter::update_field(const Vec3& z, const Vec3& floor, const Displacement& disp,
+                             const OrientationObservation* orientation, SogStepResult& result) {
+  const Vec3 t = disp.mean.segment<3>(idx::kTrans);
+  const Vec3 dpsi = disp.mean.segment<3>(idx::kRot);
+  const DispCov& q = disp.covariance;
+  const Mat3 r_d = rotation_from_rpy(dpsi);
+  const Mat3 e_d = euler_rate_to_world(dpsi);
+  const double rel = config_.noise_relative;
+  double max_ll = -std::numeric_limits<double>::infinity();
+
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < components_.size(); ++i) {
+    SogComponent& c = components_[i];
+    const StateCov& p = c.P;
+    // --- Estimation step (eq. (14)) on x* = [x; d], P* = blkdiag(P, Q) ---
+    const Vec3 psi = c.x.segment<3>(idx::kAtt);
+    const Vec3 pos = c.x.segment<3>(idx::kPos);
+    const Vec3 mom = c.x.segment<3>(idx::kMom);
+    const EulerTrig trig = EulerTrig::from_rpy(psi);
+    const Mat3 r_g = trig.rotation();
+    const Mat3 e_w = trig.rate_to_world();
+    const Mat3 r_kt = (r_g * r_d).transpose();
+    const Vec3 rt = r_g * t;
+    const Vec3 r = rt - pos;
+    Mat3 j_r, j_m;
+    const Vec3 field = DipoleField::field(r, mom, &j_r, &j_m);
+    const Vec3 h = r_kt * field;
+    const Mat3 h_skew = skew(field);
+    const Mat3 rkt_jr = r_kt * j_r;
+    Jacobian<3, idx::kStateDim> h_x;
+    h_x.block<3, 3>(0, idx::kAtt) = r_kt * (h_skew - j_r * skew(rt)) * e_w;
+    h_x.block<3, 3>(0, idx::kPos) = -rkt_jr;
+    h_x.block<3, 3>(0, idx::kMom) = r_kt * j_m;
+    Jacobian<3, idx::kDispDim> h_d;
+    h_d.block<3, 3>(0, idx::kTrans) = rkt_jr * r_g;
+    h_d.block<3, 3>(0, idx::kRot) = r_kt * h_skew * r_g * e_d;
+
+    const Jacobian<idx::kStateDim, 3> pht = p.lazyProduct(h_x.transpose());
+    const Jacobian<idx::kDispDim, 3> qht = q.lazyProduct(h_d.transpose());
+    const Vec3 sigma = Vec3::Constant(rel * h.norm()) + floor;
+    Mat3 s = h_x * pht + h_d * qht;
+    s.diagonal() += sigma.cwiseAbs2();
+    const double det = s.determinant();
+    if (!(det > 0.0) || !std::isfinite(det)) {
+      ++result.dropped_numerical;
+      continue;
+    }
+    const Mat3 s_inv = s.inverse();
+    const Vec3 nu = z - h;
+    const Vec3 s_inv_nu = s_inv * nu;
+    // eq. (17) in log space (the common -1.5 log(2 pi) is dropped).
+    const double ll = -0.5 * (nu.dot(s_inv_nu) + std::log(det));
+    StateVec x_post = c.x + pht * s_inv_nu;
+    DispVec d_post = disp.mean + qht * s_inv_nu;
+
+    // --- Composition step (eq. (9), (15)) evaluated at the posterior ---
+    const Vec3 psi_p = x_post.segment<3>(idx::kAtt);
+    const Vec3 t_p = d_post.segment<3>(idx::kTrans);
+    const Vec3 dpsi_p = d_post.segment<3>(idx::kRot);
+    const EulerTrig trig_p = EulerTrig::from_rpy(psi_p);
+    const EulerTrig trig_dp = EulerTrig::from_rpy(dpsi_p);
+    const Mat3 r_gp = trig_p.rotation();
+    const Mat3 r_kp = r_gp * trig_dp.rotation();
+    const Vec3 psi_k = rpy_from_rotation(r_kp);
+    const Vec3 rt_p = r_gp * t_p;
+    const Mat3 e_inv_k = EulerTrig::from_rotation(r_kp).world_to_rate();
+    const Mat3 e_wp = trig_p.rate_to_world();
+    const Mat3 a = e_inv_k * e_wp;                              // dPsi_k / dPsi
+    const Mat3 cc = skew(rt_p) * e_wp;                          // dp_k / dPsi
+    const Mat3 dd = e_inv_k * r_gp * trig_dp.rate_to_world();   // dPsi_k / ddPsi
+    // dp_k / dt = -R(Psi).
+
+    // F_x P F_x^T with F_x = [[a,0,0],[cc,I,0],[0,0,I]]: apply F on the left twice.
+    auto apply_f = [&](const StateCov& m) {
+      StateCov fm = m;
+      fm.middleRows<3>(idx::kAtt) = a * m.middleRows<3>(idx::kAtt);
+      fm.middleRows<3>(idx::kPos) += cc * m.middleRows<3>(idx::kAtt);
+      return fm;
+    };
+    const StateCov fp = apply_f(p);
+    StateCov p_new = apply_f(fp.transpose());
+    // F_d Q F_d^T: rows Psi <- dPsi (dd), rows p <- t (-R_g).
+    const Mat3 q_tt = q.block<3, 3>(idx::kTrans, idx::kTrans);
+    const Mat3 q_tr = q.block<3, 3>(idx::kTrans, idx::kRot);
+    const Mat3 q_rr = q.block<3, 3>(idx::kRot, idx::kRot);
+    const Mat3 psi_psi = dd * q_rr * dd.transpose();
+    const Mat3 psi_pos = -dd * q_tr.transpose() * r_gp.transpose();
+    p_new.block<3, 3>(idx::kAtt, idx::kAtt) += psi_psi;
+    p_new.block<3, 3>(idx::kAtt, idx::kPos) += psi_pos;
+    p_new.block<3, 3>(idx::kPos, idx::kAtt) += psi_pos.transpose();
+    p_new.block<3, 3>(idx::kPos, idx::kPos) += r_gp * q_tt * r_gp.transpose();
+    // M = F_x P H_x^T + F_d Q H_d^T.
+    Jacobian<idx::kStateDim, 3> mm = pht;
+    mm.middleRows<3>(idx::kAtt) = a * pht.middleRows<3>(idx::kAtt) +
+                                  dd * qht.middleRows<3>(idx::kRot);
+    mm.middleRows<3>(idx::kPos) += cc * pht.middleRows<3>(idx::kAtt) -
+                                   r_gp * qht.middleRows<3>(idx::kTrans);
+    const Jacobian<idx::kStateDim, 3> mm_s = mm.lazyProduct(s_inv);
+    p_new.noalias() -= mm_s.lazyProduct(mm.transpose());
+    p_new = 0.5 * (p_new + p_new.transpose()).eval();
+
+    if (!p_new.allFinite() || !(p_new.diagonal().minCoeff() > 0.0) || !x_post.allFinite()) {
+      ++result.dropped_numerical;
+      continue;
+    }
+    SogComponent& dst = components_[out++];
+    dst.x.segment<3>(idx::kAtt) = psi_k;
+    dst.x.segment<3>(idx::kPos) = x_post.segment<3>(idx::kPos) - rt_p;
+    dst.x.segment<3>(idx::kMom) = x_post.segment<3>(idx::kMom);
+    dst.P = p_new;
+    dst.log_weight = c.log_weight + ll;
+    max_ll = std::max(max_ll, ll);
+    // Optional attitude-sensor update on the composed state (same component, still in cache).
+    if (orientation != nullptr) dst.log_weight += orientation_update(dst, *orientation);
+  }
+  components_.resize(out);
+  result.log_likelihood = max_ll;
+  if (components_.empty())
+    throw InputError("field_measurement.field = " + fmt(z) +
+                     ": every hypothesis became numerically invalid");
+}
+
+void SogFilter::normalise_and_prune() {
+  if (components_.empty()) return;
+  double mx = -std::numeric_limits<double>::infinity();
+  for (const auto& c : components_) mx = std::max(mx, c.log_weight);
+  double sum = 0.0;
+  for (const auto& c : components_) sum += std::exp(c.log_weight - mx);
+  const double lse = mx + std::log(sum);
+  const double cut = mx - lse - config_.prune_log_weight;
+  std::size_t out = 0;
+  for (auto& c : components_) {
+    c.log_weight -= lse;
+    if (c.log_weight >= cut) components_[out++] = c;
+  }
+  components_.resize(out);
+  // Renormalise after pruning.
+  sum = 0.0;
+  for (const auto& c : components_) sum += std::exp(c.log_weight);
+  const double ls = std::log(sum);
+  for (auto& c : components_) c.log_weight -= ls;
+}
+
+std::size_t SogFilter::merge() {
+  if (components_.size() < 2) return 0;
+  // Spatial hash on the position mean: only components sharing a cell are compared. The cells
+  // are found by sorting (key, index) pairs: O(n log n), no per-bucket allocation.
+  const double inv_cell = 1.0 / config_.merge_cell_m;
+  std::vector<std::pair<std::int64_t, std::uint32_t>> keyed(components_.size());
+  for (std::uint32_t i = 0; i < components_.size(); ++i) {
+    const Vec3 p = components_[i].x.segment<3>(idx::kPos) * inv_cell;
+    const auto ix = static_cast<std::int64_t>(std::floor(p.x())) & 0x1FFFFF;
+    const auto iy = static_cast<std::int64_t>(std::floor(p.y())) & 0x1FFFFF;
+    const auto iz = static_cast<std::int64_t>(std::floor(p.z())) & 0x1FFFFF;
+    keyed[i] = {(ix << 42) | (iy << 21) | iz, i};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<char> gone(components_.size(), 0);
+  std::size_t merged = 0;
+  std::vector<std::uint32_t> members;
+  for (std::size_t begin = 0; begin < keyed.size();) {
+    std::size_t end = begin + 1;
+    while (end < keyed.size() && keyed[end].first == keyed[begin].first) ++end;
+    if (end - begin < 2) {
+      begin = end;
+      continue;
+    }
+    members.clear();
+    for (std::size_t k = begin; k < end; ++k) members.push_back(keyed[k].second);
+    begin = end;
+    std::sort(members.begin(), members.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return components_[a].log_weight > components_[b].log_weight;
+    });
+    for (std::size_t ii = 0; ii < members.size(); ++ii) {
+      const std::uint32_t i = members[ii];
+      if (gone[i]) continue;
+      SogComponent& ci = components_[i];
+      Eigen::LLT<StateCov> llt(ci.P);
+      if (llt.info() != Eigen::Success) continue;
+      std::vector<std::uint32_t> group;
+      for (std::size_t jj = ii + 1; jj < members.size(); ++jj) {
+        const std::uint32_t j = members[jj];
+        if (gone[j]) continue;
+        StateVec diff = components_[j].x - ci.x;
+        for (int k = 0; k < 3; ++k) diff[idx::kAtt + k] = wrap_angle(diff[idx::kAtt + k]);
+        if (diff.dot(llt.solve(diff)) < config_.merge_mahalanobis) group.push_back(j);
+      }
+      if (group.empty()) continue;
+      // Moment-matched merge (eq. (18) restricted to the group), angles relative to i.
+      group.push_back(i);
+      double wsum = 0.0;
+      StateVec mean = StateVec::Zero();
+      std::vector<StateVec> xs;
+      xs.reserve(group.size());
+      const double base = ci.log_weight;
+      for (std::uint32_t g : group) {
+        StateVec xg = components_[g].x;
+        for (int k = 0; k < 3; ++k)
+          xg[idx::kAtt + k] = ci.x[idx::kAtt + k] + wrap_angle(xg[idx::kAtt + k] - ci.x[idx::kAtt + k]);
+        const double w = std::exp(components_[g].log_weight - base);
+        wsum += w;
+        mean += w * xg;
+        xs.push_back(xg);
+      }
+      mean /= wsum;
+      StateCov cov = StateCov::Zero();
+      for (std::size_t g = 0; g < group.size(); ++g) {
+        const double w = std::exp(components_[group[g]].log_weight - base);
+        const StateVec dv = xs[g] - mean;
+        cov += w * (components_[group[g]].P + dv * dv.transpose());
+      }
+      cov /= wsum;
+      ci.x = mean;
+      ci.x[idx::kAtt + 2] = wrap_angle(ci.x[idx::kAtt + 2]);
+      ci.P = 0.5 * (cov + cov.transpose());
+      ci.log_weight = base + std::log(wsum);
+      for (std::size_t g = 0; g + 1 < group.size(); ++g) gone[group[g]] = 1;
+      merged += group.size() - 1;
+    }
+  }
+  if (merged == 0) return 0;
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < components_.size(); ++i)
+    if (!gone[i]) components_[out++] = components_[i];
+  components_.resize(out);
+  return merged;
+}
+
+MixtureMoments SogFilter::moments() const {
+  MixtureMoments mm;
+  if (components_.empty()) return mm;
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < components_.size(); ++i)
+    if (components_[i].log_weight > components_[best].log_weight) best = i;
+  const StateVec& ref = components_[best].x;
+  std::vector<StateVec> xs;
+  xs.reserve(components_.size());
+  double wsum = 0.0;
+  for (const auto& c : components_) {
+    StateVec x = c.x;
+    for (int k = 0; k < 3; ++k)
+      x[idx::kAtt + k] = ref[idx::kAtt + k] + wrap_angle(x[idx::kAtt + k] - ref[idx::kAtt + k]);
+    const double w = std::exp(c.log_weight);
+    wsum += w;
+    mm.mean += w * x;
+    xs.push_back(x);
+  }
+  mm.mean /= wsum;
+  for (std::size_t i = 0; i < components_.size(); ++i) {
+    const double w = std::exp(components_[i].log_weight);
+    const StateVec dv = xs[i] - mm.mean;
+    mm.covariance += w * (components_[i].P + dv * dv.transpose());
+  }
+  mm.covariance /= wsum;
+  return mm;
+}
+
+VictimEstimate SogFilter::estimate(std::size_t top_k) const {
+  VictimEstimate e;
+  e.rescuer_id = rescuer_id_;
+  e.signal_id = signal_id_;
+  e.stamp = last_stamp_;
+  e.live_components = static_cast<std::uint32_t>(components_.size());
+  if (components_.empty()) {
+    e.status = EstimatorStatus::kInitialising;
+    return e;
+  }
+  const MixtureMoments mm = moments();
+  e.relative.position = mm.mean.segment<3>(idx::kPos);
+  e.relative.covariance = mm.covariance.block<3, 3>(idx::kPos, idx::kPos);
+  e.moment = mm.mean.segment<3>(idx::kMom);
+  const double lmax = Eigen::SelfAdjointEigenSolver<Mat3>(e.relative.covariance,
+                                                          Eigen::EigenvaluesOnly)
+                          .eigenvalues()
+                          .maxCoeff();
+  e.status = std::sqrt(kChi2_3_95 * std::max(lmax, 0.0)) <= config_.converged_radius_m
+                 ? EstimatorStatus::kConverged
+                 : EstimatorStatus::kMultimodal;
+  std::vector<std::size_t> order(components_.size());
+  std::iota(order.begin(), order.end(), 0);
+  const std::size_t k = std::min(top_k, order.size());
+  std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k), order.end(),
+                    [&](std::size_t a, std::size_t b) {
+                      return components_[a].log_weight > components_[b].log_weight;
+                    });
+  for (std::size_t i = 0; i < k; ++i) {
+    const auto& c = components_[order[i]];
+    MixtureComponentSummary s;
+    s.weight = std::exp(c.log_weight);
+    s.mean = c.x.segment<3>(idx::kPos);
+    s.covariance = c.P.block<3, 3>(idx::kPos, idx::kPos);
+    e.top_components.push_back(s);
+  }
+  return e;
+}
+
+}  // namespace sarloc::avalanche

@@ -1,0 +1,102 @@
+#include "sarloc/core/incident/team_tracker.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "sarloc/core/common/errors.hpp"
+
+namespace sarloc::incident {
+namespace {
+
+[[noreturn]] void config_fail(const char* key, double value, const char* rule) {
+  std::ostringstream os;
+  os << "team_tracker." << key << " = " << value << ": " << rule;
+  throw ConfigError(os.str());
+}
+
+}  // namespace
+
+void TeamTrackerConfig::validate() const {
+  if (!std::isfinite(stale_after_s) || stale_after_s <= 0.0)
+    config_fail("stale_after_s", stale_after_s, "must be > 0");
+  if (!std::isfinite(lost_after_s) || lost_after_s <= stale_after_s)
+    config_fail("lost_after_s", lost_after_s, "must be > stale_after_s");
+}
+
+AccountabilityState accountability_of(LinkState link) {
+  switch (link) {
+    case LinkState::kAlive: return AccountabilityState::kAccounted;
+    case LinkState::kStale: return AccountabilityState::kPending;
+    case LinkState::kLost: return AccountabilityState::kMissing;
+  }
+  return AccountabilityState::kMissing;
+}
+
+TeamTracker::TeamTracker(TeamTrackerConfig config) : config_(config) { config_.validate(); }
+
+void TeamTracker::on_position(const ResponderPosition& position, TimestampNs now) {
+  if (position.responder_id.empty())
+    throw InputError("responder_position.responder_id = \"\": must not be empty");
+  latest_now_ = std::max(latest_now_, now);
+  Member& m = members_[position.responder_id];
+  m.team_id = position.team_id;
+  if (!m.has_position || position.stamp >= m.last_position.stamp) {
+    m.last_position = position;
+    m.has_position = true;
+  }
+  m.last_heard = std::max(m.last_heard, now);
+  m.liveliness_lost = false;  // seen again
+}
+
+void TeamTracker::on_link(const std::string& responder_id, bool alive, TimestampNs now) {
+  if (responder_id.empty()) throw InputError("link.responder_id = \"\": must not be empty");
+  latest_now_ = std::max(latest_now_, now);
+  Member& m = members_[responder_id];  // unknown: team "" until its first position
+  if (alive) {
+    m.liveliness_lost = false;
+    m.last_heard = std::max(m.last_heard, now);
+  } else {
+    m.liveliness_lost = true;
+  }
+}
+
+LinkState TeamTracker::link_of(const Member& m, TimestampNs now) const {
+  if (m.liveliness_lost) return LinkState::kLost;
+  const double silent_s = static_cast<double>(now - m.last_heard) * 1e-9;
+  if (silent_s > config_.lost_after_s) return LinkState::kLost;
+  if (silent_s > config_.stale_after_s) return LinkState::kStale;
+  return LinkState::kAlive;
+}
+
+std::vector<TeamStatus> TeamTracker::evaluate(TimestampNs now) const {
+  std::map<std::string, TeamStatus> teams;
+  for (const auto& [id, m] : members_) {  // by responder id: members come out sorted
+    TeamStatus& t = teams[m.team_id];
+    t.team_id = m.team_id;
+    t.stamp = now;
+    MemberStatus s;
+    s.responder_id = id;
+    if (m.has_position) {
+      s.last_position = m.last_position.position;
+      s.position_stamp = m.last_position.stamp;
+    }
+    s.has_position = m.has_position;
+    s.last_seen = m.last_heard;
+    s.link = link_of(m, now);
+    s.accountability = accountability_of(s.link);
+    t.members.push_back(s);
+  }
+  std::vector<TeamStatus> out;
+  out.reserve(teams.size());
+  for (auto& [id, t] : teams) out.push_back(std::move(t));
+  return out;
+}
+
+std::size_t TeamTracker::link_lost_count(TimestampNs now) const {
+  return static_cast<std::size_t>(std::count_if(members_.begin(), members_.end(), [&](const auto& kv) {
+    return link_of(kv.second, now) == LinkState::kLost;
+  }));
+}
+
+}  // namespace sarloc::incident

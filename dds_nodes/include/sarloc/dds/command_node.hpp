@@ -1,0 +1,94 @@
+#pragma once
+// sarloc-command's DDS node: incident command's one picture.
+//
+// Inputs: every rescuer's VictimEstimate (all sectors), every responder's ResponderPosition
+// (with its writer's liveliness: a crashed device is "link lost" within the lease).
+// Each cycle: estimates are moved into the incident frame with the rescuer's fix nearest in
+// time, associated and fused (incident::VictimFusion), teams evaluated (incident::TeamTracker),
+// and the picture published TRANSIENT_LOCAL (FusedVictim per victim, TeamStatus per team,
+// IncidentSummary, IncidentFrame), so a dashboard that subscribes late has it at once.
+#include <atomic>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include "sarloc/core/incident/team_tracker.hpp"
+#include "sarloc/core/incident/victim_fusion.hpp"
+#include "sarloc/dds/mission_clock.hpp"
+#include "sarloc/dds/participant.hpp"
+#include "sarloc/dds/rate_limited_log.hpp"
+#include "sarloc/dds/reader.hpp"
+#include "sarloc/dds/reject_counters.hpp"
+#include "sarloc/dds/writer.hpp"
+
+namespace sarloc::dds {
+
+struct CommandNodeConfig {
+  std::string node_id = "sarloc-command";
+  std::string incident_id = "incident";
+  std::string incident_name;
+  GeodeticOrigin origin;
+  incident::VictimFusionConfig fusion;
+  incident::TeamTrackerConfig teams;
+  /// Partitions to read estimates from: {"*"} when sectors split the incident, empty otherwise.
+  std::vector<std::string> estimate_partitions;
+  double cycle_s = 1.0;              ///< wall period of fusion and publication
+  double position_max_age_s = 5.0;   ///< a fix further than this from an estimate's stamp is not used
+  /// Heights in the picture are above the local snow surface (what diggers need), not GNSS
+  /// altitude (poor, and irrelevant to a burial depth): a fix's height is replaced by the
+  /// receiver antenna's height above the snow, with this 1-sigma (m).
+  double antenna_height_m = 1.0;
+  double antenna_height_sigma_m = 0.15;
+
+  /// Throws ConfigError naming the key ("command.cycle_s = 0: must be in (0, 60]").
+  void validate() const;
+};
+
+class CommandNode {
+ public:
+  CommandNode(std::shared_ptr<Participant> participant, CommandNodeConfig config, MissionClock clock);
+  ~CommandNode();
+  CommandNode(const CommandNode&) = delete;
+  CommandNode& operator=(const CommandNode&) = delete;
+
+  /// A copy of the current picture (thread-safe).
+  std::vector<incident::FusedVictim> victims() const;
+  std::vector<incident::TeamStatus> teams() const;
+
+ private:
+  struct Fix {
+    TimestampNs stamp = 0;
+    GaussianPosition antenna;
+  };
+
+  void cycle();
+  std::optional<GaussianPosition> fix_at(const std::string& rescuer_id, TimestampNs stamp) const;
+
+  CommandNodeConfig config_;
+  MissionClock clock_;
+  std::shared_ptr<Participant> participant_;
+  RateLimitedLog warnings_;
+  RejectCounters counters_;
+
+  mutable std::mutex mutex_;
+  incident::VictimFusion fusion_;
+  incident::TeamTracker tracker_;
+  std::deque<avalanche::VictimEstimate> pending_estimates_;
+  std::map<std::string, std::deque<Fix>> fixes_;
+  std::vector<std::pair<eprosima::fastrtps::rtps::InstanceHandle_t, std::string>> writer_owner_;
+  std::vector<incident::TeamStatus> last_teams_;
+
+  Writer<::sarloc::FusedVictim> victim_writer_;
+  Writer<::sarloc::TeamStatus> team_writer_;
+  Writer<::sarloc::IncidentSummary> summary_writer_;
+  Writer<::sarloc::IncidentFrame> frame_writer_;
+  Writer<::sarloc::NodeStatus> status_writer_;
+  std::atomic<bool> stopping_{false};
+  std::thread thread_;
+  std::unique_ptr<Reader<::sarloc::VictimEstimate>> estimate_reader_;
+  std::unique_ptr<Reader<::sarloc::ResponderPosition>> position_reader_;
+};
+
+}  // namespace sarloc::dds

@@ -1,0 +1,96 @@
+#pragma once
+// sarloc-core's DDS node: one participant for the whole daemon, every rescuer of its sector.
+//
+// Listener threads only convert and enqueue. Each rescuer is pinned to one worker thread
+// (hash of its id), which owns that rescuer's RescuerSearch, so a rescuer's samples are
+// processed in arrival order and no filter is ever touched by two threads. Bad samples are
+// refused before they reach a filter, counted by reason in NodeStatus, and logged once per
+// (rescuer, reason) per warning interval.
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <map>
+#include <memory>
+#include <thread>
+#include <variant>
+#include <vector>
+
+#include "sarloc/core/avalanche/rescuer_search.hpp"
+#include "sarloc/dds/participant.hpp"
+#include "sarloc/dds/rate_limited_log.hpp"
+#include "sarloc/dds/reader.hpp"
+#include "sarloc/dds/reject_counters.hpp"
+#include "sarloc/dds/writer.hpp"
+
+namespace sarloc::dds {
+
+struct CoreNodeConfig {
+  std::string node_id = "sarloc-core";
+  avalanche::RescuerSearchConfig search;
+  /// DDS partitions (sectors) whose rescuers this instance serves; empty = default partition.
+  std::vector<std::string> partitions;
+  /// Rescuers allowed; empty = any (up to max_rescuers). Others are rejected as unknown.
+  std::vector<std::string> rescuers;
+  std::size_t max_rescuers = 256;
+  unsigned workers = 2;              ///< threads running filters (this machine: 2 cores)
+  std::size_t queue_limit = 4096;    ///< samples waiting per worker before the oldest are dropped
+  double status_period_s = 1.0;      ///< NodeStatus publication period (wall clock)
+  double warning_interval_s = 5.0;   ///< one warning per (rescuer, reason) per interval
+
+  /// Throws ConfigError naming the key ("core.workers = 0: must be in [1, 64]").
+  void validate() const;
+};
+
+class CoreNode {
+ public:
+  CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig config);
+  ~CoreNode();
+  CoreNode(const CoreNode&) = delete;
+  CoreNode& operator=(const CoreNode&) = delete;
+
+  RejectCounters::Snapshot counters() const { return counters_.snapshot(); }
+  std::size_t rescuers_served() const { return rescuers_served_.load(); }
+
+ private:
+  struct MarkDone {
+    std::string rescuer_id;
+    std::uint32_t signal_id = 0;
+  };
+  using Work = std::variant<avalanche::Odometry, avalanche::FieldMeasurement, MarkDone>;
+  struct Worker {
+    std::thread thread;
+    std::mutex mutex;
+    std::condition_variable cv;
+    std::deque<Work> queue;
+    std::map<std::string, avalanche::RescuerSearch> searches;  // only this worker's thread touches them
+  };
+
+  void enqueue(const std::string& rescuer_id, Work work);
+  void run_worker(Worker& worker);
+  void handle(Worker& worker, Work& work);
+  avalanche::RescuerSearch* search_for(Worker& worker, const std::string& rescuer_id);
+  void reject(const std::string& rescuer_id, const std::string& reason, const std::string& detail);
+  void publish_status();
+
+  CoreNodeConfig config_;
+  std::shared_ptr<Participant> participant_;
+  RejectCounters counters_;
+  RateLimitedLog warnings_;
+  std::atomic<std::size_t> rescuers_served_{0};
+  std::atomic<std::size_t> active_filters_{0};
+  std::mutex rescuers_mutex_;
+  std::map<std::string, bool> known_rescuers_;  // admitted so far (max_rescuers)
+
+  Writer<::sarloc::VictimEstimate> estimate_writer_;
+  Writer<::sarloc::Guidance> guidance_writer_;
+  Writer<::sarloc::NodeStatus> status_writer_;
+  std::vector<std::unique_ptr<Worker>> workers_;
+  std::atomic<bool> stopping_{false};
+  std::thread status_thread_;
+  // Readers last: they start calling back as soon as they exist.
+  std::unique_ptr<Reader<::sarloc::FieldMeasurement>> measurement_reader_;
+  std::unique_ptr<Reader<::sarloc::Odometry>> odometry_reader_;
+  std::unique_ptr<Reader<::sarloc::FusedVictim>> victim_reader_;
+};
+
+}  // namespace sarloc::dds

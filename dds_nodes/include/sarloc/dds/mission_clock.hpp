@@ -1,0 +1,39 @@
+#pragma once
+// Time as every node of one mission agrees on it. In the field: the wall clock (speedup 1).
+// In a simulated mission: t = epoch + speedup * (wall - wall_at_epoch), so several processes
+// started by sarloc-mission stamp samples on one accelerated timeline.
+#include <chrono>
+#include <cstdint>
+
+#include "sarloc/core/common/types.hpp"
+
+namespace sarloc::dds {
+
+class MissionClock {
+ public:
+  /// Wall clock, unscaled.
+  MissionClock() : MissionClock(wall_now_ns(), 1.0) {}
+  /// Mission time `epoch_ns` at wall time `epoch_ns`, running `speedup` times faster.
+  MissionClock(TimestampNs epoch_ns, double speedup) : epoch_ns_(epoch_ns), speedup_(speedup) {}
+
+  TimestampNs now() const {
+    return epoch_ns_ + static_cast<TimestampNs>(speedup_ * static_cast<double>(wall_now_ns() - epoch_ns_));
+  }
+  /// Wall duration of `mission_seconds` of mission time.
+  std::chrono::nanoseconds wall_duration(double mission_seconds) const {
+    return std::chrono::nanoseconds(static_cast<std::int64_t>(mission_seconds / speedup_ * 1e9));
+  }
+  double speedup() const { return speedup_; }
+  TimestampNs epoch() const { return epoch_ns_; }
+
+  static TimestampNs wall_now_ns() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+        .count();
+  }
+
+ private:
+  TimestampNs epoch_ns_;
+  double speedup_;
+};
+
+}  // namespace sarloc::dds

@@ -1,0 +1,38 @@
+#pragma once
+// Thread-safe counts of accepted and rejected samples, by reason, for NodeStatus.
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <string>
+
+namespace sarloc::dds {
+
+class RejectCounters {
+ public:
+  void accepted() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++accepted_;
+  }
+  void rejected(const std::string& reason) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++rejected_;
+    ++by_reason_[reason];
+  }
+  struct Snapshot {
+    std::uint64_t accepted = 0;
+    std::uint64_t rejected = 0;
+    std::map<std::string, std::uint64_t> by_reason;
+  };
+  Snapshot snapshot() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return Snapshot{accepted_, rejected_, by_reason_};
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::uint64_t accepted_ = 0;
+  std::uint64_t rejected_ = 0;
+  std::map<std::string, std::uint64_t> by_reason_;
+};
+
+}  // namespace sarloc::dds

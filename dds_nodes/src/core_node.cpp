@@ -1,0 +1,240 @@
+#include "sarloc/dds/core_node.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <functional>
+
+#include "sarloc/dds/conversions.hpp"
+#include "sarloc/dds/mission_clock.hpp"
+#include "sarloc/dds/process_stats.hpp"
+
+namespace sarloc::dds {
+
+void CoreNodeConfig::validate() const {
+  search.validate();
+  if (node_id.empty() || node_id.size() > 64) throw ConfigError("core.node_id = '" + node_id + "': must be 1-64 characters");
+  if (workers < 1 || workers > 64) throw ConfigError("core.workers = " + std::to_string(workers) + ": must be in [1, 64]");
+  if (max_rescuers < 1) throw ConfigError("core.max_rescuers = 0: must be >= 1");
+  if (queue_limit < 16) throw ConfigError("core.queue_limit = " + std::to_string(queue_limit) + ": must be >= 16");
+  if (!(status_period_s > 0.0 && status_period_s <= 60.0)) {
+    throw ConfigError("core.status_period_s = " + std::to_string(status_period_s) + ": must be in (0, 60]");
+  }
+  if (!(warning_interval_s >= 0.0 && warning_interval_s <= 3600.0)) {
+    throw ConfigError("core.warning_interval_s = " + std::to_string(warning_interval_s) + ": must be in [0, 3600]");
+  }
+  for (const auto& p : partitions) {
+    if (p.empty()) throw ConfigError("core.partitions contains an empty name");
+  }
+}
+
+namespace {
+
+EndpointOptions in_partitions(const std::vector<std::string>& partitions) {
+  EndpointOptions options;
+  options.partitions = partitions;
+  return options;
+}
+
+}  // namespace
+
+CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig config)
+    : config_((config.validate(), std::move(config))),
+      participant_(std::move(participant)),
+      warnings_(std::chrono::milliseconds(static_cast<std::int64_t>(config_.warning_interval_s * 1000.0))),
+      estimate_writer_(participant_, in_partitions(config_.partitions)),
+      guidance_writer_(participant_, in_partitions(config_.partitions)),
+      status_writer_(participant_) {
+  for (const auto& id : config_.rescuers) known_rescuers_.emplace(id, false);
+  for (unsigned i = 0; i < config_.workers; ++i) {
+    workers_.push_back(std::make_unique<Worker>());
+    Worker& w = *workers_.back();
+    w.thread = std::thread([this, &w] { run_worker(w); });
+  }
+  status_thread_ = std::thread([this] {
+    while (!stopping_.load()) {
+      publish_status();
+      const auto period = std::chrono::milliseconds(static_cast<std::int64_t>(config_.status_period_s * 1000.0));
+      const auto until = std::chrono::steady_clock::now() + period;
+      while (!stopping_.load() && std::chrono::steady_clock::now() < until) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      }
+    }
+  });
+
+  // Listener callbacks: convert, refuse what cannot even be converted, enqueue.
+  measurement_reader_ = std::make_unique<Reader<::sarloc::FieldMeasurement>>(
+      participant_,
+      [this](const ::sarloc::FieldMeasurement& s, const auto&) {
+        const std::string id = s.rescuer_id().to_string();
+        try {
+          enqueue(id, to_core(s));
+        } catch (const InputError& e) {
+          reject(id, "invalid_value", e.what());
+        }
+      },
+      in_partitions(config_.partitions));
+  odometry_reader_ = std::make_unique<Reader<::sarloc::Odometry>>(
+      participant_,
+      [this](const ::sarloc::Odometry& s, const auto&) {
+        const std::string id = s.rescuer_id().to_string();
+        try {
+          enqueue(id, to_core(s));
+        } catch (const InputError& e) {
+          reject(id, "invalid_value", e.what());
+        }
+      },
+      in_partitions(config_.partitions));
+  // Victims incident command declares found: stop guiding this sector's rescuers to them.
+  victim_reader_ = std::make_unique<Reader<::sarloc::FusedVictim>>(
+      participant_, [this](const ::sarloc::FusedVictim& v, const auto&) {
+        if (v.state() != ::sarloc::VICTIM_FOUND && v.state() != ::sarloc::VICTIM_RECOVERED) return;
+        for (const auto& source : v.sources()) {
+          const std::string id = source.rescuer_id().to_string();
+          enqueue(id, MarkDone{id, source.signal_id()});
+        }
+      });
+  std::string served = "the default partition";
+  if (!config_.partitions.empty()) {
+    served = "partition(s)";
+    for (const auto& p : config_.partitions) served += " " + p;
+  }
+  spdlog::info("{}: serving {} with {} worker(s)", config_.node_id, served, config_.workers);
+}
+
+CoreNode::~CoreNode() {
+  // Stop the inflow first, then the threads, then (implicitly) the writers.
+  measurement_reader_.reset();
+  odometry_reader_.reset();
+  victim_reader_.reset();
+  stopping_.store(true);
+  for (auto& w : workers_) {
+    {
+      std::lock_guard<std::mutex> lock(w->mutex);
+    }
+    w->cv.notify_all();
+  }
+  for (auto& w : workers_) w->thread.join();
+  status_thread_.join();
+}
+
+void CoreNode::reject(const std::string& rescuer_id, const std::string& reason, const std::string& detail) {
+  counters_.rejected(reason);
+  warnings_.warn(rescuer_id, reason, "rejected sample (" + reason + "): " + detail);
+}
+
+void CoreNode::enqueue(const std::string& rescuer_id, Work work) {
+  Worker& w = *workers_[std::hash<std::string>{}(rescuer_id) % workers_.size()];
+  bool dropped = false;
+  {
+    std::lock_guard<std::mutex> lock(w.mutex);
+    if (w.queue.size() >= config_.queue_limit) {
+      w.queue.pop_front();
+      dropped = true;
+    }
+    w.queue.push_back(std::move(work));
+  }
+  w.cv.notify_one();
+  if (dropped) reject(rescuer_id, "overloaded", "worker queue full: dropped the oldest waiting sample");
+}
+
+void CoreNode::run_worker(Worker& worker) {
+  while (true) {
+    Work work;
+    {
+      std::unique_lock<std::mutex> lock(worker.mutex);
+      worker.cv.wait(lock, [&] { return stopping_.load() || !worker.queue.empty(); });
+      if (stopping_.load()) return;
+      work = std::move(worker.queue.front());
+      worker.queue.pop_front();
+    }
+    handle(worker, work);
+  }
+}
+
+avalanche::RescuerSearch* CoreNode::search_for(Worker& worker, const std::string& rescuer_id) {
+  if (auto it = worker.searches.find(rescuer_id); it != worker.searches.end()) return &it->second;
+  if (rescuer_id.empty()) {
+    reject(rescuer_id, "unknown_rescuer", "rescuer_id is empty");
+    return nullptr;
+  }
+  {
+    std::lock_guard<std::mutex> lock(rescuers_mutex_);
+    const bool listed = !config_.rescuers.empty();
+    if (listed && known_rescuers_.count(rescuer_id) == 0) {
+      reject(rescuer_id, "unknown_rescuer", "rescuer_id = '" + rescuer_id + "' is not one of this node's rescuers");
+      return nullptr;
+    }
+    if (!listed && known_rescuers_.size() >= config_.max_rescuers) {
+      reject(rescuer_id, "too_many_rescuers",
+             "rescuer_id = '" + rescuer_id + "': already serving max_rescuers = " + std::to_string(config_.max_rescuers));
+      return nullptr;
+    }
+    known_rescuers_[rescuer_id] = true;
+  }
+  rescuers_served_.fetch_add(1);
+  spdlog::info("{}: new rescuer '{}'", config_.node_id, rescuer_id);
+  return &worker.searches.emplace(rescuer_id, avalanche::RescuerSearch(rescuer_id, config_.search)).first->second;
+}
+
+void CoreNode::handle(Worker& worker, Work& work) {
+  if (auto* done = std::get_if<MarkDone>(&work)) {
+    if (auto it = worker.searches.find(done->rescuer_id); it != worker.searches.end()) {
+      it->second.mark_done(done->signal_id);
+    }
+    return;
+  }
+  if (auto* odometry = std::get_if<avalanche::Odometry>(&work)) {
+    auto* search = search_for(worker, odometry->rescuer_id);
+    if (search == nullptr) return;
+    if (auto rejected = search->add_odometry(*odometry)) {
+      reject(odometry->rescuer_id, avalanche::to_string(rejected->reason), rejected->detail);
+    } else {
+      counters_.accepted();
+    }
+    return;
+  }
+  auto& measurement = std::get<avalanche::FieldMeasurement>(work);
+  auto* search = search_for(worker, measurement.rescuer_id);
+  if (search == nullptr) return;
+  const std::size_t signals_before = search->signal_count();
+  auto outcome = search->process(measurement);
+  if (auto* rejected = std::get_if<avalanche::Rejection>(&outcome)) {
+    reject(measurement.rescuer_id, avalanche::to_string(rejected->reason), rejected->detail);
+    return;
+  }
+  counters_.accepted();
+  active_filters_.fetch_add(search->signal_count() - signals_before);
+  auto& update = std::get<avalanche::SearchUpdate>(outcome);
+  if (!estimate_writer_.write(to_idl(update.estimate, measurement.sequence))) {
+    spdlog::error("{}: DDS refused a VictimEstimate for '{}'", config_.node_id, measurement.rescuer_id);
+  }
+  if (update.guidance && !guidance_writer_.write(to_idl(*update.guidance, measurement.sequence))) {
+    spdlog::error("{}: DDS refused a Guidance for '{}'", config_.node_id, measurement.rescuer_id);
+  }
+}
+
+void CoreNode::publish_status() {
+  static thread_local ProcessStats stats;
+  const auto snapshot = counters_.snapshot();
+  ::sarloc::NodeStatus status;
+  status.node_id(config_.node_id);
+  status.kind(::sarloc::NODE_CORE);
+  status.stamp(MissionClock::wall_now_ns());
+  status.samples_accepted(snapshot.accepted);
+  status.samples_rejected(snapshot.rejected);
+  for (const auto& [reason, count] : snapshot.by_reason) {
+    if (status.rejects().size() >= ::sarloc::REJECT_REASONS_MAX) break;
+    ::sarloc::RejectCount r;
+    r.reason(reason);
+    r.count(count);
+    status.rejects().push_back(r);
+  }
+  status.active_filters(static_cast<std::uint32_t>(active_filters_.load()));
+  status.rescuers_served(static_cast<std::uint32_t>(rescuers_served_.load()));
+  status.cpu_percent(stats.cpu_percent());
+  status.rss_mb(ProcessStats::rss_mb());
+  status_writer_.write(status);
+}
+
+}  // namespace sarloc::dds

@@ -1,0 +1,37 @@
+// One SogFilter::process() step (odometry + field update + prune + merge) at 1700, 400 and 50
+// components. The filter is initialised from a simulated first measurement with
+// sog.initial_components = N and stepped once per iteration on a copy, so every iteration
+// sees exactly N components (the timing of the eval tool's first step).
+#include <benchmark/benchmark.h>
+
+#include "sarloc/core/avalanche/simulator.hpp"
+#include "sarloc/core/avalanche/sog_filter.hpp"
+
+namespace {
+
+using namespace sarloc::avalanche;
+
+void BM_SogStep(benchmark::State& state) {
+  SogConfig cfg;
+  cfg.initial_components = static_cast<std::uint32_t>(state.range(0));
+  AvalancheSimulator sim(SimulationConfig{}, derive_seed(7, 0));
+  SogFilter base(cfg, "sim", 1);
+  base.process(sim.measure());
+  const Odometry odo = sim.walk(0.3, 1.0);
+  const FieldMeasurement z = sim.measure();
+  std::size_t n = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    SogFilter f = base;
+    state.ResumeTiming();
+    f.add_odometry(odo);
+    benchmark::DoNotOptimize(f.process(z));
+    n = base.size();
+  }
+  state.counters["components"] = static_cast<double>(n);
+}
+
+}  // namespace
+
+BENCHMARK(BM_SogStep)->Arg(1700)->Arg(400)->Arg(50)->Unit(benchmark::kMillisecond);
+BENCHMARK_MAIN();

@@ -1,0 +1,199 @@
+// Every analytic Jacobian of the avalanche models against central differences, at zero,
+// tiny and random inputs (one shared helper: tests/support/numeric_jacobian.hpp).
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "sarloc/core/avalanche/dipole_model.hpp"
+#include "sarloc/core/avalanche/rotation.hpp"
+#include "support/numeric_jacobian.hpp"
+
+namespace sarloc::avalanche {
+namespace {
+
+using test::numeric_jacobian;
+using test::relative_error;
+
+// Kinds of operating point every Jacobian is checked at.
+enum class Point { kZero, kTiny, kRandom };
+
+struct Sampler {
+  std::mt19937_64 rng{42};
+  double u(double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
+  Vec3 angles(Point k) {
+    if (k == Point::kZero) return Vec3::Zero();
+    if (k == Point::kTiny) return Vec3(1e-7, -2e-7, 3e-7);
+    return Vec3(u(-0.4, 0.4), u(-0.4, 0.4), u(-3.0, 3.0));
+  }
+  Vec3 translation(Point k) {
+    if (k == Point::kZero) return Vec3::Zero();
+    if (k == Point::kTiny) return Vec3(1e-7, 2e-7, -1e-7);
+    return Vec3(u(-1.5, 1.5), u(-1.5, 1.5), u(-0.2, 0.2));
+  }
+  Vec3 position() {  // transmitter 0.8 .. 60 m away, below the receiver
+    const double range = std::exp(u(std::log(0.8), std::log(60.0)));
+    const double az = u(-kPi, kPi);
+    const double el = u(-1.4, -0.05);
+    return range * Vec3(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+  }
+  Vec3 moment() { return 0.02 * Vec3(u(-1, 1), u(-1, 1), u(-1, 1)); }
+};
+
+constexpr Point kPoints[] = {Point::kZero, Point::kTiny, Point::kRandom};
+constexpr int kRandomRepeats = 25;
+
+TEST(RotationTest, RoundTripAndEulerRates) {
+  Sampler s;
+  for (int i = 0; i < 50; ++i) {
+    const Vec3 a = s.angles(Point::kRandom);
+    EXPECT_LT((rpy_from_rotation(rotation_from_rpy(a)) - a).norm(), 1e-12);
+    EXPECT_LT((world_to_euler_rate(a) * euler_rate_to_world(a) - Mat3::Identity()).norm(), 1e-12);
+    // dR = [E_w dPsi]x R for each Euler-rate direction.
+    for (int k = 0; k < 3; ++k) {
+      const double h = 1e-6;
+      Vec3 ap = a, am = a;
+      ap[k] += h;
+      am[k] -= h;
+      const Mat3 dr = (rotation_from_rpy(ap) - rotation_from_rpy(am)) / (2 * h);
+      const Mat3 expect = skew(euler_rate_to_world(a).col(k)) * rotation_from_rpy(a);
+      EXPECT_LT((dr - expect).cwiseAbs().maxCoeff(), 1e-8);
+    }
+  }
+  EXPECT_NEAR(wrap_angle(3 * kPi), kPi, 1e-12);
+  EXPECT_NEAR(wrap_angle(-kPi / 2 - 2 * kPi), -kPi / 2, 1e-12);
+}
+
+TEST(DipoleFieldTest, MatchesClosedFormOnAxisAndEquator) {
+  const Vec3 m(0.0, 0.0, 0.02);
+  // On axis: |H| = 2 m / (4 pi r^3); equator: |H| = m / (4 pi r^3), opposite to m.
+  const Vec3 axis = DipoleField::field(Vec3(0, 0, 10), m);
+  const Vec3 equator = DipoleField::field(Vec3(10, 0, 0), m);
+  EXPECT_NEAR(axis.z(), 2 * 0.02 / (4 * kPi * 1000), 1e-15);
+  EXPECT_NEAR(equator.z(), -0.02 / (4 * kPi * 1000), 1e-15);
+  EXPECT_NEAR(axis.head<2>().norm(), 0.0, 1e-18);
+}
+
+TEST(DipoleFieldTest, JacobiansMatchNumeric) {
+  Sampler s;
+  for (int i = 0; i < kRandomRepeats; ++i) {
+    const Vec3 r = -s.position();
+    const Vec3 m = s.moment();
+    Mat3 j_r, j_m;
+    DipoleField::field(r, m, &j_r, &j_m);
+    const auto nr = numeric_jacobian<3, 3>([&](const Vec3& v) { return DipoleField::field(v, m); },
+                                           r, 1e-6);
+    const auto nm = numeric_jacobian<3, 3>([&](const Vec3& v) { return DipoleField::field(r, v); },
+                                           m, Vec3::Constant(1e-5));
+    EXPECT_LT(relative_error(j_r, nr), 1e-6) << "r = " << r.transpose();
+    EXPECT_LT(relative_error(j_m, nm), 1e-8);
+  }
+}
+
+TEST(DipoleFieldTest, MomentInvertsFieldWithJacobians) {
+  Sampler s;
+  for (int i = 0; i < kRandomRepeats; ++i) {
+    const Vec3 r = -s.position();
+    const Vec3 m = s.moment();
+    const Vec3 h = DipoleField::field(r, m);
+    Mat3 j_r, j_h;
+    const Vec3 back = DipoleField::moment(r, h, &j_r, &j_h);
+    EXPECT_LT((back - m).norm(), 1e-10 * m.norm());
+    const auto nr = numeric_jacobian<3, 3>([&](const Vec3& v) { return DipoleField::moment(v, h); },
+                                           r, 1e-6);
+    const auto nh = numeric_jacobian<3, 3>([&](const Vec3& v) { return DipoleField::moment(r, v); },
+                                           h, Vec3::Constant(1e-3 * h.norm()));
+    EXPECT_LT(relative_error(j_r, nr), 1e-6);
+    EXPECT_LT(relative_error(j_h, nh), 1e-7);
+  }
+}
+
+AugVec make_aug(Sampler& s, Point k) {
+  AugVec xa;
+  xa << s.angles(k), s.position(), s.moment(), s.translation(k), s.angles(k);
+  if (k == Point::kRandom) xa.segment<3>(idx::kStateDim + idx::kRot).z() *= 0.3;
+  return xa;
+}
+
+AugVec steps_for(const AugVec& xa) {
+  AugVec st = AugVec::Constant(1e-6);
+  st.segment<3>(idx::kMom) = Vec3::Constant(1e-6 * std::max(1e-3, xa.segment<3>(idx::kMom).norm()));
+  return st;
+}
+
+TEST(MeasurementModelTest, JacobianMatchesNumericAtZeroTinyRandom) {
+  Sampler s;
+  for (Point k : kPoints) {
+    for (int i = 0; i < (k == Point::kRandom ? kRandomRepeats : 5); ++i) {
+      const AugVec xa = make_aug(s, k);
+      Jacobian<3, idx::kAugDim> h;
+      const Vec3 z = MeasurementModel::h(xa, &h);
+      const auto n = numeric_jacobian<3, idx::kAugDim>(
+          [](const AugVec& v) { return MeasurementModel::h(v); }, xa, steps_for(xa));
+      EXPECT_LT(relative_error(h, n), 2e-6) << "x* = " << xa.transpose();
+      // The split version agrees with the 3x15 one.
+      Jacobian<3, idx::kStateDim> h_x;
+      Jacobian<3, idx::kDispDim> h_d;
+      const Vec3 z2 = MeasurementModel::h(StateVec(xa.head<9>()), DispVec(xa.tail<6>()), &h_x, &h_d);
+      EXPECT_EQ(z, z2);
+      EXPECT_EQ(h.leftCols<9>(), h_x);
+      EXPECT_EQ(h.rightCols<6>(), h_d);
+    }
+  }
+}
+
+TEST(MeasurementModelTest, MatchesDirectFieldAtZeroDisplacement) {
+  Sampler s;
+  AugVec xa = make_aug(s, Point::kRandom);
+  xa.tail<6>().setZero();
+  const Vec3 p = xa.segment<3>(idx::kPos);
+  const Vec3 m = xa.segment<3>(idx::kMom);
+  const Vec3 expect =
+      rotation_from_rpy(xa.segment<3>(idx::kAtt)).transpose() * DipoleField::field(-p, m);
+  EXPECT_LT((MeasurementModel::h(xa) - expect).norm(), 1e-12 * expect.norm());
+}
+
+TEST(CompositionModelTest, JacobianMatchesNumericAtZeroTinyRandom) {
+  Sampler s;
+  for (Point k : kPoints) {
+    for (int i = 0; i < (k == Point::kRandom ? kRandomRepeats : 5); ++i) {
+      const AugVec xa = make_aug(s, k);
+      Jacobian<idx::kStateDim, idx::kAugDim> f;
+      CompositionModel::f(xa, &f);
+      const auto n = numeric_jacobian<idx::kStateDim, idx::kAugDim>(
+          [](const AugVec& v) { return CompositionModel::f(v); }, xa, steps_for(xa));
+      EXPECT_LT(relative_error(f, n), 1e-6) << "x* = " << xa.transpose();
+    }
+  }
+}
+
+TEST(CompositionModelTest, MovesTransmitterAgainstTheStep) {
+  AugVec xa = AugVec::Zero();
+  xa.segment<3>(idx::kAtt) = Vec3(0, 0, kPi / 2);  // receiver faces north
+  xa.segment<3>(idx::kPos) = Vec3(0, 10, -2);
+  xa.segment<3>(idx::kStateDim + idx::kTrans) = Vec3(1, 0, 0);  // one step forward
+  const StateVec x = CompositionModel::f(xa);
+  EXPECT_LT((x.segment<3>(idx::kPos) - Vec3(0, 9, -2)).norm(), 1e-12);
+}
+
+TEST(DisplacementTest, ComposeJacobiansMatchNumeric) {
+  Sampler s;
+  for (Point k : kPoints) {
+    for (int i = 0; i < 10; ++i) {
+      DispVec d1, d2;
+      d1 << s.translation(k), s.angles(k);
+      d2 << s.translation(k), s.angles(k);
+      if (k == Point::kRandom) { d1[5] *= 0.3; d2[5] *= 0.3; }
+      Mat6 j1, j2;
+      compose_displacements(d1, d2, &j1, &j2);
+      const auto n1 = numeric_jacobian<6, 6>(
+          [&](const DispVec& v) { return compose_displacements(v, d2); }, d1, 1e-6);
+      const auto n2 = numeric_jacobian<6, 6>(
+          [&](const DispVec& v) { return compose_displacements(d1, v); }, d2, 1e-6);
+      EXPECT_LT(relative_error(j1, n1), 1e-6);
+      EXPECT_LT(relative_error(j2, n2), 1e-6);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace sarloc::avalanche

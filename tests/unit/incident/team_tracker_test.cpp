@@ -1,0 +1,137 @@
+#include <gtest/gtest.h>
+
+#include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/incident/team_tracker.hpp"
+
+namespace sarloc::incident {
+namespace {
+
+constexpr TimestampNs kSec = 1'000'000'000;
+
+ResponderPosition pos(const std::string& id, const std::string& team, TimestampNs stamp, double x = 0.0) {
+  ResponderPosition p;
+  p.responder_id = id;
+  p.team_id = team;
+  p.stamp = stamp;
+  p.position.position = Vec3(x, 0.0, 0.0);
+  return p;
+}
+
+const MemberStatus& member(const std::vector<TeamStatus>& teams, const std::string& id) {
+  for (const TeamStatus& t : teams)
+    for (const MemberStatus& m : t.members)
+      if (m.responder_id == id) return m;
+  throw std::runtime_error("no member " + id);
+}
+
+TEST(TeamTracker, ConfigValidation) {
+  EXPECT_NO_THROW(TeamTrackerConfig{}.validate());
+  TeamTrackerConfig c;
+  c.stale_after_s = 0.0;
+  try {
+    c.validate();
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_STREQ(e.what(), "team_tracker.stale_after_s = 0: must be > 0");
+  }
+  c = {};
+  c.lost_after_s = 5.0;
+  try {
+    c.validate();
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_STREQ(e.what(), "team_tracker.lost_after_s = 5: must be > stale_after_s");
+  }
+  EXPECT_THROW(TeamTracker{c}, ConfigError);
+}
+
+TEST(TeamTracker, GroupsByTeamSorted) {
+  TeamTracker t;
+  t.on_position(pos("r2", "alpha", 0), 0);
+  t.on_position(pos("r1", "alpha", 0), 0);
+  t.on_position(pos("r3", "bravo", 0), 0);
+  const auto teams = t.evaluate(kSec);
+  ASSERT_EQ(teams.size(), 2u);
+  EXPECT_EQ(teams[0].team_id, "alpha");
+  ASSERT_EQ(teams[0].members.size(), 2u);
+  EXPECT_EQ(teams[0].members[0].responder_id, "r1");
+  EXPECT_EQ(teams[0].members[1].responder_id, "r2");
+  EXPECT_EQ(teams[1].team_id, "bravo");
+  EXPECT_EQ(teams[0].stamp, kSec);
+  EXPECT_EQ(t.responders_total(), 3u);
+  // team change moves the responder
+  t.on_position(pos("r2", "bravo", kSec), kSec);
+  EXPECT_EQ(t.evaluate(kSec)[0].members.size(), 1u);
+  EXPECT_EQ(t.evaluate(kSec)[1].members.size(), 2u);
+}
+
+TEST(TeamTracker, AliveStaleLostByTime) {
+  TeamTracker t;  // stale after 5 s, lost after 15 s
+  t.on_position(pos("r1", "a", 0, 3.0), 0);
+  auto m = member(t.evaluate(5 * kSec), "r1");
+  EXPECT_EQ(m.link, LinkState::kAlive);
+  EXPECT_EQ(m.accountability, AccountabilityState::kAccounted);
+  EXPECT_EQ(m.last_seen, 0);
+  EXPECT_TRUE(m.has_position);
+  EXPECT_DOUBLE_EQ(m.last_position.position.x(), 3.0);
+  m = member(t.evaluate(6 * kSec), "r1");
+  EXPECT_EQ(m.link, LinkState::kStale);
+  EXPECT_EQ(m.accountability, AccountabilityState::kPending);
+  m = member(t.evaluate(16 * kSec), "r1");
+  EXPECT_EQ(m.link, LinkState::kLost);
+  EXPECT_EQ(m.accountability, AccountabilityState::kMissing);
+  EXPECT_EQ(t.link_lost_count(16 * kSec), 1u);
+  EXPECT_EQ(t.link_lost_count(), 0u);  // latest now seen by the tracker is 0
+  // seen again: alive
+  t.on_position(pos("r1", "a", 17 * kSec, 4.0), 17 * kSec);
+  m = member(t.evaluate(17 * kSec), "r1");
+  EXPECT_EQ(m.link, LinkState::kAlive);
+  EXPECT_EQ(m.last_seen, 17 * kSec);
+  EXPECT_DOUBLE_EQ(m.last_position.position.x(), 4.0);
+  EXPECT_EQ(t.link_lost_count(), 0u);
+}
+
+TEST(TeamTracker, LivelinessLostIsImmediateAndRecovers) {
+  TeamTracker t;
+  t.on_position(pos("r1", "a", 0), 0);
+  t.on_position(pos("r2", "a", 0), 0);
+  t.on_link("r1", false, kSec);
+  EXPECT_EQ(member(t.evaluate(kSec), "r1").link, LinkState::kLost);
+  EXPECT_EQ(member(t.evaluate(kSec), "r2").link, LinkState::kAlive);
+  EXPECT_EQ(t.link_lost_count(), 1u);
+  t.on_link("r1", true, 2 * kSec);
+  EXPECT_EQ(member(t.evaluate(2 * kSec), "r1").link, LinkState::kAlive);
+  EXPECT_EQ(member(t.evaluate(2 * kSec), "r1").last_seen, 2 * kSec);
+  t.on_link("r1", false, 3 * kSec);
+  t.on_position(pos("r1", "a", 4 * kSec), 4 * kSec);  // a position also brings it back
+  EXPECT_EQ(member(t.evaluate(4 * kSec), "r1").link, LinkState::kAlive);
+}
+
+TEST(TeamTracker, OlderPositionDoesNotReplaceButCountsAsHeard) {
+  TeamTracker t;
+  t.on_position(pos("r1", "a", 10 * kSec, 1.0), 10 * kSec);
+  t.on_position(pos("r1", "a", 5 * kSec, 9.0), 20 * kSec);
+  const auto m = member(t.evaluate(20 * kSec), "r1");
+  EXPECT_DOUBLE_EQ(m.last_position.position.x(), 1.0);
+  EXPECT_EQ(m.position_stamp, 10 * kSec);
+  EXPECT_EQ(m.last_seen, 20 * kSec);
+  EXPECT_EQ(m.link, LinkState::kAlive);
+}
+
+TEST(TeamTracker, LinkBeforePositionIsUnassigned) {
+  TeamTracker t;
+  t.on_link("r9", true, 0);
+  auto teams = t.evaluate(0);
+  ASSERT_EQ(teams.size(), 1u);
+  EXPECT_EQ(teams[0].team_id, "");
+  EXPECT_FALSE(teams[0].members[0].has_position);
+  t.on_position(pos("r9", "c", 0), kSec);
+  teams = t.evaluate(kSec);
+  ASSERT_EQ(teams.size(), 1u);
+  EXPECT_EQ(teams[0].team_id, "c");
+  EXPECT_THROW(t.on_link("", true, 0), InputError);
+  EXPECT_THROW(t.on_position(pos("", "c", 0), 0), InputError);
+}
+
+}  // namespace
+}  // namespace sarloc::incident

@@ -1,0 +1,329 @@
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <random>
+#include <set>
+
+#include "sarloc/core/common/chi_square.hpp"
+#include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/incident/victim_fusion.hpp"
+
+namespace sarloc::incident {
+namespace {
+
+using avalanche::EstimatorStatus;
+constexpr TimestampNs kSec = 1'000'000'000;
+
+SourceEstimate src(const std::string& rescuer, std::uint32_t signal, TimestampNs t, const Vec3& p,
+                   double sigma = 1.5, EstimatorStatus st = EstimatorStatus::kConverged) {
+  SourceEstimate s;
+  s.rescuer_id = rescuer;
+  s.signal_id = signal;
+  s.stamp = t;
+  s.position.position = p;
+  s.position.covariance = sigma * sigma * Mat3::Identity();
+  s.status = st;
+  return s;
+}
+
+std::string message_of(const VictimFusionConfig& c) {
+  try {
+    c.validate();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(VictimFusion, ConfigDefaultsValidAndMessages) {
+  EXPECT_NO_THROW(VictimFusionConfig{}.validate());
+  VictimFusionConfig c;
+  c.gate_probability = 1.5;
+  EXPECT_EQ(message_of(c), "fusion.gate_probability = 1.5: must be in (0, 1)");
+  c = {};
+  c.keep_gate_probability = 0.9;
+  EXPECT_EQ(message_of(c), "fusion.keep_gate_probability = 0.9: must be >= gate_probability");
+  c = {};
+  c.source_timeout_s = 0.0;
+  EXPECT_EQ(message_of(c), "fusion.source_timeout_s = 0: must be in (0, 3600]");
+  c = {};
+  c.located_radius_m = -1.0;
+  EXPECT_EQ(message_of(c), "fusion.located_radius_m = -1: must be in (0, 100]");
+  c = {};
+  c.merge_gate_probability = 0.0;
+  EXPECT_EQ(message_of(c), "fusion.merge_gate_probability = 0: must be in (0, 1)");
+  EXPECT_THROW(VictimFusion{c}, ConfigError);
+}
+
+TEST(VictimFusion, RejectsBadInputAndIgnoresOlderStamps) {
+  VictimFusion f;
+  EXPECT_THROW(f.update(src("", 1, 0, Vec3::Zero())), InputError);
+  SourceEstimate bad = src("a", 1, 0, Vec3::Zero());
+  bad.position.covariance(0, 0) = -1.0;
+  EXPECT_THROW(f.update(bad), InputError);
+  bad = src("a", 1, 0, Vec3(std::nan(""), 0, 0));
+  EXPECT_THROW(f.update(bad), InputError);
+  EXPECT_TRUE(f.update(src("a", 1, 2 * kSec, Vec3::Zero())));
+  EXPECT_FALSE(f.update(src("a", 1, 1 * kSec, Vec3::Ones())));
+}
+
+TEST(VictimFusion, MakeSourceEstimateUsesTheTransform) {
+  avalanche::VictimEstimate e;
+  e.rescuer_id = "r1";
+  e.signal_id = 7;
+  e.stamp = 42;
+  e.status = EstimatorStatus::kLocated;
+  e.relative.position = Vec3(1, 2, -1);
+  e.relative.covariance = 0.04 * Mat3::Identity();
+  GaussianPosition antenna;
+  antenna.position = Vec3(10, 20, 1);
+  antenna.covariance = 2.25 * Mat3::Identity();
+  const SourceEstimate s = make_source_estimate(e, antenna);
+  EXPECT_EQ(s.rescuer_id, "r1");
+  EXPECT_EQ(s.signal_id, 7u);
+  EXPECT_EQ(s.stamp, 42);
+  EXPECT_EQ(s.status, EstimatorStatus::kLocated);
+  EXPECT_TRUE(s.position.position.isApprox(Vec3(11, 22, 0)));
+  EXPECT_TRUE(s.position.covariance.isApprox(2.29 * Mat3::Identity()));
+}
+
+TEST(VictimFusion, OnlyConvergedSourcesTakePart) {
+  VictimFusion f;
+  f.update(src("a", 1, 0, Vec3::Zero(), 1.5, EstimatorStatus::kMultimodal));
+  f.step(0);
+  EXPECT_TRUE(f.victims().empty());
+  f.update(src("a", 1, kSec, Vec3::Zero()));
+  f.step(kSec);
+  EXPECT_EQ(f.victims().size(), 1u);
+}
+
+TEST(VictimFusion, TwoRescuersOneVictim) {
+  VictimFusion f;
+  f.update(src("a", 3, 0, Vec3(10.0, 5.0, -1.0)));
+  f.update(src("b", 9, 0, Vec3(11.5, 4.0, -1.5)));
+  f.step(0);
+  ASSERT_EQ(f.victims().size(), 1u);
+  const FusedVictim& v = f.victims()[0];
+  EXPECT_EQ(v.victim_id, 1u);
+  EXPECT_EQ(v.sources.size(), 2u);
+  EXPECT_TRUE(v.position.position.isApprox(Vec3(10.75, 4.5, -1.25), 1e-9));  // equal P: average
+  EXPECT_TRUE(v.position.covariance.isApprox(2.25 * Mat3::Identity(), 1e-9));  // CI: no shrink
+  EXPECT_EQ(v.state, VictimState::kUnconfirmed);
+}
+
+TEST(VictimFusion, SameRescuerSignalsNeverShareAVictim) {
+  VictimFusion f;
+  for (int k = 0; k < 20; ++k) {
+    const TimestampNs t = k * kSec;
+    f.update(src("a", 1, t, Vec3(0.0, 0.0, -1.0)));
+    f.update(src("a", 2, t, Vec3(0.3, 0.0, -1.0)));  // well inside each other's gate
+    if (k >= 5) f.update(src("b", 1, t, Vec3(0.15, 0.1, -1.0)));  // between them
+    f.step(t);
+    ASSERT_EQ(f.victims().size(), 2u) << "step " << k;
+    for (const FusedVictim& v : f.victims()) {
+      std::set<std::string> rescuers;
+      for (const VictimSource& s : v.sources) EXPECT_TRUE(rescuers.insert(s.rescuer_id).second);
+    }
+    EXPECT_EQ(f.victims()[0].victim_id, 1u);
+    EXPECT_EQ(f.victims()[1].victim_id, 2u);
+  }
+  EXPECT_TRUE(f.take_removed().empty());
+}
+
+TEST(VictimFusion, MergeKeepsLowerIdAndReportsTheOther) {
+  VictimFusion f;
+  f.update(src("a", 1, 0, Vec3(0, 0, 0), 0.5));
+  f.update(src("b", 1, 0, Vec3(20, 0, 0), 0.5));  // far: its own victim
+  f.step(0);
+  ASSERT_EQ(f.victims().size(), 2u);
+  // b's filter moves onto a's victim: its victim's fused estimate now falls inside the gate.
+  f.update(src("b", 1, kSec, Vec3(0.5, 0, 0), 0.5));
+  f.update(src("a", 1, kSec, Vec3(0, 0, 0), 0.5));
+  f.step(kSec);
+  ASSERT_EQ(f.victims().size(), 1u);
+  EXPECT_EQ(f.victims()[0].victim_id, 1u);
+  EXPECT_EQ(f.victims()[0].sources.size(), 2u);
+  EXPECT_EQ(f.take_removed(), (std::vector<std::uint32_t>{2}));
+  EXPECT_TRUE(f.take_removed().empty());
+}
+
+TEST(VictimFusion, StatesAreMonotonicAndTimesSetOnce) {
+  VictimFusion f;
+  f.update(src("a", 1, 0, Vec3::Zero()));
+  f.step(0);
+  ASSERT_EQ(f.victims().size(), 1u);
+  EXPECT_EQ(f.victims()[0].state, VictimState::kUnconfirmed);
+  EXPECT_EQ(f.victims()[0].first_seen, 0);
+  f.update(src("a", 1, 1 * kSec, Vec3::Zero(), 1.5, EstimatorStatus::kLocated));
+  f.step(1 * kSec);
+  EXPECT_EQ(f.victims()[0].state, VictimState::kLocated);
+  EXPECT_EQ(f.victims()[0].located_at, 1 * kSec);
+  f.update(src("a", 1, 2 * kSec, Vec3::Zero(), 1.5, EstimatorStatus::kConverged));
+  f.step(2 * kSec);
+  EXPECT_EQ(f.victims()[0].state, VictimState::kLocated);  // never back
+  f.update(src("a", 1, 3 * kSec, Vec3::Zero(), 1.5, EstimatorStatus::kFound));
+  f.step(3 * kSec);
+  EXPECT_EQ(f.victims()[0].state, VictimState::kFound);
+  EXPECT_EQ(f.victims()[0].found_at, 3 * kSec);
+  EXPECT_EQ(f.victims()[0].located_at, 1 * kSec);
+  f.update(src("a", 1, 4 * kSec, Vec3::Zero(), 1.5, EstimatorStatus::kMultimodal));
+  f.step(4 * kSec);
+  ASSERT_EQ(f.victims().size(), 1u);
+  EXPECT_EQ(f.victims()[0].state, VictimState::kFound);
+  EXPECT_TRUE(f.victims()[0].sources.empty());  // multimodal: out of the fusion
+  EXPECT_EQ(f.victims()[0].found_at, 3 * kSec);
+  EXPECT_EQ(f.victims()[0].last_update, 3 * kSec);
+}
+
+TEST(VictimFusion, LocatedByFusedRadius) {
+  VictimFusion f;  // located_radius_m = 1: 95 % radius sqrt(7.81) * sigma < 1 -> sigma < 0.357
+  f.update(src("a", 1, 0, Vec3::Zero(), 0.3));
+  f.step(0);
+  EXPECT_EQ(f.victims()[0].state, VictimState::kLocated);
+  f.update(src("b", 1, 0, Vec3(20, 0, 0), 0.4));
+  f.step(0);
+  EXPECT_EQ(f.victims()[1].state, VictimState::kUnconfirmed);
+}
+
+TEST(VictimFusion, TimedOutSourcesLeaveButTheVictimStays) {
+  VictimFusionConfig c;
+  c.source_timeout_s = 5.0;
+  VictimFusion f(c);
+  f.update(src("a", 1, 0, Vec3(1, 2, 0), 1.5, EstimatorStatus::kLocated));
+  f.step(0);
+  f.step(6 * kSec);
+  ASSERT_EQ(f.victims().size(), 1u);
+  EXPECT_TRUE(f.victims()[0].sources.empty());
+  EXPECT_TRUE(f.victims()[0].position.position.isApprox(Vec3(1, 2, 0)));
+  EXPECT_EQ(f.victims()[0].state, VictimState::kLocated);
+  // Another rescuer reaches the same victim later: same id, no duplicate.
+  f.update(src("b", 4, 7 * kSec, Vec3(1.5, 2, 0)));
+  f.step(7 * kSec);
+  ASSERT_EQ(f.victims().size(), 1u);
+  EXPECT_EQ(f.victims()[0].victim_id, 1u);
+  EXPECT_EQ(f.victims()[0].sources.size(), 1u);
+  EXPECT_EQ(f.remove_source("b"), 1u);
+  EXPECT_TRUE(f.victims()[0].sources.empty());
+}
+
+// ---------------------------------------------------------------------------------------------
+// The hard case: two victims 8 m apart, three rescuers each seeing both, GNSS error per
+// rescuer (bias common to all its signals, slowly varying), estimate noise 0.2 m, signals
+// converging at random times and in random order. Seed 001.
+struct Mission {
+  double gnss_h = 1.5, gnss_v = 2.5, est = 0.2;
+  VictimFusionConfig config;
+};
+
+struct MissionResult {
+  int draws = 0, count_ok = 0, association_ok = 0, inside95 = 0, victims = 0, within_1m = 0;
+};
+
+MissionResult run_missions(const Mission& m, int draws, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  std::uniform_int_distribution<int> converge_step(0, 12);
+  const std::vector<Vec3> truth = {Vec3(0.0, 0.0, -1.5), Vec3(8.0, 0.0, -1.0)};
+  const std::vector<std::string> rescuers = {"r1", "r2", "r3"};
+  const Mat3 cov_g = Vec3(m.gnss_h * m.gnss_h, m.gnss_h * m.gnss_h, m.gnss_v * m.gnss_v).asDiagonal();
+  const Mat3 cov = cov_g + m.est * m.est * Mat3::Identity();
+  const double gate95 = chi_square_quantile(0.95, 3.0);
+  MissionResult res;
+  for (int d = 0; d < draws; ++d) {
+    VictimFusion f(m.config);
+    std::vector<Vec3> bias(rescuers.size());
+    for (auto& b : bias) b = Vec3(m.gnss_h * n01(rng), m.gnss_h * n01(rng), m.gnss_v * n01(rng));
+    // signal ids are the device's own: victim v is signal sig[r][v]; random convergence steps
+    std::vector<std::vector<std::uint32_t>> sig(rescuers.size());
+    std::vector<std::vector<int>> conv(rescuers.size());
+    for (std::size_t r = 0; r < rescuers.size(); ++r) {
+      const bool swap = n01(rng) > 0.0;
+      sig[r] = swap ? std::vector<std::uint32_t>{2, 1} : std::vector<std::uint32_t>{1, 2};
+      conv[r] = {converge_step(rng), converge_step(rng)};
+    }
+    bool always_le2 = true;
+    constexpr int kSteps = 40;
+    std::set<std::uint32_t> ids_at_20;
+    bool ids_stable = true;
+    for (int k = 0; k < kSteps; ++k) {
+      const TimestampNs t = k * kSec;
+      for (std::size_t r = 0; r < rescuers.size(); ++r) {
+        // GNSS error: first-order Gauss-Markov, stationary sigma = the one declared (tau ~ 20 s)
+        constexpr double kA = 0.95;
+        const double q = std::sqrt(1.0 - kA * kA);
+        bias[r] = kA * bias[r] + q * Vec3(m.gnss_h * n01(rng), m.gnss_h * n01(rng), m.gnss_v * n01(rng));
+        for (std::size_t v = 0; v < truth.size(); ++v) {
+          const Vec3 e = m.est * Vec3(n01(rng), n01(rng), n01(rng));
+          const EstimatorStatus st = k >= conv[r][v] ? EstimatorStatus::kConverged
+                                                     : EstimatorStatus::kMultimodal;
+          SourceEstimate s;
+          s.rescuer_id = rescuers[r];
+          s.signal_id = sig[r][v];
+          s.stamp = t;
+          s.status = st;
+          s.position.position = truth[v] + bias[r] + e;
+          s.position.covariance = cov;
+          f.update(s);
+        }
+      }
+      f.step(t);
+      // Every signal has converged from step 13 on: never more than two victims from then.
+      // (Before, a transient duplicate that the merge / ghost rule removes is tolerated: seen
+      // in 1 of 100 draws with corrected GNSS, seed 002.)
+      if (k > 12) always_le2 = always_le2 && f.victims().size() <= 2;
+      std::set<std::uint32_t> ids;
+      for (const FusedVictim& v : f.victims()) ids.insert(v.victim_id);
+      if (k == 20) ids_at_20 = ids;
+      if (k > 20 && ids != ids_at_20) ids_stable = false;
+    }
+    ++res.draws;
+    if (always_le2 && ids_stable && f.victims().size() == 2) ++res.count_ok;
+    bool assoc = f.victims().size() == 2;
+    for (const FusedVictim& v : f.victims()) {
+      // every source of this victim belongs to the same truth
+      std::set<std::size_t> truths;
+      for (const VictimSource& s : v.sources)
+        for (std::size_t r = 0; r < rescuers.size(); ++r)
+          if (rescuers[r] == s.rescuer_id)
+            truths.insert(s.signal_id == sig[r][0] ? 0u : 1u);
+      assoc = assoc && truths.size() == 1 && v.sources.size() == 3;
+      if (truths.size() != 1) continue;
+      const Vec3 err = v.position.position - truth[*truths.begin()];
+      ++res.victims;
+      if (err.dot(Eigen::LLT<Mat3>(v.position.covariance).solve(err)) <= gate95) ++res.inside95;
+      if (err.norm() <= 1.0) ++res.within_1m;
+    }
+    if (assoc) ++res.association_ok;
+  }
+  return res;
+}
+
+TEST(VictimFusion, TwoVictimsEightMetresApartRealisticGnss) {
+  Mission m;
+  const MissionResult r = run_missions(m, 150, 1);
+  // KNOWN LIMITATION (docs/estimation/incident-fusion.md, "Limits"): with 1.5 m GNSS per
+  // rescuer the relative offset between two rescuers (sigma 2.1 m) is a quarter of the
+  // separation, and pairwise gating mis-associates about 1 draw in 150 (seed 001). Fixing it
+  // needs the per-rescuer common-offset registration described there. Tighten to == draws then.
+  EXPECT_GE(r.count_ok, r.draws - 1);        // exactly two victims, never more, stable ids
+  EXPECT_GE(r.association_ok, r.draws - 1);  // each victim holds the 3 right sources
+  // Accuracy is bounded by GNSS: the mean of 3 rescuers has sigma 1.5/sqrt(3) = 0.87 m per
+  // horizontal axis, so "<= 1 m" cannot hold for every draw here; consistency must.
+  EXPECT_GE(r.inside95, static_cast<int>(0.95 * r.victims));
+  RecordProperty("within_1m_fraction", std::to_string(double(r.within_1m) / r.victims));
+}
+
+TEST(VictimFusion, TwoVictimsEightMetresApartCorrectedGnssWithinOneMetre) {
+  Mission m;
+  m.gnss_h = 0.3;  // SBAS / RTK-class
+  m.gnss_v = 0.4;
+  const MissionResult r = run_missions(m, 100, 2);
+  EXPECT_EQ(r.count_ok, r.draws);
+  EXPECT_EQ(r.association_ok, r.draws);
+  EXPECT_EQ(r.within_1m, r.victims);
+  EXPECT_EQ(r.victims, 2 * r.draws);
+}
+
+}  // namespace
+}  // namespace sarloc::incident
