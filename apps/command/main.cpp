@@ -20,9 +20,11 @@ int main(int argc, char** argv) {
   std::string log_level = "info";
   std::string summary_path;
   std::int64_t epoch_ns = 0;
+  int domain = -1;
   cli.add_option("-c,--config", config_path, "mission YAML (config/missions/default.yaml)")->required();
   cli.add_option("--epoch-ns", epoch_ns, "mission start, ns since the Unix epoch (sarloc-mission sets it; default now)");
   cli.add_option("--summary", summary_path, "write the final picture as JSON here on exit");
+  cli.add_option("--domain", domain, "DDS domain id, overriding dds.domain_id of the config");
   cli.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical, off");
   cli.set_version_flag("--version", SARLOC_VERSION);
   CLI11_PARSE(cli, argc, argv);
@@ -33,6 +35,7 @@ int main(int argc, char** argv) {
     const TimestampNs epoch = epoch_ns > 0 ? epoch_ns : sarloc::dds::MissionClock::wall_now_ns();
     auto node_config = mission.command_config();
     auto dds_config = mission.dds;
+    if (domain >= 0) dds_config.domain_id = static_cast<std::uint32_t>(domain);
     dds_config.name = node_config.node_id;
     auto participant = std::make_shared<sarloc::dds::Participant>(dds_config);
     sarloc::dds::CommandNode node(participant, node_config, sarloc::dds::MissionClock(epoch, mission.speedup));

@@ -16,8 +16,10 @@ int main(int argc, char** argv) {
   std::string sector;
   std::string log_level = "info";
   double duration_s = 0.0;
+  int domain = -1;
   cli.add_option("-c,--config", config_path, "mission/daemon YAML (config/missions/default.yaml)")->required();
   cli.add_option("--sector", sector, "serve only this sector's rescuers (a name under sectors:)");
+  cli.add_option("--domain", domain, "DDS domain id, overriding dds.domain_id of the config");
   cli.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical, off");
   cli.add_option("--duration", duration_s, "stop after this many wall seconds (0 = until SIGINT/SIGTERM)");
   cli.set_version_flag("--version", SARLOC_VERSION);
@@ -31,6 +33,7 @@ int main(int argc, char** argv) {
     }
     auto node_config = mission.core_config(sector);
     auto dds_config = mission.dds;
+    if (domain >= 0) dds_config.domain_id = static_cast<std::uint32_t>(domain);
     dds_config.name = node_config.node_id;
     auto participant = std::make_shared<sarloc::dds::Participant>(dds_config);
     sarloc::dds::CoreNode node(participant, node_config);

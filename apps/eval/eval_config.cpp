@@ -11,6 +11,7 @@ void read_standard(YamlReader r, avalanche::TransmitterStandard& s) {
   r.read("field_min_A_per_m", s.field_min_A_per_m);
   r.read("field_max_A_per_m", s.field_max_A_per_m);
   r.read("reference_distance_m", s.reference_distance_m);
+  r.expect_done();
 }
 
 void load(YamlReader root, avalanche::EvaluationSetup& setup) {
@@ -33,6 +34,7 @@ void load(YamlReader root, avalanche::EvaluationSetup& setup) {
     r.read("attitude_roll_pitch_sigma_deg", c.attitude_roll_pitch_sigma_deg);
     r.read("attitude_yaw_sigma_deg", c.attitude_yaw_sigma_deg);
     r.read("attitude_updates", c.attitude_updates);
+    r.expect_done();
   }
   {
     auto r = root.child("sog");
@@ -58,6 +60,11 @@ void load(YamlReader root, avalanche::EvaluationSetup& setup) {
     r.read("idle_translation_sigma_m", c.idle_translation_sigma_m);
     r.read("idle_rotation_sigma_rad", c.idle_rotation_sigma_rad);
     r.read("use_orientation", c.use_orientation);
+    r.read("surface_constraint", c.surface_constraint);
+    r.read("reinit_gate_probability", c.reinit_gate_probability);
+    u = c.reinit_after;
+    r.read("reinit_after", u);
+    c.reinit_after = u;
     r.read("prune_log_weight", c.prune_log_weight);
     u = c.merge_interval;
     r.read("merge_interval", u);
@@ -68,18 +75,21 @@ void load(YamlReader root, avalanche::EvaluationSetup& setup) {
     r.read("max_components", u);
     c.max_components = u;
     r.read("converged_radius_m", c.converged_radius_m);
+    r.expect_done();
   }
   {
     auto r = root.child("search");
     auto& c = setup.search;
     r.read("step_length_m", c.step_length_m);
     r.read("approach_mahalanobis", c.approach_mahalanobis);
+    r.read("approach_radius_fraction", c.approach_radius_fraction);
     r.read("fine_search_radius_m", c.fine_search_radius_m);
     r.read("located_radius_m", c.located_radius_m);
     r.read("found_distance_m", c.found_distance_m);
     r.read("probe_step_m", c.probe_step_m);
     r.read("flux_smoothing", c.flux_smoothing);
     r.read("flux_snr_cap", c.flux_snr_cap);
+    r.expect_done();
   }
   {
     auto r = root.child("evaluation");
@@ -94,6 +104,7 @@ void load(YamlReader root, avalanche::EvaluationSetup& setup) {
     u = c.step_budget;
     r.read("step_budget", u);
     c.step_budget = u;
+    r.expect_done();
   }
   root.expect_done();
   setup.validate();

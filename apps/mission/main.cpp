@@ -66,11 +66,13 @@ int main(int argc, char** argv) {
   std::string log_level = "info";
   std::vector<std::string> kills;
   double startup_s = 3.0;
+  int domain = -1;
   cli.add_option("mission", config_path, "mission YAML")->capture_default_str();
   cli.add_option("--json", json_path, "write the summary as JSON here");
   cli.add_option("--run-dir", run_dir, "folder for the processes' logs and summaries (default: a new one in /tmp)");
   cli.add_option("--kill", kills, "fault injection: SIGKILL TARGET (core, command or a rescuer id) at mission SECONDS, e.g. core@40");
   cli.add_option("--startup", startup_s, "wall seconds given to the processes to start and discover each other");
+  cli.add_option("--domain", domain, "DDS domain id for every process, overriding dds.domain_id of the mission");
   cli.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical, off");
   cli.set_version_flag("--version", SARLOC_VERSION);
   CLI11_PARSE(cli, argc, argv);
@@ -93,6 +95,8 @@ int main(int argc, char** argv) {
 
     // The mission's own participant: it watches the picture like incident command's dashboard.
     auto dds_config = mission.dds;
+    if (domain >= 0) dds_config.domain_id = static_cast<std::uint32_t>(domain);
+    const std::string domain_arg = std::to_string(dds_config.domain_id);
     dds_config.name = "sarloc-mission";
     auto participant = std::make_shared<sarloc::dds::Participant>(dds_config);
     Picture picture;
@@ -128,7 +132,7 @@ int main(int argc, char** argv) {
     std::vector<std::unique_ptr<mission_app::ChildProcess>> cores;
     std::vector<std::string> sectors = mission.sectors.empty() ? std::vector<std::string>{""} : mission.sectors;
     for (const auto& sector : sectors) {
-      std::vector<std::string> args{(bin_dir / "sarloc-core").string(), "-c", config_abs, "--log-level", log_level};
+      std::vector<std::string> args{(bin_dir / "sarloc-core").string(), "-c", config_abs, "--domain", domain_arg, "--log-level", log_level};
       if (!sector.empty()) args.insert(args.end(), {"--sector", sector});
       const std::string name = sector.empty() ? "core" : "core-" + sector;
       cores.push_back(std::make_unique<mission_app::ChildProcess>(name, args, log_file(name)));
@@ -136,7 +140,7 @@ int main(int argc, char** argv) {
     auto command = std::make_unique<mission_app::ChildProcess>(
         "command",
         std::vector<std::string>{(bin_dir / "sarloc-command").string(), "-c", config_abs, "--epoch-ns", epoch_arg,
-                                 "--summary", (fs::path(run_dir) / "command.json").string(), "--log-level", log_level},
+                                 "--summary", (fs::path(run_dir) / "command.json").string(), "--domain", domain_arg, "--log-level", log_level},
         log_file("command"));
     std::map<std::string, std::unique_ptr<mission_app::ChildProcess>> rescuers;
     for (const auto& r : mission.scenario.rescuers) {
@@ -144,7 +148,7 @@ int main(int argc, char** argv) {
           "rescuer-" + r.id,
           std::vector<std::string>{(bin_dir / "sarloc-rescuer").string(), "-c", config_abs, "--id", r.id, "--epoch-ns",
                                    epoch_arg, "--summary", (fs::path(run_dir) / (r.id + ".json")).string(),
-                                   "--log-level", log_level},
+                                   "--domain", domain_arg, "--log-level", log_level},
           log_file("rescuer-" + r.id));
     }
 
@@ -231,14 +235,40 @@ int main(int argc, char** argv) {
     }
     const auto match = fused.empty() ? std::vector<int>(true_count, -1) : incident::solve_assignment(cost);
 
+    // What each rescuer's device knew (its summary): found signals and their own errors.
+    std::map<std::string, nlohmann::json> device;
+    for (const auto& r : mission.scenario.rescuers) {
+      std::ifstream in(fs::path(run_dir) / (r.id + ".json"));
+      if (!in) continue;
+      try {
+        device[r.id] = nlohmann::json::parse(in);
+      } catch (const std::exception& e) {
+        spdlog::warn("cannot read {}'s summary: {}", r.id, e.what());
+      }
+    }
+    // The diggers' view of victim i: the smallest error of a device that found it, relative to
+    // that device (no GNSS involved).
+    auto relative_error_of = [&](std::size_t victim) -> std::optional<double> {
+      std::optional<double> best;
+      for (const auto& [id, s] : device) {
+        for (const auto& signal : s.value("signals", nlohmann::json::array())) {
+          if (signal.value("victim_index", -1) != static_cast<int>(victim) || signal.value("status", "") != "FOUND") continue;
+          if (!signal.contains("relative_error_m")) continue;
+          const double e = signal["relative_error_m"].get<double>();
+          if (!best || e < *best) best = e;
+        }
+      }
+      return best;
+    };
+
     nlohmann::json out;
     out["mission"] = mission.name;
     out["true_victim_count"] = true_count;
     out["fused_victim_count"] = fused.size();
     out["victims"] = nlohmann::json::array();
     bool all_found = true;
-    std::printf("\n%-10s %-26s %-26s %8s %12s %6s\n", "victim", "true position (E N U) m", "fused estimate m", "error m",
-                "located s", "found");
+    std::printf("\n%-10s %-26s %-26s %8s %10s %12s %6s\n", "victim", "true position (E N U) m", "fused estimate m",
+                "error m", "finder m", "located s", "found");
     for (std::size_t i = 0; i < true_count; ++i) {
       const auto& truth = mission.scenario.victims[i];
       nlohmann::json v{{"name", truth.name},
@@ -271,12 +301,19 @@ int main(int argc, char** argv) {
         v["time_to_locate_s"] = nullptr;
       }
       v["found"] = found;
+      if (const auto relative = relative_error_of(i)) {
+        v["relative_error_m"] = *relative;
+      } else {
+        v["relative_error_m"] = nullptr;
+      }
       all_found = all_found && found;
       out["victims"].push_back(v);
       char truth_text[64];
       std::snprintf(truth_text, sizeof(truth_text), "(%.1f, %.1f, %.1f)", truth.position.x(), truth.position.y(),
                     truth.position.z());
-      std::printf("%-10s %-26s %-26s %8s %12s %6s\n", truth.name.c_str(), truth_text, est, err, located,
+      char finder[32] = "-";
+      if (!v["relative_error_m"].is_null()) std::snprintf(finder, sizeof(finder), "%.2f", v["relative_error_m"].get<double>());
+      std::printf("%-10s %-26s %-26s %8s %10s %12s %6s\n", truth.name.c_str(), truth_text, est, err, finder, located,
                   found ? "yes" : "NO");
     }
     out["all_found"] = all_found;
@@ -286,19 +323,15 @@ int main(int argc, char** argv) {
     std::printf("\n%-10s %18s %10s %22s\n", "rescuer", "distance walked m", "fallbacks", "latency p50/p99 ms");
     for (const auto& r : mission.scenario.rescuers) {
       nlohmann::json entry{{"id", r.id}};
-      std::ifstream in(fs::path(run_dir) / (r.id + ".json"));
-      if (in) {
-        try {
-          const auto s = nlohmann::json::parse(in);
-          entry["distance_walked_m"] = s.at("distance_walked_m");
-          entry["fallbacks"] = s.at("fallbacks");
-          entry["latency_ms"] = s.at("latency_ms");
-          std::printf("%-10s %18.1f %10d %10.1f / %-10.1f\n", r.id.c_str(), s.at("distance_walked_m").get<double>(),
-                      s.at("fallbacks").get<int>(), s.at("latency_ms").at("p50").get<double>(),
-                      s.at("latency_ms").at("p99").get<double>());
-        } catch (const std::exception& e) {
-          spdlog::warn("cannot read {}'s summary: {}", r.id, e.what());
-        }
+      if (const auto it = device.find(r.id); it != device.end()) {
+        const auto& s = it->second;
+        entry["distance_walked_m"] = s.value("distance_walked_m", 0.0);
+        entry["fallbacks"] = s.value("fallbacks", 0);
+        entry["latency_ms"] = s.value("latency_ms", nlohmann::json::object());
+        entry["gnss_error_m"] = s.value("gnss_error_m", -1.0);
+        std::printf("%-10s %18.1f %10d %10.1f / %-10.1f\n", r.id.c_str(), s.value("distance_walked_m", 0.0),
+                    s.value("fallbacks", 0), entry["latency_ms"].value("p50", -1.0),
+                    entry["latency_ms"].value("p99", -1.0));
       } else {
         std::printf("%-10s %18s\n", r.id.c_str(), "(no summary: killed?)");
       }

@@ -79,12 +79,14 @@ int main(int argc, char** argv) {
   std::string summary_path;
   std::string log_level = "info";
   std::int64_t epoch_ns = 0;
+  int domain = -1;
   bool quiet = false;
   cli.add_option("-c,--config", config_path, "mission YAML (config/missions/default.yaml)")->required();
   cli.add_option("--id", rescuer_id, "this rescuer's id (one of the mission's rescuers)")->required();
   cli.add_option("--source", source, "'sim' (mission simulator) or a recorded sensor file (JSON lines)");
   cli.add_option("--epoch-ns", epoch_ns, "mission start, ns since the Unix epoch (sarloc-mission sets it; default now)");
   cli.add_option("--summary", summary_path, "write a JSON summary here on exit");
+  cli.add_option("--domain", domain, "DDS domain id, overriding dds.domain_id of the config");
   cli.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical, off");
   cli.add_flag("--quiet", quiet, "do not print the guidance line every epoch");
   cli.set_version_flag("--version", SARLOC_VERSION);
@@ -106,15 +108,21 @@ int main(int argc, char** argv) {
     }
 
     auto dds_config = mission.dds;
+    if (domain >= 0) dds_config.domain_id = static_cast<std::uint32_t>(domain);
     dds_config.name = "rescuer-" + rescuer_id;
     auto participant = std::make_shared<sarloc::dds::Participant>(dds_config);
     sarloc::dds::RescuerNode node(participant, node_config, clock);
 
+    // The first samples are worth delivering: give discovery a moment to match the daemon.
+    if (!node.wait_for_daemon(std::chrono::seconds(5))) {
+      spdlog::warn("no core daemon matched within 5 s: starting anyway (guidance on the device until one answers)");
+    }
     std::optional<avalanche::Guidance> followed;
     std::vector<double> latencies;
     std::size_t epochs = 0;
     const auto period_ns = static_cast<TimestampNs>(mission.period_s * 1e9);
     sarloc::dds::EpochResult last;
+    std::optional<incident::ResponderPosition> last_fix;
     for (std::size_t k = 0; !app::shutdown_requested(); ++k) {
       const TimestampNs stamp = epoch + static_cast<TimestampNs>(k) * period_ns;
       // Wait for this epoch's moment on the (possibly accelerated) mission clock.
@@ -128,6 +136,7 @@ int main(int argc, char** argv) {
         break;
       }
       last = node.epoch(samples->odometry, samples->position, samples->measurements);
+      if (samples->position) last_fix = samples->position;
       ++epochs;
       if (last.latency_ms >= 0.0) latencies.push_back(last.latency_ms);
       followed = last.guidance;
@@ -147,9 +156,16 @@ int main(int argc, char** argv) {
       for (const auto& [signal, status] : last.signals) {
         nlohmann::json s{{"signal_id", signal}, {"status", status_name(status)}};
         if (auto v = sensors->victim_of_signal(signal)) s["victim_index"] = *v;
+        // The diggers' view: this device's own estimate against the truth, no GNSS involved.
+        const auto estimate = node.local_search().estimate(signal);
+        const auto truth = sensors->true_relative(signal);
+        if (estimate && truth) s["relative_error_m"] = (estimate->relative.position - *truth).norm();
         signals.push_back(s);
       }
       j["signals"] = signals;
+      if (const auto antenna = sensors->true_antenna(); antenna && last_fix) {
+        j["gnss_error_m"] = (last_fix->position.position - *antenna).head<2>().norm();
+      }
       std::ofstream(summary_path) << j.dump(2) << "\n";
     }
     return app::ExitCode::kOk;

@@ -11,7 +11,7 @@ namespace sarloc::rescuer {
 
 SimulatedSource::SimulatedSource(const mission::MissionScenario& scenario, const std::string& rescuer_id,
                                  double step_length_m)
-    : sim_(scenario, rescuer_id), step_length_m_(step_length_m) {}
+    : sim_(scenario, rescuer_id), victims_(scenario.victims), step_length_m_(step_length_m) {}
 
 std::optional<SensorEpoch> SimulatedSource::next(TimestampNs stamp, const std::optional<avalanche::Guidance>& followed) {
   SensorEpoch epoch;

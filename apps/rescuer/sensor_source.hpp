@@ -31,6 +31,10 @@ class SensorSource {
   virtual double distance_walked_m() const = 0;
   /// Truth for reports (simulation only): the victim index behind a signal id.
   virtual std::optional<std::size_t> victim_of_signal(std::uint32_t) const { return std::nullopt; }
+  /// Truth for reports (simulation only): the victim behind a signal relative to the antenna now.
+  virtual std::optional<Vec3> true_relative(std::uint32_t) const { return std::nullopt; }
+  /// Truth for reports (simulation only): the antenna's true position in the incident frame.
+  virtual std::optional<Vec3> true_antenna() const { return std::nullopt; }
 };
 
 /// The mission simulator: one step per epoch along the followed guidance (no guidance yet:
@@ -43,9 +47,16 @@ class SimulatedSource : public SensorSource {
   std::optional<std::size_t> victim_of_signal(std::uint32_t signal) const override {
     return sim_.victim_of_signal(signal);
   }
+  std::optional<Vec3> true_relative(std::uint32_t signal) const override {
+    const auto victim = sim_.victim_of_signal(signal);
+    if (!victim) return std::nullopt;
+    return victims_[*victim].position - sim_.pose().position;
+  }
+  std::optional<Vec3> true_antenna() const override { return sim_.pose().position; }
 
  private:
   mission::SimulatedRescuer sim_;
+  std::vector<mission::VictimSpec> victims_;
   double step_length_m_;
   std::optional<TimestampNs> previous_stamp_;
 };

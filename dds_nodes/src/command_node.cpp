@@ -63,6 +63,8 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
       [this](const ::sarloc::VictimEstimate& e, const auto&) {
         try {
           auto estimate = to_core(e);
+          spdlog::debug("estimate {}/{} status {} stamp {}", estimate.rescuer_id, estimate.signal_id,
+                        static_cast<int>(estimate.status), estimate.stamp);
           std::lock_guard<std::mutex> lock(mutex_);
           pending_estimates_.push_back(std::move(estimate));
         } catch (const InputError& error) {
@@ -159,6 +161,7 @@ void CommandNode::cycle() {
       if (e.status < avalanche::EstimatorStatus::kConverged) continue;  // a multimodal mean means nothing
       const auto fix = fix_at(e.rescuer_id, e.stamp);
       if (!fix) {
+        spdlog::debug("no fix of '{}' near stamp {}: estimate waits", e.rescuer_id, e.stamp);
         // The fix may still be on its way: keep the estimate for the next cycle, briefly.
         if (static_cast<double>(now - e.stamp) < config_.position_max_age_s * 1e9) waiting.push_back(std::move(e));
         continue;

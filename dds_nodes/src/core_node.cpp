@@ -20,6 +20,9 @@ void CoreNodeConfig::validate() const {
   if (!(status_period_s > 0.0 && status_period_s <= 60.0)) {
     throw ConfigError("core.status_period_s = " + std::to_string(status_period_s) + ": must be in (0, 60]");
   }
+  if (!(odometry_wait_s >= 0.0 && odometry_wait_s <= 10.0)) {
+    throw ConfigError("core.odometry_wait_s = " + std::to_string(odometry_wait_s) + ": must be in [0, 10]");
+  }
   if (!(warning_interval_s >= 0.0 && warning_interval_s <= 3600.0)) {
     throw ConfigError("core.warning_interval_s = " + std::to_string(warning_interval_s) + ": must be in [0, 3600]");
   }
@@ -140,20 +143,34 @@ void CoreNode::enqueue(const std::string& rescuer_id, Work work) {
 
 void CoreNode::run_worker(Worker& worker) {
   while (true) {
-    Work work;
+    // Sleep until work arrives or the earliest held measurement's wait expires.
+    std::optional<SteadyTime> wake;
+    for (const auto& [id, state] : worker.rescuers) {
+      if (!state.held.empty() && (!wake || state.held.front().deadline < *wake)) wake = state.held.front().deadline;
+    }
+    std::optional<Work> work;
     {
       std::unique_lock<std::mutex> lock(worker.mutex);
-      worker.cv.wait(lock, [&] { return stopping_.load() || !worker.queue.empty(); });
+      auto ready = [&] { return stopping_.load() || !worker.queue.empty(); };
+      if (wake) {
+        worker.cv.wait_until(lock, *wake, ready);
+      } else {
+        worker.cv.wait(lock, ready);
+      }
       if (stopping_.load()) return;
-      work = std::move(worker.queue.front());
-      worker.queue.pop_front();
+      if (!worker.queue.empty()) {
+        work = std::move(worker.queue.front());
+        worker.queue.pop_front();
+      }
     }
-    handle(worker, work);
+    if (work) handle(worker, *work);
+    const auto now = std::chrono::steady_clock::now();
+    for (auto& [id, state] : worker.rescuers) release_held(state, now);
   }
 }
 
-avalanche::RescuerSearch* CoreNode::search_for(Worker& worker, const std::string& rescuer_id) {
-  if (auto it = worker.searches.find(rescuer_id); it != worker.searches.end()) return &it->second;
+CoreNode::RescuerState* CoreNode::state_for(Worker& worker, const std::string& rescuer_id) {
+  if (auto it = worker.rescuers.find(rescuer_id); it != worker.rescuers.end()) return &it->second;
   if (rescuer_id.empty()) {
     reject(rescuer_id, "unknown_rescuer", "rescuer_id is empty");
     return nullptr;
@@ -174,37 +191,70 @@ avalanche::RescuerSearch* CoreNode::search_for(Worker& worker, const std::string
   }
   rescuers_served_.fetch_add(1);
   spdlog::info("{}: new rescuer '{}'", config_.node_id, rescuer_id);
-  return &worker.searches.emplace(rescuer_id, avalanche::RescuerSearch(rescuer_id, config_.search)).first->second;
+  return &worker.rescuers.emplace(rescuer_id, RescuerState{avalanche::RescuerSearch(rescuer_id, config_.search), 0, false, {}})
+              .first->second;
 }
 
 void CoreNode::handle(Worker& worker, Work& work) {
   if (auto* done = std::get_if<MarkDone>(&work)) {
-    if (auto it = worker.searches.find(done->rescuer_id); it != worker.searches.end()) {
-      it->second.mark_done(done->signal_id);
+    if (auto it = worker.rescuers.find(done->rescuer_id); it != worker.rescuers.end()) {
+      it->second.search.mark_done(done->signal_id);
     }
     return;
   }
   if (auto* odometry = std::get_if<avalanche::Odometry>(&work)) {
-    auto* search = search_for(worker, odometry->rescuer_id);
-    if (search == nullptr) return;
-    if (auto rejected = search->add_odometry(*odometry)) {
+    auto* state = state_for(worker, odometry->rescuer_id);
+    if (state == nullptr) return;
+    if (auto rejected = state->search.add_odometry(*odometry)) {
       reject(odometry->rescuer_id, avalanche::to_string(rejected->reason), rejected->detail);
     } else {
       counters_.accepted();
+      state->odometry_until = std::max(state->odometry_until, odometry->interval_end);
     }
     return;
   }
   auto& measurement = std::get<avalanche::FieldMeasurement>(work);
-  auto* search = search_for(worker, measurement.rescuer_id);
-  if (search == nullptr) return;
-  const std::size_t signals_before = search->signal_count();
-  auto outcome = search->process(measurement);
+  auto* state = state_for(worker, measurement.rescuer_id);
+  if (state == nullptr) return;
+  // After the first epoch every measurement follows a step: wait for it (see the config).
+  const bool motion_pending = state->measured && measurement.stamp > state->odometry_until;
+  if ((motion_pending || !state->held.empty()) && config_.odometry_wait_s > 0.0) {
+    const auto wait = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        std::chrono::duration<double>(config_.odometry_wait_s));
+    state->held.push_back(Held{measurement, std::chrono::steady_clock::now() + wait});
+    return;
+  }
+  process_measurement(*state, measurement);
+}
+
+void CoreNode::release_held(RescuerState& state, SteadyTime now) {
+  while (!state.held.empty()) {
+    const Held& front = state.held.front();
+    const bool covered = front.measurement.stamp <= state.odometry_until;
+    if (!covered && now < front.deadline) return;
+    if (!covered) {
+      counters_.anomaly("odometry_late");  // processed anyway: a lost step is better than a lost epoch
+      warnings_.warn(front.measurement.rescuer_id, "odometry_late",
+                     "rescuer '" + front.measurement.rescuer_id + "': no odometry up to stamp " +
+                         std::to_string(front.measurement.stamp) + " within odometry_wait_s: processed without it");
+    }
+    const auto measurement = front.measurement;
+    state.held.pop_front();
+    process_measurement(state, measurement);
+  }
+}
+
+void CoreNode::process_measurement(RescuerState& state, const avalanche::FieldMeasurement& measurement) {
+  auto& search = state.search;
+  const std::size_t signals_before = search.signal_count();
+  auto outcome = search.process(measurement);
   if (auto* rejected = std::get_if<avalanche::Rejection>(&outcome)) {
     reject(measurement.rescuer_id, avalanche::to_string(rejected->reason), rejected->detail);
     return;
   }
   counters_.accepted();
-  active_filters_.fetch_add(search->signal_count() - signals_before);
+  state.measured = true;
+  active_filters_.fetch_add(search.signal_count() - signals_before);
   auto& update = std::get<avalanche::SearchUpdate>(outcome);
   if (!estimate_writer_.write(to_idl(update.estimate, measurement.sequence))) {
     spdlog::error("{}: DDS refused a VictimEstimate for '{}'", config_.node_id, measurement.rescuer_id);

@@ -63,6 +63,8 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
           remote_.guidance_sequence = g.measurement_sequence();
           remote_.guidance_mission_time = clock_.now();
           remote_.guidance_wall_ns = MissionClock::wall_now_ns();
+          remote_.answered_sequence = std::max(remote_.answered_sequence, g.measurement_sequence());
+          remote_.answered_mission_time = clock_.now();
         } catch (const InputError& e) {
           spdlog::warn("ignoring guidance from the daemon: {}", e.what());
         }
@@ -76,8 +78,13 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
         // Our own fallback estimates come back to us too: only the daemon's count.
         if (info.publication_handle == estimate_writer_.get()->get_instance_handle()) return;
         if (e.status() > ::sarloc::ESTIMATOR_FOUND) return;
-        std::lock_guard<std::mutex> lock(mutex_);
-        remote_.status[e.signal_id()] = static_cast<avalanche::EstimatorStatus>(e.status());
+        {
+          std::lock_guard<std::mutex> lock(mutex_);
+          remote_.status[e.signal_id()] = static_cast<avalanche::EstimatorStatus>(e.status());
+          remote_.answered_sequence = std::max(remote_.answered_sequence, e.measurement_sequence());
+          remote_.answered_mission_time = clock_.now();
+        }
+        cv_.notify_all();
       },
       in_partitions(config_.partitions));
   victim_reader_ = std::make_unique<Reader<::sarloc::FusedVictim>>(
@@ -109,6 +116,15 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
         }
       },
       EndpointOptions{}, core_events);
+}
+
+bool RescuerNode::wait_for_daemon(std::chrono::milliseconds timeout) const {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  auto remaining = [&] {
+    return std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+  };
+  return measurement_writer_.wait_for_readers(1, timeout) && odometry_writer_.wait_for_readers(1, remaining()) &&
+         guidance_reader_->wait_for_writers(1, remaining());
 }
 
 RescuerNode::~RescuerNode() {
@@ -151,20 +167,26 @@ EpochResult RescuerNode::epoch(const std::vector<avalanche::Odometry>& odometry,
     }
   }
 
+  // The target was not heard this epoch (out of range, lost sample): keep heading for it.
+  if (!local_guidance) local_guidance = local_.coast(measurements.empty() ? clock_.now() : measurements.front().stamp);
+
   // Wait for the daemon's answer to this epoch (same measurement sequence).
   const std::uint64_t sequence = measurements.empty() ? 0 : measurements.front().sequence;
   std::unique_lock<std::mutex> lock(mutex_);
-  if (!measurements.empty()) {
+  // Wait only for a daemon believed alive: an unreachable one would make every epoch late.
+  if (!measurements.empty() && (was_reachable_ || remote_.answered_mission_time == 0)) {
     cv_.wait_for(lock, std::chrono::milliseconds(static_cast<std::int64_t>(config_.guidance_wait_s * 1000.0)),
                  [&] { return remote_.guidance_sequence >= sequence; });
   }
   const TimestampNs now = clock_.now();
-  const bool fresh = remote_.guidance && now - remote_.guidance_mission_time <=
-                                             static_cast<TimestampNs>(config_.fallback_timeout_s * 1e9);
+  const auto timeout = static_cast<TimestampNs>(config_.fallback_timeout_s * 1e9);
+  const bool answered = remote_.answered_mission_time != 0;
+  const bool alive = answered && now - remote_.answered_mission_time <= timeout;
+  const bool fresh = remote_.guidance && now - remote_.guidance_mission_time <= timeout;
   // Before any daemon answer, give it fallback_timeout_s from our start to show up.
-  const bool grace = !remote_.guidance && now - started_ <= static_cast<TimestampNs>(config_.fallback_timeout_s * 1e9);
+  const bool grace = !answered && now - started_ <= timeout;
   const bool cores_lost = seen_core_ && live_core_writers_.empty();
-  result.daemon_reachable = (fresh || grace) && !cores_lost;
+  result.daemon_reachable = (alive || grace) && !cores_lost;
   if (remote_.guidance_sequence == sequence && sequence != 0) {
     result.latency_ms = static_cast<double>(remote_.guidance_wall_ns - published_wall) / 1e6;
   }
@@ -174,7 +196,9 @@ EpochResult RescuerNode::epoch(const std::vector<avalanche::Odometry>& odometry,
     return e ? e->status : avalanche::EstimatorStatus::kInitialising;
   };
   bool use_remote = false;
-  if (fresh && !cores_lost && remote_.guidance) {
+  // The daemon's guidance counts only as the answer to this very epoch (when the target was
+  // not heard, only the device coasts).
+  if (fresh && !cores_lost && remote_.guidance && remote_.guidance_sequence == sequence && sequence != 0) {
     const auto it = remote_.status.find(remote_.guidance->signal_id);
     const auto remote_rank = it == remote_.status.end() ? 0 : rank(it->second);
     const auto local_rank = local_guidance ? rank(local_status(local_guidance->signal_id)) : 0;
@@ -194,9 +218,10 @@ EpochResult RescuerNode::epoch(const std::vector<avalanche::Odometry>& odometry,
 
   if (was_reachable_ && !result.daemon_reachable) {
     ++fallbacks_;
-    spdlog::warn("{}: core daemon unreachable (no guidance for {:.1f} s): guiding on the device", config_.rescuer_id,
-                 config_.fallback_timeout_s);
-  } else if (!was_reachable_ && result.daemon_reachable && remote_.guidance) {
+    spdlog::warn("{}: core daemon unreachable ({}): guiding on the device", config_.rescuer_id,
+                 cores_lost ? "its liveliness was lost"
+                            : "no answer for " + std::to_string(config_.fallback_timeout_s) + " s");
+  } else if (!was_reachable_ && result.daemon_reachable && answered) {
     spdlog::info("{}: core daemon reachable", config_.rescuer_id);
   }
   was_reachable_ = result.daemon_reachable;

@@ -13,6 +13,10 @@ enum DdsTestDomain : std::uint32_t {
   kDomainPartitions = 123,
   kDomainLiveliness = 124,
   kDomainWrongProfile = 125,
+  kDomainMalformedInput = 126,
+  kDomainSectorSplit = 127,
+  kDomainManyParticipants = 128,
+  kDomainMissionSmall = 130,  // mission_test: 130..139
 };
 
 }  // namespace sarloc::test

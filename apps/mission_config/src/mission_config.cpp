@@ -1,5 +1,6 @@
 #include "sarloc/app/mission_config.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -87,6 +88,8 @@ dds::RescuerNodeConfig MissionConfig::rescuer_config(const std::string& rescuer_
   c.rescuer_id = spec.id;
   c.team = spec.team;
   c.search = search;
+  // Waiting longer than half an epoch for the daemon would make the device fall behind.
+  c.guidance_wait_s = std::min(c.guidance_wait_s, 0.5 * period_s / speedup);
   const auto it = sector_of.find(rescuer_id);
   c.partitions = partitions_of_sector(it == sector_of.end() ? "" : it->second);
   return c;

@@ -1,8 +1,10 @@
 #include "sarloc/core/avalanche/rescuer_search.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
+#include "sarloc/core/avalanche/rotation.hpp"
 #include "sarloc/core/common/errors.hpp"
 
 namespace sarloc::avalanche {
@@ -158,8 +160,9 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
   SearchUpdate update;
   update.estimate = s.filter.estimate(config_.summary_components);
   update.estimate.stamp = m.stamp;
-  if (!target_ || *target_ == m.signal_id) {
-    // Guidance only for the signal being searched: one direction at a time for the rescuer.
+  if (target_ ? *target_ == m.signal_id : !s.done) {
+    // Guidance only for the signal being searched (one direction at a time for the rescuer),
+    // never towards a victim already found.
     Guidance g = s.controller.guide(s.filter, m);
     g.rescuer_id = rescuer_id_;
     g.signal_id = m.signal_id;
@@ -175,6 +178,27 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
   s.estimate = update.estimate;
   choose_target();
   return update;
+}
+
+std::optional<Guidance> RescuerSearch::coast(TimestampNs stamp) const {
+  if (!target_) return std::nullopt;
+  const auto it = signals_.find(*target_);
+  if (it == signals_.end() || !it->second.filter.initialised()) return std::nullopt;
+  const SignalState& s = it->second;
+  const MixtureMoments mm = s.filter.predicted_moments();
+  const Vec3 p = mm.mean.segment<3>(idx::kPos);
+  const double yaw = mm.mean[idx::kAtt + 2];
+  Guidance g;
+  g.rescuer_id = rescuer_id_;
+  g.signal_id = *target_;
+  g.stamp = stamp;
+  g.mode = s.controller.mode() == GuidanceMode::kFound ? GuidanceMode::kApproach : s.controller.mode();
+  g.distance_m = p.head<2>().norm();
+  g.uncertainty_radius_m = SearchController::radius95_2d(mm.covariance.block<3, 3>(idx::kPos, idx::kPos));
+  g.heading_rad = std::atan2(p.y(), p.x());
+  g.bearing_rad = wrap_angle(g.heading_rad - yaw);
+  g.step_m = std::min(config_.search.step_length_m, g.distance_m);
+  return g;
 }
 
 void RescuerSearch::mark_done(std::uint32_t signal_id) {

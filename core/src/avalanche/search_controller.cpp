@@ -33,6 +33,7 @@ void SearchConfig::validate() const {
   check("located_radius_m", located_radius_m, 0.0, 50.0, true);
   check("found_distance_m", found_distance_m, 0.0, 50.0, true);
   check("probe_step_m", probe_step_m, 0.0, 10.0, true);
+  check("approach_radius_fraction", approach_radius_fraction, 0.0, 1.0, true);
   check("flux_smoothing", flux_smoothing, 0.0, 0.99, false);
   check("flux_snr_cap", flux_snr_cap, 0.0, 1000.0, true);
 }
@@ -95,7 +96,11 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
   if (st == EstimatorStatus::kFound) {
     mode_ = GuidanceMode::kFound;
   } else if (mode_ == GuidanceMode::kFollowFluxLine) {
-    if (maha2 > thr2) mode_ = GuidanceMode::kApproach;
+    // The mean must be away from the receiver AND the data must have narrowed the initial
+    // ring: with a signal at the noise floor the mean of a still-uniform ring only wanders.
+    if (!initial_r95h_) initial_r95h_ = r95_h;
+    const bool informative = r95_h <= config_.approach_radius_fraction * *initial_r95h_;
+    if (maha2 > thr2 && informative) mode_ = GuidanceMode::kApproach;
   } else {
     // Back to the flux line only if the mixture spread out again around the receiver.
     if (maha2 <= thr2 && r95_h > config_.fine_search_radius_m) mode_ = GuidanceMode::kFollowFluxLine;
@@ -121,14 +126,23 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
       const double sigma = filter.config().noise_relative * meas.field.norm() +
                            std::max(filter.config().noise_floor_A_per_m, meas.noise_stddev.maxCoeff());
       const double snr = dir.norm() / (std::sqrt(2.0) * sigma);
+      if (flux_dir_.squaredNorm() == 0.0) {
+        // Start walking towards the mixture mean (or straight ahead), with a tiny weight so
+        // that any informative flux direction takes over, while pure noise keeps it straight.
+        const Eigen::Vector2d start = mean_h.norm() > 0.0
+                                          ? Eigen::Vector2d(mean_h.normalized())
+                                          : Eigen::Vector2d(std::cos(yaw), std::sin(yaw));
+        flux_dir_ = 1e-3 * start;
+      }
       if (dir.norm() > 0.0) {
         dir.normalize();
-        const Eigen::Vector2d ref = flux_dir_.squaredNorm() > 0.0 ? flux_dir_ : mean_h;
-        if (dir.dot(ref) < 0.0) dir = -dir;
-        const double w = std::min(snr * snr, config_.flux_snr_cap * config_.flux_snr_cap);
+        if (dir.dot(flux_dir_) < 0.0) dir = -dir;
+        // Pure noise gives E[snr^2] = 1 on two axes: only the excess carries direction.
+        const double w = std::clamp(snr * snr - 1.0, 0.0, config_.flux_snr_cap * config_.flux_snr_cap);
         flux_dir_ = config_.flux_smoothing * flux_dir_ + w * dir;
+        if (flux_dir_.norm() < 1e-3) flux_dir_ = 1e-3 * flux_dir_.normalized();
       }
-      if (flux_dir_.squaredNorm() > 0.0) heading = std::atan2(flux_dir_.y(), flux_dir_.x());
+      heading = std::atan2(flux_dir_.y(), flux_dir_.x());
       break;
     }
     case GuidanceMode::kApproach:

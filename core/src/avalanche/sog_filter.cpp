@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "sarloc/core/avalanche/rotation.hpp"
+#include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
 
 namespace sarloc::avalanche {
@@ -81,6 +82,8 @@ void SogConfig::validate() const {
     config_fail("merge_cell_m", merge_cell_m, "must be in (0, 100]");
   if (!std::isfinite(merge_mahalanobis) || merge_mahalanobis < 0.0 || merge_mahalanobis > 100.0)
     config_fail("merge_mahalanobis", merge_mahalanobis, "must be in [0, 100]");
+  if (!(reinit_gate_probability > 0.5 && reinit_gate_probability < 1.0))
+    config_fail("reinit_gate_probability", reinit_gate_probability, "must be in (0.5, 1)");
   if (!finite_positive(converged_radius_m) || converged_radius_m > 1000.0)
     config_fail("converged_radius_m", converged_radius_m, "must be in (0, 1000]");
 }
@@ -111,7 +114,8 @@ SogFilter::SogFilter(SogConfig config, std::string rescuer_id, std::uint32_t sig
       rescuer_id_(std::move(rescuer_id)),
       signal_id_(signal_id),
       odometry_((config_.validate(), config_.idle_translation_sigma_m),
-                config_.idle_rotation_sigma_rad) {}
+                config_.idle_rotation_sigma_rad),
+      nis_gate_(chi_square_quantile(config_.reinit_gate_probability, 3.0)) {}
 
 void SogFilter::add_odometry(const Odometry& odometry) {
   if (!rescuer_id_.empty() && !odometry.rescuer_id.empty() && odometry.rescuer_id != rescuer_id_)
@@ -151,11 +155,33 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   const OrientationObservation* orientation =
       measurement.orientation && config_.use_orientation ? &*measurement.orientation : nullptr;
   update_field(measurement.field, noise_floor(measurement), disp, orientation, result);
+  gate_failures_ = result.min_nis > nis_gate_ ? gate_failures_ + 1 : 0;
+  if (config_.reinit_after > 0 && gate_failures_ >= config_.reinit_after) {
+    initialise(measurement);
+    gate_failures_ = 0;
+    result.reinitialised = true;
+    result.components_after = components_.size();
+    ++steps_;
+    return result;
+  }
+  apply_surface_constraint();
   normalise_and_prune();
   ++steps_;
   if (config_.merge_interval > 0 && steps_ % config_.merge_interval == 0) result.merged = merge();
   result.components_after = components_.size();
   return result;
+}
+
+MixtureMoments SogFilter::predicted_moments() const {
+  MixtureMoments mm = moments();
+  const Displacement& d = odometry_.peek();
+  if (d.samples == 0) return mm;
+  const Mat3 r = rotation_from_rpy(mm.mean.segment<3>(idx::kAtt));
+  const Vec3 t = d.mean.segment<3>(idx::kTrans);
+  mm.mean.segment<3>(idx::kPos) -= r * t;  // eq. (7)
+  mm.mean.segment<3>(idx::kAtt) = rpy_from_rotation(r * rotation_from_rpy(d.mean.segment<3>(idx::kRot)));  // eq. (6)
+  mm.covariance.block<3, 3>(idx::kPos, idx::kPos) += r * d.covariance.block<3, 3>(idx::kTrans, idx::kTrans) * r.transpose();
+  return mm;
 }
 
 void SogFilter::initialise(const FieldMeasurement& meas) {
@@ -284,6 +310,7 @@ void SogFilter::initialise(const FieldMeasurement& meas) {
                           : 0.0;
     components_.push_back(comp);
   }
+  apply_surface_constraint();
   normalise_and_prune();
 }
 
@@ -316,6 +343,7 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, const Displacemen
   const Mat3 e_d = euler_rate_to_world(dpsi);
   const double rel = config_.noise_relative;
   double max_ll = -std::numeric_limits<double>::infinity();
+  double min_nis = std::numeric_limits<double>::infinity();
 
   std::size_t out = 0;
   for (std::size_t i = 0; i < components_.size(); ++i) {
@@ -358,7 +386,9 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, const Displacemen
     const Vec3 nu = z - h;
     const Vec3 s_inv_nu = s_inv * nu;
     // eq. (17) in log space (the common -1.5 log(2 pi) is dropped).
-    const double ll = -0.5 * (nu.dot(s_inv_nu) + std::log(det));
+    const double nis = nu.dot(s_inv_nu);
+    min_nis = std::min(min_nis, nis);
+    const double ll = -0.5 * (nis + std::log(det));
     StateVec x_post = c.x + pht * s_inv_nu;
     DispVec d_post = disp.mean + qht * s_inv_nu;
 
@@ -424,9 +454,25 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, const Displacemen
   }
   components_.resize(out);
   result.log_likelihood = max_ll;
+  result.min_nis = min_nis;
   if (components_.empty())
     throw InputError("field_measurement.field = " + fmt(z) +
                      ": every hypothesis became numerically invalid");
+}
+
+void SogFilter::apply_surface_constraint() {
+  if (!config_.surface_constraint) return;
+  const double surface = -config_.antenna_height_m;
+  for (auto& c : components_) {
+    const double mu = c.x[idx::kPos + 2];
+    const double sd = std::sqrt(c.P(idx::kPos + 2, idx::kPos + 2));
+    // log Phi((surface - mu) / sd) via erfc, accurate far in the tail.
+    const double u = (surface - mu) / sd;
+    const double log_phi = u > -30.0 ? std::log(0.5 * std::erfc(-u / std::sqrt(2.0)))
+                                     : -0.5 * u * u - std::log(-u * std::sqrt(2.0 * kPi));
+    c.log_weight += log_phi - c.log_support;
+    c.log_support = log_phi;
+  }
 }
 
 void SogFilter::normalise_and_prune() {
@@ -523,6 +569,15 @@ std::size_t SogFilter::merge() {
       ci.x[idx::kAtt + 2] = wrap_angle(ci.x[idx::kAtt + 2]);
       ci.P = 0.5 * (cov + cov.transpose());
       ci.log_weight = base + std::log(wsum);
+      // The members' weights already carry their surface factor: restart the bookkeeping from
+      // the merged Gaussian so later steps apply only the change.
+      ci.log_support = 0.0;
+      {
+        const double sd = std::sqrt(ci.P(idx::kPos + 2, idx::kPos + 2));
+        const double u = (-config_.antenna_height_m - ci.x[idx::kPos + 2]) / sd;
+        if (config_.surface_constraint && u > -30.0)
+          ci.log_support = std::log(0.5 * std::erfc(-u / std::sqrt(2.0)));
+      }
       for (std::size_t g = 0; g + 1 < group.size(); ++g) gone[group[g]] = 1;
       merged += group.size() - 1;
     }

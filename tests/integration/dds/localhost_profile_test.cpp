@@ -10,6 +10,8 @@
 #include <condition_variable>
 
 #include "sarloc/dds/dds_error.hpp"
+#include "sarloc/dds/reader.hpp"
+#include "sarloc/dds/writer.hpp"
 #include "support/dds_test_domains.hpp"
 #include "support/dds_test_helpers.hpp"
 
@@ -87,6 +89,23 @@ TEST(LocalhostProfile, PeersOnlyLearnLoopbackOrSharedMemoryLocators) {
   }
   observer->set_listener(nullptr);
   DomainParticipantFactory::get_instance()->delete_participant(observer);
+}
+
+// A whole mission on one host has 7+ participants. Unicast discovery only reaches the
+// well-known ports of maxInitialPeersRange participant ids, so the last ones to start must
+// still find each other (this failed with Fast DDS's default range of 4).
+TEST(LocalhostProfile, LateParticipantsOfABigMissionStillDiscoverEachOther) {
+  std::vector<std::shared_ptr<Participant>> early;
+  for (int i = 0; i < 6; ++i) {
+    early.push_back(test::make_participant(test::kDomainManyParticipants, "early-" + std::to_string(i)));
+  }
+  auto late_writer_side = test::make_participant(test::kDomainManyParticipants, "late-writer");
+  auto late_reader_side = test::make_participant(test::kDomainManyParticipants, "late-reader");
+  test::Inbox<::sarloc::IncidentSummary> inbox;
+  Reader<::sarloc::IncidentSummary> reader(late_reader_side, [&](const auto& s, const auto&) { inbox.push(s); });
+  Writer<::sarloc::IncidentSummary> writer(late_writer_side);
+  ASSERT_TRUE(writer.wait_for_readers(1, std::chrono::seconds(10)))
+      << "participants 7 and 8 on one host never matched";
 }
 
 TEST(LocalhostProfile, UnknownProfileIsAClearError) {

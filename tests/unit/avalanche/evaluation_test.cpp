@@ -1,1 +1,69 @@
+#include "sarloc/core/avalanche/evaluation.hpp"
+
 #include <gtest/gtest.h>
+
+#include "sarloc/core/common/errors.hpp"
+
+namespace sarloc::avalanche {
+namespace {
+
+EvaluationSetup small_setup(std::uint32_t trials, std::uint32_t threads) {
+  EvaluationSetup s;
+  s.sog.initial_components = 500;  // lean: the full-size figures live in sarloc-eval
+  s.evaluation.trials = trials;
+  s.evaluation.threads = threads;
+  s.evaluation.seed = 12345;
+  return s;
+}
+
+TEST(EvaluationTest, ResultsDoNotDependOnThreadCount) {
+  const auto one = run_evaluation(small_setup(4, 1));
+  const auto two = run_evaluation(small_setup(4, 2));
+  ASSERT_EQ(one.per_trial.size(), two.per_trial.size());
+  for (std::size_t i = 0; i < one.per_trial.size(); ++i) {
+    EXPECT_EQ(one.per_trial[i].steps, two.per_trial[i].steps);
+    EXPECT_DOUBLE_EQ(one.per_trial[i].error_m, two.per_trial[i].error_m);
+  }
+  EXPECT_DOUBLE_EQ(one.error_m.median, two.error_m.median);
+}
+
+// Monte Carlo consistency (seed 001, NEES): a few small trials, position NEES of the mixture in
+// the converged phase must sit inside the 95 % bounds on its mean. Wide enough for 6 trials,
+// tight enough to catch an over-confident filter (a NEES mean of 3x the dof fails).
+TEST(EvaluationTest, MonteCarloNeesIsConsistentAndTrialsFinish) {
+  const auto s = run_evaluation(small_setup(6, 2));
+  EXPECT_EQ(s.trials, 6u);
+  EXPECT_EQ(s.not_found, 0u);
+  ASSERT_EQ(s.nees_trials, 6u);
+  EXPECT_GT(s.nees_lower, 0.0);
+  EXPECT_LT(s.nees_lower, 3.0);
+  EXPECT_GT(s.nees_upper, 3.0);
+  EXPECT_GE(s.nees_mean, s.nees_lower);
+  EXPECT_LE(s.nees_mean, s.nees_upper);
+  EXPECT_GT(s.nees_fraction_inside_95, 0.8);
+  EXPECT_LT(s.error_m.max, 1.0);
+  EXPECT_GE(s.initial_distance_m.median, 40.0);
+  EXPECT_GT(s.steps.mean, 35.0);
+}
+
+TEST(EvaluationTest, ConfigErrorsNameTheKey) {
+  EvaluationSetup s;
+  s.evaluation.trials = 0;
+  try {
+    run_evaluation(s);
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_STREQ(e.what(), "evaluation.trials = 0: must be > 0");
+  }
+}
+
+TEST(EvaluationTest, StatsAndPercentiles) {
+  const Stats st = compute_stats({3.0, 1.0, 2.0, 10.0});
+  EXPECT_DOUBLE_EQ(st.max, 10.0);
+  EXPECT_DOUBLE_EQ(st.mean, 4.0);
+  EXPECT_DOUBLE_EQ(st.median, 2.5);
+  EXPECT_DOUBLE_EQ(percentile({0.0, 10.0}, 0.95), 9.5);
+}
+
+}  // namespace
+}  // namespace sarloc::avalanche

@@ -1,1 +1,187 @@
+#include "sarloc/core/avalanche/sog_filter.hpp"
+
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "sarloc/core/avalanche/simulator.hpp"
+#include "sarloc/core/common/errors.hpp"
+
+namespace sarloc::avalanche {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+Scenario fixed_scenario() {
+  Scenario s;
+  s.transmitter = Vec3(30.0, 20.0, -1.5);
+  s.moment = Vec3(0.01, -0.005, 0.012);
+  s.receiver = Vec3(0.0, 0.0, 1.0);
+  s.receiver_rpy = Vec3(0.02, -0.03, 0.7);
+  return s;
+}
+
+TEST(SogConfigTest, DefaultsValidAndMessagesNameKeyAndValue) {
+  EXPECT_NO_THROW(SogConfig{}.validate());
+  SogConfig c;
+  c.initial_components = 0;
+  try {
+    c.validate();
+    FAIL() << "expected ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_STREQ(e.what(), "sog.initial_components = 0: must be > 0");
+  }
+  SogConfig d;
+  d.noise_floor_A_per_m = kNaN;
+  EXPECT_THROW(d.validate(), ConfigError);
+  SogConfig e;
+  e.standard.field_max_A_per_m = 1e-9;  // below field_min
+  EXPECT_THROW(e.validate(), ConfigError);
+  EXPECT_THROW(SogFilter{d}, ConfigError);
+}
+
+TEST(SogFilterTest, InitialisesRingAroundTruthWithMomentBounds) {
+  SimulationConfig sc;
+  AvalancheSimulator sim(sc, fixed_scenario(), 3);
+  SogConfig cfg;
+  SogFilter f(cfg);
+  EXPECT_FALSE(f.initialised());
+  EXPECT_EQ(f.estimate().status, EstimatorStatus::kInitialising);
+  const auto r = f.process(sim.measure());
+  EXPECT_TRUE(r.initialised_now);
+  // About 1700 components (the spacing is adapted to the accepted count).
+  EXPECT_NEAR(static_cast<double>(f.size()), 1700.0, 100.0);
+  const double d_true = sim.true_relative_position().head<2>().norm();
+  double rho_min = 1e9, rho_max = 0.0, wsum = 0.0;
+  for (const auto& c : f.components()) {
+    const double rho = c.x.segment<2>(idx::kPos).norm();
+    rho_min = std::min(rho_min, rho);
+    rho_max = std::max(rho_max, rho);
+    const double m = c.x.segment<3>(idx::kMom).norm();
+    EXPECT_GE(m, cfg.standard.moment_min() * (1 - cfg.moment_margin) - 1e-12);
+    EXPECT_LE(m, cfg.standard.moment_max() * (1 + cfg.moment_margin) + 1e-12);
+    EXPECT_TRUE(c.P.allFinite());
+    EXPECT_GT(c.P.diagonal().minCoeff(), 0.0);
+    wsum += std::exp(c.log_weight);
+  }
+  EXPECT_NEAR(wsum, 1.0, 1e-9);
+  EXPECT_LT(rho_min, d_true);
+  EXPECT_GT(rho_max, d_true);
+}
+
+TEST(SogFilterTest, ConvergesOnTruthWhileWalkingTowardsIt) {
+  // A straight walk towards the transmitter (no controller): the filter alone must localise.
+  SimulationConfig sc;
+  AvalancheSimulator sim(sc, fixed_scenario(), 11);
+  SogConfig cfg;
+  cfg.initial_components = 600;  // keep the unit test fast
+  SogFilter f(cfg);
+  f.process(sim.measure());
+  for (int k = 0; k < 33; ++k) {
+    const Vec3 rel = sim.true_relative_position();
+    const double bearing = std::atan2(rel.y(), rel.x()) - sim.scenario().receiver_rpy.z();
+    f.add_odometry(sim.walk(bearing, 1.0));
+    f.process(sim.measure());
+  }
+  const VictimEstimate e = f.estimate(3);
+  const Vec3 err = e.relative.position - sim.true_relative_position();
+  EXPECT_LT(err.norm(), 0.5) << "estimate " << e.relative.position.transpose() << " truth "
+                             << sim.true_relative_position().transpose();
+  EXPECT_EQ(e.status, EstimatorStatus::kConverged);
+  EXPECT_LT(f.size(), 100u);
+  ASSERT_FALSE(e.top_components.empty());
+  EXPECT_GE(e.top_components.front().weight, e.top_components.back().weight);
+  // The error is consistent with the reported covariance (generous: one trial, 3 dof).
+  EXPECT_LT(err.dot(e.relative.covariance.ldlt().solve(err)), 16.0);
+}
+
+TEST(SogFilterTest, ZeroDisplacementWithoutOdometryKeepsBelief) {
+  AvalancheSimulator sim(SimulationConfig{}, fixed_scenario(), 5);
+  SogConfig cfg;
+  cfg.initial_components = 200;
+  SogFilter f(cfg);
+  f.process(sim.measure());
+  const Vec3 before = f.estimate().relative.position;
+  f.process(sim.measure());  // no odometry in between: idle displacement
+  EXPECT_LT((f.estimate().relative.position - before).norm(), 15.0);
+  EXPECT_EQ(f.steps(), 2u);
+}
+
+TEST(SogFilterTest, RejectsBadMeasurementsNamingTheField) {
+  SogConfig cfg;
+  cfg.initial_components = 100;
+  SogFilter f(cfg);
+  FieldMeasurement m;
+  m.sequence = 1;
+  m.field = Vec3(1e-7, kNaN, 0);
+  try {
+    f.process(m);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("field_measurement.field"), std::string::npos);
+  }
+  m.field = Vec3(100.0, 0, 0);
+  EXPECT_THROW(f.process(m), InputError);  // absurd magnitude
+  m.field = Vec3::Zero();
+  EXPECT_THROW(f.process(m), InputError);  // cannot initialise from zero
+  m.field = Vec3(1e-7, 2e-8, -3e-8);
+  m.orientation = OrientationObservation{};
+  m.orientation->covariance = -Mat3::Identity();
+  EXPECT_THROW(f.process(m), InputError);  // non-PD covariance
+  m.orientation.reset();
+  m.noise_stddev = Vec3(-1, 0, 0);
+  EXPECT_THROW(f.process(m), InputError);
+  m.noise_stddev = Vec3::Zero();
+  f.process(m);
+  EXPECT_THROW(f.process(m), InputError);  // same sequence again
+  Odometry o;
+  o.sequence = 1;
+  o.covariance = Mat6::Identity() * 1e-4;
+  o.translation = Vec3(kNaN, 0, 0);
+  EXPECT_THROW(f.add_odometry(o), InputError);
+  o.translation = Vec3(1, 0, 0);
+  o.covariance(0, 0) = -1.0;
+  EXPECT_THROW(f.add_odometry(o), InputError);
+}
+
+TEST(OdometryAccumulatorTest, ComposesSamplesAndPropagatesCovariance) {
+  OdometryAccumulator acc;
+  Odometry a;
+  a.sequence = 1;
+  a.translation = Vec3(1, 0, 0);
+  a.rotation_rpy = Vec3(0, 0, kPi / 2);
+  a.covariance = Mat6::Identity() * 1e-4;
+  Odometry b = a;
+  b.sequence = 2;
+  acc.add(a);
+  acc.add(b);
+  const Displacement d = acc.take();
+  EXPECT_EQ(d.samples, 2u);
+  EXPECT_LT((d.mean.head<3>() - Vec3(1, 1, 0)).norm(), 1e-12);
+  EXPECT_NEAR(d.mean[5], kPi, 1e-12);
+  // Two steps: more uncertain than one, and the yaw uncertainty leaks into translation.
+  EXPECT_GT(d.covariance(1, 1), 1e-4);
+  const Displacement idle = acc.take();
+  EXPECT_EQ(idle.samples, 0u);
+  EXPECT_TRUE(idle.mean.isZero());
+  EXPECT_GT(idle.covariance.diagonal().minCoeff(), 0.0);
+  Odometry old = a;  // sequence 1 again: out of order
+  EXPECT_THROW(acc.add(old), InputError);
+}
+
+TEST(SogFilterTest, CopiesAreIndependent) {
+  AvalancheSimulator sim(SimulationConfig{}, fixed_scenario(), 9);
+  SogConfig cfg;
+  cfg.initial_components = 150;
+  SogFilter a(cfg);
+  a.process(sim.measure());
+  SogFilter b = a;
+  a.add_odometry(sim.walk(0.0, 1.0));
+  a.process(sim.measure());
+  EXPECT_EQ(b.steps(), 1u);
+  EXPECT_EQ(a.steps(), 2u);
+}
+
+}  // namespace
+}  // namespace sarloc::avalanche

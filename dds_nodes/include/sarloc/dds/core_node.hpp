@@ -2,8 +2,9 @@
 // sarloc-core's DDS node: one participant for the whole daemon, every rescuer of its sector.
 //
 // Listener threads only convert and enqueue. Each rescuer is pinned to one worker thread
-// (hash of its id), which owns that rescuer's RescuerSearch, so a rescuer's samples are
-// processed in arrival order and no filter is ever touched by two threads. Bad samples are
+// (hash of its id), which owns that rescuer's RescuerSearch, so no filter is ever touched by
+// two threads; a measurement waits for the odometry up to its stamp (odometry_wait_s), so
+// motion and field samples are applied in time order whatever topic delivered first. Bad samples are
 // refused before they reach a filter, counted by reason in NodeStatus, and logged once per
 // (rescuer, reason) per warning interval.
 #include <atomic>
@@ -36,6 +37,10 @@ struct CoreNodeConfig {
   std::size_t queue_limit = 4096;    ///< samples waiting per worker before the oldest are dropped
   double status_period_s = 1.0;      ///< NodeStatus publication period (wall clock)
   double warning_interval_s = 5.0;   ///< one warning per (rescuer, reason) per interval
+  /// Odometry and field samples travel on different topics, so a measurement can arrive
+  /// before the step that precedes it. It is held until odometry covering its stamp arrived,
+  /// at most this long (wall); then processed anyway and counted as "odometry_late".
+  double odometry_wait_s = 0.25;
 
   /// Throws ConfigError naming the key ("core.workers = 0: must be in [1, 64]").
   void validate() const;
@@ -57,18 +62,32 @@ class CoreNode {
     std::uint32_t signal_id = 0;
   };
   using Work = std::variant<avalanche::Odometry, avalanche::FieldMeasurement, MarkDone>;
+  using SteadyTime = std::chrono::steady_clock::time_point;
+  struct Held {
+    avalanche::FieldMeasurement measurement;
+    SteadyTime deadline;
+  };
+  struct RescuerState {
+    avalanche::RescuerSearch search;
+    TimestampNs odometry_until = 0;  ///< interval_end of the last accepted odometry
+    bool measured = false;           ///< an epoch was processed: motion is expected from now on
+    std::deque<Held> held;           ///< measurements waiting for their odometry, in arrival order
+  };
   struct Worker {
     std::thread thread;
     std::mutex mutex;
     std::condition_variable cv;
     std::deque<Work> queue;
-    std::map<std::string, avalanche::RescuerSearch> searches;  // only this worker's thread touches them
+    std::map<std::string, RescuerState> rescuers;  // only this worker's thread touches them
   };
 
   void enqueue(const std::string& rescuer_id, Work work);
   void run_worker(Worker& worker);
   void handle(Worker& worker, Work& work);
-  avalanche::RescuerSearch* search_for(Worker& worker, const std::string& rescuer_id);
+  void process_measurement(RescuerState& state, const avalanche::FieldMeasurement& measurement);
+  /// Processes held measurements whose odometry arrived (or whose wait expired).
+  void release_held(RescuerState& state, SteadyTime now);
+  RescuerState* state_for(Worker& worker, const std::string& rescuer_id);
   void reject(const std::string& rescuer_id, const std::string& reason, const std::string& detail);
   void publish_status();
 

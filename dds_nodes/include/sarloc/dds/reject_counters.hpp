@@ -18,6 +18,12 @@ class RejectCounters {
     ++rejected_;
     ++by_reason_[reason];
   }
+  /// Something went wrong with a sample that was still used (e.g. its odometry came late):
+  /// counted under its reason, not as a rejection.
+  void anomaly(const std::string& reason) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    ++by_reason_[reason];
+  }
   struct Snapshot {
     std::uint64_t accepted = 0;
     std::uint64_t rejected = 0;

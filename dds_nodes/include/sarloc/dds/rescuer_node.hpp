@@ -32,7 +32,9 @@ struct RescuerNodeConfig {
   std::vector<std::string> partitions;  ///< the sector's DDS partition(s); empty = default
   avalanche::RescuerSearchConfig search;  ///< the on-device (fallback) search
   double fallback_timeout_s = 3.0;      ///< mission time without daemon guidance before local guidance
-  double guidance_wait_s = 0.25;        ///< wall time to wait for the daemon's answer each epoch
+  /// Wall time to wait for the daemon's answer each epoch (only while it is reachable); keep it
+  /// well below an epoch's wall duration (MissionConfig caps it at half an epoch).
+  double guidance_wait_s = 0.25;
 
   /// Throws ConfigError naming the key ("rescuer.fallback_timeout_s = 0: must be in (0, 600]").
   void validate() const;
@@ -62,6 +64,10 @@ class RescuerNode {
                     const std::optional<incident::ResponderPosition>& gnss,
                     const std::vector<avalanche::FieldMeasurement>& measurements);
 
+  /// Waits until the daemon's readers matched this device's writers (or `timeout` passes), so
+  /// the first samples are not published to nobody. Returns whether they matched.
+  bool wait_for_daemon(std::chrono::milliseconds timeout) const;
+
   /// Times the rescuer switched from daemon to local guidance.
   int fallbacks() const { return fallbacks_; }
   const avalanche::RescuerSearch& local_search() const { return local_; }
@@ -72,6 +78,9 @@ class RescuerNode {
     std::uint64_t guidance_sequence = 0;
     TimestampNs guidance_mission_time = 0;
     std::int64_t guidance_wall_ns = 0;
+    /// Any answer of the daemon (estimate or guidance) tells it is alive and which epoch it reached.
+    std::uint64_t answered_sequence = 0;
+    TimestampNs answered_mission_time = 0;
     std::map<std::uint32_t, avalanche::EstimatorStatus> status;
   };
 

@@ -30,6 +30,8 @@ class OdometryAccumulator {
   /// The displacement since the last take(), then resets.
   Displacement take();
   std::uint32_t pending() const { return acc_.samples; }
+  /// What take() would return now, without resetting (zero mean when nothing arrived).
+  const Displacement& peek() const { return acc_; }
 
  private:
   double idle_translation_sigma_m_;

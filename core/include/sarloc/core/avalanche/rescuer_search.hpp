@@ -67,6 +67,11 @@ class RescuerSearch {
   /// One field sample of one signal. Refused samples leave every filter untouched.
   std::variant<SearchUpdate, Rejection> process(const FieldMeasurement& measurement);
 
+  /// Guidance to the target from its filter moved by the odometry since it was last heard,
+  /// for an epoch in which the target's signal was not received (out of range, lost
+  /// sample): the rescuer keeps heading for it instead of stopping. nullopt without a target.
+  std::optional<Guidance> coast(TimestampNs stamp) const;
+
   /// The signal is a victim already found (by this rescuer or reported by incident command):
   /// stop guiding to it.
   void mark_done(std::uint32_t signal_id);

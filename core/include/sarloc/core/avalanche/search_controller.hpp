@@ -31,6 +31,9 @@ namespace sarloc::avalanche {
 struct SearchConfig {
   double step_length_m = 1.0;          ///< nominal step (seed 000: 1 m/s, 1 measurement/s)
   double approach_mahalanobis = 0.5;   ///< leave flux-line following beyond this distance
+  /// ... and only once the mixture's 95 % horizontal radius has shrunk to this fraction of
+  /// its initial value (a ring still uniform at the noise floor has a wandering mean).
+  double approach_radius_fraction = 1.0;
   double fine_search_radius_m = 2.0;   ///< below this horizontal distance: fine search
   double located_radius_m = 0.4;       ///< 95 % 3-D radius for "located"
   double found_distance_m = 0.5;       ///< horizontal distance to the estimate for "found"
@@ -62,6 +65,7 @@ class SearchController {
   SearchConfig config_;
   GuidanceMode mode_ = GuidanceMode::kFollowFluxLine;
   int probe_turn_ = 0;
+  std::optional<double> initial_r95h_;  ///< 95 % horizontal radius at the first guidance
   Eigen::Vector2d flux_dir_ = Eigen::Vector2d::Zero();  ///< smoothed flux-line direction in G
 };
 

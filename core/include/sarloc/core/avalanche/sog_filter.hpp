@@ -55,6 +55,15 @@ struct SogConfig {
   double idle_rotation_sigma_rad = 0.005;
   // --- orientation observations ---
   bool use_orientation = true;  ///< apply FieldMeasurement::orientation when present
+  /// The transmitter is buried: weight each Gaussian by P(p_z <= -antenna_height_m), which
+  /// removes the point-symmetric mirror solution H(r) = H(-r) of the dipole above the receiver.
+  bool surface_constraint = false;
+  /// Innovation gate (seed 001, "innovation test"): when even the best Gaussian's normalised
+  /// innovation squared exceeds chi2_3(reinit_gate_probability) for reinit_after consecutive
+  /// steps, no hypothesis explains the data any more (the true one was pruned while the signal
+  /// was at the noise floor): the mixture is re-initialised from the current measurement.
+  double reinit_gate_probability = 0.9999;
+  std::uint32_t reinit_after = 0;  ///< 0 = never re-initialise (default: measured worse)
   // --- mixture management ---
   double prune_log_weight = 14.0;   ///< drop components with log w < max log w - this
   std::uint32_t merge_interval = 1; ///< merge near-duplicates every n steps (0 = never)
@@ -71,6 +80,9 @@ struct SogComponent {
   StateVec x = StateVec::Zero();
   StateCov P = StateCov::Identity();
   double log_weight = 0.0;  ///< normalised: log-sum-exp over components = 0
+  /// log P(transmitter below the snow surface) already folded into log_weight (see
+  /// SogConfig::surface_constraint); kept so that each step applies only the change.
+  double log_support = 0.0;
 };
 
 /// Moments of the mixture (eq. (18)) for the full state.
@@ -86,6 +98,8 @@ struct SogStepResult {
   std::size_t dropped_numerical = 0;   ///< components removed: non-finite or non-PD covariance
   std::size_t merged = 0;
   double log_likelihood = 0.0;         ///< log p(z_k | Z^{k-1}) up to a constant
+  double min_nis = 0.0;                ///< smallest normalised innovation squared (3 dof)
+  bool reinitialised = false;          ///< innovation gate failed: mixture rebuilt from z_k
 };
 
 class SogFilter {
@@ -107,6 +121,10 @@ class SogFilter {
 
   /// Eq. (18) over the full state (angles averaged relative to the heaviest component).
   MixtureMoments moments() const;
+  /// moments() moved by the odometry received since the last measurement (composition of
+  /// eq. (9) on the mixture mean, no update): where the transmitter is relative to the receiver
+  /// now, for guidance when this signal was not heard. Position covariance grows by the step's.
+  MixtureMoments predicted_moments() const;
   /// Reduced mixture: position moments (eq. (18)), the top_k components, the mean moment.
   /// status is kInitialising, kMultimodal or kConverged; SearchController::assess() refines it.
   VictimEstimate estimate(std::size_t top_k = 5) const;
@@ -117,6 +135,7 @@ class SogFilter {
  private:
   void update_field(const Vec3& z, const Vec3& floor, const Displacement& disp,
                     const OrientationObservation* orientation, SogStepResult& r);
+  void apply_surface_constraint();
   void normalise_and_prune();
   std::size_t merge();
   Vec3 noise_floor(const FieldMeasurement& m) const;
@@ -129,6 +148,8 @@ class SogFilter {
   std::optional<std::uint64_t> last_sequence_;
   TimestampNs last_stamp_ = 0;
   std::uint64_t steps_ = 0;
+  std::uint32_t gate_failures_ = 0;
+  double nis_gate_ = 0.0;
 };
 
 /// Validation shared by the filter and tools: throws InputError naming the field.

@@ -1,0 +1,109 @@
+// Whole missions as separate processes over DDS (sarloc-mission starts sarloc-core,
+// sarloc-rescuer x N and sarloc-command), with faults injected.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "support/dds_test_domains.hpp"
+
+namespace sarloc::test {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct MissionRun {
+  int exit_code = -1;
+  json summary;
+  fs::path run_dir;
+};
+
+MissionRun run_mission(const std::string& mission_file, std::uint32_t domain, const std::string& extra = "") {
+  MissionRun run;
+  run.run_dir = fs::temp_directory_path() / ("sarloc-mission-test-" + std::to_string(domain));
+  fs::remove_all(run.run_dir);
+  fs::create_directories(run.run_dir);
+  const fs::path json_path = run.run_dir / "summary.json";
+  const std::string command = std::string(SARLOC_BIN_DIR) + "/sarloc-mission " + SARLOC_MISSION_DIR + "/" +
+                              mission_file + " --domain " + std::to_string(domain) + " --run-dir " +
+                              run.run_dir.string() + " --json " + json_path.string() + " " +
+                              (extra.find("--log-level") == std::string::npos ? "--log-level warn " : "") + extra +
+                              " > " + (run.run_dir / "mission.out").string() + " 2>&1";
+  const int status = std::system(command.c_str());
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream in(json_path);
+  if (in) run.summary = json::parse(in);
+  return run;
+}
+
+std::string file_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Every victim found, exactly as many victims in the picture as were buried, and the finder's
+// own estimate (what the diggers use) within 0.5 m. `max_incident_error_m` bounds the fused
+// incident-frame error, which includes the finder's GNSS error.
+void expect_complete(const MissionRun& run, double max_incident_error_m = 1.0) {
+  ASSERT_FALSE(run.summary.is_null()) << "no summary; see " << run.run_dir;
+  EXPECT_EQ(run.exit_code, 0) << file_text(run.run_dir / "mission.out");
+  EXPECT_TRUE(run.summary["all_found"].get<bool>());
+  EXPECT_EQ(run.summary["fused_victim_count"], run.summary["true_victim_count"]) << "duplicates or misses";
+  for (const auto& v : run.summary["victims"]) {
+    EXPECT_TRUE(v["found"].get<bool>()) << v.dump();
+    ASSERT_FALSE(v["error_m"].is_null()) << v.dump();
+    EXPECT_LE(v["error_m"].get<double>(), max_incident_error_m) << v.dump();
+    ASSERT_FALSE(v["relative_error_m"].is_null()) << v.dump();
+    EXPECT_LE(v["relative_error_m"].get<double>(), 0.5) << v.dump();
+    EXPECT_FALSE(v["time_to_locate_s"].is_null()) << v.dump();
+  }
+}
+
+TEST(Mission, SmallMissionFindsEveryVictimExactlyOnce) {
+  const auto run = run_mission("small.yaml", kDomainMissionSmall);
+  expect_complete(run);
+  for (const auto& r : run.summary["rescuers"]) EXPECT_GT(r["distance_walked_m"].get<double>(), 5.0) << r.dump();
+}
+
+TEST(Mission, KilledRescuerIsReportedLinkLostWithinTheLease) {
+  const auto run = run_mission("small.yaml", kDomainMissionSmall + 1, "--kill r2@12");
+  ASSERT_FALSE(run.summary.is_null()) << file_text(run.run_dir / "mission.out");
+  ASSERT_EQ(run.summary["faults"].size(), 1U);
+  const auto& fault = run.summary["faults"][0];
+  ASSERT_TRUE(fault.contains("link_lost_after_s")) << "incident command never reported r2's link lost";
+  // Lease 3 s (config/dds/topics.xml, responder_position) + one command cycle (0.25 s) +
+  // delivery: anything later means the lease is not what detects a dead device.
+  EXPECT_LE(fault["link_lost_after_s"].get<double>(), 3.0 + 0.25 + 0.75);
+  // r1 alone still finds both victims.
+  expect_complete(run);
+}
+
+TEST(Mission, KilledDaemonLeavesRescuersGuidingOnTheirDevices) {
+  const auto run = run_mission("small.yaml", kDomainMissionSmall + 2, "--kill core@10");
+  expect_complete(run);
+  int fallbacks = 0;
+  for (const auto& r : run.summary["rescuers"]) fallbacks += r.value("fallbacks", 0);
+  EXPECT_GE(fallbacks, 1) << "no rescuer noticed the daemon was gone";
+}
+
+TEST(Mission, TwoCoreInstancesSplitTheRescuersBySector) {
+  const auto run = run_mission("sectors.yaml", kDomainMissionSmall + 5, "--log-level info");
+  // This test is about the split: the incident-frame error is GNSS-bound (tested above).
+  expect_complete(run, /*max_incident_error_m=*/2.0);
+  const std::string west = file_text(run.run_dir / "core-west.log");
+  const std::string east = file_text(run.run_dir / "core-east.log");
+  EXPECT_NE(west.find("new rescuer 'west-1'"), std::string::npos) << west;
+  EXPECT_EQ(west.find("east-1"), std::string::npos) << "the west daemon served an east rescuer";
+  EXPECT_NE(east.find("new rescuer 'east-1'"), std::string::npos) << east;
+  EXPECT_EQ(east.find("west-1"), std::string::npos) << "the east daemon served a west rescuer";
+}
+
+}  // namespace
+}  // namespace sarloc::test
