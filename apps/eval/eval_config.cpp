@@ -65,6 +65,9 @@ void load(YamlReader root, avalanche::EvaluationSetup& setup) {
     u = c.reinit_after;
     r.read("reinit_after", u);
     c.reinit_after = u;
+    u = c.divergence_window;
+    r.read("divergence_window", u);
+    c.divergence_window = u;
     r.read("prune_log_weight", c.prune_log_weight);
     u = c.merge_interval;
     r.read("merge_interval", u);
@@ -89,6 +92,7 @@ void load(YamlReader root, avalanche::EvaluationSetup& setup) {
     r.read("probe_step_m", c.probe_step_m);
     r.read("flux_smoothing", c.flux_smoothing);
     r.read("flux_snr_cap", c.flux_snr_cap);
+    r.read("flux_detection_snr2", c.flux_detection_snr2);
     r.expect_done();
   }
   {

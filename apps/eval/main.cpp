@@ -59,6 +59,26 @@ nlohmann::json to_json(const av::EvaluationSummary& s) {
                {"upper_95", s.nees_upper},
                {"trials", s.nees_trials}};
   j["wall_s"] = s.wall_s;
+  nlohmann::json trials = nlohmann::json::array();
+  for (const auto& t : s.per_trial) {
+    double nees_mean = 0.0;
+    for (double v : t.nees) nees_mean += v;
+    if (!t.nees.empty()) nees_mean /= static_cast<double>(t.nees.size());
+    trials.push_back({{"index", t.index},
+                      {"found", t.found},
+                      {"error_m", t.error_m},
+                      {"horizontal_error_m", t.horizontal_error_m},
+                      {"initial_distance_m", t.initial_distance_m},
+                      {"steps", t.steps},
+                      {"flux_line_steps", t.flux_line_steps},
+                      {"first_converged_step", t.first_converged_step},
+                      {"reinitialisations", t.reinitialisations},
+                      {"nees_mean", nees_mean},
+                      {"nees_samples", t.nees.size()},
+                      {"final_nees", t.final_nees},
+                      {"final_components", t.final_components}});
+  }
+  j["per_trial"] = trials;
   return j;
 }
 
@@ -81,6 +101,36 @@ void print_table(const av::EvaluationSummary& s, unsigned threads) {
   std::printf("%-28s %.3f of converged-phase samples inside [chi2_3(0.025), chi2_3(0.975)]\n",
               "NEES fraction", s.nees_fraction_inside_95);
   std::printf("%-28s %.2f s\n", "Wall clock", s.wall_s);
+}
+
+// --trace-trial N: one trial step by step (debugging aid; same loop as run_trial()).
+void trace_trial(const av::EvaluationSetup& setup, std::uint32_t index) {
+  av::AvalancheSimulator sim(setup.simulation, av::derive_seed(setup.evaluation.seed, index));
+  av::SogFilter filter(setup.sog, "sim", 1);
+  av::SearchController ctl(setup.search);
+  const auto& sc = sim.scenario();
+  std::printf("trial %u: transmitter [%.2f %.2f %.2f] |m| %.4f m [%.3f %.3f %.3f]\n", index,
+              sc.transmitter.x(), sc.transmitter.y(), sc.transmitter.z(), sc.moment.norm(),
+              sc.moment.x() / sc.moment.norm(), sc.moment.y() / sc.moment.norm(),
+              sc.moment.z() / sc.moment.norm());
+  for (std::uint32_t step = 1; step <= setup.evaluation.step_budget; ++step) {
+    const av::FieldMeasurement z = sim.measure();
+    const av::SogStepResult r = filter.process(z);
+    const av::Guidance g = ctl.guide(filter, z);
+    const av::VictimEstimate e = filter.estimate(1);
+    const sarloc::Vec3 truth = sim.true_relative_position();
+    const sarloc::Vec3 err = e.relative.position - truth;
+    const double nees = err.dot(e.relative.covariance.ldlt().solve(err));
+    const double w0 = e.top_components.empty() ? 0.0 : e.top_components[0].weight;
+    std::printf("%3u mode %d |z| %.2e true [%6.2f %6.2f %5.2f] est [%6.2f %6.2f %5.2f] err %.2f "
+                "r95 %.2f n %5zu nis %.1f w0 %.2f nees %.1f%s\n",
+                step, static_cast<int>(g.mode), z.field.norm(), truth.x(), truth.y(), truth.z(),
+                e.relative.position.x(), e.relative.position.y(), e.relative.position.z(),
+                err.norm(), av::SearchController::radius95_3d(e.relative.covariance),
+                filter.size(), r.min_nis, w0, nees, r.reinitialised ? " REINIT" : "");
+    if (g.mode == av::GuidanceMode::kFound) break;
+    filter.add_odometry(sim.walk(g.bearing_rad, g.step_m));
+  }
 }
 
 bool check_targets(const av::EvaluationSummary& s) {
@@ -118,6 +168,7 @@ int main(int argc, char** argv) {
   std::string config_path;
   std::string json_path;
   bool no_target_check = false;
+  std::optional<std::uint32_t> trace;
   avalanche->add_option("--filter", filter, "estimator to evaluate")
       ->check(CLI::IsMember({"sog"}))
       ->capture_default_str();
@@ -127,6 +178,7 @@ int main(int argc, char** argv) {
   avalanche->add_option("-c,--config", config_path, "YAML config (config/eval/avalanche.yaml)")
       ->check(CLI::ExistingFile);
   avalanche->add_option("--json", json_path, "write the summary as JSON to this file");
+  avalanche->add_option("--trace-trial", trace, "print one trial step by step and exit");
   avalanche->add_flag("--no-target-check", no_target_check,
                       "exit 0 even when an accuracy/consistency target is missed");
   try {
@@ -158,6 +210,10 @@ int main(int argc, char** argv) {
     return to_int(ExitCode::kConfig);
   }
 
+  if (trace) {
+    trace_trial(setup, *trace);
+    return to_int(ExitCode::kOk);
+  }
   unsigned used_threads = setup.evaluation.threads;
   if (used_threads == 0) used_threads = std::max(1U, std::thread::hardware_concurrency());
   spdlog::info("avalanche evaluation: filter {}, {} trials, seed {}, {} threads", filter,

@@ -11,7 +11,7 @@
 #include <fstream>
 #include <map>
 
-#include "child_process.hpp"
+#include "sarloc/app/child_process.hpp"
 #include "sarloc/app/logging.hpp"
 #include "sarloc/app/mission_config.hpp"
 #include "sarloc/app/run_main.hpp"
@@ -129,22 +129,22 @@ int main(int argc, char** argv) {
     const std::string epoch_arg = std::to_string(epoch);
     auto log_file = [&](const std::string& name) { return (fs::path(run_dir) / (name + ".log")).string(); };
 
-    std::vector<std::unique_ptr<mission_app::ChildProcess>> cores;
+    std::vector<std::unique_ptr<app::ChildProcess>> cores;
     std::vector<std::string> sectors = mission.sectors.empty() ? std::vector<std::string>{""} : mission.sectors;
     for (const auto& sector : sectors) {
       std::vector<std::string> args{(bin_dir / "sarloc-core").string(), "-c", config_abs, "--domain", domain_arg, "--log-level", log_level};
       if (!sector.empty()) args.insert(args.end(), {"--sector", sector});
       const std::string name = sector.empty() ? "core" : "core-" + sector;
-      cores.push_back(std::make_unique<mission_app::ChildProcess>(name, args, log_file(name)));
+      cores.push_back(std::make_unique<app::ChildProcess>(name, args, log_file(name)));
     }
-    auto command = std::make_unique<mission_app::ChildProcess>(
+    auto command = std::make_unique<app::ChildProcess>(
         "command",
         std::vector<std::string>{(bin_dir / "sarloc-command").string(), "-c", config_abs, "--epoch-ns", epoch_arg,
                                  "--summary", (fs::path(run_dir) / "command.json").string(), "--domain", domain_arg, "--log-level", log_level},
         log_file("command"));
-    std::map<std::string, std::unique_ptr<mission_app::ChildProcess>> rescuers;
+    std::map<std::string, std::unique_ptr<app::ChildProcess>> rescuers;
     for (const auto& r : mission.scenario.rescuers) {
-      rescuers[r.id] = std::make_unique<mission_app::ChildProcess>(
+      rescuers[r.id] = std::make_unique<app::ChildProcess>(
           "rescuer-" + r.id,
           std::vector<std::string>{(bin_dir / "sarloc-rescuer").string(), "-c", config_abs, "--id", r.id, "--epoch-ns",
                                    epoch_arg, "--summary", (fs::path(run_dir) / (r.id + ".json")).string(),

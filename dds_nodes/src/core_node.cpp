@@ -191,7 +191,7 @@ CoreNode::RescuerState* CoreNode::state_for(Worker& worker, const std::string& r
   }
   rescuers_served_.fetch_add(1);
   spdlog::info("{}: new rescuer '{}'", config_.node_id, rescuer_id);
-  return &worker.rescuers.emplace(rescuer_id, RescuerState{avalanche::RescuerSearch(rescuer_id, config_.search), 0, false, {}})
+  return &worker.rescuers.emplace(rescuer_id, RescuerState{avalanche::RescuerSearch(rescuer_id, config_.search), 0, {}, {}})
               .first->second;
 }
 
@@ -216,8 +216,10 @@ void CoreNode::handle(Worker& worker, Work& work) {
   auto& measurement = std::get<avalanche::FieldMeasurement>(work);
   auto* state = state_for(worker, measurement.rescuer_id);
   if (state == nullptr) return;
-  // After the first epoch every measurement follows a step: wait for it (see the config).
-  const bool motion_pending = state->measured && measurement.stamp > state->odometry_until;
+  // A new epoch follows a step: wait for the odometry up to its stamp (see the config). The
+  // other signals of an epoch already processed share its stamp and need nothing more.
+  const bool new_epoch = state->measured_at && measurement.stamp > *state->measured_at;
+  const bool motion_pending = new_epoch && measurement.stamp > state->odometry_until;
   if ((motion_pending || !state->held.empty()) && config_.odometry_wait_s > 0.0) {
     const auto wait = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
         std::chrono::duration<double>(config_.odometry_wait_s));
@@ -253,7 +255,7 @@ void CoreNode::process_measurement(RescuerState& state, const avalanche::FieldMe
     return;
   }
   counters_.accepted();
-  state.measured = true;
+  state.measured_at = std::max(state.measured_at.value_or(measurement.stamp), measurement.stamp);
   active_filters_.fetch_add(search.signal_count() - signals_before);
   auto& update = std::get<avalanche::SearchUpdate>(outcome);
   if (!estimate_writer_.write(to_idl(update.estimate, measurement.sequence))) {

@@ -63,7 +63,8 @@ TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index) {
   for (std::uint32_t step = 1; step <= setup.evaluation.step_budget; ++step) {
     const FieldMeasurement z = sim.measure();
     const auto t0 = Clock::now();
-    filter.process(z);
+    const SogStepResult sr = filter.process(z);
+    if (sr.reinitialised) ++tr.reinitialisations;
     const auto t1 = Clock::now();
     tr.step_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
     const Guidance g = ctl.guide(filter, z);
@@ -71,7 +72,11 @@ TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index) {
     const Vec3 err = e.relative.position - sim.true_relative_position();
     const double nees = err.dot(e.relative.covariance.ldlt().solve(err));
     tr.final_nees = nees;
-    if (e.status == EstimatorStatus::kConverged) tr.nees.push_back(nees);
+    if (e.status == EstimatorStatus::kConverged) {
+      tr.nees.push_back(nees);
+      if (tr.first_converged_step == 0) tr.first_converged_step = step;
+    }
+    if (g.mode == GuidanceMode::kFollowFluxLine) ++tr.flux_line_steps;
     tr.steps = step;
     tr.error_m = err.norm();
     tr.horizontal_error_m = err.head<2>().norm();

@@ -36,6 +36,7 @@ void SearchConfig::validate() const {
   check("approach_radius_fraction", approach_radius_fraction, 0.0, 1.0, true);
   check("flux_smoothing", flux_smoothing, 0.0, 0.99, false);
   check("flux_snr_cap", flux_snr_cap, 0.0, 1000.0, true);
+  check("flux_detection_snr2", flux_detection_snr2, 0.0, 100.0, false);
 }
 
 SearchController::SearchController(SearchConfig config) : config_(config) { config_.validate(); }
@@ -138,7 +139,8 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
         dir.normalize();
         if (dir.dot(flux_dir_) < 0.0) dir = -dir;
         // Pure noise gives E[snr^2] = 1 on two axes: only the excess carries direction.
-        const double w = std::clamp(snr * snr - 1.0, 0.0, config_.flux_snr_cap * config_.flux_snr_cap);
+        const double w = std::clamp(snr * snr - config_.flux_detection_snr2, 0.0,
+                                    config_.flux_snr_cap * config_.flux_snr_cap);
         flux_dir_ = config_.flux_smoothing * flux_dir_ + w * dir;
         if (flux_dir_.norm() < 1e-3) flux_dir_ = 1e-3 * flux_dir_.normalized();
       }

@@ -84,6 +84,8 @@ void SogConfig::validate() const {
     config_fail("merge_mahalanobis", merge_mahalanobis, "must be in [0, 100]");
   if (!(reinit_gate_probability > 0.5 && reinit_gate_probability < 1.0))
     config_fail("reinit_gate_probability", reinit_gate_probability, "must be in (0.5, 1)");
+  if (divergence_window > 100)
+    config_fail("divergence_window", divergence_window, "must be in [0, 100]");
   if (!finite_positive(converged_radius_m) || converged_radius_m > 1000.0)
     config_fail("converged_radius_m", converged_radius_m, "must be in (0, 1000]");
 }
@@ -115,7 +117,13 @@ SogFilter::SogFilter(SogConfig config, std::string rescuer_id, std::uint32_t sig
       signal_id_(signal_id),
       odometry_((config_.validate(), config_.idle_translation_sigma_m),
                 config_.idle_rotation_sigma_rad),
-      nis_gate_(chi_square_quantile(config_.reinit_gate_probability, 3.0)) {}
+      nis_gate_(chi_square_quantile(config_.reinit_gate_probability, 3.0)),
+      window_gate_(config_.divergence_window > 0
+                       ? chi_square_quantile(config_.reinit_gate_probability,
+                                             3.0 * config_.divergence_window)
+                       : 0.0) {
+  nis_window_.reserve(config_.divergence_window);
+}
 
 void SogFilter::add_odometry(const Odometry& odometry) {
   if (!rescuer_id_.empty() && !odometry.rescuer_id.empty() && odometry.rescuer_id != rescuer_id_)
@@ -156,9 +164,22 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
       measurement.orientation && config_.use_orientation ? &*measurement.orientation : nullptr;
   update_field(measurement.field, noise_floor(measurement), disp, orientation, result);
   gate_failures_ = result.min_nis > nis_gate_ ? gate_failures_ + 1 : 0;
-  if (config_.reinit_after > 0 && gate_failures_ >= config_.reinit_after) {
+  bool diverged = config_.reinit_after > 0 && gate_failures_ >= config_.reinit_after;
+  if (config_.divergence_window > 0) {
+    if (nis_window_.size() < config_.divergence_window) nis_window_.push_back(result.min_nis);
+    else nis_window_[nis_next_] = result.min_nis;
+    nis_next_ = (nis_next_ + 1) % config_.divergence_window;
+    if (nis_window_.size() == config_.divergence_window) {
+      double sum = 0.0;
+      for (double v : nis_window_) sum += v;
+      diverged = diverged || sum > window_gate_;
+    }
+  }
+  if (diverged) {
     initialise(measurement);
     gate_failures_ = 0;
+    nis_window_.clear();
+    nis_next_ = 0;
     result.reinitialised = true;
     result.components_after = components_.size();
     ++steps_;
@@ -186,6 +207,9 @@ MixtureMoments SogFilter::predicted_moments() const {
 
 void SogFilter::initialise(const FieldMeasurement& meas) {
   validate_field_measurement(meas);
+  gate_failures_ = 0;  // a new mixture starts a new innovation history
+  nis_window_.clear();
+  nis_next_ = 0;
   const Vec3 z = meas.field;
   const double zn = z.norm();
   if (!(zn > 0.0)) input_fail("field", fmt(z), "first measurement must be non-zero");

@@ -70,7 +70,7 @@ class CoreNode {
   struct RescuerState {
     avalanche::RescuerSearch search;
     TimestampNs odometry_until = 0;  ///< interval_end of the last accepted odometry
-    bool measured = false;           ///< an epoch was processed: motion is expected from now on
+    std::optional<TimestampNs> measured_at;  ///< stamp of the last processed epoch (signals share it)
     std::deque<Held> held;           ///< measurements waiting for their odometry, in arrival order
   };
   struct Worker {

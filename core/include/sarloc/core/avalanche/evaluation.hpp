@@ -53,6 +53,9 @@ struct TrialResult {
   std::vector<double> nees;          ///< position NEES per converged step
   double final_nees = 0.0;
   std::uint32_t final_components = 0;
+  std::uint32_t flux_line_steps = 0;   ///< steps guided in kFollowFluxLine mode
+  std::uint32_t first_converged_step = 0;  ///< first step with a converged mixture (0 = never)
+  std::uint32_t reinitialisations = 0;     ///< SogStepResult::reinitialised count
 };
 
 struct Stats {

@@ -40,6 +40,11 @@ struct SearchConfig {
   double probe_step_m = 0.5;           ///< sideways step when on top but not yet located
   double flux_smoothing = 0.7;         ///< memory of the SNR-weighted flux-line direction
   double flux_snr_cap = 10.0;          ///< SNR above which a direction gets no extra weight
+  /// A measured flux direction turns the rescuer only by its SNR^2 in excess of this value
+  /// (per horizontal axis). Pure noise has E[SNR^2] = 1; chi2_2(0.95)/2 = 3.0 means a
+  /// noise-only reading rarely turns him: at the noise floor he walks on straight (the
+  /// baseline that makes |z| informative) instead of dithering.
+  double flux_detection_snr2 = 1.0;
 
   /// Throws ConfigError "search.<key> = value: rule".
   void validate() const;

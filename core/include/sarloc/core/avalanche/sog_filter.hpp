@@ -64,6 +64,16 @@ struct SogConfig {
   /// was at the noise floor): the mixture is re-initialised from the current measurement.
   double reinit_gate_probability = 0.9999;
   std::uint32_t reinit_after = 0;  ///< 0 = never re-initialise (default: measured worse)
+  /// Divergence test over a window (seed 001, "innovation test", summed over time): if the sum
+  /// of the smallest normalised innovation squared of the last n steps exceeds
+  /// chi2_{3n}(reinit_gate_probability), no Gaussian's innovation sequence is consistent with
+  /// the noise model (each component's own sum is >= the sum of the per-step minima), i.e. the
+  /// mixture has lost the transmitter (locked on a wrong mode while the signal was at the
+  /// noise floor). The mixture is then re-initialised from the current measurement, which is
+  /// stronger than the first one, so the new ring is narrower. A window, unlike n consecutive
+  /// single-step failures, catches a persistent moderate excess (NIS 15-50 every step) that
+  /// single-step gates miss half of the time. 0 = off.
+  std::uint32_t divergence_window = 6;
   // --- mixture management ---
   double prune_log_weight = 14.0;   ///< drop components with log w < max log w - this
   std::uint32_t merge_interval = 1; ///< merge near-duplicates every n steps (0 = never)
@@ -150,6 +160,9 @@ class SogFilter {
   std::uint64_t steps_ = 0;
   std::uint32_t gate_failures_ = 0;
   double nis_gate_ = 0.0;
+  std::vector<double> nis_window_;  ///< last divergence_window smallest NIS (ring buffer)
+  std::size_t nis_next_ = 0;
+  double window_gate_ = 0.0;        ///< chi2_{3n}(reinit_gate_probability)
 };
 
 /// Validation shared by the filter and tools: throws InputError naming the field.

@@ -1,5 +1,5 @@
 #pragma once
-// A child process of sarloc-mission: started with posix_spawn, output to a log file, stopped
+// A child process (sarloc-mission, benchmarks): started with posix_spawn, output to a log file, stopped
 // with SIGTERM (then SIGKILL after a grace period). Never leaves a process behind: the
 // destructor stops it.
 #include <sys/types.h>
@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace sarloc::mission_app {
+namespace sarloc::app {
 
 class ChildProcess {
  public:
@@ -36,4 +36,4 @@ class ChildProcess {
   int exit_code_ = -1;
 };
 
-}  // namespace sarloc::mission_app
+}  // namespace sarloc::app

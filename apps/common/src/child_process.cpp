@@ -1,4 +1,4 @@
-#include "child_process.hpp"
+#include "sarloc/app/child_process.hpp"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -13,7 +13,7 @@
 
 extern char** environ;
 
-namespace sarloc::mission_app {
+namespace sarloc::app {
 
 ChildProcess::ChildProcess(std::string name, const std::vector<std::string>& argv, const std::string& log_path)
     : name_(std::move(name)) {
@@ -68,4 +68,4 @@ void ChildProcess::kill_now() {
   reap(true);
 }
 
-}  // namespace sarloc::mission_app
+}  // namespace sarloc::app
