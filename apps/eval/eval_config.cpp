@@ -1,5 +1,6 @@
 #include "eval_config.hpp"
 
+#include "sarloc/app/avalanche_yaml.hpp"
 #include "sarloc/app/yaml_reader.hpp"
 
 namespace sarloc::eval {
@@ -7,94 +8,11 @@ namespace {
 
 using app::YamlReader;
 
-void read_standard(YamlReader r, avalanche::TransmitterStandard& s) {
-  r.read("field_min_A_per_m", s.field_min_A_per_m);
-  r.read("field_max_A_per_m", s.field_max_A_per_m);
-  r.read("reference_distance_m", s.reference_distance_m);
-  r.expect_done();
-}
-
 void load(YamlReader root, avalanche::EvaluationSetup& setup) {
-  {
-    auto r = root.child("simulation");
-    auto& c = setup.simulation;
-    r.read("start_distance_min_m", c.start_distance_min_m);
-    r.read("start_distance_max_m", c.start_distance_max_m);
-    r.read("burial_depth_p95_m", c.burial_depth_p95_m);
-    r.read("min_burial_depth_m", c.min_burial_depth_m);
-    r.read("antenna_height_m", c.antenna_height_m);
-    read_standard(r.child("standard"), c.standard);
-    r.read("field_noise_relative", c.field_noise_relative);
-    r.read("field_noise_floor_A_per_m", c.field_noise_floor_A_per_m);
-    r.read("odometry_translation_relative", c.odometry_translation_relative);
-    r.read("odometry_translation_floor_m", c.odometry_translation_floor_m);
-    r.read("odometry_yaw_sigma_deg", c.odometry_yaw_sigma_deg);
-    r.read("odometry_roll_pitch_sigma_deg", c.odometry_roll_pitch_sigma_deg);
-    r.read("sway_roll_pitch_deg", c.sway_roll_pitch_deg);
-    r.read("attitude_roll_pitch_sigma_deg", c.attitude_roll_pitch_sigma_deg);
-    r.read("attitude_yaw_sigma_deg", c.attitude_yaw_sigma_deg);
-    r.read("attitude_updates", c.attitude_updates);
-    r.expect_done();
-  }
-  {
-    auto r = root.child("sog");
-    auto& c = setup.sog;
-    unsigned u = c.initial_components;
-    r.read("initial_components", u);
-    c.initial_components = u;
-    read_standard(r.child("standard"), c.standard);
-    r.read("antenna_height_m", c.antenna_height_m);
-    r.read("max_burial_depth_m", c.max_burial_depth_m);
-    u = c.depth_layers;
-    r.read("depth_layers", u);
-    c.depth_layers = u;
-    r.read("depth_sigma_factor", c.depth_sigma_factor);
-    r.read("horizontal_overlap", c.horizontal_overlap);
-    r.read("max_range_m", c.max_range_m);
-    r.read("range_noise_sigmas", c.range_noise_sigmas);
-    r.read("moment_margin", c.moment_margin);
-    r.read("jacobian_initial_weights", c.jacobian_initial_weights);
-    r.read("attitude_prior_sigma_rad", c.attitude_prior_sigma_rad);
-    r.read("noise_relative", c.noise_relative);
-    r.read("noise_floor_A_per_m", c.noise_floor_A_per_m);
-    r.read("idle_translation_sigma_m", c.idle_translation_sigma_m);
-    r.read("idle_rotation_sigma_rad", c.idle_rotation_sigma_rad);
-    r.read("use_orientation", c.use_orientation);
-    r.read("surface_constraint", c.surface_constraint);
-    r.read("reinit_gate_probability", c.reinit_gate_probability);
-    u = c.reinit_after;
-    r.read("reinit_after", u);
-    c.reinit_after = u;
-    u = c.divergence_window;
-    r.read("divergence_window", u);
-    c.divergence_window = u;
-    r.read("prune_log_weight", c.prune_log_weight);
-    u = c.merge_interval;
-    r.read("merge_interval", u);
-    c.merge_interval = u;
-    r.read("merge_cell_m", c.merge_cell_m);
-    r.read("merge_mahalanobis", c.merge_mahalanobis);
-    u = c.max_components;
-    r.read("max_components", u);
-    c.max_components = u;
-    r.read("converged_radius_m", c.converged_radius_m);
-    r.expect_done();
-  }
-  {
-    auto r = root.child("search");
-    auto& c = setup.search;
-    r.read("step_length_m", c.step_length_m);
-    r.read("approach_mahalanobis", c.approach_mahalanobis);
-    r.read("approach_radius_fraction", c.approach_radius_fraction);
-    r.read("fine_search_radius_m", c.fine_search_radius_m);
-    r.read("located_radius_m", c.located_radius_m);
-    r.read("found_distance_m", c.found_distance_m);
-    r.read("probe_step_m", c.probe_step_m);
-    r.read("flux_smoothing", c.flux_smoothing);
-    r.read("flux_snr_cap", c.flux_snr_cap);
-    r.read("flux_detection_snr2", c.flux_detection_snr2);
-    r.expect_done();
-  }
+  // The estimator's sections mean the same here as in a mission file (avalanche_yaml.hpp).
+  app::read_simulation(root.child("simulation"), setup.simulation);
+  app::read_sog(root.child("sog"), setup.sog);
+  app::read_search(root.child("search"), setup.search);
   {
     auto r = root.child("evaluation");
     auto& c = setup.evaluation;

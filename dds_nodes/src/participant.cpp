@@ -7,6 +7,7 @@
 #include <set>
 
 #include "sarloc/dds/dds_error.hpp"
+#include "sarloc/dds/security_check.hpp"
 
 namespace sarloc::dds {
 
@@ -54,6 +55,7 @@ Participant::Participant(const ParticipantConfig& config) : config_(config) {
     throw DdsError("participant profile '" + config_.profile + "' not found in '" + config_.profiles_file + "'");
   }
   qos.name(config_.name);
+  secured_ = check_security(qos, config_.profile, config_.require_security);
   participant_ = factory->create_participant(static_cast<eprosima::fastdds::dds::DomainId_t>(config_.domain_id), qos);
   if (participant_ == nullptr) {
     throw DdsError("cannot create DDS participant '" + config_.name + "' on domain " +

@@ -47,6 +47,10 @@ void read_sog(YamlReader r, avalanche::SogConfig& c) {
   r.read("idle_translation_sigma_m", c.idle_translation_sigma_m);
   r.read("idle_rotation_sigma_rad", c.idle_rotation_sigma_rad);
   r.read("use_orientation", c.use_orientation);
+  r.read("surface_constraint", c.surface_constraint);
+  r.read("reinit_gate_probability", c.reinit_gate_probability);
+  r.read("reinit_after", c.reinit_after);
+  r.read("divergence_window", c.divergence_window);
   r.read("prune_log_weight", c.prune_log_weight);
   r.read("merge_interval", c.merge_interval);
   r.read("merge_cell_m", c.merge_cell_m);
@@ -59,12 +63,14 @@ void read_sog(YamlReader r, avalanche::SogConfig& c) {
 void read_search(YamlReader r, avalanche::SearchConfig& c) {
   r.read("step_length_m", c.step_length_m);
   r.read("approach_mahalanobis", c.approach_mahalanobis);
+  r.read("approach_radius_fraction", c.approach_radius_fraction);
   r.read("fine_search_radius_m", c.fine_search_radius_m);
   r.read("located_radius_m", c.located_radius_m);
   r.read("found_distance_m", c.found_distance_m);
   r.read("probe_step_m", c.probe_step_m);
   r.read("flux_smoothing", c.flux_smoothing);
   r.read("flux_snr_cap", c.flux_snr_cap);
+  r.read("flux_detection_snr2", c.flux_detection_snr2);
   r.expect_done();
 }
 

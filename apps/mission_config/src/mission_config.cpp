@@ -136,6 +136,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("profile", c.dds.profile);
     r.read("topics_file", c.dds.topics_file);
     r.read("domain_id", c.dds.domain_id);
+    r.read("require_security", c.dds.require_security);
     r.expect_done();
     if (r.has("profiles_file")) c.dds.profiles_file = resolve(c.dds.profiles_file, base_dir);
     if (r.has("topics_file")) c.dds.topics_file = resolve(c.dds.topics_file, base_dir);

@@ -185,3 +185,71 @@ TEST(SogFilterTest, CopiesAreIndependent) {
 
 }  // namespace
 }  // namespace sarloc::avalanche
+
+namespace sarloc::avalanche {
+namespace {
+
+// Divergence recovery (SogConfig::divergence_window): the mixture is built from a first reading
+// of a distant, weak decoy (ring 40-90 m), then fed readings of a strong transmitter 12 m away,
+// outside every hypothesis, as when the true hypothesis was pruned at the noise floor. Without
+// the windowed innovation test the filter never recovers; with it, it re-initialises from the
+// current reading and localises the transmitter while the rescuer keeps walking.
+double run_lost_filter(std::uint32_t window, int* reinitialisations) {
+  SimulationConfig sc;
+  Scenario decoy;
+  decoy.transmitter = Vec3(-55.0, 10.0, -1.0);
+  decoy.moment = Vec3(0.0, 0.0, 0.007);  // weakest moment, receiver in its equatorial plane
+  decoy.receiver = Vec3(0.0, 0.0, 1.0);
+  decoy.receiver_rpy = Vec3(0.0, 0.0, 0.3);
+  Scenario truth = decoy;
+  truth.transmitter = Vec3(10.0, 6.0, -1.5);
+  truth.moment = Vec3(0.012, 0.01, 0.015);
+  AvalancheSimulator first(sc, decoy, 5);
+  AvalancheSimulator sim(sc, truth, 6);
+  SogConfig cfg;
+  cfg.initial_components = 600;  // keep the unit test fast
+  cfg.divergence_window = window;
+  SogFilter f(cfg);
+  f.process(first.measure());
+  sim.measure();  // same sequence number as the decoy reading
+  *reinitialisations = 0;
+  for (int k = 0; k < 14; ++k) {
+    const Vec3 rel = sim.true_relative_position();
+    const double bearing = std::atan2(rel.y(), rel.x()) - sim.scenario().receiver_rpy.z();
+    f.add_odometry(sim.walk(bearing, rel.head<2>().norm() > 3.0 ? 1.0 : 0.3));
+    if (f.process(sim.measure()).reinitialised) ++*reinitialisations;
+  }
+  return (f.estimate(0).relative.position - sim.true_relative_position()).norm();
+}
+
+TEST(SogFilterTest, WindowedInnovationTestRecoversALostMixture) {
+  int reinit_off = 0, reinit_on = 0;
+  const double err_off = run_lost_filter(0, &reinit_off);
+  const double err_on = run_lost_filter(6, &reinit_on);
+  EXPECT_EQ(reinit_off, 0);
+  EXPECT_GT(err_off, 5.0) << "the lost mixture should not find the transmitter by itself";
+  EXPECT_GE(reinit_on, 1);
+  EXPECT_LT(err_on, 1.0);
+}
+
+TEST(SogFilterTest, WindowedInnovationTestIsQuietOnAConsistentRun) {
+  // Same walk as ConvergesOnTruthWhileWalkingTowardsIt: no false re-initialisation.
+  SimulationConfig sc;
+  AvalancheSimulator sim(sc, fixed_scenario(), 11);
+  SogConfig cfg;
+  cfg.initial_components = 600;
+  SogFilter f(cfg);
+  f.process(sim.measure());
+  for (int k = 0; k < 33; ++k) {
+    const Vec3 rel = sim.true_relative_position();
+    const double bearing = std::atan2(rel.y(), rel.x()) - sim.scenario().receiver_rpy.z();
+    f.add_odometry(sim.walk(bearing, 1.0));
+    EXPECT_FALSE(f.process(sim.measure()).reinitialised) << "step " << k;
+  }
+  SogConfig bad;
+  bad.divergence_window = 101;
+  EXPECT_THROW(bad.validate(), ConfigError);
+}
+
+}  // namespace
+}  // namespace sarloc::avalanche

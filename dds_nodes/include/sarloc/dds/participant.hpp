@@ -33,6 +33,9 @@ struct ParticipantConfig {
   std::uint32_t domain_id = 0;
   /// Participant name seen by discovery tools (fastdds discovery, monitor).
   std::string name = "sarloc";
+  /// Refuse to start unless the profile enables DDS Security (deploy/security/). Whatever this
+  /// says, a profile that sets any dds.sec.* property must set all of them correctly.
+  bool require_security = false;
 
   /// Throws ConfigError naming the field, the value and the rule.
   void validate() const;
@@ -48,6 +51,8 @@ class Participant {
 
   eprosima::fastdds::dds::DomainParticipant* get() const { return participant_; }
   const ParticipantConfig& config() const { return config_; }
+  /// True when the participant runs with DDS Security (checked at start-up).
+  bool secured() const { return secured_; }
 
   /// The topic `name` of type `type` (registered and created once, then shared).
   eprosima::fastdds::dds::Topic* topic(const std::string& name, eprosima::fastdds::dds::TypeSupport type);
@@ -55,6 +60,7 @@ class Participant {
  private:
   ParticipantConfig config_;
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
+  bool secured_ = false;
   std::mutex topics_mutex_;
   std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
 };
