@@ -28,8 +28,14 @@ bool check_security(const eprosima::fastdds::dds::DomainParticipantQos& qos, con
     if (p.name().rfind("dds.sec.", 0) != 0) continue;
     any = true;
     const std::string& value = p.value();
+    // Fast DDS reads certificates, keys and signed documents only from "file://<path>" URIs
+    // (an absolute path gives "file:///..."); "file:<path>" makes it refuse the participant.
     if (value.rfind("file:", 0) == 0) {
-      const std::string path = value.substr(5);
+      if (value.rfind("file://", 0) != 0) {
+        throw ConfigError("profile '" + profile + "': " + p.name() + " = '" + value +
+                          "': a file must be given as file://<path>");
+      }
+      const std::string path = value.substr(7);
       if (!std::filesystem::is_regular_file(path)) {
         throw ConfigError("profile '" + profile + "': " + p.name() + " = '" + value + "': no such file");
       }

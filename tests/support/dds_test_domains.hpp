@@ -16,6 +16,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainMalformedInput = 126,
   kDomainSectorSplit = 127,
   kDomainManyParticipants = 128,
+  kDomainSecurity = 129,
   kDomainMissionSmall = 130,  // mission_test: 130..139
 };
 

@@ -55,11 +55,13 @@ TEST(SecurityCheck, RequiredButAbsentIsRefused) {
 
 TEST(SecurityCheck, MissingCertificateFileIsNamed) {
   auto qos = secure_qos();
-  qos.properties().properties().emplace_back("dds.sec.auth.builtin.PKI-DH.identity_ca", "file:/nonexistent/ca.pem");
-  expect_refused(qos, false, "identity_ca = 'file:/nonexistent/ca.pem': no such file");
+  qos.properties().properties().emplace_back("dds.sec.auth.builtin.PKI-DH.identity_ca", "file:///nonexistent/ca.pem");
+  expect_refused(qos, false, "identity_ca = 'file:///nonexistent/ca.pem': no such file");
   const std::string present = ::testing::TempDir() + "/ca.pem";
   std::ofstream(present) << "x";
   qos.properties().properties().back().value("file:" + present);
+  expect_refused(qos, false, "must be given as file://<path>");
+  qos.properties().properties().back().value("file://" + present);
   EXPECT_TRUE(check_security(qos, "p", true));
 }
 

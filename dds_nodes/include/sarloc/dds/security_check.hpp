@@ -14,7 +14,8 @@ namespace sarloc::dds {
 ///  - any dds.sec.* property is set but authentication (builtin.PKI-DH), access control
 ///    (builtin.Access-Permissions) and encryption (builtin.AES-GCM-GMAC) are not all there,
 ///    spelled exactly;
-///  - a "file:" value names a file that does not exist.
+///  - a "file:" value is not a file:// URI (Fast DDS's only accepted form) or names a file that
+///    does not exist.
 /// Returns true when the participant will be secured.
 bool check_security(const eprosima::fastdds::dds::DomainParticipantQos& qos, const std::string& profile,
                     bool require_security);

@@ -1,0 +1,111 @@
+#!/usr/bin/env bash
+# Creates the DDS Security material for one incident (docs/operations.md, "Security"):
+#   OUT/ca.{pem,key}                 the incident's certificate authority (identity + permissions)
+#   OUT/governance.p7s               deploy/security/governance.xml signed by the CA (S/MIME)
+#   OUT/<node>/{cert.pem,key.pem}    each node's identity (CN=<node>)
+#   OUT/<node>/permissions.p7s       what <node> may publish and subscribe, signed by the CA
+#   OUT/<node>/secure.xml            participant profile "sarloc_secure" for <node>: localhost
+#                                    transports plus the dds.sec.* properties pointing at the files
+# Usage: make-certs.sh OUT NODE [NODE...]     e.g. make-certs.sh /etc/sarloc/security core command r1 r2
+# Keep OUT/ca.key offline once the nodes are issued. Re-running adds nodes with the same CA.
+set -euo pipefail
+if [[ $# -lt 2 ]]; then
+  echo "usage: $0 OUT_DIR NODE [NODE...]" >&2
+  exit 64
+fi
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+out=$(mkdir -p "$1" && cd "$1" && pwd)
+shift
+command -v openssl >/dev/null || { echo "make-certs.sh: openssl is needed (apt-get install openssl)" >&2; exit 1; }
+
+if [[ ! -f "$out/ca.pem" ]]; then
+  openssl ecparam -name prime256v1 -genkey -noout -out "$out/ca.key" 2>/dev/null
+  openssl req -new -x509 -sha256 -key "$out/ca.key" -out "$out/ca.pem" -days 3650 \
+    -subj "/O=sarloc/CN=sarloc incident CA" 2>/dev/null
+fi
+openssl smime -sign -text -in "$here/governance.xml" -out "$out/governance.p7s" \
+  -signer "$out/ca.pem" -inkey "$out/ca.key" 2>/dev/null
+
+not_before=$(date -u +%Y-%m-%dT%H:%M:%S)
+not_after=$(date -u -d '+10 years' +%Y-%m-%dT%H:%M:%S)
+for node in "$@"; do
+  dir="$out/$node"
+  mkdir -p "$dir"
+  openssl ecparam -name prime256v1 -genkey -noout -out "$dir/key.pem" 2>/dev/null
+  openssl req -new -sha256 -key "$dir/key.pem" -out "$dir/cert.csr" -subj "/O=sarloc/CN=$node" 2>/dev/null
+  openssl x509 -req -sha256 -in "$dir/cert.csr" -CA "$out/ca.pem" -CAkey "$out/ca.key" -CAcreateserial \
+    -out "$dir/cert.pem" -days 3650 2>/dev/null
+  rm -f "$dir/cert.csr"
+  subject=$(openssl x509 -noout -subject -nameopt RFC2253 -in "$dir/cert.pem" | sed 's/^subject=//')
+  cat > "$dir/permissions.xml" <<XML
+<?xml version="1.0" encoding="UTF-8"?>
+<dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance"
+     xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-Security/20170801/omg_shared_ca_permissions.xsd">
+  <permissions>
+    <grant name="${node}_grant">
+      <subject_name>${subject}</subject_name>
+      <validity><not_before>${not_before}</not_before><not_after>${not_after}</not_after></validity>
+      <allow_rule>
+        <domains><id_range><min>0</min><max>232</max></id_range></domains>
+        <publish><topics><topic>sarloc/*</topic></topics></publish>
+        <subscribe><topics><topic>sarloc/*</topic></topics></subscribe>
+      </allow_rule>
+      <default>DENY</default>
+    </grant>
+  </permissions>
+</dds>
+XML
+  openssl smime -sign -text -in "$dir/permissions.xml" -out "$dir/permissions.p7s" \
+    -signer "$out/ca.pem" -inkey "$out/ca.key" 2>/dev/null
+  cat > "$dir/secure.xml" <<XML
+<?xml version="1.0" encoding="UTF-8" ?>
+<!-- sarloc_secure for ${node}: the localhost transports of config/dds/localhost.xml plus DDS
+     Security (authentication, access control, encryption). Edit the transports for a field
+     network (see config/dds/lan.xml). sarloc checks these settings at start-up and refuses to
+     run if one is missing or misspelled. -->
+<dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
+  <profiles>
+    <transport_descriptors>
+      <transport_descriptor>
+        <transport_id>sarloc_secure_udp4</transport_id>
+        <type>UDPv4</type>
+        <interfaceWhiteList><address>127.0.0.1</address></interfaceWhiteList>
+        <maxInitialPeersRange>32</maxInitialPeersRange>
+      </transport_descriptor>
+    </transport_descriptors>
+    <participant profile_name="sarloc_secure">
+      <rtps>
+        <name>${node}</name>
+        <useBuiltinTransports>false</useBuiltinTransports>
+        <userTransports><transport_id>sarloc_secure_udp4</transport_id></userTransports>
+        <builtin>
+          <metatrafficUnicastLocatorList>
+            <locator><udpv4><address>127.0.0.1</address></udpv4></locator>
+          </metatrafficUnicastLocatorList>
+          <initialPeersList>
+            <locator><udpv4><address>127.0.0.1</address></udpv4></locator>
+          </initialPeersList>
+        </builtin>
+        <defaultUnicastLocatorList>
+          <locator><udpv4><address>127.0.0.1</address></udpv4></locator>
+        </defaultUnicastLocatorList>
+        <propertiesPolicy>
+          <properties>
+            <property><name>dds.sec.auth.plugin</name><value>builtin.PKI-DH</value></property>
+            <property><name>dds.sec.auth.builtin.PKI-DH.identity_ca</name><value>file://${out}/ca.pem</value></property>
+            <property><name>dds.sec.auth.builtin.PKI-DH.identity_certificate</name><value>file://${dir}/cert.pem</value></property>
+            <property><name>dds.sec.auth.builtin.PKI-DH.private_key</name><value>file://${dir}/key.pem</value></property>
+            <property><name>dds.sec.access.plugin</name><value>builtin.Access-Permissions</value></property>
+            <property><name>dds.sec.access.builtin.Access-Permissions.permissions_ca</name><value>file://${out}/ca.pem</value></property>
+            <property><name>dds.sec.access.builtin.Access-Permissions.governance</name><value>file://${out}/governance.p7s</value></property>
+            <property><name>dds.sec.access.builtin.Access-Permissions.permissions</name><value>file://${dir}/permissions.p7s</value></property>
+            <property><name>dds.sec.crypto.plugin</name><value>builtin.AES-GCM-GMAC</value></property>
+          </properties>
+        </propertiesPolicy>
+      </rtps>
+    </participant>
+  </profiles>
+</dds>
+XML
+  echo "make-certs.sh: $node -> $dir/secure.xml"
+done

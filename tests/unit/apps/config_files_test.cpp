@@ -1,0 +1,85 @@
+// Every shipped config and every valid example loads; every invalid example fails with a
+// message naming the key and value (its first line says what: "# expect: <text>").
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "eval_config.hpp"
+#include "sarloc/app/mission_config.hpp"
+
+namespace sarloc::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<fs::path> yaml_files(const fs::path& dir) {
+  std::vector<fs::path> out;
+  if (!fs::is_directory(dir)) return out;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    if (entry.path().extension() == ".yaml") out.push_back(entry.path());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::string expectation(const fs::path& file) {
+  std::ifstream in(file);
+  std::string first;
+  std::getline(in, first);
+  const std::string tag = "# expect: ";
+  return first.rfind(tag, 0) == 0 ? first.substr(tag.size()) : "";
+}
+
+const fs::path kSource = SARLOC_SOURCE_DIR;
+
+TEST(ConfigFiles, ShippedAndValidMissionsLoad) {
+  std::vector<fs::path> files = yaml_files(kSource / "config/missions");
+  for (const auto& f : yaml_files(kSource / "tests/integration/mission")) files.push_back(f);
+  for (const auto& f : yaml_files(kSource / "tests/config/valid/mission")) files.push_back(f);
+  ASSERT_GE(files.size(), 3U);
+  for (const auto& f : files) {
+    EXPECT_NO_THROW(load_mission_config(f.string())) << f;
+  }
+}
+
+TEST(ConfigFiles, ShippedAndValidEvaluationConfigsLoad) {
+  std::vector<fs::path> files = yaml_files(kSource / "config/eval");
+  for (const auto& f : yaml_files(kSource / "tests/config/valid/eval")) files.push_back(f);
+  ASSERT_GE(files.size(), 2U);
+  for (const auto& f : files) {
+    avalanche::EvaluationSetup setup;
+    EXPECT_NO_THROW(eval::load_avalanche_config(f.string(), setup)) << f;
+  }
+}
+
+template <class Load>
+void expect_all_invalid(const fs::path& dir, Load load) {
+  const auto files = yaml_files(dir);
+  ASSERT_FALSE(files.empty()) << dir;
+  for (const auto& f : files) {
+    const std::string expected = expectation(f);
+    ASSERT_FALSE(expected.empty()) << f << " has no '# expect:' first line";
+    try {
+      load(f.string());
+      ADD_FAILURE() << f << " loaded but should fail with '" << expected << "'";
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos)
+          << f << ": message '" << e.what() << "' does not contain '" << expected << "'";
+    }
+  }
+}
+
+TEST(ConfigFiles, InvalidMissionsFailNamingKeyAndValue) {
+  expect_all_invalid(kSource / "tests/config/invalid/mission", [](const std::string& f) { load_mission_config(f); });
+}
+
+TEST(ConfigFiles, InvalidEvaluationConfigsFailNamingKeyAndValue) {
+  expect_all_invalid(kSource / "tests/config/invalid/eval", [](const std::string& f) {
+    avalanche::EvaluationSetup setup;
+    eval::load_avalanche_config(f, setup);
+  });
+}
+
+}  // namespace
+}  // namespace sarloc::app
