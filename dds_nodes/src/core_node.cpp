@@ -66,28 +66,18 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
   });
 
   // Listener callbacks: convert, refuse what cannot even be converted, enqueue.
-  measurement_reader_ = std::make_unique<Reader<::sarloc::FieldMeasurement>>(
-      participant_,
-      [this](const ::sarloc::FieldMeasurement& s, const auto&) {
-        const std::string id = s.rescuer_id().to_string();
-        try {
-          enqueue(id, to_core(s));
-        } catch (const InputError& e) {
-          reject(id, "invalid_value", e.what());
-        }
-      },
-      in_partitions(config_.partitions));
-  odometry_reader_ = std::make_unique<Reader<::sarloc::Odometry>>(
-      participant_,
-      [this](const ::sarloc::Odometry& s, const auto&) {
-        const std::string id = s.rescuer_id().to_string();
-        try {
-          enqueue(id, to_core(s));
-        } catch (const InputError& e) {
-          reject(id, "invalid_value", e.what());
-        }
-      },
-      in_partitions(config_.partitions));
+  auto convert_and_enqueue = [this](const auto& sample, const auto&) {
+    const std::string id = sample.rescuer_id().to_string();
+    try {
+      enqueue(id, to_core(sample));
+    } catch (const InputError& e) {
+      reject(id, "invalid_value", e.what());
+    }
+  };
+  measurement_reader_ = std::make_unique<Reader<::sarloc::FieldMeasurement>>(participant_, convert_and_enqueue,
+                                                                             in_partitions(config_.partitions));
+  odometry_reader_ = std::make_unique<Reader<::sarloc::Odometry>>(participant_, convert_and_enqueue,
+                                                                  in_partitions(config_.partitions));
   // Victims incident command declares found: stop guiding this sector's rescuers to them.
   victim_reader_ = std::make_unique<Reader<::sarloc::FusedVictim>>(
       participant_, [this](const ::sarloc::FusedVictim& v, const auto&) {

@@ -66,6 +66,7 @@ void read_search(YamlReader r, avalanche::SearchConfig& c) {
   r.read("approach_radius_fraction", c.approach_radius_fraction);
   r.read("fine_search_radius_m", c.fine_search_radius_m);
   r.read("located_radius_m", c.located_radius_m);
+  r.read("located_radius_per_range", c.located_radius_per_range);
   r.read("found_distance_m", c.found_distance_m);
   r.read("probe_step_m", c.probe_step_m);
   r.read("flux_smoothing", c.flux_smoothing);

@@ -31,6 +31,7 @@ void SearchConfig::validate() const {
   check("approach_mahalanobis", approach_mahalanobis, 0.0, 100.0, false);
   check("fine_search_radius_m", fine_search_radius_m, 0.0, 50.0, false);
   check("located_radius_m", located_radius_m, 0.0, 50.0, true);
+  check("located_radius_per_range", located_radius_per_range, 0.0, 1.0, false);
   check("found_distance_m", found_distance_m, 0.0, 50.0, true);
   check("probe_step_m", probe_step_m, 0.0, 10.0, true);
   check("approach_radius_fraction", approach_radius_fraction, 0.0, 1.0, true);
@@ -56,9 +57,16 @@ double SearchController::radius95_2d(const Mat3& cov) {
   return std::sqrt(kChi2_2_95 * std::max(l, 0.0));
 }
 
+double SearchController::located_radius(const Vec3& relative_position) const {
+  // Position precision degrades with range (|H| ~ 1/r^3: a relative field error gives a
+  // relative range error), so a deep burial can never reach a fixed radius that suits a
+  // shallow one (measured: a 5.6 m burial estimated to 0.15 m, 95 % radius stalled at 0.48 m).
+  return std::max(config_.located_radius_m, config_.located_radius_per_range * relative_position.norm());
+}
+
 EstimatorStatus SearchController::assess(const VictimEstimate& e) const {
   if (e.status == EstimatorStatus::kInitialising) return e.status;
-  if (radius95_3d(e.relative.covariance) > config_.located_radius_m) return e.status;
+  if (radius95_3d(e.relative.covariance) > located_radius(e.relative.position)) return e.status;
   if (e.relative.position.head<2>().norm() <= config_.found_distance_m)
     return EstimatorStatus::kFound;
   return EstimatorStatus::kLocated;

@@ -8,25 +8,33 @@
 
 namespace sarloc::avalanche {
 namespace {
+
 constexpr double kDeg = kPi / 180.0;
+
+}  // namespace
+
+Vec3 normal3(std::mt19937_64& rng) {
+  std::normal_distribution<double> n01(0.0, 1.0);
+  const double x = n01(rng);
+  const double y = n01(rng);
+  const double z = n01(rng);
+  return Vec3(x, y, z);
 }
 
 Vec3 simulate_field(const SimulationConfig& config, const ReceiverPose& receiver, const Vec3& transmitter,
                     const Vec3& moment, std::mt19937_64& rng) {
-  std::normal_distribution<double> n01(0.0, 1.0);
   const Vec3 h_world = DipoleField::field(receiver.position - transmitter, moment);
   const double sigma = config.field_noise_relative * h_world.norm() + config.field_noise_floor_A_per_m;
   const Mat3 r_world = rotation_from_rpy(receiver.rpy);
-  return r_world.transpose() * h_world + sigma * Vec3(n01(rng), n01(rng), n01(rng));
+  return r_world.transpose() * h_world + sigma * normal3(rng);
 }
 
 OrientationObservation simulate_attitude(const SimulationConfig& config, const ReceiverPose& receiver,
                                          std::mt19937_64& rng) {
-  std::normal_distribution<double> n01(0.0, 1.0);
   const double s_rp = config.attitude_roll_pitch_sigma_deg * kDeg;
   const double s_y = config.attitude_yaw_sigma_deg * kDeg;
   OrientationObservation o;
-  o.rpy = receiver.rpy + Vec3(s_rp * n01(rng), s_rp * n01(rng), s_y * n01(rng));
+  o.rpy = receiver.rpy + Vec3(s_rp, s_rp, s_y).cwiseProduct(normal3(rng));
   o.rpy.z() = wrap_angle(o.rpy.z());
   o.covariance = Vec3(s_rp * s_rp, s_rp * s_rp, s_y * s_y).asDiagonal();
   return o;
@@ -34,13 +42,13 @@ OrientationObservation simulate_attitude(const SimulationConfig& config, const R
 
 Odometry simulate_step(const SimulationConfig& config, ReceiverPose& receiver, double bearing_rad, double step_m,
                        std::mt19937_64& rng) {
-  std::normal_distribution<double> n01(0.0, 1.0);
   const Mat3 r_prev = rotation_from_rpy(receiver.rpy);
   const double heading = wrap_angle(receiver.rpy.z() + bearing_rad);
   const Vec3 delta(step_m * std::cos(heading), step_m * std::sin(heading), 0.0);
   receiver.position += delta;
   const double sway = config.sway_roll_pitch_deg * kDeg;
-  receiver.rpy = Vec3(sway * n01(rng), sway * n01(rng), heading);
+  const Vec3 sway_draw = normal3(rng);  // roll, pitch (the third draw keeps the stream in threes)
+  receiver.rpy = Vec3(sway * sway_draw.x(), sway * sway_draw.y(), heading);
   const Mat3 r_now = rotation_from_rpy(receiver.rpy);
   const Vec3 t_true = r_prev.transpose() * delta;
   const Vec3 rot_true = rpy_from_rotation(r_prev.transpose() * r_now);
@@ -49,8 +57,8 @@ Odometry simulate_step(const SimulationConfig& config, ReceiverPose& receiver, d
   const double s_y = config.odometry_yaw_sigma_deg * kDeg;
   const double s_t = std::max(config.odometry_translation_relative * t_true.norm(), config.odometry_translation_floor_m);
   Odometry o;
-  o.translation = t_true + s_t * Vec3(n01(rng), n01(rng), n01(rng));
-  o.rotation_rpy = rot_true + Vec3(s_rp * n01(rng), s_rp * n01(rng), s_y * n01(rng));
+  o.translation = t_true + s_t * normal3(rng);
+  o.rotation_rpy = rot_true + Vec3(s_rp, s_rp, s_y).cwiseProduct(normal3(rng));
   for (int k = 0; k < 3; ++k) o.rotation_rpy[k] = wrap_angle(o.rotation_rpy[k]);
   o.covariance.setZero();
   o.covariance.diagonal() << s_t * s_t, s_t * s_t, s_t * s_t, s_rp * s_rp, s_rp * s_rp, s_y * s_y;

@@ -1,5 +1,7 @@
 #include "sarloc/core/avalanche/simulator.hpp"
 
+#include "sarloc/core/avalanche/sensor_simulation.hpp"
+
 #include <cmath>
 #include <sstream>
 
@@ -30,13 +32,15 @@ Scenario draw_scenario(const SimulationConfig& c, std::mt19937_64& rng) {
   const double depth =
       std::max(c.min_burial_depth_m, std::fabs(n01(rng)) * c.burial_depth_p95_m / 1.959963984540054);
   s.transmitter = Vec3(dist * std::cos(az), dist * std::sin(az), -depth);
-  Vec3 dir(n01(rng), n01(rng), n01(rng));
-  while (dir.norm() < 1e-9) dir = Vec3(n01(rng), n01(rng), n01(rng));
+  Vec3 dir = normal3(rng);
+  while (dir.norm() < 1e-9) dir = normal3(rng);
   const double mag = c.standard.moment_min() + (c.standard.moment_max() - c.standard.moment_min()) * u01(rng);
   s.moment = mag * dir.normalized();
   s.receiver = Vec3(0.0, 0.0, c.antenna_height_m);
-  s.receiver_rpy = Vec3(c.sway_roll_pitch_deg * kDeg * n01(rng), c.sway_roll_pitch_deg * kDeg * n01(rng),
-                        wrap_angle(2.0 * kPi * u01(rng)));
+  const double sway_roll = c.sway_roll_pitch_deg * kDeg * n01(rng);
+  const double sway_pitch = c.sway_roll_pitch_deg * kDeg * n01(rng);
+  const double heading = wrap_angle(2.0 * kPi * u01(rng));
+  s.receiver_rpy = Vec3(sway_roll, sway_pitch, heading);
   return s;
 }
 
@@ -81,59 +85,28 @@ AvalancheSimulator::AvalancheSimulator(SimulationConfig config, Scenario scenari
     : config_((config.validate(), config)), scenario_(scenario), rng_(seed) {}
 
 FieldMeasurement AvalancheSimulator::measure() {
-  std::normal_distribution<double> n01(0.0, 1.0);
-  const Vec3 r = scenario_.receiver - scenario_.transmitter;
-  const Vec3 h_g = DipoleField::field(r, scenario_.moment);
-  const Mat3 r_w = rotation_from_rpy(scenario_.receiver_rpy);
-  const double floor = config_.field_noise_floor_A_per_m;
-  const double sigma = config_.field_noise_relative * h_g.norm() + floor;
+  const ReceiverPose pose{scenario_.receiver, scenario_.receiver_rpy};
   FieldMeasurement m;
   m.rescuer_id = "sim";
   m.signal_id = 1;
   m.sequence = ++sequence_;
   m.stamp = stamp_;
-  m.field = r_w.transpose() * h_g + sigma * Vec3(n01(rng_), n01(rng_), n01(rng_));
-  m.noise_stddev = Vec3::Constant(floor);  // the device knows its additive floor
-  if (sequence_ == 1 || config_.attitude_updates) {
-    OrientationObservation o;
-    const double srp = config_.attitude_roll_pitch_sigma_deg * kDeg;
-    const double sy = config_.attitude_yaw_sigma_deg * kDeg;
-    o.rpy = scenario_.receiver_rpy + Vec3(srp * n01(rng_), srp * n01(rng_), sy * n01(rng_));
-    o.rpy.z() = wrap_angle(o.rpy.z());
-    o.covariance = Vec3(srp * srp, srp * srp, sy * sy).asDiagonal();
-    m.orientation = o;
-  }
+  m.field = simulate_field(config_, pose, scenario_.transmitter, scenario_.moment, rng_);
+  m.noise_stddev = Vec3::Constant(config_.field_noise_floor_A_per_m);  // the device knows its additive floor
+  if (sequence_ == 1 || config_.attitude_updates) m.orientation = simulate_attitude(config_, pose, rng_);
   return m;
 }
 
 Odometry AvalancheSimulator::walk(double bearing_rad, double step_m) {
-  std::normal_distribution<double> n01(0.0, 1.0);
-  const Mat3 r_prev = rotation_from_rpy(scenario_.receiver_rpy);
-  const double heading = wrap_angle(scenario_.receiver_rpy.z() + bearing_rad);
-  const Vec3 delta(step_m * std::cos(heading), step_m * std::sin(heading), 0.0);
-  scenario_.receiver += delta;
-  const double sway = config_.sway_roll_pitch_deg * kDeg;
-  scenario_.receiver_rpy = Vec3(sway * n01(rng_), sway * n01(rng_), heading);
-  const Mat3 r_now = rotation_from_rpy(scenario_.receiver_rpy);
-  const Vec3 t_true = r_prev.transpose() * delta;
-  const Vec3 rot_true = rpy_from_rotation(r_prev.transpose() * r_now);
-
-  const double s_rp = config_.odometry_roll_pitch_sigma_deg * kDeg;
-  const double s_y = config_.odometry_yaw_sigma_deg * kDeg;
-  const double s_t = std::max(config_.odometry_translation_relative * t_true.norm(),
-                              config_.odometry_translation_floor_m);
-  Odometry o;
+  ReceiverPose pose{scenario_.receiver, scenario_.receiver_rpy};
+  Odometry o = simulate_step(config_, pose, bearing_rad, step_m, rng_);
+  scenario_.receiver = pose.position;
+  scenario_.receiver_rpy = pose.rpy;
   o.rescuer_id = "sim";
   o.sequence = ++odo_sequence_;
   o.interval_start = stamp_;
   stamp_ += 1'000'000'000;  // one measurement per second
   o.interval_end = stamp_;
-  o.translation = t_true + s_t * Vec3(n01(rng_), n01(rng_), n01(rng_));
-  o.rotation_rpy = rot_true + Vec3(s_rp * n01(rng_), s_rp * n01(rng_), s_y * n01(rng_));
-  for (int k = 0; k < 3; ++k) o.rotation_rpy[k] = wrap_angle(o.rotation_rpy[k]);
-  o.covariance.setZero();
-  o.covariance.diagonal() << s_t * s_t, s_t * s_t, s_t * s_t, s_rp * s_rp, s_rp * s_rp, s_y * s_y;
-  o.source = OdometrySource::kSimulated;
   return o;
 }
 

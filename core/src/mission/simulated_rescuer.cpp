@@ -51,10 +51,9 @@ avalanche::Odometry SimulatedRescuer::walk(double bearing_rad, double step_m, Ti
 }
 
 incident::ResponderPosition SimulatedRescuer::gnss(TimestampNs stamp) {
-  std::normal_distribution<double> n01(0.0, 1.0);
   const double s = scenario_.gnss_sigma_m;
   const Vec3 sigma(s, s, 2.0 * s);
-  const Vec3 draw(n01(rng_), n01(rng_), n01(rng_));
+  const Vec3 draw = avalanche::normal3(rng_);
   if (!last_fix_) {
     gnss_bias_ = sigma.cwiseProduct(draw);  // stationary from the first fix on
   } else {
@@ -69,7 +68,7 @@ incident::ResponderPosition SimulatedRescuer::gnss(TimestampNs stamp) {
   p.responder_id = spec_.id;
   p.team_id = spec_.team;
   p.stamp = stamp;
-  p.position.position = pose_.position + gnss_bias_ + w * Vec3(n01(rng_), n01(rng_), n01(rng_));
+  p.position.position = pose_.position + gnss_bias_ + w * avalanche::normal3(rng_);
   p.position.covariance = (sigma.cwiseAbs2() + Vec3::Constant(w * w)).asDiagonal();
   p.heading_rad = pose_.rpy.z();
   p.source = incident::PositionSource::kGnss;

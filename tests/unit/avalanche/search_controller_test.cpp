@@ -75,3 +75,33 @@ TEST(SearchControllerTest, BearingIsRelativeToReceiverForwardAxis) {
 
 }  // namespace
 }  // namespace sarloc::avalanche
+
+namespace sarloc::avalanche {
+namespace {
+
+// Precision scales with range, so "located" does too: a deep burial is located at a radius a
+// shallow one is not (a fixed radius left a 5.6 m burial unfound for 150 steps).
+TEST(SearchControllerLocated, RadiusScalesWithRangeAboveTheNearRangeFloor) {
+  SearchController controller;  // defaults: 0.4 m floor, 8 % of range
+  VictimEstimate e;
+  e.status = EstimatorStatus::kConverged;
+  // A 95 % 3-D radius of 0.48 m: sqrt(chi2_3(0.95) * sigma^2) = 0.48 -> sigma^2 = 0.48^2 / 7.815.
+  e.relative.covariance = Mat3::Identity() * (0.48 * 0.48 / 7.8147);
+  ASSERT_NEAR(SearchController::radius95_3d(e.relative.covariance), 0.48, 1e-3);
+
+  e.relative.position = Vec3(1.5, 0.0, -2.0);  // 2.5 m away: the 0.4 m floor applies
+  EXPECT_EQ(controller.assess(e), EstimatorStatus::kConverged);
+  e.relative.position = Vec3(1.5, 0.0, -6.6);  // 6.8 m away: 8 % of it is 0.54 m
+  EXPECT_EQ(controller.assess(e), EstimatorStatus::kLocated);
+  e.relative.position = Vec3(0.2, 0.0, -6.6);  // on top of it
+  EXPECT_EQ(controller.assess(e), EstimatorStatus::kFound);
+
+  SearchConfig fixed;
+  fixed.located_radius_per_range = 0.0;
+  EXPECT_EQ(SearchController(fixed).assess(e), EstimatorStatus::kConverged);
+  fixed.located_radius_per_range = 1.5;
+  EXPECT_THROW(fixed.validate(), ConfigError);
+}
+
+}  // namespace
+}  // namespace sarloc::avalanche

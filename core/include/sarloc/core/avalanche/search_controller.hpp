@@ -12,7 +12,7 @@
 //   kFound           located AND the rescuer stands within found_distance_m of the estimate.
 // Criteria (applied identically in every trial):
 //   located: 95 % radius of the mixture position, sqrt(chi2_3(0.95) lambda_max(P_p)),
-//            <= located_radius_m (eq. (18) includes the spread between modes, so a multimodal
+//            <= max(located_radius_m, located_radius_per_range * |p_mean|) (eq. (18) includes the spread between modes, so a multimodal
 //            mixture is never "located");
 //   found:   located and horizontal |p_mean| <= found_distance_m (G_k is rescuer-centred).
 //
@@ -35,7 +35,10 @@ struct SearchConfig {
   /// its initial value (a ring still uniform at the noise floor has a wandering mean).
   double approach_radius_fraction = 1.0;
   double fine_search_radius_m = 2.0;   ///< below this horizontal distance: fine search
-  double located_radius_m = 0.4;       ///< 95 % 3-D radius for "located"
+  double located_radius_m = 0.4;       ///< 95 % 3-D radius for "located" (near range)
+  /// ... or this fraction of the antenna-to-victim distance, whichever is larger: precision
+  /// scales with range, so deep burials are located at a proportionally larger radius.
+  double located_radius_per_range = 0.08;
   double found_distance_m = 0.5;       ///< horizontal distance to the estimate for "found"
   double probe_step_m = 0.5;           ///< sideways step when on top but not yet located
   double flux_smoothing = 0.7;         ///< memory of the SNR-weighted flux-line direction
@@ -61,6 +64,8 @@ class SearchController {
   GuidanceMode mode() const { return mode_; }
   const SearchConfig& config() const { return config_; }
 
+  /// The 95 % radius below which an estimate at `relative_position` counts as located.
+  double located_radius(const Vec3& relative_position) const;
   /// 95 % radius (m) of a 3-D position covariance along its worst axis.
   static double radius95_3d(const Mat3& covariance);
   /// 95 % radius (m) of the horizontal 2-D marginal along its worst axis.

@@ -17,6 +17,11 @@ struct ReceiverPose {
   Vec3 rpy = Vec3::Zero();       ///< roll, pitch, yaw of R in the world (rad)
 };
 
+/// Three standard normal draws, x then y then z. Draws written as constructor arguments,
+/// Vec3(n(rng), n(rng), n(rng)), happen in an order C++ leaves to the compiler, and a seed
+/// must give the same trial with every compiler.
+Vec3 normal3(std::mt19937_64& rng);
+
 /// Noisy field of a transmitter (position, moment in the world) at the receiver, in frame R:
 /// per axis sigma = field_noise_relative * |H| + field_noise_floor.
 Vec3 simulate_field(const SimulationConfig& config, const ReceiverPose& receiver, const Vec3& transmitter,
