@@ -17,6 +17,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainSectorSplit = 127,
   kDomainManyParticipants = 128,
   kDomainSecurity = 129,
+  kDomainDiscoveryServer = 140,
   kDomainMissionSmall = 130,  // mission_test: 130..139
 };
 

@@ -1,0 +1,64 @@
+// sarloc-rescuer's recorded sensor files (docs/configuration.md): epochs grouped by the field
+// samples' stamp, malformed lines skipped without losing the rest.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "sarloc/core/common/errors.hpp"
+#include "sensor_source.hpp"
+
+namespace sarloc::rescuer {
+namespace {
+
+std::string write_file(const std::string& text) {
+  const std::string path = ::testing::TempDir() + "/recorded.jsonl";
+  std::ofstream(path) << text;
+  return path;
+}
+
+const char* kCov6 = "[1e-4,0,0,0,0,0, 0,1e-4,0,0,0,0, 0,0,1e-4,0,0,0, 0,0,0,1e-5,0,0, 0,0,0,0,1e-5,0, 0,0,0,0,0,1e-4]";
+
+TEST(RecordedSource, GroupsEpochsByFieldStampAndSkipsMalformedLines) {
+  std::string text;
+  text += std::string(R"({"type":"odometry","sequence":1,"interval_start_ns":0,"interval_end_ns":1000000000,"translation":[1,0,0],"rotation_rpy":[0,0,0.1],"covariance":)") + kCov6 + "}\n";
+  text += R"({"type":"position","stamp_ns":1000000000,"position":[10,20,1],"covariance":[1,0,0,0,1,0,0,0,4]})" "\n";
+  text += R"({"type":"field","signal_id":1,"sequence":1,"stamp_ns":1000000000,"field":[1e-7,2e-8,-3e-9],"noise_stddev":[2e-9,2e-9,2e-9]})" "\n";
+  text += R"({"type":"field","signal_id":2,"sequence":1,"stamp_ns":1000000000,"field":[4e-8,1e-8,0],"noise_stddev":[2e-9,2e-9,2e-9],"orientation_rpy":[0,0,1.5],"orientation_covariance":[1e-4,0,0,0,1e-4,0,0,0,1e-3]})" "\n";
+  text += "this is not json\n";
+  text += R"({"type":"field","signal_id":1,"sequence":2,"stamp_ns":2000000000,"field":[1e-7,"x",0],"noise_stddev":[2e-9,2e-9,2e-9]})" "\n";
+  text += R"({"type":"teleport","stamp_ns":2000000000})" "\n";
+  text += "\n";
+  text += std::string(R"({"type":"odometry","sequence":2,"interval_start_ns":1000000000,"interval_end_ns":2000000000,"translation":[0.5,0,0],"rotation_rpy":[0,0,0],"covariance":)") + kCov6 + "}\n";
+  text += R"({"type":"field","signal_id":1,"sequence":2,"stamp_ns":2000000000,"field":[2e-7,0,0],"noise_stddev":[2e-9,2e-9,2e-9]})" "\n";
+
+  RecordedSource source(write_file(text), "r9", "team-x");
+  const auto first = source.next(0, std::nullopt);
+  ASSERT_TRUE(first.has_value());
+  EXPECT_EQ(first->stamp, 1'000'000'000);
+  ASSERT_EQ(first->odometry.size(), 1U);
+  EXPECT_EQ(first->odometry[0].rescuer_id, "r9");
+  EXPECT_DOUBLE_EQ(first->odometry[0].covariance(5, 5), 1e-4);
+  ASSERT_TRUE(first->position.has_value());
+  EXPECT_EQ(first->position->team_id, "team-x");
+  ASSERT_EQ(first->measurements.size(), 2U);
+  EXPECT_FALSE(first->measurements[0].orientation.has_value());
+  ASSERT_TRUE(first->measurements[1].orientation.has_value());
+  EXPECT_DOUBLE_EQ(first->measurements[1].orientation->rpy.z(), 1.5);
+
+  const auto second = source.next(0, std::nullopt);
+  ASSERT_TRUE(second.has_value());
+  EXPECT_EQ(second->stamp, 2'000'000'000);
+  ASSERT_EQ(second->odometry.size(), 1U);
+  ASSERT_EQ(second->measurements.size(), 1U) << "the malformed field line of this stamp must be skipped";
+  EXPECT_DOUBLE_EQ(second->measurements[0].field.x(), 2e-7);
+  EXPECT_EQ(source.skipped_lines(), 3U);  // not JSON, a string in "field", an unknown type
+  EXPECT_NEAR(source.distance_walked_m(), 1.5, 1e-12);
+  EXPECT_FALSE(source.next(0, std::nullopt).has_value());
+}
+
+TEST(RecordedSource, MissingFileIsAConfigError) {
+  EXPECT_THROW(RecordedSource("/nonexistent/sensors.jsonl", "r", "t"), ConfigError);
+}
+
+}  // namespace
+}  // namespace sarloc::rescuer
