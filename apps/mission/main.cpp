@@ -26,6 +26,7 @@ using namespace sarloc;
 namespace fs = std::filesystem;
 
 struct Fault {
+  bool restart = false;  ///< --restart (start again what an earlier --kill stopped) instead of --kill
   std::string target;  ///< "core", "command" or a rescuer id
   double at_s = 0.0;   ///< mission seconds
   bool done = false;
@@ -33,17 +34,20 @@ struct Fault {
   double link_lost_after_s = -1.0;  ///< rescuer faults: wall seconds until command reported it lost
 };
 
-Fault parse_fault(const std::string& text) {
+Fault parse_fault(const std::string& text, bool restart) {
+  const std::string option = restart ? "--restart" : "--kill";
   const auto at = text.rfind('@');
-  if (at == std::string::npos || at == 0) throw ConfigError("--kill = '" + text + "': expected TARGET@SECONDS");
+  if (at == std::string::npos || at == 0) throw ConfigError(option + " = '" + text + "': expected TARGET@SECONDS");
   Fault f;
+  f.restart = restart;
   f.target = text.substr(0, at);
   try {
     f.at_s = std::stod(text.substr(at + 1));
   } catch (const std::exception&) {
-    throw ConfigError("--kill = '" + text + "': '" + text.substr(at + 1) + "' is not a number of seconds");
+    throw ConfigError(option + " = '" + text + "': '" + text.substr(at + 1) + "' is not a number of seconds");
   }
-  if (!(f.at_s >= 0.0)) throw ConfigError("--kill = '" + text + "': time must be >= 0");
+  if (!(f.at_s >= 0.0)) throw ConfigError(option + " = '" + text + "': time must be >= 0");
+  if (restart && f.target != "core") throw ConfigError(option + " = '" + text + "': only core can be restarted");
   return f;
 }
 
@@ -65,11 +69,13 @@ int main(int argc, char** argv) {
   std::string run_dir;
   std::string log_level = "info";
   std::vector<std::string> kills;
+  std::vector<std::string> restarts;
   double startup_s = 3.0;
   int domain = -1;
   cli.add_option("mission", config_path, "mission YAML")->capture_default_str();
   cli.add_option("--json", json_path, "write the summary as JSON here");
   cli.add_option("--run-dir", run_dir, "folder for the processes' logs and summaries (default: a new one in /tmp)");
+  cli.add_option("--restart", restarts, "start the core daemon(s) again at mission SECONDS after a --kill, e.g. core@25");
   cli.add_option("--kill", kills, "fault injection: SIGKILL TARGET (core, command or a rescuer id) at mission SECONDS, e.g. core@40");
   cli.add_option("--startup", startup_s, "wall seconds given to the processes to start and discover each other");
   cli.add_option("--domain", domain, "DDS domain id for every process, overriding dds.domain_id of the mission");
@@ -82,10 +88,11 @@ int main(int argc, char** argv) {
     const auto mission = app::load_mission_config(config_path);
     std::vector<Fault> faults;
     for (const auto& k : kills) {
-      auto f = parse_fault(k);
+      auto f = parse_fault(k, false);
       if (f.target != "core" && f.target != "command") mission.scenario.rescuer_index(f.target);  // known id?
       faults.push_back(f);
     }
+    for (const auto& r : restarts) faults.push_back(parse_fault(r, true));
     const fs::path bin_dir = fs::canonical("/proc/self/exe").parent_path();
     if (run_dir.empty()) run_dir = (fs::temp_directory_path() / ("sarloc-mission-" + std::to_string(getpid()))).string();
     fs::create_directories(run_dir);
@@ -131,12 +138,17 @@ int main(int argc, char** argv) {
 
     std::vector<std::unique_ptr<app::ChildProcess>> cores;
     std::vector<std::string> sectors = mission.sectors.empty() ? std::vector<std::string>{""} : mission.sectors;
-    for (const auto& sector : sectors) {
-      std::vector<std::string> args{(bin_dir / "sarloc-core").string(), "-c", config_abs, "--domain", domain_arg, "--log-level", log_level};
-      if (!sector.empty()) args.insert(args.end(), {"--sector", sector});
-      const std::string name = sector.empty() ? "core" : "core-" + sector;
-      cores.push_back(std::make_unique<app::ChildProcess>(name, args, log_file(name)));
-    }
+    auto start_cores = [&](const std::string& suffix) {
+      cores.clear();
+      for (const auto& sector : sectors) {
+        std::vector<std::string> args{(bin_dir / "sarloc-core").string(), "-c", config_abs, "--domain", domain_arg,
+                                      "--log-level", log_level};
+        if (!sector.empty()) args.insert(args.end(), {"--sector", sector});
+        const std::string name = (sector.empty() ? "core" : "core-" + sector) + suffix;
+        cores.push_back(std::make_unique<app::ChildProcess>(name, args, log_file(name)));
+      }
+    };
+    start_cores("");
     auto command = std::make_unique<app::ChildProcess>(
         "command",
         std::vector<std::string>{(bin_dir / "sarloc-command").string(), "-c", config_abs, "--epoch-ns", epoch_arg,
@@ -166,6 +178,11 @@ int main(int argc, char** argv) {
         if (f.done || mission_s < f.at_s) continue;
         f.done = true;
         f.when = std::chrono::steady_clock::now();
+        if (f.restart) {
+          spdlog::warn("fault injection: restarting {} at mission second {:.1f}", f.target, mission_s);
+          start_cores("-restarted");  // a new daemon: no filter state survives
+          continue;
+        }
         spdlog::warn("fault injection: killing {} at mission second {:.1f}", f.target, mission_s);
         if (f.target == "core") {
           for (auto& c : cores) c->kill_now();
@@ -179,7 +196,7 @@ int main(int argc, char** argv) {
       {
         std::lock_guard<std::mutex> lock(picture.mutex);
         for (auto& f : faults) {
-          if (!f.done || f.link_lost_after_s >= 0.0 || f.target == "core" || f.target == "command") continue;
+          if (!f.done || f.restart || f.link_lost_after_s >= 0.0 || f.target == "core" || f.target == "command") continue;
           const auto it = picture.links.find(f.target);
           if (it != picture.links.end() && it->second == incident::LinkState::kLost) {
             f.link_lost_after_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - f.when).count();
@@ -193,7 +210,7 @@ int main(int argc, char** argv) {
       if (found >= true_count) {
         // Let the pending link-lost detections finish before stopping.
         const bool waiting_link = std::any_of(faults.begin(), faults.end(), [&](const Fault& f) {
-          return f.done && f.link_lost_after_s < 0.0 && f.target != "core" && f.target != "command" &&
+          return f.done && !f.restart && f.link_lost_after_s < 0.0 && f.target != "core" && f.target != "command" &&
                  std::chrono::steady_clock::now() - f.when < std::chrono::seconds(30);
         });
         if (!waiting_link) {
@@ -329,6 +346,8 @@ int main(int argc, char** argv) {
         entry["fallbacks"] = s.value("fallbacks", 0);
         entry["latency_ms"] = s.value("latency_ms", nlohmann::json::object());
         entry["gnss_error_m"] = s.value("gnss_error_m", -1.0);
+        entry["guided_by"] = s.value("guided_by", nlohmann::json::object());
+        entry["daemon_after_fallback"] = s.value("daemon_after_fallback", 0);
         std::printf("%-10s %18.1f %10d %10.1f / %-10.1f\n", r.id.c_str(), s.value("distance_walked_m", 0.0),
                     s.value("fallbacks", 0), entry["latency_ms"].value("p50", -1.0),
                     entry["latency_ms"].value("p99", -1.0));
@@ -339,7 +358,7 @@ int main(int argc, char** argv) {
     }
     out["faults"] = nlohmann::json::array();
     for (const auto& f : faults) {
-      nlohmann::json fj{{"target", f.target}, {"at_s", f.at_s}, {"done", f.done}};
+      nlohmann::json fj{{"action", f.restart ? "restart" : "kill"}, {"target", f.target}, {"at_s", f.at_s}, {"done", f.done}};
       if (f.link_lost_after_s >= 0.0) fj["link_lost_after_s"] = f.link_lost_after_s;
       out["faults"].push_back(fj);
     }

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <thread>
 
 #include "sarloc/app/logging.hpp"
@@ -119,6 +120,8 @@ int main(int argc, char** argv) {
     }
     std::optional<avalanche::Guidance> followed;
     std::vector<double> latencies;
+    std::map<std::string, std::size_t> guided_by;  // epochs per guidance source
+    std::size_t daemon_after_fallback = 0;          // daemon-guided epochs after the first fallback
     std::size_t epochs = 0;
     const auto period_ns = static_cast<TimestampNs>(mission.period_s * 1e9);
     sarloc::dds::EpochResult last;
@@ -140,6 +143,8 @@ int main(int argc, char** argv) {
       ++epochs;
       if (last.latency_ms >= 0.0) latencies.push_back(last.latency_ms);
       followed = last.guidance;
+      ++guided_by[sarloc::dds::to_string(last.source)];
+      if (node.fallbacks() > 0 && last.source == sarloc::dds::GuidanceSource::kDaemon) ++daemon_after_fallback;
       if (!quiet) spdlog::info("{}", display_line(rescuer_id, last));
     }
 
@@ -149,6 +154,8 @@ int main(int argc, char** argv) {
       j["epochs"] = epochs;
       j["distance_walked_m"] = sensors->distance_walked_m();
       j["fallbacks"] = node.fallbacks();
+      j["guided_by"] = guided_by;
+      j["daemon_after_fallback"] = daemon_after_fallback;
       j["latency_ms"] = {{"samples", latencies.size()},
                          {"p50", percentile(latencies, 0.5)},
                          {"p99", percentile(latencies, 0.99)}};

@@ -218,9 +218,12 @@ EpochResult RescuerNode::epoch(const std::vector<avalanche::Odometry>& odometry,
 
   if (was_reachable_ && !result.daemon_reachable) {
     ++fallbacks_;
-    spdlog::warn("{}: core daemon unreachable ({}): guiding on the device", config_.rescuer_id,
-                 cores_lost ? "its liveliness was lost"
-                            : "no answer for " + std::to_string(config_.fallback_timeout_s) + " s");
+    if (cores_lost) {
+      spdlog::warn("{}: core daemon unreachable (its liveliness was lost): guiding on the device", config_.rescuer_id);
+    } else {
+      spdlog::warn("{}: core daemon unreachable (no answer for {:.1f} s): guiding on the device", config_.rescuer_id,
+                   config_.fallback_timeout_s);
+    }
   } else if (!was_reachable_ && result.daemon_reachable && answered) {
     spdlog::info("{}: core daemon reachable", config_.rescuer_id);
   }

@@ -93,6 +93,21 @@ TEST(Mission, KilledDaemonLeavesRescuersGuidingOnTheirDevices) {
   EXPECT_GE(fallbacks, 1) << "no rescuer noticed the daemon was gone";
 }
 
+// A restarted daemon starts with empty filters: the devices keep their own guidance until the
+// daemon's estimates catch up with theirs, then follow the daemon again; nothing is lost.
+TEST(Mission, RestartedDaemonTakesOverAgainWithoutLosingTheSearch) {
+  const auto run = run_mission("small.yaml", kDomainMissionSmall + 3, "--kill core@8 --restart core@16");
+  expect_complete(run);
+  int fallbacks = 0;
+  int resumed = 0;
+  for (const auto& r : run.summary["rescuers"]) {
+    fallbacks += r.value("fallbacks", 0);
+    resumed += r.value("daemon_after_fallback", 0);
+  }
+  EXPECT_GE(fallbacks, 1) << "no rescuer noticed the daemon was gone";
+  EXPECT_GT(resumed, 0) << "no rescuer followed the restarted daemon again";
+}
+
 TEST(Mission, TwoCoreInstancesSplitTheRescuersBySector) {
   const auto run = run_mission("sectors.yaml", kDomainMissionSmall + 5, "--log-level info");
   // This test is about the split: the incident-frame error is GNSS-bound (tested above).
