@@ -4,7 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include "sarloc/app/logging.hpp"
-#include "sarloc/app/mission_config.hpp"
+#include "sarloc/app/node_options.hpp"
 #include "sarloc/app/run_main.hpp"
 #include "sarloc/app/shutdown_signal.hpp"
 
@@ -12,29 +12,22 @@ int main(int argc, char** argv) {
   using namespace sarloc;
   app::install_shutdown_handlers();
   CLI::App cli{"sarloc-core: localization core daemon (one SOG filter per rescuer and signal)"};
-  std::string config_path;
+  app::NodeOptions options;
   std::string sector;
-  std::string log_level = "info";
   double duration_s = 0.0;
-  int domain = -1;
-  cli.add_option("-c,--config", config_path, "mission/daemon YAML (config/missions/default.yaml)")->required();
+  app::add_node_options(cli, options);
   cli.add_option("--sector", sector, "serve only this sector's rescuers (a name under sectors:)");
-  cli.add_option("--domain", domain, "DDS domain id, overriding dds.domain_id of the config");
-  cli.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical, off");
   cli.add_option("--duration", duration_s, "stop after this many wall seconds (0 = until SIGINT/SIGTERM)");
-  cli.set_version_flag("--version", SARLOC_VERSION);
   CLI11_PARSE(cli, argc, argv);
 
   return app::run_main("sarloc-core", [&] {
-    app::setup_logging(log_level, sector.empty() ? "core" : "core-" + sector);
-    const auto mission = app::load_mission_config(config_path);
+    app::setup_logging(options.log_level, sector.empty() ? "core" : "core-" + sector);
+    const auto mission = app::load_mission_config(options.config_path);
     if (!sector.empty() && std::find(mission.sectors.begin(), mission.sectors.end(), sector) == mission.sectors.end()) {
       throw ConfigError("--sector = '" + sector + "': not one of the mission's sectors");
     }
     auto node_config = mission.core_config(sector);
-    auto dds_config = mission.dds;
-    if (domain >= 0) dds_config.domain_id = static_cast<std::uint32_t>(domain);
-    dds_config.name = node_config.node_id;
+    const auto dds_config = options.participant(mission, node_config.node_id);
     auto participant = std::make_shared<sarloc::dds::Participant>(dds_config);
     sarloc::dds::CoreNode node(participant, node_config);
     spdlog::info("{} running on domain {} (profile {})", node_config.node_id, dds_config.domain_id, dds_config.profile);

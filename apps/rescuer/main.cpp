@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "sarloc/app/logging.hpp"
-#include "sarloc/app/mission_config.hpp"
+#include "sarloc/app/node_options.hpp"
 #include "sarloc/app/run_main.hpp"
 #include "sarloc/app/shutdown_signal.hpp"
 #include "sensor_source.hpp"
@@ -74,31 +74,24 @@ double percentile(std::vector<double> v, double q) {
 int main(int argc, char** argv) {
   app::install_shutdown_handlers();
   CLI::App cli{"sarloc-rescuer: the rescuer's device app (simulated or recorded sensors)"};
-  std::string config_path;
+  app::NodeOptions options;
   std::string rescuer_id;
   std::string source = "sim";
   std::string summary_path;
-  std::string log_level = "info";
-  std::int64_t epoch_ns = 0;
-  int domain = -1;
   bool quiet = false;
-  cli.add_option("-c,--config", config_path, "mission YAML (config/missions/default.yaml)")->required();
+  app::add_node_options(cli, options);
   cli.add_option("--id", rescuer_id, "this rescuer's id (one of the mission's rescuers)")->required();
   cli.add_option("--source", source, "'sim' (mission simulator) or a recorded sensor file (JSON lines)");
-  cli.add_option("--epoch-ns", epoch_ns, "mission start, ns since the Unix epoch (sarloc-mission sets it; default now)");
   cli.add_option("--summary", summary_path, "write a JSON summary here on exit");
-  cli.add_option("--domain", domain, "DDS domain id, overriding dds.domain_id of the config");
-  cli.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical, off");
   cli.add_flag("--quiet", quiet, "do not print the guidance line every epoch");
-  cli.set_version_flag("--version", SARLOC_VERSION);
   CLI11_PARSE(cli, argc, argv);
 
   return app::run_main("sarloc-rescuer", [&] {
-    app::setup_logging(log_level, rescuer_id);
-    const auto mission = app::load_mission_config(config_path);
+    app::setup_logging(options.log_level, rescuer_id);
+    const auto mission = app::load_mission_config(options.config_path);
     const auto node_config = mission.rescuer_config(rescuer_id);  // throws ConfigError for an unknown id
-    const TimestampNs epoch = epoch_ns > 0 ? epoch_ns : sarloc::dds::MissionClock::wall_now_ns();
-    const sarloc::dds::MissionClock clock(epoch, mission.speedup);
+    const sarloc::dds::MissionClock clock = options.clock(mission);
+    const TimestampNs epoch = clock.epoch();
 
     std::unique_ptr<rescuer::SensorSource> sensors;
     if (source == "sim") {
@@ -108,10 +101,7 @@ int main(int argc, char** argv) {
       sensors = std::make_unique<rescuer::RecordedSource>(source, rescuer_id, node_config.team);
     }
 
-    auto dds_config = mission.dds;
-    if (domain >= 0) dds_config.domain_id = static_cast<std::uint32_t>(domain);
-    dds_config.name = "rescuer-" + rescuer_id;
-    auto participant = std::make_shared<sarloc::dds::Participant>(dds_config);
+    auto participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, "rescuer-" + rescuer_id));
     sarloc::dds::RescuerNode node(participant, node_config, clock);
 
     // The first samples are worth delivering: give discovery a moment to match the daemon.

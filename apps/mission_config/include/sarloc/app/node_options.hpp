@@ -1,0 +1,33 @@
+#pragma once
+// The command-line options every DDS node shares (sarloc-core, sarloc-rescuer, sarloc-command):
+// the mission file, the log level, a DDS domain override and the mission epoch.
+//
+//   NodeOptions options;
+//   add_node_options(cli, options);
+//   ... auto participant = std::make_shared<dds::Participant>(options.participant(mission, "name"));
+#include <CLI/CLI.hpp>
+
+#include <cstdint>
+#include <string>
+
+#include "sarloc/app/mission_config.hpp"
+#include "sarloc/dds/mission_clock.hpp"
+
+namespace sarloc::app {
+
+struct NodeOptions {
+  std::string config_path;
+  std::string log_level = "info";
+  int domain = -1;            ///< < 0: the mission file's dds.domain_id
+  std::int64_t epoch_ns = 0;  ///< 0: now
+
+  /// The mission's participant settings with this node's name and the domain override.
+  dds::ParticipantConfig participant(const MissionConfig& mission, const std::string& name) const;
+  /// The mission clock from --epoch-ns (default: starting now) and the mission's speedup.
+  dds::MissionClock clock(const MissionConfig& mission) const;
+};
+
+/// Adds -c/--config (required), --log-level, --domain, --epoch-ns and --version.
+void add_node_options(CLI::App& cli, NodeOptions& options);
+
+}  // namespace sarloc::app
