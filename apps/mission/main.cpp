@@ -119,14 +119,27 @@ int main(int argc, char** argv) {
     sarloc::dds::Reader<::sarloc::FusedVictim> victim_reader(
         participant,
         [&](const ::sarloc::FusedVictim& v, const auto& info) {
-          std::lock_guard<std::mutex> lock(picture.mutex);
-          picture.victims[v.victim_id()] = sarloc::dds::to_core(v);
-          picture.instances.emplace_back(info.instance_handle, v.victim_id());
+          try {
+            auto victim = sarloc::dds::to_core(v);
+            std::lock_guard<std::mutex> lock(picture.mutex);
+            picture.victims[v.victim_id()] = std::move(victim);
+            auto& known = picture.instances;
+            if (std::none_of(known.begin(), known.end(), [&](const auto& k) { return k.first == info.instance_handle; })) {
+              known.emplace_back(info.instance_handle, v.victim_id());
+            }
+          } catch (const InputError& e) {
+            spdlog::warn("ignoring a fused victim: {}", e.what());
+          }
         },
         {}, victim_events);
     sarloc::dds::Reader<::sarloc::TeamStatus> team_reader(participant, [&](const ::sarloc::TeamStatus& t, const auto&) {
-      std::lock_guard<std::mutex> lock(picture.mutex);
-      for (const auto& m : sarloc::dds::to_core(t).members) picture.links[m.responder_id] = m.link;
+      try {
+        const auto team = sarloc::dds::to_core(t);
+        std::lock_guard<std::mutex> lock(picture.mutex);
+        for (const auto& m : team.members) picture.links[m.responder_id] = m.link;
+      } catch (const InputError& e) {
+        spdlog::warn("ignoring a team status: {}", e.what());
+      }
     });
     sarloc::dds::Reader<::sarloc::IncidentSummary> summary_reader(participant, [](const auto&, const auto&) {});
 

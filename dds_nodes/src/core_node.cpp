@@ -33,6 +33,9 @@ void CoreNodeConfig::validate() const {
 
 namespace {
 
+// A refused step may close at most this far past the last epoch (its stamp is untrusted too).
+constexpr TimestampNs kMaxEpochGapNs = 60'000'000'000;
+
 EndpointOptions in_partitions(const std::vector<std::string>& partitions) {
   EndpointOptions options;
   options.partitions = partitions;
@@ -65,28 +68,36 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
     }
   });
 
-  // Listener callbacks: convert, refuse what cannot even be converted, enqueue.
-  auto convert_and_enqueue = [this](const auto& sample, const auto&) {
-    const std::string id = sample.rescuer_id().to_string();
-    try {
-      enqueue(id, to_core(sample));
-    } catch (const InputError& e) {
-      reject(id, "invalid_value", e.what());
-    }
-  };
-  measurement_reader_ = std::make_unique<Reader<::sarloc::FieldMeasurement>>(participant_, convert_and_enqueue,
-                                                                             in_partitions(config_.partitions));
-  odometry_reader_ = std::make_unique<Reader<::sarloc::Odometry>>(participant_, convert_and_enqueue,
-                                                                  in_partitions(config_.partitions));
-  // Victims incident command declares found: stop guiding this sector's rescuers to them.
-  victim_reader_ = std::make_unique<Reader<::sarloc::FusedVictim>>(
-      participant_, [this](const ::sarloc::FusedVictim& v, const auto&) {
-        if (v.state() != ::sarloc::VICTIM_FOUND && v.state() != ::sarloc::VICTIM_RECOVERED) return;
-        for (const auto& source : v.sources()) {
-          const std::string id = source.rescuer_id().to_string();
-          enqueue(id, MarkDone{id, source.signal_id()});
-        }
-      });
+  // Readers last: they call back as soon as they exist. If one cannot be created, the
+  // threads above must be stopped before the exception leaves (a joinable std::thread
+  // destroyed by unwinding would terminate the process instead of reporting the error).
+  try {
+    // Listener callbacks: convert, refuse what cannot even be converted, enqueue.
+    auto convert_and_enqueue = [this](const auto& sample, const auto&) {
+      const std::string id = sample.rescuer_id().to_string();
+      try {
+        enqueue(id, to_core(sample));
+      } catch (const InputError& e) {
+        reject(id, "invalid_value", e.what());
+      }
+    };
+    measurement_reader_ = std::make_unique<Reader<::sarloc::FieldMeasurement>>(participant_, convert_and_enqueue,
+                                                                               in_partitions(config_.partitions));
+    odometry_reader_ = std::make_unique<Reader<::sarloc::Odometry>>(participant_, convert_and_enqueue,
+                                                                    in_partitions(config_.partitions));
+    // Victims incident command declares found: stop guiding this sector's rescuers to them.
+    victim_reader_ = std::make_unique<Reader<::sarloc::FusedVictim>>(
+        participant_, [this](const ::sarloc::FusedVictim& v, const auto&) {
+          if (v.state() != ::sarloc::VICTIM_FOUND && v.state() != ::sarloc::VICTIM_RECOVERED) return;
+          for (const auto& source : v.sources()) {
+            const std::string id = source.rescuer_id().to_string();
+            enqueue(id, MarkDone{id, source.signal_id()});
+          }
+        });
+  } catch (...) {
+    stop_threads();
+    throw;
+  }
   std::string served = "the default partition";
   if (!config_.partitions.empty()) {
     served = "partition(s)";
@@ -100,6 +111,10 @@ CoreNode::~CoreNode() {
   measurement_reader_.reset();
   odometry_reader_.reset();
   victim_reader_.reset();
+  stop_threads();
+}
+
+void CoreNode::stop_threads() {
   stopping_.store(true);
   for (auto& w : workers_) {
     {
@@ -197,6 +212,14 @@ void CoreNode::handle(Worker& worker, Work& work) {
     if (state == nullptr) return;
     if (auto rejected = state->search.add_odometry(*odometry)) {
       reject(odometry->rescuer_id, avalanche::to_string(rejected->reason), rejected->detail);
+      // A step refused for its values still says how far the rescuer's clock went: waiting
+      // for it would only make the next epoch late. Refused timing moves nothing.
+      const bool timing_ok = rejected->reason == avalanche::RejectReason::kAbsurdMotion ||
+                             rejected->reason == avalanche::RejectReason::kInvalidValue;
+      if (timing_ok && odometry->interval_end > state->odometry_until &&
+          (!state->measured_at || odometry->interval_end <= *state->measured_at + kMaxEpochGapNs)) {
+        state->odometry_until = odometry->interval_end;
+      }
     } else {
       counters_.accepted();
       state->odometry_until = std::max(state->odometry_until, odometry->interval_end);

@@ -60,7 +60,7 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
           auto guidance = to_core(g);
           std::lock_guard<std::mutex> lock(mutex_);
           remote_.guidance = guidance;
-          remote_.guidance_sequence = g.measurement_sequence();
+          remote_.guidance_sequence = std::max(remote_.guidance_sequence, g.measurement_sequence());
           remote_.guidance_mission_time = clock_.now();
           remote_.guidance_wall_ns = MissionClock::wall_now_ns();
           remote_.answered_sequence = std::max(remote_.answered_sequence, g.measurement_sequence());
@@ -80,7 +80,7 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
         if (e.status() > ::sarloc::ESTIMATOR_FOUND) return;
         {
           std::lock_guard<std::mutex> lock(mutex_);
-          remote_.status[e.signal_id()] = static_cast<avalanche::EstimatorStatus>(e.status());
+          remote_.status[e.signal_id()] = {static_cast<avalanche::EstimatorStatus>(e.status()), e.measurement_sequence()};
           remote_.answered_sequence = std::max(remote_.answered_sequence, e.measurement_sequence());
           remote_.answered_mission_time = clock_.now();
         }
@@ -103,6 +103,7 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
     std::lock_guard<std::mutex> lock(mutex_);
     auto& live = live_core_writers_;
     live.erase(std::remove(live.begin(), live.end(), handle), live.end());
+    if (live.empty()) remote_.status.clear();  // a daemon that comes back starts from nothing
   };
   core_status_reader_ = std::make_unique<Reader<::sarloc::NodeStatus>>(
       participant_,
@@ -176,7 +177,12 @@ EpochResult RescuerNode::epoch(const std::vector<avalanche::Odometry>& odometry,
   // Wait only for a daemon believed alive: an unreachable one would make every epoch late.
   if (!measurements.empty() && (was_reachable_ || remote_.answered_mission_time == 0)) {
     cv_.wait_for(lock, std::chrono::milliseconds(static_cast<std::int64_t>(config_.guidance_wait_s * 1000.0)),
-                 [&] { return remote_.guidance_sequence >= sequence; });
+                 [&] {
+                   // Both halves of the daemon's answer: the guidance and its signal's estimate.
+                   if (remote_.guidance_sequence < sequence || !remote_.guidance) return false;
+                   const auto it = remote_.status.find(remote_.guidance->signal_id);
+                   return it != remote_.status.end() && it->second.sequence >= sequence;
+                 });
   }
   const TimestampNs now = clock_.now();
   const auto timeout = static_cast<TimestampNs>(config_.fallback_timeout_s * 1e9);
@@ -199,15 +205,17 @@ EpochResult RescuerNode::epoch(const std::vector<avalanche::Odometry>& odometry,
   // The daemon's guidance counts only as the answer to this very epoch (when the target was
   // not heard, only the device coasts).
   if (fresh && !cores_lost && remote_.guidance && remote_.guidance_sequence == sequence && sequence != 0) {
+    // The daemon's estimate must answer this very epoch: an older status (or a previous
+    // daemon's) says nothing about the filter that produced this guidance.
     const auto it = remote_.status.find(remote_.guidance->signal_id);
-    const auto remote_rank = it == remote_.status.end() ? 0 : rank(it->second);
+    const auto remote_rank = it == remote_.status.end() || it->second.sequence != sequence ? 0 : rank(it->second.status);
     const auto local_rank = local_guidance ? rank(local_status(local_guidance->signal_id)) : 0;
     use_remote = remote_rank >= local_rank;
   }
   if (use_remote) {
     result.guidance = remote_.guidance;
     result.source = GuidanceSource::kDaemon;
-    for (const auto& [signal, status] : remote_.status) result.signals[signal] = status;
+    for (const auto& [signal, status] : remote_.status) result.signals[signal] = status.status;
   } else if (local_guidance) {
     result.guidance = local_guidance;
     result.source = GuidanceSource::kLocal;

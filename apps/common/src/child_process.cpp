@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstring>
 #include <thread>
 
@@ -25,7 +26,16 @@ ChildProcess::ChildProcess(std::string name, const std::vector<std::string>& arg
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
-  const int rc = posix_spawn(&pid_, args[0], &actions, nullptr, args.data(), environ);
+  // The child stops when we go (shutdown_signal.cpp: SARLOC_PARENT_PID), so a killed
+  // launcher never leaves a mission running.
+  std::vector<std::string> env_storage{"SARLOC_PARENT_PID=" + std::to_string(getpid())};
+  for (char** e = environ; *e != nullptr; ++e) {
+    if (std::strncmp(*e, "SARLOC_PARENT_PID=", 18) != 0) env_storage.emplace_back(*e);
+  }
+  std::vector<char*> env;
+  for (auto& e : env_storage) env.push_back(e.data());
+  env.push_back(nullptr);
+  const int rc = posix_spawn(&pid_, args[0], &actions, nullptr, args.data(), env.data());
   posix_spawn_file_actions_destroy(&actions);
   if (rc != 0) throw Error("cannot start " + name_ + " (" + argv[0] + "): " + std::strerror(rc));
 }
@@ -37,9 +47,14 @@ ChildProcess::~ChildProcess() {
 void ChildProcess::reap(bool block) {
   if (exit_code_ >= 0) return;
   int status = 0;
-  const pid_t r = waitpid(pid_, &status, block ? 0 : WNOHANG);
+  pid_t r = -1;
+  do {
+    r = waitpid(pid_, &status, block ? 0 : WNOHANG);
+  } while (r == -1 && errno == EINTR);  // a signal (a second Ctrl-C) must not leave a zombie
   if (r == pid_) {
     exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  } else if (r == -1 && errno == ECHILD) {
+    exit_code_ = 255;  // reaped elsewhere: gone, status unknown
   }
 }
 

@@ -1,6 +1,11 @@
 #include "sarloc/app/shutdown_signal.hpp"
 
+#include <sys/prctl.h>
+#include <unistd.h>
+
 #include <atomic>
+#include <cstdlib>
+#include <string>
 #include <csignal>
 #include <thread>
 
@@ -23,6 +28,12 @@ void install_shutdown_handlers() {
   sigemptyset(&action.sa_mask);
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
+  // Started by a launcher (ChildProcess sets SARLOC_PARENT_PID): get SIGTERM when it dies, and
+  // stop at once if it is already gone, so no mission process outlives its launcher.
+  if (const char* parent = std::getenv("SARLOC_PARENT_PID")) {
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (std::to_string(getppid()) != parent) request_shutdown();
+  }
 }
 
 bool shutdown_requested() { return g_requested.load(); }

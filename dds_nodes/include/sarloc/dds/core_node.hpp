@@ -90,6 +90,7 @@ class CoreNode {
   RescuerState* state_for(Worker& worker, const std::string& rescuer_id);
   void reject(const std::string& rescuer_id, const std::string& reason, const std::string& detail);
   void publish_status();
+  void stop_threads();
 
   CoreNodeConfig config_;
   std::shared_ptr<Participant> participant_;

@@ -81,7 +81,11 @@ class RescuerNode {
     /// Any answer of the daemon (estimate or guidance) tells it is alive and which epoch it reached.
     std::uint64_t answered_sequence = 0;
     TimestampNs answered_mission_time = 0;
-    std::map<std::uint32_t, avalanche::EstimatorStatus> status;
+    struct SignalStatus {
+      avalanche::EstimatorStatus status = avalanche::EstimatorStatus::kInitialising;
+      std::uint64_t sequence = 0;  ///< measurement it answers
+    };
+    std::map<std::uint32_t, SignalStatus> status;
   };
 
   RescuerNodeConfig config_;

@@ -5,7 +5,8 @@
 
 namespace sarloc::app {
 
-/// Installs handlers for SIGINT and SIGTERM (idempotent).
+/// Installs handlers for SIGINT and SIGTERM (idempotent). A process started by ChildProcess
+/// also stops when its launcher dies.
 void install_shutdown_handlers();
 
 /// True once SIGINT or SIGTERM arrived (or request_shutdown() was called).
