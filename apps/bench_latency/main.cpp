@@ -21,6 +21,7 @@
 
 #include "sarloc/app/child_process.hpp"
 #include "sarloc/app/logging.hpp"
+#include "sarloc/core/avalanche/evaluation.hpp"
 #include "sarloc/app/mission_config.hpp"
 #include "sarloc/app/progress_bar.hpp"
 #include "sarloc/app/run_main.hpp"
@@ -49,11 +50,6 @@ struct LoadResult {
   double rss_mb = -1.0;       ///< daemon, peak
 };
 
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return -1.0;
-  std::sort(v.begin(), v.end());
-  return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
-}
 
 // Rescuers spread over the debris so that each hears one to three victims.
 mission::MissionScenario bench_scenario(const app::MissionConfig& mission, std::size_t n, std::uint64_t seed,
@@ -153,9 +149,9 @@ LoadResult run_load(const app::MissionConfig& mission, const std::string& bin_di
   std::this_thread::sleep_for(std::chrono::seconds(1));  // stragglers
   std::lock_guard<std::mutex> lock(mutex);
   result.answered = latencies.size();
-  result.p50_ms = percentile(latencies, 0.5);
-  result.p99_ms = percentile(latencies, 0.99);
-  result.max_ms = percentile(latencies, 1.0);
+  result.p50_ms = avalanche::percentile(latencies, 0.5);
+  result.p99_ms = avalanche::percentile(latencies, 0.99);
+  result.max_ms = avalanche::percentile(latencies, 1.0);
   if (cpu.size() > 2) {
     // The first status covers start-up; the mean of the rest is the load's.
     double sum = 0.0;

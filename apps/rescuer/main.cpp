@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "sarloc/app/logging.hpp"
+#include "sarloc/core/avalanche/evaluation.hpp"
 #include "sarloc/app/node_options.hpp"
 #include "sarloc/app/run_main.hpp"
 #include "sarloc/app/shutdown_signal.hpp"
@@ -63,11 +64,6 @@ std::string display_line(const std::string& id, const sarloc::dds::EpochResult& 
   return line;
 }
 
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return -1.0;
-  std::sort(v.begin(), v.end());
-  return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
-}
 
 }  // namespace
 
@@ -147,8 +143,8 @@ int main(int argc, char** argv) {
       j["guided_by"] = guided_by;
       j["daemon_after_fallback"] = daemon_after_fallback;
       j["latency_ms"] = {{"samples", latencies.size()},
-                         {"p50", percentile(latencies, 0.5)},
-                         {"p99", percentile(latencies, 0.99)}};
+                         {"p50", avalanche::percentile(latencies, 0.5)},
+                         {"p99", avalanche::percentile(latencies, 0.99)}};
       nlohmann::json signals = nlohmann::json::array();
       for (const auto& [signal, status] : last.signals) {
         nlohmann::json s{{"signal_id", signal}, {"status", status_name(status)}};

@@ -36,11 +36,6 @@ namespace {
 // A refused step may close at most this far past the last epoch (its stamp is untrusted too).
 constexpr TimestampNs kMaxEpochGapNs = 60'000'000'000;
 
-EndpointOptions in_partitions(const std::vector<std::string>& partitions) {
-  EndpointOptions options;
-  options.partitions = partitions;
-  return options;
-}
 
 }  // namespace
 
@@ -48,8 +43,8 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
     : config_((config.validate(), std::move(config))),
       participant_(std::move(participant)),
       warnings_(std::chrono::milliseconds(static_cast<std::int64_t>(config_.warning_interval_s * 1000.0))),
-      estimate_writer_(participant_, in_partitions(config_.partitions)),
-      guidance_writer_(participant_, in_partitions(config_.partitions)),
+      estimate_writer_(participant_, EndpointOptions::in(config_.partitions)),
+      guidance_writer_(participant_, EndpointOptions::in(config_.partitions)),
       status_writer_(participant_) {
   for (const auto& id : config_.rescuers) known_rescuers_.emplace(id, false);
   for (unsigned i = 0; i < config_.workers; ++i) {
@@ -82,9 +77,9 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
       }
     };
     measurement_reader_ = std::make_unique<Reader<::sarloc::FieldMeasurement>>(participant_, convert_and_enqueue,
-                                                                               in_partitions(config_.partitions));
+                                                                               EndpointOptions::in(config_.partitions));
     odometry_reader_ = std::make_unique<Reader<::sarloc::Odometry>>(participant_, convert_and_enqueue,
-                                                                    in_partitions(config_.partitions));
+                                                                    EndpointOptions::in(config_.partitions));
     // Victims incident command declares found: stop guiding this sector's rescuers to them.
     victim_reader_ = std::make_unique<Reader<::sarloc::FusedVictim>>(
         participant_, [this](const ::sarloc::FusedVictim& v, const auto&) {

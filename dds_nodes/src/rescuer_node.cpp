@@ -11,11 +11,6 @@ namespace {
 
 int rank(avalanche::EstimatorStatus status) { return static_cast<int>(status); }
 
-EndpointOptions in_partitions(const std::vector<std::string>& partitions) {
-  EndpointOptions options;
-  options.partitions = partitions;
-  return options;
-}
 
 }  // namespace
 
@@ -47,9 +42,9 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
       clock_(clock),
       participant_(std::move(participant)),
       local_(config_.rescuer_id, config_.search),
-      measurement_writer_(participant_, in_partitions(config_.partitions)),
-      odometry_writer_(participant_, in_partitions(config_.partitions)),
-      estimate_writer_(participant_, in_partitions(config_.partitions)),
+      measurement_writer_(participant_, EndpointOptions::in(config_.partitions)),
+      odometry_writer_(participant_, EndpointOptions::in(config_.partitions)),
+      estimate_writer_(participant_, EndpointOptions::in(config_.partitions)),
       position_writer_(participant_),
       started_(clock_.now()) {
   guidance_reader_ = std::make_unique<Reader<::sarloc::Guidance>>(
@@ -70,7 +65,7 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
         }
         cv_.notify_all();
       },
-      in_partitions(config_.partitions));
+      EndpointOptions::in(config_.partitions));
   estimate_reader_ = std::make_unique<Reader<::sarloc::VictimEstimate>>(
       participant_,
       [this](const ::sarloc::VictimEstimate& e, const auto& info) {
@@ -86,7 +81,7 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
         }
         cv_.notify_all();
       },
-      in_partitions(config_.partitions));
+      EndpointOptions::in(config_.partitions));
   victim_reader_ = std::make_unique<Reader<::sarloc::FusedVictim>>(
       participant_, [this](const ::sarloc::FusedVictim& v, const auto&) {
         if (v.state() != ::sarloc::VICTIM_FOUND && v.state() != ::sarloc::VICTIM_RECOVERED) return;

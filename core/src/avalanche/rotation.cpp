@@ -57,26 +57,9 @@ Vec3 rpy_from_rotation(const Mat3& r) {
   return {std::atan2(r(2, 1), r(2, 2)), std::asin(sp), std::atan2(r(1, 0), r(0, 0))};
 }
 
-Mat3 euler_rate_to_world(const Vec3& rpy) {
-  const double cp = std::cos(rpy.y()), sp = std::sin(rpy.y());
-  const double cy = std::cos(rpy.z()), sy = std::sin(rpy.z());
-  Mat3 e;
-  e << cy * cp, -sy, 0.0,  //
-      sy * cp, cy, 0.0,    //
-      -sp, 0.0, 1.0;
-  return e;
-}
+Mat3 euler_rate_to_world(const Vec3& rpy) { return EulerTrig::from_rpy(rpy).rate_to_world(); }
 
-Mat3 world_to_euler_rate(const Vec3& rpy) {
-  const double cp = std::cos(rpy.y()), sp = std::sin(rpy.y());
-  const double cy = std::cos(rpy.z()), sy = std::sin(rpy.z());
-  const double tp = sp / cp;
-  Mat3 e;
-  e << cy / cp, sy / cp, 0.0,  //
-      -sy, cy, 0.0,            //
-      cy * tp, sy * tp, 1.0;
-  return e;
-}
+Mat3 world_to_euler_rate(const Vec3& rpy) { return EulerTrig::from_rpy(rpy).world_to_rate(); }
 
 Mat3 skew(const Vec3& v) {
   Mat3 s;

@@ -11,6 +11,13 @@ struct EndpointOptions {
   std::vector<std::string> partitions;
   /// A profile name to use instead of the topic's own ("<topic>.writer" / "<topic>.reader").
   std::string profile_override;
+
+  /// Options that only place the endpoint in `names` (a sector's partitions).
+  static EndpointOptions in(const std::vector<std::string>& names) {
+    EndpointOptions options;
+    options.partitions = names;
+    return options;
+  }
 };
 
 }  // namespace sarloc::dds
