@@ -51,6 +51,27 @@ Fault parse_fault(const std::string& text, bool restart) {
   return f;
 }
 
+// Fused victims matched one-to-one to the buried ones (minimum total distance, at most
+// kMatchRadius apart): index of the fused victim per true victim, or -1.
+constexpr double kMatchRadius = 5.0;
+
+bool is_found(const incident::FusedVictim& v) {
+  return v.state == incident::VictimState::kFound || v.state == incident::VictimState::kRecovered;
+}
+
+std::vector<int> match_to_truth(const std::vector<mission::VictimSpec>& truth,
+                                const std::vector<incident::FusedVictim>& fused) {
+  if (fused.empty()) return std::vector<int>(truth.size(), -1);
+  Eigen::MatrixXd cost(static_cast<Eigen::Index>(truth.size()), static_cast<Eigen::Index>(fused.size()));
+  for (std::size_t i = 0; i < truth.size(); ++i) {
+    for (std::size_t j = 0; j < fused.size(); ++j) {
+      const double d = (fused[j].position.position - truth[i].position).norm();
+      cost(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = d <= kMatchRadius ? d : incident::kInfeasible;
+    }
+  }
+  return incident::solve_assignment(cost);
+}
+
 // The incident picture as a late-joining dashboard sees it.
 struct Picture {
   std::mutex mutex;
@@ -205,7 +226,7 @@ int main(int argc, char** argv) {
           rescuers.at(f.target)->kill_now();
         }
       }
-      std::size_t found = 0;
+      bool every_victim_found = false;
       {
         std::lock_guard<std::mutex> lock(picture.mutex);
         for (auto& f : faults) {
@@ -216,11 +237,16 @@ int main(int argc, char** argv) {
             spdlog::info("incident command reports the link to {} lost after {:.1f} s", f.target, f.link_lost_after_s);
           }
         }
-        for (const auto& [id, v] : picture.victims) {
-          if (v.state == incident::VictimState::kFound || v.state == incident::VictimState::kRecovered) ++found;
-        }
+        // Every buried victim matched by a FOUND victim of the picture (not just as many FOUND
+        // as buried: a duplicate whose disposal is still on its way must not end the mission).
+        std::vector<incident::FusedVictim> now;
+        for (const auto& [id, v] : picture.victims) now.push_back(v);
+        const auto matched = match_to_truth(mission.scenario.victims, now);
+        every_victim_found = std::all_of(matched.begin(), matched.end(), [&](int j) {
+          return j >= 0 && is_found(now[static_cast<std::size_t>(j)]);
+        });
       }
-      if (found >= true_count) {
+      if (every_victim_found) {
         // Let the pending link-lost detections finish before stopping.
         const bool waiting_link = std::any_of(faults.begin(), faults.end(), [&](const Fault& f) {
           return f.done && !f.restart && f.link_lost_after_s < 0.0 && f.target != "core" && f.target != "command" &&
@@ -250,20 +276,12 @@ int main(int argc, char** argv) {
     for (auto& c : cores) c->stop(std::chrono::seconds(10));
 
     // Match fused victims to the truth (minimum total distance, at most match_radius apart).
-    constexpr double kMatchRadius = 5.0;
     std::vector<incident::FusedVictim> fused;
     {
       std::lock_guard<std::mutex> lock(picture.mutex);
       for (const auto& [id, v] : picture.victims) fused.push_back(v);
     }
-    Eigen::MatrixXd cost(static_cast<Eigen::Index>(true_count), static_cast<Eigen::Index>(fused.size()));
-    for (std::size_t i = 0; i < true_count; ++i) {
-      for (std::size_t j = 0; j < fused.size(); ++j) {
-        const double d = (fused[j].position.position - mission.scenario.victims[i].position).norm();
-        cost(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = d <= kMatchRadius ? d : incident::kInfeasible;
-      }
-    }
-    const auto match = fused.empty() ? std::vector<int>(true_count, -1) : incident::solve_assignment(cost);
+    const auto match = match_to_truth(mission.scenario.victims, fused);
 
     // What each rescuer's device knew (its summary): found signals and their own errors.
     std::map<std::string, nlohmann::json> device;
@@ -311,7 +329,7 @@ int main(int argc, char** argv) {
       if (j >= 0) {
         const auto& f = fused[static_cast<std::size_t>(j)];
         const double error = (f.position.position - truth.position).norm();
-        found = f.state == incident::VictimState::kFound || f.state == incident::VictimState::kRecovered;
+        found = is_found(f);
         v["victim_id"] = f.victim_id;
         v["estimate"] = {f.position.position.x(), f.position.position.y(), f.position.position.z()};
         v["error_m"] = error;
@@ -347,6 +365,23 @@ int main(int argc, char** argv) {
                   found ? "yes" : "NO");
     }
     out["all_found"] = all_found;
+    // Every victim of the picture, and whether it is one of the buried ones: a confirmed
+    // (LOCATED/FOUND) victim that matches none is a duplicate incident command would dig for.
+    out["fused_victims"] = nlohmann::json::array();
+    std::size_t confirmed = 0;
+    for (std::size_t j = 0; j < fused.size(); ++j) {
+      const auto& f = fused[j];
+      const bool matched = std::find(match.begin(), match.end(), static_cast<int>(j)) != match.end();
+      const bool is_confirmed = f.state != incident::VictimState::kUnconfirmed;
+      confirmed += is_confirmed ? 1 : 0;
+      out["fused_victims"].push_back({{"victim_id", f.victim_id},
+                                      {"position", {f.position.position.x(), f.position.position.y(), f.position.position.z()}},
+                                      {"confirmed", is_confirmed},
+                                      {"found", is_found(f)},
+                                      {"sources", f.sources.size()},
+                                      {"matches_a_buried_victim", matched}});
+    }
+    out["confirmed_fused_victim_count"] = confirmed;
     out["mission_s"] = mission_s;
     out["wall_s"] = wall_s;
     out["rescuers"] = nlohmann::json::array();

@@ -108,6 +108,7 @@ int main(int argc, char** argv) {
     std::vector<double> latencies;
     std::map<std::string, std::size_t> guided_by;  // epochs per guidance source
     std::size_t daemon_after_fallback = 0;          // daemon-guided epochs after the first fallback
+    std::map<std::uint32_t, double> error_when_found;  // simulation truth: the diggers' error
     std::size_t epochs = 0;
     const auto period_ns = static_cast<TimestampNs>(mission.period_s * 1e9);
     sarloc::dds::EpochResult last;
@@ -131,6 +132,13 @@ int main(int argc, char** argv) {
       followed = last.guidance;
       ++guided_by[sarloc::dds::to_string(last.source)];
       if (node.fallbacks() > 0 && last.source == sarloc::dds::GuidanceSource::kDaemon) ++daemon_after_fallback;
+      // The diggers' error is the one when the rescuer stood over the victim, not later.
+      for (const auto& [signal, status] : last.signals) {
+        if (status != avalanche::EstimatorStatus::kFound || error_when_found.count(signal) != 0) continue;
+        const auto estimate = node.local_search().estimate(signal);
+        const auto truth = sensors->true_relative(signal);
+        if (estimate && truth) error_when_found[signal] = (estimate->relative.position - *truth).norm();
+      }
       if (!quiet) spdlog::info("{}", display_line(rescuer_id, last));
     }
 
@@ -149,10 +157,8 @@ int main(int argc, char** argv) {
       for (const auto& [signal, status] : last.signals) {
         nlohmann::json s{{"signal_id", signal}, {"status", status_name(status)}};
         if (auto v = sensors->victim_of_signal(signal)) s["victim_index"] = *v;
-        // The diggers' view: this device's own estimate against the truth, no GNSS involved.
-        const auto estimate = node.local_search().estimate(signal);
-        const auto truth = sensors->true_relative(signal);
-        if (estimate && truth) s["relative_error_m"] = (estimate->relative.position - *truth).norm();
+        // The diggers' view: this device's own estimate against the truth when it was found.
+        if (const auto it = error_when_found.find(signal); it != error_when_found.end()) s["relative_error_m"] = it->second;
         signals.push_back(s);
       }
       j["signals"] = signals;

@@ -21,6 +21,9 @@ void CommandNodeConfig::validate() const {
   if (!(position_max_age_s > 0.0 && position_max_age_s <= 600.0)) {
     throw ConfigError("command.position_max_age_s = " + std::to_string(position_max_age_s) + ": must be in (0, 600]");
   }
+  if (!(fix_wait_s > 0.0 && fix_wait_s <= 600.0)) {
+    throw ConfigError("command.fix_wait_s = " + std::to_string(fix_wait_s) + ": must be in (0, 600]");
+  }
   if (!(antenna_height_m >= 0.0 && antenna_height_m <= 5.0)) {
     throw ConfigError("command.antenna_height_m = " + std::to_string(antenna_height_m) + ": must be in [0, 5]");
   }
@@ -163,7 +166,7 @@ void CommandNode::cycle() {
       if (!fix) {
         spdlog::debug("no fix of '{}' near stamp {}: estimate waits", e.rescuer_id, e.stamp);
         // The fix may still be on its way: keep the estimate for the next cycle, briefly.
-        if (static_cast<double>(now - e.stamp) < config_.position_max_age_s * 1e9) waiting.push_back(std::move(e));
+        if (static_cast<double>(now - e.stamp) < config_.fix_wait_s * 1e9) waiting.push_back(std::move(e));
         continue;
       }
       try {

@@ -18,7 +18,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainManyParticipants = 128,
   kDomainSecurity = 129,
   kDomainDiscoveryServer = 140,
-  kDomainMissionSmall = 130,  // mission_test: 130..139
+  kDomainMissionSmall = 130,  // mission_test: 130..139 (138: lossy.yaml)
 };
 
 }  // namespace sarloc::test

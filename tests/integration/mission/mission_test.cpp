@@ -23,13 +23,14 @@ struct MissionRun {
   fs::path run_dir;
 };
 
-MissionRun run_mission(const std::string& mission_file, std::uint32_t domain, const std::string& extra = "") {
+MissionRun run_mission(const std::string& mission_file, std::uint32_t domain, const std::string& extra = "",
+                       const std::string& prefix = "") {
   MissionRun run;
   run.run_dir = fs::temp_directory_path() / ("sarloc-mission-test-" + std::to_string(domain));
   fs::remove_all(run.run_dir);
   fs::create_directories(run.run_dir);
   const fs::path json_path = run.run_dir / "summary.json";
-  const std::string command = std::string(SARLOC_BIN_DIR) + "/sarloc-mission " + SARLOC_MISSION_DIR + "/" +
+  const std::string command = prefix + std::string(SARLOC_BIN_DIR) + "/sarloc-mission " + SARLOC_MISSION_DIR + "/" +
                               mission_file + " --domain " + std::to_string(domain) + " --run-dir " +
                               run.run_dir.string() + " --json " + json_path.string() + " " +
                               (extra.find("--log-level") == std::string::npos ? "--log-level warn " : "") + extra +
@@ -106,6 +107,34 @@ TEST(Mission, RestartedDaemonTakesOverAgainWithoutLosingTheSearch) {
   }
   EXPECT_GE(fallbacks, 1) << "no rescuer noticed the daemon was gone";
   EXPECT_GT(resumed, 0) << "no rescuer followed the restarted daemon again";
+}
+
+// A fifth of all UDP datagrams lost (UDP-only profile, so shared memory cannot bypass it):
+// RELIABLE topics retransmit, the devices fall back when answers are late, and every victim is
+// still found. Runs in its own network namespace with the loss rule (../shared/tools/isolated).
+// Opt-in (SARLOC_LOSS_TESTS=1): it still fails in about one run in four (a confirmed duplicate
+// or a victim > 1 m off; docs/benchmarks.md), so it cannot gate CI until that is fixed.
+TEST(Mission, EveryVictimFoundWithTwentyPercentUdpLoss) {
+  if (std::getenv("SARLOC_LOSS_TESTS") == nullptr) GTEST_SKIP() << "set SARLOC_LOSS_TESTS=1 to run";
+  const std::string isolated = std::string(SARLOC_SOURCE_DIR) + "/../shared/tools/isolated";
+  if (!fs::exists(isolated)) GTEST_SKIP() << "no " << isolated << " to make a lossy namespace";
+  const auto run = run_mission("lossy.yaml", 138, "", "env -u SARLOC_ISOLATED ISOLATED_UDP_LOSS=0.2 " + isolated + " ");
+  ASSERT_FALSE(run.summary.is_null()) << file_text(run.run_dir / "mission.out");
+  EXPECT_EQ(run.exit_code, 0) << file_text(run.run_dir / "mission.out");
+  for (const auto& v : run.summary["victims"]) {
+    EXPECT_TRUE(v["found"].get<bool>()) << v.dump();
+    ASSERT_FALSE(v["error_m"].is_null()) << v.dump();
+    EXPECT_LE(v["error_m"].get<double>(), 1.0) << v.dump();
+  }
+  // No confirmed duplicate: every LOCATED/FOUND victim of the picture is a buried one. (Under
+  // loss an UNCONFIRMED hypothesis may still be open when the mission ends; see the note in
+  // docs/benchmarks.md.)
+  for (const auto& f : run.summary["fused_victims"]) {
+    if (f["confirmed"].get<bool>()) {
+      EXPECT_TRUE(f["matches_a_buried_victim"].get<bool>()) << f.dump();
+    }
+  }
+  EXPECT_EQ(run.summary["confirmed_fused_victim_count"], run.summary["true_victim_count"]);
 }
 
 TEST(Mission, TwoCoreInstancesSplitTheRescuersBySector) {

@@ -35,7 +35,13 @@ struct CommandNodeConfig {
   /// Partitions to read estimates from: {"*"} when sectors split the incident, empty otherwise.
   std::vector<std::string> estimate_partitions;
   double cycle_s = 1.0;              ///< wall period of fusion and publication
-  double position_max_age_s = 5.0;   ///< a fix further than this from an estimate's stamp is not used
+  /// A fix further than this (mission s) from an estimate's stamp is not used: a rescuer walks
+  /// 1 m/s, so pairing an estimate with an older fix misplaces the victim by as much (measured:
+  /// 3.2 m under 20 % UDP loss with 5 s). Rescuers stamp their fix with the epoch's stamp, so
+  /// the matching fix is normally exact.
+  double position_max_age_s = 0.5;
+  /// An estimate whose matching fix has not arrived yet waits for it this long (mission s).
+  double fix_wait_s = 5.0;
   /// Heights in the picture are above the local snow surface (what diggers need), not GNSS
   /// altitude (poor, and irrelevant to a burial depth): a fix's height is replaced by the
   /// receiver antenna's height above the snow, with this 1-sigma (m).
