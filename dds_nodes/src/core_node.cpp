@@ -46,7 +46,7 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
       estimate_writer_(participant_, EndpointOptions::in(config_.partitions)),
       guidance_writer_(participant_, EndpointOptions::in(config_.partitions)),
       status_writer_(participant_) {
-  for (const auto& id : config_.rescuers) known_rescuers_.emplace(id, false);
+  known_rescuers_.insert(config_.rescuers.begin(), config_.rescuers.end());
   for (unsigned i = 0; i < config_.workers; ++i) {
     workers_.push_back(std::make_unique<Worker>());
     Worker& w = *workers_.back();
@@ -187,7 +187,7 @@ CoreNode::RescuerState* CoreNode::state_for(Worker& worker, const std::string& r
              "rescuer_id = '" + rescuer_id + "': already serving max_rescuers = " + std::to_string(config_.max_rescuers));
       return nullptr;
     }
-    known_rescuers_[rescuer_id] = true;
+    known_rescuers_.insert(rescuer_id);
   }
   rescuers_served_.fetch_add(1);
   spdlog::info("{}: new rescuer '{}'", config_.node_id, rescuer_id);

@@ -11,6 +11,7 @@
 #include <condition_variable>
 #include <deque>
 #include <map>
+#include <set>
 #include <memory>
 #include <thread>
 #include <variant>
@@ -99,7 +100,7 @@ class CoreNode {
   std::atomic<std::size_t> rescuers_served_{0};
   std::atomic<std::size_t> active_filters_{0};
   std::mutex rescuers_mutex_;
-  std::map<std::string, bool> known_rescuers_;  // admitted so far (max_rescuers)
+  std::set<std::string> known_rescuers_;  // listed in the config, or admitted so far (max_rescuers)
 
   Writer<::sarloc::VictimEstimate> estimate_writer_;
   Writer<::sarloc::Guidance> guidance_writer_;
