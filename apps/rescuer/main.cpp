@@ -24,7 +24,7 @@ using namespace sarloc;
 
 const char* mode_name(avalanche::GuidanceMode mode) {
   switch (mode) {
-    case avalanche::GuidanceMode::kFollowFluxLine: return "FOLLOW FLUX LINE";
+    case avalanche::GuidanceMode::kFollowFluxLine: return "COARSE SEARCH";
     case avalanche::GuidanceMode::kApproach: return "APPROACH";
     case avalanche::GuidanceMode::kFineSearch: return "FINE SEARCH";
     case avalanche::GuidanceMode::kFound: return "FOUND - PROBE HERE";

@@ -72,6 +72,11 @@ void read_search(YamlReader r, avalanche::SearchConfig& c) {
   r.read("flux_smoothing", c.flux_smoothing);
   r.read("flux_snr_cap", c.flux_snr_cap);
   r.read("flux_detection_snr2", c.flux_detection_snr2);
+  std::string opening = avalanche::to_string(c.opening_heading);
+  r.read("opening_heading", opening);
+  c.opening_heading = avalanche::parse_opening_heading(opening);
+  r.read("bearing_kernel_deg", c.bearing_kernel_deg);
+  r.read("bearing_switch_ratio", c.bearing_switch_ratio);
   r.expect_done();
 }
 

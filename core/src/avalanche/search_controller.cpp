@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "sarloc/core/avalanche/bearing_density.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
 #include "sarloc/core/common/errors.hpp"
 
@@ -38,6 +39,19 @@ void SearchConfig::validate() const {
   check("flux_smoothing", flux_smoothing, 0.0, 0.99, false);
   check("flux_snr_cap", flux_snr_cap, 0.0, 1000.0, true);
   check("flux_detection_snr2", flux_detection_snr2, 0.0, 100.0, false);
+  check("bearing_kernel_deg", bearing_kernel_deg, 0.0, 180.0, true);
+  check("bearing_switch_ratio", bearing_switch_ratio, 1.0, 100.0, false);
+}
+
+const char* to_string(OpeningHeading h) {
+  return h == OpeningHeading::kFluxLine ? "flux_line" : "posterior_bearing";
+}
+
+OpeningHeading parse_opening_heading(const std::string& text) {
+  if (text == "posterior_bearing") return OpeningHeading::kPosteriorBearing;
+  if (text == "flux_line") return OpeningHeading::kFluxLine;
+  throw ConfigError("search.opening_heading = '" + text +
+                    "': must be posterior_bearing or flux_line");
 }
 
 SearchController::SearchController(SearchConfig config) : config_(config) { config_.validate(); }
@@ -70,6 +84,46 @@ EstimatorStatus SearchController::assess(const VictimEstimate& e) const {
   if (e.relative.position.head<2>().norm() <= config_.found_distance_m)
     return EstimatorStatus::kFound;
   return EstimatorStatus::kLocated;
+}
+
+double SearchController::flux_line_heading(const SogFilter& filter, const FieldMeasurement& meas,
+                                           const Eigen::Vector2d& mean_h, const Vec3& psi) {
+  // Horizontal flux-line direction in G, weighted by its signal-to-noise ratio and
+  // low-pass filtered: with a weak signal the measured direction is mostly noise and the
+  // rescuer keeps walking straight (a baseline that makes |z| informative) instead of
+  // dithering; with a strong one it follows the line. A flux line has no sense: keep the
+  // sense of the running direction, the first one towards the mixture mean.
+  const Vec3 h_g = rotation_from_rpy(psi) * meas.field;
+  Eigen::Vector2d dir = h_g.head<2>();
+  const double sigma = filter.config().noise_relative * meas.field.norm() +
+                       std::max(filter.config().noise_floor_A_per_m, meas.noise_stddev.maxCoeff());
+  const double snr = dir.norm() / (std::sqrt(2.0) * sigma);
+  if (flux_dir_.squaredNorm() == 0.0) {
+    // Start walking towards the mixture mean (or straight ahead), with a tiny weight so
+    // that any informative flux direction takes over, while pure noise keeps it straight.
+    const Eigen::Vector2d start = mean_h.norm() > 0.0
+                                      ? Eigen::Vector2d(mean_h.normalized())
+                                      : Eigen::Vector2d(std::cos(psi.z()), std::sin(psi.z()));
+    flux_dir_ = 1e-3 * start;
+  }
+  if (dir.norm() > 0.0) {
+    dir.normalize();
+    if (dir.dot(flux_dir_) < 0.0) dir = -dir;
+    // Pure noise gives E[snr^2] = 1 on two axes: only the excess carries direction.
+    const double w = std::clamp(snr * snr - config_.flux_detection_snr2, 0.0,
+                                config_.flux_snr_cap * config_.flux_snr_cap);
+    flux_dir_ = config_.flux_smoothing * flux_dir_ + w * dir;
+    if (flux_dir_.norm() < 1e-3) flux_dir_ = 1e-3 * flux_dir_.normalized();
+  }
+  return std::atan2(flux_dir_.y(), flux_dir_.x());
+}
+
+double SearchController::posterior_bearing_heading(const SogFilter& filter) {
+  const BearingDensity density(filter.components(), config_.bearing_kernel_deg * kPi / 180.0);
+  const double peak = density.peak();
+  if (!opening_heading_ || density.at(peak) > config_.bearing_switch_ratio * density.at(*opening_heading_))
+    opening_heading_ = peak;
+  return *opening_heading_;
 }
 
 Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement& meas) {
@@ -124,37 +178,11 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
     case GuidanceMode::kFound:
       step = 0.0;
       break;
-    case GuidanceMode::kFollowFluxLine: {
-      // Horizontal flux-line direction in G, weighted by its signal-to-noise ratio and
-      // low-pass filtered: with a weak signal the measured direction is mostly noise and the
-      // rescuer keeps walking straight (a baseline that makes |z| informative) instead of
-      // dithering; with a strong one it follows the line. A flux line has no sense: keep the
-      // sense of the running direction, the first one towards the mixture mean.
-      const Vec3 h_g = rotation_from_rpy(psi) * meas.field;
-      Eigen::Vector2d dir = h_g.head<2>();
-      const double sigma = filter.config().noise_relative * meas.field.norm() +
-                           std::max(filter.config().noise_floor_A_per_m, meas.noise_stddev.maxCoeff());
-      const double snr = dir.norm() / (std::sqrt(2.0) * sigma);
-      if (flux_dir_.squaredNorm() == 0.0) {
-        // Start walking towards the mixture mean (or straight ahead), with a tiny weight so
-        // that any informative flux direction takes over, while pure noise keeps it straight.
-        const Eigen::Vector2d start = mean_h.norm() > 0.0
-                                          ? Eigen::Vector2d(mean_h.normalized())
-                                          : Eigen::Vector2d(std::cos(yaw), std::sin(yaw));
-        flux_dir_ = 1e-3 * start;
-      }
-      if (dir.norm() > 0.0) {
-        dir.normalize();
-        if (dir.dot(flux_dir_) < 0.0) dir = -dir;
-        // Pure noise gives E[snr^2] = 1 on two axes: only the excess carries direction.
-        const double w = std::clamp(snr * snr - config_.flux_detection_snr2, 0.0,
-                                    config_.flux_snr_cap * config_.flux_snr_cap);
-        flux_dir_ = config_.flux_smoothing * flux_dir_ + w * dir;
-        if (flux_dir_.norm() < 1e-3) flux_dir_ = 1e-3 * flux_dir_.normalized();
-      }
-      heading = std::atan2(flux_dir_.y(), flux_dir_.x());
+    case GuidanceMode::kFollowFluxLine:
+      heading = config_.opening_heading == OpeningHeading::kFluxLine
+                    ? flux_line_heading(filter, meas, mean_h, psi)
+                    : posterior_bearing_heading(filter);
       break;
-    }
     case GuidanceMode::kApproach:
       break;
     case GuidanceMode::kFineSearch:

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 
+#include "sarloc/core/avalanche/bearing_density.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
 #include "sarloc/core/avalanche/simulator.hpp"
 #include "sarloc/core/common/errors.hpp"
@@ -101,6 +103,69 @@ TEST(SearchControllerLocated, RadiusScalesWithRangeAboveTheNearRangeFloor) {
   EXPECT_EQ(SearchController(fixed).assess(e), EstimatorStatus::kConverged);
   fixed.located_radius_per_range = 1.5;
   EXPECT_THROW(fixed.validate(), ConfigError);
+}
+
+}  // namespace
+}  // namespace sarloc::avalanche
+
+namespace sarloc::avalanche {
+namespace {
+
+TEST(SearchControllerOpening, ParsesHeadingSourceAndNamesABadOne) {
+  EXPECT_EQ(parse_opening_heading("flux_line"), OpeningHeading::kFluxLine);
+  EXPECT_EQ(parse_opening_heading(to_string(OpeningHeading::kPosteriorBearing)),
+            OpeningHeading::kPosteriorBearing);
+  try {
+    parse_opening_heading("north");
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("search.opening_heading = 'north'"), std::string::npos);
+  }
+  SearchConfig c;
+  c.bearing_switch_ratio = 0.5;  // < 1 would turn towards a less probable bearing
+  EXPECT_THROW(c.validate(), ConfigError);
+}
+
+// The opening heading is the most probable bearing of the mixture, held until another bearing
+// is bearing_switch_ratio times as probable; checked step by step against an independent
+// BearingDensity over a weak-signal walk (where the ring stays wide for many steps).
+TEST(SearchControllerOpening, HeadsForTheMostProbableBearingWithHysteresis) {
+  Scenario s;
+  s.transmitter = Vec3(35.0, -30.0, -1.5);
+  s.moment = Vec3(0.006, 0.0, 0.004);
+  s.receiver = Vec3(0, 0, 1);
+  AvalancheSimulator sim(SimulationConfig{}, s, 5);  // a walk that both holds and turns
+  SogConfig cfg;
+  cfg.initial_components = 600;
+  SogFilter f(cfg);
+  SearchConfig sc;
+  SearchController ctl(sc);
+  const double kernel = sc.bearing_kernel_deg * kPi / 180.0;
+  std::optional<double> held;
+  int opening_steps = 0, turns = 0, holds = 0;
+  for (int k = 0; k < 40; ++k) {
+    const FieldMeasurement z = sim.measure();
+    f.process(z);
+    const BearingDensity density(f.components(), kernel);
+    const Guidance g = ctl.guide(f, z);
+    if (g.mode != GuidanceMode::kFollowFluxLine) break;
+    ++opening_steps;
+    if (!held) {
+      EXPECT_NEAR(g.heading_rad, wrap_angle(density.peak()), 1e-12);
+    } else if (density.at(density.peak()) > sc.bearing_switch_ratio * density.at(*held)) {
+      EXPECT_NEAR(g.heading_rad, wrap_angle(density.peak()), 1e-12) << "step " << k;
+      ++turns;
+    } else {
+      EXPECT_NEAR(g.heading_rad, wrap_angle(*held), 1e-12) << "step " << k;
+      ++holds;
+    }
+    held = g.heading_rad;
+    f.add_odometry(sim.walk(g.bearing_rad, g.step_m));
+  }
+  // Both branches were exercised (the scenario and seed were picked for that).
+  EXPECT_GE(opening_steps, 5);
+  EXPECT_GE(turns, 1);
+  EXPECT_GE(holds, 3);
 }
 
 }  // namespace

@@ -7,7 +7,7 @@
 namespace sarloc::avalanche {
 
 enum class GuidanceMode : std::uint8_t {
-  kFollowFluxLine = 0,  ///< walk along the measured field line
+  kFollowFluxLine = 0,  ///< opening (coarse) search: posterior bearing or flux line (SearchConfig)
   kApproach = 1,        ///< walk toward the mixture mean
   kFineSearch = 2,      ///< close in: small steps onto the mean
   kFound = 3,           ///< stop and probe

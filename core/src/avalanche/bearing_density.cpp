@@ -1,0 +1,44 @@
+#include "sarloc/core/avalanche/bearing_density.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "sarloc/core/avalanche/dipole_model.hpp"
+#include "sarloc/core/avalanche/rotation.hpp"
+
+namespace sarloc::avalanche {
+namespace {
+constexpr double kBinWidth = 2.0 * kPi / BearingDensity::kBins;
+}  // namespace
+
+int BearingDensity::bin_of(double bearing_rad) {
+  const int b = static_cast<int>(std::floor((wrap_angle(bearing_rad) + kPi) / kBinWidth));
+  return std::clamp(b, 0, kBins - 1);
+}
+
+BearingDensity::BearingDensity(const std::vector<SogComponent>& components,
+                               double kernel_sigma_rad) {
+  std::array<double, kBins> mass{};
+  for (const SogComponent& c : components) {
+    const double x = c.x(idx::kPos);
+    const double y = c.x(idx::kPos + 1);
+    if (x == 0.0 && y == 0.0) continue;  // no bearing
+    mass[bin_of(std::atan2(y, x))] += std::exp(c.log_weight);
+  }
+  // Von Mises kernel exp(kappa (cos d - 1)), kappa = 1 / sigma^2, tabulated by bin offset.
+  const double kappa = 1.0 / (kernel_sigma_rad * kernel_sigma_rad);
+  std::array<double, kBins> kernel{};
+  for (int d = 0; d < kBins; ++d) kernel[d] = std::exp(kappa * (std::cos(d * kBinWidth) - 1.0));
+  for (int j = 0; j < kBins; ++j) {
+    double s = 0.0;
+    for (int k = 0; k < kBins; ++k) s += mass[k] * kernel[(j - k + kBins) % kBins];
+    smoothed_[j] = s;
+  }
+  peak_bin_ = static_cast<int>(std::max_element(smoothed_.begin(), smoothed_.end()) - smoothed_.begin());
+}
+
+double BearingDensity::at(double bearing_rad) const { return smoothed_[bin_of(bearing_rad)]; }
+
+double BearingDensity::peak() const { return -kPi + (peak_bin_ + 0.5) * kBinWidth; }
+
+}  // namespace sarloc::avalanche

@@ -1,0 +1,63 @@
+#include "sarloc/core/avalanche/bearing_density.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "sarloc/core/avalanche/dipole_model.hpp"
+#include "sarloc/core/avalanche/rotation.hpp"
+
+namespace sarloc::avalanche {
+namespace {
+
+constexpr double kDeg = kPi / 180.0;
+
+SogComponent at_bearing(double bearing_deg, double range_m, double weight) {
+  SogComponent c;
+  c.x(idx::kPos) = range_m * std::cos(bearing_deg * kDeg);
+  c.x(idx::kPos + 1) = range_m * std::sin(bearing_deg * kDeg);
+  c.x(idx::kPos + 2) = -2.0;
+  c.log_weight = std::log(weight);
+  return c;
+}
+
+TEST(BearingDensityTest, PeakIsTheHeavierBearingWhateverTheRange) {
+  // The mixture mean of these two would lie between them; the density points at the heavier.
+  const std::vector<SogComponent> ring = {at_bearing(30.0, 20.0, 0.3), at_bearing(200.0, 55.0, 0.7)};
+  const BearingDensity d(ring, 35.0 * kDeg);
+  EXPECT_NEAR(wrap_angle(d.peak() - 200.0 * kDeg), 0.0, 2.5 * kDeg);
+  EXPECT_GT(d.at(200.0 * kDeg), d.at(30.0 * kDeg));
+  EXPECT_DOUBLE_EQ(d.at(202.0 * kDeg), d.at(202.0 * kDeg - 2.0 * kPi));  // angles wrap
+}
+
+TEST(BearingDensityTest, AnArcCountsAsOneDirection) {
+  // 0.6 spread over an arc of 80-100 degrees (0.12 each) against 0.4 at 270 degrees: each
+  // arc component is lighter, but the kernel sums the arc, so the arc wins.
+  std::vector<SogComponent> mixture;
+  for (double b = 80.0; b <= 100.0; b += 5.0) mixture.push_back(at_bearing(b, 40.0, 0.12));
+  mixture.push_back(at_bearing(270.0, 40.0, 0.4));
+  const BearingDensity smoothed(mixture, 35.0 * kDeg);
+  EXPECT_NEAR(wrap_angle(smoothed.peak() - 90.0 * kDeg), 0.0, 5.0 * kDeg);
+  // With a kernel narrower than a bin the single heavy component wins instead.
+  const BearingDensity sharp(mixture, 1.0 * kDeg);
+  EXPECT_NEAR(wrap_angle(sharp.peak() - 270.0 * kDeg), 0.0, 2.5 * kDeg);
+}
+
+TEST(BearingDensityTest, ComponentOnTheReceiverHasNoBearing) {
+  std::vector<SogComponent> mixture = {at_bearing(0.0, 0.0, 0.9), at_bearing(-120.0, 30.0, 0.1)};
+  const BearingDensity d(mixture, 35.0 * kDeg);
+  EXPECT_NEAR(wrap_angle(d.peak() + 120.0 * kDeg), 0.0, 2.5 * kDeg);
+  EXPECT_NEAR(d.at(-120.0 * kDeg), 0.1, 1e-3);  // only the bearing-carrying mass
+}
+
+TEST(BearingDensityTest, BearingAcrossMinusPiIsOneDirection) {
+  // Components either side of +-180 degrees must add up, not fall into two far-apart bins.
+  std::vector<SogComponent> mixture = {at_bearing(178.0, 40.0, 0.3), at_bearing(-178.0, 40.0, 0.3),
+                                       at_bearing(0.0, 40.0, 0.4)};
+  const BearingDensity d(mixture, 20.0 * kDeg);
+  EXPECT_NEAR(std::abs(wrap_angle(d.peak())), kPi, 5.0 * kDeg);
+}
+
+}  // namespace
+}  // namespace sarloc::avalanche
