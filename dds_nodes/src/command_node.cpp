@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "sarloc/core/incident/incident_transform.hpp"
 #include "sarloc/dds/conversions.hpp"
@@ -63,11 +64,18 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
   estimates.partitions = config_.estimate_partitions;
   estimate_reader_ = std::make_unique<Reader<::sarloc::VictimEstimate>>(
       participant_,
-      [this](const ::sarloc::VictimEstimate& e, const auto&) {
+      [this](const ::sarloc::VictimEstimate& e, const auto& info) {
         try {
           auto estimate = to_core(e);
-          spdlog::debug("estimate {}/{} status {} stamp {}", estimate.rescuer_id, estimate.signal_id,
-                        static_cast<int>(estimate.status), estimate.stamp);
+          if (spdlog::should_log(spdlog::level::debug)) {
+            // The writer tells the daemon's estimates from a device's own (fallback) ones.
+            std::string writer;
+            for (int i = 0; i < 16; ++i) writer += fmt::format("{:02x}", info.publication_handle.value[i]);
+            spdlog::debug("estimate {}/{} status {} stamp {} from writer {} relative ({:.2f}, {:.2f}, {:.2f})",
+                          estimate.rescuer_id, estimate.signal_id, static_cast<int>(estimate.status), estimate.stamp,
+                          writer, estimate.relative.position.x(), estimate.relative.position.y(),
+                          estimate.relative.position.z());
+          }
           std::lock_guard<std::mutex> lock(mutex_);
           pending_estimates_.push_back(std::move(estimate));
         } catch (const InputError& error) {
@@ -170,7 +178,13 @@ void CommandNode::cycle() {
         continue;
       }
       try {
-        fusion_.update(incident::make_source_estimate(e, *fix));
+        const auto source = incident::make_source_estimate(e, *fix);
+        spdlog::trace("source {}/{} stamp {} status {} at ({:.2f}, {:.2f}, {:.2f}) sd ({:.2f}, {:.2f}, {:.2f})",
+                      source.rescuer_id, source.signal_id, source.stamp, static_cast<int>(source.status),
+                      source.position.position.x(), source.position.position.y(), source.position.position.z(),
+                      std::sqrt(source.position.covariance(0, 0)), std::sqrt(source.position.covariance(1, 1)),
+                      std::sqrt(source.position.covariance(2, 2)));
+        fusion_.update(source);
         counters_.accepted();
       } catch (const InputError& error) {
         counters_.rejected("invalid_value");
@@ -180,6 +194,14 @@ void CommandNode::cycle() {
     pending_estimates_ = std::move(waiting);
     fusion_.step(now);
     victims = fusion_.victims();
+    if (spdlog::should_log(spdlog::level::trace)) {
+      for (const auto& v : victims) {
+        std::string sources;
+        for (const auto& src : v.sources) sources += " " + src.rescuer_id + "/" + std::to_string(src.signal_id);
+        spdlog::trace("victim {} state {} at ({:.2f}, {:.2f}, {:.2f}) sources{}", v.victim_id, static_cast<int>(v.state),
+                      v.position.position.x(), v.position.position.y(), v.position.position.z(), sources);
+      }
+    }
     removed = fusion_.take_removed();
     teams = tracker_.evaluate(now);
     last_teams_ = teams;

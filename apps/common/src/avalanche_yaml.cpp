@@ -87,6 +87,9 @@ void read_rescuer_search(YamlReader r, avalanche::RescuerSearchConfig& c) {
   r.read("max_signals", c.max_signals);
   r.read("max_step_m", c.max_step_m);
   r.read("max_rotation_rad", c.max_rotation_rad);
+  r.read("unknown_motion_speed_m_per_s", c.unknown_motion_speed_m_per_s);
+  r.read("unknown_motion_turn_rad_per_s", c.unknown_motion_turn_rad_per_s);
+  r.read("measurement_lag_tolerance_s", c.measurement_lag_tolerance_s);
   r.expect_done();
 }
 

@@ -25,6 +25,8 @@ const char* to_string(RejectReason reason) {
     case RejectReason::kStampBackwards: return "stamp_backwards";
     case RejectReason::kTooManySignals: return "too_many_signals";
     case RejectReason::kAbsurdMotion: return "absurd_motion";
+    case RejectReason::kSuperseded: return "superseded";
+    case RejectReason::kLateMeasurement: return "late_measurement";
   }
   return "unknown";
 }
@@ -41,6 +43,12 @@ void RescuerSearchConfig::validate() const {
   if (max_signals < 1 || max_signals > 64) fail("max_signals", max_signals, "must be in [1, 64]");
   if (!(max_step_m > 0.0 && max_step_m <= 1000.0)) fail("max_step_m", max_step_m, "must be in (0, 1000]");
   if (!(max_rotation_rad > 0.0 && max_rotation_rad <= 7.0)) fail("max_rotation_rad", max_rotation_rad, "must be in (0, 7]");
+  if (!(unknown_motion_speed_m_per_s > 0.0 && unknown_motion_speed_m_per_s <= 5.0))
+    fail("unknown_motion_speed_m_per_s", unknown_motion_speed_m_per_s, "must be in (0, 5]");
+  if (!(measurement_lag_tolerance_s >= 0.0 && measurement_lag_tolerance_s <= 10.0))
+    fail("measurement_lag_tolerance_s", measurement_lag_tolerance_s, "must be in [0, 10]");
+  if (!(unknown_motion_turn_rad_per_s > 0.0 && unknown_motion_turn_rad_per_s <= 3.0))
+    fail("unknown_motion_turn_rad_per_s", unknown_motion_turn_rad_per_s, "must be in (0, 3]");
 }
 
 RescuerSearch::RescuerSearch(std::string rescuer_id, RescuerSearchConfig config)
@@ -49,6 +57,11 @@ RescuerSearch::RescuerSearch(std::string rescuer_id, RescuerSearchConfig config)
 std::optional<Rejection> RescuerSearch::add_odometry(const Odometry& o) {
   if (o.rescuer_id != rescuer_id_) {
     return reject(RejectReason::kWrongRescuer, rescuer_id_, "odometry.rescuer_id = '" + o.rescuer_id + "'");
+  }
+  if (superseded_until_ != 0 && o.interval_end <= superseded_until_) {
+    return reject(RejectReason::kSuperseded, rescuer_id_,
+                  "odometry.interval_end = " + std::to_string(o.interval_end) +
+                      ": unknown motion already stood in for it (arrived too late)");
   }
   if (last_odometry_sequence_) {
     if (o.sequence == *last_odometry_sequence_) {
@@ -99,6 +112,33 @@ std::optional<Rejection> RescuerSearch::add_odometry(const Odometry& o) {
   return std::nullopt;
 }
 
+bool RescuerSearch::add_unknown_motion(TimestampNs from, TimestampNs until) {
+  from = std::max(from, last_odometry_end_);
+  if (until <= from) return false;
+  // Capped at 10 s: beyond that the displacement is no longer "a few steps" and the variance
+  // limit of an odometry sample (100 m^2) would be exceeded.
+  const double dt = std::min(static_cast<double>(until - from) * 1e-9, 10.0);
+  const double vt = std::pow(config_.unknown_motion_speed_m_per_s * dt, 2);
+  const double vz = std::pow(0.2 * config_.unknown_motion_speed_m_per_s * dt, 2) + 1e-4;  // slopes only
+  const double vyaw = std::pow(std::min(config_.unknown_motion_turn_rad_per_s * dt, 2.0), 2);
+  const double vtilt = std::pow(0.02, 2);  // roll/pitch stay bounded by gravity
+  Odometry o;
+  o.rescuer_id = rescuer_id_;
+  // The stand-in takes the place (and the sequence number) of the next sample: the late one,
+  // if it comes, is refused as superseded or as a duplicate.
+  o.sequence = last_odometry_sequence_ ? *last_odometry_sequence_ + 1 : 0;
+  o.interval_start = from;
+  o.interval_end = until;
+  o.covariance.setZero();
+  o.covariance.diagonal() << std::min(vt, 100.0), std::min(vt, 100.0), std::min(vz, 100.0), vtilt, vtilt, vyaw;
+  o.source = OdometrySource::kOther;
+  for (auto& [signal, state] : signals_) state.filter.add_odometry(o);
+  last_odometry_sequence_ = o.sequence;
+  last_odometry_end_ = until;
+  superseded_until_ = until;
+  return true;
+}
+
 std::optional<Rejection> RescuerSearch::gate(const FieldMeasurement& m) const {
   if (m.rescuer_id != rescuer_id_) {
     return reject(RejectReason::kWrongRescuer, rescuer_id_, "field_measurement.rescuer_id = '" + m.rescuer_id + "'");
@@ -132,6 +172,16 @@ std::optional<Rejection> RescuerSearch::gate(const FieldMeasurement& m) const {
     return reject(RejectReason::kStampBackwards, rescuer_id_,
                   where + "stamp = " + std::to_string(m.stamp) + " not after last " + std::to_string(s.last_stamp));
   }
+  // The odometry received already reaches well past this sample (it was retransmitted under
+  // packet loss and overtaken by a later epoch's step): the filter would apply that later
+  // motion before the update, i.e. measure from where the rescuer was not. Seen: a filter 7 m
+  // from its victim diverged to 600 m. The next sample of the signal takes the motion.
+  const auto tolerance = static_cast<TimestampNs>(config_.measurement_lag_tolerance_s * 1e9);
+  if (last_odometry_end_ > m.stamp + tolerance) {
+    return reject(RejectReason::kLateMeasurement, rescuer_id_,
+                  where + "stamp = " + std::to_string(m.stamp) + ": the odometry already reaches " +
+                      std::to_string(last_odometry_end_) + " (arrived after a later epoch)");
+  }
   return std::nullopt;
 }
 
@@ -146,6 +196,26 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
              .first;
   }
   SignalState& s = it->second;
+  if (s.found_here && s.estimate) {
+    // Found here: the victim stays where the rescuer stood over it. The filter takes no more
+    // measurement updates (while the rescuer walks off to the next victim, a late or lost
+    // odometry sample could drag it away, and it would still claim kFound: seen under 20 %
+    // packet loss, a "found" victim published 6 m off); only the odometry moves the estimate
+    // into the rescuer's current frame, its covariance growing with the odometry's.
+    const MixtureMoments mm = s.filter.predicted_moments();
+    SearchUpdate moved;
+    moved.found_earlier = true;
+    moved.estimate = *s.estimate;
+    moved.estimate.stamp = m.stamp;
+    moved.estimate.relative.position = mm.mean.segment<3>(idx::kPos);
+    moved.estimate.relative.covariance = mm.covariance.block<3, 3>(idx::kPos, idx::kPos);
+    moved.estimate.incident.reset();
+    moved.estimate.top_components.clear();  // they describe the mixture of the moment it was found
+    s.last_sequence = m.sequence;
+    s.last_stamp = m.stamp;
+    s.estimate = moved.estimate;
+    return moved;
+  }
   // The gate already checked everything the filter checks; a throw here is a numerical
   // refusal of this one sample, and the filter stays as it was.
   try {

@@ -80,6 +80,11 @@ double SearchController::located_radius(const Vec3& relative_position) const {
 
 EstimatorStatus SearchController::assess(const VictimEstimate& e) const {
   if (e.status == EstimatorStatus::kInitialising) return e.status;
+  // A buried victim is below the receiver, which is held above the snow. An estimate above it
+  // is the mirror solution of a filter that has lost the victim (H(r) = H(-r)); its 95 %
+  // radius can still look "located" (seen under packet loss: "found" 30 m up).
+  if (!(e.relative.position.z() + 2.0 * std::sqrt(std::max(e.relative.covariance(2, 2), 0.0)) < 0.0))
+    return std::min(e.status, EstimatorStatus::kConverged);
   if (radius95_3d(e.relative.covariance) > located_radius(e.relative.position)) return e.status;
   if (e.relative.position.head<2>().norm() <= config_.found_distance_m)
     return EstimatorStatus::kFound;

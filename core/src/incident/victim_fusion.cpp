@@ -97,6 +97,16 @@ bool VictimFusion::update(const SourceEstimate& estimate) {
     throw InputError(where + ".covariance: must be symmetric");
   if (Eigen::LLT<Mat3>(p).info() != Eigen::Success)
     throw InputError(where + ".covariance: must be positive definite");
+  // Heights are above the snow surface (z = 0): a victim is buried. An estimate confidently
+  // above the surface comes from a filter locked on its mirror solution and would open a
+  // ghost victim (seen under packet loss: 30 m up, "found").
+  const double z = estimate.position.position.z();
+  if (z - 5.0 * std::sqrt(p(2, 2)) > 0.0) {  // 5 sigma: never a noise draw
+    std::ostringstream os;
+    os << where << ".position.z = " << z << " m (sigma " << std::sqrt(p(2, 2))
+       << "): above the snow surface, a buried victim cannot be there";
+    throw InputError(os.str());
+  }
 
   const SourceKey key{estimate.rescuer_id, estimate.signal_id};
   auto it = sources_.find(key);

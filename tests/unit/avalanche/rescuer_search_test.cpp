@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/mission/simulated_rescuer.hpp"
 
 namespace sarloc::avalanche {
@@ -160,6 +161,151 @@ TEST(RescuerSearch, CoastingMovesTheTargetByTheStepsTakenSinceItWasHeard) {
   // Truth agrees with the coasted estimate's distance.
   const double true_distance = (s.victims[*sim.victim_of_signal(*target)].position - sim.pose().position).head<2>().norm();
   EXPECT_NEAR(coasted->distance_m, true_distance, 1.5);
+}
+
+
+// Horizontal NEES of signal `signal`'s estimate against the truth.
+double horizontal_nees(const RescuerSearch& search, std::uint32_t signal, const Vec3& truth_relative) {
+  const auto e = search.estimate(signal);
+  EXPECT_TRUE(e.has_value());
+  const Eigen::Vector2d err = e->relative.position.head<2>() - truth_relative.head<2>();
+  const Eigen::Matrix2d p = e->relative.covariance.topLeftCorner<2, 2>();
+  return err.dot(p.ldlt().solve(err));
+}
+
+// Near a victim, a measurement processed as if the rescuer had stood still while he walked
+// (his odometry late on the network) must not leave a confident wrong estimate: unknown
+// motion in place of the missing odometry keeps the filter consistent, and the late sample
+// is refused rather than applied a second time.
+TEST(RescuerSearch, UnknownMotionStandsInForLateOdometry) {
+  const auto s = scenario();
+  mission::SimulatedRescuer still_sim(s, "r"), unknown_sim(s, "r");
+  RescuerSearch still("r", quick()), unknown("r", quick());
+  std::optional<std::uint32_t> near_signal;
+  for (int k = 0; k < 11; ++k) {  // north 1 m a step: victim A ends ~4 m ahead
+    if (k > 0) {
+      ASSERT_FALSE(still.add_odometry(still_sim.walk(0.0, 1.0, k * kSecond, (k + 1) * kSecond)).has_value());
+      ASSERT_FALSE(unknown.add_odometry(unknown_sim.walk(0.0, 1.0, k * kSecond, (k + 1) * kSecond)).has_value());
+    }
+    for (const auto& m : still_sim.measure((k + 1) * kSecond)) {
+      if (still_sim.victim_of_signal(m.signal_id) == 0U) near_signal = m.signal_id;
+      still.process(m);
+    }
+    for (const auto& m : unknown_sim.measure((k + 1) * kSecond)) unknown.process(m);
+  }
+  ASSERT_TRUE(near_signal.has_value());
+  // Three steps of 1 m whose odometry does not arrive before the next measurements (a CPU-
+  // starved daemon under packet loss): the rescuer passes right by the victim meanwhile.
+  std::vector<Odometry> late;
+  for (int k = 11; k < 14; ++k) {
+    late.push_back(still_sim.walk(0.0, 1.0, k * kSecond, (k + 1) * kSecond));
+    unknown_sim.walk(0.0, 1.0, k * kSecond, (k + 1) * kSecond);
+    ASSERT_TRUE(unknown.add_unknown_motion(k * kSecond, (k + 1) * kSecond));
+    EXPECT_FALSE(unknown.add_unknown_motion(k * kSecond, (k + 1) * kSecond)) << "nothing left to stand in for";
+    for (const auto& m : still_sim.measure((k + 1) * kSecond)) still.process(m);
+    for (const auto& m : unknown_sim.measure((k + 1) * kSecond)) unknown.process(m);
+  }
+  // The late samples arrive: without a stand-in they are applied (the motion then counts
+  // twice, the measurements having pulled the filter along already); with one, refused.
+  for (const auto& o : late) {
+    ASSERT_FALSE(still.add_odometry(o).has_value());
+    const auto refused = unknown.add_odometry(o);
+    ASSERT_TRUE(refused.has_value());
+    EXPECT_EQ(refused->reason, RejectReason::kSuperseded);
+  }
+  double worst_still = 0.0, worst_unknown = 0.0;
+  for (int k = 14; k < 17; ++k) {
+    ASSERT_FALSE(still.add_odometry(still_sim.walk(0.0, 0.5, k * kSecond, (k + 1) * kSecond)).has_value());
+    ASSERT_FALSE(unknown.add_odometry(unknown_sim.walk(0.0, 0.5, k * kSecond, (k + 1) * kSecond)).has_value())
+        << "samples after the stand-in are accepted again";
+    for (const auto& m : still_sim.measure((k + 1) * kSecond)) still.process(m);
+    for (const auto& m : unknown_sim.measure((k + 1) * kSecond)) unknown.process(m);
+    const Vec3 truth = s.victims[0].position - still_sim.pose().position;
+    worst_still = std::max(worst_still, horizontal_nees(still, *near_signal, truth));
+    worst_unknown = std::max(worst_unknown, horizontal_nees(unknown, *near_signal, truth));
+  }
+  RecordProperty("nees_still", std::to_string(worst_still));
+  RecordProperty("nees_unknown", std::to_string(worst_unknown));
+  // Measured: ~2e6 against ~13 (one run of a fixed seed; the bound is chi2_2(0.9999)).
+  EXPECT_GT(worst_still, 1000.0) << "motion counted twice: confidently wrong";
+  EXPECT_LT(worst_unknown, 18.4) << "the truth stays inside the filter's own uncertainty";
+}
+
+
+// Once found, a signal's estimate takes no more measurement updates: whatever the rescuer then
+// measures, the estimate is the found one, moved only by his odometry (so it stays true).
+TEST(RescuerSearch, FoundEstimateOnlyMovesWithTheOdometry) {
+  const auto s = scenario();
+  mission::SimulatedRescuer sim(s, "r");
+  RescuerSearch search("r", quick());
+  std::optional<VictimEstimate> found;
+  TimestampNs t = 0;
+  for (int k = 0; k < 120 && !found; ++k) {
+    t = (k + 1) * kSecond;
+    std::optional<Guidance> g;
+    for (const auto& m : sim.measure(t)) {
+      auto outcome = search.process(m);
+      ASSERT_TRUE(std::holds_alternative<SearchUpdate>(outcome));
+      const auto& u = std::get<SearchUpdate>(outcome);
+      if (u.guidance) g = u.guidance;
+      if (u.estimate.status == EstimatorStatus::kFound) {
+        found = u.estimate;
+        EXPECT_FALSE(u.found_earlier) << "the moment it is found, the estimate is published";
+      }
+    }
+    if (!g) g = search.coast(t);
+    ASSERT_TRUE(g.has_value());
+    ASSERT_FALSE(search.add_odometry(sim.walk(g->bearing_rad, g->step_m, t, t + kSecond)).has_value());
+  }
+  ASSERT_TRUE(found.has_value()) << "the near victim is found within 120 steps";
+  // Walk 3 m straight ahead and measure again, feeding a field the filter could not explain.
+  ASSERT_FALSE(search.add_odometry(sim.walk(0.0, 3.0, t + kSecond, t + 2 * kSecond)).has_value());
+  for (auto m : sim.measure(t + 2 * kSecond)) {
+    if (m.signal_id != found->signal_id) continue;
+    m.field = -5.0 * m.field;
+    auto outcome = search.process(m);
+    ASSERT_TRUE(std::holds_alternative<SearchUpdate>(outcome));
+    const auto& u = std::get<SearchUpdate>(outcome);
+    EXPECT_EQ(u.estimate.status, EstimatorStatus::kFound);
+    EXPECT_EQ(u.estimate.stamp, m.stamp);
+    // Metres away from where it was found, the estimate followed the rescuer's motion and still
+    // points at the victim, whatever the field says.
+    EXPECT_GT((u.estimate.relative.position - found->relative.position).head<2>().norm(), 2.5);
+    const Vec3 truth = s.victims[*sim.victim_of_signal(m.signal_id)].position - sim.pose().position;
+    EXPECT_LT((u.estimate.relative.position - truth).head<2>().norm(), 0.5);
+    EXPECT_GT(u.estimate.relative.covariance.trace(), found->relative.covariance.trace()) << "odometry adds uncertainty";
+    EXPECT_FALSE(u.guidance.has_value()) << "never guided back to a found victim";
+    EXPECT_TRUE(u.found_earlier) << "the nodes must not publish it again";
+  }
+}
+
+
+// Under packet loss one signal's sample can be retransmitted after the next epoch's odometry
+// has arrived: processing it would apply motion made after it was taken. It is refused; the
+// signal's next sample takes the motion, and the other signal is untouched.
+TEST(RescuerSearch, SampleOvertakenByALaterStepIsRefused) {
+  const auto s = scenario();
+  mission::SimulatedRescuer sim(s, "r");
+  RescuerSearch search("r", quick());
+  feed(search, sim, 5);  // epochs 1-5: both signals known
+  const Odometry step6 = sim.walk(0.0, 1.0, 5 * kSecond, 6 * kSecond);
+  const auto epoch6 = sim.measure(6 * kSecond);
+  ASSERT_EQ(epoch6.size(), 2u);
+  const Odometry step7 = sim.walk(0.0, 1.0, 6 * kSecond, 7 * kSecond);
+  const auto epoch7 = sim.measure(7 * kSecond);
+
+  ASSERT_FALSE(search.add_odometry(step6).has_value());
+  EXPECT_TRUE(std::holds_alternative<SearchUpdate>(search.process(epoch6[0])));
+  ASSERT_FALSE(search.add_odometry(step7).has_value());  // overtakes epoch6[1]
+  const auto late = search.process(epoch6[1]);
+  ASSERT_TRUE(std::holds_alternative<Rejection>(late));
+  EXPECT_EQ(std::get<Rejection>(late).reason, RejectReason::kLateMeasurement);
+  EXPECT_NE(std::get<Rejection>(late).detail.find("stamp = " + std::to_string(6 * kSecond)), std::string::npos);
+  for (const auto& m : epoch7) EXPECT_TRUE(std::holds_alternative<SearchUpdate>(search.process(m)));
+
+  RescuerSearchConfig lenient = quick();
+  lenient.measurement_lag_tolerance_s = 20.0;
+  EXPECT_THROW(lenient.validate(), ConfigError);
 }
 
 }  // namespace

@@ -39,6 +39,24 @@ TEST(SearchControllerTest, AssessAppliesLocatedAndFoundCriteria) {
   EXPECT_NEAR(SearchController::radius95_3d(Mat3::Identity()), std::sqrt(7.814727903), 1e-6);
 }
 
+// An estimate above the receiver is a filter's mirror solution (H(r) = H(-r)), not a victim:
+// never located or found, however small its covariance or large its range.
+TEST(SearchControllerTest, AnEstimateAboveTheReceiverIsNeverLocated) {
+  SearchController ctl;
+  VictimEstimate e;
+  e.status = EstimatorStatus::kConverged;
+  e.relative.covariance = Mat3::Identity() * 0.01;
+  e.relative.position = Vec3(0.1, 0.1, 30.0);  // straight up: "found" by radius and distance
+  EXPECT_EQ(ctl.assess(e), EstimatorStatus::kConverged);
+  e.relative.position = Vec3(0.1, 0.1, -0.1);  // below, but not by 2 sigma (0.2 m)
+  EXPECT_EQ(ctl.assess(e), EstimatorStatus::kConverged);
+  e.relative.position = Vec3(0.1, 0.1, -1.5);
+  EXPECT_EQ(ctl.assess(e), EstimatorStatus::kFound);
+  e.status = EstimatorStatus::kMultimodal;
+  e.relative.position = Vec3(0.1, 0.1, 3.0);
+  EXPECT_EQ(ctl.assess(e), EstimatorStatus::kMultimodal) << "never raised";
+}
+
 TEST(SearchControllerTest, BearingIsRelativeToReceiverForwardAxis) {
   // A converged filter: walk the real loop until the controller leaves the flux line, then
   // the bearing must point the receiver at the estimate.
@@ -75,11 +93,6 @@ TEST(SearchControllerTest, BearingIsRelativeToReceiverForwardAxis) {
   EXPECT_LT(sim.true_horizontal_distance(), 1.0);
 }
 
-}  // namespace
-}  // namespace sarloc::avalanche
-
-namespace sarloc::avalanche {
-namespace {
 
 // Precision scales with range, so "located" does too: a deep burial is located at a radius a
 // shallow one is not (a fixed radius left a 5.6 m burial unfound for 150 steps).
@@ -105,11 +118,6 @@ TEST(SearchControllerLocated, RadiusScalesWithRangeAboveTheNearRangeFloor) {
   EXPECT_THROW(fixed.validate(), ConfigError);
 }
 
-}  // namespace
-}  // namespace sarloc::avalanche
-
-namespace sarloc::avalanche {
-namespace {
 
 TEST(SearchControllerOpening, ParsesHeadingSourceAndNamesABadOne) {
   EXPECT_EQ(parse_opening_heading("flux_line"), OpeningHeading::kFluxLine);

@@ -68,6 +68,22 @@ TEST(VictimFusion, RejectsBadInputAndIgnoresOlderStamps) {
   EXPECT_FALSE(f.update(src("a", 1, 1 * kSec, Vec3::Ones())));
 }
 
+// A buried victim cannot be above the snow surface (z = 0): such an estimate comes from a
+// filter on its mirror solution and must not open a victim. Within 5 sigma it is kept.
+TEST(VictimFusion, RefusesAnEstimateAboveTheSnowSurface) {
+  VictimFusion f;
+  try {
+    f.update(src("a", 1, kSec, Vec3(1.0, 2.0, 30.6), 0.4));
+    FAIL() << "30 m above the surface accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("source_estimate[a/1].position.z = 30.6"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(f.update(src("a", 1, kSec, Vec3(1.0, 2.0, 1.5), 0.4))) << "1.5 m up with sigma 0.4: noise";
+  f.step(2 * kSec);
+  EXPECT_EQ(f.victims().size(), 1u);
+  EXPECT_THROW(f.update(src("b", 1, kSec, Vec3(1.0, 2.0, 2.5), 0.4)), InputError);
+}
+
 TEST(VictimFusion, MakeSourceEstimateUsesTheTransform) {
   avalanche::VictimEstimate e;
   e.rescuer_id = "r1";

@@ -29,6 +29,13 @@ struct RescuerSearchConfig {
   std::uint32_t max_signals = 8;       ///< receivers separate a handful of signals; more is bad input
   double max_step_m = 10.0;            ///< one odometry sample moving further is absurd (m)
   double max_rotation_rad = 3.2;       ///< |rpy| of one odometry sample beyond this is absurd
+  /// Motion assumed when odometry is missing (add_unknown_motion): per-axis sigma of the
+  /// displacement per second (a rescuer walks ~1 m/s in any direction) and of the yaw change.
+  double unknown_motion_speed_m_per_s = 1.0;
+  double unknown_motion_turn_rad_per_s = 0.5;
+  /// A field sample is refused when the odometry already received reaches more than this
+  /// beyond its stamp: its filter would otherwise apply motion made after the sample was taken.
+  double measurement_lag_tolerance_s = 0.5;
 
   /// Throws ConfigError naming the key ("rescuer_search.max_signals = 0: must be in [1, 64]").
   void validate() const;
@@ -43,6 +50,8 @@ enum class RejectReason : std::uint8_t {
   kStampBackwards,     ///< timestamp not after the last accepted one
   kTooManySignals,     ///< more separated signals than max_signals
   kAbsurdMotion,       ///< odometry step or rotation beyond the limits
+  kSuperseded,         ///< odometry arrived after unknown motion stood in for its interval
+  kLateMeasurement,    ///< field sample older than the odometry already received (overtaken)
 };
 
 const char* to_string(RejectReason reason);
@@ -55,6 +64,11 @@ struct Rejection {
 struct SearchUpdate {
   VictimEstimate estimate;          ///< of the measured signal, status refined by assess()
   std::optional<Guidance> guidance; ///< present when the measured signal is the target
+  /// The victim was found by this rescuer at an earlier epoch: `estimate` is the found one
+  /// moved by the odometry since (for the display). Not to be published again: the estimate
+  /// of the moment it was found, paired with that moment's GNSS fix, is the better position
+  /// for incident command, and odometry drift only grows from there.
+  bool found_earlier = false;
 };
 
 class RescuerSearch {
@@ -64,7 +78,17 @@ class RescuerSearch {
   /// Odometry for every signal's filter. Returns the rejection, if refused (state untouched).
   std::optional<Rejection> add_odometry(const Odometry& odometry);
 
-  /// One field sample of one signal. Refused samples leave every filter untouched.
+  /// The odometry over [from, until] did not arrive in time (late or lost on the network):
+  /// stand in a zero displacement with the covariance of unknown_motion_* over that interval,
+  /// so the next update is not made as if the rescuer had stood still (near a victim that
+  /// locks a filter onto a wrong position with a small covariance). Odometry samples ending
+  /// at or before `until` are refused afterwards (kSuperseded): applying them too would count
+  /// the motion twice. Returns false (nothing done) when until <= the last odometry end.
+  bool add_unknown_motion(TimestampNs from, TimestampNs until);
+
+  /// One field sample of one signal. Refused samples leave every filter untouched. Once this
+  /// rescuer has found the signal's victim, its filter takes no more measurement updates: the
+  /// estimate (kFound) is the found one moved into the current frame by the odometry since.
   std::variant<SearchUpdate, Rejection> process(const FieldMeasurement& measurement);
 
   /// Guidance to the target from its filter moved by the odometry since it was last heard,
@@ -105,6 +129,7 @@ class RescuerSearch {
   std::optional<std::uint32_t> target_;
   std::optional<std::uint64_t> last_odometry_sequence_;
   TimestampNs last_odometry_end_ = 0;
+  TimestampNs superseded_until_ = 0;  ///< end of the last unknown-motion stand-in
 };
 
 }  // namespace sarloc::avalanche

@@ -19,7 +19,9 @@
 //   located: 95 % radius of the mixture position, sqrt(chi2_3(0.95) lambda_max(P_p)),
 //            <= max(located_radius_m, located_radius_per_range * |p_mean|) (eq. (18) includes the spread between modes, so a multimodal
 //            mixture is never "located");
-//   found:   located and horizontal |p_mean| <= found_distance_m (G_k is rescuer-centred).
+//   found:   located and horizontal |p_mean| <= found_distance_m (G_k is rescuer-centred);
+//   neither while the estimate is not below the receiver (z + 2 sigma_z < 0): a victim is
+//   buried, so an estimate above is a filter's mirror solution (H(r) = H(-r)).
 //
 //   SearchController ctl(SearchConfig{});
 //   Guidance g = ctl.guide(filter, measurement);   // after filter.process(measurement)

@@ -88,7 +88,8 @@ class VictimFusion {
 
   /// Stores or replaces the newest estimate of (rescuer_id, signal_id). Returns false (and
   /// ignores it) if older than the stored one. Throws InputError for an empty rescuer_id, a
-  /// non-finite position or a covariance that is not symmetric positive definite.
+  /// non-finite position, a covariance that is not symmetric positive definite, or a position
+  /// more than 5 sigma above the snow surface (z > 0: the victim is buried).
   bool update(const SourceEstimate& estimate);
 
   /// Forgets every signal of a rescuer (e.g. its estimates were declared stale). Its victims
