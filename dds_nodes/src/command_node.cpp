@@ -22,6 +22,10 @@ void CommandNodeConfig::validate() const {
   if (!(position_max_age_s > 0.0 && position_max_age_s <= 600.0)) {
     throw ConfigError("command.position_max_age_s = " + std::to_string(position_max_age_s) + ": must be in (0, 600]");
   }
+  if (!(fix_interpolation_max_gap_s >= 0.0 && fix_interpolation_max_gap_s <= 60.0)) {
+    throw ConfigError("command.fix_interpolation_max_gap_s = " + std::to_string(fix_interpolation_max_gap_s) +
+                      ": must be in [0, 60]");
+  }
   if (!(fix_wait_s > 0.0 && fix_wait_s <= 600.0)) {
     throw ConfigError("command.fix_wait_s = " + std::to_string(fix_wait_s) + ": must be in (0, 600]");
   }
@@ -115,9 +119,7 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
           antenna.covariance.row(2).setZero();
           antenna.covariance.col(2).setZero();
           antenna.covariance(2, 2) = config_.antenna_height_sigma_m * config_.antenna_height_sigma_m;
-          auto& fixes = fixes_[position.responder_id];
-          fixes.push_back(Fix{position.stamp, antenna});
-          while (fixes.size() > 64) fixes.pop_front();
+          fixes_[position.responder_id].add(position.stamp, antenna);
         } catch (const InputError& error) {
           counters_.rejected("invalid_value");
           warnings_.warn(p.responder_id().to_string(), "invalid_value", error.what());
@@ -146,13 +148,9 @@ CommandNode::~CommandNode() {
 
 std::optional<GaussianPosition> CommandNode::fix_at(const std::string& rescuer_id, TimestampNs stamp) const {
   const auto it = fixes_.find(rescuer_id);
-  if (it == fixes_.end() || it->second.empty()) return std::nullopt;
-  const Fix* best = nullptr;
-  for (const auto& f : it->second) {
-    if (best == nullptr || std::llabs(f.stamp - stamp) < std::llabs(best->stamp - stamp)) best = &f;
-  }
-  if (static_cast<double>(std::llabs(best->stamp - stamp)) > config_.position_max_age_s * 1e9) return std::nullopt;
-  return best->antenna;
+  if (it == fixes_.end()) return std::nullopt;
+  return it->second.at(stamp, static_cast<TimestampNs>(config_.position_max_age_s * 1e9),
+                       static_cast<TimestampNs>(config_.fix_interpolation_max_gap_s * 1e9));
 }
 
 void CommandNode::cycle() {

@@ -247,13 +247,18 @@ void CoreNode::release_held(RescuerState& state, SteadyTime now) {
       // a filter onto a wrong position with a small covariance (seen under 20 % packet loss:
       // "located" 10 m off). Unknown motion stands in for the missing odometry instead.
       const TimestampNs from = state.odometry_until > 0 ? state.odometry_until : state.measured_at.value_or(0);
-      state.search.add_unknown_motion(from, front.measurement.stamp);
-      state.odometry_until = front.measurement.stamp;
+      bool stood_in = false;
+      try {
+        stood_in = state.search.add_unknown_motion(from, front.measurement.stamp);
+      } catch (const InputError& e) {  // the covariance is built valid; never let it stop a worker
+        spdlog::error("{}: unknown motion refused: {}", config_.node_id, e.what());
+      }
+      if (stood_in) state.odometry_until = front.measurement.stamp;
       counters_.anomaly("odometry_late");
       warnings_.warn(front.measurement.rescuer_id, "odometry_late",
                      "rescuer '" + front.measurement.rescuer_id + "': no odometry up to stamp " +
-                         std::to_string(front.measurement.stamp) +
-                         " within odometry_wait_s: processed with unknown motion in its place");
+                         std::to_string(front.measurement.stamp) + " within odometry_wait_s: processed " +
+                         (stood_in ? "with unknown motion in its place" : "without it (gap over 10 s)"));
     }
     const auto measurement = front.measurement;
     state.held.pop_front();
@@ -273,7 +278,7 @@ void CoreNode::process_measurement(RescuerState& state, const avalanche::FieldMe
   state.measured_at = std::max(state.measured_at.value_or(measurement.stamp), measurement.stamp);
   active_filters_.fetch_add(search.signal_count() - signals_before);
   auto& update = std::get<avalanche::SearchUpdate>(outcome);
-  if (!update.found_earlier && !estimate_writer_.write(to_idl(update.estimate, measurement.sequence))) {
+  if (update.publish && !estimate_writer_.write(to_idl(update.estimate, measurement.sequence))) {
     spdlog::error("{}: DDS refused a VictimEstimate for '{}'", config_.node_id, measurement.rescuer_id);
   }
   if (update.guidance && !guidance_writer_.write(to_idl(*update.guidance, measurement.sequence))) {

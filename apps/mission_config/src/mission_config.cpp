@@ -208,6 +208,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("cycle_s", c.command.cycle_s);
     r.read("position_max_age_s", c.command.position_max_age_s);
     r.read("fix_wait_s", c.command.fix_wait_s);
+    r.read("fix_interpolation_max_gap_s", c.command.fix_interpolation_max_gap_s);
     // The receiver is held as the simulated one unless the file says otherwise.
     c.command.antenna_height_m = c.scenario.sensors.antenna_height_m;
     r.read("antenna_height_m", c.command.antenna_height_m);

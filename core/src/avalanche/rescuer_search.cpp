@@ -115,25 +115,17 @@ std::optional<Rejection> RescuerSearch::add_odometry(const Odometry& o) {
 bool RescuerSearch::add_unknown_motion(TimestampNs from, TimestampNs until) {
   from = std::max(from, last_odometry_end_);
   if (until <= from) return false;
-  // Capped at 10 s: beyond that the displacement is no longer "a few steps" and the variance
-  // limit of an odometry sample (100 m^2) would be exceeded.
-  const double dt = std::min(static_cast<double>(until - from) * 1e-9, 10.0);
+  // Both positive here: the difference cannot overflow.
+  const auto span = static_cast<std::uint64_t>(until) - static_cast<std::uint64_t>(from);
+  if (span > static_cast<std::uint64_t>(kMaxUnknownMotionNs)) return false;  // not a few late steps
+  const double dt = static_cast<double>(span) * 1e-9;  // <= 10 s: variances stay <= 100 m^2
   const double vt = std::pow(config_.unknown_motion_speed_m_per_s * dt, 2);
   const double vz = std::pow(0.2 * config_.unknown_motion_speed_m_per_s * dt, 2) + 1e-4;  // slopes only
   const double vyaw = std::pow(std::min(config_.unknown_motion_turn_rad_per_s * dt, 2.0), 2);
   const double vtilt = std::pow(0.02, 2);  // roll/pitch stay bounded by gravity
-  Odometry o;
-  o.rescuer_id = rescuer_id_;
-  // The stand-in takes the place (and the sequence number) of the next sample: the late one,
-  // if it comes, is refused as superseded or as a duplicate.
-  o.sequence = last_odometry_sequence_ ? *last_odometry_sequence_ + 1 : 0;
-  o.interval_start = from;
-  o.interval_end = until;
-  o.covariance.setZero();
-  o.covariance.diagonal() << std::min(vt, 100.0), std::min(vt, 100.0), std::min(vz, 100.0), vtilt, vtilt, vyaw;
-  o.source = OdometrySource::kOther;
-  for (auto& [signal, state] : signals_) state.filter.add_odometry(o);
-  last_odometry_sequence_ = o.sequence;
+  DispCov q = DispCov::Zero();
+  q.diagonal() << std::min(vt, 100.0), std::min(vt, 100.0), std::min(vz, 100.0), vtilt, vtilt, vyaw;
+  for (auto& [signal, state] : signals_) state.filter.add_unknown_motion(q);
   last_odometry_end_ = until;
   superseded_until_ = until;
   return true;
@@ -148,6 +140,19 @@ std::optional<Rejection> RescuerSearch::gate(const FieldMeasurement& m) const {
   } catch (const InputError& e) {
     return reject(RejectReason::kInvalidValue, rescuer_id_,
                   "signal " + std::to_string(m.signal_id) + ": " + e.what());
+  }
+  // The odometry received already reaches well past this sample (it was retransmitted under
+  // packet loss and overtaken by a later epoch's step): its filter would apply that later
+  // motion before the update, i.e. measure from where the rescuer was not (seen: a filter 7 m
+  // from its victim diverged to 600 m); a new signal's filter would start in a frame the
+  // rescuer has left. The signal's next sample takes the motion.
+  const auto tolerance = static_cast<std::uint64_t>(config_.measurement_lag_tolerance_s * 1e9);
+  if (last_odometry_end_ > m.stamp &&
+      static_cast<std::uint64_t>(last_odometry_end_) - static_cast<std::uint64_t>(m.stamp) > tolerance) {
+    return reject(RejectReason::kLateMeasurement, rescuer_id_,
+                  "field_measurement(signal " + std::to_string(m.signal_id) + ").stamp = " + std::to_string(m.stamp) +
+                      ": the odometry already reaches " + std::to_string(last_odometry_end_) +
+                      " (arrived after a later epoch)");
   }
   const auto it = signals_.find(m.signal_id);
   if (it == signals_.end()) {
@@ -172,16 +177,6 @@ std::optional<Rejection> RescuerSearch::gate(const FieldMeasurement& m) const {
     return reject(RejectReason::kStampBackwards, rescuer_id_,
                   where + "stamp = " + std::to_string(m.stamp) + " not after last " + std::to_string(s.last_stamp));
   }
-  // The odometry received already reaches well past this sample (it was retransmitted under
-  // packet loss and overtaken by a later epoch's step): the filter would apply that later
-  // motion before the update, i.e. measure from where the rescuer was not. Seen: a filter 7 m
-  // from its victim diverged to 600 m. The next sample of the signal takes the motion.
-  const auto tolerance = static_cast<TimestampNs>(config_.measurement_lag_tolerance_s * 1e9);
-  if (last_odometry_end_ > m.stamp + tolerance) {
-    return reject(RejectReason::kLateMeasurement, rescuer_id_,
-                  where + "stamp = " + std::to_string(m.stamp) + ": the odometry already reaches " +
-                      std::to_string(last_odometry_end_) + " (arrived after a later epoch)");
-  }
   return std::nullopt;
 }
 
@@ -204,7 +199,7 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
     // into the rescuer's current frame, its covariance growing with the odometry's.
     const MixtureMoments mm = s.filter.predicted_moments();
     SearchUpdate moved;
-    moved.found_earlier = true;
+    moved.publish = false;
     moved.estimate = *s.estimate;
     moved.estimate.stamp = m.stamp;
     moved.estimate.relative.position = mm.mean.segment<3>(idx::kPos);

@@ -24,31 +24,31 @@ SogComponent at_bearing(double bearing_deg, double range_m, double weight) {
 
 TEST(BearingDensityTest, PeakIsTheHeavierBearingWhateverTheRange) {
   // The mixture mean of these two would lie between them; the density points at the heavier.
-  const std::vector<SogComponent> ring = {at_bearing(30.0, 20.0, 0.3), at_bearing(200.0, 55.0, 0.7)};
+  const std::vector<SogComponent> ring = {at_bearing(31.0, 20.0, 0.3), at_bearing(201.0, 55.0, 0.7)};
   const BearingDensity d(ring, 35.0 * kDeg);
-  EXPECT_NEAR(wrap_angle(d.peak() - 200.0 * kDeg), 0.0, 2.5 * kDeg);
-  EXPECT_GT(d.at(200.0 * kDeg), d.at(30.0 * kDeg));
+  EXPECT_NEAR(wrap_angle(d.peak() - 201.0 * kDeg), 0.0, 2.5 * kDeg);
+  EXPECT_GT(d.at(201.0 * kDeg), d.at(31.0 * kDeg));
   EXPECT_DOUBLE_EQ(d.at(202.0 * kDeg), d.at(202.0 * kDeg - 2.0 * kPi));  // angles wrap
 }
 
 TEST(BearingDensityTest, AnArcCountsAsOneDirection) {
-  // 0.6 spread over an arc of 80-100 degrees (0.12 each) against 0.4 at 270 degrees: each
+  // 0.6 spread over an arc of 81-101 degrees (0.12 each) against 0.4 at 271 degrees: each
   // arc component is lighter, but the kernel sums the arc, so the arc wins.
   std::vector<SogComponent> mixture;
-  for (double b = 80.0; b <= 100.0; b += 5.0) mixture.push_back(at_bearing(b, 40.0, 0.12));
-  mixture.push_back(at_bearing(270.0, 40.0, 0.4));
+  for (double b = 81.0; b <= 101.0; b += 5.0) mixture.push_back(at_bearing(b, 40.0, 0.12));
+  mixture.push_back(at_bearing(271.0, 40.0, 0.4));
   const BearingDensity smoothed(mixture, 35.0 * kDeg);
-  EXPECT_NEAR(wrap_angle(smoothed.peak() - 90.0 * kDeg), 0.0, 5.0 * kDeg);
+  EXPECT_NEAR(wrap_angle(smoothed.peak() - 91.0 * kDeg), 0.0, 5.0 * kDeg);
   // With a kernel narrower than a bin the single heavy component wins instead.
   const BearingDensity sharp(mixture, 1.0 * kDeg);
-  EXPECT_NEAR(wrap_angle(sharp.peak() - 270.0 * kDeg), 0.0, 2.5 * kDeg);
+  EXPECT_NEAR(wrap_angle(sharp.peak() - 271.0 * kDeg), 0.0, 2.5 * kDeg);
 }
 
 TEST(BearingDensityTest, ComponentOnTheReceiverHasNoBearing) {
-  std::vector<SogComponent> mixture = {at_bearing(0.0, 0.0, 0.9), at_bearing(-120.0, 30.0, 0.1)};
+  std::vector<SogComponent> mixture = {at_bearing(0.0, 0.0, 0.9), at_bearing(-119.0, 30.0, 0.1)};
   const BearingDensity d(mixture, 35.0 * kDeg);
-  EXPECT_NEAR(wrap_angle(d.peak() + 120.0 * kDeg), 0.0, 2.5 * kDeg);
-  EXPECT_NEAR(d.at(-120.0 * kDeg), 0.1, 1e-3);  // only the bearing-carrying mass
+  EXPECT_NEAR(wrap_angle(d.peak() + 119.0 * kDeg), 0.0, 2.5 * kDeg);
+  EXPECT_NEAR(d.at(-119.0 * kDeg), 0.1, 1e-3);  // only the bearing-carrying mass
 }
 
 TEST(BearingDensityTest, BearingAcrossMinusPiIsOneDirection) {

@@ -14,6 +14,7 @@
 #include <mutex>
 #include <thread>
 
+#include "sarloc/core/incident/responder_track.hpp"
 #include "sarloc/core/incident/team_tracker.hpp"
 #include "sarloc/core/incident/victim_fusion.hpp"
 #include "sarloc/dds/mission_clock.hpp"
@@ -42,6 +43,10 @@ struct CommandNodeConfig {
   double position_max_age_s = 0.5;
   /// An estimate whose matching fix has not arrived yet waits for it this long (mission s).
   double fix_wait_s = 5.0;
+  /// Without a fix within position_max_age_s, the fixes just before and after the stamp are
+  /// interpolated if at most this far apart (mission s): under packet loss the epoch's own fix
+  /// can be lost for good (only the newest ResponderPosition is kept).
+  double fix_interpolation_max_gap_s = 2.5;
   /// Heights in the picture are above the local snow surface (what diggers need), not GNSS
   /// altitude (poor, and irrelevant to a burial depth): a fix's height is replaced by the
   /// receiver antenna's height above the snow, with this 1-sigma (m).
@@ -64,11 +69,6 @@ class CommandNode {
   std::vector<incident::TeamStatus> teams() const;
 
  private:
-  struct Fix {
-    TimestampNs stamp = 0;
-    GaussianPosition antenna;
-  };
-
   void cycle();
   std::optional<GaussianPosition> fix_at(const std::string& rescuer_id, TimestampNs stamp) const;
 
@@ -82,7 +82,7 @@ class CommandNode {
   incident::VictimFusion fusion_;
   incident::TeamTracker tracker_;
   std::deque<avalanche::VictimEstimate> pending_estimates_;
-  std::map<std::string, std::deque<Fix>> fixes_;
+  std::map<std::string, incident::ResponderTrack> fixes_;  ///< per responder
   std::vector<std::pair<eprosima::fastrtps::rtps::InstanceHandle_t, std::string>> writer_owner_;
   std::vector<incident::TeamStatus> last_teams_;
 

@@ -27,6 +27,10 @@ class OdometryAccumulator {
   /// Validates (finite, |t| <= 50 m, |angles| <= pi, covariance symmetric positive definite,
   /// sequence increasing) and composes. Throws InputError naming the field.
   void add(const Odometry& odometry);
+  /// Motion that happened but was never measured (odometry lost or late): a zero displacement
+  /// with this covariance, composed like a sample; no sequence number. Throws InputError if the
+  /// covariance is not finite, symmetric positive definite with variances <= 100.
+  void add_unknown(const DispCov& covariance);
   /// The displacement since the last take(), then resets.
   Displacement take();
   std::uint32_t pending() const { return acc_.samples; }
@@ -34,6 +38,8 @@ class OdometryAccumulator {
   const Displacement& peek() const { return acc_; }
 
  private:
+  void compose(const DispVec& d, const DispCov& covariance);
+
   double idle_translation_sigma_m_;
   double idle_rotation_sigma_rad_;
   Displacement acc_;

@@ -64,12 +64,16 @@ struct Rejection {
 struct SearchUpdate {
   VictimEstimate estimate;          ///< of the measured signal, status refined by assess()
   std::optional<Guidance> guidance; ///< present when the measured signal is the target
-  /// The victim was found by this rescuer at an earlier epoch: `estimate` is the found one
-  /// moved by the odometry since (for the display). Not to be published again: the estimate
-  /// of the moment it was found, paired with that moment's GNSS fix, is the better position
-  /// for incident command, and odometry drift only grows from there.
-  bool found_earlier = false;
+  /// False when this rescuer found the victim at an earlier epoch: `estimate` is the found one
+  /// moved by the odometry since (for the display), not to be published. The estimate of the
+  /// moment it was found, paired with that moment's GNSS fix, is the better position for
+  /// incident command (published reliably, and never overwritten since that signal is not
+  /// published again); a moved one would carry every odometry step lost or stood in for since.
+  bool publish = true;
 };
+
+/// Longest gap add_unknown_motion() stands in for.
+inline constexpr TimestampNs kMaxUnknownMotionNs = 10'000'000'000;
 
 class RescuerSearch {
  public:
@@ -80,10 +84,12 @@ class RescuerSearch {
 
   /// The odometry over [from, until] did not arrive in time (late or lost on the network):
   /// stand in a zero displacement with the covariance of unknown_motion_* over that interval,
-  /// so the next update is not made as if the rescuer had stood still (near a victim that
-  /// locks a filter onto a wrong position with a small covariance). Odometry samples ending
+  /// so the next update is not made as if the rescuer had stood still. Odometry samples ending
   /// at or before `until` are refused afterwards (kSuperseded): applying them too would count
-  /// the motion twice. Returns false (nothing done) when until <= the last odometry end.
+  /// the motion twice. Assumes odometry intervals end at measurement stamps (as the rescuer
+  /// node sends them); a sample straddling `until` is refused as kStampBackwards. Returns false
+  /// (nothing done) when until <= the last odometry end or the gap exceeds 10 s (not a late
+  /// step: a stamp far in the future must not shut the rescuer's odometry out).
   bool add_unknown_motion(TimestampNs from, TimestampNs until);
 
   /// One field sample of one signal. Refused samples leave every filter untouched. Once this

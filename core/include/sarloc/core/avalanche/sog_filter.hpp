@@ -119,6 +119,8 @@ class SogFilter {
 
   /// Odometry of this rescuer; accumulated until the next field measurement.
   void add_odometry(const Odometry& odometry);
+  /// Unmeasured motion since the last measurement (OdometryAccumulator::add_unknown).
+  void add_unknown_motion(const DispCov& covariance) { odometry_.add_unknown(covariance); }
   /// One field measurement: initialises on the first call, then Algorithm 1.
   /// Throws InputError for unusable input (non-finite, absurd, non-PD, out of order).
   SogStepResult process(const FieldMeasurement& measurement);
