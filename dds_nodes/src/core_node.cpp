@@ -278,7 +278,7 @@ void CoreNode::process_measurement(RescuerState& state, const avalanche::FieldMe
   state.measured_at = std::max(state.measured_at.value_or(measurement.stamp), measurement.stamp);
   active_filters_.fetch_add(search.signal_count() - signals_before);
   auto& update = std::get<avalanche::SearchUpdate>(outcome);
-  if (update.publish && !estimate_writer_.write(to_idl(update.estimate, measurement.sequence))) {
+  if (!estimate_writer_.write(to_idl(update.estimate, measurement.sequence))) {
     spdlog::error("{}: DDS refused a VictimEstimate for '{}'", config_.node_id, measurement.rescuer_id);
   }
   if (update.guidance && !guidance_writer_.write(to_idl(*update.guidance, measurement.sequence))) {

@@ -149,7 +149,6 @@ EpochResult RescuerNode::epoch(const std::vector<avalanche::Odometry>& odometry,
 
   std::optional<avalanche::Guidance> local_guidance;
   std::vector<avalanche::VictimEstimate> local_estimates;
-  std::vector<avalanche::VictimEstimate> to_publish;  // not victims found at an earlier epoch
   const std::int64_t published_wall = MissionClock::wall_now_ns();
   for (const auto& m : measurements) {
     if (!measurement_writer_.write(to_idl(m))) spdlog::error("DDS refused measurement of signal {}", m.signal_id);
@@ -158,7 +157,6 @@ EpochResult RescuerNode::epoch(const std::vector<avalanche::Odometry>& odometry,
     auto outcome = local_.process(m);
     if (auto* update = std::get_if<avalanche::SearchUpdate>(&outcome)) {
       local_estimates.push_back(update->estimate);
-      if (update->publish) to_publish.push_back(update->estimate);
       if (update->guidance) local_guidance = update->guidance;
     } else {
       spdlog::warn("local search refused a sample: {}", std::get<avalanche::Rejection>(outcome).detail);
@@ -237,7 +235,7 @@ EpochResult RescuerNode::epoch(const std::vector<avalanche::Odometry>& odometry,
 
   // Incident command must keep seeing victims while the daemon is away.
   if (!result.daemon_reachable) {
-    for (const auto& e : to_publish) estimate_writer_.write(to_idl(e, sequence));
+    for (const auto& e : local_estimates) estimate_writer_.write(to_idl(e, sequence));
   }
   return result;
 }

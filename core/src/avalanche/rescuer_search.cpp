@@ -187,29 +187,28 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
     it = signals_
              .emplace(m.signal_id, SignalState{SogFilter(config_.sog, rescuer_id_, m.signal_id),
                                                SearchController(config_.search), 0, 0, 0.0, std::nullopt,
-                                               done_.count(m.signal_id) != 0, false})
+                                               done_.count(m.signal_id) != 0, false, std::nullopt})
              .first;
   }
   SignalState& s = it->second;
-  if (s.found_here && s.estimate) {
+  if (s.found) {
     // Found here: the victim stays where the rescuer stood over it. The filter takes no more
     // measurement updates (while the rescuer walks off to the next victim, a late or lost
     // odometry sample could drag it away, and it would still claim kFound: seen under 20 %
-    // packet loss, a "found" victim published 6 m off); only the odometry moves the estimate
-    // into the rescuer's current frame, its covariance growing with the odometry's.
+    // packet loss, a "found" victim published 6 m off).
     const MixtureMoments mm = s.filter.predicted_moments();
-    SearchUpdate moved;
-    moved.publish = false;
-    moved.estimate = *s.estimate;
-    moved.estimate.stamp = m.stamp;
-    moved.estimate.relative.position = mm.mean.segment<3>(idx::kPos);
-    moved.estimate.relative.covariance = mm.covariance.block<3, 3>(idx::kPos, idx::kPos);
-    moved.estimate.incident.reset();
-    moved.estimate.top_components.clear();  // they describe the mixture of the moment it was found
+    VictimEstimate moved = *s.found;
+    moved.stamp = m.stamp;
+    moved.relative.position = mm.mean.segment<3>(idx::kPos);
+    moved.relative.covariance = mm.covariance.block<3, 3>(idx::kPos, idx::kPos);
+    moved.incident.reset();
+    moved.top_components.clear();  // they describe the mixture of the moment it was found
     s.last_sequence = m.sequence;
     s.last_stamp = m.stamp;
-    s.estimate = moved.estimate;
-    return moved;
+    s.estimate = moved;
+    SearchUpdate unchanged;
+    unchanged.estimate = *s.found;
+    return unchanged;
   }
   // The gate already checked everything the filter checks; a throw here is a numerical
   // refusal of this one sample, and the filter stays as it was.
@@ -241,6 +240,7 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
   }
   update.estimate.status = s.found_here ? EstimatorStatus::kFound : s.controller.assess(update.estimate);
   s.estimate = update.estimate;
+  if (s.found_here) s.found = update.estimate;
   choose_target();
   return update;
 }

@@ -232,8 +232,9 @@ TEST(RescuerSearch, UnknownMotionStandsInForLateOdometry) {
 }
 
 
-// Once found, a signal's estimate takes no more measurement updates: whatever the rescuer then
-// measures, the estimate is the found one, moved only by his odometry (so it stays true).
+// Once found, a signal's filter takes no more measurement updates: whatever the rescuer then
+// measures, the published estimate is the found one and the displayed one is it moved by his
+// odometry (so it stays true).
 TEST(RescuerSearch, FoundEstimateOnlyMovesWithTheOdometry) {
   const auto s = scenario();
   mission::SimulatedRescuer sim(s, "r");
@@ -250,7 +251,6 @@ TEST(RescuerSearch, FoundEstimateOnlyMovesWithTheOdometry) {
       if (u.guidance) g = u.guidance;
       if (u.estimate.status == EstimatorStatus::kFound) {
         found = u.estimate;
-        EXPECT_TRUE(u.publish) << "the moment it is found, the estimate is published";
       }
     }
     if (!g) g = search.coast(t);
@@ -268,16 +268,22 @@ TEST(RescuerSearch, FoundEstimateOnlyMovesWithTheOdometry) {
     auto outcome = search.process(m);
     ASSERT_TRUE(std::holds_alternative<SearchUpdate>(outcome));
     const auto& u = std::get<SearchUpdate>(outcome);
+    // The update carries the found estimate unchanged: incident command places it with the fix
+    // of the moment it was found, and the rescuer's odometry since cannot spoil it.
     EXPECT_EQ(u.estimate.status, EstimatorStatus::kFound);
-    EXPECT_EQ(u.estimate.stamp, m.stamp);
-    // Metres away from where it was found, the estimate followed the rescuer's motion and still
-    // points at the victim, whatever the field says.
-    EXPECT_GT((u.estimate.relative.position - found->relative.position).head<2>().norm(), 2.5);
-    const Vec3 truth = s.victims[*sim.victim_of_signal(m.signal_id)].position - sim.pose().position;
-    EXPECT_LT((u.estimate.relative.position - truth).head<2>().norm(), 0.5);
-    EXPECT_GT(u.estimate.relative.covariance.trace(), found->relative.covariance.trace()) << "odometry adds uncertainty";
+    EXPECT_EQ(u.estimate.stamp, found->stamp);
+    EXPECT_EQ(u.estimate.relative.position, found->relative.position);
     EXPECT_FALSE(u.guidance.has_value()) << "never guided back to a found victim";
-    EXPECT_FALSE(u.publish) << "incident command keeps the estimate of the moment it was found";
+    // The current-frame estimate (the display) followed the rescuer's motion: metres from where
+    // it was found, it still points at the victim, whatever the field says.
+    const auto current = search.estimate(m.signal_id);
+    ASSERT_TRUE(current.has_value());
+    EXPECT_EQ(current->status, EstimatorStatus::kFound);
+    EXPECT_EQ(current->stamp, m.stamp);
+    EXPECT_GT((current->relative.position - found->relative.position).head<2>().norm(), 2.5);
+    const Vec3 truth = s.victims[*sim.victim_of_signal(m.signal_id)].position - sim.pose().position;
+    EXPECT_LT((current->relative.position - truth).head<2>().norm(), 0.5);
+    EXPECT_GT(current->relative.covariance.trace(), found->relative.covariance.trace()) << "odometry adds uncertainty";
   }
   ASSERT_TRUE(seen) << "the found victim's signal was measured again";
 }

@@ -64,12 +64,6 @@ struct Rejection {
 struct SearchUpdate {
   VictimEstimate estimate;          ///< of the measured signal, status refined by assess()
   std::optional<Guidance> guidance; ///< present when the measured signal is the target
-  /// False when this rescuer found the victim at an earlier epoch: `estimate` is the found one
-  /// moved by the odometry since (for the display), not to be published. The estimate of the
-  /// moment it was found, paired with that moment's GNSS fix, is the better position for
-  /// incident command (published reliably, and never overwritten since that signal is not
-  /// published again); a moved one would carry every odometry step lost or stood in for since.
-  bool publish = true;
 };
 
 /// Longest gap add_unknown_motion() stands in for.
@@ -94,7 +88,10 @@ class RescuerSearch {
 
   /// One field sample of one signal. Refused samples leave every filter untouched. Once this
   /// rescuer has found the signal's victim, its filter takes no more measurement updates: the
-  /// estimate (kFound) is the found one moved into the current frame by the odometry since.
+  /// update carries the estimate of the moment it was found, unchanged (its stamp, its frame:
+  /// paired with that moment's GNSS fix it is the best position for incident command, and
+  /// republishing it answers the epoch), while estimate(signal) is that one moved into the
+  /// current frame by the odometry since (for the display).
   std::variant<SearchUpdate, Rejection> process(const FieldMeasurement& measurement);
 
   /// Guidance to the target from its filter moved by the odometry since it was last heard,
@@ -123,6 +120,7 @@ class RescuerSearch {
     std::optional<VictimEstimate> estimate;
     bool done = false;        ///< not to be guided to: found here or elsewhere
     bool found_here = false;  ///< this rescuer stood over it (GuidanceMode::kFound)
+    std::optional<VictimEstimate> found;  ///< the estimate of that moment
   };
 
   std::optional<Rejection> gate(const FieldMeasurement& m) const;
