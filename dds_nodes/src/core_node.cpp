@@ -258,7 +258,7 @@ void CoreNode::release_held(RescuerState& state, SteadyTime now) {
       warnings_.warn(front.measurement.rescuer_id, "odometry_late",
                      "rescuer '" + front.measurement.rescuer_id + "': no odometry up to stamp " +
                          std::to_string(front.measurement.stamp) + " within odometry_wait_s: processed " +
-                         (stood_in ? "with unknown motion in its place" : "without it (gap over 10 s)"));
+                         (stood_in ? "with unknown motion in its place" : "without it (no stand-in for this gap)"));
     }
     const auto measurement = front.measurement;
     state.held.pop_front();

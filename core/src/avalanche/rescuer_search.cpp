@@ -115,7 +115,7 @@ std::optional<Rejection> RescuerSearch::add_odometry(const Odometry& o) {
 bool RescuerSearch::add_unknown_motion(TimestampNs from, TimestampNs until) {
   from = std::max(from, last_odometry_end_);
   if (until <= from) return false;
-  // Both positive here: the difference cannot overflow.
+  // until > from: their difference as unsigned is exact, whatever the stamps' signs.
   const auto span = static_cast<std::uint64_t>(until) - static_cast<std::uint64_t>(from);
   if (span > static_cast<std::uint64_t>(kMaxUnknownMotionNs)) return false;  // not a few late steps
   const double dt = static_cast<double>(span) * 1e-9;  // <= 10 s: variances stay <= 100 m^2
