@@ -187,7 +187,7 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
     it = signals_
              .emplace(m.signal_id, SignalState{SogFilter(config_.sog, rescuer_id_, m.signal_id),
                                                SearchController(config_.search), 0, 0, 0.0, std::nullopt,
-                                               done_.count(m.signal_id) != 0, false, std::nullopt})
+                                               done_.count(m.signal_id) != 0, std::nullopt})
              .first;
   }
   SignalState& s = it->second;
@@ -224,6 +224,7 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
   SearchUpdate update;
   update.estimate = s.filter.estimate(config_.summary_components);
   update.estimate.stamp = m.stamp;
+  bool found_now = false;
   if (target_ ? *target_ == m.signal_id : !s.done) {
     // Guidance only for the signal being searched (one direction at a time for the rescuer),
     // never towards a victim already found.
@@ -232,15 +233,15 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
     g.signal_id = m.signal_id;
     g.stamp = m.stamp;
     if (g.mode == GuidanceMode::kFound) {
-      s.found_here = true;
+      found_now = true;
       s.done = true;
       done_.insert(m.signal_id);
     }
     update.guidance = g;
   }
-  update.estimate.status = s.found_here ? EstimatorStatus::kFound : s.controller.assess(update.estimate);
+  update.estimate.status = found_now ? EstimatorStatus::kFound : s.controller.assess(update.estimate);
   s.estimate = update.estimate;
-  if (s.found_here) s.found = update.estimate;
+  if (found_now) s.found = update.estimate;
   choose_target();
   return update;
 }

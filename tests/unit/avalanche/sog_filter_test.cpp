@@ -22,6 +22,12 @@ Scenario fixed_scenario() {
   return s;
 }
 
+// Receiver-frame bearing that walks the simulated rescuer straight at the transmitter.
+double bearing_to_truth(const AvalancheSimulator& sim) {
+  const Vec3 rel = sim.true_relative_position();
+  return std::atan2(rel.y(), rel.x()) - sim.scenario().receiver_rpy.z();
+}
+
 TEST(SogConfigTest, DefaultsValidAndMessagesNameKeyAndValue) {
   EXPECT_NO_THROW(SogConfig{}.validate());
   SogConfig c;
@@ -79,9 +85,7 @@ TEST(SogFilterTest, ConvergesOnTruthWhileWalkingTowardsIt) {
   SogFilter f(cfg);
   f.process(sim.measure());
   for (int k = 0; k < 33; ++k) {
-    const Vec3 rel = sim.true_relative_position();
-    const double bearing = std::atan2(rel.y(), rel.x()) - sim.scenario().receiver_rpy.z();
-    f.add_odometry(sim.walk(bearing, 1.0));
+    f.add_odometry(sim.walk(bearing_to_truth(sim), 1.0));
     f.process(sim.measure());
   }
   const VictimEstimate e = f.estimate(3);
@@ -214,9 +218,8 @@ double run_lost_filter(std::uint32_t window, int* reinitialisations) {
   sim.measure();  // same sequence number as the decoy reading
   *reinitialisations = 0;
   for (int k = 0; k < 14; ++k) {
-    const Vec3 rel = sim.true_relative_position();
-    const double bearing = std::atan2(rel.y(), rel.x()) - sim.scenario().receiver_rpy.z();
-    f.add_odometry(sim.walk(bearing, rel.head<2>().norm() > 3.0 ? 1.0 : 0.3));
+    const double step = sim.true_relative_position().head<2>().norm() > 3.0 ? 1.0 : 0.3;
+    f.add_odometry(sim.walk(bearing_to_truth(sim), step));
     if (f.process(sim.measure()).reinitialised) ++*reinitialisations;
   }
   return (f.estimate(0).relative.position - sim.true_relative_position()).norm();
@@ -241,9 +244,7 @@ TEST(SogFilterTest, WindowedInnovationTestIsQuietOnAConsistentRun) {
   SogFilter f(cfg);
   f.process(sim.measure());
   for (int k = 0; k < 33; ++k) {
-    const Vec3 rel = sim.true_relative_position();
-    const double bearing = std::atan2(rel.y(), rel.x()) - sim.scenario().receiver_rpy.z();
-    f.add_odometry(sim.walk(bearing, 1.0));
+    f.add_odometry(sim.walk(bearing_to_truth(sim), 1.0));
     EXPECT_FALSE(f.process(sim.measure()).reinitialised) << "step " << k;
   }
   SogConfig bad;

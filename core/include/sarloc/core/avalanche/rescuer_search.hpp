@@ -119,8 +119,8 @@ class RescuerSearch {
     double last_field_norm = 0.0;
     std::optional<VictimEstimate> estimate;
     bool done = false;        ///< not to be guided to: found here or elsewhere
-    bool found_here = false;  ///< this rescuer stood over it (GuidanceMode::kFound)
-    std::optional<VictimEstimate> found;  ///< the estimate of that moment
+    /// Set when this rescuer stood over it (GuidanceMode::kFound): the estimate of that moment.
+    std::optional<VictimEstimate> found;
   };
 
   std::optional<Rejection> gate(const FieldMeasurement& m) const;
