@@ -1,6 +1,7 @@
 // sarloc-eval: Monte Carlo evaluation of sarloc's core estimators.
 //
 //   sarloc-eval avalanche --filter sog --trials 100 --seed 1 [--config FILE] [--json FILE]
+//                         [--trace-csv FILE] [--trace-trial N]
 //
 // Prints a table in the layout of seed 000, Table I, plus timing and NEES consistency, and the
 // same figures as JSON. Exit codes (sarloc::app::ExitCode): 0 all accuracy/consistency targets
@@ -18,6 +19,7 @@
 #include <string>
 
 #include "eval_config.hpp"
+#include "trial_trace.hpp"
 #include "sarloc/app/exit_codes.hpp"
 #include "sarloc/app/logging.hpp"
 #include "sarloc/app/progress_bar.hpp"
@@ -103,36 +105,6 @@ void print_table(const av::EvaluationSummary& s, unsigned threads) {
   std::printf("%-28s %.2f s\n", "Wall clock", s.wall_s);
 }
 
-// --trace-trial N: one trial step by step (debugging aid; same loop as run_trial()).
-void trace_trial(const av::EvaluationSetup& setup, std::uint32_t index) {
-  av::AvalancheSimulator sim(setup.simulation, av::derive_seed(setup.evaluation.seed, index));
-  av::SogFilter filter(setup.sog, "sim", 1);
-  av::SearchController ctl(setup.search);
-  const auto& sc = sim.scenario();
-  std::printf("trial %u: transmitter [%.2f %.2f %.2f] |m| %.4f m [%.3f %.3f %.3f]\n", index,
-              sc.transmitter.x(), sc.transmitter.y(), sc.transmitter.z(), sc.moment.norm(),
-              sc.moment.x() / sc.moment.norm(), sc.moment.y() / sc.moment.norm(),
-              sc.moment.z() / sc.moment.norm());
-  for (std::uint32_t step = 1; step <= setup.evaluation.step_budget; ++step) {
-    const av::FieldMeasurement z = sim.measure();
-    const av::SogStepResult r = filter.process(z);
-    const av::Guidance g = ctl.guide(filter, z);
-    const av::VictimEstimate e = filter.estimate(1);
-    const sarloc::Vec3 truth = sim.true_relative_position();
-    const sarloc::Vec3 err = e.relative.position - truth;
-    const double nees = err.dot(e.relative.covariance.ldlt().solve(err));
-    const double w0 = e.top_components.empty() ? 0.0 : e.top_components[0].weight;
-    std::printf("%3u mode %d |z| %.2e true [%6.2f %6.2f %5.2f] est [%6.2f %6.2f %5.2f] err %.2f "
-                "r95 %.2f n %5zu nis %.1f w0 %.2f nees %.1f%s\n",
-                step, static_cast<int>(g.mode), z.field.norm(), truth.x(), truth.y(), truth.z(),
-                e.relative.position.x(), e.relative.position.y(), e.relative.position.z(),
-                err.norm(), av::SearchController::radius95_3d(e.relative.covariance),
-                filter.size(), r.min_nis, w0, nees, r.reinitialised ? " REINIT" : "");
-    if (g.mode == av::GuidanceMode::kFound) break;
-    filter.add_odometry(sim.walk(g.bearing_rad, g.step_m));
-  }
-}
-
 bool check_targets(const av::EvaluationSummary& s) {
   const Targets t;
   bool ok = true;
@@ -179,6 +151,9 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   avalanche->add_option("--json", json_path, "write the summary as JSON to this file");
   avalanche->add_option("--trace-trial", trace, "print one trial step by step and exit");
+  std::string trace_csv_path;
+  avalanche->add_option("--trace-csv", trace_csv_path,
+                        "write every step of every trial (truth, measurement, posterior) as CSV");
   avalanche->add_flag("--no-target-check", no_target_check,
                       "exit 0 even when an accuracy/consistency target is missed");
   try {
@@ -211,8 +186,18 @@ int main(int argc, char** argv) {
   }
 
   if (trace) {
-    trace_trial(setup, *trace);
+    av::run_trial(setup, *trace, sarloc::eval::print_trace_step);
     return to_int(ExitCode::kOk);
+  }
+  std::optional<sarloc::eval::TraceCsv> trace_csv;
+  std::optional<std::ofstream> trace_out;
+  if (!trace_csv_path.empty()) {
+    trace_out.emplace(trace_csv_path);
+    if (!*trace_out) {
+      spdlog::error("cannot write --trace-csv {}", trace_csv_path);
+      return to_int(ExitCode::kRuntime);
+    }
+    trace_csv.emplace(setup.evaluation.trials);
   }
   unsigned used_threads = setup.evaluation.threads;
   if (used_threads == 0) used_threads = std::max(1U, std::thread::hardware_concurrency());
@@ -221,8 +206,10 @@ int main(int argc, char** argv) {
   av::EvaluationSummary summary;
   try {
     sarloc::app::ProgressBar bar("trials", setup.evaluation.trials);
+    av::StepObserver observer;
+    if (trace_csv) observer = [&trace_csv](const av::TrialStep& s) { trace_csv->add(s); };
     summary = av::run_evaluation(setup, [&bar] { bar.tick(); },
-                                 [] { return sarloc::app::shutdown_requested(); });
+                                 [] { return sarloc::app::shutdown_requested(); }, observer);
     bar.finish();
   } catch (const std::exception& e) {
     spdlog::error("evaluation failed: {}", e.what());
@@ -242,6 +229,13 @@ int main(int argc, char** argv) {
     out << to_json(summary).dump(2) << "\n";
     if (!out) {
       spdlog::error("write to --json {} failed", json_path);
+      return to_int(ExitCode::kRuntime);
+    }
+  }
+  if (trace_csv) {
+    trace_csv->write(*trace_out);
+    if (!trace_out->flush()) {
+      spdlog::error("write to --trace-csv {} failed", trace_csv_path);
       return to_int(ExitCode::kRuntime);
     }
   }

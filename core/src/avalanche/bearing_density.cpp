@@ -37,6 +37,27 @@ BearingDensity::BearingDensity(const std::vector<SogComponent>& components,
   peak_bin_ = static_cast<int>(std::max_element(smoothed_.begin(), smoothed_.end()) - smoothed_.begin());
 }
 
+BearingAgreement bearing_agreement(const std::vector<SogComponent>& components,
+                                   double true_bearing_rad) {
+  BearingAgreement a;
+  double total = 0.0;
+  for (const SogComponent& c : components) {
+    const double x = c.x(idx::kPos);
+    const double y = c.x(idx::kPos + 1);
+    if (x == 0.0 && y == 0.0) continue;  // no bearing
+    const double w = std::exp(c.log_weight);
+    const double cosine = std::cos(std::atan2(y, x) - true_bearing_rad);
+    total += w;
+    a.mean_cosine += w * cosine;
+    if (cosine > std::cos(kPi / 4.0)) a.mass_within_45deg += w;
+  }
+  if (total > 0.0) {
+    a.mean_cosine /= total;
+    a.mass_within_45deg /= total;
+  }
+  return a;
+}
+
 double BearingDensity::at(double bearing_rad) const { return smoothed_[bin_of(bearing_rad)]; }
 
 double BearingDensity::peak() const { return -kPi + (peak_bin_ + 0.5) * kBinWidth; }

@@ -52,7 +52,8 @@ Stats compute_stats(std::vector<double> v) {
   return s;
 }
 
-TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index) {
+TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index,
+                      const StepObserver& observer) {
   using Clock = std::chrono::steady_clock;
   TrialResult tr;
   tr.index = index;
@@ -81,6 +82,7 @@ TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index) {
     tr.error_m = err.norm();
     tr.horizontal_error_m = err.head<2>().norm();
     tr.final_components = static_cast<std::uint32_t>(filter.size());
+    if (observer) observer(TrialStep{index, step, sim, z, sr, filter, g, e});
     if (g.mode == GuidanceMode::kFound) {
       tr.found = true;
       break;
@@ -92,7 +94,8 @@ TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index) {
 
 EvaluationSummary run_evaluation(const EvaluationSetup& setup,
                                  const std::function<void()>& on_trial_done,
-                                 const std::function<bool()>& cancelled) {
+                                 const std::function<bool()>& cancelled,
+                                 const StepObserver& observer) {
   setup.validate();
   const auto start = std::chrono::steady_clock::now();
   const std::uint32_t n = setup.evaluation.trials;
@@ -112,7 +115,7 @@ EvaluationSummary run_evaluation(const EvaluationSetup& setup,
       const std::uint32_t i = next.fetch_add(1);
       if (i >= n) return;
       try {
-        results[i] = run_trial(setup, i);
+        results[i] = run_trial(setup, i, observer);
         done[i] = 1;
       } catch (...) {
         std::lock_guard<std::mutex> lock(error_mutex);

@@ -59,5 +59,19 @@ TEST(BearingDensityTest, BearingAcrossMinusPiIsOneDirection) {
   EXPECT_NEAR(std::abs(wrap_angle(d.peak())), kPi, 5.0 * kDeg);
 }
 
+TEST(BearingDensityTest, AgreementWithTheTrueBearing) {
+  // A uniform ring says nothing about the bearing: a quarter of the mass within 45 deg.
+  std::vector<SogComponent> ring;
+  for (int b = 0; b < 360; b += 10) ring.push_back(at_bearing(b + 5.0, 50.0, 1.0 / 36.0));
+  const BearingAgreement none = bearing_agreement(ring, 0.3);
+  EXPECT_NEAR(none.mass_within_45deg, 0.25, 1.0 / 36.0 + 1e-9);
+  EXPECT_NEAR(none.mean_cosine, 0.0, 1e-9);
+  // 0.8 at 10 deg from the truth, 0.2 behind it; weights need not be normalised.
+  const std::vector<SogComponent> two = {at_bearing(40.0, 30.0, 1.6), at_bearing(210.0, 30.0, 0.4)};
+  const BearingAgreement a = bearing_agreement(two, 30.0 * kDeg);
+  EXPECT_NEAR(a.mass_within_45deg, 0.8, 1e-12);
+  EXPECT_NEAR(a.mean_cosine, 0.8 * std::cos(10.0 * kDeg) - 0.2, 1e-12);
+}
+
 }  // namespace
 }  // namespace sarloc::avalanche

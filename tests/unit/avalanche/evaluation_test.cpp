@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <mutex>
+#include <vector>
+
 #include "sarloc/core/common/errors.hpp"
 
 namespace sarloc::avalanche {
@@ -44,6 +47,31 @@ TEST(EvaluationTest, MonteCarloNeesIsConsistentAndTrialsFinish) {
   EXPECT_LT(s.error_m.max, 1.0);
   EXPECT_GE(s.initial_distance_m.median, 40.0);
   EXPECT_GT(s.steps.mean, 35.0);
+}
+
+// The step observer (sarloc-eval's traces) sees every step of every trial in order, at the pose
+// where the sample was taken, and observing does not change the results.
+TEST(EvaluationTest, StepObserverSeesEveryStepWithoutChangingResults) {
+  const EvaluationSetup setup = small_setup(3, 2);
+  std::mutex mutex;
+  std::vector<std::vector<std::uint32_t>> steps(3);
+  std::vector<std::vector<double>> distances(3);
+  const auto observed = run_evaluation(setup, {}, {}, [&](const TrialStep& s) {
+    std::lock_guard<std::mutex> lock(mutex);
+    steps.at(s.trial).push_back(s.step);
+    distances.at(s.trial).push_back(s.sim.true_horizontal_distance());
+    EXPECT_EQ(s.estimate.relative.position, s.filter.estimate(0).relative.position);
+  });
+  const auto plain = run_evaluation(setup);
+  for (std::uint32_t t = 0; t < 3; ++t) {
+    const TrialResult& r = observed.per_trial[t];
+    ASSERT_EQ(steps[t].size(), r.steps) << "trial " << t;
+    for (std::size_t i = 0; i < steps[t].size(); ++i) EXPECT_EQ(steps[t][i], i + 1);
+    EXPECT_DOUBLE_EQ(distances[t].front(), r.initial_distance_m);
+    EXPECT_LT(distances[t].back(), 1.0);  // found: the last step is taken above the victim
+    EXPECT_EQ(r.steps, plain.per_trial[t].steps);
+    EXPECT_DOUBLE_EQ(r.error_m, plain.per_trial[t].error_m);
+  }
 }
 
 TEST(EvaluationTest, ConfigErrorsNameTheKey) {

@@ -32,4 +32,13 @@ class BearingDensity {
   int peak_bin_ = 0;
 };
 
+/// How well a mixture's bearing posterior agrees with a known true bearing (evaluation only:
+/// sarloc-eval --trace-csv). 0.25 / 0 for a uniform ring, 1 / 1 when certain and right.
+struct BearingAgreement {
+  double mass_within_45deg = 0.0;  ///< weight of components whose bearing is within 45 deg
+  double mean_cosine = 0.0;        ///< weighted mean of cos(component bearing - true bearing)
+};
+BearingAgreement bearing_agreement(const std::vector<SogComponent>& components,
+                                   double true_bearing_rad);
+
 }  // namespace sarloc::avalanche

@@ -84,15 +84,33 @@ struct EvaluationSummary {
   std::vector<TrialResult> per_trial;
 };
 
-/// One trial, deterministic for (setup, index).
-TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index);
+/// What one step of a trial saw and decided, for step-by-step traces (`sarloc-eval
+/// --trace-trial`, `--trace-csv`). Valid only during the observer call; `sim` is at the pose
+/// where `measurement` was taken, before the step is walked.
+struct TrialStep {
+  std::uint32_t trial = 0;
+  std::uint32_t step = 0;
+  const AvalancheSimulator& sim;
+  const FieldMeasurement& measurement;
+  const SogStepResult& filter_result;
+  const SogFilter& filter;
+  const Guidance& guidance;
+  const VictimEstimate& estimate;
+};
+using StepObserver = std::function<void(const TrialStep&)>;
+
+/// One trial, deterministic for (setup, index). `observer`, if set, sees every step.
+TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index,
+                      const StepObserver& observer = {});
 
 /// All trials in parallel; on_trial_done is called from worker threads (must be thread-safe).
 /// `cancelled` is polled before each trial; when it returns true the remaining trials are
 /// skipped and the summary covers the completed ones (summary.cancelled = true).
+/// `observer` is called from worker threads too, steps of one trial in order.
 EvaluationSummary run_evaluation(const EvaluationSetup& setup,
                                  const std::function<void()>& on_trial_done = {},
-                                 const std::function<bool()>& cancelled = {});
+                                 const std::function<bool()>& cancelled = {},
+                                 const StepObserver& observer = {});
 
 Stats compute_stats(std::vector<double> values);
 double percentile(std::vector<double> values, double q);

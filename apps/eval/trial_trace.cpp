@@ -1,0 +1,72 @@
+#include "trial_trace.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "sarloc/core/avalanche/bearing_density.hpp"
+
+namespace sarloc::eval {
+namespace av = sarloc::avalanche;
+
+namespace {
+double true_bearing(const av::TrialStep& s) {
+  const Vec3 t = s.sim.true_relative_position();
+  return std::atan2(t.y(), t.x());
+}
+}  // namespace
+
+void print_trace_step(const av::TrialStep& s) {
+  if (s.step == 1) {
+    const auto& sc = s.sim.scenario();
+    std::printf("trial %u: transmitter [%.2f %.2f %.2f] |m| %.4f m [%.3f %.3f %.3f]\n", s.trial,
+                sc.transmitter.x(), sc.transmitter.y(), sc.transmitter.z(), sc.moment.norm(),
+                sc.moment.x() / sc.moment.norm(), sc.moment.y() / sc.moment.norm(),
+                sc.moment.z() / sc.moment.norm());
+  }
+  const Vec3 truth = s.sim.true_relative_position();
+  const Vec3 err = s.estimate.relative.position - truth;
+  const double nees = err.dot(s.estimate.relative.covariance.ldlt().solve(err));
+  double w0 = 0.0;
+  for (const av::SogComponent& c : s.filter.components()) w0 = std::max(w0, std::exp(c.log_weight));
+  std::printf("%3u mode %d |z| %.2e true [%6.2f %6.2f %5.2f] est [%6.2f %6.2f %5.2f] err %.2f "
+              "r95 %.2f n %5zu nis %.1f w0 %.2f nees %.1f P45 %.2f%s\n",
+              s.step, static_cast<int>(s.guidance.mode), s.measurement.field.norm(), truth.x(),
+              truth.y(), truth.z(), s.estimate.relative.position.x(),
+              s.estimate.relative.position.y(), s.estimate.relative.position.z(), err.norm(),
+              av::SearchController::radius95_3d(s.estimate.relative.covariance), s.filter.size(),
+              s.filter_result.min_nis, w0, nees,
+              av::bearing_agreement(s.filter.components(), true_bearing(s)).mass_within_45deg,
+              s.filter_result.reinitialised ? " REINIT" : "");
+}
+
+const char* TraceCsv::header() {
+  return "trial,step,mode,tx_w,ty_w,tz_w,rx_w,ry_w,rz_w,roll,pitch,yaw,zx_r,zy_r,zz_r,"
+         "est_x_g,est_y_g,est_z_g,r95_h,components,mass_within_45deg,mean_cosine,heading_cosine\n";
+}
+
+void TraceCsv::add(const av::TrialStep& s) {
+  const auto& sc = s.sim.scenario();
+  const double tb = true_bearing(s);
+  const av::BearingAgreement a = av::bearing_agreement(s.filter.components(), tb);
+  const Vec3& est = s.estimate.relative.position;
+  const double heading_cos = s.guidance.step_m > 0.0 ? std::cos(s.guidance.heading_rad - tb) : 0.0;
+  char line[640];
+  std::snprintf(line, sizeof line,
+                "%u,%u,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.6f,%.6f,%.6f,%.6e,%.6e,%.6e,"
+                "%.4f,%.4f,%.4f,%.4f,%zu,%.5f,%.5f,%.5f\n",
+                s.trial, s.step, static_cast<int>(s.guidance.mode), sc.transmitter.x(),
+                sc.transmitter.y(), sc.transmitter.z(), sc.receiver.x(), sc.receiver.y(),
+                sc.receiver.z(), sc.receiver_rpy.x(), sc.receiver_rpy.y(), sc.receiver_rpy.z(),
+                s.measurement.field.x(), s.measurement.field.y(), s.measurement.field.z(), est.x(),
+                est.y(), est.z(), s.guidance.uncertainty_radius_m, s.filter.size(),
+                a.mass_within_45deg, a.mean_cosine, heading_cos);
+  rows_.at(s.trial) += line;
+}
+
+void TraceCsv::write(std::ostream& out) const {
+  out << header();
+  for (const std::string& r : rows_) out << r;
+}
+
+}  // namespace sarloc::eval

@@ -1,0 +1,33 @@
+#pragma once
+// Step-by-step traces of evaluation trials (sarloc-eval --trace-trial / --trace-csv).
+//
+// The CSV has one row per step of every trial, in trial order, with the truth beside what the
+// filter believed: enough to replay the measurements offline (scripts/ideal-bearing-check
+// compares the SOG posterior with a brute-force Bayesian grid on the same path).
+#include <cstdint>
+#include <mutex>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "sarloc/core/avalanche/evaluation.hpp"
+
+namespace sarloc::eval {
+
+/// One human-readable line per step (stdout).
+void print_trace_step(const avalanche::TrialStep& s);
+
+/// Collects CSV rows from worker threads and writes them in trial order.
+class TraceCsv {
+ public:
+  explicit TraceCsv(std::uint32_t trials) : rows_(trials) {}
+  /// Thread-safe for distinct trials (each trial has its own buffer).
+  void add(const avalanche::TrialStep& s);
+  void write(std::ostream& out) const;
+  static const char* header();
+
+ private:
+  std::vector<std::string> rows_;
+};
+
+}  // namespace sarloc::eval
