@@ -5,7 +5,6 @@
 // filter believed: enough to replay the measurements offline (scripts/ideal-bearing-check
 // compares the SOG posterior with a brute-force Bayesian grid on the same path).
 #include <cstdint>
-#include <mutex>
 #include <ostream>
 #include <string>
 #include <vector>
