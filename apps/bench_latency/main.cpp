@@ -23,6 +23,7 @@
 #include "sarloc/app/logging.hpp"
 #include "sarloc/core/avalanche/evaluation.hpp"
 #include "sarloc/app/mission_config.hpp"
+#include "sarloc/app/node_options.hpp"
 #include "sarloc/app/progress_bar.hpp"
 #include "sarloc/app/run_main.hpp"
 #include "sarloc/app/shutdown_signal.hpp"
@@ -82,10 +83,8 @@ LoadResult run_load(const app::MissionConfig& mission, const std::string& bin_di
                             "--log-level", "warn"},
                            log_dir + "/core-" + std::to_string(n) + "-" + std::to_string(rate_hz) + ".log");
 
-  auto dds_config = mission.dds;
-  dds_config.domain_id = domain;
-  dds_config.name = "bench-rescuers";
-  auto participant = std::make_shared<sarloc::dds::Participant>(dds_config);
+  auto participant = std::make_shared<sarloc::dds::Participant>(
+      app::participant_config(mission, static_cast<int>(domain), "bench-rescuers"));
   sarloc::dds::Writer<::sarloc::FieldMeasurement> measurements(participant);
   sarloc::dds::Writer<::sarloc::Odometry> odometry(participant);
 
@@ -149,9 +148,11 @@ LoadResult run_load(const app::MissionConfig& mission, const std::string& bin_di
   std::this_thread::sleep_for(std::chrono::seconds(1));  // stragglers
   std::lock_guard<std::mutex> lock(mutex);
   result.answered = latencies.size();
-  result.p50_ms = avalanche::percentile(latencies, 0.5);
-  result.p99_ms = avalanche::percentile(latencies, 0.99);
-  result.max_ms = avalanche::percentile(latencies, 1.0);
+  if (!latencies.empty()) {  // otherwise -1: no answer at all
+    result.p50_ms = avalanche::percentile(latencies, 0.5);
+    result.p99_ms = avalanche::percentile(latencies, 0.99);
+    result.max_ms = avalanche::percentile(latencies, 1.0);
+  }
   if (cpu.size() > 2) {
     // The first status covers start-up; the mean of the rest is the load's.
     double sum = 0.0;

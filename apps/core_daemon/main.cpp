@@ -15,7 +15,7 @@ int main(int argc, char** argv) {
   app::NodeOptions options;
   std::string sector;
   double duration_s = 0.0;
-  app::add_node_options(cli, options);
+  app::add_node_options(cli, options, /*with_epoch=*/false);  // the daemon keeps no mission clock
   cli.add_option("--sector", sector, "serve only this sector's rescuers (a name under sectors:)");
   cli.add_option("--duration", duration_s, "stop after this many wall seconds (0 = until SIGINT/SIGTERM)");
   CLI11_PARSE(cli, argc, argv);

@@ -16,16 +16,10 @@ void load(YamlReader root, avalanche::EvaluationSetup& setup) {
   {
     auto r = root.child("evaluation");
     auto& c = setup.evaluation;
-    unsigned u = c.trials;
-    r.read("trials", u);
-    c.trials = u;
+    r.read("trials", c.trials);
     r.read("seed", c.seed);
-    u = c.threads;
-    r.read("threads", u);
-    c.threads = u;
-    u = c.step_budget;
-    r.read("step_budget", u);
-    c.step_budget = u;
+    r.read("threads", c.threads);
+    r.read("step_budget", c.step_budget);
     r.expect_done();
   }
   root.expect_done();

@@ -190,10 +190,10 @@ int main(int argc, char** argv) {
     return to_int(ExitCode::kOk);
   }
   std::optional<sarloc::eval::TraceCsv> trace_csv;
-  std::optional<std::ofstream> trace_out;
+  std::ofstream trace_out;
   if (!trace_csv_path.empty()) {
-    trace_out.emplace(trace_csv_path);
-    if (!*trace_out) {
+    trace_out.open(trace_csv_path);
+    if (!trace_out) {
       spdlog::error("cannot write --trace-csv {}", trace_csv_path);
       return to_int(ExitCode::kRuntime);
     }
@@ -233,8 +233,8 @@ int main(int argc, char** argv) {
     }
   }
   if (trace_csv) {
-    trace_csv->write(*trace_out);
-    if (!trace_out->flush()) {
+    trace_csv->write(trace_out);
+    if (!trace_out.flush()) {
       spdlog::error("write to --trace-csv {} failed", trace_csv_path);
       return to_int(ExitCode::kRuntime);
     }

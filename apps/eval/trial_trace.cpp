@@ -10,10 +10,7 @@ namespace sarloc::eval {
 namespace av = sarloc::avalanche;
 
 namespace {
-double true_bearing(const av::TrialStep& s) {
-  const Vec3 t = s.sim.true_relative_position();
-  return std::atan2(t.y(), t.x());
-}
+double bearing_of(const Vec3& relative) { return std::atan2(relative.y(), relative.x()); }
 }  // namespace
 
 void print_trace_step(const av::TrialStep& s) {
@@ -36,7 +33,7 @@ void print_trace_step(const av::TrialStep& s) {
               s.estimate.relative.position.y(), s.estimate.relative.position.z(), err.norm(),
               av::SearchController::radius95_3d(s.estimate.relative.covariance), s.filter.size(),
               s.filter_result.min_nis, w0, nees,
-              av::bearing_agreement(s.filter.components(), true_bearing(s)).mass_within_45deg,
+              av::bearing_agreement(s.filter.components(), bearing_of(truth)).mass_within_45deg,
               s.filter_result.reinitialised ? " REINIT" : "");
 }
 
@@ -47,7 +44,7 @@ const char* TraceCsv::header() {
 
 void TraceCsv::add(const av::TrialStep& s) {
   const auto& sc = s.sim.scenario();
-  const double tb = true_bearing(s);
+  const double tb = bearing_of(s.sim.true_relative_position());
   const av::BearingAgreement a = av::bearing_agreement(s.filter.components(), tb);
   const Vec3& est = s.estimate.relative.position;
   const double heading_cos = s.guidance.step_m > 0.0 ? std::cos(s.guidance.heading_rad - tb) : 0.0;

@@ -14,6 +14,7 @@
 #include "sarloc/app/child_process.hpp"
 #include "sarloc/app/logging.hpp"
 #include "sarloc/app/mission_config.hpp"
+#include "sarloc/app/node_options.hpp"
 #include "sarloc/app/run_main.hpp"
 #include "sarloc/app/shutdown_signal.hpp"
 #include "sarloc/core/incident/assignment.hpp"
@@ -55,9 +56,8 @@ Fault parse_fault(const std::string& text, bool restart) {
 // kMatchRadius apart): index of the fused victim per true victim, or -1.
 constexpr double kMatchRadius = 5.0;
 
-bool is_found(const incident::FusedVictim& v) {
-  return v.state == incident::VictimState::kFound || v.state == incident::VictimState::kRecovered;
-}
+// A fault that kills one rescuer's device (not a daemon, not incident command).
+bool is_rescuer_kill(const Fault& f) { return f.target != "core" && f.target != "command"; }
 
 std::vector<int> match_to_truth(const std::vector<mission::VictimSpec>& truth,
                                 const std::vector<incident::FusedVictim>& fused) {
@@ -78,6 +78,14 @@ struct Picture {
   std::map<std::uint32_t, incident::FusedVictim> victims;
   std::map<std::string, incident::LinkState> links;
   std::vector<std::pair<eprosima::fastrtps::rtps::InstanceHandle_t, std::uint32_t>> instances;
+
+  /// The fused victims now (copied, so matching runs without the lock).
+  std::vector<incident::FusedVictim> victims_now() {
+    std::lock_guard<std::mutex> lock(mutex);
+    std::vector<incident::FusedVictim> out;
+    for (const auto& [id, v] : victims) out.push_back(v);
+    return out;
+  }
 };
 
 }  // namespace
@@ -122,10 +130,8 @@ int main(int argc, char** argv) {
                  mission.scenario.victims.size(), mission.scenario.rescuers.size(), mission.speedup, run_dir);
 
     // The mission's own participant: it watches the picture like incident command's dashboard.
-    auto dds_config = mission.dds;
-    if (domain >= 0) dds_config.domain_id = static_cast<std::uint32_t>(domain);
+    const auto dds_config = app::participant_config(mission, domain, "sarloc-mission");
     const std::string domain_arg = std::to_string(dds_config.domain_id);
-    dds_config.name = "sarloc-mission";
     auto participant = std::make_shared<sarloc::dds::Participant>(dds_config);
     Picture picture;
     sarloc::dds::ReaderEvents victim_events;
@@ -226,30 +232,28 @@ int main(int argc, char** argv) {
           rescuers.at(f.target)->kill_now();
         }
       }
-      bool every_victim_found = false;
       {
         std::lock_guard<std::mutex> lock(picture.mutex);
         for (auto& f : faults) {
-          if (!f.done || f.restart || f.link_lost_after_s >= 0.0 || f.target == "core" || f.target == "command") continue;
+          if (!f.done || f.link_lost_after_s >= 0.0 || !is_rescuer_kill(f)) continue;
           const auto it = picture.links.find(f.target);
           if (it != picture.links.end() && it->second == incident::LinkState::kLost) {
             f.link_lost_after_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - f.when).count();
             spdlog::info("incident command reports the link to {} lost after {:.1f} s", f.target, f.link_lost_after_s);
           }
         }
-        // Every buried victim matched by a FOUND victim of the picture (not just as many FOUND
-        // as buried: a duplicate whose disposal is still on its way must not end the mission).
-        std::vector<incident::FusedVictim> now;
-        for (const auto& [id, v] : picture.victims) now.push_back(v);
-        const auto matched = match_to_truth(mission.scenario.victims, now);
-        every_victim_found = std::all_of(matched.begin(), matched.end(), [&](int j) {
-          return j >= 0 && is_found(now[static_cast<std::size_t>(j)]);
-        });
       }
+      // Every buried victim matched by a FOUND victim of the picture (not just as many FOUND
+      // as buried: a duplicate whose disposal is still on its way must not end the mission).
+      const auto now = picture.victims_now();
+      const auto matched = match_to_truth(mission.scenario.victims, now);
+      const bool every_victim_found = std::all_of(matched.begin(), matched.end(), [&](int j) {
+        return j >= 0 && incident::is_found(now[static_cast<std::size_t>(j)].state);
+      });
       if (every_victim_found) {
         // Let the pending link-lost detections finish before stopping.
         const bool waiting_link = std::any_of(faults.begin(), faults.end(), [&](const Fault& f) {
-          return f.done && !f.restart && f.link_lost_after_s < 0.0 && f.target != "core" && f.target != "command" &&
+          return f.done && f.link_lost_after_s < 0.0 && is_rescuer_kill(f) &&
                  std::chrono::steady_clock::now() - f.when < std::chrono::seconds(30);
         });
         if (!waiting_link) {
@@ -276,11 +280,7 @@ int main(int argc, char** argv) {
     for (auto& c : cores) c->stop(std::chrono::seconds(10));
 
     // Match fused victims to the truth (minimum total distance, at most match_radius apart).
-    std::vector<incident::FusedVictim> fused;
-    {
-      std::lock_guard<std::mutex> lock(picture.mutex);
-      for (const auto& [id, v] : picture.victims) fused.push_back(v);
-    }
+    const auto fused = picture.victims_now();
     const auto match = match_to_truth(mission.scenario.victims, fused);
 
     // What each rescuer's device knew (its summary): found signals and their own errors.
@@ -329,7 +329,7 @@ int main(int argc, char** argv) {
       if (j >= 0) {
         const auto& f = fused[static_cast<std::size_t>(j)];
         const double error = (f.position.position - truth.position).norm();
-        found = is_found(f);
+        found = incident::is_found(f.state);
         v["victim_id"] = f.victim_id;
         v["estimate"] = {f.position.position.x(), f.position.position.y(), f.position.position.z()};
         v["error_m"] = error;
@@ -377,7 +377,7 @@ int main(int argc, char** argv) {
       out["fused_victims"].push_back({{"victim_id", f.victim_id},
                                       {"position", {f.position.position.x(), f.position.position.y(), f.position.position.z()}},
                                       {"confirmed", is_confirmed},
-                                      {"found", is_found(f)},
+                                      {"found", incident::is_found(f.state)},
                                       {"sources", f.sources.size()},
                                       {"matches_a_buried_victim", matched}});
     }

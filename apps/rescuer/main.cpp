@@ -5,7 +5,6 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
-#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -150,9 +149,11 @@ int main(int argc, char** argv) {
       j["fallbacks"] = node.fallbacks();
       j["guided_by"] = guided_by;
       j["daemon_after_fallback"] = daemon_after_fallback;
-      j["latency_ms"] = {{"samples", latencies.size()},
-                         {"p50", avalanche::percentile(latencies, 0.5)},
-                         {"p99", avalanche::percentile(latencies, 0.99)}};
+      j["latency_ms"] = {{"samples", latencies.size()}};
+      if (!latencies.empty()) {  // no daemon answer at all: no percentiles (the mission shows -1)
+        j["latency_ms"]["p50"] = avalanche::percentile(latencies, 0.5);
+        j["latency_ms"]["p99"] = avalanche::percentile(latencies, 0.99);
+      }
       nlohmann::json signals = nlohmann::json::array();
       for (const auto& [signal, status] : last.signals) {
         nlohmann::json s{{"signal_id", signal}, {"status", status_name(status)}};

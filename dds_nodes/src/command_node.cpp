@@ -64,8 +64,6 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
   frame.established(clock_.now());
   frame_writer_.write(frame);
 
-  EndpointOptions estimates;
-  estimates.partitions = config_.estimate_partitions;
   estimate_reader_ = std::make_unique<Reader<::sarloc::VictimEstimate>>(
       participant_,
       [this](const ::sarloc::VictimEstimate& e, const auto& info) {
@@ -87,7 +85,7 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
           warnings_.warn(e.rescuer_id().to_string(), "invalid_value", std::string("victim estimate: ") + error.what());
         }
       },
-      estimates);
+      EndpointOptions::in(config_.estimate_partitions));
 
   ReaderEvents events;
   events.on_liveliness = [this](const auto& handle, bool alive) {
@@ -216,7 +214,7 @@ void CommandNode::cycle() {
   std::uint32_t found = 0;
   for (const auto& v : victims) {
     if (v.state != incident::VictimState::kUnconfirmed) ++located;
-    if (v.state == incident::VictimState::kFound || v.state == incident::VictimState::kRecovered) ++found;
+    if (incident::is_found(v.state)) ++found;
     try {
       victim_writer_.write(to_idl(v));
     } catch (const InputError& e) {

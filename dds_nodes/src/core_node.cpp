@@ -36,7 +36,6 @@ namespace {
 // A refused step may close at most this far past the last epoch (its stamp is untrusted too).
 constexpr TimestampNs kMaxEpochGapNs = 60'000'000'000;
 
-
 }  // namespace
 
 CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig config)

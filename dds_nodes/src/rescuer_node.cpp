@@ -11,7 +11,6 @@ namespace {
 
 int rank(avalanche::EstimatorStatus status) { return static_cast<int>(status); }
 
-
 }  // namespace
 
 const char* to_string(GuidanceSource source) {
@@ -54,10 +53,14 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
         try {
           auto guidance = to_core(g);
           std::lock_guard<std::mutex> lock(mutex_);
-          remote_.guidance = guidance;
-          remote_.guidance_sequence = std::max(remote_.guidance_sequence, g.measurement_sequence());
-          remote_.guidance_mission_time = clock_.now();
-          remote_.guidance_wall_ns = MissionClock::wall_now_ns();
+          // A late answer to an older epoch (retransmitted) must not replace a newer one: the
+          // guidance and its sequence stay a pair.
+          if (g.measurement_sequence() >= remote_.guidance_sequence) {
+            remote_.guidance = guidance;
+            remote_.guidance_sequence = g.measurement_sequence();
+            remote_.guidance_mission_time = clock_.now();
+            remote_.guidance_wall_ns = MissionClock::wall_now_ns();
+          }
           remote_.answered_sequence = std::max(remote_.answered_sequence, g.measurement_sequence());
           remote_.answered_mission_time = clock_.now();
         } catch (const InputError& e) {
@@ -169,14 +172,20 @@ EpochResult RescuerNode::epoch(const std::vector<avalanche::Odometry>& odometry,
   // Wait for the daemon's answer to this epoch (same measurement sequence).
   const std::uint64_t sequence = measurements.empty() ? 0 : measurements.front().sequence;
   std::unique_lock<std::mutex> lock(mutex_);
+  // The daemon's last status of the signal its guidance leads to (under the lock).
+  auto guided_signal_status = [&]() -> const Remote::SignalStatus* {
+    if (!remote_.guidance) return nullptr;
+    const auto it = remote_.status.find(remote_.guidance->signal_id);
+    return it == remote_.status.end() ? nullptr : &it->second;
+  };
   // Wait only for a daemon believed alive: an unreachable one would make every epoch late.
   if (!measurements.empty() && (was_reachable_ || remote_.answered_mission_time == 0)) {
     cv_.wait_for(lock, std::chrono::milliseconds(static_cast<std::int64_t>(config_.guidance_wait_s * 1000.0)),
                  [&] {
                    // Both halves of the daemon's answer: the guidance and its signal's estimate.
-                   if (remote_.guidance_sequence < sequence || !remote_.guidance) return false;
-                   const auto it = remote_.status.find(remote_.guidance->signal_id);
-                   return it != remote_.status.end() && it->second.sequence >= sequence;
+                   if (remote_.guidance_sequence < sequence) return false;
+                   const auto* status = guided_signal_status();
+                   return status != nullptr && status->sequence >= sequence;
                  });
   }
   const TimestampNs now = clock_.now();
@@ -202,8 +211,8 @@ EpochResult RescuerNode::epoch(const std::vector<avalanche::Odometry>& odometry,
   if (fresh && !cores_lost && remote_.guidance && remote_.guidance_sequence == sequence && sequence != 0) {
     // The daemon's estimate must answer this very epoch: an older status (or a previous
     // daemon's) says nothing about the filter that produced this guidance.
-    const auto it = remote_.status.find(remote_.guidance->signal_id);
-    const auto remote_rank = it == remote_.status.end() || it->second.sequence != sequence ? 0 : rank(it->second.status);
+    const auto* status = guided_signal_status();
+    const auto remote_rank = status == nullptr || status->sequence != sequence ? 0 : rank(status->status);
     const auto local_rank = local_guidance ? rank(local_status(local_guidance->signal_id)) : 0;
     use_remote = remote_rank >= local_rank;
   }

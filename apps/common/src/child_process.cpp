@@ -10,6 +10,7 @@
 #include <cstring>
 #include <thread>
 
+#include "sarloc/app/shutdown_signal.hpp"
 #include "sarloc/core/common/errors.hpp"
 
 extern char** environ;
@@ -28,9 +29,10 @@ ChildProcess::ChildProcess(std::string name, const std::vector<std::string>& arg
   args.push_back(nullptr);
   // The child stops when we go (shutdown_signal.cpp: SARLOC_PARENT_PID), so a killed
   // launcher never leaves a mission running.
-  std::vector<std::string> env_storage{"SARLOC_PARENT_PID=" + std::to_string(getpid())};
+  const std::string assignment_prefix = std::string(kParentPidVariable) + "=";
+  std::vector<std::string> env_storage{assignment_prefix + std::to_string(getpid())};
   for (char** e = environ; *e != nullptr; ++e) {
-    if (std::strncmp(*e, "SARLOC_PARENT_PID=", 18) != 0) env_storage.emplace_back(*e);
+    if (std::strncmp(*e, assignment_prefix.c_str(), assignment_prefix.size()) != 0) env_storage.emplace_back(*e);
   }
   std::vector<char*> env;
   for (auto& e : env_storage) env.push_back(e.data());

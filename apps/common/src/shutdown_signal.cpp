@@ -30,7 +30,7 @@ void install_shutdown_handlers() {
   sigaction(SIGTERM, &action, nullptr);
   // Started by a launcher (ChildProcess sets SARLOC_PARENT_PID): get SIGTERM when it dies, and
   // stop at once if it is already gone, so no mission process outlives its launcher.
-  if (const char* parent = std::getenv("SARLOC_PARENT_PID")) {
+  if (const char* parent = std::getenv(kParentPidVariable.data())) {
     prctl(PR_SET_PDEATHSIG, SIGTERM);
     if (std::to_string(getppid()) != parent) request_shutdown();
   }

@@ -2,23 +2,29 @@
 
 namespace sarloc::app {
 
-dds::ParticipantConfig NodeOptions::participant(const MissionConfig& mission, const std::string& name) const {
+dds::ParticipantConfig participant_config(const MissionConfig& mission, int domain, const std::string& name) {
   dds::ParticipantConfig config = mission.dds;
   if (domain >= 0) config.domain_id = static_cast<std::uint32_t>(domain);
   config.name = name;
   return config;
 }
 
+dds::ParticipantConfig NodeOptions::participant(const MissionConfig& mission, const std::string& name) const {
+  return participant_config(mission, domain, name);
+}
+
 dds::MissionClock NodeOptions::clock(const MissionConfig& mission) const {
   return dds::MissionClock(epoch_ns > 0 ? epoch_ns : dds::MissionClock::wall_now_ns(), mission.speedup);
 }
 
-void add_node_options(CLI::App& cli, NodeOptions& options) {
+void add_node_options(CLI::App& cli, NodeOptions& options, bool with_epoch) {
   cli.add_option("-c,--config", options.config_path, "mission YAML (config/missions/default.yaml)")->required();
   cli.add_option("--log-level", options.log_level, "trace, debug, info, warn, error, critical, off");
   cli.add_option("--domain", options.domain, "DDS domain id, overriding dds.domain_id of the config");
-  cli.add_option("--epoch-ns", options.epoch_ns,
-                 "mission start, ns since the Unix epoch (sarloc-mission sets it; default: now)");
+  if (with_epoch) {
+    cli.add_option("--epoch-ns", options.epoch_ns,
+                   "mission start, ns since the Unix epoch (sarloc-mission sets it; default: now)");
+  }
   cli.set_version_flag("--version", SARLOC_VERSION);
 }
 

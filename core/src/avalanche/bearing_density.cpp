@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "sarloc/core/avalanche/dipole_model.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
@@ -9,6 +10,14 @@
 namespace sarloc::avalanche {
 namespace {
 constexpr double kBinWidth = 2.0 * kPi / BearingDensity::kBins;
+
+// Bearing of a component's mean from the receiver; none for a mean on the receiver's vertical.
+std::optional<double> bearing_of(const SogComponent& c) {
+  const double x = c.x(idx::kPos);
+  const double y = c.x(idx::kPos + 1);
+  if (x == 0.0 && y == 0.0) return std::nullopt;
+  return std::atan2(y, x);
+}
 }  // namespace
 
 int BearingDensity::bin_of(double bearing_rad) {
@@ -20,10 +29,7 @@ BearingDensity::BearingDensity(const std::vector<SogComponent>& components,
                                double kernel_sigma_rad) {
   std::array<double, kBins> mass{};
   for (const SogComponent& c : components) {
-    const double x = c.x(idx::kPos);
-    const double y = c.x(idx::kPos + 1);
-    if (x == 0.0 && y == 0.0) continue;  // no bearing
-    mass[bin_of(std::atan2(y, x))] += std::exp(c.log_weight);
+    if (const auto bearing = bearing_of(c)) mass[bin_of(*bearing)] += std::exp(c.log_weight);
   }
   // Von Mises kernel exp(kappa (cos d - 1)), kappa = 1 / sigma^2, tabulated by bin offset.
   const double kappa = 1.0 / (kernel_sigma_rad * kernel_sigma_rad);
@@ -42,11 +48,10 @@ BearingAgreement bearing_agreement(const std::vector<SogComponent>& components,
   BearingAgreement a;
   double total = 0.0;
   for (const SogComponent& c : components) {
-    const double x = c.x(idx::kPos);
-    const double y = c.x(idx::kPos + 1);
-    if (x == 0.0 && y == 0.0) continue;  // no bearing
+    const auto bearing = bearing_of(c);
+    if (!bearing) continue;
     const double w = std::exp(c.log_weight);
-    const double cosine = std::cos(std::atan2(y, x) - true_bearing_rad);
+    const double cosine = std::cos(*bearing - true_bearing_rad);
     total += w;
     a.mean_cosine += w * cosine;
     if (cosine > std::cos(kPi / 4.0)) a.mass_within_45deg += w;

@@ -118,7 +118,7 @@ bool RescuerSearch::add_unknown_motion(TimestampNs from, TimestampNs until) {
   // until > from: their difference as unsigned is exact, whatever the stamps' signs.
   const auto span = static_cast<std::uint64_t>(until) - static_cast<std::uint64_t>(from);
   if (span > static_cast<std::uint64_t>(kMaxUnknownMotionNs)) return false;  // not a few late steps
-  const double dt = static_cast<double>(span) * 1e-9;  // <= 10 s: variances stay <= 100 m^2
+  const double dt = static_cast<double>(span) * 1e-9;  // <= 10 s; variances capped at 100 m^2 below
   const double vt = std::pow(config_.unknown_motion_speed_m_per_s * dt, 2);
   const double vz = std::pow(0.2 * config_.unknown_motion_speed_m_per_s * dt, 2) + 1e-4;  // slopes only
   const double vyaw = std::pow(std::min(config_.unknown_motion_turn_rad_per_s * dt, 2.0), 2);

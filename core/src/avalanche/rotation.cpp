@@ -41,16 +41,7 @@ Mat3 EulerTrig::world_to_rate() const {
   return e;
 }
 
-Mat3 rotation_from_rpy(const Vec3& rpy) {
-  const double cr = std::cos(rpy.x()), sr = std::sin(rpy.x());
-  const double cp = std::cos(rpy.y()), sp = std::sin(rpy.y());
-  const double cy = std::cos(rpy.z()), sy = std::sin(rpy.z());
-  Mat3 r;
-  r << cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr,  //
-      sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr,   //
-      -sp, cp * sr, cp * cr;
-  return r;
-}
+Mat3 rotation_from_rpy(const Vec3& rpy) { return EulerTrig::from_rpy(rpy).rotation(); }
 
 Vec3 rpy_from_rotation(const Mat3& r) {
   const double sp = std::clamp(-r(2, 0), -1.0, 1.0);

@@ -4,10 +4,12 @@
 #include <cstdlib>
 
 namespace sarloc::incident {
+namespace {
+constexpr auto kBeforeStamp = [](const auto& f, TimestampNs s) { return f.stamp < s; };
+}  // namespace
 
 void ResponderTrack::add(TimestampNs stamp, const GaussianPosition& antenna) {
-  auto it = std::lower_bound(fixes_.begin(), fixes_.end(), stamp,
-                             [](const Fix& f, TimestampNs s) { return f.stamp < s; });
+  auto it = std::lower_bound(fixes_.begin(), fixes_.end(), stamp, kBeforeStamp);
   if (it != fixes_.end() && it->stamp == stamp) {
     it->antenna = antenna;
     return;
@@ -19,8 +21,7 @@ void ResponderTrack::add(TimestampNs stamp, const GaussianPosition& antenna) {
 std::optional<GaussianPosition> ResponderTrack::at(TimestampNs stamp, TimestampNs max_age_ns,
                                                    TimestampNs max_gap_ns) const {
   if (fixes_.empty()) return std::nullopt;
-  const auto after = std::lower_bound(fixes_.begin(), fixes_.end(), stamp,
-                                      [](const Fix& f, TimestampNs s) { return f.stamp < s; });
+  const auto after = std::lower_bound(fixes_.begin(), fixes_.end(), stamp, kBeforeStamp);
   // Nearest fix: the first at or after the stamp, or the last before it.
   const Fix* nearest = nullptr;
   if (after != fixes_.end()) nearest = &*after;

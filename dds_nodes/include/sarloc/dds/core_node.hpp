@@ -70,7 +70,9 @@ class CoreNode {
   };
   struct RescuerState {
     avalanche::RescuerSearch search;
-    TimestampNs odometry_until = 0;  ///< interval_end of the last accepted odometry
+    /// interval_end of the last odometry step dealt with: accepted, refused for its values, or
+    /// stood in for by unknown motion.
+    TimestampNs odometry_until = 0;
     std::optional<TimestampNs> measured_at;  ///< stamp of the last processed epoch (signals share it)
     std::deque<Held> held;           ///< measurements waiting for their odometry, in arrival order
   };

@@ -2,8 +2,12 @@
 // SIGINT/SIGTERM handling installed before start-up: the handler only sets a flag; main
 // threads poll it or wait on it, so shutdown runs in normal code, never in a signal handler.
 #include <chrono>
+#include <string_view>
 
 namespace sarloc::app {
+
+/// Environment variable through which ChildProcess passes its pid to the child.
+inline constexpr std::string_view kParentPidVariable = "SARLOC_PARENT_PID";
 
 /// Installs handlers for SIGINT and SIGTERM (idempotent). A process started by ChildProcess
 /// also stops when its launcher dies.

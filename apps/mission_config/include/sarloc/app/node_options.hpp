@@ -27,7 +27,11 @@ struct NodeOptions {
   dds::MissionClock clock(const MissionConfig& mission) const;
 };
 
-/// Adds -c/--config (required), --log-level, --domain, --epoch-ns and --version.
-void add_node_options(CLI::App& cli, NodeOptions& options);
+/// Adds -c/--config (required), --log-level, --domain, --version and, for nodes that follow
+/// the mission clock (`with_epoch`), --epoch-ns.
+void add_node_options(CLI::App& cli, NodeOptions& options, bool with_epoch = true);
+
+/// The mission's participant settings named `name`, on `domain` if >= 0 (else dds.domain_id).
+dds::ParticipantConfig participant_config(const MissionConfig& mission, int domain, const std::string& name);
 
 }  // namespace sarloc::app

@@ -85,8 +85,6 @@ class SearchController {
   GuidanceMode mode() const { return mode_; }
   const SearchConfig& config() const { return config_; }
 
-  /// The 95 % radius below which an estimate at `relative_position` counts as located.
-  double located_radius(const Vec3& relative_position) const;
   /// 95 % radius (m) of a 3-D position covariance along its worst axis.
   static double radius95_3d(const Mat3& covariance);
   /// 95 % radius (m) of the horizontal 2-D marginal along its worst axis.
@@ -103,6 +101,8 @@ class SearchController {
   double flux_line_heading(const SogFilter& filter, const FieldMeasurement& meas,
                            const Eigen::Vector2d& mean_h, const Vec3& psi);
   double posterior_bearing_heading(const SogFilter& filter);
+  /// The 95 % radius below which an estimate at `relative_position` counts as located.
+  double located_radius(const Vec3& relative_position) const;
 };
 
 }  // namespace sarloc::avalanche

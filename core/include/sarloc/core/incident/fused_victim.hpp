@@ -26,4 +26,7 @@ struct FusedVictim {
   TimestampNs found_at = 0;             ///< 0 while not found
 };
 
+/// Found by a rescuer (and possibly recovered since).
+inline bool is_found(VictimState s) { return s == VictimState::kFound || s == VictimState::kRecovered; }
+
 }  // namespace sarloc::incident
