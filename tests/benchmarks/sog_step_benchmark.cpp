@@ -2,8 +2,10 @@
 // components. The filter is initialised from a simulated first measurement with
 // sog.initial_components = N and stepped once per iteration on a copy, so every iteration
 // sees exactly N components (the timing of the eval tool's first step).
+// BM_LookaheadHeading: one information-aware opening decision on that first mixture.
 #include <benchmark/benchmark.h>
 
+#include "sarloc/core/avalanche/lookahead_heading.hpp"
 #include "sarloc/core/avalanche/simulator.hpp"
 #include "sarloc/core/avalanche/sog_filter.hpp"
 
@@ -31,7 +33,22 @@ void BM_SogStep(benchmark::State& state) {
   state.counters["components"] = static_cast<double>(n);
 }
 
+void BM_LookaheadHeading(benchmark::State& state) {
+  SogConfig cfg;
+  AvalancheSimulator sim(SimulationConfig{}, derive_seed(7, 0));
+  SogFilter f(cfg, "sim", 1);
+  f.process(sim.measure());
+  f.add_odometry(sim.walk(0.3, 1.0));
+  f.process(sim.measure());
+  const LookaheadConfig look;
+  for (auto _ : state)
+    benchmark::DoNotOptimize(
+        lookahead_heading(f.components(), look, 1.0, cfg.noise_relative, cfg.noise_floor_A_per_m));
+  state.counters["components"] = static_cast<double>(f.size());
+}
+
 }  // namespace
 
 BENCHMARK(BM_SogStep)->Arg(1700)->Arg(400)->Arg(50)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LookaheadHeading)->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

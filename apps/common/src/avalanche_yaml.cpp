@@ -77,6 +77,11 @@ void read_search(YamlReader r, avalanche::SearchConfig& c) {
   c.opening_heading = avalanche::parse_opening_heading(opening);
   r.read("bearing_kernel_deg", c.bearing_kernel_deg);
   r.read("bearing_switch_ratio", c.bearing_switch_ratio);
+  r.read("lookahead_hypotheses", c.lookahead.hypotheses);
+  r.read("lookahead_headings", c.lookahead.headings);
+  r.read("lookahead_horizon_steps", c.lookahead.horizon_steps);
+  r.read("lookahead_detour_weight", c.lookahead.detour_weight);
+  r.read("lookahead_information_scale", c.lookahead.information_scale);
   r.expect_done();
 }
 

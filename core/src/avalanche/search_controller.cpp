@@ -41,17 +41,24 @@ void SearchConfig::validate() const {
   check("flux_detection_snr2", flux_detection_snr2, 0.0, 100.0, false);
   check("bearing_kernel_deg", bearing_kernel_deg, 0.0, 180.0, true);
   check("bearing_switch_ratio", bearing_switch_ratio, 1.0, 100.0, false);
+  lookahead.validate();
 }
 
 const char* to_string(OpeningHeading h) {
-  return h == OpeningHeading::kFluxLine ? "flux_line" : "posterior_bearing";
+  switch (h) {
+    case OpeningHeading::kFluxLine: return "flux_line";
+    case OpeningHeading::kLookahead: return "lookahead";
+    case OpeningHeading::kPosteriorBearing: break;
+  }
+  return "posterior_bearing";
 }
 
 OpeningHeading parse_opening_heading(const std::string& text) {
   if (text == "posterior_bearing") return OpeningHeading::kPosteriorBearing;
   if (text == "flux_line") return OpeningHeading::kFluxLine;
+  if (text == "lookahead") return OpeningHeading::kLookahead;
   throw ConfigError("search.opening_heading = '" + text +
-                    "': must be posterior_bearing or flux_line");
+                    "': must be posterior_bearing, flux_line or lookahead");
 }
 
 SearchController::SearchController(SearchConfig config) : config_(config) { config_.validate(); }
@@ -184,9 +191,20 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
       step = 0.0;
       break;
     case GuidanceMode::kFollowFluxLine:
-      heading = config_.opening_heading == OpeningHeading::kFluxLine
-                    ? flux_line_heading(filter, meas, mean_h, psi)
-                    : posterior_bearing_heading(filter);
+      switch (config_.opening_heading) {
+        case OpeningHeading::kFluxLine:
+          heading = flux_line_heading(filter, meas, mean_h, psi);
+          break;
+        case OpeningHeading::kLookahead:
+          heading = lookahead_heading(
+              filter.components(), config_.lookahead, config_.step_length_m,
+              filter.config().noise_relative,
+              std::max(filter.config().noise_floor_A_per_m, meas.noise_stddev.maxCoeff()));
+          break;
+        case OpeningHeading::kPosteriorBearing:
+          heading = posterior_bearing_heading(filter);
+          break;
+      }
       break;
     case GuidanceMode::kApproach:
       break;

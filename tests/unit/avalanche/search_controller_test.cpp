@@ -97,7 +97,7 @@ TEST(SearchControllerTest, BearingIsRelativeToReceiverForwardAxis) {
 // Precision scales with range, so "located" does too: a deep burial is located at a radius a
 // shallow one is not (a fixed radius left a 5.6 m burial unfound for 150 steps).
 TEST(SearchControllerLocated, RadiusScalesWithRangeAboveTheNearRangeFloor) {
-  SearchController controller;  // defaults: 0.4 m floor, 8 % of range
+  SearchController controller;  // defaults: 0.4 m floor, 10 % of range
   VictimEstimate e;
   e.status = EstimatorStatus::kConverged;
   // A 95 % 3-D radius of 0.48 m: sqrt(chi2_3(0.95) * sigma^2) = 0.48 -> sigma^2 = 0.48^2 / 7.815.
@@ -106,7 +106,7 @@ TEST(SearchControllerLocated, RadiusScalesWithRangeAboveTheNearRangeFloor) {
 
   e.relative.position = Vec3(1.5, 0.0, -2.0);  // 2.5 m away: the 0.4 m floor applies
   EXPECT_EQ(controller.assess(e), EstimatorStatus::kConverged);
-  e.relative.position = Vec3(1.5, 0.0, -6.6);  // 6.8 m away: 8 % of it is 0.54 m
+  e.relative.position = Vec3(1.5, 0.0, -6.6);  // 6.8 m away: 10 % of it is 0.68 m
   EXPECT_EQ(controller.assess(e), EstimatorStatus::kLocated);
   e.relative.position = Vec3(0.2, 0.0, -6.6);  // on top of it
   EXPECT_EQ(controller.assess(e), EstimatorStatus::kFound);
@@ -121,6 +121,8 @@ TEST(SearchControllerLocated, RadiusScalesWithRangeAboveTheNearRangeFloor) {
 
 TEST(SearchControllerOpening, ParsesHeadingSourceAndNamesABadOne) {
   EXPECT_EQ(parse_opening_heading("flux_line"), OpeningHeading::kFluxLine);
+  EXPECT_EQ(parse_opening_heading("lookahead"), OpeningHeading::kLookahead);
+  EXPECT_EQ(parse_opening_heading(to_string(OpeningHeading::kLookahead)), OpeningHeading::kLookahead);
   EXPECT_EQ(parse_opening_heading(to_string(OpeningHeading::kPosteriorBearing)),
             OpeningHeading::kPosteriorBearing);
   try {
@@ -147,6 +149,8 @@ TEST(SearchControllerOpening, HeadsForTheMostProbableBearingWithHysteresis) {
   cfg.initial_components = 600;
   SogFilter f(cfg);
   SearchConfig sc;
+  sc.opening_heading = OpeningHeading::kPosteriorBearing;
+  sc.approach_mahalanobis = 0.5;  // the opening this walk was picked for
   SearchController ctl(sc);
   const double kernel = sc.bearing_kernel_deg * kPi / 180.0;
   std::optional<double> held;

@@ -4,13 +4,17 @@
 //
 // Modes (GuidanceMode):
 //   kFollowFluxLine  the opening phase (seed 000's flux-line phase). Heading by
-//                    opening_heading: kPosteriorBearing (default) walks toward the most probable
-//                    bearing of the mixture (BearingDensity) and keeps its heading until another
-//                    bearing is bearing_switch_ratio times as probable; kFluxLine walks along the
+//                    opening_heading: kLookahead (default) walks the straight line whose next
+//                    steps are expected to leave the shortest way, counting the detour that
+//                    the remaining bearing ambiguity costs (lookahead_heading.hpp);
+//                    kPosteriorBearing walks toward the most probable bearing of the mixture
+//                    (BearingDensity) and keeps its heading until another bearing is
+//                    bearing_switch_ratio times as probable; kFluxLine walks along the
 //                    horizontal projection of the measured field line, SNR-weighted and low-pass
 //                    filtered (flux_smoothing), its sense kept continuous, the first one towards
-//                    the mixture mean. Measured: the posterior bearing saves 0.7-0.9 steps a
-//                    trial (docs/estimation/avalanche.md, "Opening heading");
+//                    the mixture mean. Measured (docs/estimation/avalanche.md, "Opening
+//                    heading"): posterior bearing saves 0.7-0.9 steps a trial over the flux
+//                    line, the lookahead another 0.3;
 //   kApproach        once the receiver is far enough from the mixture mean in Mahalanobis terms
 //                    (horizontal d^2 = p^T P^-1 p > approach_mahalanobis^2), walk to the mean;
 //   kFineSearch      horizontal distance < fine_search_radius_m: steps of min(step, distance);
@@ -30,20 +34,21 @@
 
 #include "sarloc/core/avalanche/field_measurement.hpp"
 #include "sarloc/core/avalanche/guidance.hpp"
+#include "sarloc/core/avalanche/lookahead_heading.hpp"
 #include "sarloc/core/avalanche/sog_filter.hpp"
 #include "sarloc/core/avalanche/victim_estimate.hpp"
 
 namespace sarloc::avalanche {
 
 /// How the opening phase picks its heading (see the mode list above).
-enum class OpeningHeading { kPosteriorBearing, kFluxLine };
-/// "posterior_bearing" / "flux_line"; parse throws ConfigError naming search.opening_heading.
+enum class OpeningHeading { kPosteriorBearing, kFluxLine, kLookahead };
+/// "lookahead" / "posterior_bearing" / "flux_line"; parse throws ConfigError naming search.opening_heading.
 const char* to_string(OpeningHeading h);
 OpeningHeading parse_opening_heading(const std::string& text);
 
 struct SearchConfig {
   double step_length_m = 1.0;          ///< nominal step (seed 000: 1 m/s, 1 measurement/s)
-  double approach_mahalanobis = 0.5;   ///< leave flux-line following beyond this distance
+  double approach_mahalanobis = 1.0;   ///< leave the opening phase beyond this distance
   /// ... and only once the mixture's 95 % horizontal radius has shrunk to this fraction of
   /// its initial value (a ring still uniform at the noise floor has a wandering mean).
   double approach_radius_fraction = 1.0;
@@ -51,7 +56,7 @@ struct SearchConfig {
   double located_radius_m = 0.4;       ///< 95 % 3-D radius for "located" (near range)
   /// ... or this fraction of the antenna-to-victim distance, whichever is larger: precision
   /// scales with range, so deep burials are located at a proportionally larger radius.
-  double located_radius_per_range = 0.08;
+  double located_radius_per_range = 0.10;
   double found_distance_m = 0.5;       ///< horizontal distance to the estimate for "found"
   double probe_step_m = 0.5;           ///< sideways step when on top but not yet located
   double flux_smoothing = 0.7;         ///< memory of the SNR-weighted flux-line direction
@@ -61,7 +66,7 @@ struct SearchConfig {
   /// noise-only reading rarely turns him: at the noise floor he walks on straight (the
   /// baseline that makes |z| informative) instead of dithering.
   double flux_detection_snr2 = 1.0;
-  OpeningHeading opening_heading = OpeningHeading::kPosteriorBearing;
+  OpeningHeading opening_heading = OpeningHeading::kLookahead;
   /// Angular width (1 sigma) of the kernel smoothing the posterior bearing density: wide
   /// enough that an arc of the ring counts as one direction, narrow enough to tell arcs apart.
   double bearing_kernel_deg = 35.0;
@@ -69,6 +74,8 @@ struct SearchConfig {
   /// its probability: a near-uniform ring would otherwise turn the rescuer every step, and
   /// walking straight is what makes the field magnitude informative.
   double bearing_switch_ratio = 2.0;
+  /// opening_heading = lookahead: the information-aware planner (lookahead_heading.hpp).
+  LookaheadConfig lookahead;
 
   /// Throws ConfigError "search.<key> = value: rule".
   void validate() const;

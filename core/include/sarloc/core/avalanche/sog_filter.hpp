@@ -72,7 +72,8 @@ struct SogConfig {
   /// noise floor). The mixture is then re-initialised from the current measurement, which is
   /// stronger than the first one, so the new ring is narrower. A window, unlike n consecutive
   /// single-step failures, catches a persistent moderate excess (NIS 15-50 every step) that
-  /// single-step gates miss half of the time. 0 = off.
+  /// single-step gates miss half of the time. Neither test re-initialises a converged
+  /// mixture (SogStepResult::divergence_ignored). 0 = off.
   std::uint32_t divergence_window = 6;
   // --- mixture management ---
   double prune_log_weight = 14.0;   ///< drop components with log w < max log w - this
@@ -110,6 +111,9 @@ struct SogStepResult {
   double log_likelihood = 0.0;         ///< log p(z_k | Z^{k-1}) up to a constant
   double min_nis = 0.0;                ///< smallest normalised innovation squared (3 dof)
   bool reinitialised = false;          ///< innovation gate failed: mixture rebuilt from z_k
+  /// The gate failed on a converged mixture (95 % radius <= converged_radius_m): taken for
+  /// near-field linearisation error, not a lost transmitter, so the mixture is kept.
+  bool divergence_ignored = false;
 };
 
 class SogFilter {
