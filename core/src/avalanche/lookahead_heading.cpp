@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include "sarloc/core/common/errors.hpp"
 
@@ -65,6 +66,7 @@ void LookaheadConfig::validate() const {
 
 double lookahead_heading(const std::vector<SogComponent>& components, const LookaheadConfig& cfg,
                          double step_length_m, double noise_relative, double noise_floor_A_per_m) {
+  if (components.empty()) throw std::invalid_argument("lookahead_heading: empty mixture");
   const std::vector<Hypothesis> hyp = draw_hypotheses(components, cfg.hypotheses);
   const Eigen::Index n = static_cast<Eigen::Index>(hyp.size());
   const int steps = cfg.horizon_steps;

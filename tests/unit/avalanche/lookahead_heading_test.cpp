@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 
 #include "sarloc/core/avalanche/rotation.hpp"
 #include "sarloc/core/common/errors.hpp"
@@ -74,6 +75,8 @@ TEST(LookaheadHeadingTest, ValidationNamesTheKeyAndValue) {
   c = LookaheadConfig{};
   c.information_scale = 0.0;
   EXPECT_THROW(c.validate(), ConfigError);
+  EXPECT_THROW(lookahead_heading({}, LookaheadConfig{}, 1.0, kRelative, kFloor),
+               std::invalid_argument);
 }
 
 }  // namespace

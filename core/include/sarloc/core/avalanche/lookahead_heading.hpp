@@ -35,8 +35,8 @@ struct LookaheadConfig {
   void validate() const;
 };
 
-/// Heading (rad, in G) of the candidate with the lowest expected cost; `components` must not
-/// be empty. Deterministic for a given mixture.
+/// Heading (rad, in G) of the candidate with the lowest expected cost. Deterministic for a
+/// given mixture. Throws std::invalid_argument for an empty mixture (call after initialising).
 double lookahead_heading(const std::vector<SogComponent>& components, const LookaheadConfig& config,
                          double step_length_m, double noise_relative, double noise_floor_A_per_m);
 
