@@ -178,7 +178,7 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   // A converged mixture is not at the noise floor: an innovation excess there comes from
   // linearising the dipole model within a metre or two of the transmitter, and rebuilding the
   // ring from such a near-field measurement lost a victim already pinned down (measured: found
-  // 1-1.9 m off, NEES > 700).
+  // 0.8-1.9 m off, NEES > 700).
   if (diverged && estimate(0).status == EstimatorStatus::kConverged) {
     diverged = false;
     result.divergence_ignored = true;
