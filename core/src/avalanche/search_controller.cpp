@@ -108,7 +108,7 @@ double SearchController::flux_line_heading(const SogFilter& filter, const FieldM
   const Vec3 h_g = rotation_from_rpy(psi) * meas.field;
   Eigen::Vector2d dir = h_g.head<2>();
   const double sigma = filter.config().noise_relative * meas.field.norm() +
-                       std::max(filter.config().noise_floor_A_per_m, meas.noise_stddev.maxCoeff());
+                       filter.noise_floor(meas).maxCoeff();
   const double snr = dir.norm() / (std::sqrt(2.0) * sigma);
   if (flux_dir_.squaredNorm() == 0.0) {
     // Start walking towards the mixture mean (or straight ahead), with a tiny weight so
@@ -199,7 +199,7 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
           heading = lookahead_heading(
               filter.components(), config_.lookahead, config_.step_length_m,
               filter.config().noise_relative,
-              std::max(filter.config().noise_floor_A_per_m, meas.noise_stddev.maxCoeff()));
+              filter.noise_floor(meas).maxCoeff());
           break;
         case OpeningHeading::kPosteriorBearing:
           heading = posterior_bearing_heading(filter);

@@ -145,6 +145,9 @@ class SogFilter {
   /// status is kInitialising, kMultimodal or kConverged; SearchController::assess() refines it.
   VictimEstimate estimate(std::size_t top_k = 5) const;
 
+  /// Per-axis noise floor the filter applies to `m`: max(config floor, m.noise_stddev).
+  Vec3 noise_floor(const FieldMeasurement& m) const;
+
   /// Initialise directly from a measurement (normally done by the first process()).
   void initialise(const FieldMeasurement& measurement);
 
@@ -154,7 +157,6 @@ class SogFilter {
   void apply_surface_constraint();
   void normalise_and_prune();
   std::size_t merge();
-  Vec3 noise_floor(const FieldMeasurement& m) const;
 
   SogConfig config_;
   std::string rescuer_id_;
