@@ -19,6 +19,7 @@
 #include <random>
 #include <thread>
 
+#include "sarloc/app/command_line.hpp"
 #include "sarloc/app/child_process.hpp"
 #include "sarloc/app/logging.hpp"
 #include "sarloc/core/avalanche/evaluation.hpp"
@@ -203,9 +204,9 @@ int main(int argc, char** argv) {
   cli.add_option("--domain", domain, "DDS domain id")->capture_default_str();
   cli.add_option("--seed", seed, "seed of the rescuers' placement and noise")->capture_default_str();
   cli.add_option("--json", json_path, "write the figures as JSON here");
-  cli.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical, off");
+  app::add_log_level_option(cli, log_level);
   cli.set_version_flag("--version", SARLOC_VERSION);
-  CLI11_PARSE(cli, argc, argv);
+  if (auto code = app::parse_command_line(cli, argc, argv)) return *code;
 
   return app::run_main("sarloc-bench-latency", [&] {
     app::setup_logging(log_level, "bench");

@@ -2,11 +2,10 @@
 // the incident frame, tracks responders by team, publishes the incident picture
 // (TRANSIENT_LOCAL: a dashboard that subscribes late gets the current state at once).
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
-#include <fstream>
-
+#include "sarloc/app/command_line.hpp"
+#include "sarloc/app/json_io.hpp"
 #include "sarloc/app/logging.hpp"
 #include "sarloc/app/node_options.hpp"
 #include "sarloc/app/run_main.hpp"
@@ -17,22 +16,9 @@ namespace {
 void write_summary(const sarloc::dds::CommandNode& node, const std::string& path) {
   nlohmann::json j;
   j["victims"] = nlohmann::json::array();
-  for (const auto& v : node.victims()) {
-    j["victims"].push_back({{"victim_id", v.victim_id},
-                            {"position", {v.position.position.x(), v.position.position.y(), v.position.position.z()}},
-                            {"state", static_cast<int>(v.state)},
-                            {"sources", v.sources.size()}});
-  }
-  j["teams"] = nlohmann::json::array();
-  for (const auto& t : node.teams()) {
-    for (const auto& m : t.members) {
-      j["teams"].push_back({{"team_id", t.team_id},
-                            {"responder_id", m.responder_id},
-                            {"link", static_cast<int>(m.link)},
-                            {"accountability", static_cast<int>(m.accountability)}});
-    }
-  }
-  std::ofstream(path) << j.dump(2) << "\n";
+  for (const auto& v : node.victims()) j["victims"].push_back(sarloc::app::to_json(v));
+  j["teams"] = sarloc::app::to_json(node.teams());
+  sarloc::app::write_json_file(path, j);
 }
 
 }  // namespace
@@ -45,7 +31,7 @@ int main(int argc, char** argv) {
   std::string summary_path;
   app::add_node_options(cli, options);
   cli.add_option("--summary", summary_path, "write the final picture as JSON here on exit");
-  CLI11_PARSE(cli, argc, argv);
+  if (auto code = app::parse_command_line(cli, argc, argv)) return *code;
 
   return app::run_main("sarloc-command", [&] {
     app::setup_logging(options.log_level, "command");

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
+#include "sarloc/app/command_line.hpp"
 #include "sarloc/app/logging.hpp"
 #include "sarloc/app/node_options.hpp"
 #include "sarloc/app/run_main.hpp"
@@ -18,7 +19,7 @@ int main(int argc, char** argv) {
   app::add_node_options(cli, options, /*with_epoch=*/false);  // the daemon keeps no mission clock
   cli.add_option("--sector", sector, "serve only this sector's rescuers (a name under sectors:)");
   cli.add_option("--duration", duration_s, "stop after this many wall seconds (0 = until SIGINT/SIGTERM)");
-  CLI11_PARSE(cli, argc, argv);
+  if (auto code = app::parse_command_line(cli, argc, argv)) return *code;
 
   return app::run_main("sarloc-core", [&] {
     app::setup_logging(options.log_level, sector.empty() ? "core" : "core-" + sector);

@@ -12,7 +12,6 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <thread>
 #include <algorithm>
@@ -20,7 +19,9 @@
 
 #include "eval_config.hpp"
 #include "trial_trace.hpp"
+#include "sarloc/app/command_line.hpp"
 #include "sarloc/app/exit_codes.hpp"
+#include "sarloc/app/json_io.hpp"
 #include "sarloc/app/logging.hpp"
 #include "sarloc/app/progress_bar.hpp"
 #include "sarloc/app/shutdown_signal.hpp"
@@ -40,49 +41,6 @@ struct Targets {
   double max_error_m = 0.66;
   double mean_steps = 62.0;
 };
-
-nlohmann::json stats_json(const av::Stats& s) {
-  return {{"max", s.max}, {"mean", s.mean}, {"median", s.median}};
-}
-
-nlohmann::json to_json(const av::EvaluationSummary& s) {
-  nlohmann::json j;
-  j["filter"] = s.filter;
-  j["trials"] = s.trials;
-  j["seed"] = s.seed;
-  j["error_m"] = stats_json(s.error_m);
-  j["initial_distance_m"] = stats_json(s.initial_distance_m);
-  j["steps"] = stats_json(s.steps);
-  j["not_found"] = s.not_found;
-  j["ms_per_step"] = {{"median", s.ms_per_step_median}, {"p95", s.ms_per_step_p95}};
-  j["nees"] = {{"mean", s.nees_mean},
-               {"fraction_inside_95", s.nees_fraction_inside_95},
-               {"lower_95", s.nees_lower},
-               {"upper_95", s.nees_upper},
-               {"trials", s.nees_trials}};
-  j["wall_s"] = s.wall_s;
-  nlohmann::json trials = nlohmann::json::array();
-  for (const auto& t : s.per_trial) {
-    double nees_mean = 0.0;
-    for (double v : t.nees) nees_mean += v;
-    if (!t.nees.empty()) nees_mean /= static_cast<double>(t.nees.size());
-    trials.push_back({{"index", t.index},
-                      {"found", t.found},
-                      {"error_m", t.error_m},
-                      {"horizontal_error_m", t.horizontal_error_m},
-                      {"initial_distance_m", t.initial_distance_m},
-                      {"steps", t.steps},
-                      {"flux_line_steps", t.flux_line_steps},
-                      {"first_converged_step", t.first_converged_step},
-                      {"reinitialisations", t.reinitialisations},
-                      {"nees_mean", nees_mean},
-                      {"nees_samples", t.nees.size()},
-                      {"final_nees", t.final_nees},
-                      {"final_components", t.final_components}});
-  }
-  j["per_trial"] = trials;
-  return j;
-}
 
 void print_table(const av::EvaluationSummary& s, unsigned threads) {
   std::printf("\nAvalanche victim localization, filter %s: %u trials, seed %llu, %u threads\n",
@@ -129,8 +87,7 @@ int main(int argc, char** argv) {
   CLI::App app{"sarloc-eval: Monte Carlo evaluation of sarloc estimators"};
   app.set_version_flag("--version", std::string("sarloc-eval ") + SARLOC_VERSION);
   std::string log_level = "info";
-  app.add_option("--log-level", log_level, "trace, debug, info, warn, error, off")
-      ->capture_default_str();
+  sarloc::app::add_log_level_option(app, log_level);
   app.require_subcommand(1);
   auto* avalanche = app.add_subcommand("avalanche", "avalanche victim localization (seed 000)");
   std::string filter = "sog";
@@ -156,12 +113,7 @@ int main(int argc, char** argv) {
                         "write every step of every trial (truth, measurement, posterior) as CSV");
   avalanche->add_flag("--no-target-check", no_target_check,
                       "exit 0 even when an accuracy/consistency target is missed");
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    const int rc = app.exit(e);
-    return rc == 0 ? to_int(ExitCode::kOk) : to_int(ExitCode::kUsage);
-  }
+  if (auto code = sarloc::app::parse_command_line(app, argc, argv)) return *code;
   try {
     sarloc::app::setup_logging(log_level, "sarloc-eval");
   } catch (const std::exception& e) {
@@ -221,14 +173,10 @@ int main(int argc, char** argv) {
   }
   print_table(summary, std::min(used_threads, setup.evaluation.trials));
   if (!json_path.empty()) {
-    std::ofstream out(json_path);
-    if (!out) {
-      spdlog::error("cannot write --json {}", json_path);
-      return to_int(ExitCode::kRuntime);
-    }
-    out << to_json(summary).dump(2) << "\n";
-    if (!out) {
-      spdlog::error("write to --json {} failed", json_path);
+    try {
+      sarloc::app::write_json_file(json_path, sarloc::app::to_json(summary));
+    } catch (const std::exception& e) {
+      spdlog::error("--json: {}", e.what());
       return to_int(ExitCode::kRuntime);
     }
   }

@@ -11,13 +11,16 @@
 #include <fstream>
 #include <map>
 
+#include "sarloc/app/command_line.hpp"
 #include "sarloc/app/child_process.hpp"
+#include "sarloc/app/json_io.hpp"
 #include "sarloc/app/logging.hpp"
 #include "sarloc/app/mission_config.hpp"
 #include "sarloc/app/node_options.hpp"
 #include "sarloc/app/run_main.hpp"
 #include "sarloc/app/shutdown_signal.hpp"
-#include "sarloc/core/incident/assignment.hpp"
+#include "sarloc/core/mission/mission_summary.hpp"
+#include "sarloc/core/mission/victim_matching.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/reader.hpp"
 
@@ -52,25 +55,8 @@ Fault parse_fault(const std::string& text, bool restart) {
   return f;
 }
 
-// Fused victims matched one-to-one to the buried ones (minimum total distance, at most
-// kMatchRadius apart): index of the fused victim per true victim, or -1.
-constexpr double kMatchRadius = 5.0;
-
 // A fault that kills one rescuer's device (not a daemon, not incident command).
 bool is_rescuer_kill(const Fault& f) { return f.target != "core" && f.target != "command"; }
-
-std::vector<int> match_to_truth(const std::vector<mission::VictimSpec>& truth,
-                                const std::vector<incident::FusedVictim>& fused) {
-  if (fused.empty()) return std::vector<int>(truth.size(), -1);
-  Eigen::MatrixXd cost(static_cast<Eigen::Index>(truth.size()), static_cast<Eigen::Index>(fused.size()));
-  for (std::size_t i = 0; i < truth.size(); ++i) {
-    for (std::size_t j = 0; j < fused.size(); ++j) {
-      const double d = (fused[j].position.position - truth[i].position).norm();
-      cost(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = d <= kMatchRadius ? d : incident::kInfeasible;
-    }
-  }
-  return incident::solve_assignment(cost);
-}
 
 // The incident picture as a late-joining dashboard sees it.
 struct Picture {
@@ -87,6 +73,43 @@ struct Picture {
     return out;
   }
 };
+
+std::string optional_text(const std::optional<double>& v, const char* format) {
+  if (!v) return "-";
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), format, *v);
+  return buf;
+}
+
+std::string position_text(const Vec3& p) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "(%.1f, %.1f, %.1f)", p.x(), p.y(), p.z());
+  return buf;
+}
+
+void print_summary(const mission::MissionSummary& s, const std::string& run_dir) {
+  std::printf("\n%-10s %-26s %-26s %8s %10s %12s %6s\n", "victim", "true position (E N U) m", "fused estimate m",
+              "error m", "finder m", "located s", "found");
+  for (const auto& v : s.victims) {
+    std::printf("%-10s %-26s %-26s %8s %10s %12s %6s\n", v.name.c_str(), position_text(v.true_position).c_str(),
+                v.estimate ? position_text(*v.estimate).c_str() : "-", optional_text(v.error_m, "%.2f").c_str(),
+                optional_text(v.relative_error_m, "%.2f").c_str(), optional_text(v.time_to_locate_s, "%.0f").c_str(),
+                v.found ? "yes" : "NO");
+  }
+  std::printf("\n%-10s %18s %10s %22s\n", "rescuer", "distance walked m", "fallbacks", "latency p50/p99 ms");
+  for (const auto& id : s.rescuer_ids) {
+    const auto it = s.devices.find(id);
+    if (it == s.devices.end()) {
+      std::printf("%-10s %18s\n", id.c_str(), "(no summary: killed?)");
+      continue;
+    }
+    const auto& d = it->second;
+    std::printf("%-10s %18.1f %10d %10.1f / %-10.1f\n", id.c_str(), d.distance_walked_m, d.fallbacks,
+                d.latency_p50_ms.value_or(-1.0), d.latency_p99_ms.value_or(-1.0));
+  }
+  std::printf("\n%zu of %zu victims found, %zu in the incident picture; %.0f mission s in %.0f wall s. Logs: %s\n",
+              s.found_count(), s.victims.size(), s.fused_victims.size(), s.mission_s, s.wall_s, run_dir.c_str());
+}
 
 }  // namespace
 
@@ -108,9 +131,9 @@ int main(int argc, char** argv) {
   cli.add_option("--kill", kills, "fault injection: SIGKILL TARGET (core, command or a rescuer id) at mission SECONDS, e.g. core@40");
   cli.add_option("--startup", startup_s, "wall seconds given to the processes to start and discover each other");
   cli.add_option("--domain", domain, "DDS domain id for every process, overriding dds.domain_id of the mission");
-  cli.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical, off");
+  app::add_log_level_option(cli, log_level);
   cli.set_version_flag("--version", SARLOC_VERSION);
-  CLI11_PARSE(cli, argc, argv);
+  if (auto code = app::parse_command_line(cli, argc, argv)) return *code;
 
   return app::run_main("sarloc-mission", [&]() -> app::ExitCode {
     app::setup_logging(log_level, "mission");
@@ -205,7 +228,6 @@ int main(int argc, char** argv) {
     }
 
     const auto wall_start = std::chrono::steady_clock::now();
-    const std::size_t true_count = mission.scenario.victims.size();
     bool interrupted = false;
     double mission_s = 0.0;
     while (true) {
@@ -245,12 +267,7 @@ int main(int argc, char** argv) {
       }
       // Every buried victim matched by a FOUND victim of the picture (not just as many FOUND
       // as buried: a duplicate whose disposal is still on its way must not end the mission).
-      const auto now = picture.victims_now();
-      const auto matched = match_to_truth(mission.scenario.victims, now);
-      const bool every_victim_found = std::all_of(matched.begin(), matched.end(), [&](int j) {
-        return j >= 0 && incident::is_found(now[static_cast<std::size_t>(j)].state);
-      });
-      if (every_victim_found) {
+      if (mission::every_victim_found(mission.scenario.victims, picture.victims_now())) {
         // Let the pending link-lost detections finish before stopping.
         const bool waiting_link = std::any_of(faults.begin(), faults.end(), [&](const Fault& f) {
           return f.done && f.link_lost_after_s < 0.0 && is_rescuer_kill(f) &&
@@ -279,143 +296,28 @@ int main(int argc, char** argv) {
     command->stop(std::chrono::seconds(10));
     for (auto& c : cores) c->stop(std::chrono::seconds(10));
 
-    // Match fused victims to the truth (minimum total distance, at most match_radius apart).
-    const auto fused = picture.victims_now();
-    const auto match = match_to_truth(mission.scenario.victims, fused);
-
     // What each rescuer's device knew (its summary): found signals and their own errors.
-    std::map<std::string, nlohmann::json> device;
+    std::map<std::string, mission::DeviceSummary> devices;
     for (const auto& r : mission.scenario.rescuers) {
       std::ifstream in(fs::path(run_dir) / (r.id + ".json"));
       if (!in) continue;
       try {
-        device[r.id] = nlohmann::json::parse(in);
+        devices[r.id] = app::device_summary_from_json(nlohmann::json::parse(in));
       } catch (const std::exception& e) {
         spdlog::warn("cannot read {}'s summary: {}", r.id, e.what());
       }
     }
-    // The diggers' view of victim i: the smallest error of a device that found it, relative to
-    // that device (no GNSS involved).
-    auto relative_error_of = [&](std::size_t victim) -> std::optional<double> {
-      std::optional<double> best;
-      for (const auto& [id, s] : device) {
-        for (const auto& signal : s.value("signals", nlohmann::json::array())) {
-          if (signal.value("victim_index", -1) != static_cast<int>(victim) || signal.value("status", "") != "FOUND") continue;
-          if (!signal.contains("relative_error_m")) continue;
-          const double e = signal["relative_error_m"].get<double>();
-          if (!best || e < *best) best = e;
-        }
-      }
-      return best;
-    };
-
-    nlohmann::json out;
-    out["mission"] = mission.name;
-    out["true_victim_count"] = true_count;
-    out["fused_victim_count"] = fused.size();
-    out["victims"] = nlohmann::json::array();
-    bool all_found = true;
-    std::printf("\n%-10s %-26s %-26s %8s %10s %12s %6s\n", "victim", "true position (E N U) m", "fused estimate m",
-                "error m", "finder m", "located s", "found");
-    for (std::size_t i = 0; i < true_count; ++i) {
-      const auto& truth = mission.scenario.victims[i];
-      nlohmann::json v{{"name", truth.name},
-                       {"true_position", {truth.position.x(), truth.position.y(), truth.position.z()}}};
-      const int j = match[i];
-      bool found = false;
-      char est[64] = "-";
-      char err[32] = "-";
-      char located[32] = "-";
-      if (j >= 0) {
-        const auto& f = fused[static_cast<std::size_t>(j)];
-        const double error = (f.position.position - truth.position).norm();
-        found = incident::is_found(f.state);
-        v["victim_id"] = f.victim_id;
-        v["estimate"] = {f.position.position.x(), f.position.position.y(), f.position.position.z()};
-        v["error_m"] = error;
-        v["sources"] = f.sources.size();
-        std::snprintf(est, sizeof(est), "(%.1f, %.1f, %.1f)", f.position.position.x(), f.position.position.y(),
-                      f.position.position.z());
-        std::snprintf(err, sizeof(err), "%.2f", error);
-        if (f.located_at > 0) {
-          const double t = static_cast<double>(f.located_at - epoch) / 1e9;
-          v["time_to_locate_s"] = t;
-          std::snprintf(located, sizeof(located), "%.0f", t);
-        } else {
-          v["time_to_locate_s"] = nullptr;
-        }
-      } else {
-        v["error_m"] = nullptr;
-        v["time_to_locate_s"] = nullptr;
-      }
-      v["found"] = found;
-      if (const auto relative = relative_error_of(i)) {
-        v["relative_error_m"] = *relative;
-      } else {
-        v["relative_error_m"] = nullptr;
-      }
-      all_found = all_found && found;
-      out["victims"].push_back(v);
-      char truth_text[64];
-      std::snprintf(truth_text, sizeof(truth_text), "(%.1f, %.1f, %.1f)", truth.position.x(), truth.position.y(),
-                    truth.position.z());
-      char finder[32] = "-";
-      if (!v["relative_error_m"].is_null()) std::snprintf(finder, sizeof(finder), "%.2f", v["relative_error_m"].get<double>());
-      std::printf("%-10s %-26s %-26s %8s %10s %12s %6s\n", truth.name.c_str(), truth_text, est, err, finder, located,
-                  found ? "yes" : "NO");
-    }
-    out["all_found"] = all_found;
-    // Every victim of the picture, and whether it is one of the buried ones: a confirmed
-    // (LOCATED/FOUND) victim that matches none is a duplicate incident command would dig for.
-    out["fused_victims"] = nlohmann::json::array();
-    std::size_t confirmed = 0;
-    for (std::size_t j = 0; j < fused.size(); ++j) {
-      const auto& f = fused[j];
-      const bool matched = std::find(match.begin(), match.end(), static_cast<int>(j)) != match.end();
-      const bool is_confirmed = f.state != incident::VictimState::kUnconfirmed;
-      confirmed += is_confirmed ? 1 : 0;
-      out["fused_victims"].push_back({{"victim_id", f.victim_id},
-                                      {"position", {f.position.position.x(), f.position.position.y(), f.position.position.z()}},
-                                      {"confirmed", is_confirmed},
-                                      {"found", incident::is_found(f.state)},
-                                      {"sources", f.sources.size()},
-                                      {"matches_a_buried_victim", matched}});
-    }
-    out["confirmed_fused_victim_count"] = confirmed;
-    out["mission_s"] = mission_s;
-    out["wall_s"] = wall_s;
-    out["rescuers"] = nlohmann::json::array();
-    std::printf("\n%-10s %18s %10s %22s\n", "rescuer", "distance walked m", "fallbacks", "latency p50/p99 ms");
-    for (const auto& r : mission.scenario.rescuers) {
-      nlohmann::json entry{{"id", r.id}};
-      if (const auto it = device.find(r.id); it != device.end()) {
-        const auto& s = it->second;
-        entry["distance_walked_m"] = s.value("distance_walked_m", 0.0);
-        entry["fallbacks"] = s.value("fallbacks", 0);
-        entry["latency_ms"] = s.value("latency_ms", nlohmann::json::object());
-        entry["gnss_error_m"] = s.value("gnss_error_m", -1.0);
-        entry["guided_by"] = s.value("guided_by", nlohmann::json::object());
-        entry["daemon_after_fallback"] = s.value("daemon_after_fallback", 0);
-        std::printf("%-10s %18.1f %10d %10.1f / %-10.1f\n", r.id.c_str(), s.value("distance_walked_m", 0.0),
-                    s.value("fallbacks", 0), entry["latency_ms"].value("p50", -1.0),
-                    entry["latency_ms"].value("p99", -1.0));
-      } else {
-        std::printf("%-10s %18s\n", r.id.c_str(), "(no summary: killed?)");
-      }
-      out["rescuers"].push_back(entry);
-    }
-    out["faults"] = nlohmann::json::array();
+    auto summary = mission::summarise_mission(mission.name, mission.scenario, picture.victims_now(), epoch, devices);
+    summary.mission_s = mission_s;
+    summary.wall_s = wall_s;
     for (const auto& f : faults) {
-      nlohmann::json fj{{"action", f.restart ? "restart" : "kill"}, {"target", f.target}, {"at_s", f.at_s}, {"done", f.done}};
-      if (f.link_lost_after_s >= 0.0) fj["link_lost_after_s"] = f.link_lost_after_s;
-      out["faults"].push_back(fj);
+      mission::FaultOutcome outcome{f.restart ? "restart" : "kill", f.target, f.at_s, f.done, std::nullopt};
+      if (f.link_lost_after_s >= 0.0) outcome.link_lost_after_s = f.link_lost_after_s;
+      summary.faults.push_back(outcome);
     }
-    std::printf("\n%zu of %zu victims found, %zu in the incident picture; %.0f mission s in %.0f wall s. Logs: %s\n",
-                static_cast<std::size_t>(std::count_if(out["victims"].begin(), out["victims"].end(),
-                                                       [](const auto& v) { return v["found"].template get<bool>(); })),
-                true_count, fused.size(), mission_s, wall_s, run_dir.c_str());
-    if (!json_path.empty()) std::ofstream(json_path) << out.dump(2) << "\n";
+    print_summary(summary, run_dir);
+    if (!json_path.empty()) app::write_json_file(json_path, app::to_json(summary));
     if (interrupted) return app::ExitCode::kInterrupted;
-    return all_found ? app::ExitCode::kOk : app::ExitCode::kFailure;
+    return summary.all_found ? app::ExitCode::kOk : app::ExitCode::kFailure;
   });
 }

@@ -2,14 +2,14 @@
 // its position; shows the rescuer what to do; keeps guiding on the device when the core
 // daemon is unreachable (dds/rescuer_node.hpp).
 #include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <thread>
 
+#include "sarloc/app/command_line.hpp"
+#include "sarloc/app/json_io.hpp"
 #include "sarloc/app/logging.hpp"
 #include "sarloc/core/avalanche/evaluation.hpp"
 #include "sarloc/app/node_options.hpp"
@@ -21,23 +21,23 @@ namespace {
 
 using namespace sarloc;
 
-const char* mode_name(avalanche::GuidanceMode mode) {
+const char* mode_name(responder::GuidanceMode mode) {
   switch (mode) {
-    case avalanche::GuidanceMode::kFollowFluxLine: return "COARSE SEARCH";
-    case avalanche::GuidanceMode::kApproach: return "APPROACH";
-    case avalanche::GuidanceMode::kFineSearch: return "FINE SEARCH";
-    case avalanche::GuidanceMode::kFound: return "FOUND - PROBE HERE";
+    case responder::GuidanceMode::kOpening: return "COARSE SEARCH";
+    case responder::GuidanceMode::kApproach: return "APPROACH";
+    case responder::GuidanceMode::kFineSearch: return "FINE SEARCH";
+    case responder::GuidanceMode::kFound: return "FOUND - PROBE HERE";
   }
   return "?";
 }
 
-const char* status_name(avalanche::EstimatorStatus status) {
+const char* display_status(responder::EstimatorStatus status) {
   switch (status) {
-    case avalanche::EstimatorStatus::kInitialising: return "init";
-    case avalanche::EstimatorStatus::kMultimodal: return "multimodal";
-    case avalanche::EstimatorStatus::kConverged: return "converged";
-    case avalanche::EstimatorStatus::kLocated: return "located";
-    case avalanche::EstimatorStatus::kFound: return "FOUND";
+    case responder::EstimatorStatus::kInitialising: return "init";
+    case responder::EstimatorStatus::kMultimodal: return "multimodal";
+    case responder::EstimatorStatus::kConverged: return "converged";
+    case responder::EstimatorStatus::kLocated: return "located";
+    case responder::EstimatorStatus::kFound: return "FOUND";
   }
   return "?";
 }
@@ -57,8 +57,8 @@ std::string display_line(const std::string& id, const sarloc::dds::EpochResult& 
     line += buf;
   }
   line += " | victims:";
-  for (const auto& [signal, status] : r.signals) line += " " + std::to_string(signal) + "=" + status_name(status);
-  line += std::string(" | guidance: ") + sarloc::dds::to_string(r.source);
+  for (const auto& [signal, status] : r.signals) line += " " + std::to_string(signal) + "=" + display_status(status);
+  line += std::string(" | guidance: ") + responder::to_string(r.source);
   if (!r.daemon_reachable) line += " (core daemon unreachable)";
   return line;
 }
@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
   cli.add_option("--source", source, "'sim' (mission simulator) or a recorded sensor file (JSON lines)");
   cli.add_option("--summary", summary_path, "write a JSON summary here on exit");
   cli.add_flag("--quiet", quiet, "do not print the guidance line every epoch");
-  CLI11_PARSE(cli, argc, argv);
+  if (auto code = app::parse_command_line(cli, argc, argv)) return *code;
 
   return app::run_main("sarloc-rescuer", [&] {
     app::setup_logging(options.log_level, rescuer_id);
@@ -91,7 +91,7 @@ int main(int argc, char** argv) {
     std::unique_ptr<rescuer::SensorSource> sensors;
     if (source == "sim") {
       sensors = std::make_unique<rescuer::SimulatedSource>(mission.scenario, rescuer_id,
-                                                           mission.search.search.step_length_m);
+                                                           mission.estimators.avalanche_rescuer.search.step_length_m);
     } else {
       sensors = std::make_unique<rescuer::RecordedSource>(source, rescuer_id, node_config.team);
     }
@@ -103,7 +103,7 @@ int main(int argc, char** argv) {
     if (!node.wait_for_daemon(std::chrono::seconds(5))) {
       spdlog::warn("no core daemon matched within 5 s: starting anyway (guidance on the device until one answers)");
     }
-    std::optional<avalanche::Guidance> followed;
+    std::optional<responder::Guidance> followed;
     std::vector<double> latencies;
     std::map<std::string, std::size_t> guided_by;  // epochs per guidance source
     std::size_t daemon_after_fallback = 0;          // daemon-guided epochs after the first fallback
@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
     std::size_t epochs = 0;
     const auto period_ns = static_cast<TimestampNs>(mission.period_s * 1e9);
     sarloc::dds::EpochResult last;
-    std::optional<incident::ResponderPosition> last_fix;
+    std::optional<responder::ResponderPosition> last_fix;
     for (std::size_t k = 0; !app::shutdown_requested(); ++k) {
       const TimestampNs stamp = epoch + static_cast<TimestampNs>(k) * period_ns;
       // Wait for this epoch's moment on the (possibly accelerated) mission clock.
@@ -124,17 +124,17 @@ int main(int argc, char** argv) {
         spdlog::info("sensor source exhausted after {} epochs", epochs);
         break;
       }
-      last = node.epoch(samples->odometry, samples->position, samples->measurements);
+      last = node.epoch(samples->odometry, samples->position, samples->samples);
       if (samples->position) last_fix = samples->position;
       ++epochs;
       if (last.latency_ms >= 0.0) latencies.push_back(last.latency_ms);
       followed = last.guidance;
-      ++guided_by[sarloc::dds::to_string(last.source)];
-      if (node.fallbacks() > 0 && last.source == sarloc::dds::GuidanceSource::kDaemon) ++daemon_after_fallback;
+      ++guided_by[responder::to_string(last.source)];
+      if (node.fallbacks() > 0 && last.source == responder::GuidanceSource::kDaemon) ++daemon_after_fallback;
       // The diggers' error is the one when the rescuer stood over the victim, not later.
       for (const auto& [signal, status] : last.signals) {
-        if (status != avalanche::EstimatorStatus::kFound || error_when_found.count(signal) != 0) continue;
-        const auto estimate = node.local_search().estimate(signal);
+        if (status != responder::EstimatorStatus::kFound || error_when_found.count(signal) != 0) continue;
+        const auto estimate = node.local_estimator().estimate_of(signal);
         const auto truth = sensors->true_relative(signal);
         if (estimate && truth) error_when_found[signal] = (estimate->relative.position - *truth).norm();
       }
@@ -142,31 +142,28 @@ int main(int argc, char** argv) {
     }
 
     if (!summary_path.empty()) {
-      nlohmann::json j;
-      j["rescuer_id"] = rescuer_id;
-      j["epochs"] = epochs;
-      j["distance_walked_m"] = sensors->distance_walked_m();
-      j["fallbacks"] = node.fallbacks();
-      j["guided_by"] = guided_by;
-      j["daemon_after_fallback"] = daemon_after_fallback;
-      j["latency_ms"] = {{"samples", latencies.size()}};
+      mission::DeviceSummary d;
+      d.rescuer_id = rescuer_id;
+      d.epochs = epochs;
+      d.distance_walked_m = sensors->distance_walked_m();
+      d.fallbacks = node.fallbacks();
+      d.guided_by = guided_by;
+      d.daemon_after_fallback = daemon_after_fallback;
+      d.latency_samples = latencies.size();
       if (!latencies.empty()) {  // no daemon answer at all: no percentiles (the mission shows -1)
-        j["latency_ms"]["p50"] = avalanche::percentile(latencies, 0.5);
-        j["latency_ms"]["p99"] = avalanche::percentile(latencies, 0.99);
+        d.latency_p50_ms = avalanche::percentile(latencies, 0.5);
+        d.latency_p99_ms = avalanche::percentile(latencies, 0.99);
       }
-      nlohmann::json signals = nlohmann::json::array();
       for (const auto& [signal, status] : last.signals) {
-        nlohmann::json s{{"signal_id", signal}, {"status", status_name(status)}};
-        if (auto v = sensors->victim_of_signal(signal)) s["victim_index"] = *v;
+        mission::DeviceSignal s{signal, status, sensors->victim_of_signal(signal), std::nullopt};
         // The diggers' view: this device's own estimate against the truth when it was found.
-        if (const auto it = error_when_found.find(signal); it != error_when_found.end()) s["relative_error_m"] = it->second;
-        signals.push_back(s);
+        if (const auto it = error_when_found.find(signal); it != error_when_found.end()) s.relative_error_m = it->second;
+        d.signals.push_back(s);
       }
-      j["signals"] = signals;
       if (const auto antenna = sensors->true_antenna(); antenna && last_fix) {
-        j["gnss_error_m"] = (last_fix->position.position - *antenna).head<2>().norm();
+        d.gnss_error_m = (last_fix->position.position - *antenna).head<2>().norm();
       }
-      std::ofstream(summary_path) << j.dump(2) << "\n";
+      app::write_json_file(summary_path, app::to_json(d));
     }
     return app::ExitCode::kOk;
   });

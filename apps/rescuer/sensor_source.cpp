@@ -13,7 +13,7 @@ SimulatedSource::SimulatedSource(const mission::MissionScenario& scenario, const
                                  double step_length_m)
     : sim_(scenario, rescuer_id), victims_(scenario.victims), step_length_m_(step_length_m) {}
 
-std::optional<SensorEpoch> SimulatedSource::next(TimestampNs stamp, const std::optional<avalanche::Guidance>& followed) {
+std::optional<SensorEpoch> SimulatedSource::next(TimestampNs stamp, const std::optional<responder::Guidance>& followed) {
   SensorEpoch epoch;
   epoch.stamp = stamp;
   if (previous_stamp_) {
@@ -23,7 +23,7 @@ std::optional<SensorEpoch> SimulatedSource::next(TimestampNs stamp, const std::o
   }
   previous_stamp_ = stamp;
   epoch.position = sim_.gnss(stamp);
-  epoch.measurements = sim_.measure(stamp);
+  for (auto& m : sim_.measure(stamp)) epoch.samples.emplace_back(std::move(m));
   return epoch;
 }
 
@@ -101,9 +101,9 @@ bool RecordedSource::read_line(SensorEpoch& epoch, std::optional<TimestampNs>& f
       }
       field_stamp = m.stamp;
       epoch.stamp = m.stamp;
-      epoch.measurements.push_back(m);
+      epoch.samples.emplace_back(m);
     } else if (type == "odometry") {
-      avalanche::Odometry o;
+      responder::Odometry o;
       o.rescuer_id = rescuer_id_;
       o.sequence = number_field<std::uint64_t>(j, "sequence");
       o.interval_start = number_field<TimestampNs>(j, "interval_start_ns");
@@ -111,17 +111,17 @@ bool RecordedSource::read_line(SensorEpoch& epoch, std::optional<TimestampNs>& f
       o.translation = vector_field<3>(j, "translation");
       o.rotation_rpy = vector_field<3>(j, "rotation_rpy");
       o.covariance = matrix_field<6>(j, "covariance");
-      o.source = avalanche::OdometrySource::kOther;
+      o.source = responder::OdometrySource::kOther;
       walked_m_ += o.translation.norm();
       epoch.odometry.push_back(o);
     } else if (type == "position") {
-      incident::ResponderPosition p;
+      responder::ResponderPosition p;
       p.responder_id = rescuer_id_;
       p.team_id = team_;
       p.stamp = number_field<TimestampNs>(j, "stamp_ns");
       p.position.position = vector_field<3>(j, "position");
       p.position.covariance = matrix_field<3>(j, "covariance");
-      p.source = incident::PositionSource::kGnss;
+      p.source = responder::PositionSource::kGnss;
       epoch.position = p;
     } else {
       throw InputError("type = '" + type + "': expected field, odometry or position");
@@ -133,12 +133,12 @@ bool RecordedSource::read_line(SensorEpoch& epoch, std::optional<TimestampNs>& f
   return true;
 }
 
-std::optional<SensorEpoch> RecordedSource::next(TimestampNs /*stamp*/, const std::optional<avalanche::Guidance>&) {
+std::optional<SensorEpoch> RecordedSource::next(TimestampNs /*stamp*/, const std::optional<responder::Guidance>&) {
   SensorEpoch epoch;
   std::optional<TimestampNs> field_stamp;
   while (read_line(epoch, field_stamp)) {
   }
-  if (epoch.measurements.empty() && epoch.odometry.empty() && !epoch.position) return std::nullopt;
+  if (epoch.samples.empty() && epoch.odometry.empty() && !epoch.position) return std::nullopt;
   return epoch;
 }
 

@@ -8,18 +8,19 @@
 #include <vector>
 
 #include "sarloc/core/avalanche/field_measurement.hpp"
-#include "sarloc/core/avalanche/guidance.hpp"
-#include "sarloc/core/avalanche/odometry.hpp"
-#include "sarloc/core/incident/responder_position.hpp"
+#include "sarloc/core/responder/guidance.hpp"
+#include "sarloc/core/estimator/sensor_sample.hpp"
+#include "sarloc/core/responder/odometry.hpp"
+#include "sarloc/core/responder/responder_position.hpp"
 #include "sarloc/core/mission/simulated_rescuer.hpp"
 
 namespace sarloc::rescuer {
 
 struct SensorEpoch {
   TimestampNs stamp = 0;
-  std::vector<avalanche::Odometry> odometry;  ///< motion since the previous epoch
-  std::optional<incident::ResponderPosition> position;
-  std::vector<avalanche::FieldMeasurement> measurements;
+  std::vector<responder::Odometry> odometry;  ///< motion since the previous epoch
+  std::optional<responder::ResponderPosition> position;
+  std::vector<estimator::SensorSample> samples;      ///< this epoch's sensor samples
 };
 
 class SensorSource {
@@ -27,7 +28,7 @@ class SensorSource {
   virtual ~SensorSource() = default;
   /// The samples of the epoch at `stamp`; `followed` is the guidance followed since the
   /// previous epoch. nullopt when the source is exhausted.
-  virtual std::optional<SensorEpoch> next(TimestampNs stamp, const std::optional<avalanche::Guidance>& followed) = 0;
+  virtual std::optional<SensorEpoch> next(TimestampNs stamp, const std::optional<responder::Guidance>& followed) = 0;
   virtual double distance_walked_m() const = 0;
   /// Truth for reports (simulation only): the victim index behind a signal id.
   virtual std::optional<std::size_t> victim_of_signal(std::uint32_t) const { return std::nullopt; }
@@ -42,7 +43,7 @@ class SensorSource {
 class SimulatedSource : public SensorSource {
  public:
   SimulatedSource(const mission::MissionScenario& scenario, const std::string& rescuer_id, double step_length_m);
-  std::optional<SensorEpoch> next(TimestampNs stamp, const std::optional<avalanche::Guidance>& followed) override;
+  std::optional<SensorEpoch> next(TimestampNs stamp, const std::optional<responder::Guidance>& followed) override;
   double distance_walked_m() const override { return sim_.distance_walked_m(); }
   std::optional<std::size_t> victim_of_signal(std::uint32_t signal) const override {
     return sim_.victim_of_signal(signal);
@@ -73,7 +74,7 @@ class SimulatedSource : public SensorSource {
 class RecordedSource : public SensorSource {
  public:
   RecordedSource(const std::string& path, std::string rescuer_id, std::string team);
-  std::optional<SensorEpoch> next(TimestampNs stamp, const std::optional<avalanche::Guidance>& followed) override;
+  std::optional<SensorEpoch> next(TimestampNs stamp, const std::optional<responder::Guidance>& followed) override;
   double distance_walked_m() const override { return walked_m_; }
   std::size_t skipped_lines() const { return skipped_; }
 

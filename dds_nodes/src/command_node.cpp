@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sarloc/core/incident/incident_transform.hpp"
+#include "sarloc/core/incident/source_estimate.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/process_stats.hpp"
 
@@ -111,13 +111,9 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
                                          [&](const auto& o) { return o.first == info.publication_handle; });
           if (!known) owners.emplace_back(info.publication_handle, position.responder_id);
           tracker_.on_position(position, clock_.now());
-          // Horizontal from GNSS, height from the antenna above the snow (see the config).
-          GaussianPosition antenna = position.position;
-          antenna.position.z() = config_.antenna_height_m;
-          antenna.covariance.row(2).setZero();
-          antenna.covariance.col(2).setZero();
-          antenna.covariance(2, 2) = config_.antenna_height_sigma_m * config_.antenna_height_sigma_m;
-          fixes_[position.responder_id].add(position.stamp, antenna);
+          // GNSS heights become the antenna's above the snow; indoor positions keep theirs.
+          fixes_[position.responder_id].add(
+              position.stamp, incident::reporter_fix_of(position, config_.antenna_height_m, config_.antenna_height_sigma_m));
         } catch (const InputError& error) {
           counters_.rejected("invalid_value");
           warnings_.warn(p.responder_id().to_string(), "invalid_value", error.what());
@@ -144,7 +140,7 @@ CommandNode::~CommandNode() {
   thread_.join();
 }
 
-std::optional<GaussianPosition> CommandNode::fix_at(const std::string& rescuer_id, TimestampNs stamp) const {
+std::optional<incident::ReporterFix> CommandNode::fix_at(const std::string& rescuer_id, TimestampNs stamp) const {
   const auto it = fixes_.find(rescuer_id);
   if (it == fixes_.end()) return std::nullopt;
   return it->second.at(stamp, static_cast<TimestampNs>(config_.position_max_age_s * 1e9),
@@ -161,11 +157,11 @@ void CommandNode::cycle() {
   std::size_t lost = 0;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    std::deque<avalanche::VictimEstimate> waiting;
+    std::deque<responder::VictimEstimate> waiting;
     while (!pending_estimates_.empty()) {
       auto e = std::move(pending_estimates_.front());
       pending_estimates_.pop_front();
-      if (e.status < avalanche::EstimatorStatus::kConverged) continue;  // a multimodal mean means nothing
+      if (e.status < responder::EstimatorStatus::kConverged) continue;  // a multimodal mean means nothing
       const auto fix = fix_at(e.rescuer_id, e.stamp);
       if (!fix) {
         spdlog::debug("no fix of '{}' near stamp {}: estimate waits", e.rescuer_id, e.stamp);
@@ -176,7 +172,7 @@ void CommandNode::cycle() {
       try {
         const auto source = incident::make_source_estimate(e, *fix);
         spdlog::trace("source {}/{} stamp {} status {} at ({:.2f}, {:.2f}, {:.2f}) sd ({:.2f}, {:.2f}, {:.2f})",
-                      source.rescuer_id, source.signal_id, source.stamp, static_cast<int>(source.status),
+                      source.rescuer_id, source.signal_id, source.stamp, static_cast<int>(source.state),
                       source.position.position.x(), source.position.position.y(), source.position.position.z(),
                       std::sqrt(source.position.covariance(0, 0)), std::sqrt(source.position.covariance(1, 1)),
                       std::sqrt(source.position.covariance(2, 2)));

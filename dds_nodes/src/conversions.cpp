@@ -120,7 +120,7 @@ avalanche::FieldMeasurement to_core(const ::sarloc::FieldMeasurement& m) {
   return out;
 }
 
-::sarloc::Odometry to_idl(const avalanche::Odometry& o) {
+::sarloc::Odometry to_idl(const responder::Odometry& o) {
   ::sarloc::Odometry out;
   out.rescuer_id(to_identifier(o.rescuer_id, "odometry.rescuer_id"));
   out.sequence_number(o.sequence);
@@ -133,8 +133,8 @@ avalanche::FieldMeasurement to_core(const ::sarloc::FieldMeasurement& m) {
   return out;
 }
 
-avalanche::Odometry to_core(const ::sarloc::Odometry& o) {
-  avalanche::Odometry out;
+responder::Odometry to_core(const ::sarloc::Odometry& o) {
+  responder::Odometry out;
   out.rescuer_id = o.rescuer_id().to_string();
   out.sequence = o.sequence_number();
   out.interval_start = o.interval_start();
@@ -142,11 +142,11 @@ avalanche::Odometry to_core(const ::sarloc::Odometry& o) {
   out.translation = to_core(o.translation());
   out.rotation_rpy = to_core(o.rotation_rpy());
   out.covariance = array_to_matrix<6>(o.covariance());
-  out.source = checked_enum<avalanche::OdometrySource>(o.source(), ::sarloc::ODOMETRY_OTHER, "odometry.source");
+  out.source = checked_enum<responder::OdometrySource>(o.source(), ::sarloc::ODOMETRY_OTHER, "odometry.source");
   return out;
 }
 
-::sarloc::VictimEstimate to_idl(const avalanche::VictimEstimate& e, std::uint64_t measurement_sequence) {
+::sarloc::VictimEstimate to_idl(const responder::VictimEstimate& e, std::uint64_t measurement_sequence) {
   ::sarloc::VictimEstimate out;
   out.rescuer_id(to_identifier(e.rescuer_id, "victim_estimate.rescuer_id"));
   out.signal_id(e.signal_id);
@@ -154,8 +154,6 @@ avalanche::Odometry to_core(const ::sarloc::Odometry& o) {
   out.measurement_sequence(measurement_sequence);
   out.status(static_cast<::sarloc::EstimatorStatus>(e.status));
   out.relative(to_idl(e.relative));
-  out.has_incident_position(e.incident.has_value());
-  if (e.incident) out.incident(to_idl(*e.incident));
   const std::size_t n = std::min<std::size_t>(e.top_components.size(), ::sarloc::MIXTURE_SUMMARY_MAX);
   out.top_components().reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -170,14 +168,13 @@ avalanche::Odometry to_core(const ::sarloc::Odometry& o) {
   return out;
 }
 
-avalanche::VictimEstimate to_core(const ::sarloc::VictimEstimate& e) {
-  avalanche::VictimEstimate out;
+responder::VictimEstimate to_core(const ::sarloc::VictimEstimate& e) {
+  responder::VictimEstimate out;
   out.rescuer_id = e.rescuer_id().to_string();
   out.signal_id = e.signal_id();
   out.stamp = e.stamp();
-  out.status = checked_enum<avalanche::EstimatorStatus>(e.status(), ::sarloc::ESTIMATOR_FOUND, "victim_estimate.status");
+  out.status = checked_enum<responder::EstimatorStatus>(e.status(), ::sarloc::ESTIMATOR_FOUND, "victim_estimate.status");
   out.relative = to_core(e.relative());
-  if (e.has_incident_position()) out.incident = to_core(e.incident());
   for (const auto& c : e.top_components()) {
     out.top_components.push_back({c.weight(), to_core(c.mean()), array_to_matrix<3>(c.covariance())});
   }
@@ -186,7 +183,7 @@ avalanche::VictimEstimate to_core(const ::sarloc::VictimEstimate& e) {
   return out;
 }
 
-::sarloc::Guidance to_idl(const avalanche::Guidance& g, std::uint64_t measurement_sequence) {
+::sarloc::Guidance to_idl(const responder::Guidance& g, std::uint64_t measurement_sequence) {
   ::sarloc::Guidance out;
   out.rescuer_id(to_identifier(g.rescuer_id, "guidance.rescuer_id"));
   out.signal_id(g.signal_id);
@@ -201,12 +198,12 @@ avalanche::VictimEstimate to_core(const ::sarloc::VictimEstimate& e) {
   return out;
 }
 
-avalanche::Guidance to_core(const ::sarloc::Guidance& g) {
-  avalanche::Guidance out;
+responder::Guidance to_core(const ::sarloc::Guidance& g) {
+  responder::Guidance out;
   out.rescuer_id = g.rescuer_id().to_string();
   out.signal_id = g.signal_id();
   out.stamp = g.stamp();
-  out.mode = checked_enum<avalanche::GuidanceMode>(g.mode(), ::sarloc::GUIDANCE_FOUND, "guidance.mode");
+  out.mode = checked_enum<responder::GuidanceMode>(g.mode(), ::sarloc::GUIDANCE_FOUND, "guidance.mode");
   out.bearing_rad = g.bearing_rad();
   out.heading_rad = g.heading_rad();
   out.distance_m = g.distance_m();
@@ -215,7 +212,7 @@ avalanche::Guidance to_core(const ::sarloc::Guidance& g) {
   return out;
 }
 
-::sarloc::ResponderPosition to_idl(const incident::ResponderPosition& r) {
+::sarloc::ResponderPosition to_idl(const responder::ResponderPosition& r) {
   ::sarloc::ResponderPosition out;
   out.responder_id(to_identifier(r.responder_id, "responder_position.responder_id"));
   out.team_id(to_identifier(r.team_id, "responder_position.team_id"));
@@ -229,15 +226,15 @@ avalanche::Guidance to_core(const ::sarloc::Guidance& g) {
   return out;
 }
 
-incident::ResponderPosition to_core(const ::sarloc::ResponderPosition& r) {
-  incident::ResponderPosition out;
+responder::ResponderPosition to_core(const ::sarloc::ResponderPosition& r) {
+  responder::ResponderPosition out;
   out.responder_id = r.responder_id().to_string();
   out.team_id = r.team_id().to_string();
   out.stamp = r.stamp();
   out.position = to_core(r.position());
   out.heading_rad = r.heading_rad();
   out.floor = r.floor();
-  out.source = checked_enum<incident::PositionSource>(r.source(), ::sarloc::POSITION_MANUAL, "responder_position.source");
+  out.source = checked_enum<responder::PositionSource>(r.source(), ::sarloc::POSITION_MANUAL, "responder_position.source");
   out.converged = (r.flags() & ::sarloc::RESPONDER_FLAG_CONVERGED) != 0;
   out.map_error_suspected = (r.flags() & ::sarloc::RESPONDER_FLAG_MAP_ERROR_SUSPECTED) != 0;
   return out;
@@ -247,6 +244,7 @@ incident::ResponderPosition to_core(const ::sarloc::ResponderPosition& r) {
   ::sarloc::FusedVictim out;
   out.victim_id(v.victim_id);
   out.position(to_idl(v.position));
+  out.floor(v.floor);
   const std::size_t n = std::min<std::size_t>(v.sources.size(), ::sarloc::VICTIM_SOURCES_MAX);
   for (std::size_t i = 0; i < n; ++i) {
     ::sarloc::VictimSource s;
@@ -267,6 +265,7 @@ incident::FusedVictim to_core(const ::sarloc::FusedVictim& v) {
   incident::FusedVictim out;
   out.victim_id = v.victim_id();
   out.position = to_core(v.position());
+  out.floor = v.floor();
   for (const auto& s : v.sources()) {
     out.sources.push_back({s.rescuer_id().to_string(), s.signal_id(), s.last_update()});
   }

@@ -12,7 +12,7 @@
 namespace sarloc::dds {
 
 void CoreNodeConfig::validate() const {
-  search.validate();
+  estimators.validate();
   if (node_id.empty() || node_id.size() > 64) throw ConfigError("core.node_id = '" + node_id + "': must be 1-64 characters");
   if (workers < 1 || workers > 64) throw ConfigError("core.workers = " + std::to_string(workers) + ": must be in [1, 64]");
   if (max_rescuers < 1) throw ConfigError("core.max_rescuers = 0: must be >= 1");
@@ -31,19 +31,13 @@ void CoreNodeConfig::validate() const {
   }
 }
 
-namespace {
-
-// A refused step may close at most this far past the last epoch (its stamp is untrusted too).
-constexpr TimestampNs kMaxEpochGapNs = 60'000'000'000;
-
-}  // namespace
-
 CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig config)
     : config_((config.validate(), std::move(config))),
       participant_(std::move(participant)),
       warnings_(std::chrono::milliseconds(static_cast<std::int64_t>(config_.warning_interval_s * 1000.0))),
       estimate_writer_(participant_, EndpointOptions::in(config_.partitions)),
       guidance_writer_(participant_, EndpointOptions::in(config_.partitions)),
+      position_writer_(participant_),
       status_writer_(participant_) {
   known_rescuers_.insert(config_.rescuers.begin(), config_.rescuers.end());
   for (unsigned i = 0; i < config_.workers; ++i) {
@@ -66,20 +60,23 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
   // threads above must be stopped before the exception leaves (a joinable std::thread
   // destroyed by unwinding would terminate the process instead of reporting the error).
   try {
+    const auto inputs = EndpointOptions::in(config_.partitions);
     // Listener callbacks: convert, refuse what cannot even be converted, enqueue.
-    auto convert_and_enqueue = [this](const auto& sample, const auto&) {
-      const std::string id = sample.rescuer_id().to_string();
-      try {
-        enqueue(id, to_core(sample));
-      } catch (const InputError& e) {
-        reject(id, "invalid_value", e.what());
-      }
-    };
-    measurement_reader_ = std::make_unique<Reader<::sarloc::FieldMeasurement>>(participant_, convert_and_enqueue,
-                                                                               EndpointOptions::in(config_.partitions));
-    odometry_reader_ = std::make_unique<Reader<::sarloc::Odometry>>(participant_, convert_and_enqueue,
-                                                                    EndpointOptions::in(config_.partitions));
-    // Victims incident command declares found: stop guiding this sector's rescuers to them.
+    auto refuse = [this](const std::string& id, const std::string& detail) { reject(id, "invalid_value", detail); };
+    sample_readers_ = std::make_unique<SampleReaders>(
+        participant_, [this](estimator::SensorSample s) { enqueue(estimator::responder_of(s), std::move(s)); }, refuse,
+        inputs);
+    odometry_reader_ = std::make_unique<Reader<::sarloc::Odometry>>(
+        participant_,
+        [this, refuse](const ::sarloc::Odometry& o, const auto&) {
+          try {
+            enqueue(o.rescuer_id().to_string(), to_core(o));
+          } catch (const InputError& e) {
+            refuse(o.rescuer_id().to_string(), e.what());
+          }
+        },
+        inputs);
+    // Victims incident command declares found: stop guiding this sector's responders to them.
     victim_reader_ = std::make_unique<Reader<::sarloc::FusedVictim>>(
         participant_, [this](const ::sarloc::FusedVictim& v, const auto&) {
           if (v.state() != ::sarloc::VICTIM_FOUND && v.state() != ::sarloc::VICTIM_RECOVERED) return;
@@ -102,7 +99,7 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
 
 CoreNode::~CoreNode() {
   // Stop the inflow first, then the threads, then (implicitly) the writers.
-  measurement_reader_.reset();
+  sample_readers_.reset();
   odometry_reader_.reset();
   victim_reader_.reset();
   stop_threads();
@@ -141,11 +138,13 @@ void CoreNode::enqueue(const std::string& rescuer_id, Work work) {
 }
 
 void CoreNode::run_worker(Worker& worker) {
+  estimator::SequencerReport report;
   while (true) {
-    // Sleep until work arrives or the earliest held measurement's wait expires.
-    std::optional<SteadyTime> wake;
-    for (const auto& [id, state] : worker.rescuers) {
-      if (!state.held.empty() && (!wake || state.held.front().deadline < *wake)) wake = state.held.front().deadline;
+    // Sleep until work arrives or the earliest held sample's wait expires.
+    std::optional<estimator::SampleSequencer::Clock::time_point> wake;
+    for (const auto& [id, sequencer] : worker.responders) {
+      const auto deadline = sequencer.next_deadline();
+      if (deadline && (!wake || *deadline < *wake)) wake = deadline;
     }
     std::optional<Work> work;
     {
@@ -164,12 +163,13 @@ void CoreNode::run_worker(Worker& worker) {
     }
     if (work) handle(worker, *work);
     const auto now = std::chrono::steady_clock::now();
-    for (auto& [id, state] : worker.rescuers) release_held(state, now);
+    for (auto& [id, sequencer] : worker.responders) sequencer.release(now, report);
+    publish(report);
   }
 }
 
-CoreNode::RescuerState* CoreNode::state_for(Worker& worker, const std::string& rescuer_id) {
-  if (auto it = worker.rescuers.find(rescuer_id); it != worker.rescuers.end()) return &it->second;
+estimator::SampleSequencer* CoreNode::sequencer_for(Worker& worker, const std::string& rescuer_id) {
+  if (auto it = worker.responders.find(rescuer_id); it != worker.responders.end()) return &it->second;
   if (rescuer_id.empty()) {
     reject(rescuer_id, "unknown_rescuer", "rescuer_id is empty");
     return nullptr;
@@ -188,101 +188,64 @@ CoreNode::RescuerState* CoreNode::state_for(Worker& worker, const std::string& r
     }
     known_rescuers_.insert(rescuer_id);
   }
+  const auto role_it = config_.roles.find(rescuer_id);
+  const auto role = role_it == config_.roles.end() ? config_.default_role : role_it->second;
   rescuers_served_.fetch_add(1);
-  spdlog::info("{}: new rescuer '{}'", config_.node_id, rescuer_id);
-  return &worker.rescuers.emplace(rescuer_id, RescuerState{avalanche::RescuerSearch(rescuer_id, config_.search), 0, {}, {}})
+  spdlog::info("{}: new responder '{}' ({})", config_.node_id, rescuer_id, estimator::to_string(role));
+  const auto wait = std::chrono::duration_cast<estimator::SampleSequencer::Clock::duration>(
+      std::chrono::duration<double>(config_.odometry_wait_s));
+  return &worker.responders
+              .emplace(rescuer_id, estimator::SampleSequencer(
+                                       estimator::make_estimator(role, rescuer_id, config_.estimators), wait))
               .first->second;
 }
 
 void CoreNode::handle(Worker& worker, Work& work) {
+  estimator::SequencerReport report;
   if (auto* done = std::get_if<MarkDone>(&work)) {
-    if (auto it = worker.rescuers.find(done->rescuer_id); it != worker.rescuers.end()) {
-      it->second.search.mark_done(done->signal_id);
+    if (auto it = worker.responders.find(done->rescuer_id); it != worker.responders.end()) {
+      it->second.estimator().mark_done(done->signal_id);
     }
     return;
   }
-  if (auto* odometry = std::get_if<avalanche::Odometry>(&work)) {
-    auto* state = state_for(worker, odometry->rescuer_id);
-    if (state == nullptr) return;
-    if (auto rejected = state->search.add_odometry(*odometry)) {
-      reject(odometry->rescuer_id, avalanche::to_string(rejected->reason), rejected->detail);
-      // A step refused for its values still says how far the rescuer's clock went: waiting
-      // for it would only make the next epoch late. Refused timing moves nothing.
-      const bool timing_ok = rejected->reason == avalanche::RejectReason::kAbsurdMotion ||
-                             rejected->reason == avalanche::RejectReason::kInvalidValue;
-      if (timing_ok && odometry->interval_end > state->odometry_until &&
-          (!state->measured_at || odometry->interval_end <= *state->measured_at + kMaxEpochGapNs)) {
-        state->odometry_until = odometry->interval_end;
-      }
-    } else {
-      counters_.accepted();
-      state->odometry_until = std::max(state->odometry_until, odometry->interval_end);
+  if (auto* odometry = std::get_if<responder::Odometry>(&work)) {
+    if (auto* sequencer = sequencer_for(worker, odometry->rescuer_id)) sequencer->on_odometry(*odometry, report);
+  } else {
+    auto& sample = std::get<estimator::SensorSample>(work);
+    if (auto* sequencer = sequencer_for(worker, estimator::responder_of(sample))) {
+      const std::size_t filters_before = sequencer->estimator().active_filters();
+      sequencer->on_sample(sample, std::chrono::steady_clock::now(), report);
+      active_filters_.fetch_add(sequencer->estimator().active_filters() - filters_before);
     }
-    return;
   }
-  auto& measurement = std::get<avalanche::FieldMeasurement>(work);
-  auto* state = state_for(worker, measurement.rescuer_id);
-  if (state == nullptr) return;
-  // A new epoch follows a step: wait for the odometry up to its stamp (see the config). The
-  // other signals of an epoch already processed share its stamp and need nothing more.
-  const bool new_epoch = state->measured_at && measurement.stamp > *state->measured_at;
-  const bool motion_pending = new_epoch && measurement.stamp > state->odometry_until;
-  if ((motion_pending || !state->held.empty()) && config_.odometry_wait_s > 0.0) {
-    const auto wait = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-        std::chrono::duration<double>(config_.odometry_wait_s));
-    state->held.push_back(Held{measurement, std::chrono::steady_clock::now() + wait});
-    return;
-  }
-  process_measurement(*state, measurement);
+  publish(report);
 }
 
-void CoreNode::release_held(RescuerState& state, SteadyTime now) {
-  while (!state.held.empty()) {
-    const Held& front = state.held.front();
-    const bool covered = front.measurement.stamp <= state.odometry_until;
-    if (!covered && now < front.deadline) return;
-    if (!covered) {
-      // Processing as if the rescuer had stood still would let one near-field measurement lock
-      // a filter onto a wrong position with a small covariance (seen under 20 % packet loss:
-      // "located" 10 m off). Unknown motion stands in for the missing odometry instead.
-      const TimestampNs from = state.odometry_until > 0 ? state.odometry_until : state.measured_at.value_or(0);
-      bool stood_in = false;
-      try {
-        stood_in = state.search.add_unknown_motion(from, front.measurement.stamp);
-      } catch (const InputError& e) {  // the covariance is built valid; never let it stop a worker
-        spdlog::error("{}: unknown motion refused: {}", config_.node_id, e.what());
+void CoreNode::publish(estimator::SequencerReport& report) {
+  for (std::size_t i = 0; i < report.accepted; ++i) counters_.accepted();
+  for (const auto& r : report.rejections) {
+    const std::string reason = responder::to_string(r.reason);
+    counters_.rejected(reason);
+    warnings_.warn(r.detail.substr(0, r.detail.find(':')), reason, "rejected sample (" + reason + "): " + r.detail);
+  }
+  for (const auto& line : report.odometry_late) {
+    counters_.anomaly("odometry_late");
+    warnings_.warn(line.substr(0, line.find(':')), "odometry_late", line);
+  }
+  for (const auto& [output, sequence] : report.answers) {
+    for (const auto& e : output.estimates) {
+      if (!estimate_writer_.write(to_idl(e, sequence))) {
+        spdlog::error("{}: DDS refused a VictimEstimate for '{}'", config_.node_id, e.rescuer_id);
       }
-      if (stood_in) state.odometry_until = front.measurement.stamp;
-      counters_.anomaly("odometry_late");
-      warnings_.warn(front.measurement.rescuer_id, "odometry_late",
-                     "rescuer '" + front.measurement.rescuer_id + "': no odometry up to stamp " +
-                         std::to_string(front.measurement.stamp) + " within odometry_wait_s: processed " +
-                         (stood_in ? "with unknown motion in its place" : "without it (no stand-in for this gap)"));
     }
-    const auto measurement = front.measurement;
-    state.held.pop_front();
-    process_measurement(state, measurement);
+    if (output.guidance && !guidance_writer_.write(to_idl(*output.guidance, sequence))) {
+      spdlog::error("{}: DDS refused a Guidance for '{}'", config_.node_id, output.guidance->rescuer_id);
+    }
+    if (output.position && !position_writer_.write(to_idl(*output.position))) {
+      spdlog::error("{}: DDS refused a ResponderPosition for '{}'", config_.node_id, output.position->responder_id);
+    }
   }
-}
-
-void CoreNode::process_measurement(RescuerState& state, const avalanche::FieldMeasurement& measurement) {
-  auto& search = state.search;
-  const std::size_t signals_before = search.signal_count();
-  auto outcome = search.process(measurement);
-  if (auto* rejected = std::get_if<avalanche::Rejection>(&outcome)) {
-    reject(measurement.rescuer_id, avalanche::to_string(rejected->reason), rejected->detail);
-    return;
-  }
-  counters_.accepted();
-  state.measured_at = std::max(state.measured_at.value_or(measurement.stamp), measurement.stamp);
-  active_filters_.fetch_add(search.signal_count() - signals_before);
-  auto& update = std::get<avalanche::SearchUpdate>(outcome);
-  if (!estimate_writer_.write(to_idl(update.estimate, measurement.sequence))) {
-    spdlog::error("{}: DDS refused a VictimEstimate for '{}'", config_.node_id, measurement.rescuer_id);
-  }
-  if (update.guidance && !guidance_writer_.write(to_idl(*update.guidance, measurement.sequence))) {
-    spdlog::error("{}: DDS refused a Guidance for '{}'", config_.node_id, measurement.rescuer_id);
-  }
+  report = estimator::SequencerReport{};
 }
 
 void CoreNode::publish_status() {

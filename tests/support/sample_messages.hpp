@@ -2,11 +2,11 @@
 // Core messages filled with distinctive, non-default values (every field differs from its
 // default, so a conversion that drops a field fails the round-trip comparison).
 #include "sarloc/core/avalanche/field_measurement.hpp"
-#include "sarloc/core/avalanche/guidance.hpp"
-#include "sarloc/core/avalanche/odometry.hpp"
-#include "sarloc/core/avalanche/victim_estimate.hpp"
+#include "sarloc/core/responder/guidance.hpp"
+#include "sarloc/core/responder/odometry.hpp"
+#include "sarloc/core/responder/victim_estimate.hpp"
 #include "sarloc/core/incident/fused_victim.hpp"
-#include "sarloc/core/incident/responder_position.hpp"
+#include "sarloc/core/responder/responder_position.hpp"
 #include "sarloc/core/incident/team_status.hpp"
 
 namespace sarloc::test {
@@ -36,8 +36,8 @@ inline avalanche::FieldMeasurement sample_field_measurement() {
   return m;
 }
 
-inline avalanche::Odometry sample_odometry() {
-  avalanche::Odometry o;
+inline responder::Odometry sample_odometry() {
+  responder::Odometry o;
   o.rescuer_id = "rescuer-bravo";
   o.sequence = 42;
   o.interval_start = 1763731200000000000LL;
@@ -45,18 +45,17 @@ inline avalanche::Odometry sample_odometry() {
   o.translation = Vec3(0.98, 0.05, -0.01);
   o.rotation_rpy = Vec3(0.004, -0.006, 0.12);
   o.covariance = distinct_matrix<6>(0.0001);
-  o.source = avalanche::OdometrySource::kFootMountedIns;
+  o.source = responder::OdometrySource::kFootMountedIns;
   return o;
 }
 
-inline avalanche::VictimEstimate sample_victim_estimate() {
-  avalanche::VictimEstimate e;
+inline responder::VictimEstimate sample_victim_estimate() {
+  responder::VictimEstimate e;
   e.rescuer_id = "rescuer-charlie";
   e.signal_id = 3;
   e.stamp = 1763731260000000000LL;
-  e.status = avalanche::EstimatorStatus::kLocated;
+  e.status = responder::EstimatorStatus::kLocated;
   e.relative = sample_position(4.0);
-  e.incident = sample_position(120.0);
   for (int i = 0; i < 3; ++i) {
     e.top_components.push_back({0.5 - 0.1 * i, Vec3(i, -i, 0.5 * i), distinct_matrix<3>(i)});
   }
@@ -65,12 +64,12 @@ inline avalanche::VictimEstimate sample_victim_estimate() {
   return e;
 }
 
-inline avalanche::Guidance sample_guidance() {
-  avalanche::Guidance g;
+inline responder::Guidance sample_guidance() {
+  responder::Guidance g;
   g.rescuer_id = "rescuer-delta";
   g.signal_id = 2;
   g.stamp = 1763731270000000000LL;
-  g.mode = avalanche::GuidanceMode::kFineSearch;
+  g.mode = responder::GuidanceMode::kFineSearch;
   g.bearing_rad = -0.75;
   g.heading_rad = 2.5;
   g.distance_m = 3.25;
@@ -79,15 +78,15 @@ inline avalanche::Guidance sample_guidance() {
   return g;
 }
 
-inline incident::ResponderPosition sample_responder_position() {
-  incident::ResponderPosition r;
+inline responder::ResponderPosition sample_responder_position() {
+  responder::ResponderPosition r;
   r.responder_id = "ff-engine-7-a";
   r.team_id = "engine-7";
   r.stamp = 1763731280000000000LL;
   r.position = sample_position(30.0);
   r.heading_rad = 1.25;
   r.floor = 3;
-  r.source = incident::PositionSource::kMapAided;
+  r.source = responder::PositionSource::kMapAided;
   r.converged = true;
   r.map_error_suspected = true;
   return r;

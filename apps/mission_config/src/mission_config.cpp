@@ -55,7 +55,7 @@ void MissionConfig::validate() const {
   if (!(period_s >= 0.1 && period_s <= 10.0)) fail("mission.period_s", period_s, "must be in [0.1, 10]");
   dds.validate();
   scenario.validate();
-  search.validate();
+  estimators.validate();
   std::set<std::string> known(sectors.begin(), sectors.end());
   if (known.size() != sectors.size()) throw ConfigError("sectors: duplicate sector name");
   for (const auto& r : scenario.rescuers) {
@@ -76,7 +76,8 @@ void MissionConfig::validate() const {
 
 dds::CoreNodeConfig MissionConfig::core_config(const std::string& sector) const {
   dds::CoreNodeConfig c = core;
-  c.search = search;
+  c.estimators = estimators;
+  c.roles = role_of;
   c.partitions = partitions_of_sector(sector);
   c.node_id = sector.empty() ? core.node_id : core.node_id + "-" + sector;
   return c;
@@ -87,7 +88,8 @@ dds::RescuerNodeConfig MissionConfig::rescuer_config(const std::string& rescuer_
   dds::RescuerNodeConfig c = rescuer;
   c.rescuer_id = spec.id;
   c.team = spec.team;
-  c.search = search;
+  c.role = role_of.at(rescuer_id);
+  c.estimators = estimators;
   // Waiting longer than half an epoch for the daemon would make the device fall behind.
   c.guidance_wait_s = std::min(c.guidance_wait_s, 0.5 * period_s / speedup);
   const auto it = sector_of.find(rescuer_id);
@@ -160,8 +162,11 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("heading_deg", s.heading_deg);
     std::string sector;
     r.read("sector", sector);
+    std::string role = estimator::to_string(estimator::ResponderRole::kAvalancheRescuer);
+    r.read("role", role);
     r.expect_done();
     c.sector_of[s.id] = sector;
+    c.role_of[s.id] = estimator::parse_responder_role(role, name + ": " + r.path() + ".role");
     c.scenario.rescuers.push_back(s);
   }
   for (auto& r : root.child_list("sectors")) {
@@ -179,9 +184,10 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("gnss_white_sigma_m", c.scenario.gnss_white_sigma_m);
     read_simulation(r, c.scenario.sensors);
   }
-  read_sog(root.child("sog"), c.search.sog);
-  read_search(root.child("search"), c.search.search);
-  read_rescuer_search(root.child("rescuer_search"), c.search);
+  auto& avalanche = c.estimators.avalanche_rescuer;
+  read_sog(root.child("sog"), avalanche.sog);
+  read_search(root.child("search"), avalanche.search);
+  read_rescuer_search(root.child("rescuer_search"), avalanche);
   {
     auto r = root.child("core");
     r.read("node_id", c.core.node_id);
@@ -194,6 +200,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     c.core.queue_limit = u;
     r.read("status_period_s", c.core.status_period_s);
     r.read("warning_interval_s", c.core.warning_interval_s);
+    r.read("odometry_wait_s", c.core.odometry_wait_s);
     r.expect_done();
   }
   {

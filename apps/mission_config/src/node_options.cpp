@@ -1,5 +1,7 @@
 #include "sarloc/app/node_options.hpp"
 
+#include "sarloc/app/command_line.hpp"
+
 namespace sarloc::app {
 
 dds::ParticipantConfig participant_config(const MissionConfig& mission, int domain, const std::string& name) {
@@ -19,7 +21,7 @@ dds::MissionClock NodeOptions::clock(const MissionConfig& mission) const {
 
 void add_node_options(CLI::App& cli, NodeOptions& options, bool with_epoch) {
   cli.add_option("-c,--config", options.config_path, "mission YAML (config/missions/default.yaml)")->required();
-  cli.add_option("--log-level", options.log_level, "trace, debug, info, warn, error, critical, off");
+  add_log_level_option(cli, options.log_level);
   cli.add_option("--domain", options.domain, "DDS domain id, overriding dds.domain_id of the config");
   if (with_epoch) {
     cli.add_option("--epoch-ns", options.epoch_ns,

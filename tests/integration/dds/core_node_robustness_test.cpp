@@ -35,7 +35,7 @@ avalanche::RescuerSearchConfig small_search() {
 TEST(CoreNodeRobustness, MalformedStreamNeitherCrashesNorTouchesOtherRescuers) {
   auto daemon_participant = test::make_participant(test::kDomainMalformedInput, "core");
   CoreNodeConfig config;
-  config.search = small_search();
+  config.estimators.avalanche_rescuer = small_search();
   config.warning_interval_s = 60.0;
   auto node = std::make_unique<CoreNode>(daemon_participant, config);
 

@@ -10,6 +10,10 @@
 namespace sarloc::rescuer {
 namespace {
 
+const sarloc::avalanche::FieldMeasurement& field(const sarloc::estimator::SensorSample& s) {
+  return std::get<sarloc::avalanche::FieldMeasurement>(s);
+}
+
 std::string write_file(const std::string& text) {
   const std::string path = ::testing::TempDir() + "/recorded.jsonl";
   std::ofstream(path) << text;
@@ -40,17 +44,17 @@ TEST(RecordedSource, GroupsEpochsByFieldStampAndSkipsMalformedLines) {
   EXPECT_DOUBLE_EQ(first->odometry[0].covariance(5, 5), 1e-4);
   ASSERT_TRUE(first->position.has_value());
   EXPECT_EQ(first->position->team_id, "team-x");
-  ASSERT_EQ(first->measurements.size(), 2U);
-  EXPECT_FALSE(first->measurements[0].orientation.has_value());
-  ASSERT_TRUE(first->measurements[1].orientation.has_value());
-  EXPECT_DOUBLE_EQ(first->measurements[1].orientation->rpy.z(), 1.5);
+  ASSERT_EQ(first->samples.size(), 2U);
+  EXPECT_FALSE(field(first->samples[0]).orientation.has_value());
+  ASSERT_TRUE(field(first->samples[1]).orientation.has_value());
+  EXPECT_DOUBLE_EQ(field(first->samples[1]).orientation->rpy.z(), 1.5);
 
   const auto second = source.next(0, std::nullopt);
   ASSERT_TRUE(second.has_value());
   EXPECT_EQ(second->stamp, 2'000'000'000);
   ASSERT_EQ(second->odometry.size(), 1U);
-  ASSERT_EQ(second->measurements.size(), 1U) << "the malformed field line of this stamp must be skipped";
-  EXPECT_DOUBLE_EQ(second->measurements[0].field.x(), 2e-7);
+  ASSERT_EQ(second->samples.size(), 1U) << "the malformed field line of this stamp must be skipped";
+  EXPECT_DOUBLE_EQ(field(second->samples[0]).field.x(), 2e-7);
   EXPECT_EQ(source.skipped_lines(), 3U);  // not JSON, a string in "field", an unknown type
   EXPECT_NEAR(source.distance_walked_m(), 1.5, 1e-12);
   EXPECT_FALSE(source.next(0, std::nullopt).has_value());

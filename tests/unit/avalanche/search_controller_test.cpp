@@ -160,7 +160,7 @@ TEST(SearchControllerOpening, HeadsForTheMostProbableBearingWithHysteresis) {
     f.process(z);
     const BearingDensity density(f.components(), kernel);
     const Guidance g = ctl.guide(f, z);
-    if (g.mode != GuidanceMode::kFollowFluxLine) break;
+    if (g.mode != GuidanceMode::kOpening) break;
     ++opening_steps;
     if (!held) {
       EXPECT_NEAR(g.heading_rad, wrap_angle(density.peak()), 1e-12);

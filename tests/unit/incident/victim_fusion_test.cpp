@@ -12,7 +12,7 @@
 namespace sarloc::incident {
 namespace {
 
-using avalanche::EstimatorStatus;
+using responder::EstimatorStatus;
 constexpr TimestampNs kSec = 1'000'000'000;
 
 SourceEstimate src(const std::string& rescuer, std::uint32_t signal, TimestampNs t, const Vec3& p,
@@ -23,7 +23,8 @@ SourceEstimate src(const std::string& rescuer, std::uint32_t signal, TimestampNs
   s.stamp = t;
   s.position.position = p;
   s.position.covariance = sigma * sigma * Mat3::Identity();
-  s.status = st;
+  s.state = source_state_of(st);
+  s.below_surface = true;  // avalanche victims: heights above the snow
   return s;
 }
 
@@ -85,23 +86,65 @@ TEST(VictimFusion, RefusesAnEstimateAboveTheSnowSurface) {
 }
 
 TEST(VictimFusion, MakeSourceEstimateUsesTheTransform) {
-  avalanche::VictimEstimate e;
+  responder::VictimEstimate e;
   e.rescuer_id = "r1";
   e.signal_id = 7;
   e.stamp = 42;
   e.status = EstimatorStatus::kLocated;
   e.relative.position = Vec3(1, 2, -1);
   e.relative.covariance = 0.04 * Mat3::Identity();
-  GaussianPosition antenna;
-  antenna.position = Vec3(10, 20, 1);
-  antenna.covariance = 2.25 * Mat3::Identity();
-  const SourceEstimate s = make_source_estimate(e, antenna);
+  ReporterFix fix;
+  fix.antenna.position = Vec3(10, 20, 1);
+  fix.antenna.covariance = 2.25 * Mat3::Identity();
+  fix.floor = 2;
+  const SourceEstimate s = make_source_estimate(e, fix);
   EXPECT_EQ(s.rescuer_id, "r1");
   EXPECT_EQ(s.signal_id, 7u);
   EXPECT_EQ(s.stamp, 42);
-  EXPECT_EQ(s.status, EstimatorStatus::kLocated);
+  EXPECT_EQ(s.state, SourceState::kLocated);
+  EXPECT_EQ(s.floor, 2);
+  EXPECT_FALSE(s.below_surface);
   EXPECT_TRUE(s.position.position.isApprox(Vec3(11, 22, 0)));
   EXPECT_TRUE(s.position.covariance.isApprox(2.29 * Mat3::Identity()));
+}
+
+// A GNSS fix places victims with heights above the snow (the antenna's height replaces the
+// GNSS altitude); an indoor fix keeps its height and floor: a firefighter on the second floor
+// reports a victim up there, not at antenna height above the ground.
+TEST(VictimFusion, ReporterFixKeepsIndoorHeightsAndFloorsAndMapsGnssToTheSnowSurface) {
+  responder::ResponderPosition p;
+  p.position.position = Vec3(5, 6, 2321.0);
+  p.position.covariance = 4.0 * Mat3::Identity();
+  p.source = responder::PositionSource::kGnss;
+  const ReporterFix outdoor = reporter_fix_of(p, 1.2, 0.1);
+  EXPECT_DOUBLE_EQ(outdoor.antenna.position.z(), 1.2);
+  EXPECT_DOUBLE_EQ(outdoor.antenna.covariance(2, 2), 0.01);
+  EXPECT_DOUBLE_EQ(outdoor.antenna.covariance(0, 2), 0.0);
+  EXPECT_DOUBLE_EQ(outdoor.antenna.position.x(), 5.0);
+  EXPECT_TRUE(outdoor.heights_above_surface);
+
+  p.source = responder::PositionSource::kMapAided;
+  p.position.position = Vec3(5, 6, 7.5);
+  p.floor = 2;
+  const ReporterFix indoor = reporter_fix_of(p, 1.2, 0.1);
+  EXPECT_DOUBLE_EQ(indoor.antenna.position.z(), 7.5);
+  EXPECT_EQ(indoor.floor, 2);
+  EXPECT_FALSE(indoor.heights_above_surface);
+}
+
+TEST(VictimFusion, AnIndoorVictimAboveGroundIsAcceptedAndFloorsNeverMix) {
+  VictimFusion f;
+  SourceEstimate upstairs = src("ff1", 1, kSec, Vec3(3, 3, 6.0), 0.3);
+  upstairs.below_surface = false;
+  upstairs.floor = 2;
+  EXPECT_TRUE(f.update(upstairs)) << "no snow surface indoors";
+  SourceEstimate below = src("ff2", 1, kSec, Vec3(3, 3, 5.5), 0.3);  // same x, y, a floor lower
+  below.below_surface = false;
+  below.floor = 1;
+  f.update(below);
+  f.step(kSec);
+  ASSERT_EQ(f.victims().size(), 2U) << "sources on different floors must not associate or merge";
+  EXPECT_NE(f.victims()[0].floor, f.victims()[1].floor);
 }
 
 TEST(VictimFusion, OnlyConvergedSourcesTakePart) {
@@ -277,7 +320,8 @@ MissionResult run_missions(const Mission& m, int draws, std::uint32_t seed) {
           s.rescuer_id = rescuers[r];
           s.signal_id = sig[r][v];
           s.stamp = t;
-          s.status = st;
+          s.state = source_state_of(st);
+          s.below_surface = true;
           s.position.position = truth[v] + bias[r] + e;
           s.position.covariance = cov;
           f.update(s);

@@ -47,9 +47,10 @@ struct CommandNodeConfig {
   /// interpolated if at most this far apart (mission s): under packet loss the epoch's own fix
   /// can be lost for good (only the newest ResponderPosition is kept).
   double fix_interpolation_max_gap_s = 2.5;
-  /// Heights in the picture are above the local snow surface (what diggers need), not GNSS
-  /// altitude (poor, and irrelevant to a burial depth): a fix's height is replaced by the
-  /// receiver antenna's height above the snow, with this 1-sigma (m).
+  /// Heights outdoors are above the local snow surface (what diggers need), not GNSS altitude
+  /// (poor, and irrelevant to a burial depth): a GNSS fix's height is replaced by the receiver
+  /// antenna's height above the snow, with this 1-sigma (m). Other positions (map-aided
+  /// indoors) keep their height and floor (incident::reporter_fix_of).
   double antenna_height_m = 1.0;
   double antenna_height_sigma_m = 0.15;
 
@@ -70,7 +71,7 @@ class CommandNode {
 
  private:
   void cycle();
-  std::optional<GaussianPosition> fix_at(const std::string& rescuer_id, TimestampNs stamp) const;
+  std::optional<incident::ReporterFix> fix_at(const std::string& rescuer_id, TimestampNs stamp) const;
 
   CommandNodeConfig config_;
   MissionClock clock_;
@@ -81,7 +82,7 @@ class CommandNode {
   mutable std::mutex mutex_;
   incident::VictimFusion fusion_;
   incident::TeamTracker tracker_;
-  std::deque<avalanche::VictimEstimate> pending_estimates_;
+  std::deque<responder::VictimEstimate> pending_estimates_;
   std::map<std::string, incident::ResponderTrack> fixes_;  ///< per responder
   std::vector<std::pair<eprosima::fastrtps::rtps::InstanceHandle_t, std::string>> writer_owner_;
   std::vector<incident::TeamStatus> last_teams_;

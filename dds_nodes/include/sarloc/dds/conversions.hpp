@@ -7,11 +7,11 @@
 // to_idl() rejects what the wire cannot carry: identifiers longer than sarloc::ID_MAX.
 // Finite-ness and plausibility of numbers are the core's input validation, not this layer's.
 #include "sarloc/core/avalanche/field_measurement.hpp"
-#include "sarloc/core/avalanche/guidance.hpp"
-#include "sarloc/core/avalanche/odometry.hpp"
-#include "sarloc/core/avalanche/victim_estimate.hpp"
+#include "sarloc/core/responder/guidance.hpp"
+#include "sarloc/core/responder/odometry.hpp"
+#include "sarloc/core/responder/victim_estimate.hpp"
 #include "sarloc/core/incident/fused_victim.hpp"
-#include "sarloc/core/incident/responder_position.hpp"
+#include "sarloc/core/responder/responder_position.hpp"
 #include "sarloc/core/incident/team_status.hpp"
 #include "sarloc/idl/avalanche.h"
 #include "sarloc/idl/common.h"
@@ -32,16 +32,16 @@ GaussianPose to_core(const ::sarloc::PoseWithCovariance& p);
 // Avalanche search.
 ::sarloc::FieldMeasurement to_idl(const avalanche::FieldMeasurement& m);
 avalanche::FieldMeasurement to_core(const ::sarloc::FieldMeasurement& m);
-::sarloc::Odometry to_idl(const avalanche::Odometry& o);
-avalanche::Odometry to_core(const ::sarloc::Odometry& o);
-::sarloc::VictimEstimate to_idl(const avalanche::VictimEstimate& e, std::uint64_t measurement_sequence = 0);
-avalanche::VictimEstimate to_core(const ::sarloc::VictimEstimate& e);
-::sarloc::Guidance to_idl(const avalanche::Guidance& g, std::uint64_t measurement_sequence = 0);
-avalanche::Guidance to_core(const ::sarloc::Guidance& g);
+::sarloc::Odometry to_idl(const responder::Odometry& o);
+responder::Odometry to_core(const ::sarloc::Odometry& o);
+::sarloc::VictimEstimate to_idl(const responder::VictimEstimate& e, std::uint64_t measurement_sequence = 0);
+responder::VictimEstimate to_core(const ::sarloc::VictimEstimate& e);
+::sarloc::Guidance to_idl(const responder::Guidance& g, std::uint64_t measurement_sequence = 0);
+responder::Guidance to_core(const ::sarloc::Guidance& g);
 
 // Incident picture.
-::sarloc::ResponderPosition to_idl(const incident::ResponderPosition& r);
-incident::ResponderPosition to_core(const ::sarloc::ResponderPosition& r);
+::sarloc::ResponderPosition to_idl(const responder::ResponderPosition& r);
+responder::ResponderPosition to_core(const ::sarloc::ResponderPosition& r);
 ::sarloc::FusedVictim to_idl(const incident::FusedVictim& v);
 incident::FusedVictim to_core(const ::sarloc::FusedVictim& v);
 ::sarloc::TeamStatus to_idl(const incident::TeamStatus& t);

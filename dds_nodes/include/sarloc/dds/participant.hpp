@@ -9,7 +9,7 @@
 //   cfg.domain_id = 17;
 //   Participant participant(cfg);
 //   Writer<sarloc::FieldMeasurement> writer(participant);
-//   Reader<sarloc::VictimEstimate> reader(participant, [](const auto& sample, const auto& info) {...});
+//   Reader<responder::VictimEstimate> reader(participant, [](const auto& sample, const auto& info) {...});
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>

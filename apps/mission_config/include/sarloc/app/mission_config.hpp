@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "sarloc/core/avalanche/rescuer_search.hpp"
+#include "sarloc/core/estimator/make_estimator.hpp"
 #include "sarloc/core/mission/mission_scenario.hpp"
 #include "sarloc/dds/command_node.hpp"
 #include "sarloc/dds/core_node.hpp"
@@ -25,8 +25,9 @@ struct MissionConfig {
   dds::ParticipantConfig dds;
   mission::MissionScenario scenario;                  ///< victims, rescuers, sensors
   std::map<std::string, std::string> sector_of;       ///< rescuer id -> sector name ("" = none)
+  std::map<std::string, estimator::ResponderRole> role_of;  ///< rescuer id -> role (rescuers[].role)
   std::vector<std::string> sectors;                   ///< one sarloc-core per sector (none: one core)
-  avalanche::RescuerSearchConfig search;
+  estimator::EstimatorConfigs estimators;             ///< every role's estimator (sog:, search:, rescuer_search:)
   dds::CoreNodeConfig core;
   dds::RescuerNodeConfig rescuer;                     ///< template: id/team/partitions filled per rescuer
   dds::CommandNodeConfig command;

@@ -1,0 +1,34 @@
+#pragma once
+// JSON of sarloc's core types and summaries, written (and read back) in one place with
+// nlohmann-json. Key names are part of the tools' documented output (docs/getting-started.md);
+// tests read them.
+//
+//   app::write_json_file(path, app::to_json(summary));    // throws on I/O failure
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "sarloc/core/avalanche/evaluation.hpp"
+#include "sarloc/core/incident/fused_victim.hpp"
+#include "sarloc/core/incident/team_status.hpp"
+#include "sarloc/core/mission/mission_summary.hpp"
+
+namespace sarloc::app {
+
+nlohmann::json to_json(const Vec3& v);
+nlohmann::json to_json(const incident::FusedVictim& victim);
+/// One row per member: team_id, responder_id, link, accountability.
+nlohmann::json to_json(const std::vector<incident::TeamStatus>& teams);
+nlohmann::json to_json(const avalanche::EvaluationSummary& summary);
+nlohmann::json to_json(const mission::DeviceSummary& device);
+nlohmann::json to_json(const mission::MissionSummary& summary);
+
+/// Throws std::runtime_error naming the key for a document that is not a device summary.
+mission::DeviceSummary device_summary_from_json(const nlohmann::json& j);
+
+/// The names used in JSON and on the rescuer's display ("FOUND", ...).
+const char* status_name(responder::EstimatorStatus status);
+
+/// Writes `j` (indented) to `path`; throws std::runtime_error naming the path if it cannot.
+void write_json_file(const std::string& path, const nlohmann::json& j);
+
+}  // namespace sarloc::app

@@ -1,0 +1,215 @@
+#include "sarloc/app/json_io.hpp"
+
+#include <fstream>
+#include <stdexcept>
+
+namespace sarloc::app {
+namespace {
+
+template <typename T>
+nlohmann::json optional_json(const std::optional<T>& v) {
+  return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
+
+nlohmann::json stats_json(const avalanche::Stats& s) { return {{"max", s.max}, {"mean", s.mean}, {"median", s.median}}; }
+
+responder::EstimatorStatus status_from_name(const std::string& name) {
+  for (int i = 0; i <= static_cast<int>(responder::EstimatorStatus::kFound); ++i) {
+    const auto s = static_cast<responder::EstimatorStatus>(i);
+    if (name == status_name(s)) return s;
+  }
+  throw std::runtime_error("signals[].status = '" + name + "': not an estimator status");
+}
+
+}  // namespace
+
+const char* status_name(responder::EstimatorStatus status) {
+  switch (status) {
+    case responder::EstimatorStatus::kInitialising: return "INITIALISING";
+    case responder::EstimatorStatus::kMultimodal: return "MULTIMODAL";
+    case responder::EstimatorStatus::kConverged: return "CONVERGED";
+    case responder::EstimatorStatus::kLocated: return "LOCATED";
+    case responder::EstimatorStatus::kFound: return "FOUND";
+  }
+  return "?";
+}
+
+nlohmann::json to_json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+nlohmann::json to_json(const incident::FusedVictim& v) {
+  return {{"victim_id", v.victim_id},
+          {"position", to_json(v.position.position)},
+          {"floor", v.floor},
+          {"state", static_cast<int>(v.state)},
+          {"sources", v.sources.size()}};
+}
+
+nlohmann::json to_json(const std::vector<incident::TeamStatus>& teams) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& t : teams) {
+    for (const auto& m : t.members) {
+      rows.push_back({{"team_id", t.team_id},
+                      {"responder_id", m.responder_id},
+                      {"link", static_cast<int>(m.link)},
+                      {"accountability", static_cast<int>(m.accountability)}});
+    }
+  }
+  return rows;
+}
+
+nlohmann::json to_json(const avalanche::EvaluationSummary& s) {
+  nlohmann::json j;
+  j["filter"] = s.filter;
+  j["trials"] = s.trials;
+  j["seed"] = s.seed;
+  j["error_m"] = stats_json(s.error_m);
+  j["initial_distance_m"] = stats_json(s.initial_distance_m);
+  j["steps"] = stats_json(s.steps);
+  j["not_found"] = s.not_found;
+  j["ms_per_step"] = {{"median", s.ms_per_step_median}, {"p95", s.ms_per_step_p95}};
+  j["nees"] = {{"mean", s.nees_mean},
+               {"fraction_inside_95", s.nees_fraction_inside_95},
+               {"lower_95", s.nees_lower},
+               {"upper_95", s.nees_upper},
+               {"trials", s.nees_trials}};
+  j["wall_s"] = s.wall_s;
+  nlohmann::json trials = nlohmann::json::array();
+  for (const auto& t : s.per_trial) {
+    double nees_mean = 0.0;
+    for (double v : t.nees) nees_mean += v;
+    if (!t.nees.empty()) nees_mean /= static_cast<double>(t.nees.size());
+    trials.push_back({{"index", t.index},
+                      {"found", t.found},
+                      {"error_m", t.error_m},
+                      {"horizontal_error_m", t.horizontal_error_m},
+                      {"initial_distance_m", t.initial_distance_m},
+                      {"steps", t.steps},
+                      {"flux_line_steps", t.flux_line_steps},
+                      {"first_converged_step", t.first_converged_step},
+                      {"reinitialisations", t.reinitialisations},
+                      {"nees_mean", nees_mean},
+                      {"nees_samples", t.nees.size()},
+                      {"final_nees", t.final_nees},
+                      {"final_components", t.final_components}});
+  }
+  j["per_trial"] = trials;
+  return j;
+}
+
+nlohmann::json to_json(const mission::DeviceSummary& d) {
+  nlohmann::json j;
+  j["rescuer_id"] = d.rescuer_id;
+  j["epochs"] = d.epochs;
+  j["distance_walked_m"] = d.distance_walked_m;
+  j["fallbacks"] = d.fallbacks;
+  j["guided_by"] = d.guided_by;
+  j["daemon_after_fallback"] = d.daemon_after_fallback;
+  j["latency_ms"] = {{"samples", d.latency_samples}};
+  if (d.latency_p50_ms) j["latency_ms"]["p50"] = *d.latency_p50_ms;
+  if (d.latency_p99_ms) j["latency_ms"]["p99"] = *d.latency_p99_ms;
+  nlohmann::json signals = nlohmann::json::array();
+  for (const auto& s : d.signals) {
+    nlohmann::json e{{"signal_id", s.signal_id}, {"status", status_name(s.status)}};
+    if (s.victim_index) e["victim_index"] = *s.victim_index;
+    if (s.relative_error_m) e["relative_error_m"] = *s.relative_error_m;
+    signals.push_back(e);
+  }
+  j["signals"] = signals;
+  if (d.gnss_error_m) j["gnss_error_m"] = *d.gnss_error_m;
+  return j;
+}
+
+mission::DeviceSummary device_summary_from_json(const nlohmann::json& j) {
+  try {
+    mission::DeviceSummary d;
+    d.rescuer_id = j.at("rescuer_id").get<std::string>();
+    d.epochs = j.value("epochs", std::size_t{0});
+    d.distance_walked_m = j.value("distance_walked_m", 0.0);
+    d.fallbacks = j.value("fallbacks", 0);
+    d.guided_by = j.value("guided_by", std::map<std::string, std::size_t>{});
+    d.daemon_after_fallback = j.value("daemon_after_fallback", std::size_t{0});
+    if (const auto it = j.find("latency_ms"); it != j.end()) {
+      d.latency_samples = it->value("samples", std::size_t{0});
+      if (it->contains("p50")) d.latency_p50_ms = it->at("p50").get<double>();
+      if (it->contains("p99")) d.latency_p99_ms = it->at("p99").get<double>();
+    }
+    for (const auto& s : j.value("signals", nlohmann::json::array())) {
+      mission::DeviceSignal signal;
+      signal.signal_id = s.at("signal_id").get<std::uint32_t>();
+      signal.status = status_from_name(s.at("status").get<std::string>());
+      if (s.contains("victim_index")) signal.victim_index = s.at("victim_index").get<std::size_t>();
+      if (s.contains("relative_error_m")) signal.relative_error_m = s.at("relative_error_m").get<double>();
+      d.signals.push_back(signal);
+    }
+    if (j.contains("gnss_error_m")) d.gnss_error_m = j.at("gnss_error_m").get<double>();
+    return d;
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(std::string("device summary: ") + e.what());
+  }
+}
+
+nlohmann::json to_json(const mission::MissionSummary& s) {
+  nlohmann::json out;
+  out["mission"] = s.mission;
+  out["true_victim_count"] = s.victims.size();
+  out["fused_victim_count"] = s.fused_victims.size();
+  out["victims"] = nlohmann::json::array();
+  for (const auto& v : s.victims) {
+    nlohmann::json j{{"name", v.name}, {"true_position", to_json(v.true_position)}};
+    if (v.victim_id) {
+      j["victim_id"] = *v.victim_id;
+      j["estimate"] = to_json(*v.estimate);
+      j["sources"] = v.sources;
+    }
+    j["error_m"] = optional_json(v.error_m);
+    j["time_to_locate_s"] = optional_json(v.time_to_locate_s);
+    j["found"] = v.found;
+    j["relative_error_m"] = optional_json(v.relative_error_m);
+    out["victims"].push_back(j);
+  }
+  out["all_found"] = s.all_found;
+  out["fused_victims"] = nlohmann::json::array();
+  for (const auto& f : s.fused_victims) {
+    out["fused_victims"].push_back({{"victim_id", f.victim_id},
+                                    {"position", to_json(f.position)},
+                                    {"confirmed", f.confirmed},
+                                    {"found", f.found},
+                                    {"sources", f.sources},
+                                    {"matches_a_buried_victim", f.matches_a_buried_victim}});
+  }
+  out["confirmed_fused_victim_count"] = s.confirmed_fused_victim_count();
+  out["mission_s"] = s.mission_s;
+  out["wall_s"] = s.wall_s;
+  out["rescuers"] = nlohmann::json::array();
+  for (const auto& id : s.rescuer_ids) {
+    nlohmann::json entry{{"id", id}};
+    if (const auto it = s.devices.find(id); it != s.devices.end()) {
+      const auto& d = it->second;
+      const auto device = to_json(d);
+      entry["distance_walked_m"] = d.distance_walked_m;
+      entry["fallbacks"] = d.fallbacks;
+      entry["latency_ms"] = device["latency_ms"];
+      entry["gnss_error_m"] = d.gnss_error_m.value_or(-1.0);
+      entry["guided_by"] = d.guided_by;
+      entry["daemon_after_fallback"] = d.daemon_after_fallback;
+    }
+    out["rescuers"].push_back(entry);
+  }
+  out["faults"] = nlohmann::json::array();
+  for (const auto& f : s.faults) {
+    nlohmann::json fj{{"action", f.action}, {"target", f.target}, {"at_s", f.at_s}, {"done", f.done}};
+    if (f.link_lost_after_s) fj["link_lost_after_s"] = *f.link_lost_after_s;
+    out["faults"].push_back(fj);
+  }
+  return out;
+}
+
+void write_json_file(const std::string& path, const nlohmann::json& j) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error("cannot open " + path + " for writing");
+  out << j.dump(2) << "\n";
+  out.flush();
+  if (!out) throw std::runtime_error("writing " + path + " failed (disk full?)");
+}
+
+}  // namespace sarloc::app

@@ -1,0 +1,120 @@
+#pragma once
+// Everything one rescuer's search needs, for every signal its receiver separates: one
+// SogFilter and SearchController per signal (nothing single-victim), the odometry fanned out
+// to all of them, a gate that refuses bad samples before they touch any filter, and the choice
+// of which signal to guide the rescuer to.
+//
+// Used identically by the core daemon (one RescuerSearch per rescuer it serves) and by the
+// rescuer's device when the daemon is unreachable, so both give the same guidance.
+//
+//   RescuerSearch search("r1", RescuerSearchConfig{});
+//   if (auto rejected = search.add_odometry(odo)) log(rejected->detail);
+//   auto outcome = search.process(measurement);
+//   if (auto* update = std::get_if<SearchUpdate>(&outcome)) publish(update->estimate, update->guidance);
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <variant>
+
+#include "sarloc/core/avalanche/search_controller.hpp"
+#include "sarloc/core/avalanche/sog_filter.hpp"
+#include "sarloc/core/avalanche/responder_types.hpp"
+
+namespace sarloc::avalanche {
+
+struct RescuerSearchConfig {
+  SogConfig sog;
+  SearchConfig search;
+  std::size_t summary_components = 5;  ///< components in each VictimEstimate (IDL bound: 8)
+  std::uint32_t max_signals = 8;       ///< receivers separate a handful of signals; more is bad input
+  double max_step_m = 10.0;            ///< one odometry sample moving further is absurd (m)
+  double max_rotation_rad = 3.2;       ///< |rpy| of one odometry sample beyond this is absurd
+  /// Motion assumed when odometry is missing (add_unknown_motion): per-axis sigma of the
+  /// displacement per second (a rescuer walks ~1 m/s in any direction) and of the yaw change.
+  double unknown_motion_speed_m_per_s = 1.0;
+  double unknown_motion_turn_rad_per_s = 0.5;
+  /// A field sample is refused when the odometry already received reaches more than this
+  /// beyond its stamp: its filter would otherwise apply motion made after the sample was taken.
+  double measurement_lag_tolerance_s = 0.5;
+
+  /// Throws ConfigError naming the key ("rescuer_search.max_signals = 0: must be in [1, 64]").
+  void validate() const;
+};
+
+struct SearchUpdate {
+  VictimEstimate estimate;          ///< of the measured signal, status refined by assess()
+  std::optional<Guidance> guidance; ///< present when the measured signal is the target
+};
+
+/// Longest gap add_unknown_motion() stands in for.
+inline constexpr TimestampNs kMaxUnknownMotionNs = 10'000'000'000;
+
+class RescuerSearch {
+ public:
+  RescuerSearch(std::string rescuer_id, RescuerSearchConfig config);
+
+  /// Odometry for every signal's filter. Returns the rejection, if refused (state untouched).
+  std::optional<Rejection> add_odometry(const Odometry& odometry);
+
+  /// The odometry over [from, until] did not arrive in time (late or lost on the network):
+  /// stand in a zero displacement with the covariance of unknown_motion_* over that interval,
+  /// so the next update is not made as if the rescuer had stood still. Odometry samples ending
+  /// at or before `until` are refused afterwards (kSuperseded): applying them too would count
+  /// the motion twice. Assumes odometry intervals end at measurement stamps (as the rescuer
+  /// node sends them); a sample straddling `until` is refused as kStampBackwards. Returns false
+  /// (nothing done) when until <= the last odometry end or the gap exceeds 10 s (not a late
+  /// step: a stamp far in the future must not shut the rescuer's odometry out).
+  bool add_unknown_motion(TimestampNs from, TimestampNs until);
+
+  /// One field sample of one signal. Refused samples leave every filter untouched. Once this
+  /// rescuer has found the signal's victim, its filter takes no more measurement updates: the
+  /// update carries the estimate of the moment it was found, unchanged (its stamp, its frame:
+  /// paired with that moment's GNSS fix it is the best position for incident command, and
+  /// republishing it answers the epoch), while estimate(signal) is that one moved into the
+  /// current frame by the odometry since (for the display).
+  std::variant<SearchUpdate, Rejection> process(const FieldMeasurement& measurement);
+
+  /// Guidance to the target from its filter moved by the odometry since it was last heard,
+  /// for an epoch in which the target's signal was not received (out of range, lost
+  /// sample): the rescuer keeps heading for it instead of stopping. nullopt without a target.
+  std::optional<Guidance> coast(TimestampNs stamp) const;
+
+  /// The signal is a victim already found (by this rescuer or reported by incident command):
+  /// stop guiding to it.
+  void mark_done(std::uint32_t signal_id);
+
+  /// Signal the rescuer is guided to (nullopt before any measurement or when all are done).
+  std::optional<std::uint32_t> target_signal() const { return target_; }
+  const std::string& rescuer_id() const { return rescuer_id_; }
+  std::size_t signal_count() const { return signals_.size(); }
+  /// Latest estimate of a signal (nullopt if never measured).
+  std::optional<VictimEstimate> estimate(std::uint32_t signal_id) const;
+
+ private:
+  struct SignalState {
+    SogFilter filter;
+    SearchController controller;
+    std::uint64_t last_sequence = 0;
+    TimestampNs last_stamp = 0;
+    double last_field_norm = 0.0;
+    std::optional<VictimEstimate> estimate;
+    bool done = false;        ///< not to be guided to: found here or elsewhere
+    /// Set when this rescuer stood over it (GuidanceMode::kFound): the estimate of that moment.
+    std::optional<VictimEstimate> found;
+  };
+
+  std::optional<Rejection> gate(const FieldMeasurement& m) const;
+  void choose_target();
+
+  std::string rescuer_id_;
+  RescuerSearchConfig config_;
+  std::map<std::uint32_t, SignalState> signals_;
+  std::set<std::uint32_t> done_;
+  std::optional<std::uint32_t> target_;
+  std::optional<std::uint64_t> last_odometry_sequence_;
+  TimestampNs last_odometry_end_ = 0;
+  TimestampNs superseded_until_ = 0;  ///< end of the last unknown-motion stand-in
+};
+
+}  // namespace sarloc::avalanche

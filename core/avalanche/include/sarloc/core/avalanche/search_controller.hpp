@@ -1,0 +1,114 @@
+#pragma once
+// Search control for one signal (seed 000, section III-C), and the uniform "located" / "found"
+// criterion used by the evaluation.
+//
+// Modes (GuidanceMode):
+//   kOpening  the opening phase (seed 000's flux-line phase). Heading by
+//                    opening_heading: kLookahead (default) walks the straight line whose next
+//                    steps are expected to leave the shortest way, counting the detour that
+//                    the remaining bearing ambiguity costs (lookahead_heading.hpp);
+//                    kPosteriorBearing walks toward the most probable bearing of the mixture
+//                    (BearingDensity) and keeps its heading until another bearing is
+//                    bearing_switch_ratio times as probable; kFluxLine walks along the
+//                    horizontal projection of the measured field line, SNR-weighted and low-pass
+//                    filtered (flux_smoothing), its sense kept continuous, the first one towards
+//                    the mixture mean. Measured (docs/estimation/avalanche.md, "Opening
+//                    heading"): posterior bearing saves 0.7-0.9 steps a trial over the flux
+//                    line, the lookahead another 0.3;
+//   kApproach        once the receiver is far enough from the mixture mean in Mahalanobis terms
+//                    (horizontal d^2 = p^T P^-1 p > approach_mahalanobis^2), walk to the mean;
+//   kFineSearch      horizontal distance < fine_search_radius_m: steps of min(step, distance);
+//   kFound           located AND the rescuer stands within found_distance_m of the estimate.
+// Criteria (applied identically in every trial):
+//   located: 95 % radius of the mixture position, sqrt(chi2_3(0.95) lambda_max(P_p)),
+//            <= max(located_radius_m, located_radius_per_range * |p_mean|) (eq. (18) includes the spread between modes, so a multimodal
+//            mixture is never "located");
+//   found:   located and horizontal |p_mean| <= found_distance_m (G_k is rescuer-centred);
+//   neither while the estimate is not below the receiver (z + 2 sigma_z < 0): a victim is
+//   buried, so an estimate above is a filter's mirror solution (H(r) = H(-r)).
+//
+//   SearchController ctl(SearchConfig{});
+//   Guidance g = ctl.guide(filter, measurement);   // after filter.process(measurement)
+#include <optional>
+#include <string>
+
+#include "sarloc/core/avalanche/field_measurement.hpp"
+#include "sarloc/core/avalanche/responder_types.hpp"
+#include "sarloc/core/avalanche/lookahead_heading.hpp"
+#include "sarloc/core/avalanche/sog_filter.hpp"
+
+namespace sarloc::avalanche {
+
+/// How the opening phase picks its heading (see the mode list above).
+enum class OpeningHeading { kPosteriorBearing, kFluxLine, kLookahead };
+/// "lookahead" / "posterior_bearing" / "flux_line"; parse throws ConfigError naming search.opening_heading.
+const char* to_string(OpeningHeading h);
+OpeningHeading parse_opening_heading(const std::string& text);
+
+struct SearchConfig {
+  double step_length_m = 1.0;          ///< nominal step (seed 000: 1 m/s, 1 measurement/s)
+  double approach_mahalanobis = 1.0;   ///< leave the opening phase beyond this distance
+  /// ... and only once the mixture's 95 % horizontal radius has shrunk to this fraction of
+  /// its initial value (a ring still uniform at the noise floor has a wandering mean).
+  double approach_radius_fraction = 1.0;
+  double fine_search_radius_m = 2.0;   ///< below this horizontal distance: fine search
+  double located_radius_m = 0.4;       ///< 95 % 3-D radius for "located" (near range)
+  /// ... or this fraction of the antenna-to-victim distance, whichever is larger: precision
+  /// scales with range, so deep burials are located at a proportionally larger radius.
+  double located_radius_per_range = 0.10;
+  double found_distance_m = 0.5;       ///< horizontal distance to the estimate for "found"
+  double probe_step_m = 0.5;           ///< sideways step when on top but not yet located
+  double flux_smoothing = 0.7;         ///< memory of the SNR-weighted flux-line direction
+  double flux_snr_cap = 10.0;          ///< SNR above which a direction gets no extra weight
+  /// A measured flux direction turns the rescuer only by its SNR^2 in excess of this value
+  /// (per horizontal axis). Pure noise has E[SNR^2] = 1; chi2_2(0.95)/2 = 3.0 means a
+  /// noise-only reading rarely turns him: at the noise floor he walks on straight (the
+  /// baseline that makes |z| informative) instead of dithering.
+  double flux_detection_snr2 = 1.0;
+  OpeningHeading opening_heading = OpeningHeading::kLookahead;
+  /// Angular width (1 sigma) of the kernel smoothing the posterior bearing density: wide
+  /// enough that an arc of the ring counts as one direction, narrow enough to tell arcs apart.
+  double bearing_kernel_deg = 35.0;
+  /// Keep the current opening heading until the most probable bearing carries this many times
+  /// its probability: a near-uniform ring would otherwise turn the rescuer every step, and
+  /// walking straight is what makes the field magnitude informative.
+  double bearing_switch_ratio = 2.0;
+  /// opening_heading = lookahead: the information-aware planner (lookahead_heading.hpp).
+  LookaheadConfig lookahead;
+
+  /// Throws ConfigError "search.<key> = value: rule".
+  void validate() const;
+};
+
+class SearchController {
+ public:
+  explicit SearchController(SearchConfig config = {});
+
+  /// Guidance after the filter processed `measurement` (the same signal).
+  Guidance guide(const SogFilter& filter, const FieldMeasurement& measurement);
+  /// kLocated / kFound refinement of a filter estimate (same criteria as guide()).
+  EstimatorStatus assess(const VictimEstimate& estimate) const;
+  GuidanceMode mode() const { return mode_; }
+  const SearchConfig& config() const { return config_; }
+
+  /// 95 % radius (m) of a 3-D position covariance along its worst axis.
+  static double radius95_3d(const Mat3& covariance);
+  /// 95 % radius (m) of the horizontal 2-D marginal along its worst axis.
+  static double radius95_2d(const Mat3& covariance);
+
+ private:
+  SearchConfig config_;
+  GuidanceMode mode_ = GuidanceMode::kOpening;
+  int probe_turn_ = 0;
+  std::optional<double> initial_r95h_;  ///< 95 % horizontal radius at the first guidance
+  Eigen::Vector2d flux_dir_ = Eigen::Vector2d::Zero();  ///< smoothed flux-line direction in G
+  std::optional<double> opening_heading_;  ///< posterior-bearing heading held in G
+
+  double flux_line_heading(const SogFilter& filter, const FieldMeasurement& meas,
+                           const Eigen::Vector2d& mean_h, const Vec3& psi);
+  double posterior_bearing_heading(const SogFilter& filter);
+  /// The 95 % radius below which an estimate at `relative_position` counts as located.
+  double located_radius(const Vec3& relative_position) const;
+};
+
+}  // namespace sarloc::avalanche

@@ -1,0 +1,178 @@
+#pragma once
+// Robocentric Sum-of-Gaussians filter for one avalanche transmitter (seed 000, Algorithm 1).
+//
+// One SogFilter per (rescuer, separated signal): nothing is global, several victims are several
+// filters. Each Gaussian carries x = [Psi, p, m] (dipole_model.hpp) in the rescuer-centred,
+// ENU-aligned frame G_k. Per field measurement:
+//   1. prediction: x* = [x; d], P* = blkdiag(P, Q) (eq. (10)-(11), C_k = 0 because odometry
+//      is independent of the state; the block structure is used, never a dense 15x15 product);
+//   2. EKF update with the dipole model (eq. (14)), weight update in log space (eq. (17));
+//   3. composition back to G_k (eq. (9), (15)):
+//        P_k = F P*_post F^T = F_x P F_x^T + F_d Q F_d^T - M S^-1 M^T,  M = F_x P H_x^T + F_d Q H_d^T;
+//   4. optional attitude-sensor update (OrientationObservation), a linear update of Psi;
+//   5. pruning of negligible weights and merging of near-duplicates found by spatial hashing
+//      (never an all-pairs pass).
+// The first measurement initialises the mixture (section III-B, see SogConfig).
+//
+//   SogFilter filter(SogConfig{});            // config validated here
+//   filter.add_odometry(odo);                  // any number between measurements
+//   SogStepResult r = filter.process(field);   // first call initialises
+//   VictimEstimate e = filter.estimate(5);     // reduced mixture, eq. (18)
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sarloc/core/avalanche/dipole_model.hpp"
+#include "sarloc/core/avalanche/field_measurement.hpp"
+#include "sarloc/core/avalanche/responder_types.hpp"
+#include "sarloc/core/avalanche/odometry_accumulator.hpp"
+#include "sarloc/core/avalanche/transmitter_standard.hpp"
+
+namespace sarloc::avalanche {
+
+/// Every parameter of the filter, with its default and source (docs/estimation/avalanche.md).
+struct SogConfig {
+  // --- initialisation (seed 000, section III-B) ---
+  std::uint32_t initial_components = 1700;  ///< seed 000, section V
+  TransmitterStandard standard;             ///< moment bounds m_min, m_max (EN 300 718)
+  double antenna_height_m = 1.0;   ///< receiver antenna above the snow surface
+  double max_burial_depth_m = 3.0; ///< 95 % of burials are shallower (seed 000, ref. [9])
+  std::uint32_t depth_layers = 1;  ///< Gaussians stacked over the depth range
+  double depth_sigma_factor = 0.6; ///< sigma_z = factor * layer thickness
+  double horizontal_overlap = 0.55;///< sigma_xy = overlap * grid spacing (hexagonal grid)
+  double max_range_m = 90.0;       ///< receivers do not detect beyond this (NOTES: 40-70 m)
+  double range_noise_sigmas = 3.0; ///< widen r_min/r_max by this many sigma of |z_1| noise
+  double moment_margin = 0.15;     ///< keep hypotheses whose implied |m| is within bounds +-15 %
+  bool jacobian_initial_weights = true;  ///< w0 ~ r^9/|m|^2 (change of variables z->m), else 1/n
+  Vec3 attitude_prior_sigma_rad = Vec3(0.035, 0.035, 0.087);  ///< used without an orientation obs
+  // --- measurement noise known to the filter (same model as the simulator) ---
+  double noise_relative = 0.05;         ///< per-axis sigma = relative * |h(x)| + floor
+  double noise_floor_A_per_m = 2.1e-9;  ///< >= strongest on-axis field at 60 m / 10
+  // --- odometry ---
+  double idle_translation_sigma_m = 0.02;  ///< displacement sigma when no odometry arrived
+  double idle_rotation_sigma_rad = 0.005;
+  // --- orientation observations ---
+  bool use_orientation = true;  ///< apply FieldMeasurement::orientation when present
+  /// The transmitter is buried: weight each Gaussian by P(p_z <= -antenna_height_m), which
+  /// removes the point-symmetric mirror solution H(r) = H(-r) of the dipole above the receiver.
+  bool surface_constraint = false;
+  /// Innovation gate (seed 001, "innovation test"): when even the best Gaussian's normalised
+  /// innovation squared exceeds chi2_3(reinit_gate_probability) for reinit_after consecutive
+  /// steps, no hypothesis explains the data any more (the true one was pruned while the signal
+  /// was at the noise floor): the mixture is re-initialised from the current measurement.
+  double reinit_gate_probability = 0.9999;
+  std::uint32_t reinit_after = 0;  ///< 0 = never re-initialise (default: measured worse)
+  /// Divergence test over a window (seed 001, "innovation test", summed over time): if the sum
+  /// of the smallest normalised innovation squared of the last n steps exceeds
+  /// chi2_{3n}(reinit_gate_probability), no Gaussian's innovation sequence is consistent with
+  /// the noise model (each component's own sum is >= the sum of the per-step minima), i.e. the
+  /// mixture has lost the transmitter (locked on a wrong mode while the signal was at the
+  /// noise floor). The mixture is then re-initialised from the current measurement, which is
+  /// stronger than the first one, so the new ring is narrower. A window, unlike n consecutive
+  /// single-step failures, catches a persistent moderate excess (NIS 15-50 every step) that
+  /// single-step gates miss half of the time. Neither test re-initialises a converged
+  /// mixture (SogStepResult::divergence_ignored). 0 = off.
+  std::uint32_t divergence_window = 6;
+  // --- mixture management ---
+  double prune_log_weight = 14.0;   ///< drop components with log w < max log w - this
+  std::uint32_t merge_interval = 1; ///< merge near-duplicates every n steps (0 = never)
+  double merge_cell_m = 0.5;        ///< spatial-hash cell size for merge candidates
+  double merge_mahalanobis = 1.0;   ///< merge j into i when (x_j-x_i)^T P_i^-1 (x_j-x_i) < this
+  std::uint32_t max_components = 20000;  ///< hard cap on the initial mixture size
+  double converged_radius_m = 2.0;  ///< estimate() reports kConverged below this 95 % radius
+
+  /// Throws ConfigError "sog.<key> = value: rule".
+  void validate() const;
+};
+
+struct SogComponent {
+  StateVec x = StateVec::Zero();
+  StateCov P = StateCov::Identity();
+  double log_weight = 0.0;  ///< normalised: log-sum-exp over components = 0
+  /// log P(transmitter below the snow surface) already folded into log_weight (see
+  /// SogConfig::surface_constraint); kept so that each step applies only the change.
+  double log_support = 0.0;
+};
+
+/// Moments of the mixture (eq. (18)) for the full state.
+struct MixtureMoments {
+  StateVec mean = StateVec::Zero();
+  StateCov covariance = StateCov::Zero();
+};
+
+struct SogStepResult {
+  bool initialised_now = false;        ///< this measurement initialised the mixture
+  std::size_t components_before = 0;
+  std::size_t components_after = 0;
+  std::size_t dropped_numerical = 0;   ///< components removed: non-finite or non-PD covariance
+  std::size_t merged = 0;
+  double log_likelihood = 0.0;         ///< log p(z_k | Z^{k-1}) up to a constant
+  double min_nis = 0.0;                ///< smallest normalised innovation squared (3 dof)
+  bool reinitialised = false;          ///< innovation gate failed: mixture rebuilt from z_k
+  /// The gate failed on a converged mixture (95 % radius <= converged_radius_m): taken for
+  /// near-field linearisation error, not a lost transmitter, so the mixture is kept.
+  bool divergence_ignored = false;
+};
+
+class SogFilter {
+ public:
+  explicit SogFilter(SogConfig config = {}, std::string rescuer_id = {},
+                     std::uint32_t signal_id = 0);
+
+  /// Odometry of this rescuer; accumulated until the next field measurement.
+  void add_odometry(const Odometry& odometry);
+  /// Unmeasured motion since the last measurement (OdometryAccumulator::add_unknown).
+  void add_unknown_motion(const DispCov& covariance) { odometry_.add_unknown(covariance); }
+  /// One field measurement: initialises on the first call, then Algorithm 1.
+  /// Throws InputError for unusable input (non-finite, absurd, non-PD, out of order).
+  SogStepResult process(const FieldMeasurement& measurement);
+
+  bool initialised() const { return !components_.empty(); }
+  std::size_t size() const { return components_.size(); }
+  const std::vector<SogComponent>& components() const { return components_; }
+  const SogConfig& config() const { return config_; }
+  std::uint64_t steps() const { return steps_; }
+
+  /// Eq. (18) over the full state (angles averaged relative to the heaviest component).
+  MixtureMoments moments() const;
+  /// moments() moved by the odometry received since the last measurement (composition of
+  /// eq. (9) on the mixture mean, no update): where the transmitter is relative to the receiver
+  /// now, for guidance when this signal was not heard. Position covariance grows by the step's.
+  MixtureMoments predicted_moments() const;
+  /// Reduced mixture: position moments (eq. (18)), the top_k components, the mean moment.
+  /// status is kInitialising, kMultimodal or kConverged; SearchController::assess() refines it.
+  VictimEstimate estimate(std::size_t top_k = 5) const;
+
+  /// Per-axis noise floor the filter applies to `m`: max(config floor, m.noise_stddev).
+  Vec3 noise_floor(const FieldMeasurement& m) const;
+
+  /// Initialise directly from a measurement (normally done by the first process()).
+  void initialise(const FieldMeasurement& measurement);
+
+ private:
+  void update_field(const Vec3& z, const Vec3& floor, const Displacement& disp,
+                    const OrientationObservation* orientation, SogStepResult& r);
+  void apply_surface_constraint();
+  void normalise_and_prune();
+  std::size_t merge();
+
+  SogConfig config_;
+  std::string rescuer_id_;
+  std::uint32_t signal_id_ = 0;
+  std::vector<SogComponent> components_;
+  OdometryAccumulator odometry_;
+  std::optional<std::uint64_t> last_sequence_;
+  TimestampNs last_stamp_ = 0;
+  std::uint64_t steps_ = 0;
+  std::uint32_t gate_failures_ = 0;
+  double nis_gate_ = 0.0;
+  std::vector<double> nis_window_;  ///< last divergence_window smallest NIS (ring buffer)
+  std::size_t nis_next_ = 0;
+  double window_gate_ = 0.0;        ///< chi2_{3n}(reinit_gate_probability)
+};
+
+/// Validation shared by the filter and tools: throws InputError naming the field.
+void validate_field_measurement(const FieldMeasurement& m);
+
+}  // namespace sarloc::avalanche

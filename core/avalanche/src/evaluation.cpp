@@ -1,0 +1,181 @@
+#include "sarloc/core/avalanche/evaluation.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+#include <mutex>
+#include <thread>
+
+#include "sarloc/core/common/chi_square.hpp"
+#include "sarloc/core/common/errors.hpp"
+
+namespace sarloc::avalanche {
+
+void EvaluationConfig::validate() const {
+  auto fail = [](const char* key, std::uint64_t v, const char* rule) {
+    std::ostringstream os;
+    os << "evaluation." << key << " = " << v << ": " << rule;
+    throw ConfigError(os.str());
+  };
+  if (trials == 0) fail("trials", trials, "must be > 0");
+  if (trials > 1000000) fail("trials", trials, "must be <= 1000000");
+  if (threads > 1024) fail("threads", threads, "must be <= 1024");
+  if (step_budget == 0) fail("step_budget", step_budget, "must be > 0");
+  if (step_budget > 100000) fail("step_budget", step_budget, "must be <= 100000");
+}
+
+void EvaluationSetup::validate() const {
+  simulation.validate();
+  sog.validate();
+  search.validate();
+  evaluation.validate();
+}
+
+double percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const double pos = q * static_cast<double>(v.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(pos));
+  const auto hi = std::min(lo + 1, v.size() - 1);
+  return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
+}
+
+Stats compute_stats(std::vector<double> v) {
+  Stats s;
+  if (v.empty()) return s;
+  s.max = *std::max_element(v.begin(), v.end());
+  s.mean = std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+  s.median = percentile(std::move(v), 0.5);
+  return s;
+}
+
+TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index,
+                      const StepObserver& observer) {
+  using Clock = std::chrono::steady_clock;
+  TrialResult tr;
+  tr.index = index;
+  AvalancheSimulator sim(setup.simulation, derive_seed(setup.evaluation.seed, index));
+  SogFilter filter(setup.sog, "sim", 1);
+  SearchController ctl(setup.search);
+  tr.initial_distance_m = sim.true_horizontal_distance();
+  for (std::uint32_t step = 1; step <= setup.evaluation.step_budget; ++step) {
+    const FieldMeasurement z = sim.measure();
+    const auto t0 = Clock::now();
+    const SogStepResult sr = filter.process(z);
+    if (sr.reinitialised) ++tr.reinitialisations;
+    const auto t1 = Clock::now();
+    tr.step_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    const Guidance g = ctl.guide(filter, z);
+    const VictimEstimate e = filter.estimate(0);
+    const Vec3 err = e.relative.position - sim.true_relative_position();
+    const double nees = err.dot(e.relative.covariance.ldlt().solve(err));
+    tr.final_nees = nees;
+    if (e.status == EstimatorStatus::kConverged) {
+      tr.nees.push_back(nees);
+      if (tr.first_converged_step == 0) tr.first_converged_step = step;
+    }
+    if (g.mode == GuidanceMode::kOpening) ++tr.flux_line_steps;
+    tr.steps = step;
+    tr.error_m = err.norm();
+    tr.horizontal_error_m = err.head<2>().norm();
+    tr.final_components = static_cast<std::uint32_t>(filter.size());
+    if (observer) observer(TrialStep{index, step, sim, z, sr, filter, g, e});
+    if (g.mode == GuidanceMode::kFound) {
+      tr.found = true;
+      break;
+    }
+    filter.add_odometry(sim.walk(g.bearing_rad, g.step_m));
+  }
+  return tr;
+}
+
+EvaluationSummary run_evaluation(const EvaluationSetup& setup,
+                                 const std::function<void()>& on_trial_done,
+                                 const std::function<bool()>& cancelled,
+                                 const StepObserver& observer) {
+  setup.validate();
+  const auto start = std::chrono::steady_clock::now();
+  const std::uint32_t n = setup.evaluation.trials;
+  std::uint32_t threads = setup.evaluation.threads;
+  if (threads == 0) threads = std::max(1U, std::thread::hardware_concurrency());
+  threads = std::min(threads, n);
+  std::vector<TrialResult> results(n);
+  std::vector<char> done(n, 0);
+  std::atomic<bool> stop{false};
+  std::atomic<std::uint32_t> next{0};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  auto worker = [&] {
+    for (;;) {
+      if (cancelled && cancelled()) stop = true;
+      if (stop) return;
+      const std::uint32_t i = next.fetch_add(1);
+      if (i >= n) return;
+      try {
+        results[i] = run_trial(setup, i, observer);
+        done[i] = 1;
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+        next = n;
+        return;
+      }
+      if (on_trial_done) on_trial_done();
+    }
+  };
+  std::vector<std::thread> pool;
+  for (std::uint32_t t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& th : pool) th.join();
+  if (error) std::rethrow_exception(error);
+
+  EvaluationSummary s;
+  s.cancelled = stop;
+  if (s.cancelled) {
+    std::vector<TrialResult> kept;
+    for (std::uint32_t i = 0; i < n; ++i)
+      if (done[i]) kept.push_back(std::move(results[i]));
+    results = std::move(kept);
+  }
+  s.trials = static_cast<std::uint32_t>(results.size());
+  s.seed = setup.evaluation.seed;
+  std::vector<double> err, dist, steps, ms, trial_nees;
+  std::size_t inside = 0, samples = 0;
+  const double lo3 = chi_square_quantile(0.025, 3.0), hi3 = chi_square_quantile(0.975, 3.0);
+  for (const auto& r : results) {
+    err.push_back(r.error_m);
+    dist.push_back(r.initial_distance_m);
+    steps.push_back(r.steps);
+    if (!r.found) ++s.not_found;
+    ms.insert(ms.end(), r.step_ms.begin(), r.step_ms.end());
+    if (!r.nees.empty()) {
+      trial_nees.push_back(std::accumulate(r.nees.begin(), r.nees.end(), 0.0) /
+                           static_cast<double>(r.nees.size()));
+      for (double v : r.nees) {
+        ++samples;
+        if (v >= lo3 && v <= hi3) ++inside;
+      }
+    }
+  }
+  s.error_m = compute_stats(err);
+  s.initial_distance_m = compute_stats(dist);
+  s.steps = compute_stats(steps);
+  s.ms_per_step_median = percentile(ms, 0.5);
+  s.ms_per_step_p95 = percentile(ms, 0.95);
+  s.nees_trials = static_cast<std::uint32_t>(trial_nees.size());
+  if (!trial_nees.empty()) {
+    const double nt = static_cast<double>(trial_nees.size());
+    s.nees_mean = std::accumulate(trial_nees.begin(), trial_nees.end(), 0.0) / nt;
+    s.nees_lower = chi_square_quantile(0.025, 3.0 * nt) / nt;
+    s.nees_upper = chi_square_quantile(0.975, 3.0 * nt) / nt;
+    s.nees_fraction_inside_95 = static_cast<double>(inside) / static_cast<double>(samples);
+  }
+  s.per_trial = std::move(results);
+  s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return s;
+}
+
+}  // namespace sarloc::avalanche

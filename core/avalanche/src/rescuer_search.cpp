@@ -1,0 +1,278 @@
+#include "sarloc/core/avalanche/rescuer_search.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "sarloc/core/avalanche/rotation.hpp"
+#include "sarloc/core/common/errors.hpp"
+
+namespace sarloc::avalanche {
+using responder::reject;
+
+void RescuerSearchConfig::validate() const {
+  sog.validate();
+  search.validate();
+  auto fail = [](const std::string& key, double value, const std::string& rule) {
+    std::ostringstream os;
+    os << "rescuer_search." << key << " = " << value << ": " << rule;
+    throw ConfigError(os.str());
+  };
+  if (summary_components < 1 || summary_components > 8) fail("summary_components", summary_components, "must be in [1, 8]");
+  if (max_signals < 1 || max_signals > 64) fail("max_signals", max_signals, "must be in [1, 64]");
+  if (!(max_step_m > 0.0 && max_step_m <= 1000.0)) fail("max_step_m", max_step_m, "must be in (0, 1000]");
+  if (!(max_rotation_rad > 0.0 && max_rotation_rad <= 7.0)) fail("max_rotation_rad", max_rotation_rad, "must be in (0, 7]");
+  if (!(unknown_motion_speed_m_per_s > 0.0 && unknown_motion_speed_m_per_s <= 5.0))
+    fail("unknown_motion_speed_m_per_s", unknown_motion_speed_m_per_s, "must be in (0, 5]");
+  if (!(measurement_lag_tolerance_s >= 0.0 && measurement_lag_tolerance_s <= 10.0))
+    fail("measurement_lag_tolerance_s", measurement_lag_tolerance_s, "must be in [0, 10]");
+  if (!(unknown_motion_turn_rad_per_s > 0.0 && unknown_motion_turn_rad_per_s <= 3.0))
+    fail("unknown_motion_turn_rad_per_s", unknown_motion_turn_rad_per_s, "must be in (0, 3]");
+}
+
+RescuerSearch::RescuerSearch(std::string rescuer_id, RescuerSearchConfig config)
+    : rescuer_id_(std::move(rescuer_id)), config_((config.validate(), std::move(config))) {}
+
+std::optional<Rejection> RescuerSearch::add_odometry(const Odometry& o) {
+  if (o.rescuer_id != rescuer_id_) {
+    return reject(RejectReason::kWrongRescuer, rescuer_id_, "odometry.rescuer_id = '" + o.rescuer_id + "'");
+  }
+  if (superseded_until_ != 0 && o.interval_end <= superseded_until_) {
+    return reject(RejectReason::kSuperseded, rescuer_id_,
+                  "odometry.interval_end = " + std::to_string(o.interval_end) +
+                      ": unknown motion already stood in for it (arrived too late)");
+  }
+  if (last_odometry_sequence_) {
+    if (o.sequence == *last_odometry_sequence_) {
+      return reject(RejectReason::kDuplicateSequence, rescuer_id_,
+                    "odometry.sequence = " + std::to_string(o.sequence) + " already received");
+    }
+    if (o.sequence < *last_odometry_sequence_) {
+      return reject(RejectReason::kSequenceBackwards, rescuer_id_,
+                    "odometry.sequence = " + std::to_string(o.sequence) + " < last " +
+                        std::to_string(*last_odometry_sequence_));
+    }
+    if (o.interval_start < last_odometry_end_) {
+      return reject(RejectReason::kStampBackwards, rescuer_id_,
+                    "odometry.interval_start = " + std::to_string(o.interval_start) + " before last interval_end " +
+                        std::to_string(last_odometry_end_));
+    }
+  }
+  if (o.interval_end < o.interval_start) {
+    return reject(RejectReason::kStampBackwards, rescuer_id_,
+                  "odometry.interval_end = " + std::to_string(o.interval_end) + " < interval_start " +
+                      std::to_string(o.interval_start));
+  }
+  if (!o.translation.allFinite() || !o.rotation_rpy.allFinite() || !o.covariance.allFinite()) {
+    return reject(RejectReason::kInvalidValue, rescuer_id_, "odometry: non-finite translation, rotation or covariance");
+  }
+  if (o.translation.norm() > config_.max_step_m) {
+    std::ostringstream os;
+    os << "odometry.translation |t| = " << o.translation.norm() << " m: more than max_step_m " << config_.max_step_m;
+    return reject(RejectReason::kAbsurdMotion, rescuer_id_, os.str());
+  }
+  if (o.rotation_rpy.cwiseAbs().maxCoeff() > config_.max_rotation_rad) {
+    std::ostringstream os;
+    os << "odometry.rotation_rpy max |angle| = " << o.rotation_rpy.cwiseAbs().maxCoeff() << " rad: more than "
+       << config_.max_rotation_rad;
+    return reject(RejectReason::kAbsurdMotion, rescuer_id_, os.str());
+  }
+  // The filters validate the covariance themselves; check on a copy first so a refusal
+  // cannot leave some signals' filters with the sample and others without.
+  try {
+    OdometryAccumulator probe(config_.sog.idle_translation_sigma_m, config_.sog.idle_rotation_sigma_rad);
+    probe.add(o);
+  } catch (const InputError& e) {
+    return reject(RejectReason::kInvalidValue, rescuer_id_, e.what());
+  }
+  for (auto& [signal, state] : signals_) state.filter.add_odometry(o);
+  last_odometry_sequence_ = o.sequence;
+  last_odometry_end_ = o.interval_end;
+  return std::nullopt;
+}
+
+bool RescuerSearch::add_unknown_motion(TimestampNs from, TimestampNs until) {
+  from = std::max(from, last_odometry_end_);
+  if (until <= from) return false;
+  // until > from: their difference as unsigned is exact, whatever the stamps' signs.
+  const auto span = static_cast<std::uint64_t>(until) - static_cast<std::uint64_t>(from);
+  if (span > static_cast<std::uint64_t>(kMaxUnknownMotionNs)) return false;  // not a few late steps
+  const double dt = static_cast<double>(span) * 1e-9;  // <= 10 s; variances capped at 100 m^2 below
+  const double vt = std::pow(config_.unknown_motion_speed_m_per_s * dt, 2);
+  const double vz = std::pow(0.2 * config_.unknown_motion_speed_m_per_s * dt, 2) + 1e-4;  // slopes only
+  const double vyaw = std::pow(std::min(config_.unknown_motion_turn_rad_per_s * dt, 2.0), 2);
+  const double vtilt = std::pow(0.02, 2);  // roll/pitch stay bounded by gravity
+  DispCov q = DispCov::Zero();
+  q.diagonal() << std::min(vt, 100.0), std::min(vt, 100.0), std::min(vz, 100.0), vtilt, vtilt, vyaw;
+  for (auto& [signal, state] : signals_) state.filter.add_unknown_motion(q);
+  last_odometry_end_ = until;
+  superseded_until_ = until;
+  return true;
+}
+
+std::optional<Rejection> RescuerSearch::gate(const FieldMeasurement& m) const {
+  if (m.rescuer_id != rescuer_id_) {
+    return reject(RejectReason::kWrongRescuer, rescuer_id_, "field_measurement.rescuer_id = '" + m.rescuer_id + "'");
+  }
+  try {
+    validate_field_measurement(m);
+  } catch (const InputError& e) {
+    return reject(RejectReason::kInvalidValue, rescuer_id_,
+                  "signal " + std::to_string(m.signal_id) + ": " + e.what());
+  }
+  // The odometry received already reaches well past this sample (it was retransmitted under
+  // packet loss and overtaken by a later epoch's step): its filter would apply that later
+  // motion before the update, i.e. measure from where the rescuer was not (seen: a filter 7 m
+  // from its victim diverged to 600 m); a new signal's filter would start in a frame the
+  // rescuer has left. The signal's next sample takes the motion.
+  const auto tolerance = static_cast<std::uint64_t>(config_.measurement_lag_tolerance_s * 1e9);
+  if (last_odometry_end_ > m.stamp &&
+      static_cast<std::uint64_t>(last_odometry_end_) - static_cast<std::uint64_t>(m.stamp) > tolerance) {
+    return reject(RejectReason::kLateMeasurement, rescuer_id_,
+                  "field_measurement(signal " + std::to_string(m.signal_id) + ").stamp = " + std::to_string(m.stamp) +
+                      ": the odometry already reaches " + std::to_string(last_odometry_end_) +
+                      " (arrived after a later epoch)");
+  }
+  const auto it = signals_.find(m.signal_id);
+  if (it == signals_.end()) {
+    if (signals_.size() >= config_.max_signals) {
+      return reject(RejectReason::kTooManySignals, rescuer_id_,
+                    "field_measurement.signal_id = " + std::to_string(m.signal_id) + ": already " +
+                        std::to_string(signals_.size()) + " signals (max_signals)");
+    }
+    return std::nullopt;
+  }
+  const SignalState& s = it->second;
+  const std::string where = "field_measurement(signal " + std::to_string(m.signal_id) + ").";
+  if (m.sequence == s.last_sequence) {
+    return reject(RejectReason::kDuplicateSequence, rescuer_id_,
+                  where + "sequence = " + std::to_string(m.sequence) + " already received");
+  }
+  if (m.sequence < s.last_sequence) {
+    return reject(RejectReason::kSequenceBackwards, rescuer_id_,
+                  where + "sequence = " + std::to_string(m.sequence) + " < last " + std::to_string(s.last_sequence));
+  }
+  if (m.stamp <= s.last_stamp) {
+    return reject(RejectReason::kStampBackwards, rescuer_id_,
+                  where + "stamp = " + std::to_string(m.stamp) + " not after last " + std::to_string(s.last_stamp));
+  }
+  return std::nullopt;
+}
+
+std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurement& m) {
+  if (auto rejected = gate(m)) return *rejected;
+  auto it = signals_.find(m.signal_id);
+  if (it == signals_.end()) {
+    it = signals_
+             .emplace(m.signal_id, SignalState{SogFilter(config_.sog, rescuer_id_, m.signal_id),
+                                               SearchController(config_.search), 0, 0, 0.0, std::nullopt,
+                                               done_.count(m.signal_id) != 0, std::nullopt})
+             .first;
+  }
+  SignalState& s = it->second;
+  if (s.found) {
+    // Found here: the victim stays where the rescuer stood over it. The filter takes no more
+    // measurement updates (while the rescuer walks off to the next victim, a late or lost
+    // odometry sample could drag it away, and it would still claim kFound: seen under 20 %
+    // packet loss, a "found" victim published 6 m off).
+    const MixtureMoments mm = s.filter.predicted_moments();
+    VictimEstimate moved = *s.found;
+    moved.stamp = m.stamp;
+    moved.relative.position = mm.mean.segment<3>(idx::kPos);
+    moved.relative.covariance = mm.covariance.block<3, 3>(idx::kPos, idx::kPos);
+    moved.top_components.clear();  // they describe the mixture of the moment it was found
+    s.last_sequence = m.sequence;
+    s.last_stamp = m.stamp;
+    s.estimate = moved;
+    SearchUpdate unchanged;
+    unchanged.estimate = *s.found;
+    return unchanged;
+  }
+  // The gate already checked everything the filter checks; a throw here is a numerical
+  // refusal of this one sample, and the filter stays as it was.
+  try {
+    s.filter.process(m);
+  } catch (const InputError& e) {
+    return reject(RejectReason::kInvalidValue, rescuer_id_, "signal " + std::to_string(m.signal_id) + ": " + e.what());
+  }
+  s.last_sequence = m.sequence;
+  s.last_stamp = m.stamp;
+  s.last_field_norm = m.field.norm();
+
+  SearchUpdate update;
+  update.estimate = s.filter.estimate(config_.summary_components);
+  update.estimate.stamp = m.stamp;
+  bool found_now = false;
+  if (target_ ? *target_ == m.signal_id : !s.done) {
+    // Guidance only for the signal being searched (one direction at a time for the rescuer),
+    // never towards a victim already found.
+    Guidance g = s.controller.guide(s.filter, m);
+    g.rescuer_id = rescuer_id_;
+    g.signal_id = m.signal_id;
+    g.stamp = m.stamp;
+    if (g.mode == GuidanceMode::kFound) {
+      found_now = true;
+      s.done = true;
+      done_.insert(m.signal_id);
+    }
+    update.guidance = g;
+  }
+  update.estimate.status = found_now ? EstimatorStatus::kFound : s.controller.assess(update.estimate);
+  s.estimate = update.estimate;
+  if (found_now) s.found = update.estimate;
+  choose_target();
+  return update;
+}
+
+std::optional<Guidance> RescuerSearch::coast(TimestampNs stamp) const {
+  if (!target_) return std::nullopt;
+  const auto it = signals_.find(*target_);
+  if (it == signals_.end() || !it->second.filter.initialised()) return std::nullopt;
+  const SignalState& s = it->second;
+  const MixtureMoments mm = s.filter.predicted_moments();
+  const Vec3 p = mm.mean.segment<3>(idx::kPos);
+  const double yaw = mm.mean[idx::kAtt + 2];
+  Guidance g;
+  g.rescuer_id = rescuer_id_;
+  g.signal_id = *target_;
+  g.stamp = stamp;
+  g.mode = s.controller.mode() == GuidanceMode::kFound ? GuidanceMode::kApproach : s.controller.mode();
+  g.distance_m = p.head<2>().norm();
+  g.uncertainty_radius_m = SearchController::radius95_2d(mm.covariance.block<3, 3>(idx::kPos, idx::kPos));
+  g.heading_rad = std::atan2(p.y(), p.x());
+  g.bearing_rad = wrap_angle(g.heading_rad - yaw);
+  g.step_m = std::min(config_.search.step_length_m, g.distance_m);
+  return g;
+}
+
+void RescuerSearch::mark_done(std::uint32_t signal_id) {
+  done_.insert(signal_id);
+  if (auto it = signals_.find(signal_id); it != signals_.end()) it->second.done = true;
+  choose_target();
+}
+
+std::optional<VictimEstimate> RescuerSearch::estimate(std::uint32_t signal_id) const {
+  const auto it = signals_.find(signal_id);
+  if (it == signals_.end()) return std::nullopt;
+  return it->second.estimate;
+}
+
+void RescuerSearch::choose_target() {
+  // Sticky: keep walking to the current victim until it is found; then the strongest signal
+  // among those not done (the classic transceiver rule: strongest is usually nearest).
+  if (target_) {
+    const auto it = signals_.find(*target_);
+    if (it != signals_.end() && !it->second.done) return;
+  }
+  target_.reset();
+  double strongest = -1.0;
+  for (const auto& [signal, state] : signals_) {
+    if (state.done || !state.filter.initialised()) continue;
+    if (state.last_field_norm > strongest) {
+      strongest = state.last_field_norm;
+      target_ = signal;
+    }
+  }
+}
+
+}  // namespace sarloc::avalanche

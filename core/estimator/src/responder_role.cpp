@@ -1,0 +1,19 @@
+#include "sarloc/core/estimator/responder_role.hpp"
+
+#include "sarloc/core/common/errors.hpp"
+
+namespace sarloc::estimator {
+
+const char* to_string(ResponderRole role) {
+  switch (role) {
+    case ResponderRole::kAvalancheRescuer: return "avalanche_rescuer";
+  }
+  return "unknown";
+}
+
+ResponderRole parse_responder_role(const std::string& text, const std::string& key) {
+  if (text == to_string(ResponderRole::kAvalancheRescuer)) return ResponderRole::kAvalancheRescuer;
+  throw ConfigError(key + " = '" + text + "': must be one of avalanche_rescuer");
+}
+
+}  // namespace sarloc::estimator

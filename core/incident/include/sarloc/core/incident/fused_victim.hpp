@@ -1,0 +1,33 @@
+#pragma once
+// A victim as incident command sees it: all rescuers' estimates of one transmitter fused.
+#include <string>
+#include <vector>
+
+#include "sarloc/core/common/types.hpp"
+
+namespace sarloc::incident {
+
+enum class VictimState : std::uint8_t { kUnconfirmed = 0, kLocated = 1, kFound = 2, kRecovered = 3 };
+
+struct VictimSource {
+  std::string rescuer_id;
+  std::uint32_t signal_id = 0;
+  TimestampNs last_update = 0;
+};
+
+struct FusedVictim {
+  std::uint32_t victim_id = 0;          ///< stable for the whole incident
+  GaussianPosition position;      ///< incident frame (ENU, m)
+  std::int32_t floor = 0;               ///< building floor (0 = ground or outdoors)
+  std::vector<VictimSource> sources;
+  VictimState state = VictimState::kUnconfirmed;
+  TimestampNs first_seen = 0;
+  TimestampNs last_update = 0;
+  TimestampNs located_at = 0;           ///< 0 while not located
+  TimestampNs found_at = 0;             ///< 0 while not found
+};
+
+/// Found by a rescuer (and possibly recovered since).
+inline bool is_found(VictimState s) { return s == VictimState::kFound || s == VictimState::kRecovered; }
+
+}  // namespace sarloc::incident

@@ -1,0 +1,82 @@
+#pragma once
+// Responder tracking by team, and the personnel accountability report (PAR) derived from it.
+//
+// Inputs: every ResponderPosition (which also tells the responder's team) and DDS liveliness
+// changes of the responder's writer. "Heard" means a position arrived or liveliness reported
+// the writer alive; times are the caller's receive clock `now`, not the device stamps (device
+// clocks may be off, and a link is about what incident command receives).
+//
+//   link state                                   accountability (PAR)
+//   kAlive : heard within stale_after_s      ->  kAccounted: telemetry confirms the responder
+//   kStale : silent > stale_after_s          ->  kPending:   confirm by radio at the next PAR
+//   kLost  : silent > lost_after_s, or DDS   ->  kMissing:   unaccounted for; PAR now, consider
+//            liveliness lost (at once)                       the rapid intervention team
+// A responder heard again after being lost becomes kAlive / kAccounted again. A liveliness
+// change for a responder never positioned yet is kept under team "" (unassigned) until its
+// first position names the team; a position naming another team moves the responder.
+//
+//   TeamTracker teams(TeamTrackerConfig{});
+//   teams.on_position(position, now);
+//   teams.on_link("r1", /*alive=*/false, now);      // from a liveliness-lost callback
+//   for (const TeamStatus& t : teams.evaluate(now)) ...;
+#include <cstddef>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "sarloc/core/common/types.hpp"
+#include "sarloc/core/responder/responder_position.hpp"
+#include "sarloc/core/incident/team_status.hpp"
+
+namespace sarloc::incident {
+
+using responder::ResponderPosition;
+
+struct TeamTrackerConfig {
+  double stale_after_s = 5.0;   ///< silent longer than this: kStale / kPending
+  double lost_after_s = 15.0;   ///< silent longer than this: kLost / kMissing (> stale_after_s)
+
+  /// Throws ConfigError "team_tracker.<key> = value: rule".
+  void validate() const;
+};
+
+/// PAR mapping of a link state (see the table above).
+AccountabilityState accountability_of(LinkState link);
+
+class TeamTracker {
+ public:
+  explicit TeamTracker(TeamTrackerConfig config = {});
+
+  /// A position report. Throws InputError for an empty responder_id. The stored position is
+  /// replaced only by a report with a stamp >= the stored one, but every report counts as heard.
+  void on_position(const ResponderPosition& position, TimestampNs now);
+  /// DDS liveliness: alive = false marks the link lost at once; alive = true counts as heard.
+  void on_link(const std::string& responder_id, bool alive, TimestampNs now);
+
+  /// Teams sorted by id, members sorted by id, states evaluated at `now`.
+  std::vector<TeamStatus> evaluate(TimestampNs now) const;
+
+  std::size_t responders_total() const { return members_.size(); }
+  /// Responders whose link is kLost at `now`.
+  std::size_t link_lost_count(TimestampNs now) const;
+  /// Same, at the latest `now` given to any call.
+  std::size_t link_lost_count() const { return link_lost_count(latest_now_); }
+
+  const TeamTrackerConfig& config() const { return config_; }
+
+ private:
+  struct Member {
+    std::string team_id;
+    ResponderPosition last_position;
+    bool has_position = false;
+    TimestampNs last_heard = 0;
+    bool liveliness_lost = false;
+  };
+  LinkState link_of(const Member& m, TimestampNs now) const;
+
+  TeamTrackerConfig config_;
+  std::map<std::string, Member> members_;  ///< by responder id
+  TimestampNs latest_now_ = 0;
+};
+
+}  // namespace sarloc::incident

@@ -1,0 +1,128 @@
+#pragma once
+// Multi-rescuer victim fusion for incident command (docs/estimation/incident-fusion.md).
+//
+// Every rescuer device publishes, per separated beacon signal, a VictimEstimate relative to
+// itself. Converted to the incident frame (to_incident_frame / make_source_estimate) each one
+// is a SOURCE, keyed by (rescuer_id, signal_id); update() keeps the newest estimate per source.
+// step(now) turns the sources into VICTIMS with stable ids:
+//
+//   1. activity: a source takes part only while its state >= kConverged (a multimodal mixture
+//      mean is meaningless) and it was updated within source_timeout_s; an inactive source is
+//      unbound, its victim keeps its last fused position and state;
+//   2. keep: a bound source stays bound while its Mahalanobis d^2 to the CI fusion of the
+//      victim's OTHER sources, with summed covariances, is inside the keep gate
+//      (chi2_3(keep_gate_probability)); otherwise it is unbound;
+//   3. associate: for each rescuer with an unbound active source (most active sources first,
+//      then by id), ALL its active sources are re-solved together against every victim,
+//      fused without that rescuer: cost d^2 (summed covariances) if inside the gate
+//      (chi2_3(gate_probability); the keep gate, scaled down to the gate, for the pair that
+//      was bound before: hysteresis), forbidden otherwise; one private "new victim" column per
+//      source at cost = gate; minimum-cost assignment (assignment.hpp). Solving one rescuer's
+//      signals jointly is what separates close victims: the rescuer's common GNSS bias moves
+//      all its signals together, and swapping two signals always costs 2 s^2 / S more than the
+//      right assignment (s = separation). Same-rescuer different-signal sources can never share
+//      a victim: distinct columns inside one assignment, and victims holding another signal of
+//      that rescuer are not candidates;
+//   4. fuse: a victim's position = covariance intersection of its bound sources;
+//   5. merge: two victims whose fused estimates are inside each other's gate (d^2 with summed
+//      covariances <= chi2_3(merge_gate_probability)) and that hold no two sources of the same
+//      rescuer are merged, closest pair first; the lower id survives, the other is reported by
+//      take_removed(). An unconfirmed victim that lost all its sources to re-association (never
+//      to a timeout) is a ghost of a wrong association and is removed the same way;
+//   Sources and victims on different floors never associate or merge (a victim's floor is
+//      that of its first source).
+//   6. state: kLocated when a bound source is kLocated or kFound or the fused 95 % radius
+//      (worst axis) is below located_radius_m; kFound when a bound source is kFound; states
+//      never go back. located_at / found_at are set once (to `now`).
+//
+// Cost per step: O(S) for activity and fusion, O(k^2) per victim for the keep test, and for
+// each rescuer that needs association O(S + V) gate tests and an O(k^2 (V + k)) assignment
+// (k = that rescuer's sources). The merge search is over victim pairs (V <= ~50).
+//
+//   VictimFusion fusion(VictimFusionConfig{});      // config validated here
+//   fusion.update(make_source_estimate(estimate, antenna_at(estimate.stamp)));
+//   fusion.step(now);
+//   for (const FusedVictim& v : fusion.victims()) ...;
+//   for (std::uint32_t id : fusion.take_removed()) dispose(id);
+#include <cstdint>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "sarloc/core/common/types.hpp"
+#include "sarloc/core/incident/covariance_intersection.hpp"
+#include "sarloc/core/incident/fused_victim.hpp"
+#include "sarloc/core/incident/source_estimate.hpp"
+
+namespace sarloc::incident {
+
+/// Every parameter of VictimFusion (docs/estimation/incident-fusion.md, parameter table).
+struct VictimFusionConfig {
+  double gate_probability = 0.999;        ///< association gate: d^2 <= chi2_3(p) (16.27)
+  double keep_gate_probability = 0.9999;  ///< looser gate to keep a binding (21.11), >= gate
+  double merge_gate_probability = 0.99;   ///< two victims closer than chi2_3(p) may merge
+  double source_timeout_s = 10.0;         ///< sources older than this leave the fusion
+  double located_radius_m = 1.0;          ///< fused 95 % radius (worst axis) that means located
+  CiWeighting weighting = CiWeighting::kInverseTrace;  ///< covariance intersection weights
+
+  /// Throws ConfigError "fusion.<key> = value: rule".
+  void validate() const;
+};
+
+class VictimFusion {
+ public:
+  explicit VictimFusion(VictimFusionConfig config = {});
+
+  /// Stores or replaces the newest estimate of (rescuer_id, signal_id). Returns false (and
+  /// ignores it) if older than the stored one. Throws InputError for an empty rescuer_id, a
+  /// non-finite position, a covariance that is not symmetric positive definite, or, for a
+  /// below_surface source, a position more than 5 sigma above the snow surface (z > 0).
+  bool update(const SourceEstimate& estimate);
+
+  /// Forgets every signal of a rescuer (e.g. its estimates were declared stale). Its victims
+  /// keep their last fused position and state. Returns the number of sources removed.
+  std::size_t remove_source(const std::string& rescuer_id);
+  /// Forgets one signal of a rescuer. Returns whether it existed.
+  bool remove_source(const std::string& rescuer_id, std::uint32_t signal_id);
+
+  /// Associate, fuse, merge and update states (see the overview above).
+  void step(TimestampNs now);
+
+  /// Current victims, stable ids (from 1), sorted by id.
+  const std::vector<FusedVictim>& victims() const { return victims_; }
+  /// Ids removed (merged away or ghosts) since the last call; the caller disposes of them.
+  std::vector<std::uint32_t> take_removed();
+
+  const VictimFusionConfig& config() const { return config_; }
+  std::size_t source_count() const { return sources_.size(); }
+
+ private:
+  using SourceKey = std::pair<std::string, std::uint32_t>;
+  struct Source {
+    SourceEstimate estimate;
+    std::uint32_t victim_id = 0;  ///< 0 = unbound
+    bool active = false;
+  };
+  enum class Unbind : std::uint8_t { kInactive, kReassociated };
+
+  FusedVictim* find_victim(std::uint32_t id);
+  std::vector<GaussianPosition> bound_positions(const FusedVictim& v,
+                                                const std::string& except_rescuer) const;
+  void bind(Source& s, FusedVictim& v);
+  void unbind(Source& s, Unbind reason);
+  void refuse(FusedVictim& v);
+  void associate_rescuer(const std::string& rescuer_id, TimestampNs now);
+  void merge_victims();
+  void update_states(TimestampNs now);
+
+  VictimFusionConfig config_;
+  double gate_ = 0.0, keep_gate_ = 0.0, merge_gate_ = 0.0;  ///< chi-square thresholds
+  std::map<SourceKey, Source> sources_;
+  std::vector<FusedVictim> victims_;          ///< sorted by id
+  std::vector<std::uint32_t> removed_;
+  std::vector<std::uint32_t> orphaned_;       ///< lost their last source to re-association
+  std::uint32_t next_id_ = 1;
+};
+
+}  // namespace sarloc::incident

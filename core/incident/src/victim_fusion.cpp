@@ -1,0 +1,362 @@
+#include "sarloc/core/incident/victim_fusion.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <sstream>
+#include <tuple>
+
+#include "sarloc/core/common/chi_square.hpp"
+#include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/incident/assignment.hpp"
+
+namespace sarloc::incident {
+namespace {
+
+
+[[noreturn]] void config_fail(const char* key, double value, const char* rule) {
+  std::ostringstream os;
+  os << "fusion." << key << " = " << value << ": " << rule;
+  throw ConfigError(os.str());
+}
+
+bool open_unit(double p) { return std::isfinite(p) && p > 0.0 && p < 1.0; }
+
+// Squared Mahalanobis distance with summed covariances (independence assumed only for the gate:
+// CI covariances are conservative, so the sum is too).
+double mahalanobis2(const GaussianPosition& a, const GaussianPosition& b) {
+  const Mat3 s = a.covariance + b.covariance;
+  const Eigen::LDLT<Mat3> ldlt(0.5 * (s + s.transpose()));
+  const Vec3 d = a.position - b.position;
+  const double d2 = d.dot(ldlt.solve(d));
+  return std::isfinite(d2) ? std::max(d2, 0.0) : std::numeric_limits<double>::infinity();
+}
+
+bool same_rescuer_conflict(const FusedVictim& a, const FusedVictim& b) {
+  for (const VictimSource& x : a.sources)
+    for (const VictimSource& y : b.sources)
+      if (x.rescuer_id == y.rescuer_id) return true;
+  return false;
+}
+
+TimestampNs earliest_set(TimestampNs a, TimestampNs b) {
+  if (a == 0) return b;
+  if (b == 0) return a;
+  return std::min(a, b);
+}
+
+}  // namespace
+
+void VictimFusionConfig::validate() const {
+  if (!open_unit(gate_probability)) config_fail("gate_probability", gate_probability, "must be in (0, 1)");
+  if (!open_unit(keep_gate_probability))
+    config_fail("keep_gate_probability", keep_gate_probability, "must be in (0, 1)");
+  if (keep_gate_probability < gate_probability)
+    config_fail("keep_gate_probability", keep_gate_probability, "must be >= gate_probability");
+  if (!open_unit(merge_gate_probability))
+    config_fail("merge_gate_probability", merge_gate_probability, "must be in (0, 1)");
+  if (!std::isfinite(source_timeout_s) || source_timeout_s <= 0.0 || source_timeout_s > 3600.0)
+    config_fail("source_timeout_s", source_timeout_s, "must be in (0, 3600]");
+  if (!std::isfinite(located_radius_m) || located_radius_m <= 0.0 || located_radius_m > 100.0)
+    config_fail("located_radius_m", located_radius_m, "must be in (0, 100]");
+  if (weighting != CiWeighting::kInverseTrace && weighting != CiWeighting::kMinTrace)
+    config_fail("weighting", static_cast<double>(weighting), "must be inverse_trace or min_trace");
+}
+
+VictimFusion::VictimFusion(VictimFusionConfig config) : config_(config) {
+  config_.validate();
+  gate_ = chi_square_quantile(config_.gate_probability, 3.0);
+  keep_gate_ = chi_square_quantile(config_.keep_gate_probability, 3.0);
+  merge_gate_ = chi_square_quantile(config_.merge_gate_probability, 3.0);
+}
+
+bool VictimFusion::update(const SourceEstimate& estimate) {
+  const std::string where =
+      "source_estimate[" + estimate.rescuer_id + "/" + std::to_string(estimate.signal_id) + "]";
+  if (estimate.rescuer_id.empty()) throw InputError("source_estimate.rescuer_id = \"\": must not be empty");
+  if (!estimate.position.position.allFinite()) throw InputError(where + ".position: must be finite");
+  const Mat3& p = estimate.position.covariance;
+  if (!p.allFinite()) throw InputError(where + ".covariance: must be finite");
+  if ((p - p.transpose()).cwiseAbs().maxCoeff() > 1e-9 * (1.0 + p.cwiseAbs().maxCoeff()))
+    throw InputError(where + ".covariance: must be symmetric");
+  if (Eigen::LLT<Mat3>(p).info() != Eigen::Success)
+    throw InputError(where + ".covariance: must be positive definite");
+  // Heights are above the snow surface (z = 0): a victim is buried. An estimate confidently
+  // above the surface comes from a filter locked on its mirror solution and would open a
+  // ghost victim (seen under packet loss: 30 m up, "found").
+  const double z = estimate.position.position.z();
+  if (estimate.below_surface && z - 5.0 * std::sqrt(p(2, 2)) > 0.0) {  // 5 sigma: never a noise draw
+    std::ostringstream os;
+    os << where << ".position.z = " << z << " m (sigma " << std::sqrt(p(2, 2))
+       << "): above the snow surface, a buried victim cannot be there";
+    throw InputError(os.str());
+  }
+
+  const SourceKey key{estimate.rescuer_id, estimate.signal_id};
+  auto it = sources_.find(key);
+  if (it == sources_.end()) {
+    sources_.emplace(key, Source{estimate, 0, false});
+    return true;
+  }
+  if (estimate.stamp < it->second.estimate.stamp) return false;
+  it->second.estimate = estimate;
+  return true;
+}
+
+std::size_t VictimFusion::remove_source(const std::string& rescuer_id) {
+  std::size_t n = 0;
+  for (auto it = sources_.lower_bound({rescuer_id, 0});
+       it != sources_.end() && it->first.first == rescuer_id;) {
+    unbind(it->second, Unbind::kInactive);
+    it = sources_.erase(it);
+    ++n;
+  }
+  for (FusedVictim& v : victims_) refuse(v);
+  return n;
+}
+
+bool VictimFusion::remove_source(const std::string& rescuer_id, std::uint32_t signal_id) {
+  auto it = sources_.find({rescuer_id, signal_id});
+  if (it == sources_.end()) return false;
+  const std::uint32_t vid = it->second.victim_id;
+  unbind(it->second, Unbind::kInactive);
+  sources_.erase(it);
+  if (FusedVictim* v = find_victim(vid)) refuse(*v);
+  return true;
+}
+
+std::vector<std::uint32_t> VictimFusion::take_removed() {
+  std::vector<std::uint32_t> out;
+  out.swap(removed_);
+  return out;
+}
+
+FusedVictim* VictimFusion::find_victim(std::uint32_t id) {
+  auto it = std::lower_bound(victims_.begin(), victims_.end(), id,
+                             [](const FusedVictim& v, std::uint32_t i) { return v.victim_id < i; });
+  return (it != victims_.end() && it->victim_id == id) ? &*it : nullptr;
+}
+
+std::vector<GaussianPosition> VictimFusion::bound_positions(const FusedVictim& v,
+                                                            const std::string& except_rescuer) const {
+  std::vector<GaussianPosition> out;
+  out.reserve(v.sources.size());
+  for (const VictimSource& vs : v.sources) {
+    if (vs.rescuer_id == except_rescuer) continue;
+    out.push_back(sources_.at({vs.rescuer_id, vs.signal_id}).estimate.position);
+  }
+  return out;
+}
+
+void VictimFusion::bind(Source& s, FusedVictim& v) {
+  s.victim_id = v.victim_id;
+  VictimSource vs{s.estimate.rescuer_id, s.estimate.signal_id, s.estimate.stamp};
+  auto pos = std::lower_bound(v.sources.begin(), v.sources.end(), vs,
+                              [](const VictimSource& a, const VictimSource& b) {
+                                return std::tie(a.rescuer_id, a.signal_id) <
+                                       std::tie(b.rescuer_id, b.signal_id);
+                              });
+  v.sources.insert(pos, vs);
+}
+
+void VictimFusion::unbind(Source& s, Unbind reason) {
+  if (s.victim_id == 0) return;
+  FusedVictim* v = find_victim(s.victim_id);
+  s.victim_id = 0;
+  if (v == nullptr) return;
+  auto& vs = v->sources;
+  vs.erase(std::remove_if(vs.begin(), vs.end(),
+                          [&](const VictimSource& x) {
+                            return x.rescuer_id == s.estimate.rescuer_id &&
+                                   x.signal_id == s.estimate.signal_id;
+                          }),
+           vs.end());
+  if (vs.empty() && reason == Unbind::kReassociated) orphaned_.push_back(v->victim_id);
+}
+
+void VictimFusion::refuse(FusedVictim& v) {
+  if (v.sources.empty()) return;  // keeps its last fused position
+  v.position = covariance_intersection(bound_positions(v, std::string()), config_.weighting).fused;
+  for (VictimSource& vs : v.sources) {
+    vs.last_update = sources_.at({vs.rescuer_id, vs.signal_id}).estimate.stamp;
+    v.last_update = std::max(v.last_update, vs.last_update);
+  }
+}
+
+void VictimFusion::associate_rescuer(const std::string& rescuer_id, TimestampNs /*now*/) {
+  // All active sources of this rescuer are solved together (see header, step 3).
+  std::vector<Source*> rows;
+  std::vector<std::uint32_t> previous;
+  for (auto it = sources_.lower_bound({rescuer_id, 0});
+       it != sources_.end() && it->first.first == rescuer_id; ++it) {
+    if (!it->second.active) continue;
+    rows.push_back(&it->second);
+    previous.push_back(it->second.victim_id);
+    unbind(it->second, Unbind::kReassociated);
+  }
+  if (rows.empty()) return;
+
+  // Each victim without this rescuer: CI of the other rescuers' sources, else its last fused.
+  const std::size_t nv = victims_.size(), k = rows.size();
+  std::vector<GaussianPosition> excl(nv);
+  for (std::size_t j = 0; j < nv; ++j) {
+    const std::vector<GaussianPosition> others = bound_positions(victims_[j], rescuer_id);
+    excl[j] = others.empty() ? victims_[j].position
+                             : covariance_intersection(others, config_.weighting).fused;
+  }
+  Eigen::MatrixXd cost = Eigen::MatrixXd::Constant(static_cast<Eigen::Index>(k),
+                                                   static_cast<Eigen::Index>(nv + k), kInfeasible);
+  for (std::size_t i = 0; i < k; ++i) {
+    for (std::size_t j = 0; j < nv; ++j) {
+      if (rows[i]->estimate.floor != victims_[j].floor) continue;
+      const double d2 = mahalanobis2(rows[i]->estimate.position, excl[j]);
+      if (previous[i] == victims_[j].victim_id && d2 <= keep_gate_)
+        cost(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = d2 * gate_ / keep_gate_;
+      else if (d2 <= gate_)
+        cost(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = d2;
+    }
+    cost(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(nv + i)) = gate_;  // new victim
+  }
+  const std::vector<int> col = solve_assignment(cost);
+
+  std::set<std::uint32_t> touched;
+  for (std::size_t i = 0; i < k; ++i) {
+    const int c = col[i];
+    if (c >= 0 && static_cast<std::size_t>(c) < nv) {
+      bind(*rows[i], victims_[static_cast<std::size_t>(c)]);
+      touched.insert(victims_[static_cast<std::size_t>(c)].victim_id);
+    } else {  // its private "new victim" column (always feasible)
+      FusedVictim v;
+      v.victim_id = next_id_++;
+      v.position = rows[i]->estimate.position;
+      v.floor = rows[i]->estimate.floor;
+      v.first_seen = rows[i]->estimate.stamp;
+      v.last_update = rows[i]->estimate.stamp;
+      victims_.push_back(v);  // ids increase: stays sorted
+      bind(*rows[i], victims_.back());
+      touched.insert(v.victim_id);
+    }
+  }
+  for (std::uint32_t id : touched) refuse(*find_victim(id));
+}
+
+void VictimFusion::merge_victims() {
+  for (;;) {
+    double best = std::numeric_limits<double>::infinity();
+    std::size_t bi = 0, bj = 0;
+    for (std::size_t i = 0; i < victims_.size(); ++i)
+      for (std::size_t j = i + 1; j < victims_.size(); ++j) {
+        if (victims_[i].floor != victims_[j].floor) continue;
+        const double d2 = mahalanobis2(victims_[i].position, victims_[j].position);
+        if (d2 <= merge_gate_ && d2 < best && !same_rescuer_conflict(victims_[i], victims_[j])) {
+          best = d2;
+          bi = i;
+          bj = j;
+        }
+      }
+    if (!std::isfinite(best)) return;
+    FusedVictim& keep = victims_[bi];  // lower id: victims_ is sorted by id
+    FusedVictim gone = victims_[bj];
+    for (const VictimSource& vs : gone.sources) {
+      Source& s = sources_.at({vs.rescuer_id, vs.signal_id});
+      s.victim_id = 0;
+      bind(s, keep);
+    }
+    if (keep.sources.empty())
+      keep.position = covariance_intersection({keep.position, gone.position}, config_.weighting).fused;
+    else
+      refuse(keep);
+    keep.state = std::max(keep.state, gone.state);
+    keep.first_seen = earliest_set(keep.first_seen, gone.first_seen);
+    keep.last_update = std::max(keep.last_update, gone.last_update);
+    keep.located_at = earliest_set(keep.located_at, gone.located_at);
+    keep.found_at = earliest_set(keep.found_at, gone.found_at);
+    removed_.push_back(gone.victim_id);
+    victims_.erase(victims_.begin() + static_cast<std::ptrdiff_t>(bj));
+  }
+}
+
+void VictimFusion::update_states(TimestampNs now) {
+  static const double kChi2_3_95 = chi_square_quantile(0.95, 3.0);
+  for (FusedVictim& v : victims_) {
+    if (v.sources.empty()) continue;
+    VictimState target = VictimState::kUnconfirmed;
+    for (const VictimSource& vs : v.sources) {
+      const SourceState st = sources_.at({vs.rescuer_id, vs.signal_id}).estimate.state;
+      if (st == SourceState::kFound) target = VictimState::kFound;
+      else if (st == SourceState::kLocated) target = std::max(target, VictimState::kLocated);
+    }
+    const Eigen::SelfAdjointEigenSolver<Mat3> es(v.position.covariance, Eigen::EigenvaluesOnly);
+    const double radius95 = std::sqrt(kChi2_3_95 * std::max(es.eigenvalues().maxCoeff(), 0.0));
+    if (radius95 < config_.located_radius_m) target = std::max(target, VictimState::kLocated);
+    v.state = std::max(v.state, target);  // never backwards
+    if (v.state >= VictimState::kLocated && v.located_at == 0) v.located_at = now;
+    if (v.state >= VictimState::kFound && v.found_at == 0) v.found_at = now;
+  }
+}
+
+void VictimFusion::step(TimestampNs now) {
+  // 1. activity.
+  const double timeout_ns = config_.source_timeout_s * 1e9;
+  for (auto& [key, s] : sources_) {
+    s.active = s.estimate.state >= SourceState::kConverged &&
+               static_cast<double>(now - s.estimate.stamp) <= timeout_ns;
+    if (!s.active) unbind(s, Unbind::kInactive);
+  }
+  for (FusedVictim& v : victims_) refuse(v);
+
+  // 2. keep test: drop the worst source outside the keep gate, one at a time.
+  for (FusedVictim& v : victims_) {
+    while (v.sources.size() >= 2) {
+      double worst = -1.0;
+      Source* worst_src = nullptr;
+      for (const VictimSource& vs : v.sources) {
+        Source& s = sources_.at({vs.rescuer_id, vs.signal_id});
+        const std::vector<GaussianPosition> others = bound_positions(v, vs.rescuer_id);
+        const double d2 = mahalanobis2(s.estimate.position,
+                                       covariance_intersection(others, config_.weighting).fused);
+        if (d2 > worst) {
+          worst = d2;
+          worst_src = &s;
+        }
+      }
+      if (worst <= keep_gate_) break;
+      unbind(*worst_src, Unbind::kReassociated);
+      refuse(v);
+    }
+  }
+
+  // 3. association, per rescuer with an unbound active source.
+  std::map<std::string, std::pair<std::size_t, bool>> rescuers;  // active count, needs work
+  for (const auto& [key, s] : sources_) {
+    if (!s.active) continue;
+    auto& r = rescuers[key.first];
+    ++r.first;
+    if (s.victim_id == 0) r.second = true;
+  }
+  std::vector<std::pair<std::size_t, std::string>> order;
+  for (const auto& [id, r] : rescuers)
+    if (r.second) order.emplace_back(r.first, id);
+  std::stable_sort(order.begin(), order.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  for (const auto& [count, id] : order) associate_rescuer(id, now);
+
+  // Ghosts of a wrong association: unconfirmed, and their last source went elsewhere.
+  for (std::uint32_t id : orphaned_) {
+    FusedVictim* v = find_victim(id);
+    if (v == nullptr || !v->sources.empty() || v->state != VictimState::kUnconfirmed) continue;
+    removed_.push_back(id);
+    victims_.erase(victims_.begin() + (v - victims_.data()));
+  }
+  orphaned_.clear();
+
+  // 4./5. fusion is up to date; merge duplicates.
+  merge_victims();
+  // 6. states.
+  update_states(now);
+}
+
+}  // namespace sarloc::incident

@@ -1,0 +1,49 @@
+#pragma once
+// One rescuer's device in a simulated mission: its true pose, its receiver separating the
+// signals of every victim in range (numbered in the order it first detects them, as a real
+// transceiver does), its odometry and its GNSS.
+//
+//   SimulatedRescuer sim(scenario, "r1");
+//   for (auto& m : sim.measure(stamp)) publish(m);
+//   publish(sim.walk(guidance.bearing_rad, 1.0, stamp, next_stamp));
+#include <map>
+#include <optional>
+#include <random>
+
+#include "sarloc/core/avalanche/sensor_simulation.hpp"
+#include "sarloc/core/responder/responder_position.hpp"
+#include "sarloc/core/mission/mission_scenario.hpp"
+
+namespace sarloc::mission {
+
+class SimulatedRescuer {
+ public:
+  SimulatedRescuer(const MissionScenario& scenario, const std::string& rescuer_id);
+
+  /// One measurement epoch at the current pose: a sample per victim within detection range.
+  std::vector<avalanche::FieldMeasurement> measure(TimestampNs stamp);
+  /// Walks one step as guided; returns the odometry over [start, end].
+  responder::Odometry walk(double bearing_rad, double step_m, TimestampNs start, TimestampNs end);
+  /// A noisy GNSS fix of the antenna in the incident frame.
+  responder::ResponderPosition gnss(TimestampNs stamp);
+
+  const avalanche::ReceiverPose& pose() const { return pose_; }
+  double distance_walked_m() const { return walked_m_; }
+  /// Truth for evaluation: which victim this receiver's signal id is (nullopt if unknown).
+  std::optional<std::size_t> victim_of_signal(std::uint32_t signal_id) const;
+  const RescuerSpec& spec() const { return spec_; }
+
+ private:
+  MissionScenario scenario_;  // a copy: the rescuer outlives any loader
+  RescuerSpec spec_;
+  avalanche::ReceiverPose pose_;
+  std::mt19937_64 rng_;
+  std::map<std::size_t, std::uint32_t> signal_of_victim_;
+  std::uint64_t measurement_sequence_ = 0;
+  std::uint64_t odometry_sequence_ = 0;
+  double walked_m_ = 0.0;
+  Vec3 gnss_bias_ = Vec3::Zero();
+  std::optional<TimestampNs> last_fix_;
+};
+
+}  // namespace sarloc::mission

@@ -1,0 +1,75 @@
+#include "sarloc/core/mission/mission_summary.hpp"
+
+#include <algorithm>
+
+#include "sarloc/core/mission/victim_matching.hpp"
+
+namespace sarloc::mission {
+namespace {
+
+// The diggers' view of a victim: the smallest error of a device that found it, relative to
+// that device (no GNSS involved).
+std::optional<double> relative_error_of(std::size_t victim, const std::map<std::string, DeviceSummary>& devices) {
+  std::optional<double> best;
+  for (const auto& [id, device] : devices) {
+    for (const auto& s : device.signals) {
+      if (s.victim_index != victim || s.status != responder::EstimatorStatus::kFound || !s.relative_error_m) continue;
+      if (!best || *s.relative_error_m < *best) best = s.relative_error_m;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+std::size_t MissionSummary::confirmed_fused_victim_count() const {
+  return static_cast<std::size_t>(
+      std::count_if(fused_victims.begin(), fused_victims.end(), [](const auto& v) { return v.confirmed; }));
+}
+
+std::size_t MissionSummary::found_count() const {
+  return static_cast<std::size_t>(std::count_if(victims.begin(), victims.end(), [](const auto& v) { return v.found; }));
+}
+
+MissionSummary summarise_mission(const std::string& mission_name, const MissionScenario& scenario,
+                                 const std::vector<incident::FusedVictim>& picture, TimestampNs epoch,
+                                 std::map<std::string, DeviceSummary> devices) {
+  MissionSummary s;
+  s.mission = mission_name;
+  const auto match = match_to_truth(scenario.victims, picture);
+  s.all_found = true;
+  for (std::size_t i = 0; i < scenario.victims.size(); ++i) {
+    const auto& truth = scenario.victims[i];
+    VictimOutcome v;
+    v.name = truth.name;
+    v.true_position = truth.position;
+    if (match[i] >= 0) {
+      const auto& f = picture[static_cast<std::size_t>(match[i])];
+      v.victim_id = f.victim_id;
+      v.estimate = f.position.position;
+      v.error_m = (f.position.position - truth.position).norm();
+      v.sources = f.sources.size();
+      v.found = incident::is_found(f.state);
+      if (f.located_at > 0) v.time_to_locate_s = static_cast<double>(f.located_at - epoch) / 1e9;
+    }
+    v.relative_error_m = relative_error_of(i, devices);
+    s.all_found = s.all_found && v.found;
+    s.victims.push_back(std::move(v));
+  }
+  for (std::size_t j = 0; j < picture.size(); ++j) {
+    const auto& f = picture[j];
+    PictureVictimOutcome p;
+    p.victim_id = f.victim_id;
+    p.position = f.position.position;
+    p.confirmed = f.state != incident::VictimState::kUnconfirmed;
+    p.found = incident::is_found(f.state);
+    p.sources = f.sources.size();
+    p.matches_a_buried_victim = std::find(match.begin(), match.end(), static_cast<int>(j)) != match.end();
+    s.fused_victims.push_back(p);
+  }
+  for (const auto& r : scenario.rescuers) s.rescuer_ids.push_back(r.id);
+  s.devices = std::move(devices);
+  return s;
+}
+
+}  // namespace sarloc::mission

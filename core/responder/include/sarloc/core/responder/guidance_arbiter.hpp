@@ -1,0 +1,100 @@
+#pragma once
+// On a responder's device: whose guidance to follow, the core daemon's or the device's own
+// estimator's (its hot standby), and whether the daemon counts as reachable. Pure logic, fed
+// by the device's DDS node with what the daemon said and when; one instance per device, used
+// under the node's lock.
+//
+// Rules:
+//   - the daemon is reachable while it answered within fallback_timeout_s (mission time), or,
+//     before any answer, for fallback_timeout_s after the device started; never while every
+//     core daemon's liveliness is lost (on_daemons_lost);
+//   - a late answer to an older epoch never replaces a newer one (guidance and its sequence
+//     stay a pair);
+//   - the daemon's guidance is followed only as the answer to this very epoch, and only when
+//     the daemon's estimate of the guided signal, for this same epoch, is at least as far
+//     along (INITIALISING < MULTIMODAL < CONVERGED < LOCATED < FOUND) as the device's own of
+//     the signal it would guide to: a restarted daemon with an empty filter is not followed;
+//   - otherwise the device's own guidance, if any.
+//
+//   GuidanceArbiter arbiter(3.0, clock.now());
+//   arbiter.on_daemon_guidance(g, seq, now, wall);            // from the reader callbacks
+//   if (arbiter.worth_waiting()) wait until arbiter.answered(seq);
+//   auto d = arbiter.decide({now, seq, wall_published, local_guidance, local_status});
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <optional>
+
+#include "sarloc/core/responder/guidance.hpp"
+#include "sarloc/core/responder/victim_estimate.hpp"
+
+namespace sarloc::responder {
+
+enum class GuidanceSource : std::uint8_t { kNone = 0, kDaemon = 1, kLocal = 2 };
+const char* to_string(GuidanceSource source);
+
+struct ArbiterInput {
+  TimestampNs now = 0;             ///< mission time
+  std::uint64_t sequence = 0;      ///< this epoch's measurement sequence (0: nothing measured)
+  std::int64_t published_wall_ns = 0;  ///< when this epoch's samples were published (wall)
+  std::optional<Guidance> local_guidance;
+  /// The device's own status of a signal (kInitialising if never measured).
+  std::function<EstimatorStatus(std::uint32_t)> local_status;
+};
+
+struct ArbiterDecision {
+  std::optional<Guidance> guidance;  ///< what to do now (nullopt: no signal yet)
+  GuidanceSource source = GuidanceSource::kNone;
+  bool daemon_reachable = false;
+  bool daemons_lost = false;         ///< every core daemon's liveliness was lost
+  bool fell_back = false;            ///< reachable at the previous epoch, not now
+  bool reconnected = false;          ///< the daemon answered again after being unreachable
+  /// The daemon's status of every signal, when its guidance is followed.
+  std::map<std::uint32_t, EstimatorStatus> daemon_signals;
+  double latency_ms = -1.0;          ///< publication -> this epoch's daemon guidance (wall), -1 if none
+};
+
+class GuidanceArbiter {
+ public:
+  /// Throws ConfigError unless fallback_timeout_s is in (0, 600].
+  GuidanceArbiter(double fallback_timeout_s, TimestampNs started);
+
+  void on_daemon_guidance(const Guidance& guidance, std::uint64_t sequence, TimestampNs now, std::int64_t wall_ns);
+  void on_daemon_estimate(std::uint32_t signal_id, EstimatorStatus status, std::uint64_t sequence, TimestampNs now);
+  /// A core daemon's status was seen alive / every one's liveliness was lost. A daemon that
+  /// comes back starts from nothing, so its signal statuses are forgotten.
+  void on_daemon_seen() { seen_daemon_ = true; daemons_lost_ = false; }
+  void on_daemons_lost();
+
+  /// Both halves of the daemon's answer to `sequence` arrived: guidance and its signal's estimate.
+  bool answered(std::uint64_t sequence) const;
+  /// Wait for the daemon's answer only while it is believed alive (or never answered yet):
+  /// an unreachable one would make every epoch late.
+  bool worth_waiting() const { return was_reachable_ || answered_at_ == 0; }
+
+  /// The decision for one epoch; counts fallbacks.
+  ArbiterDecision decide(const ArbiterInput& input);
+  int fallbacks() const { return fallbacks_; }
+
+ private:
+  struct SignalStatus {
+    EstimatorStatus status = EstimatorStatus::kInitialising;
+    std::uint64_t sequence = 0;  ///< the measurement it answers
+  };
+  const SignalStatus* guided_signal_status() const;
+
+  TimestampNs timeout_ns_;
+  TimestampNs started_;
+  std::optional<Guidance> guidance_;
+  std::uint64_t guidance_sequence_ = 0;
+  TimestampNs guidance_at_ = 0;       ///< mission time it arrived
+  std::int64_t guidance_wall_ns_ = 0;
+  TimestampNs answered_at_ = 0;       ///< mission time of the daemon's last answer (0: never)
+  std::map<std::uint32_t, SignalStatus> status_;
+  bool seen_daemon_ = false;
+  bool daemons_lost_ = false;
+  bool was_reachable_ = false;
+  int fallbacks_ = 0;
+};
+
+}  // namespace sarloc::responder

@@ -1,0 +1,38 @@
+#pragma once
+// A detector's estimate of one victim, relative to the responder who carries the detector: the
+// avalanche filter's reduced mixture today; a robot's camera or a dog team's handler later.
+// Incident command places it in the incident frame with the responder's position at `stamp`
+// (incident/source_estimate.hpp).
+#include <string>
+#include <vector>
+
+#include "sarloc/core/common/types.hpp"
+
+namespace sarloc::responder {
+
+enum class EstimatorStatus : std::uint8_t {
+  kInitialising = 0,  ///< no measurement yet
+  kMultimodal = 1,    ///< several hypotheses alive
+  kConverged = 2,     ///< one dominant mode
+  kLocated = 3,       ///< uncertainty small enough to walk onto it (docs/estimation/avalanche.md)
+  kFound = 4,         ///< rescuer stands over the estimate: probe here
+};
+
+struct MixtureComponentSummary {
+  double weight = 0.0;
+  Vec3 mean = Vec3::Zero();            ///< rescuer-relative frame G_k (m)
+  Mat3 covariance = Mat3::Identity();  ///< m^2
+};
+
+struct VictimEstimate {
+  std::string rescuer_id;
+  std::uint32_t signal_id = 0;         ///< the detector's id of this victim (a beacon signal)
+  TimestampNs stamp = 0;
+  EstimatorStatus status = EstimatorStatus::kInitialising;
+  GaussianPosition relative;           ///< victim in G_k (rescuer-centred, ENU-aligned)
+  std::vector<MixtureComponentSummary> top_components;  ///< highest weights first
+  std::uint32_t live_components = 0;
+  Vec3 moment = Vec3::Zero();          ///< beacon moment in G (A m^2); zero without a beacon
+};
+
+}  // namespace sarloc::responder
