@@ -64,8 +64,12 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
     // Listener callbacks: convert, refuse what cannot even be converted, enqueue.
     auto refuse = [this](const std::string& id, const std::string& detail) { reject(id, "invalid_value", detail); };
     sample_readers_ = std::make_unique<SampleReaders>(
-        participant_, [this](estimator::SensorSample s) { enqueue(estimator::responder_of(s), std::move(s)); }, refuse,
-        inputs);
+        participant_,
+        [this](estimator::SensorSample s) {
+          const std::string id = estimator::responder_of(s);  // copied: `s` is moved below
+          enqueue(id, std::move(s));
+        },
+        refuse, inputs);
     odometry_reader_ = std::make_unique<Reader<::sarloc::Odometry>>(
         participant_,
         [this, refuse](const ::sarloc::Odometry& o, const auto&) {

@@ -1,5 +1,7 @@
 #include "sarloc/app/yaml_reader.hpp"
 
+#include <regex>
+
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -43,7 +45,19 @@ YamlReader::YamlReader(YAML::Node node, std::string path, std::string source)
       source_(std::move(source)),
       consumed_(std::make_shared<std::set<std::string>>()) {}
 
+namespace {
+thread_local std::set<std::string>* key_recorder = nullptr;
+}  // namespace
+
+YamlReader::KeyRecorder::KeyRecorder() : previous_(key_recorder) { key_recorder = &keys_; }
+YamlReader::KeyRecorder::~KeyRecorder() { key_recorder = previous_; }
+
 bool YamlReader::has(const std::string& key) const {
+  if (key_recorder != nullptr) {
+    // Every read(), require(), child() and child_list() asks here first.
+    static const std::regex kIndex(R"(\[[0-9]+\])");
+    key_recorder->insert(std::regex_replace(key_path(key), kIndex, "[]"));
+  }
   return node_.IsMap() && node_[key] && !node_[key].IsNull();
 }
 

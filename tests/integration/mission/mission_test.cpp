@@ -143,9 +143,9 @@ TEST(Mission, TwoCoreInstancesSplitTheRescuersBySector) {
   expect_complete(run, /*max_incident_error_m=*/2.0);
   const std::string west = file_text(run.run_dir / "core-west.log");
   const std::string east = file_text(run.run_dir / "core-east.log");
-  EXPECT_NE(west.find("new rescuer 'west-1'"), std::string::npos) << west;
+  EXPECT_NE(west.find("new responder 'west-1'"), std::string::npos) << west;
   EXPECT_EQ(west.find("east-1"), std::string::npos) << "the west daemon served an east rescuer";
-  EXPECT_NE(east.find("new rescuer 'east-1'"), std::string::npos) << east;
+  EXPECT_NE(east.find("new responder 'east-1'"), std::string::npos) << east;
   EXPECT_EQ(east.find("west-1"), std::string::npos) << "the east daemon served a west rescuer";
 }
 

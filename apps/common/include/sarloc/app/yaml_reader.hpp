@@ -47,6 +47,22 @@ class YamlReader {
   /// Throws ConfigError naming every key that nobody read.
   void expect_done() const;
 
+  /// While one is alive, every key a YamlReader on this thread asks for (present or not) is
+  /// recorded with its full path, list indices written "[]" ("rescuers[].id"): the keys a
+  /// loader accepts, so that a test can hold docs/configuration.md to them.
+  class KeyRecorder {
+   public:
+    KeyRecorder();
+    ~KeyRecorder();
+    KeyRecorder(const KeyRecorder&) = delete;
+    KeyRecorder& operator=(const KeyRecorder&) = delete;
+    const std::set<std::string>& keys() const { return keys_; }
+
+   private:
+    std::set<std::string> keys_;
+    std::set<std::string>* previous_;
+  };
+
   const std::string& path() const { return path_; }
   const std::string& source() const { return source_; }
   const YAML::Node& node() const { return node_; }

@@ -1,0 +1,56 @@
+// Every app returns the documented exit codes for its command line (docs/operations.md): 0 for
+// --help and --version, 2 for an unknown option, a bad value or a missing required option,
+// never CLI11's own codes. No app gets as far as creating a DDS participant here.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+namespace {
+
+int exit_code_of(const std::string& command) {
+  const int status = std::system((command + " >/dev/null 2>&1").c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+const std::vector<std::string> kApps = {"sarloc-core",    "sarloc-rescuer", "sarloc-command",
+                                        "sarloc-mission", "sarloc-eval",    "sarloc-bench-latency"};
+
+std::string app(const std::string& name) { return std::string(SARLOC_BIN_DIR) + "/" + name; }
+
+TEST(ExitCodes, HelpAndVersionExitZero) {
+  for (const auto& a : kApps) {
+    EXPECT_EQ(exit_code_of(app(a) + " --help"), 0) << a;
+    EXPECT_EQ(exit_code_of(app(a) + " --version"), 0) << a;
+  }
+}
+
+TEST(ExitCodes, UnknownOptionExitsTwo) {
+  for (const auto& a : kApps) EXPECT_EQ(exit_code_of(app(a) + " --bogus"), 2) << a;
+}
+
+TEST(ExitCodes, BadLogLevelExitsTwo) {
+  const std::string config = std::string(SARLOC_SOURCE_DIR) + "/config/missions/default.yaml";
+  EXPECT_EQ(exit_code_of(app("sarloc-core") + " -c " + config + " --log-level loud"), 2);
+  EXPECT_EQ(exit_code_of(app("sarloc-command") + " -c " + config + " --log-level loud"), 2);
+  EXPECT_EQ(exit_code_of(app("sarloc-rescuer") + " -c " + config + " --id r1 --log-level loud"), 2);
+  EXPECT_EQ(exit_code_of(app("sarloc-mission") + " --log-level loud"), 2);
+  EXPECT_EQ(exit_code_of(app("sarloc-eval") + " --log-level loud avalanche"), 2);
+  EXPECT_EQ(exit_code_of(app("sarloc-bench-latency") + " --log-level loud"), 2);
+}
+
+TEST(ExitCodes, BadValueOrMissingRequiredOptionExitsTwo) {
+  EXPECT_EQ(exit_code_of(app("sarloc-core")), 2) << "-c is required";
+  EXPECT_EQ(exit_code_of(app("sarloc-rescuer") + " -c x.yaml"), 2) << "--id is required";
+  EXPECT_EQ(exit_code_of(app("sarloc-mission") + " --domain notanumber"), 2);
+  EXPECT_EQ(exit_code_of(app("sarloc-eval")), 2) << "a subcommand is required";
+  EXPECT_EQ(exit_code_of(app("sarloc-eval") + " avalanche --trials many"), 2);
+}
+
+TEST(ExitCodes, MissingConfigFileIsAConfigurationErrorNotUsage) {
+  EXPECT_EQ(exit_code_of(app("sarloc-core") + " -c /nonexistent/mission.yaml"), 3);
+}
+
+}  // namespace
