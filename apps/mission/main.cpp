@@ -191,7 +191,6 @@ int main(int argc, char** argv) {
         spdlog::warn("ignoring a team status: {}", e.what());
       }
     });
-    sarloc::dds::Reader<::sarloc::IncidentSummary> summary_reader(participant, [](const auto&, const auto&) {});
 
     // Mission time starts a little in the future so every process is up and discovered.
     const TimestampNs epoch = sarloc::dds::MissionClock::wall_now_ns() + static_cast<TimestampNs>(startup_s * 1e9);

@@ -66,7 +66,7 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
         if (v.state() != ::sarloc::VICTIM_FOUND && v.state() != ::sarloc::VICTIM_RECOVERED) return;
         std::lock_guard<std::mutex> lock(mutex_);
         for (const auto& s : v.sources()) {
-          if (s.rescuer_id().to_string() == config_.rescuer_id) found_elsewhere_[s.signal_id()] = true;
+          if (s.rescuer_id().to_string() == config_.rescuer_id) found_elsewhere_.insert(s.signal_id());
         }
       });
   // A core daemon's NodeStatus writer losing liveliness means the daemon is gone: fall back
@@ -119,9 +119,7 @@ EpochResult RescuerNode::epoch(const std::vector<responder::Odometry>& odometry,
                                const std::vector<estimator::SensorSample>& samples) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    for (const auto& [signal, found] : found_elsewhere_) {
-      if (found) local_->mark_done(signal);
-    }
+    for (const std::uint32_t signal : found_elsewhere_) local_->mark_done(signal);
   }
   // Motion first: the daemon must apply the step before this epoch's samples.
   for (const auto& o : odometry) {

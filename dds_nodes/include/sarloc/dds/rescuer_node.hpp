@@ -15,6 +15,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 
 #include "sarloc/core/estimator/make_estimator.hpp"
 #include "sarloc/core/responder/guidance_arbiter.hpp"
@@ -82,7 +83,7 @@ class RescuerNode {
   mutable std::mutex mutex_;
   std::condition_variable cv_;
   responder::GuidanceArbiter arbiter_;               // under mutex_
-  std::map<std::uint32_t, bool> found_elsewhere_;    // under mutex_
+  std::set<std::uint32_t> found_elsewhere_;          // signals incident command reports found; under mutex_
   std::vector<eprosima::fastrtps::rtps::InstanceHandle_t> live_core_writers_;  // NodeStatus writers of kind CORE
   std::unique_ptr<Reader<::sarloc::Guidance>> guidance_reader_;
   std::unique_ptr<Reader<::sarloc::VictimEstimate>> estimate_reader_;

@@ -3,7 +3,7 @@
 // criterion used by the evaluation.
 //
 // Modes (GuidanceMode):
-//   kOpening  the opening phase (seed 000's flux-line phase). Heading by
+//   kOpening         the opening phase (seed 000's flux-line phase). Heading by
 //                    opening_heading: kLookahead (default) walks the straight line whose next
 //                    steps are expected to leave the shortest way, counting the detour that
 //                    the remaining bearing ambiguity costs (lookahead_heading.hpp);
@@ -61,9 +61,9 @@ struct SearchConfig {
   double flux_smoothing = 0.7;         ///< memory of the SNR-weighted flux-line direction
   double flux_snr_cap = 10.0;          ///< SNR above which a direction gets no extra weight
   /// A measured flux direction turns the rescuer only by its SNR^2 in excess of this value
-  /// (per horizontal axis). Pure noise has E[SNR^2] = 1; chi2_2(0.95)/2 = 3.0 means a
-  /// noise-only reading rarely turns him: at the noise floor he walks on straight (the
-  /// baseline that makes |z| informative) instead of dithering.
+  /// (per horizontal axis; flux_line opening only). Pure noise has E[SNR^2] = 1, so a reading
+  /// at the noise floor leaves him walking straight (the baseline that makes |z|
+  /// informative). A stricter 3.0 (chi2_2(0.95)/2) measured worse (docs/estimation/avalanche.md).
   double flux_detection_snr2 = 1.0;
   OpeningHeading opening_heading = OpeningHeading::kLookahead;
   /// Angular width (1 sigma) of the kernel smoothing the posterior bearing density: wide
