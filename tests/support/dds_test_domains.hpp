@@ -19,6 +19,9 @@ enum DdsTestDomain : std::uint32_t {
   kDomainSecurity = 129,
   kDomainDiscoveryServer = 140,
   kDomainMissionSmall = 130,  // mission_test: 130..139 (138: lossy.yaml)
+  // tests/interop/cyclone_interop_test.sh (a script: the ids are passed by its CMakeLists.txt)
+  kDomainCycloneSubscribe = 150,
+  kDomainCyclonePublish = 151,
 };
 
 }  // namespace sarloc::test
