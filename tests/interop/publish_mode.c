@@ -199,7 +199,7 @@ static int take_answers(const Endpoints* ep, const char* rescuer_id, uint64_t se
 }
 
 static const char* mode_name(sarloc_GuidanceMode mode) {
-  static const char* names[] = {"FOLLOW_FLUX_LINE", "APPROACH", "FINE_SEARCH", "FOUND"};
+  static const char* names[] = {"OPENING", "APPROACH", "FINE_SEARCH", "FOUND"};
   return mode <= sarloc_GUIDANCE_FOUND ? names[mode] : "?";
 }
 
