@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "avalanche.h"
+#include "responder.h"
 #include "dipole_field.h"
 #include "interop_modes.h"
 #include "sample_checks.h"

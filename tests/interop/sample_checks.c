@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "avalanche.h"
+#include "responder.h"
 #include "incident.h"
 #include "status.h"
 

@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "avalanche.h"
+#include "responder.h"
 #include "incident.h"
 #include "sample_checks.h"
 #include "status.h"

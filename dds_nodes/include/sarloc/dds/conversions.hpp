@@ -14,6 +14,7 @@
 #include "sarloc/core/responder/responder_position.hpp"
 #include "sarloc/core/incident/team_status.hpp"
 #include "sarloc/idl/avalanche.h"
+#include "sarloc/idl/responder.h"
 #include "sarloc/idl/common.h"
 #include "sarloc/idl/incident.h"
 

@@ -3,6 +3,7 @@
 // config/dds/topics.xml ("<profile>.writer" / "<profile>.reader"). docs/topics.md is the
 // human-readable version of this table.
 #include "sarloc/idl/avalanchePubSubTypes.h"
+#include "sarloc/idl/responderPubSubTypes.h"
 #include "sarloc/idl/commonPubSubTypes.h"
 #include "sarloc/idl/incidentPubSubTypes.h"
 #include "sarloc/idl/statusPubSubTypes.h"
