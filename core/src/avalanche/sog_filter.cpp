@@ -205,11 +205,11 @@ MixtureMoments SogFilter::predicted_moments() const {
   MixtureMoments mm = moments();
   const Displacement& d = odometry_.peek();
   if (d.samples == 0) return mm;
-  const Mat3 r = rotation_from_rpy(mm.mean.segment<3>(idx::kAtt));
-  const Vec3 t = d.mean.segment<3>(idx::kTrans);
-  mm.mean.segment<3>(idx::kPos) -= r * t;  // eq. (7)
-  mm.mean.segment<3>(idx::kAtt) = rpy_from_rotation(r * rotation_from_rpy(d.mean.segment<3>(idx::kRot)));  // eq. (6)
-  mm.covariance.block<3, 3>(idx::kPos, idx::kPos) += r * d.covariance.block<3, 3>(idx::kTrans, idx::kTrans) * r.transpose();
+  CompositionJacobians f;
+  mm.mean = CompositionModel::f(mm.mean, d.mean, &f);  // eq. (9) on the mixture mean
+  // Position covariance grows by the step's translation: T Q_tt T^T, T = -R(Psi).
+  mm.covariance.block<3, 3>(idx::kPos, idx::kPos) +=
+      f.pos_trans * d.covariance.block<3, 3>(idx::kTrans, idx::kTrans) * f.pos_trans.transpose();
   return mm;
 }
 
@@ -368,11 +368,9 @@ double orientation_update(SogComponent& c, const OrientationObservation& o) {
 
 void SogFilter::update_field(const Vec3& z, const Vec3& floor, const Displacement& disp,
                              const OrientationObservation* orientation, SogStepResult& result) {
-  const Vec3 t = disp.mean.segment<3>(idx::kTrans);
-  const Vec3 dpsi = disp.mean.segment<3>(idx::kRot);
   const DispCov& q = disp.covariance;
-  const Mat3 r_d = rotation_from_rpy(dpsi);
-  const Mat3 e_d = euler_rate_to_world(dpsi);
+  // h of eq. (14) linearised at the odometry mean: R(dPsi), E_w(dPsi) shared by every component.
+  const MeasurementModel measurement(disp.mean);
   const double rel = config_.noise_relative;
   double max_ll = -std::numeric_limits<double>::infinity();
   double min_nis = std::numeric_limits<double>::infinity();
@@ -382,27 +380,9 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, const Displacemen
     SogComponent& c = components_[i];
     const StateCov& p = c.P;
     // --- Estimation step (eq. (14)) on x* = [x; d], P* = blkdiag(P, Q) ---
-    const Vec3 psi = c.x.segment<3>(idx::kAtt);
-    const Vec3 pos = c.x.segment<3>(idx::kPos);
-    const Vec3 mom = c.x.segment<3>(idx::kMom);
-    const EulerTrig trig = EulerTrig::from_rpy(psi);
-    const Mat3 r_g = trig.rotation();
-    const Mat3 e_w = trig.rate_to_world();
-    const Mat3 r_kt = (r_g * r_d).transpose();
-    const Vec3 rt = r_g * t;
-    const Vec3 r = rt - pos;
-    Mat3 j_r, j_m;
-    const Vec3 field = DipoleField::field(r, mom, &j_r, &j_m);
-    const Vec3 h = r_kt * field;
-    const Mat3 h_skew = skew(field);
-    const Mat3 rkt_jr = r_kt * j_r;
     Jacobian<3, idx::kStateDim> h_x;
-    h_x.block<3, 3>(0, idx::kAtt) = r_kt * (h_skew - j_r * skew(rt)) * e_w;
-    h_x.block<3, 3>(0, idx::kPos) = -rkt_jr;
-    h_x.block<3, 3>(0, idx::kMom) = r_kt * j_m;
     Jacobian<3, idx::kDispDim> h_d;
-    h_d.block<3, 3>(0, idx::kTrans) = rkt_jr * r_g;
-    h_d.block<3, 3>(0, idx::kRot) = r_kt * h_skew * r_g * e_d;
+    const Vec3 h = measurement.h(c.x, &h_x, &h_d);
 
     const Jacobian<idx::kStateDim, 3> pht = p.lazyProduct(h_x.transpose());
     const Jacobian<idx::kDispDim, 3> qht = q.lazyProduct(h_d.transpose());
@@ -421,51 +401,39 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, const Displacemen
     const double nis = nu.dot(s_inv_nu);
     min_nis = std::min(min_nis, nis);
     const double ll = -0.5 * (nis + std::log(det));
-    StateVec x_post = c.x + pht * s_inv_nu;
-    DispVec d_post = disp.mean + qht * s_inv_nu;
+    const StateVec x_post = c.x + pht * s_inv_nu;
+    const DispVec d_post = disp.mean + qht * s_inv_nu;
 
     // --- Composition step (eq. (9), (15)) evaluated at the posterior ---
-    const Vec3 psi_p = x_post.segment<3>(idx::kAtt);
-    const Vec3 t_p = d_post.segment<3>(idx::kTrans);
-    const Vec3 dpsi_p = d_post.segment<3>(idx::kRot);
-    const EulerTrig trig_p = EulerTrig::from_rpy(psi_p);
-    const EulerTrig trig_dp = EulerTrig::from_rpy(dpsi_p);
-    const Mat3 r_gp = trig_p.rotation();
-    const Mat3 r_kp = r_gp * trig_dp.rotation();
-    const Vec3 psi_k = rpy_from_rotation(r_kp);
-    const Vec3 rt_p = r_gp * t_p;
-    const Mat3 e_inv_k = EulerTrig::from_rotation(r_kp).world_to_rate();
-    const Mat3 e_wp = trig_p.rate_to_world();
-    const Mat3 a = e_inv_k * e_wp;                              // dPsi_k / dPsi
-    const Mat3 cc = skew(rt_p) * e_wp;                          // dp_k / dPsi
-    const Mat3 dd = e_inv_k * r_gp * trig_dp.rate_to_world();   // dPsi_k / ddPsi
-    // dp_k / dt = -R(Psi).
+    // F_x = [[A,0,0],[C,I,0],[0,0,I]], F_d = [[0,D],[T,0],[0,0]] (CompositionJacobians).
+    CompositionJacobians f;
+    const StateVec x_new = CompositionModel::f(x_post, d_post, &f);
 
-    // F_x P F_x^T with F_x = [[a,0,0],[cc,I,0],[0,0,I]]: apply F on the left twice.
+    // F_x P F_x^T: apply F_x on the left twice.
     auto apply_f = [&](const StateCov& m) {
       StateCov fm = m;
-      fm.middleRows<3>(idx::kAtt) = a * m.middleRows<3>(idx::kAtt);
-      fm.middleRows<3>(idx::kPos) += cc * m.middleRows<3>(idx::kAtt);
+      fm.middleRows<3>(idx::kAtt) = f.att_att * m.middleRows<3>(idx::kAtt);
+      fm.middleRows<3>(idx::kPos) += f.pos_att * m.middleRows<3>(idx::kAtt);
       return fm;
     };
     const StateCov fp = apply_f(p);
     StateCov p_new = apply_f(fp.transpose());
-    // F_d Q F_d^T: rows Psi <- dPsi (dd), rows p <- t (-R_g).
+    // F_d Q F_d^T: rows Psi <- dPsi (D), rows p <- t (T).
     const Mat3 q_tt = q.block<3, 3>(idx::kTrans, idx::kTrans);
     const Mat3 q_tr = q.block<3, 3>(idx::kTrans, idx::kRot);
     const Mat3 q_rr = q.block<3, 3>(idx::kRot, idx::kRot);
-    const Mat3 psi_psi = dd * q_rr * dd.transpose();
-    const Mat3 psi_pos = -dd * q_tr.transpose() * r_gp.transpose();
+    const Mat3 psi_psi = f.att_rot * q_rr * f.att_rot.transpose();
+    const Mat3 psi_pos = f.att_rot * q_tr.transpose() * f.pos_trans.transpose();
     p_new.block<3, 3>(idx::kAtt, idx::kAtt) += psi_psi;
     p_new.block<3, 3>(idx::kAtt, idx::kPos) += psi_pos;
     p_new.block<3, 3>(idx::kPos, idx::kAtt) += psi_pos.transpose();
-    p_new.block<3, 3>(idx::kPos, idx::kPos) += r_gp * q_tt * r_gp.transpose();
+    p_new.block<3, 3>(idx::kPos, idx::kPos) += f.pos_trans * q_tt * f.pos_trans.transpose();
     // M = F_x P H_x^T + F_d Q H_d^T.
     Jacobian<idx::kStateDim, 3> mm = pht;
-    mm.middleRows<3>(idx::kAtt) = a * pht.middleRows<3>(idx::kAtt) +
-                                  dd * qht.middleRows<3>(idx::kRot);
-    mm.middleRows<3>(idx::kPos) += cc * pht.middleRows<3>(idx::kAtt) -
-                                   r_gp * qht.middleRows<3>(idx::kTrans);
+    mm.middleRows<3>(idx::kAtt) = f.att_att * pht.middleRows<3>(idx::kAtt) +
+                                  f.att_rot * qht.middleRows<3>(idx::kRot);
+    mm.middleRows<3>(idx::kPos) += f.pos_att * pht.middleRows<3>(idx::kAtt) +
+                                   f.pos_trans * qht.middleRows<3>(idx::kTrans);
     const Jacobian<idx::kStateDim, 3> mm_s = mm.lazyProduct(s_inv);
     p_new.noalias() -= mm_s.lazyProduct(mm.transpose());
     p_new = 0.5 * (p_new + p_new.transpose()).eval();
@@ -475,9 +443,7 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, const Displacemen
       continue;
     }
     SogComponent& dst = components_[out++];
-    dst.x.segment<3>(idx::kAtt) = psi_k;
-    dst.x.segment<3>(idx::kPos) = x_post.segment<3>(idx::kPos) - rt_p;
-    dst.x.segment<3>(idx::kMom) = x_post.segment<3>(idx::kMom);
+    dst.x = x_new;
     dst.P = p_new;
     dst.log_weight = c.log_weight + ll;
     max_ll = std::max(max_ll, ll);
