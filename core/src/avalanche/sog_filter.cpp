@@ -1,7 +1,6 @@
 #include "sarloc/core/avalanche/sog_filter.hpp"
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -12,6 +11,7 @@
 #include "sarloc/core/avalanche/rotation.hpp"
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/gaussian.hpp"
 
 namespace sarloc::avalanche {
 namespace {
@@ -36,8 +36,34 @@ std::string fmt(const Vec3& v) {
 
 bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
 
-// 95 % radius of a 3-D Gaussian along its worst axis: sqrt(chi2_3(0.95) * lambda_max).
-constexpr double kChi2_3_95 = 7.814727903251178;
+// x with its angles re-expressed next to ref's, so that averaging never crosses +-pi.
+StateVec near_angles(StateVec x, const StateVec& ref) {
+  for (int k = 0; k < 3; ++k)
+    x[idx::kAtt + k] = ref[idx::kAtt + k] + wrap_angle(x[idx::kAtt + k] - ref[idx::kAtt + k]);
+  return x;
+}
+
+// Index list 0 .. n-1 (every component) for moments_of.
+struct AllIndices {
+  std::size_t n;
+  std::size_t size() const { return n; }
+  std::size_t operator[](std::size_t k) const { return k; }
+};
+
+// Eq. (18) over the listed components, in list order, angles relative to ref; the weights are
+// exp(log_weight - log_base). The one moment match of the filter: moments() and merge().
+template <typename Indices>
+GaussianMoments<idx::kStateDim> moments_of(const std::vector<SogComponent>& components,
+                                           const Indices& members, const StateVec& ref,
+                                           double log_base) {
+  return match_moments<idx::kStateDim>(
+      members.size(),
+      [&](std::size_t k) {
+        const SogComponent& c = components[members[k]];
+        return WeightedGaussianRef<idx::kStateDim>{c.log_weight, near_angles(c.x, ref), c.P};
+      },
+      log_base);
+}
 
 }  // namespace
 
@@ -458,16 +484,18 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, const Displacemen
                      ": every hypothesis became numerically invalid");
 }
 
+double SogFilter::surface_log_support(const SogComponent& c) const {
+  if (!config_.surface_constraint) return 0.0;
+  // log P(p_z <= surface) = log Phi((surface - mu_z) / sigma_z), surface = -antenna height.
+  const double mu = c.x[idx::kPos + 2];
+  const double sd = std::sqrt(c.P(idx::kPos + 2, idx::kPos + 2));
+  return log_normal_cdf((-config_.antenna_height_m - mu) / sd);
+}
+
 void SogFilter::apply_surface_constraint() {
   if (!config_.surface_constraint) return;
-  const double surface = -config_.antenna_height_m;
   for (auto& c : components_) {
-    const double mu = c.x[idx::kPos + 2];
-    const double sd = std::sqrt(c.P(idx::kPos + 2, idx::kPos + 2));
-    // log Phi((surface - mu) / sd) via erfc, accurate far in the tail.
-    const double u = (surface - mu) / sd;
-    const double log_phi = u > -30.0 ? std::log(0.5 * std::erfc(-u / std::sqrt(2.0)))
-                                     : -0.5 * u * u - std::log(-u * std::sqrt(2.0 * kPi));
+    const double log_phi = surface_log_support(c);
     c.log_weight += log_phi - c.log_support;
     c.log_support = log_phi;
   }
@@ -541,41 +569,16 @@ std::size_t SogFilter::merge() {
       if (group.empty()) continue;
       // Moment-matched merge (eq. (18) restricted to the group), angles relative to i.
       group.push_back(i);
-      double wsum = 0.0;
-      StateVec mean = StateVec::Zero();
-      std::vector<StateVec> xs;
-      xs.reserve(group.size());
       const double base = ci.log_weight;
-      for (std::uint32_t g : group) {
-        StateVec xg = components_[g].x;
-        for (int k = 0; k < 3; ++k)
-          xg[idx::kAtt + k] = ci.x[idx::kAtt + k] + wrap_angle(xg[idx::kAtt + k] - ci.x[idx::kAtt + k]);
-        const double w = std::exp(components_[g].log_weight - base);
-        wsum += w;
-        mean += w * xg;
-        xs.push_back(xg);
-      }
-      mean /= wsum;
-      StateCov cov = StateCov::Zero();
-      for (std::size_t g = 0; g < group.size(); ++g) {
-        const double w = std::exp(components_[group[g]].log_weight - base);
-        const StateVec dv = xs[g] - mean;
-        cov += w * (components_[group[g]].P + dv * dv.transpose());
-      }
-      cov /= wsum;
-      ci.x = mean;
-      ci.x[idx::kAtt + 2] = wrap_angle(ci.x[idx::kAtt + 2]);
-      ci.P = 0.5 * (cov + cov.transpose());
-      ci.log_weight = base + std::log(wsum);
+      const GaussianMoments<idx::kStateDim> merged_moments =
+          moments_of(components_, group, ci.x, base);
+      ci.x = merged_moments.mean;
+      ci.x[idx::kAtt + 2] = wrap_angle(ci.x[idx::kAtt + 2]);  // a component's yaw is wrapped
+      ci.P = 0.5 * (merged_moments.covariance + merged_moments.covariance.transpose());
+      ci.log_weight = base + std::log(merged_moments.weight_sum);
       // The members' weights already carry their surface factor: restart the bookkeeping from
       // the merged Gaussian so later steps apply only the change.
-      ci.log_support = 0.0;
-      {
-        const double sd = std::sqrt(ci.P(idx::kPos + 2, idx::kPos + 2));
-        const double u = (-config_.antenna_height_m - ci.x[idx::kPos + 2]) / sd;
-        if (config_.surface_constraint && u > -30.0)
-          ci.log_support = std::log(0.5 * std::erfc(-u / std::sqrt(2.0)));
-      }
+      ci.log_support = surface_log_support(ci);
       for (std::size_t g = 0; g + 1 < group.size(); ++g) gone[group[g]] = 1;
       merged += group.size() - 1;
     }
@@ -594,26 +597,11 @@ MixtureMoments SogFilter::moments() const {
   std::size_t best = 0;
   for (std::size_t i = 1; i < components_.size(); ++i)
     if (components_[i].log_weight > components_[best].log_weight) best = i;
-  const StateVec& ref = components_[best].x;
-  std::vector<StateVec> xs;
-  xs.reserve(components_.size());
-  double wsum = 0.0;
-  for (const auto& c : components_) {
-    StateVec x = c.x;
-    for (int k = 0; k < 3; ++k)
-      x[idx::kAtt + k] = ref[idx::kAtt + k] + wrap_angle(x[idx::kAtt + k] - ref[idx::kAtt + k]);
-    const double w = std::exp(c.log_weight);
-    wsum += w;
-    mm.mean += w * x;
-    xs.push_back(x);
-  }
-  mm.mean /= wsum;
-  for (std::size_t i = 0; i < components_.size(); ++i) {
-    const double w = std::exp(components_[i].log_weight);
-    const StateVec dv = xs[i] - mm.mean;
-    mm.covariance += w * (components_[i].P + dv * dv.transpose());
-  }
-  mm.covariance /= wsum;
+  // Weights are normalised (log-sum-exp = 0): log_base 0.
+  const GaussianMoments<idx::kStateDim> g =
+      moments_of(components_, AllIndices{components_.size()}, components_[best].x, 0.0);
+  mm.mean = g.mean;
+  mm.covariance = g.covariance;
   return mm;
 }
 
@@ -631,11 +619,7 @@ VictimEstimate SogFilter::estimate(std::size_t top_k) const {
   e.relative.position = mm.mean.segment<3>(idx::kPos);
   e.relative.covariance = mm.covariance.block<3, 3>(idx::kPos, idx::kPos);
   e.moment = mm.mean.segment<3>(idx::kMom);
-  const double lmax = Eigen::SelfAdjointEigenSolver<Mat3>(e.relative.covariance,
-                                                          Eigen::EigenvaluesOnly)
-                          .eigenvalues()
-                          .maxCoeff();
-  e.status = std::sqrt(kChi2_3_95 * std::max(lmax, 0.0)) <= config_.converged_radius_m
+  e.status = radius95_3d(e.relative.covariance) <= config_.converged_radius_m
                  ? EstimatorStatus::kConverged
                  : EstimatorStatus::kMultimodal;
   std::vector<std::size_t> order(components_.size());

@@ -9,6 +9,7 @@
 #include "sarloc/core/avalanche/odometry_accumulator.hpp"
 #include "sarloc/core/avalanche/simulator.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/gaussian.hpp"
 
 namespace sarloc::avalanche {
 namespace {
@@ -233,6 +234,31 @@ TEST(SogFilterTest, StepEqualsDenseAlgorithmOnTheAugmentedState) {
   for (double v : log_w) sum += std::exp(v - max_log_w);
   for (std::size_t i = 0; i < before.size(); ++i)
     EXPECT_NEAR(f.components()[i].log_weight, log_w[i] - max_log_w - std::log(sum), 1e-8);
+}
+
+// Surface term (SogConfig::surface_constraint): after every step, including the components a
+// merge produced, each component's log_support is log P(p_z below the surface) of its own
+// Gaussian (one implementation, SogFilter::surface_log_support).
+TEST(SogFilterTest, SurfaceSupportIsThatOfEachComponentAfterMerging) {
+  AvalancheSimulator sim(SimulationConfig{}, fixed_scenario(), 13);
+  SogConfig cfg;
+  cfg.initial_components = 400;
+  cfg.surface_constraint = true;
+  cfg.merge_cell_m = 10.0;  // merge often
+  cfg.merge_mahalanobis = 50.0;
+  SogFilter f(cfg);
+  f.process(sim.measure());
+  std::size_t merged = 0;
+  for (int k = 0; k < 8; ++k) {
+    f.add_odometry(sim.walk(bearing_to_truth(sim), 1.0));
+    merged += f.process(sim.measure()).merged;
+    for (const SogComponent& c : f.components()) {
+      const double u = (-cfg.antenna_height_m - c.x[idx::kPos + 2]) /
+                       std::sqrt(c.P(idx::kPos + 2, idx::kPos + 2));
+      ASSERT_NEAR(c.log_support, log_normal_cdf(u), 1e-12);
+    }
+  }
+  EXPECT_GT(merged, 0u);
 }
 
 TEST(SogFilterTest, CopiesAreIndependent) {
