@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "sarloc/core/avalanche/bearing_density.hpp"
+#include "sarloc/core/common/gaussian.hpp"
 
 namespace sarloc::eval {
 namespace av = sarloc::avalanche;
@@ -31,7 +32,7 @@ void print_trace_step(const av::TrialStep& s) {
               s.step, static_cast<int>(s.guidance.mode), s.measurement.field.norm(), truth.x(),
               truth.y(), truth.z(), s.estimate.relative.position.x(),
               s.estimate.relative.position.y(), s.estimate.relative.position.z(), err.norm(),
-              av::SearchController::radius95_3d(s.estimate.relative.covariance), s.filter.size(),
+              sarloc::radius95_3d(s.estimate.relative.covariance), s.filter.size(),
               s.filter_result.min_nis, w0, nees,
               av::bearing_agreement(s.filter.components(), bearing_of(truth)).mass_within_45deg,
               s.filter_result.reinitialised ? " REINIT" : "");

@@ -44,37 +44,45 @@ Vec3 DipoleField::moment(const Vec3& r, const Vec3& h, Mat3* J_m_r, Mat3* J_m_H)
   return m;
 }
 
-Vec3 MeasurementModel::h(const StateVec& x, const DispVec& d, Jacobian<3, idx::kStateDim>* H_x,
-                         Jacobian<3, idx::kDispDim>* H_d) {
-  const Vec3 psi = x.segment<3>(idx::kAtt);
+MeasurementModel::MeasurementModel(const DispVec& d) : t_(d.segment<3>(idx::kTrans)) {
+  const EulerTrig trig_d = EulerTrig::from_rpy(d.segment<3>(idx::kRot));
+  r_d_ = trig_d.rotation();
+  e_d_ = trig_d.rate_to_world();
+}
+
+Vec3 MeasurementModel::h(const StateVec& x, Jacobian<3, idx::kStateDim>* H_x,
+                         Jacobian<3, idx::kDispDim>* H_d) const {
   const Vec3 p = x.segment<3>(idx::kPos);
   const Vec3 m = x.segment<3>(idx::kMom);
-  const Vec3 t = d.segment<3>(idx::kTrans);
-  const Vec3 dpsi = d.segment<3>(idx::kRot);
-  const Mat3 r_g = rotation_from_rpy(psi);
-  const Mat3 r_d = rotation_from_rpy(dpsi);
-  const Mat3 r_k = r_g * r_d;
-  const Vec3 rt = r_g * t;
+  const EulerTrig trig = EulerTrig::from_rpy(x.segment<3>(idx::kAtt));
+  const Mat3 r_g = trig.rotation();
+  const Mat3 r_kt = (r_g * r_d_).transpose();  // R_k^T, R_k = R(Psi) R(dPsi)
+  const Vec3 rt = r_g * t_;
   const Vec3 r = rt - p;  // transmitter -> receiver in G_{k-1}
   Mat3 j_r, j_m;
   const bool need = H_x != nullptr || H_d != nullptr;
   const Vec3 field = DipoleField::field(r, m, need ? &j_r : nullptr, need ? &j_m : nullptr);
   if (need) {
-    const Mat3 rkt = r_k.transpose();
-    const Mat3 rkt_jr = rkt * j_r;
+    // A change dPsi rotates by omega = E_w(Psi) dPsi: d(R t) = -[R t]x omega moves r, and
+    // the rotated frame adds R_k^T [H_G]x omega. dr/dp = -I, dr/dt = R(Psi).
     const Mat3 h_skew = skew(field);
+    const Mat3 rkt_jr = r_kt * j_r;
     if (H_x != nullptr) {
-      H_x->block<3, 3>(0, idx::kAtt) =
-          rkt * (h_skew - j_r * skew(rt)) * euler_rate_to_world(psi);
+      H_x->block<3, 3>(0, idx::kAtt) = r_kt * (h_skew - j_r * skew(rt)) * trig.rate_to_world();
       H_x->block<3, 3>(0, idx::kPos) = -rkt_jr;
-      H_x->block<3, 3>(0, idx::kMom) = rkt * j_m;
+      H_x->block<3, 3>(0, idx::kMom) = r_kt * j_m;
     }
     if (H_d != nullptr) {
       H_d->block<3, 3>(0, idx::kTrans) = rkt_jr * r_g;
-      H_d->block<3, 3>(0, idx::kRot) = rkt * h_skew * r_g * euler_rate_to_world(dpsi);
+      H_d->block<3, 3>(0, idx::kRot) = r_kt * h_skew * r_g * e_d_;
     }
   }
-  return r_k.transpose() * field;
+  return r_kt * field;
+}
+
+Vec3 MeasurementModel::h(const StateVec& x, const DispVec& d, Jacobian<3, idx::kStateDim>* H_x,
+                         Jacobian<3, idx::kDispDim>* H_d) {
+  return MeasurementModel(d).h(x, H_x, H_d);
 }
 
 Vec3 MeasurementModel::h(const AugVec& xa, Jacobian<3, idx::kAugDim>* H) {
@@ -86,33 +94,49 @@ Vec3 MeasurementModel::h(const AugVec& xa, Jacobian<3, idx::kAugDim>* H) {
   return z;
 }
 
+StateCov CompositionJacobians::F_x() const {
+  StateCov f = StateCov::Identity();
+  f.block<3, 3>(idx::kAtt, idx::kAtt) = att_att;
+  f.block<3, 3>(idx::kPos, idx::kAtt) = pos_att;
+  return f;
+}
+
+Jacobian<idx::kStateDim, idx::kDispDim> CompositionJacobians::F_d() const {
+  Jacobian<idx::kStateDim, idx::kDispDim> f = Jacobian<idx::kStateDim, idx::kDispDim>::Zero();
+  f.block<3, 3>(idx::kAtt, idx::kRot) = att_rot;
+  f.block<3, 3>(idx::kPos, idx::kTrans) = pos_trans;
+  return f;
+}
+
+StateVec CompositionModel::f(const StateVec& x, const DispVec& d, CompositionJacobians* J) {
+  const EulerTrig trig = EulerTrig::from_rpy(x.segment<3>(idx::kAtt));
+  const EulerTrig trig_d = EulerTrig::from_rpy(d.segment<3>(idx::kRot));
+  const Mat3 r_g = trig.rotation();
+  const Mat3 r_k = r_g * trig_d.rotation();
+  const Vec3 rt = r_g * d.segment<3>(idx::kTrans);
+  StateVec out;
+  out.segment<3>(idx::kAtt) = rpy_from_rotation(r_k);                  // eq. (6)
+  out.segment<3>(idx::kPos) = x.segment<3>(idx::kPos) - rt;            // eq. (7)
+  out.segment<3>(idx::kMom) = x.segment<3>(idx::kMom);                 // eq. (8)
+  if (J != nullptr) {
+    // E_w(Psi_k)^-1 from R_k directly (no trigonometric call).
+    const Mat3 e_inv_k = EulerTrig::from_rotation(r_k).world_to_rate();
+    const Mat3 e_w = trig.rate_to_world();
+    J->att_att = e_inv_k * e_w;
+    J->pos_att = skew(rt) * e_w;
+    J->att_rot = e_inv_k * r_g * trig_d.rate_to_world();
+    J->pos_trans = -r_g;
+  }
+  return out;
+}
+
 StateVec CompositionModel::f(const StateVec& x, const DispVec& d, StateCov* F_x,
                              Jacobian<idx::kStateDim, idx::kDispDim>* F_d) {
-  const Vec3 psi = x.segment<3>(idx::kAtt);
-  const Vec3 t = d.segment<3>(idx::kTrans);
-  const Vec3 dpsi = d.segment<3>(idx::kRot);
-  const Mat3 r_g = rotation_from_rpy(psi);
-  const Mat3 r_k = r_g * rotation_from_rpy(dpsi);
-  const Vec3 psi_k = rpy_from_rotation(r_k);
-  const Vec3 rt = r_g * t;
-  StateVec out;
-  out.segment<3>(idx::kAtt) = psi_k;
-  out.segment<3>(idx::kPos) = x.segment<3>(idx::kPos) - rt;
-  out.segment<3>(idx::kMom) = x.segment<3>(idx::kMom);
-  if (F_x != nullptr || F_d != nullptr) {
-    const Mat3 e_inv_k = world_to_euler_rate(psi_k);
-    if (F_x != nullptr) {
-      F_x->setIdentity();
-      const Mat3 e_w = euler_rate_to_world(psi);
-      F_x->block<3, 3>(idx::kAtt, idx::kAtt) = e_inv_k * e_w;
-      F_x->block<3, 3>(idx::kPos, idx::kAtt) = skew(rt) * e_w;
-    }
-    if (F_d != nullptr) {
-      F_d->setZero();
-      F_d->block<3, 3>(idx::kAtt, idx::kRot) = e_inv_k * r_g * euler_rate_to_world(dpsi);
-      F_d->block<3, 3>(idx::kPos, idx::kTrans) = -r_g;
-    }
-  }
+  if (F_x == nullptr && F_d == nullptr) return f(x, d, static_cast<CompositionJacobians*>(nullptr));
+  CompositionJacobians j;
+  const StateVec out = f(x, d, &j);
+  if (F_x != nullptr) *F_x = j.F_x();
+  if (F_d != nullptr) *F_d = j.F_d();
   return out;
 }
 

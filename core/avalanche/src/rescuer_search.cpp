@@ -6,6 +6,7 @@
 
 #include "sarloc/core/avalanche/rotation.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/gaussian.hpp"
 
 namespace sarloc::avalanche {
 using responder::reject;
@@ -238,7 +239,7 @@ std::optional<Guidance> RescuerSearch::coast(TimestampNs stamp) const {
   g.stamp = stamp;
   g.mode = s.controller.mode() == GuidanceMode::kFound ? GuidanceMode::kApproach : s.controller.mode();
   g.distance_m = p.head<2>().norm();
-  g.uncertainty_radius_m = SearchController::radius95_2d(mm.covariance.block<3, 3>(idx::kPos, idx::kPos));
+  g.uncertainty_radius_m = radius95_2d(mm.covariance.block<3, 3>(idx::kPos, idx::kPos));
   g.heading_rad = std::atan2(p.y(), p.x());
   g.bearing_rad = wrap_angle(g.heading_rad - yaw);
   g.step_m = std::min(config_.search.step_length_m, g.distance_m);

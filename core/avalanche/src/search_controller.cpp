@@ -1,6 +1,5 @@
 #include "sarloc/core/avalanche/search_controller.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -8,12 +7,10 @@
 #include "sarloc/core/avalanche/bearing_density.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/gaussian.hpp"
 
 namespace sarloc::avalanche {
 namespace {
-
-constexpr double kChi2_3_95 = 7.814727903251178;
-constexpr double kChi2_2_95 = 5.991464547107979;
 
 void check(const char* key, double v, double lo, double hi, bool lo_open) {
   const bool ok = std::isfinite(v) && (lo_open ? v > lo : v >= lo) && v <= hi;
@@ -62,21 +59,6 @@ OpeningHeading parse_opening_heading(const std::string& text) {
 }
 
 SearchController::SearchController(SearchConfig config) : config_(config) { config_.validate(); }
-
-double SearchController::radius95_3d(const Mat3& cov) {
-  const double l = Eigen::SelfAdjointEigenSolver<Mat3>(cov, Eigen::EigenvaluesOnly)
-                       .eigenvalues()
-                       .maxCoeff();
-  return std::sqrt(kChi2_3_95 * std::max(l, 0.0));
-}
-
-double SearchController::radius95_2d(const Mat3& cov) {
-  const Eigen::Matrix2d c = cov.topLeftCorner<2, 2>();
-  const double l = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(c, Eigen::EigenvaluesOnly)
-                       .eigenvalues()
-                       .maxCoeff();
-  return std::sqrt(kChi2_2_95 * std::max(l, 0.0));
-}
 
 double SearchController::located_radius(const Vec3& relative_position) const {
   // Position precision degrades with range (|H| ~ 1/r^3: a relative field error gives a

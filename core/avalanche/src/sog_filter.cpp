@@ -1,7 +1,6 @@
 #include "sarloc/core/avalanche/sog_filter.hpp"
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -12,6 +11,7 @@
 #include "sarloc/core/avalanche/rotation.hpp"
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/gaussian.hpp"
 
 namespace sarloc::avalanche {
 namespace {
@@ -36,8 +36,34 @@ std::string fmt(const Vec3& v) {
 
 bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
 
-// 95 % radius of a 3-D Gaussian along its worst axis: sqrt(chi2_3(0.95) * lambda_max).
-constexpr double kChi2_3_95 = 7.814727903251178;
+// x with its angles re-expressed next to ref's, so that averaging never crosses +-pi.
+StateVec near_angles(StateVec x, const StateVec& ref) {
+  for (int k = 0; k < 3; ++k)
+    x[idx::kAtt + k] = ref[idx::kAtt + k] + wrap_angle(x[idx::kAtt + k] - ref[idx::kAtt + k]);
+  return x;
+}
+
+// Index list 0 .. n-1 (every component) for moments_of.
+struct AllIndices {
+  std::size_t n;
+  std::size_t size() const { return n; }
+  std::size_t operator[](std::size_t k) const { return k; }
+};
+
+// Eq. (18) over the listed components, in list order, angles relative to ref; the weights are
+// exp(log_weight - log_base). The one moment match of the filter: moments() and merge().
+template <typename Indices>
+GaussianMoments<idx::kStateDim> moments_of(const std::vector<SogComponent>& components,
+                                           const Indices& members, const StateVec& ref,
+                                           double log_base) {
+  return match_moments<idx::kStateDim>(
+      members.size(),
+      [&](std::size_t k) {
+        const SogComponent& c = components[members[k]];
+        return WeightedGaussianRef<idx::kStateDim>{c.log_weight, near_angles(c.x, ref), c.P};
+      },
+      log_base);
+}
 
 }  // namespace
 
@@ -205,11 +231,11 @@ MixtureMoments SogFilter::predicted_moments() const {
   MixtureMoments mm = moments();
   const Displacement& d = odometry_.peek();
   if (d.samples == 0) return mm;
-  const Mat3 r = rotation_from_rpy(mm.mean.segment<3>(idx::kAtt));
-  const Vec3 t = d.mean.segment<3>(idx::kTrans);
-  mm.mean.segment<3>(idx::kPos) -= r * t;  // eq. (7)
-  mm.mean.segment<3>(idx::kAtt) = rpy_from_rotation(r * rotation_from_rpy(d.mean.segment<3>(idx::kRot)));  // eq. (6)
-  mm.covariance.block<3, 3>(idx::kPos, idx::kPos) += r * d.covariance.block<3, 3>(idx::kTrans, idx::kTrans) * r.transpose();
+  CompositionJacobians f;
+  mm.mean = CompositionModel::f(mm.mean, d.mean, &f);  // eq. (9) on the mixture mean
+  // Position covariance grows by the step's translation: T Q_tt T^T, T = -R(Psi).
+  mm.covariance.block<3, 3>(idx::kPos, idx::kPos) +=
+      f.pos_trans * d.covariance.block<3, 3>(idx::kTrans, idx::kTrans) * f.pos_trans.transpose();
   return mm;
 }
 
@@ -368,11 +394,9 @@ double orientation_update(SogComponent& c, const OrientationObservation& o) {
 
 void SogFilter::update_field(const Vec3& z, const Vec3& floor, const Displacement& disp,
                              const OrientationObservation* orientation, SogStepResult& result) {
-  const Vec3 t = disp.mean.segment<3>(idx::kTrans);
-  const Vec3 dpsi = disp.mean.segment<3>(idx::kRot);
   const DispCov& q = disp.covariance;
-  const Mat3 r_d = rotation_from_rpy(dpsi);
-  const Mat3 e_d = euler_rate_to_world(dpsi);
+  // h of eq. (14) linearised at the odometry mean: R(dPsi), E_w(dPsi) shared by every component.
+  const MeasurementModel measurement(disp.mean);
   const double rel = config_.noise_relative;
   double max_ll = -std::numeric_limits<double>::infinity();
   double min_nis = std::numeric_limits<double>::infinity();
@@ -382,27 +406,9 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, const Displacemen
     SogComponent& c = components_[i];
     const StateCov& p = c.P;
     // --- Estimation step (eq. (14)) on x* = [x; d], P* = blkdiag(P, Q) ---
-    const Vec3 psi = c.x.segment<3>(idx::kAtt);
-    const Vec3 pos = c.x.segment<3>(idx::kPos);
-    const Vec3 mom = c.x.segment<3>(idx::kMom);
-    const EulerTrig trig = EulerTrig::from_rpy(psi);
-    const Mat3 r_g = trig.rotation();
-    const Mat3 e_w = trig.rate_to_world();
-    const Mat3 r_kt = (r_g * r_d).transpose();
-    const Vec3 rt = r_g * t;
-    const Vec3 r = rt - pos;
-    Mat3 j_r, j_m;
-    const Vec3 field = DipoleField::field(r, mom, &j_r, &j_m);
-    const Vec3 h = r_kt * field;
-    const Mat3 h_skew = skew(field);
-    const Mat3 rkt_jr = r_kt * j_r;
     Jacobian<3, idx::kStateDim> h_x;
-    h_x.block<3, 3>(0, idx::kAtt) = r_kt * (h_skew - j_r * skew(rt)) * e_w;
-    h_x.block<3, 3>(0, idx::kPos) = -rkt_jr;
-    h_x.block<3, 3>(0, idx::kMom) = r_kt * j_m;
     Jacobian<3, idx::kDispDim> h_d;
-    h_d.block<3, 3>(0, idx::kTrans) = rkt_jr * r_g;
-    h_d.block<3, 3>(0, idx::kRot) = r_kt * h_skew * r_g * e_d;
+    const Vec3 h = measurement.h(c.x, &h_x, &h_d);
 
     const Jacobian<idx::kStateDim, 3> pht = p.lazyProduct(h_x.transpose());
     const Jacobian<idx::kDispDim, 3> qht = q.lazyProduct(h_d.transpose());
@@ -421,51 +427,39 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, const Displacemen
     const double nis = nu.dot(s_inv_nu);
     min_nis = std::min(min_nis, nis);
     const double ll = -0.5 * (nis + std::log(det));
-    StateVec x_post = c.x + pht * s_inv_nu;
-    DispVec d_post = disp.mean + qht * s_inv_nu;
+    const StateVec x_post = c.x + pht * s_inv_nu;
+    const DispVec d_post = disp.mean + qht * s_inv_nu;
 
     // --- Composition step (eq. (9), (15)) evaluated at the posterior ---
-    const Vec3 psi_p = x_post.segment<3>(idx::kAtt);
-    const Vec3 t_p = d_post.segment<3>(idx::kTrans);
-    const Vec3 dpsi_p = d_post.segment<3>(idx::kRot);
-    const EulerTrig trig_p = EulerTrig::from_rpy(psi_p);
-    const EulerTrig trig_dp = EulerTrig::from_rpy(dpsi_p);
-    const Mat3 r_gp = trig_p.rotation();
-    const Mat3 r_kp = r_gp * trig_dp.rotation();
-    const Vec3 psi_k = rpy_from_rotation(r_kp);
-    const Vec3 rt_p = r_gp * t_p;
-    const Mat3 e_inv_k = EulerTrig::from_rotation(r_kp).world_to_rate();
-    const Mat3 e_wp = trig_p.rate_to_world();
-    const Mat3 a = e_inv_k * e_wp;                              // dPsi_k / dPsi
-    const Mat3 cc = skew(rt_p) * e_wp;                          // dp_k / dPsi
-    const Mat3 dd = e_inv_k * r_gp * trig_dp.rate_to_world();   // dPsi_k / ddPsi
-    // dp_k / dt = -R(Psi).
+    // F_x = [[A,0,0],[C,I,0],[0,0,I]], F_d = [[0,D],[T,0],[0,0]] (CompositionJacobians).
+    CompositionJacobians f;
+    const StateVec x_new = CompositionModel::f(x_post, d_post, &f);
 
-    // F_x P F_x^T with F_x = [[a,0,0],[cc,I,0],[0,0,I]]: apply F on the left twice.
+    // F_x P F_x^T: apply F_x on the left twice.
     auto apply_f = [&](const StateCov& m) {
       StateCov fm = m;
-      fm.middleRows<3>(idx::kAtt) = a * m.middleRows<3>(idx::kAtt);
-      fm.middleRows<3>(idx::kPos) += cc * m.middleRows<3>(idx::kAtt);
+      fm.middleRows<3>(idx::kAtt) = f.att_att * m.middleRows<3>(idx::kAtt);
+      fm.middleRows<3>(idx::kPos) += f.pos_att * m.middleRows<3>(idx::kAtt);
       return fm;
     };
     const StateCov fp = apply_f(p);
     StateCov p_new = apply_f(fp.transpose());
-    // F_d Q F_d^T: rows Psi <- dPsi (dd), rows p <- t (-R_g).
+    // F_d Q F_d^T: rows Psi <- dPsi (D), rows p <- t (T).
     const Mat3 q_tt = q.block<3, 3>(idx::kTrans, idx::kTrans);
     const Mat3 q_tr = q.block<3, 3>(idx::kTrans, idx::kRot);
     const Mat3 q_rr = q.block<3, 3>(idx::kRot, idx::kRot);
-    const Mat3 psi_psi = dd * q_rr * dd.transpose();
-    const Mat3 psi_pos = -dd * q_tr.transpose() * r_gp.transpose();
+    const Mat3 psi_psi = f.att_rot * q_rr * f.att_rot.transpose();
+    const Mat3 psi_pos = f.att_rot * q_tr.transpose() * f.pos_trans.transpose();
     p_new.block<3, 3>(idx::kAtt, idx::kAtt) += psi_psi;
     p_new.block<3, 3>(idx::kAtt, idx::kPos) += psi_pos;
     p_new.block<3, 3>(idx::kPos, idx::kAtt) += psi_pos.transpose();
-    p_new.block<3, 3>(idx::kPos, idx::kPos) += r_gp * q_tt * r_gp.transpose();
+    p_new.block<3, 3>(idx::kPos, idx::kPos) += f.pos_trans * q_tt * f.pos_trans.transpose();
     // M = F_x P H_x^T + F_d Q H_d^T.
     Jacobian<idx::kStateDim, 3> mm = pht;
-    mm.middleRows<3>(idx::kAtt) = a * pht.middleRows<3>(idx::kAtt) +
-                                  dd * qht.middleRows<3>(idx::kRot);
-    mm.middleRows<3>(idx::kPos) += cc * pht.middleRows<3>(idx::kAtt) -
-                                   r_gp * qht.middleRows<3>(idx::kTrans);
+    mm.middleRows<3>(idx::kAtt) = f.att_att * pht.middleRows<3>(idx::kAtt) +
+                                  f.att_rot * qht.middleRows<3>(idx::kRot);
+    mm.middleRows<3>(idx::kPos) += f.pos_att * pht.middleRows<3>(idx::kAtt) +
+                                   f.pos_trans * qht.middleRows<3>(idx::kTrans);
     const Jacobian<idx::kStateDim, 3> mm_s = mm.lazyProduct(s_inv);
     p_new.noalias() -= mm_s.lazyProduct(mm.transpose());
     p_new = 0.5 * (p_new + p_new.transpose()).eval();
@@ -475,9 +469,7 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, const Displacemen
       continue;
     }
     SogComponent& dst = components_[out++];
-    dst.x.segment<3>(idx::kAtt) = psi_k;
-    dst.x.segment<3>(idx::kPos) = x_post.segment<3>(idx::kPos) - rt_p;
-    dst.x.segment<3>(idx::kMom) = x_post.segment<3>(idx::kMom);
+    dst.x = x_new;
     dst.P = p_new;
     dst.log_weight = c.log_weight + ll;
     max_ll = std::max(max_ll, ll);
@@ -492,16 +484,18 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, const Displacemen
                      ": every hypothesis became numerically invalid");
 }
 
+double SogFilter::surface_log_support(const SogComponent& c) const {
+  if (!config_.surface_constraint) return 0.0;
+  // log P(p_z <= surface) = log Phi((surface - mu_z) / sigma_z), surface = -antenna height.
+  const double mu = c.x[idx::kPos + 2];
+  const double sd = std::sqrt(c.P(idx::kPos + 2, idx::kPos + 2));
+  return log_normal_cdf((-config_.antenna_height_m - mu) / sd);
+}
+
 void SogFilter::apply_surface_constraint() {
   if (!config_.surface_constraint) return;
-  const double surface = -config_.antenna_height_m;
   for (auto& c : components_) {
-    const double mu = c.x[idx::kPos + 2];
-    const double sd = std::sqrt(c.P(idx::kPos + 2, idx::kPos + 2));
-    // log Phi((surface - mu) / sd) via erfc, accurate far in the tail.
-    const double u = (surface - mu) / sd;
-    const double log_phi = u > -30.0 ? std::log(0.5 * std::erfc(-u / std::sqrt(2.0)))
-                                     : -0.5 * u * u - std::log(-u * std::sqrt(2.0 * kPi));
+    const double log_phi = surface_log_support(c);
     c.log_weight += log_phi - c.log_support;
     c.log_support = log_phi;
   }
@@ -575,41 +569,16 @@ std::size_t SogFilter::merge() {
       if (group.empty()) continue;
       // Moment-matched merge (eq. (18) restricted to the group), angles relative to i.
       group.push_back(i);
-      double wsum = 0.0;
-      StateVec mean = StateVec::Zero();
-      std::vector<StateVec> xs;
-      xs.reserve(group.size());
       const double base = ci.log_weight;
-      for (std::uint32_t g : group) {
-        StateVec xg = components_[g].x;
-        for (int k = 0; k < 3; ++k)
-          xg[idx::kAtt + k] = ci.x[idx::kAtt + k] + wrap_angle(xg[idx::kAtt + k] - ci.x[idx::kAtt + k]);
-        const double w = std::exp(components_[g].log_weight - base);
-        wsum += w;
-        mean += w * xg;
-        xs.push_back(xg);
-      }
-      mean /= wsum;
-      StateCov cov = StateCov::Zero();
-      for (std::size_t g = 0; g < group.size(); ++g) {
-        const double w = std::exp(components_[group[g]].log_weight - base);
-        const StateVec dv = xs[g] - mean;
-        cov += w * (components_[group[g]].P + dv * dv.transpose());
-      }
-      cov /= wsum;
-      ci.x = mean;
-      ci.x[idx::kAtt + 2] = wrap_angle(ci.x[idx::kAtt + 2]);
-      ci.P = 0.5 * (cov + cov.transpose());
-      ci.log_weight = base + std::log(wsum);
+      const GaussianMoments<idx::kStateDim> merged_moments =
+          moments_of(components_, group, ci.x, base);
+      ci.x = merged_moments.mean;
+      ci.x[idx::kAtt + 2] = wrap_angle(ci.x[idx::kAtt + 2]);  // a component's yaw is wrapped
+      ci.P = 0.5 * (merged_moments.covariance + merged_moments.covariance.transpose());
+      ci.log_weight = base + std::log(merged_moments.weight_sum);
       // The members' weights already carry their surface factor: restart the bookkeeping from
       // the merged Gaussian so later steps apply only the change.
-      ci.log_support = 0.0;
-      {
-        const double sd = std::sqrt(ci.P(idx::kPos + 2, idx::kPos + 2));
-        const double u = (-config_.antenna_height_m - ci.x[idx::kPos + 2]) / sd;
-        if (config_.surface_constraint && u > -30.0)
-          ci.log_support = std::log(0.5 * std::erfc(-u / std::sqrt(2.0)));
-      }
+      ci.log_support = surface_log_support(ci);
       for (std::size_t g = 0; g + 1 < group.size(); ++g) gone[group[g]] = 1;
       merged += group.size() - 1;
     }
@@ -628,26 +597,11 @@ MixtureMoments SogFilter::moments() const {
   std::size_t best = 0;
   for (std::size_t i = 1; i < components_.size(); ++i)
     if (components_[i].log_weight > components_[best].log_weight) best = i;
-  const StateVec& ref = components_[best].x;
-  std::vector<StateVec> xs;
-  xs.reserve(components_.size());
-  double wsum = 0.0;
-  for (const auto& c : components_) {
-    StateVec x = c.x;
-    for (int k = 0; k < 3; ++k)
-      x[idx::kAtt + k] = ref[idx::kAtt + k] + wrap_angle(x[idx::kAtt + k] - ref[idx::kAtt + k]);
-    const double w = std::exp(c.log_weight);
-    wsum += w;
-    mm.mean += w * x;
-    xs.push_back(x);
-  }
-  mm.mean /= wsum;
-  for (std::size_t i = 0; i < components_.size(); ++i) {
-    const double w = std::exp(components_[i].log_weight);
-    const StateVec dv = xs[i] - mm.mean;
-    mm.covariance += w * (components_[i].P + dv * dv.transpose());
-  }
-  mm.covariance /= wsum;
+  // Weights are normalised (log-sum-exp = 0): log_base 0.
+  const GaussianMoments<idx::kStateDim> g =
+      moments_of(components_, AllIndices{components_.size()}, components_[best].x, 0.0);
+  mm.mean = g.mean;
+  mm.covariance = g.covariance;
   return mm;
 }
 
@@ -665,11 +619,7 @@ VictimEstimate SogFilter::estimate(std::size_t top_k) const {
   e.relative.position = mm.mean.segment<3>(idx::kPos);
   e.relative.covariance = mm.covariance.block<3, 3>(idx::kPos, idx::kPos);
   e.moment = mm.mean.segment<3>(idx::kMom);
-  const double lmax = Eigen::SelfAdjointEigenSolver<Mat3>(e.relative.covariance,
-                                                          Eigen::EigenvaluesOnly)
-                          .eigenvalues()
-                          .maxCoeff();
-  e.status = std::sqrt(kChi2_3_95 * std::max(lmax, 0.0)) <= config_.converged_radius_m
+  e.status = radius95_3d(e.relative.covariance) <= config_.converged_radius_m
                  ? EstimatorStatus::kConverged
                  : EstimatorStatus::kMultimodal;
   std::vector<std::size_t> order(components_.size());

@@ -1,7 +1,6 @@
 #include "sarloc/core/incident/victim_fusion.hpp"
 
 #include <Eigen/Cholesky>
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -10,6 +9,7 @@
 #include <tuple>
 
 #include "sarloc/core/common/chi_square.hpp"
+#include "sarloc/core/common/gaussian.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/incident/assignment.hpp"
 
@@ -280,7 +280,6 @@ void VictimFusion::merge_victims() {
 }
 
 void VictimFusion::update_states(TimestampNs now) {
-  static const double kChi2_3_95 = chi_square_quantile(0.95, 3.0);
   for (FusedVictim& v : victims_) {
     if (v.sources.empty()) continue;
     VictimState target = VictimState::kUnconfirmed;
@@ -289,9 +288,8 @@ void VictimFusion::update_states(TimestampNs now) {
       if (st == SourceState::kFound) target = VictimState::kFound;
       else if (st == SourceState::kLocated) target = std::max(target, VictimState::kLocated);
     }
-    const Eigen::SelfAdjointEigenSolver<Mat3> es(v.position.covariance, Eigen::EigenvaluesOnly);
-    const double radius95 = std::sqrt(kChi2_3_95 * std::max(es.eigenvalues().maxCoeff(), 0.0));
-    if (radius95 < config_.located_radius_m) target = std::max(target, VictimState::kLocated);
+    if (radius95_3d(v.position.covariance) < config_.located_radius_m)
+      target = std::max(target, VictimState::kLocated);
     v.state = std::max(v.state, target);  // never backwards
     if (v.state >= VictimState::kLocated && v.located_at == 0) v.located_at = now;
     if (v.state >= VictimState::kFound && v.found_at == 0) v.found_at = now;

@@ -9,6 +9,7 @@
 #include "sarloc/core/avalanche/rotation.hpp"
 #include "sarloc/core/avalanche/simulator.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/gaussian.hpp"
 
 namespace sarloc::avalanche {
 namespace {
@@ -36,7 +37,7 @@ TEST(SearchControllerTest, AssessAppliesLocatedAndFoundCriteria) {
   EXPECT_EQ(ctl.assess(e), EstimatorStatus::kFound);
   e.relative.covariance = Mat3::Identity() * 0.1;  // 95 % radius 0.88 m
   EXPECT_EQ(ctl.assess(e), EstimatorStatus::kConverged);
-  EXPECT_NEAR(SearchController::radius95_3d(Mat3::Identity()), std::sqrt(7.814727903), 1e-6);
+  EXPECT_NEAR(radius95_3d(Mat3::Identity()), std::sqrt(7.814727903), 1e-6);
 }
 
 // An estimate above the receiver is a filter's mirror solution (H(r) = H(-r)), not a victim:
@@ -102,7 +103,7 @@ TEST(SearchControllerLocated, RadiusScalesWithRangeAboveTheNearRangeFloor) {
   e.status = EstimatorStatus::kConverged;
   // A 95 % 3-D radius of 0.48 m: sqrt(chi2_3(0.95) * sigma^2) = 0.48 -> sigma^2 = 0.48^2 / 7.815.
   e.relative.covariance = Mat3::Identity() * (0.48 * 0.48 / 7.8147);
-  ASSERT_NEAR(SearchController::radius95_3d(e.relative.covariance), 0.48, 1e-3);
+  ASSERT_NEAR(radius95_3d(e.relative.covariance), 0.48, 1e-3);
 
   e.relative.position = Vec3(1.5, 0.0, -2.0);  // 2.5 m away: the 0.4 m floor applies
   EXPECT_EQ(controller.assess(e), EstimatorStatus::kConverged);

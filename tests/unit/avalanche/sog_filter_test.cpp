@@ -4,9 +4,12 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
+#include "sarloc/core/avalanche/odometry_accumulator.hpp"
 #include "sarloc/core/avalanche/simulator.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/gaussian.hpp"
 
 namespace sarloc::avalanche {
 namespace {
@@ -172,6 +175,90 @@ TEST(OdometryAccumulatorTest, ComposesSamplesAndPropagatesCovariance) {
   EXPECT_GT(idle.covariance.diagonal().minCoeff(), 0.0);
   Odometry old = a;  // sequence 1 again: out of order
   EXPECT_THROW(acc.add(old), InputError);
+}
+
+// The filter's block-structured step (eq. (10)-(11), (14), (15), (17)) against Algorithm 1
+// written densely on x* = [x; d]: P* = blkdiag(P, Q), one 3x15 H, the 15x15 EKF update, then
+// P_k = F P*_post F^T with the 9x15 F. Pruning, merging and the attitude sensor are off so the
+// components stay in order.
+TEST(SogFilterTest, StepEqualsDenseAlgorithmOnTheAugmentedState) {
+  AvalancheSimulator sim(SimulationConfig{}, fixed_scenario(), 11);
+  SogConfig cfg;
+  cfg.initial_components = 120;
+  cfg.prune_log_weight = 700.0;
+  cfg.merge_interval = 0;
+  cfg.use_orientation = false;
+  SogFilter f(cfg);
+  f.process(sim.measure());
+  const std::vector<SogComponent> before = f.components();
+  const Odometry odo = sim.walk(0.4, 1.0);
+  OdometryAccumulator acc(cfg.idle_translation_sigma_m, cfg.idle_rotation_sigma_rad);
+  acc.add(odo);
+  const Displacement disp = acc.take();
+  const FieldMeasurement meas = sim.measure();
+  f.add_odometry(odo);
+  const SogStepResult r = f.process(meas);
+  ASSERT_EQ(r.dropped_numerical, 0u);
+  ASSERT_EQ(f.size(), before.size());
+
+  using AugCov = Eigen::Matrix<double, idx::kAugDim, idx::kAugDim>;
+  const Vec3 floor = f.noise_floor(meas);
+  std::vector<double> log_w(before.size());
+  double max_log_w = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    const SogComponent& c = before[i];
+    AugVec xa;
+    xa << c.x, disp.mean;
+    AugCov pa = AugCov::Zero();
+    pa.topLeftCorner<idx::kStateDim, idx::kStateDim>() = c.P;
+    pa.bottomRightCorner<idx::kDispDim, idx::kDispDim>() = disp.covariance;
+    Jacobian<3, idx::kAugDim> h;
+    const Vec3 z_pred = MeasurementModel::h(xa, &h);
+    const Vec3 sigma = Vec3::Constant(cfg.noise_relative * z_pred.norm()) + floor;
+    const Mat3 s = h * pa * h.transpose() + Mat3(sigma.cwiseAbs2().asDiagonal());
+    const Jacobian<idx::kAugDim, 3> k = pa * h.transpose() * s.inverse();
+    const Vec3 nu = meas.field - z_pred;
+    const AugVec xa_post = xa + k * nu;
+    const AugCov pa_post = pa - k * s * k.transpose();
+    Jacobian<idx::kStateDim, idx::kAugDim> fj;
+    const StateVec x_expect = CompositionModel::f(xa_post, &fj);
+    const StateCov p_expect = fj * pa_post * fj.transpose();
+    const SogComponent& got = f.components()[i];
+    EXPECT_LT((got.x - x_expect).norm(), 1e-9 * (1.0 + x_expect.norm())) << "component " << i;
+    EXPECT_LT((got.P - p_expect).cwiseAbs().maxCoeff(), 1e-8 * p_expect.cwiseAbs().maxCoeff())
+        << "component " << i;
+    log_w[i] = c.log_weight - 0.5 * (nu.dot(s.inverse() * nu) + std::log(s.determinant()));
+    max_log_w = std::max(max_log_w, log_w[i]);
+  }
+  double sum = 0.0;
+  for (double v : log_w) sum += std::exp(v - max_log_w);
+  for (std::size_t i = 0; i < before.size(); ++i)
+    EXPECT_NEAR(f.components()[i].log_weight, log_w[i] - max_log_w - std::log(sum), 1e-8);
+}
+
+// Surface term (SogConfig::surface_constraint): after every step, including the components a
+// merge produced, each component's log_support is log P(p_z below the surface) of its own
+// Gaussian (one implementation, SogFilter::surface_log_support).
+TEST(SogFilterTest, SurfaceSupportIsThatOfEachComponentAfterMerging) {
+  AvalancheSimulator sim(SimulationConfig{}, fixed_scenario(), 13);
+  SogConfig cfg;
+  cfg.initial_components = 400;
+  cfg.surface_constraint = true;
+  cfg.merge_cell_m = 10.0;  // merge often
+  cfg.merge_mahalanobis = 50.0;
+  SogFilter f(cfg);
+  f.process(sim.measure());
+  std::size_t merged = 0;
+  for (int k = 0; k < 8; ++k) {
+    f.add_odometry(sim.walk(bearing_to_truth(sim), 1.0));
+    merged += f.process(sim.measure()).merged;
+    for (const SogComponent& c : f.components()) {
+      const double u = (-cfg.antenna_height_m - c.x[idx::kPos + 2]) /
+                       std::sqrt(c.P(idx::kPos + 2, idx::kPos + 2));
+      ASSERT_NEAR(c.log_support, log_normal_cdf(u), 1e-12);
+    }
+  }
+  EXPECT_GT(merged, 0u);
 }
 
 TEST(SogFilterTest, CopiesAreIndependent) {

@@ -17,8 +17,11 @@
 //
 // Usage:
 //   Jacobian<3, 9> H_x; Jacobian<3, 6> H_d;
-//   Vec3 z_pred = MeasurementModel::h(x, d, &H_x, &H_d);
-//   StateVec x_next = CompositionModel::f(x, d, &F_x, &F_d);
+//   Vec3 z_pred = MeasurementModel::h(x, d, &H_x, &H_d);      // one call
+//   const MeasurementModel model(d);                          // one filter step: d-dependent
+//   for (...) z_pred_i = model.h(x_i, &H_x, &H_d);            // quantities computed once
+//   CompositionJacobians J;                                   // F_x, F_d by blocks
+//   StateVec x_next = CompositionModel::f(x, d, &J);
 #include "sarloc/core/common/types.hpp"
 
 namespace sarloc::avalanche {
@@ -54,18 +57,61 @@ struct DipoleField {
   static Vec3 moment(const Vec3& r, const Vec3& h, Mat3* J_m_r = nullptr, Mat3* J_m_H = nullptr);
 };
 
-/// Measurement function h of eq. (14) on the augmented state.
-struct MeasurementModel {
+/// Measurement function h of eq. (14) on the augmented state x* = [x; d].
+///
+/// An object holds what depends on the displacement d only, t, R(dPsi) and E_w(dPsi), shared
+/// by every Gaussian of one filter step (the SOG filter builds one per step and calls the
+/// member h for each component); the static h(x, d, ...) is the same computation in one call.
+class MeasurementModel {
+ public:
+  /// Caches t, R(dPsi) and E_w(dPsi) of the displacement d (eq. (4)).
+  explicit MeasurementModel(const DispVec& d);
+
+  /// z = h(x, d) for the displacement given at construction, with H_x = dh/dx (3x9) and
+  /// H_d = dh/dd (3x6). The SOG filter's entry point.
+  Vec3 h(const StateVec& x, Jacobian<3, idx::kStateDim>* H_x = nullptr,
+         Jacobian<3, idx::kDispDim>* H_d = nullptr) const;
+
+  /// Convenience: MeasurementModel(d).h(x, H_x, H_d).
   static Vec3 h(const StateVec& x, const DispVec& d, Jacobian<3, idx::kStateDim>* H_x = nullptr,
                 Jacobian<3, idx::kDispDim>* H_d = nullptr);
-  /// Same on x* = [x; d] with one 3x15 Jacobian (tests, documentation).
+  /// Same on x* = [x; d] with one 3x15 Jacobian [H_x H_d] (tests, documentation).
   static Vec3 h(const AugVec& xa, Jacobian<3, idx::kAugDim>* H = nullptr);
+
+ private:
+  Vec3 t_;    ///< translation of R_k in R_{k-1}
+  Mat3 r_d_;  ///< R(dPsi)
+  Mat3 e_d_;  ///< E_w(dPsi)
 };
 
-/// Composition function f of eq. (9) / (15).
+/// The Jacobians of the composition f (eq. (9), (15)) by their non-trivial blocks. Every
+/// other block is an identity or zero (m_k = m, p_k is linear in p, Psi_k does not depend on
+/// p, m or t):
+///   F_x = d f / d x = [[A, 0, 0], [C, I, 0], [0, 0, I]]   (rows, columns: Psi, p, m)
+///   F_d = d f / d d = [[0, D], [T, 0], [0, 0]]             (columns: t, dPsi)
+/// so F P F^T can be formed block by block, never as a dense 15x15 product. F_x() and F_d()
+/// expand them (tests and the dense convenience overload of CompositionModel::f).
+struct CompositionJacobians {
+  Mat3 att_att;    ///< A = dPsi_k/dPsi = E_w(Psi_k)^-1 E_w(Psi)
+  Mat3 pos_att;    ///< C = dp_k/dPsi = [R(Psi) t]x E_w(Psi)
+  Mat3 att_rot;    ///< D = dPsi_k/ddPsi = E_w(Psi_k)^-1 R(Psi) E_w(dPsi)
+  Mat3 pos_trans;  ///< T = dp_k/dt = -R(Psi)
+  StateCov F_x() const;
+  Jacobian<idx::kStateDim, idx::kDispDim> F_d() const;
+};
+
+/// Composition function f of eq. (9) / (15): Psi_k = rpy(R(Psi) R(dPsi)), p_k = p - R(Psi) t,
+/// m_k = m. Each call depends on its own d (the SOG filter composes at each Gaussian's
+/// posterior displacement), so nothing is cached across calls; the trigonometry of Psi and
+/// dPsi is computed once per call (EulerTrig) and E_w(Psi_k)^-1 comes from R_k without any
+/// trigonometric call (EulerTrig::from_rotation).
 struct CompositionModel {
+  /// The SOG filter's entry point: f with its Jacobians by blocks (J may be null).
+  static StateVec f(const StateVec& x, const DispVec& d, CompositionJacobians* J);
+  /// Same with dense F_x (9x9) and F_d (9x6).
   static StateVec f(const StateVec& x, const DispVec& d, StateCov* F_x = nullptr,
                     Jacobian<idx::kStateDim, idx::kDispDim>* F_d = nullptr);
+  /// Same on x* = [x; d] with one 9x15 Jacobian F = [F_x F_d].
   static StateVec f(const AugVec& xa, Jacobian<idx::kStateDim, idx::kAugDim>* F = nullptr);
 };
 

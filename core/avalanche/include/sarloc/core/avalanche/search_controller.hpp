@@ -91,11 +91,6 @@ class SearchController {
   GuidanceMode mode() const { return mode_; }
   const SearchConfig& config() const { return config_; }
 
-  /// 95 % radius (m) of a 3-D position covariance along its worst axis.
-  static double radius95_3d(const Mat3& covariance);
-  /// 95 % radius (m) of the horizontal 2-D marginal along its worst axis.
-  static double radius95_2d(const Mat3& covariance);
-
  private:
   SearchConfig config_;
   GuidanceMode mode_ = GuidanceMode::kOpening;

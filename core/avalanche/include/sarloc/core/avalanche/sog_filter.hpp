@@ -153,6 +153,8 @@ class SogFilter {
  private:
   void update_field(const Vec3& z, const Vec3& floor, const Displacement& disp,
                     const OrientationObservation* orientation, SogStepResult& r);
+  /// log P(transmitter of c below the snow surface) (SogConfig::surface_constraint), else 0.
+  double surface_log_support(const SogComponent& c) const;
   void apply_surface_constraint();
   void normalise_and_prune();
   std::size_t merge();
