@@ -1,9 +1,10 @@
 #pragma once
 // Multi-rescuer victim fusion for incident command (docs/estimation/incident-fusion.md).
 //
-// Every rescuer device publishes, per separated beacon signal, a VictimEstimate relative to
-// itself. Converted to the incident frame (to_incident_frame / make_source_estimate) each one
-// is a SOURCE, keyed by (rescuer_id, signal_id); update() keeps the newest estimate per source.
+// Every reporter (today a rescuer's device, per separated beacon signal; later a robot's camera
+// or a dog team) publishes victim estimates relative to itself. Placed in the incident frame
+// with the reporter's fix (source_estimate.hpp) each one is a SOURCE, keyed by (rescuer_id,
+// signal_id); update() keeps the newest estimate per source.
 // step(now) turns the sources into VICTIMS with stable ids:
 //
 //   1. activity: a source takes part only while its state >= kConverged (a multimodal mixture
