@@ -230,11 +230,11 @@ void CoreNode::publish(estimator::SequencerReport& report) {
   for (const auto& r : report.rejections) {
     const std::string reason = responder::to_string(r.reason);
     counters_.rejected(reason);
-    warnings_.warn(r.detail.substr(0, r.detail.find(':')), reason, "rejected sample (" + reason + "): " + r.detail);
+    warnings_.warn(r.rescuer_id, reason, "rejected sample (" + reason + "): " + r.detail);
   }
-  for (const auto& line : report.odometry_late) {
+  for (const auto& late : report.odometry_late) {
     counters_.anomaly("odometry_late");
-    warnings_.warn(line.substr(0, line.find(':')), "odometry_late", line);
+    warnings_.warn(late.rescuer_id, "odometry_late", late.detail);
   }
   for (const auto& [output, sequence] : report.answers) {
     for (const auto& e : output.estimates) {

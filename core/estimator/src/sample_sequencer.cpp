@@ -67,10 +67,11 @@ void SampleSequencer::release(Clock::time_point now, SequencerReport& report) {
       } catch (const InputError&) {  // the covariance is built valid; never let it stop a worker
       }
       if (stood_in) odometry_until_ = stamp;
-      report.odometry_late.push_back("rescuer '" + responder_of(front.sample) + "': no odometry up to stamp " +
-                                     std::to_string(stamp) + " within odometry_wait_s: processed " +
-                                     (stood_in ? "with unknown motion in its place"
-                                               : "without it (no stand-in for this gap)"));
+      const std::string& id = estimator_->responder_id();
+      report.odometry_late.push_back({id, "rescuer '" + id + "': no odometry up to stamp " + std::to_string(stamp) +
+                                              " within odometry_wait_s: processed " +
+                                              (stood_in ? "with unknown motion in its place"
+                                                        : "without it (no stand-in for this gap)")});
     }
     const SensorSample sample = front.sample;
     held_.pop_front();

@@ -19,7 +19,7 @@ const char* to_string(RejectReason reason) {
 }
 
 Rejection reject(RejectReason reason, const std::string& rescuer_id, const std::string& what) {
-  return Rejection{reason, "rescuer '" + rescuer_id + "': " + what};
+  return Rejection{reason, "rescuer '" + rescuer_id + "': " + what, rescuer_id};
 }
 
 }  // namespace sarloc::responder

@@ -29,7 +29,7 @@ class RecordingEstimator final : public ResponderEstimator {
   Outcome add_odometry(const responder::Odometry& o) override {
     if (auto it = refuse_odometry.find(o.sequence); it != refuse_odometry.end()) {
       log_->push_back("refused odometry " + std::to_string(o.sequence));
-      return responder::Rejection{it->second, "refused"};
+      return responder::Rejection{it->second, "refused", "r1"};
     }
     log_->push_back("odometry " + std::to_string(o.sequence));
     return EstimatorOutput{};
@@ -41,7 +41,7 @@ class RecordingEstimator final : public ResponderEstimator {
   Outcome process(const SensorSample& s) override {
     if (refuse_samples.count(sequence_of(s)) != 0) {
       log_->push_back("refused sample " + std::to_string(sequence_of(s)));
-      return responder::Rejection{responder::RejectReason::kStampBackwards, "refused"};
+      return responder::Rejection{responder::RejectReason::kStampBackwards, "refused", "r1"};
     }
     log_->push_back("sample " + std::to_string(sequence_of(s)));
     EstimatorOutput out;
@@ -130,7 +130,8 @@ TEST_F(Fixture, ExpiredWaitStandsInUnknownMotionBeforeTheSample) {
   seq->release(t0 + 300ms, report);
   EXPECT_EQ(log, (std::vector<std::string>{"odometry 1", "sample 1", "unknown 10-12", "sample 2"}));
   ASSERT_EQ(report.odometry_late.size(), 1U);
-  EXPECT_NE(report.odometry_late[0].find("unknown motion in its place"), std::string::npos);
+  EXPECT_EQ(report.odometry_late[0].rescuer_id, "r1");
+  EXPECT_NE(report.odometry_late[0].detail.find("unknown motion in its place"), std::string::npos);
   // The late step arrives now: the estimator's own gate refuses it (kSuperseded); the
   // sequencer passes it on and does not wait on it again.
   seq->on_sample(sample(3, 13), t0 + 400ms, report);

@@ -40,7 +40,11 @@ struct SequencerReport {
   std::vector<Answer> answers;
   std::vector<responder::Rejection> rejections;
   std::size_t accepted = 0;                 ///< samples and odometry taken by the estimator
-  std::vector<std::string> odometry_late;   ///< one line per sample processed without its odometry
+  struct OdometryLate {
+    std::string rescuer_id;
+    std::string detail;
+  };
+  std::vector<OdometryLate> odometry_late;  ///< one per sample processed without its odometry
 };
 
 class SampleSequencer {

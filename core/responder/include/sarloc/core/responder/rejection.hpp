@@ -23,7 +23,8 @@ const char* to_string(RejectReason reason);
 
 struct Rejection {
   RejectReason reason = RejectReason::kInvalidValue;
-  std::string detail;  ///< names the responder, the field and the value
+  std::string detail;       ///< names the responder, the field and the value
+  std::string rescuer_id;   ///< whose sample (for per-responder rate-limited logs)
 };
 
 /// A rejection whose detail starts with the responder ("rescuer 'r1': <what>").
