@@ -12,6 +12,7 @@
 #include "sarloc/app/json_io.hpp"
 #include "sarloc/app/logging.hpp"
 #include "sarloc/core/avalanche/evaluation.hpp"
+#include "sarloc/core/common/gaussian.hpp"
 #include "sarloc/app/node_options.hpp"
 #include "sarloc/app/run_main.hpp"
 #include "sarloc/app/shutdown_signal.hpp"
@@ -108,6 +109,7 @@ int main(int argc, char** argv) {
     std::map<std::string, std::size_t> guided_by;  // epochs per guidance source
     std::size_t daemon_after_fallback = 0;          // daemon-guided epochs after the first fallback
     std::map<std::uint32_t, double> error_when_found;  // simulation truth: the diggers' error
+    std::map<std::uint32_t, double> radius_when_found;  // the 95 % radius the device stated then
     std::size_t epochs = 0;
     const auto period_ns = static_cast<TimestampNs>(mission.period_s * 1e9);
     sarloc::dds::EpochResult last;
@@ -136,7 +138,10 @@ int main(int argc, char** argv) {
         if (status != responder::EstimatorStatus::kFound || error_when_found.count(signal) != 0) continue;
         const auto estimate = node.local_estimator().estimate_of(signal);
         const auto truth = sensors->true_relative(signal);
-        if (estimate && truth) error_when_found[signal] = (estimate->relative.position - *truth).norm();
+        if (estimate && truth) {
+          error_when_found[signal] = (estimate->relative.position - *truth).norm();
+          radius_when_found[signal] = radius95_3d(estimate->relative.covariance);
+        }
       }
       if (!quiet) spdlog::info("{}", display_line(rescuer_id, last));
     }
@@ -155,9 +160,10 @@ int main(int argc, char** argv) {
         d.latency_p99_ms = avalanche::percentile(latencies, 0.99);
       }
       for (const auto& [signal, status] : last.signals) {
-        mission::DeviceSignal s{signal, status, sensors->victim_of_signal(signal), std::nullopt};
+        mission::DeviceSignal s{signal, status, sensors->victim_of_signal(signal), std::nullopt, std::nullopt};
         // The diggers' view: this device's own estimate against the truth when it was found.
         if (const auto it = error_when_found.find(signal); it != error_when_found.end()) s.relative_error_m = it->second;
+        if (const auto it = radius_when_found.find(signal); it != radius_when_found.end()) s.radius95_m = it->second;
         d.signals.push_back(s);
       }
       if (const auto antenna = sensors->true_antenna(); antenna && last_fix) {

@@ -112,6 +112,7 @@ nlohmann::json to_json(const mission::DeviceSummary& d) {
     nlohmann::json e{{"signal_id", s.signal_id}, {"status", status_name(s.status)}};
     if (s.victim_index) e["victim_index"] = *s.victim_index;
     if (s.relative_error_m) e["relative_error_m"] = *s.relative_error_m;
+    if (s.radius95_m) e["radius95_m"] = *s.radius95_m;
     signals.push_back(e);
   }
   j["signals"] = signals;
@@ -139,6 +140,7 @@ mission::DeviceSummary device_summary_from_json(const nlohmann::json& j) {
       signal.status = status_from_name(s.at("status").get<std::string>());
       if (s.contains("victim_index")) signal.victim_index = s.at("victim_index").get<std::size_t>();
       if (s.contains("relative_error_m")) signal.relative_error_m = s.at("relative_error_m").get<double>();
+      if (s.contains("radius95_m")) signal.radius95_m = s.at("radius95_m").get<double>();
       d.signals.push_back(signal);
     }
     if (j.contains("gnss_error_m")) d.gnss_error_m = j.at("gnss_error_m").get<double>();
@@ -165,6 +167,7 @@ nlohmann::json to_json(const mission::MissionSummary& s) {
     j["time_to_locate_s"] = optional_json(v.time_to_locate_s);
     j["found"] = v.found;
     j["relative_error_m"] = optional_json(v.relative_error_m);
+    j["false_found"] = v.false_found;
     out["victims"].push_back(j);
   }
   out["all_found"] = s.all_found;

@@ -20,6 +20,18 @@ std::optional<double> relative_error_of(std::size_t victim, const std::map<std::
   return best;
 }
 
+// A finder's FOUND must hold within its own stated uncertainty (+ 0.5 m: the probe's reach).
+std::size_t false_found_of(std::size_t victim, const std::map<std::string, DeviceSummary>& devices) {
+  std::size_t n = 0;
+  for (const auto& [id, device] : devices) {
+    for (const auto& s : device.signals) {
+      if (s.victim_index != victim || s.status != responder::EstimatorStatus::kFound) continue;
+      if (s.relative_error_m && s.radius95_m && *s.relative_error_m > *s.radius95_m + 0.5) ++n;
+    }
+  }
+  return n;
+}
+
 }  // namespace
 
 std::size_t MissionSummary::confirmed_fused_victim_count() const {
@@ -53,6 +65,7 @@ MissionSummary summarise_mission(const std::string& mission_name, const MissionS
       if (f.located_at > 0) v.time_to_locate_s = static_cast<double>(f.located_at - epoch) / 1e9;
     }
     v.relative_error_m = relative_error_of(i, devices);
+    v.false_found = false_found_of(i, devices);
     s.all_found = s.all_found && v.found;
     s.victims.push_back(std::move(v));
   }

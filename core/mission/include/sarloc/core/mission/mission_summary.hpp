@@ -23,6 +23,7 @@ struct DeviceSignal {
   responder::EstimatorStatus status = responder::EstimatorStatus::kInitialising;
   std::optional<std::size_t> victim_index;     ///< simulation truth: which buried victim
   std::optional<double> relative_error_m;      ///< the device's own error when it was found
+  std::optional<double> radius95_m;            ///< the 95 % radius (3-D) it stated then
 };
 
 /// What a rescuer's device knew at the end (sarloc-rescuer --summary).
@@ -49,6 +50,8 @@ struct VictimOutcome {
   std::optional<double> time_to_locate_s;        ///< mission seconds
   bool found = false;
   std::optional<double> relative_error_m;        ///< best finder device's own error (no GNSS)
+  /// Finders whose FOUND was farther from the victim than their stated 95 % radius + 0.5 m.
+  std::size_t false_found = 0;
 };
 
 struct PictureVictimOutcome {
