@@ -59,6 +59,7 @@ std::string display_line(const std::string& id, const sarloc::dds::EpochResult& 
   }
   line += " | victims:";
   for (const auto& [signal, status] : r.signals) line += " " + std::to_string(signal) + "=" + display_status(status);
+  for (const auto signal : r.conflicting_signals) line += " | signal " + std::to_string(signal) + ": CONFLICTING ESTIMATES";
   line += std::string(" | guidance: ") + responder::to_string(r.source);
   if (!r.daemon_reachable) line += " (core daemon unreachable)";
   return line;

@@ -69,17 +69,16 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
       [this](const ::sarloc::VictimEstimate& e, const auto& info) {
         try {
           auto estimate = to_core(e);
-          if (spdlog::should_log(spdlog::level::debug)) {
-            // The writer tells the daemon's estimates from a device's own (fallback) ones.
-            std::string writer;
-            for (int i = 0; i < 16; ++i) writer += fmt::format("{:02x}", info.publication_handle.value[i]);
-            spdlog::debug("estimate {}/{} status {} stamp {} from writer {} relative ({:.2f}, {:.2f}, {:.2f})",
-                          estimate.rescuer_id, estimate.signal_id, static_cast<int>(estimate.status), estimate.stamp,
-                          writer, estimate.relative.position.x(), estimate.relative.position.y(),
-                          estimate.relative.position.z());
-          }
+          // The writer tells the daemon's estimates from a device's own: two estimators of one
+          // source, which VictimFusion holds to agreeing with each other.
+          std::string writer;
+          for (int i = 0; i < 16; ++i) writer += fmt::format("{:02x}", info.publication_handle.value[i]);
+          spdlog::debug("estimate {}/{} status {} stamp {} from writer {} relative ({:.2f}, {:.2f}, {:.2f})",
+                        estimate.rescuer_id, estimate.signal_id, static_cast<int>(estimate.status), estimate.stamp,
+                        writer, estimate.relative.position.x(), estimate.relative.position.y(),
+                        estimate.relative.position.z());
           std::lock_guard<std::mutex> lock(mutex_);
-          pending_estimates_.push_back(std::move(estimate));
+          pending_estimates_.push_back({std::move(estimate), std::move(writer)});
         } catch (const InputError& error) {
           counters_.rejected("invalid_value");
           warnings_.warn(e.rescuer_id().to_string(), "invalid_value", std::string("victim estimate: ") + error.what());
@@ -157,20 +156,22 @@ void CommandNode::cycle() {
   std::size_t lost = 0;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    std::deque<responder::VictimEstimate> waiting;
+    std::deque<PendingEstimate> waiting;
     while (!pending_estimates_.empty()) {
-      auto e = std::move(pending_estimates_.front());
+      auto pending = std::move(pending_estimates_.front());
       pending_estimates_.pop_front();
+      const auto& e = pending.estimate;
       if (e.status < responder::EstimatorStatus::kConverged) continue;  // a multimodal mean means nothing
       const auto fix = fix_at(e.rescuer_id, e.stamp);
       if (!fix) {
         spdlog::debug("no fix of '{}' near stamp {}: estimate waits", e.rescuer_id, e.stamp);
         // The fix may still be on its way: keep the estimate for the next cycle, briefly.
-        if (static_cast<double>(now - e.stamp) < config_.fix_wait_s * 1e9) waiting.push_back(std::move(e));
+        if (static_cast<double>(now - e.stamp) < config_.fix_wait_s * 1e9) waiting.push_back(std::move(pending));
         continue;
       }
       try {
-        const auto source = incident::make_source_estimate(e, *fix);
+        auto source = incident::make_source_estimate(e, *fix);
+        source.estimator = pending.writer;
         spdlog::trace("source {}/{} stamp {} status {} at ({:.2f}, {:.2f}, {:.2f}) sd ({:.2f}, {:.2f}, {:.2f})",
                       source.rescuer_id, source.signal_id, source.stamp, static_cast<int>(source.state),
                       source.position.position.x(), source.position.position.y(), source.position.position.z(),

@@ -258,6 +258,7 @@ responder::ResponderPosition to_core(const ::sarloc::ResponderPosition& r) {
   out.last_update(v.last_update);
   out.located_at(v.located_at);
   out.found_at(v.found_at);
+  out.evidence_conflict(v.evidence_conflict);
   return out;
 }
 
@@ -274,6 +275,7 @@ incident::FusedVictim to_core(const ::sarloc::FusedVictim& v) {
   out.last_update = v.last_update();
   out.located_at = v.located_at();
   out.found_at = v.found_at();
+  out.evidence_conflict = v.evidence_conflict();
   return out;
 }
 

@@ -56,7 +56,7 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
         {
           std::lock_guard<std::mutex> lock(mutex_);
           arbiter_.on_daemon_estimate(e.signal_id(), static_cast<responder::EstimatorStatus>(e.status()),
-                                      e.measurement_sequence(), clock_.now());
+                                      e.measurement_sequence(), clock_.now(), to_core(e.relative()));
         }
         cv_.notify_all();
       },
@@ -161,6 +161,7 @@ EpochResult RescuerNode::epoch(const std::vector<responder::Odometry>& odometry,
   input.sequence = sequence;
   input.published_wall_ns = published_wall;
   input.local_guidance = local_guidance;
+  input.local_estimates = local_estimates;
   input.local_status = [this](std::uint32_t signal) {
     const auto e = local_->estimate_of(signal);
     return e ? e->status : responder::EstimatorStatus::kInitialising;
@@ -174,6 +175,7 @@ EpochResult RescuerNode::epoch(const std::vector<responder::Odometry>& odometry,
   result.daemon_reachable = decision.daemon_reachable;
   result.latency_ms = decision.latency_ms;
   result.signals = decision.daemon_signals;
+  result.conflicting_signals = decision.conflicting_signals;
   for (const auto& e : local_estimates) {
     if (decision.source != responder::GuidanceSource::kDaemon || result.signals.count(e.signal_id) == 0) {
       result.signals[e.signal_id] = e.status;
@@ -189,9 +191,21 @@ EpochResult RescuerNode::epoch(const std::vector<responder::Odometry>& odometry,
   } else if (decision.reconnected) {
     spdlog::info("{}: core daemon reachable", config_.rescuer_id);
   }
-  // Incident command must keep seeing victims while the daemon is away.
-  if (!result.daemon_reachable) {
-    for (const auto& e : local_estimates) estimate_writer_.write(to_idl(e, sequence));
+  for (const std::uint32_t signal : decision.conflicting_signals) {
+    if (reported_conflicts_.insert(signal).second) {
+      spdlog::warn("{}: signal {}: the core daemon's estimate conflicts with the device's own: guiding on the device, "
+                   "both estimates go to incident command", config_.rescuer_id, signal);
+    }
+  }
+  for (auto it = reported_conflicts_.begin(); it != reported_conflicts_.end();) {
+    it = decision.conflicting_signals.count(*it) == 0 ? reported_conflicts_.erase(it) : std::next(it);
+  }
+  // Incident command must keep seeing victims while the daemon is away, and must see both
+  // sides of a conflict (it then confirms neither).
+  for (const auto& e : local_estimates) {
+    if (!result.daemon_reachable || decision.conflicting_signals.count(e.signal_id) != 0) {
+      estimate_writer_.write(to_idl(e, sequence));
+    }
   }
   return result;
 }

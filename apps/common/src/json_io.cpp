@@ -41,7 +41,8 @@ nlohmann::json to_json(const incident::FusedVictim& v) {
           {"position", to_json(v.position.position)},
           {"floor", v.floor},
           {"state", static_cast<int>(v.state)},
-          {"sources", v.sources.size()}};
+          {"sources", v.sources.size()},
+          {"evidence_conflict", v.evidence_conflict}};
 }
 
 nlohmann::json to_json(const std::vector<incident::TeamStatus>& teams) {
@@ -178,7 +179,8 @@ nlohmann::json to_json(const mission::MissionSummary& s) {
                                     {"confirmed", f.confirmed},
                                     {"found", f.found},
                                     {"sources", f.sources},
-                                    {"matches_a_buried_victim", f.matches_a_buried_victim}});
+                                    {"matches_a_buried_victim", f.matches_a_buried_victim},
+                                    {"evidence_conflict", f.evidence_conflict}});
   }
   out["confirmed_fused_victim_count"] = s.confirmed_fused_victim_count();
   out["mission_s"] = s.mission_s;

@@ -98,12 +98,30 @@ bool VictimFusion::update(const SourceEstimate& estimate) {
   const SourceKey key{estimate.rescuer_id, estimate.signal_id};
   auto it = sources_.find(key);
   if (it == sources_.end()) {
-    sources_.emplace(key, Source{estimate, 0, false});
+    it = sources_.emplace(key, Source{}).first;
+    it->second.estimate = estimate;
+    check_conflict(it->second, estimate);
     return true;
   }
+  check_conflict(it->second, estimate);
   if (estimate.stamp < it->second.estimate.stamp) return false;
   it->second.estimate = estimate;
   return true;
+}
+
+void VictimFusion::check_conflict(Source& s, const SourceEstimate& estimate) {
+  const auto window = static_cast<TimestampNs>(config_.source_timeout_s * 1e9);
+  auto& mine = s.by_estimator[estimate.estimator];
+  if (estimate.stamp < mine.stamp) return;  // an older sample of the same estimator
+  mine = estimate;
+  if (estimate.state < SourceState::kConverged) return;
+  for (const auto& [name, other] : s.by_estimator) {
+    if (name == estimate.estimator || other.state < SourceState::kConverged) continue;
+    if (std::llabs(other.stamp - estimate.stamp) > window) continue;
+    if (mahalanobis2(estimate.position, other.position) > keep_gate_) {
+      s.conflict_until = std::max(s.conflict_until, std::max(estimate.stamp, other.stamp) + window);
+    }
+  }
 }
 
 std::size_t VictimFusion::remove_source(const std::string& rescuer_id) {
@@ -153,6 +171,7 @@ std::vector<GaussianPosition> VictimFusion::bound_positions(const FusedVictim& v
 
 void VictimFusion::bind(Source& s, FusedVictim& v) {
   s.victim_id = v.victim_id;
+  s.last_victim_id = v.victim_id;
   VictimSource vs{s.estimate.rescuer_id, s.estimate.signal_id, s.estimate.stamp};
   auto pos = std::lower_bound(v.sources.begin(), v.sources.end(), vs,
                               [](const VictimSource& a, const VictimSource& b) {
@@ -281,6 +300,15 @@ void VictimFusion::merge_victims() {
 
 void VictimFusion::update_states(TimestampNs now) {
   for (FusedVictim& v : victims_) {
+    v.evidence_conflict = std::any_of(sources_.begin(), sources_.end(), [&](const auto& kv) {
+      return kv.second.last_victim_id == v.victim_id && now < kv.second.conflict_until;
+    });
+    // Confirmed by nothing but conflicted sources: the picture cannot stand by it.
+    if (v.evidence_conflict && v.sources.empty() && v.state != VictimState::kUnconfirmed) {
+      v.state = VictimState::kUnconfirmed;
+      v.located_at = 0;
+      v.found_at = 0;
+    }
     if (v.sources.empty()) continue;
     VictimState target = VictimState::kUnconfirmed;
     for (const VictimSource& vs : v.sources) {
@@ -301,7 +329,7 @@ void VictimFusion::step(TimestampNs now) {
   const double timeout_ns = config_.source_timeout_s * 1e9;
   for (auto& [key, s] : sources_) {
     s.active = s.estimate.state >= SourceState::kConverged &&
-               static_cast<double>(now - s.estimate.stamp) <= timeout_ns;
+               static_cast<double>(now - s.estimate.stamp) <= timeout_ns && now >= s.conflict_until;
     if (!s.active) unbind(s, Unbind::kInactive);
   }
   for (FusedVictim& v : victims_) refuse(v);

@@ -77,6 +77,7 @@ MissionSummary summarise_mission(const std::string& mission_name, const MissionS
     p.confirmed = f.state != incident::VictimState::kUnconfirmed;
     p.found = incident::is_found(f.state);
     p.sources = f.sources.size();
+    p.evidence_conflict = f.evidence_conflict;
     p.matches_a_buried_victim = std::find(match.begin(), match.end(), static_cast<int>(j)) != match.end();
     s.fused_victims.push_back(p);
   }

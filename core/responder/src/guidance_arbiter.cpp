@@ -1,5 +1,6 @@
 #include "sarloc/core/responder/guidance_arbiter.hpp"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <string>
 
@@ -9,6 +10,10 @@ namespace sarloc::responder {
 namespace {
 
 int rank(EstimatorStatus status) { return static_cast<int>(status); }
+
+// chi2_3(0.999): two estimates of one victim from the same samples farther apart than this
+// (with summed covariances) cannot both be right.
+constexpr double kConflictGate = 16.266236196238129;
 
 }  // namespace
 
@@ -40,9 +45,20 @@ void GuidanceArbiter::on_daemon_guidance(const Guidance& guidance, std::uint64_t
 }
 
 void GuidanceArbiter::on_daemon_estimate(std::uint32_t signal_id, EstimatorStatus status, std::uint64_t sequence,
-                                         TimestampNs now) {
-  status_[signal_id] = {status, sequence};
+                                         TimestampNs now, const GaussianPosition& relative) {
+  status_[signal_id] = {status, sequence, relative};
   answered_at_ = now;
+}
+
+bool GuidanceArbiter::conflicts(const VictimEstimate& local, std::uint64_t sequence) const {
+  const auto it = status_.find(local.signal_id);
+  if (it == status_.end() || it->second.sequence != sequence) return false;
+  if (it->second.status < EstimatorStatus::kConverged || local.status < EstimatorStatus::kConverged) return false;
+  const Vec3 d = it->second.relative.position - local.relative.position;
+  const Mat3 s = it->second.relative.covariance + local.relative.covariance;
+  const Eigen::LDLT<Mat3> ldlt(s);
+  if (ldlt.info() != Eigen::Success) return true;  // not a covariance: do not trust either
+  return d.dot(ldlt.solve(d)) > kConflictGate;
 }
 
 void GuidanceArbiter::on_daemons_lost() {
@@ -83,6 +99,10 @@ ArbiterDecision GuidanceArbiter::decide(const ArbiterInput& in) {
         in.local_guidance && in.local_status ? rank(in.local_status(in.local_guidance->signal_id)) : 0;
     use_daemon = daemon_rank >= local_rank;
   }
+  for (const auto& local : in.local_estimates) {
+    if (in.sequence != 0 && conflicts(local, in.sequence)) d.conflicting_signals.insert(local.signal_id);
+  }
+  if (use_daemon && d.conflicting_signals.count(guidance_->signal_id) != 0) use_daemon = false;
   if (use_daemon) {
     d.guidance = guidance_;
     d.source = GuidanceSource::kDaemon;

@@ -132,6 +132,61 @@ TEST(VictimFusion, ReporterFixKeepsIndoorHeightsAndFloorsAndMapsGnssToTheSnowSur
   EXPECT_FALSE(indoor.heights_above_surface);
 }
 
+// A rescuer's device and the core daemon estimate the same (rescuer, signal) from the same
+// samples. When they confidently disagree, one is wrong and the picture cannot tell which:
+// the source confirms nothing, the victim is flagged, and nothing is confirmed on it alone.
+TEST(VictimFusion, ConflictingEstimatorsOfOneSourceConfirmNothing) {
+  VictimFusion f;
+  SourceEstimate device = src("r1", 1, 10 * kSec, Vec3(-20.0, 42.0, -1.2), 0.15, EstimatorStatus::kLocated);
+  device.estimator = "device";
+  SourceEstimate daemon = src("r1", 1, 11 * kSec, Vec3(-27.9, 40.8, -1.8), 0.15, EstimatorStatus::kLocated);
+  daemon.estimator = "daemon";
+  f.update(device);
+  f.update(daemon);
+  f.step(11 * kSec);
+  for (const auto& v : f.victims()) {
+    EXPECT_EQ(v.state, VictimState::kUnconfirmed) << "victim " << v.victim_id;
+  }
+  // Another rescuer agrees with the device: that victim is confirmed on its evidence.
+  f.update(src("r2", 1, 12 * kSec, Vec3(-20.1, 42.1, -1.2), 0.15, EstimatorStatus::kLocated));
+  f.step(12 * kSec);
+  ASSERT_EQ(f.victims().size(), 1U) << "the conflicted source opened no victim of its own";
+  EXPECT_EQ(f.victims()[0].state, VictimState::kLocated);
+  EXPECT_TRUE(f.victims()[0].position.position.isApprox(Vec3(-20.1, 42.1, -1.2), 1e-9));
+}
+
+TEST(VictimFusion, AConfirmedVictimWhoseOnlySourceTurnsConflictedIsNoLongerConfirmed) {
+  VictimFusion f;
+  SourceEstimate daemon = src("r1", 1, 10 * kSec, Vec3(-27.9, 40.8, -1.8), 0.15, EstimatorStatus::kLocated);
+  daemon.estimator = "daemon";
+  f.update(daemon);
+  f.step(10 * kSec);
+  ASSERT_EQ(f.victims().size(), 1U);
+  ASSERT_EQ(f.victims()[0].state, VictimState::kLocated);
+  SourceEstimate device = src("r1", 1, 11 * kSec, Vec3(-20.0, 42.0, -1.2), 0.15, EstimatorStatus::kLocated);
+  device.estimator = "device";
+  f.update(device);
+  f.step(11 * kSec);
+  ASSERT_EQ(f.victims().size(), 1U);
+  EXPECT_TRUE(f.victims()[0].evidence_conflict);
+  EXPECT_EQ(f.victims()[0].state, VictimState::kUnconfirmed);
+  EXPECT_EQ(f.victims()[0].located_at, 0);
+}
+
+TEST(VictimFusion, AgreeingEstimatorsAreNoConflict) {
+  VictimFusion f;
+  SourceEstimate device = src("r1", 1, 10 * kSec, Vec3(-20.0, 42.0, -1.2), 0.15, EstimatorStatus::kLocated);
+  device.estimator = "device";
+  SourceEstimate daemon = src("r1", 1, 11 * kSec, Vec3(-20.1, 42.05, -1.25), 0.15, EstimatorStatus::kLocated);
+  daemon.estimator = "daemon";
+  f.update(device);
+  f.update(daemon);
+  f.step(11 * kSec);
+  ASSERT_EQ(f.victims().size(), 1U);
+  EXPECT_FALSE(f.victims()[0].evidence_conflict);
+  EXPECT_EQ(f.victims()[0].state, VictimState::kLocated);
+}
+
 TEST(VictimFusion, AnIndoorVictimAboveGroundIsAcceptedAndFloorsNeverMix) {
   VictimFusion f;
   SourceEstimate upstairs = src("ff1", 1, kSec, Vec3(3, 3, 6.0), 0.3);

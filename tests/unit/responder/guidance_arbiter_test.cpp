@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "sarloc/core/common/errors.hpp"
 
 namespace sarloc::responder {
@@ -116,6 +118,54 @@ TEST(GuidanceArbiter, NothingToFollowWithoutAnyGuidance) {
   const auto d = a.decide(input(1, 0, std::nullopt));
   EXPECT_EQ(d.source, GuidanceSource::kNone);
   EXPECT_FALSE(d.guidance.has_value());
+}
+
+VictimEstimate estimate(std::uint32_t signal, EstimatorStatus status, const Vec3& p, double sigma) {
+  VictimEstimate e;
+  e.rescuer_id = "r1";
+  e.signal_id = signal;
+  e.status = status;
+  e.relative.position = p;
+  e.relative.covariance = sigma * sigma * Mat3::Identity();
+  return e;
+}
+
+// The daemon and the device filter the same samples: a confident disagreement means one of
+// them is wrong. The device keeps its own guidance and reports the conflict.
+TEST(GuidanceArbiter, AConflictingDaemonEstimateIsNotFollowedAndIsReported) {
+  GuidanceArbiter a(3.0, 0);
+  GaussianPosition daemon;
+  daemon.position = Vec3(-3.2, 1.5, -2.5);  // the daemon's LOCATED estimate after a long fade
+  daemon.covariance = 0.04 * Mat3::Identity();
+  a.on_daemon_guidance(guidance(1, 2.7), 9, 1 * kS, 0);
+  a.on_daemon_estimate(1, EstimatorStatus::kLocated, 9, 1 * kS, daemon);
+  auto in = input(1, 9, guidance(1, 0.6), EstimatorStatus::kConverged);
+  in.local_estimates = {estimate(1, EstimatorStatus::kConverged, Vec3(4.3, 3.4, -2.2), 0.3)};
+  const auto d = a.decide(in);
+  EXPECT_EQ(d.source, GuidanceSource::kLocal) << "a LOCATED daemon outranks the device, but it contradicts it";
+  EXPECT_DOUBLE_EQ(d.guidance->heading_rad, 0.6);
+  EXPECT_EQ(d.conflicting_signals, std::set<std::uint32_t>{1});
+}
+
+TEST(GuidanceArbiter, AgreeingOrUnsettledEstimatesAreNoConflict) {
+  GuidanceArbiter a(3.0, 0);
+  GaussianPosition daemon;
+  daemon.position = Vec3(4.1, 3.3, -2.2);
+  daemon.covariance = 0.04 * Mat3::Identity();
+  a.on_daemon_guidance(guidance(1, 0.5), 9, 1 * kS, 0);
+  a.on_daemon_estimate(1, EstimatorStatus::kLocated, 9, 1 * kS, daemon);
+  const auto agreeing = estimate(1, EstimatorStatus::kConverged, Vec3(4.3, 3.4, -2.2), 0.3);
+  EXPECT_FALSE(a.conflicts(agreeing, 9));
+  const auto multimodal = estimate(1, EstimatorStatus::kMultimodal, Vec3(-20, 3.4, -2.2), 0.3);
+  EXPECT_FALSE(a.conflicts(multimodal, 9)) << "a multimodal mean says nothing";
+  const auto far = estimate(1, EstimatorStatus::kConverged, Vec3(-20, 3.4, -2.2), 0.3);
+  EXPECT_TRUE(a.conflicts(far, 9));
+  EXPECT_FALSE(a.conflicts(far, 10)) << "estimates of different epochs are in different frames";
+  auto in = input(1, 9, guidance(1, 0.6), EstimatorStatus::kConverged);
+  in.local_estimates = {agreeing};
+  const auto d = a.decide(in);
+  EXPECT_EQ(d.source, GuidanceSource::kDaemon);
+  EXPECT_TRUE(d.conflicting_signals.empty());
 }
 
 TEST(GuidanceArbiter, RefusesAnAbsurdTimeout) {

@@ -82,7 +82,11 @@ class CommandNode {
   mutable std::mutex mutex_;
   incident::VictimFusion fusion_;
   incident::TeamTracker tracker_;
-  std::deque<responder::VictimEstimate> pending_estimates_;
+  struct PendingEstimate {
+    responder::VictimEstimate estimate;
+    std::string writer;  ///< the DDS writer's GUID: which estimator
+  };
+  std::deque<PendingEstimate> pending_estimates_;
   std::map<std::string, incident::ResponderTrack> fixes_;  ///< per responder
   std::vector<std::pair<eprosima::fastrtps::rtps::InstanceHandle_t, std::string>> writer_owner_;
   std::vector<incident::TeamStatus> last_teams_;

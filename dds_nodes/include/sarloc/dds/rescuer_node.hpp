@@ -48,6 +48,8 @@ struct EpochResult {
   bool daemon_reachable = false;
   std::map<std::uint32_t, responder::EstimatorStatus> signals;  ///< status of every signal (followed source)
   double latency_ms = -1.0;  ///< measurement publish -> daemon guidance arrival (wall), -1 if none
+  /// Signals whose daemon estimate conflicts with the device's own (responder::GuidanceArbiter).
+  std::set<std::uint32_t> conflicting_signals;
 };
 
 class RescuerNode {
@@ -84,6 +86,7 @@ class RescuerNode {
   std::condition_variable cv_;
   responder::GuidanceArbiter arbiter_;               // under mutex_
   std::set<std::uint32_t> found_elsewhere_;          // signals incident command reports found; under mutex_
+  std::set<std::uint32_t> reported_conflicts_;       // conflicts already logged (epoch thread only)
   std::vector<eprosima::fastrtps::rtps::InstanceHandle_t> live_core_writers_;  // NodeStatus writers of kind CORE
   std::unique_ptr<Reader<::sarloc::Guidance>> guidance_reader_;
   std::unique_ptr<Reader<::sarloc::VictimEstimate>> estimate_reader_;

@@ -25,6 +25,9 @@ struct FusedVictim {
   TimestampNs last_update = 0;
   TimestampNs located_at = 0;           ///< 0 while not located
   TimestampNs found_at = 0;             ///< 0 while not found
+  /// Two estimators of one of its sources disagree (VictimFusion): the picture cannot tell
+  /// which is right, so that source confirms nothing and the dashboard shows the flag.
+  bool evidence_conflict = false;
 };
 
 /// Found by a rescuer (and possibly recovered since).

@@ -32,6 +32,9 @@ struct SourceEstimate {
   /// with a GNSS fix): an estimate confidently above z = 0 is a mirror solution, refused.
   bool below_surface = false;
   SourceState state = SourceState::kTentative;
+  /// Which estimator computed it (e.g. the DDS writer): a rescuer's device and the core daemon
+  /// both estimate the same (rescuer, signal) from the same samples, so they must agree.
+  std::string estimator;
 };
 
 /// Where the reporter's detector was at the estimate's stamp (ResponderTrack::at).

@@ -32,6 +32,13 @@
 //      to a timeout) is a ghost of a wrong association and is removed the same way;
 //   Sources and victims on different floors never associate or merge (a victim's floor is
 //      that of its first source).
+//   Conflicts: a source is estimated by more than one estimator (a rescuer's device and the
+//      core daemon filter the same samples). When their latest estimates (both >= kConverged,
+//      within source_timeout_s of each other) are outside each other's keep gate, the source
+//      is conflicted for source_timeout_s: it is treated as inactive (fuses and confirms
+//      nothing), the victim it was bound to carries evidence_conflict, and a victim confirmed
+//      only by conflicted sources goes back to kUnconfirmed (seen under radio fades: the
+//      daemon's filter LOCATED 7 m from the device's correct one, and three ghosts confirmed).
 //   6. state: kLocated when a bound source is kLocated or kFound or the fused 95 % radius
 //      (worst axis) is below located_radius_m; kFound when a bound source is kFound; states
 //      never go back. located_at / found_at are set once (to `now`).
@@ -101,9 +108,12 @@ class VictimFusion {
  private:
   using SourceKey = std::pair<std::string, std::uint32_t>;
   struct Source {
-    SourceEstimate estimate;
-    std::uint32_t victim_id = 0;  ///< 0 = unbound
+    SourceEstimate estimate;            ///< the newest, whichever estimator
+    std::uint32_t victim_id = 0;        ///< 0 = unbound
+    std::uint32_t last_victim_id = 0;   ///< the victim it was last bound to
     bool active = false;
+    std::map<std::string, SourceEstimate> by_estimator;  ///< the latest of each estimator
+    TimestampNs conflict_until = 0;     ///< conflicted (inactive) until then
   };
   enum class Unbind : std::uint8_t { kInactive, kReassociated };
 
@@ -116,6 +126,9 @@ class VictimFusion {
   void associate_rescuer(const std::string& rescuer_id, TimestampNs now);
   void merge_victims();
   void update_states(TimestampNs now);
+  /// Records the estimate as its estimator's latest; marks the source conflicted when it
+  /// disagrees with another estimator's.
+  void check_conflict(Source& s, const SourceEstimate& estimate);
 
   VictimFusionConfig config_;
   double gate_ = 0.0, keep_gate_ = 0.0, merge_gate_ = 0.0;  ///< chi-square thresholds

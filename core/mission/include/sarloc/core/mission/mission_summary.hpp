@@ -61,6 +61,7 @@ struct PictureVictimOutcome {
   bool found = false;
   std::size_t sources = 0;
   bool matches_a_buried_victim = false;
+  bool evidence_conflict = false;                ///< incident command flagged conflicting estimates
 };
 
 struct FaultOutcome {

@@ -14,6 +14,13 @@
 //     the daemon's estimate of the guided signal, for this same epoch, is at least as far
 //     along (INITIALISING < MULTIMODAL < CONVERGED < LOCATED < FOUND) as the device's own of
 //     the signal it would guide to: a restarted daemon with an empty filter is not followed;
+//   - never when the two estimates of the guided signal conflict: both at least CONVERGED
+//     for the same epoch (same frame G_k) and their difference outside chi2_3(0.999) with
+//     summed covariances. They filter the same samples, so one of them is wrong (seen: after
+//     a 37 s radio fade the daemon's filter settled LOCATED 7 m from the device's, which was
+//     0.07 m from the victim). Conflicting signals are reported (ArbiterDecision), so that
+//     the device publishes its own estimate next to the daemon's and incident command sees
+//     the conflict instead of a confident guess;
 //   - otherwise the device's own guidance, if any.
 //
 //   GuidanceArbiter arbiter(3.0, clock.now());
@@ -24,6 +31,9 @@
 #include <functional>
 #include <map>
 #include <optional>
+
+#include <set>
+#include <vector>
 
 #include "sarloc/core/responder/guidance.hpp"
 #include "sarloc/core/responder/victim_estimate.hpp"
@@ -40,6 +50,8 @@ struct ArbiterInput {
   std::optional<Guidance> local_guidance;
   /// The device's own status of a signal (kInitialising if never measured).
   std::function<EstimatorStatus(std::uint32_t)> local_status;
+  /// The device's own estimates of this epoch (checked against the daemon's).
+  std::vector<VictimEstimate> local_estimates;
 };
 
 struct ArbiterDecision {
@@ -52,6 +64,8 @@ struct ArbiterDecision {
   /// The daemon's status of every signal, when its guidance is followed.
   std::map<std::uint32_t, EstimatorStatus> daemon_signals;
   double latency_ms = -1.0;          ///< publication -> this epoch's daemon guidance (wall), -1 if none
+  /// Signals whose daemon estimate of this epoch conflicts with the device's own.
+  std::set<std::uint32_t> conflicting_signals;
 };
 
 class GuidanceArbiter {
@@ -60,7 +74,8 @@ class GuidanceArbiter {
   GuidanceArbiter(double fallback_timeout_s, TimestampNs started);
 
   void on_daemon_guidance(const Guidance& guidance, std::uint64_t sequence, TimestampNs now, std::int64_t wall_ns);
-  void on_daemon_estimate(std::uint32_t signal_id, EstimatorStatus status, std::uint64_t sequence, TimestampNs now);
+  void on_daemon_estimate(std::uint32_t signal_id, EstimatorStatus status, std::uint64_t sequence, TimestampNs now,
+                          const GaussianPosition& relative = {});
   /// A core daemon's status was seen alive / every one's liveliness was lost. A daemon that
   /// comes back starts from nothing, so its signal statuses are forgotten.
   void on_daemon_seen() { seen_daemon_ = true; daemons_lost_ = false; }
@@ -74,12 +89,16 @@ class GuidanceArbiter {
 
   /// The decision for one epoch; counts fallbacks.
   ArbiterDecision decide(const ArbiterInput& input);
+  /// The daemon's estimate of local.signal_id for this same epoch conflicts with `local`
+  /// (see the rules above).
+  bool conflicts(const VictimEstimate& local, std::uint64_t sequence) const;
   int fallbacks() const { return fallbacks_; }
 
  private:
   struct SignalStatus {
     EstimatorStatus status = EstimatorStatus::kInitialising;
     std::uint64_t sequence = 0;  ///< the measurement it answers
+    GaussianPosition relative;   ///< the daemon's estimate, G_k of that measurement
   };
   const SignalStatus* guided_signal_status() const;
 
