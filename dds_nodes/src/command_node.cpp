@@ -78,7 +78,7 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
                         writer, estimate.relative.position.x(), estimate.relative.position.y(),
                         estimate.relative.position.z());
           std::lock_guard<std::mutex> lock(mutex_);
-          pending_estimates_.push_back({std::move(estimate), std::move(writer)});
+          pending_estimates_.push_back({std::move(estimate), std::move(writer), e.from_device()});
         } catch (const InputError& error) {
           counters_.rejected("invalid_value");
           warnings_.warn(e.rescuer_id().to_string(), "invalid_value", std::string("victim estimate: ") + error.what());
@@ -172,6 +172,7 @@ void CommandNode::cycle() {
       try {
         auto source = incident::make_source_estimate(e, *fix);
         source.estimator = pending.writer;
+        source.from_device = pending.from_device;
         spdlog::trace("source {}/{} stamp {} status {} at ({:.2f}, {:.2f}, {:.2f}) sd ({:.2f}, {:.2f}, {:.2f})",
                       source.rescuer_id, source.signal_id, source.stamp, static_cast<int>(source.state),
                       source.position.position.x(), source.position.position.y(), source.position.position.z(),

@@ -204,7 +204,9 @@ EpochResult RescuerNode::epoch(const std::vector<responder::Odometry>& odometry,
   // sides of a conflict (it then confirms neither).
   for (const auto& e : local_estimates) {
     if (!result.daemon_reachable || decision.conflicting_signals.count(e.signal_id) != 0) {
-      estimate_writer_.write(to_idl(e, sequence));
+      auto message = to_idl(e, sequence);
+      message.from_device(true);
+      estimate_writer_.write(message);
     }
   }
   return result;

@@ -104,8 +104,11 @@ bool VictimFusion::update(const SourceEstimate& estimate) {
     return true;
   }
   check_conflict(it->second, estimate);
-  if (estimate.stamp < it->second.estimate.stamp) return false;
-  it->second.estimate = estimate;
+  Source& s = it->second;
+  // While conflicted, a source with a device estimator follows that one only.
+  const bool distrusted = !s.trusted.empty() && estimate.stamp < s.conflict_until && estimate.estimator != s.trusted;
+  if (distrusted || estimate.stamp < s.estimate.stamp) return false;
+  s.estimate = estimate;
   return true;
 }
 
@@ -120,6 +123,13 @@ void VictimFusion::check_conflict(Source& s, const SourceEstimate& estimate) {
     if (std::llabs(other.stamp - estimate.stamp) > window) continue;
     if (mahalanobis2(estimate.position, other.position) > keep_gate_) {
       s.conflict_until = std::max(s.conflict_until, std::max(estimate.stamp, other.stamp) + window);
+      if (estimate.from_device != other.from_device) {
+        const SourceEstimate& device = estimate.from_device ? estimate : other;
+        s.trusted = device.estimator;
+        if (s.estimate.estimator != s.trusted) s.estimate = device;
+      } else {
+        s.trusted.clear();
+      }
     }
   }
 }
@@ -329,7 +339,8 @@ void VictimFusion::step(TimestampNs now) {
   const double timeout_ns = config_.source_timeout_s * 1e9;
   for (auto& [key, s] : sources_) {
     s.active = s.estimate.state >= SourceState::kConverged &&
-               static_cast<double>(now - s.estimate.stamp) <= timeout_ns && now >= s.conflict_until;
+               static_cast<double>(now - s.estimate.stamp) <= timeout_ns &&
+               (now >= s.conflict_until || !s.trusted.empty());
     if (!s.active) unbind(s, Unbind::kInactive);
   }
   for (FusedVictim& v : victims_) refuse(v);

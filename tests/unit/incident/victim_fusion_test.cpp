@@ -173,6 +173,28 @@ TEST(VictimFusion, AConfirmedVictimWhoseOnlySourceTurnsConflictedIsNoLongerConfi
   EXPECT_EQ(f.victims()[0].located_at, 0);
 }
 
+// The reporter's own device saw every sample; the daemon's copy may have missed some in a
+// fade. In their conflict the source follows the device, and the victim stays flagged.
+TEST(VictimFusion, InAConflictWithTheDaemonTheDevicesEstimateCarriesTheSource) {
+  VictimFusion f;
+  SourceEstimate daemon = src("r1", 1, 10 * kSec, Vec3(-27.9, 40.8, -1.8), 0.15, EstimatorStatus::kLocated);
+  daemon.estimator = "daemon";
+  SourceEstimate device = src("r1", 1, 10 * kSec, Vec3(-20.0, 42.0, -1.2), 0.15, EstimatorStatus::kFound);
+  device.estimator = "device";
+  device.from_device = true;
+  f.update(daemon);
+  f.update(device);
+  SourceEstimate later = daemon;  // the daemon keeps publishing its wrong copy
+  later.stamp = 11 * kSec;
+  EXPECT_FALSE(f.update(later)) << "not the estimator the conflicted source follows";
+  f.step(11 * kSec);
+  ASSERT_EQ(f.victims().size(), 1U);
+  const auto& v = f.victims()[0];
+  EXPECT_TRUE(v.position.position.isApprox(Vec3(-20.0, 42.0, -1.2), 1e-9));
+  EXPECT_EQ(v.state, VictimState::kFound);
+  EXPECT_TRUE(v.evidence_conflict);
+}
+
 TEST(VictimFusion, AgreeingEstimatorsAreNoConflict) {
   VictimFusion f;
   SourceEstimate device = src("r1", 1, 10 * kSec, Vec3(-20.0, 42.0, -1.2), 0.15, EstimatorStatus::kLocated);

@@ -85,6 +85,7 @@ class CommandNode {
   struct PendingEstimate {
     responder::VictimEstimate estimate;
     std::string writer;  ///< the DDS writer's GUID: which estimator
+    bool from_device = false;
   };
   std::deque<PendingEstimate> pending_estimates_;
   std::map<std::string, incident::ResponderTrack> fixes_;  ///< per responder

@@ -35,6 +35,9 @@ struct SourceEstimate {
   /// Which estimator computed it (e.g. the DDS writer): a rescuer's device and the core daemon
   /// both estimate the same (rescuer, signal) from the same samples, so they must agree.
   std::string estimator;
+  /// Computed on the reporter's own device, which saw every sample (nothing crosses a network
+  /// between its sensors and its estimator); the core daemon's copy can miss samples.
+  bool from_device = false;
 };
 
 /// Where the reporter's detector was at the estimate's stamp (ResponderTrack::at).

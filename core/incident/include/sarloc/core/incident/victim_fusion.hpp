@@ -35,10 +35,13 @@
 //   Conflicts: a source is estimated by more than one estimator (a rescuer's device and the
 //      core daemon filter the same samples). When their latest estimates (both >= kConverged,
 //      within source_timeout_s of each other) are outside each other's keep gate, the source
-//      is conflicted for source_timeout_s: it is treated as inactive (fuses and confirms
-//      nothing), the victim it was bound to carries evidence_conflict, and a victim confirmed
-//      only by conflicted sources goes back to kUnconfirmed (seen under radio fades: the
-//      daemon's filter LOCATED 7 m from the device's correct one, and three ghosts confirmed).
+//      is conflicted for source_timeout_s and the victim it was bound to carries
+//      evidence_conflict. If one of them was computed on the reporter's own device
+//      (from_device: it saw every sample) and the other not, the source follows the device's
+//      estimates only; otherwise it is treated as inactive (fuses and confirms nothing) and a
+//      victim confirmed only by conflicted sources goes back to kUnconfirmed. Seen under radio
+//      fades: the daemon's filter LOCATED 7 m from the device's, which was 0.07 m from the
+//      victim, and incident command confirmed ghosts from the daemon's copy.
 //   6. state: kLocated when a bound source is kLocated or kFound or the fused 95 % radius
 //      (worst axis) is below located_radius_m; kFound when a bound source is kFound; states
 //      never go back. located_at / found_at are set once (to `now`).
@@ -113,7 +116,8 @@ class VictimFusion {
     std::uint32_t last_victim_id = 0;   ///< the victim it was last bound to
     bool active = false;
     std::map<std::string, SourceEstimate> by_estimator;  ///< the latest of each estimator
-    TimestampNs conflict_until = 0;     ///< conflicted (inactive) until then
+    TimestampNs conflict_until = 0;     ///< conflicted until then
+    std::string trusted;                ///< while conflicted: the device's estimator, if any
   };
   enum class Unbind : std::uint8_t { kInactive, kReassociated };
 
