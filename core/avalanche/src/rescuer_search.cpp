@@ -86,10 +86,34 @@ std::optional<Rejection> RescuerSearch::add_odometry(const Odometry& o) {
   } catch (const InputError& e) {
     return reject(RejectReason::kInvalidValue, rescuer_id_, e.what());
   }
+  // A gap before this step: the steps in between were lost for good (a radio fade longer than
+  // the sender keeps them). Over 10 s of lost motion the robocentric map is gone: restart the
+  // unfound filters. A shorter gap is applied as it is: standing unknown motion in for it was
+  // measured to make a near-field filter less consistent (tests/unit, NEES 2293 against 6.4).
+  if (last_odometry_sequence_ && o.interval_start > last_odometry_end_) {
+    const auto gap = static_cast<std::uint64_t>(o.interval_start) - static_cast<std::uint64_t>(last_odometry_end_);
+    if (gap > static_cast<std::uint64_t>(kMaxFrameGapNs)) {
+      return reject(RejectReason::kStampBackwards, rescuer_id_,
+                    "odometry.interval_start = " + std::to_string(o.interval_start) + ": more than 600 s after the " +
+                        "last step's end " + std::to_string(last_odometry_end_) + " (a bogus stamp)");
+    }
+    if (gap > static_cast<std::uint64_t>(kMaxUnknownMotionNs)) restart_unfound_filters();
+  }
   for (auto& [signal, state] : signals_) state.filter.add_odometry(o);
   last_odometry_sequence_ = o.sequence;
   last_odometry_end_ = o.interval_end;
   return std::nullopt;
+}
+
+void RescuerSearch::restart_unfound_filters() {
+  for (auto& [signal, state] : signals_) {
+    if (state.found) continue;  // found before the gap: the estimate of that moment stands
+    state.filter = SogFilter(config_.sog, rescuer_id_, signal);
+    state.controller = SearchController(config_.search);
+    state.estimate.reset();
+  }
+  ++restarts_;
+  choose_target();
 }
 
 bool RescuerSearch::add_unknown_motion(TimestampNs from, TimestampNs until) {
@@ -97,7 +121,14 @@ bool RescuerSearch::add_unknown_motion(TimestampNs from, TimestampNs until) {
   if (until <= from) return false;
   // until > from: their difference as unsigned is exact, whatever the stamps' signs.
   const auto span = static_cast<std::uint64_t>(until) - static_cast<std::uint64_t>(from);
-  if (span > static_cast<std::uint64_t>(kMaxUnknownMotionNs)) return false;  // not a few late steps
+  if (span > static_cast<std::uint64_t>(kMaxUnknownMotionNs)) {
+    // Too long to stand in for: the robocentric map is lost. Restart the unfound filters
+    // (they initialise from the next measurement) rather than update them as if the rescuer
+    // had stood still. The clocks stay: a bogus stamp far ahead must not shut real odometry out.
+    if (span > static_cast<std::uint64_t>(kMaxFrameGapNs)) return false;
+    restart_unfound_filters();
+    return true;
+  }
   const double dt = static_cast<double>(span) * 1e-9;  // <= 10 s; variances capped at 100 m^2 below
   const double vt = std::pow(config_.unknown_motion_speed_m_per_s * dt, 2);
   const double vz = std::pow(0.2 * config_.unknown_motion_speed_m_per_s * dt, 2) + 1e-4;  // slopes only

@@ -331,16 +331,55 @@ TEST(RescuerSearch, NewSignalsFirstSampleOvertakenIsRefused) {
   EXPECT_TRUE(std::holds_alternative<SearchUpdate>(search.process(sim.measure(2 * kSecond)[0])));
 }
 
-// A stand-in is for a few late steps: a stamp far ahead (bad input) must not make the search
-// refuse every real odometry sample until then.
-TEST(RescuerSearch, UnknownMotionIsNotStoodInForALongGap) {
+// A stand-in is for a few late steps. A longer gap loses the robocentric map: the unfound
+// filters restart from their next measurement. Either way a stamp far ahead (bad input) must
+// not make the search refuse every real odometry sample until then.
+TEST(RescuerSearch, ALongGapRestartsTheFiltersButKeepsTheClocks) {
   const auto s = scenario();
   mission::SimulatedRescuer sim(s, "r");
   RescuerSearch search("r", quick());
   feed(search, sim, 3);
-  EXPECT_FALSE(search.add_unknown_motion(3 * kSecond, 3 * kSecond + kMaxUnknownMotionNs + 1));
+  ASSERT_GT(search.signal_count(), 0U);
+  EXPECT_TRUE(search.add_unknown_motion(3 * kSecond, 3 * kSecond + kMaxUnknownMotionNs + 1));
+  EXPECT_EQ(search.restarts(), 1U);
+  for (std::uint32_t signal = 1; signal <= search.signal_count(); ++signal) {
+    EXPECT_FALSE(search.estimate(signal).has_value()) << "signal " << signal << " restarts from its next sample";
+  }
   EXPECT_FALSE(search.add_odometry(sim.walk(0.0, 1.0, 3 * kSecond, 4 * kSecond)).has_value());
   EXPECT_TRUE(search.add_unknown_motion(4 * kSecond, 5 * kSecond));
+  EXPECT_FALSE(search.add_unknown_motion(5 * kSecond, 5 * kSecond + kMaxFrameGapNs + 1)) << "bad input: nothing done";
+  EXPECT_EQ(search.restarts(), 1U);
+}
+
+// Over 10 s of odometry lost for good: the unfound filters restart instead of applying the
+// next step as if the rescuer had not moved meanwhile.
+TEST(RescuerSearch, OverTenSecondsOfLostOdometryRestartsTheFilters) {
+  const auto s = scenario();
+  mission::SimulatedRescuer sim(s, "r");
+  RescuerSearch search("r", quick());
+  feed(search, sim, 3);
+  for (int k = 3; k < 15; ++k) sim.walk(0.0, 1.0, k * kSecond, (k + 1) * kSecond);  // 12 steps lost
+  ASSERT_FALSE(search.add_odometry(sim.walk(0.0, 1.0, 15 * kSecond, 16 * kSecond)).has_value());
+  EXPECT_EQ(search.restarts(), 1U);
+  for (const auto& m : sim.measure(16 * kSecond)) {
+    ASSERT_TRUE(std::holds_alternative<SearchUpdate>(search.process(m)));
+    EXPECT_EQ(search.estimate(m.signal_id)->status, EstimatorStatus::kMultimodal) << "a fresh ring, not the old belief";
+  }
+}
+
+TEST(RescuerSearch, AnOdometryStampFarAheadIsRefused) {
+  const auto s = scenario();
+  mission::SimulatedRescuer sim(s, "r");
+  RescuerSearch search("r", quick());
+  feed(search, sim, 3);
+  auto bogus = sim.walk(0.0, 1.0, 3 * kSecond, 4 * kSecond);
+  bogus.interval_start += kMaxFrameGapNs + kSecond;
+  bogus.interval_end += kMaxFrameGapNs + kSecond;
+  const auto refused = search.add_odometry(bogus);
+  ASSERT_TRUE(refused.has_value());
+  EXPECT_EQ(refused->reason, RejectReason::kStampBackwards);
+  EXPECT_FALSE(search.add_odometry(sim.walk(0.0, 1.0, 4 * kSecond, 5 * kSecond)).has_value())
+      << "real odometry is still accepted";
 }
 
 }  // namespace

@@ -49,12 +49,16 @@ struct SearchUpdate {
 
 /// Longest gap add_unknown_motion() stands in for.
 inline constexpr TimestampNs kMaxUnknownMotionNs = 10'000'000'000;
+/// Longer gaps restart the unfound filters, up to this; beyond it the stamp is taken for bad input.
+inline constexpr TimestampNs kMaxFrameGapNs = 600'000'000'000;
 
 class RescuerSearch {
  public:
   RescuerSearch(std::string rescuer_id, RescuerSearchConfig config);
 
   /// Odometry for every signal's filter. Returns the rejection, if refused (state untouched).
+  /// A gap of over 10 s between the previous step's end and this one's start (steps lost for
+  /// good) restarts the unfound signals' filters; a gap over 600 s is refused (bad stamp).
   std::optional<Rejection> add_odometry(const Odometry& odometry);
 
   /// The odometry over [from, until] did not arrive in time (late or lost on the network):
@@ -88,6 +92,8 @@ class RescuerSearch {
   std::optional<std::uint32_t> target_signal() const { return target_; }
   const std::string& rescuer_id() const { return rescuer_id_; }
   std::size_t signal_count() const { return signals_.size(); }
+  /// Times the unfound filters restarted after a gap in the motion too long to stand in for.
+  std::size_t restarts() const { return restarts_; }
   /// Latest estimate of a signal (nullopt if never measured).
   std::optional<VictimEstimate> estimate(std::uint32_t signal_id) const;
 
@@ -106,6 +112,7 @@ class RescuerSearch {
 
   std::optional<Rejection> gate(const FieldMeasurement& m) const;
   void choose_target();
+  void restart_unfound_filters();
 
   std::string rescuer_id_;
   RescuerSearchConfig config_;
@@ -115,6 +122,7 @@ class RescuerSearch {
   std::optional<std::uint64_t> last_odometry_sequence_;
   TimestampNs last_odometry_end_ = 0;
   TimestampNs superseded_until_ = 0;  ///< end of the last unknown-motion stand-in
+  std::size_t restarts_ = 0;
 };
 
 }  // namespace sarloc::avalanche

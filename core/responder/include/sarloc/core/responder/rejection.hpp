@@ -11,7 +11,7 @@ enum class RejectReason : std::uint8_t {
   kWrongRescuer,       ///< sample for another rescuer reached this estimator
   kDuplicateSequence,  ///< sequence number already seen
   kSequenceBackwards,  ///< sequence number lower than the last accepted
-  kStampBackwards,     ///< timestamp not after the last accepted one
+  kStampBackwards,     ///< timestamp not after the last accepted one (or absurdly far after it)
   kTooManySignals,     ///< more separated signals than the estimator tracks
   kAbsurdMotion,       ///< odometry step or rotation beyond the limits
   kSuperseded,         ///< odometry arrived after unknown motion stood in for its interval
