@@ -18,6 +18,8 @@ enum DdsTestDomain : std::uint32_t {
   kDomainManyParticipants = 128,
   kDomainSecurity = 129,
   kDomainDiscoveryServer = 140,
+  kDomainBenchEchoListener = 141,
+  kDomainBenchEchoQueue = 142,
   kDomainMissionSmall = 130,  // mission_test: 130..139 (138: lossy.yaml)
 };
 
