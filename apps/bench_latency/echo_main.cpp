@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
   std::string handoff = "listener";
   app::add_node_options(cli, options, /*with_epoch=*/false);
   cli.add_option("--handoff", handoff,
-                 "listener: answer on the DDS listener thread; queue: through a worker thread, as sarloc-core")
+                 "listener: answer on the DDS listener thread; queue: through a worker thread, as sarloc-core; waitset: a worker waiting in a DDS WaitSet")
       ->capture_default_str();
   CLI11_PARSE(cli, argc, argv);
 

@@ -1,5 +1,6 @@
 #include "echo_node.hpp"
 
+#include <fastdds/dds/core/condition/WaitSet.hpp>
 #include <spdlog/spdlog.h>
 
 #include "sarloc/core/common/errors.hpp"
@@ -12,6 +13,7 @@ const char* to_string(EchoHandoff handoff) {
   switch (handoff) {
     case EchoHandoff::kListener: return "listener";
     case EchoHandoff::kQueue: return "queue";
+    case EchoHandoff::kWaitSet: return "waitset";
   }
   return "?";
 }
@@ -19,7 +21,8 @@ const char* to_string(EchoHandoff handoff) {
 EchoHandoff parse_echo_handoff(const std::string& text) {
   if (text == "listener") return EchoHandoff::kListener;
   if (text == "queue") return EchoHandoff::kQueue;
-  throw ConfigError("echo.handoff = '" + text + "': must be listener or queue");
+  if (text == "waitset") return EchoHandoff::kWaitSet;
+  throw ConfigError("echo.handoff = '" + text + "': must be listener, queue or waitset");
 }
 
 void EchoNodeConfig::validate() const {
@@ -37,7 +40,6 @@ EchoNode::EchoNode(std::shared_ptr<dds::Participant> participant, EchoNodeConfig
       participant_(std::move(participant)),
       estimate_writer_(participant_, dds::EndpointOptions::in(config_.partitions)),
       status_writer_(participant_) {
-  if (config_.handoff == EchoHandoff::kQueue) worker_ = std::thread([this] { run_worker(); });
   status_thread_ = std::thread([this] { run_status(); });
   try {
     auto on_measurement = [this](const ::sarloc::FieldMeasurement& m, const auto&) {
@@ -56,6 +58,13 @@ EchoNode::EchoNode(std::shared_ptr<dds::Participant> participant, EchoNodeConfig
     // Read and dropped: the daemon receives this traffic too, so the echo must.
     odometry_reader_ = std::make_unique<dds::Reader<::sarloc::Odometry>>(
         participant_, [](const ::sarloc::Odometry&, const auto&) {}, dds::EndpointOptions::in(config_.partitions));
+    if (config_.handoff == EchoHandoff::kQueue) worker_ = std::thread([this] { run_worker(); });
+    if (config_.handoff == EchoHandoff::kWaitSet) {
+      // No listener: DATA_AVAILABLE then only raises the status condition the worker waits on.
+      // (Nothing is published before the bench has matched, so no sample is lost meanwhile.)
+      measurement_reader_->get()->set_listener(nullptr);
+      worker_ = std::thread([this] { run_waitset(); });
+    }
   } catch (...) {
     stop_threads();
     throw;
@@ -64,9 +73,11 @@ EchoNode::EchoNode(std::shared_ptr<dds::Participant> participant, EchoNodeConfig
 }
 
 EchoNode::~EchoNode() {
+  // Threads first: the WaitSet worker uses the reader. A listener callback still running
+  // meanwhile only reaches the writer and the queue, which outlive the readers.
+  stop_threads();
   measurement_reader_.reset();
   odometry_reader_.reset();
-  stop_threads();
 }
 
 void EchoNode::stop_threads() {
@@ -76,6 +87,7 @@ void EchoNode::stop_threads() {
   }
   cv_.notify_all();
   status_cv_.notify_all();
+  stop_guard_.set_trigger_value(true);
   if (worker_.joinable()) worker_.join();
   if (status_thread_.joinable()) status_thread_.join();
 }
@@ -105,6 +117,27 @@ void EchoNode::run_worker() {
       queue_.pop_front();
     }
     answer(m);
+  }
+}
+
+void EchoNode::run_waitset() {
+  namespace fdds = eprosima::fastdds::dds;
+  fdds::DataReader* reader = measurement_reader_->get();
+  fdds::StatusCondition& data = reader->get_statuscondition();
+  data.set_enabled_statuses(fdds::StatusMask::data_available());
+  fdds::WaitSet waitset;
+  waitset.attach_condition(data);
+  waitset.attach_condition(stop_guard_);
+  fdds::ConditionSeq active;
+  ::sarloc::FieldMeasurement m;
+  fdds::SampleInfo info;
+  while (!stopping_.load()) {
+    if (waitset.wait(active, eprosima::fastrtps::c_TimeInfinite) != eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+      continue;
+    }
+    while (reader->take_next_sample(&m, &info) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+      if (info.valid_data) answer(m);
+    }
   }
 }
 

@@ -14,7 +14,9 @@
 // Handoff kListener answers on the Fast DDS listener thread: the transport's floor.
 // kQueue hands each sample to one worker thread through a mutex, a deque and a condition
 // variable, as sarloc-core's listener hands samples to its workers: the difference between the
-// two is the cost of that hand-off (one more thread wake-up per sample).
+// two is the cost of that hand-off (one more thread wake-up per sample). kWaitSet has no
+// listener: one worker waits on the reader's DATA_AVAILABLE status condition in a DDS WaitSet
+// and takes the samples itself (the other way to get samples onto the node's own thread).
 #include <atomic>
 #include <condition_variable>
 #include <deque>
@@ -24,16 +26,18 @@
 #include <thread>
 #include <vector>
 
+#include <fastdds/dds/core/condition/GuardCondition.hpp>
+
 #include "sarloc/dds/participant.hpp"
 #include "sarloc/dds/reader.hpp"
 #include "sarloc/dds/writer.hpp"
 
 namespace sarloc::bench {
 
-enum class EchoHandoff { kListener, kQueue };
+enum class EchoHandoff { kListener, kQueue, kWaitSet };
 
 const char* to_string(EchoHandoff handoff);
-/// "listener" or "queue"; throws ConfigError naming the value otherwise.
+/// "listener", "queue" or "waitset"; throws ConfigError naming the value otherwise.
 EchoHandoff parse_echo_handoff(const std::string& text);
 
 struct EchoNodeConfig {
@@ -61,6 +65,7 @@ class EchoNode {
  private:
   void answer(const ::sarloc::FieldMeasurement& measurement);
   void run_worker();
+  void run_waitset();
   void run_status();
   void stop_threads();
 
@@ -76,7 +81,8 @@ class EchoNode {
   std::condition_variable cv_;         // worker: a sample waits
   std::condition_variable status_cv_;  // status thread: stop
   std::deque<::sarloc::FieldMeasurement> queue_;  // kQueue only
-  std::thread worker_;                             // kQueue only
+  eprosima::fastdds::dds::GuardCondition stop_guard_;  // kWaitSet: wakes the worker to stop
+  std::thread worker_;                             // kQueue, kWaitSet
   std::thread status_thread_;
   // Readers last: they start calling back as soon as they exist.
   std::unique_ptr<dds::Reader<::sarloc::FieldMeasurement>> measurement_reader_;

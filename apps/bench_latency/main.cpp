@@ -61,6 +61,7 @@ struct BenchSetup {
   app::MissionConfig mission;
   std::string bin_dir;
   std::string config_path;  ///< absolute
+  std::string core_exe;     ///< the daemon's executable (default: sarloc-core next to this one)
   std::uint32_t domain = 60;
   std::string log_dir;
   std::uint64_t seed = 1;
@@ -133,7 +134,7 @@ std::pair<std::unique_ptr<app::ChildProcess>, std::string> start_target(const Be
   }
   return {std::make_unique<app::ChildProcess>(
               "sarloc-core",
-              std::vector<std::string>{setup.bin_dir + "/sarloc-core", "-c", setup.config_path, "--domain", domain,
+              std::vector<std::string>{setup.core_exe, "-c", setup.config_path, "--domain", domain,
                                        "--log-level", "warn"},
               log_path),
           setup.mission.core_config("").node_id};
@@ -395,7 +396,7 @@ int main(int argc, char** argv) {
       ->delimiter(',')
       ->capture_default_str();
   cli.add_option("--echo-handoff", echo_handoff,
-                 "listener: the echo answers on the DDS listener thread; queue: through a worker, as sarloc-core")
+                 "listener: the echo answers on the DDS listener thread; queue: through a worker, as sarloc-core; waitset: a worker in a DDS WaitSet")
       ->capture_default_str();
   cli.add_option("--repeat", repeats, "runs of every (load point, target), interleaved; the summary takes medians")
       ->capture_default_str();
@@ -414,6 +415,8 @@ int main(int argc, char** argv) {
   cli.add_option("--trace-dir", setup.trace_dir,
                  "write every run's per-measurement times here (CSV, steady-clock ns: published, write returned, "
                  "answer written, answer received, answered)");
+  cli.add_option("--core-exe", setup.core_exe,
+                 "daemon executable to measure instead of sarloc-core next to this one (e.g. another build)");
   cli.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical, off");
   cli.set_version_flag("--version", SARLOC_VERSION);
   CLI11_PARSE(cli, argc, argv);
@@ -433,6 +436,9 @@ int main(int argc, char** argv) {
     fs::create_directories(setup.log_dir);
     if (!setup.trace_dir.empty()) fs::create_directories(setup.trace_dir);
     setup.config_path = fs::absolute(config_path).string();
+    if (setup.core_exe.empty()) setup.core_exe = setup.bin_dir + "/sarloc-core";
+    if (!fs::is_regular_file(setup.core_exe)) throw ConfigError("--core-exe = '" + setup.core_exe + "': no such file");
+    setup.core_exe = fs::absolute(setup.core_exe).string();
     setup.domain = static_cast<std::uint32_t>(domain);
 
     nlohmann::json out;

@@ -20,6 +20,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainDiscoveryServer = 140,
   kDomainBenchEchoListener = 141,
   kDomainBenchEchoQueue = 142,
+  kDomainBenchEchoWaitSet = 143,
   kDomainMissionSmall = 130,  // mission_test: 130..139 (138: lossy.yaml)
 };
 
