@@ -194,6 +194,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     c.core.queue_limit = u;
     r.read("status_period_s", c.core.status_period_s);
     r.read("warning_interval_s", c.core.warning_interval_s);
+    r.read("odometry_wait_s", c.core.odometry_wait_s);
     r.expect_done();
   }
   {
