@@ -1,11 +1,17 @@
-// sarloc-bench-latency: end-to-end latency of the localization core daemon under load.
+// sarloc-bench-latency: end-to-end latency of the localization core daemon under load, against
+// a raw DDS echo.
 //
-// Starts sarloc-core as its own process, then simulates N rescuers in this process (one DDS
-// participant, as N devices' traffic) publishing odometry and field samples at `rate` Hz, each
-// rescuer on its own phase within the period (devices are not synchronised). Latency = wall
-// time from a measurement's publication to the arrival of the matching VictimEstimate
-// (same rescuer, signal and sequence) at the rescuer side. The daemon's CPU and memory come
-// from its NodeStatus. docs/benchmarks.md has the measured table.
+// For each load point it starts a responder as its own process, then simulates N rescuers in
+// this process (one DDS participant, as N devices' traffic) publishing odometry and field
+// samples at `rate` Hz, each rescuer on its own phase within the period (devices are not
+// synchronised). Latency = wall time from a measurement's publication to the arrival of the
+// matching VictimEstimate (same rescuer, signal and sequence) at the rescuer side.
+//
+// Responders ("targets"): sarloc-core, and sarloc-bench-echo (echo_node.hpp), which answers every
+// measurement at once on the same participant, topic and QoS profiles: the floor of what DDS
+// costs on this machine. Both run at every load point, interleaved, `--repeat` times; the
+// summary gives the medians over the repeats side by side, with the ratio sarloc/echo.
+// The responders' CPU and memory come from their NodeStatus. docs/benchmarks.md has the tables.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
@@ -19,15 +25,17 @@
 #include <random>
 #include <thread>
 
+#include "echo_node.hpp"
 #include "sarloc/app/command_line.hpp"
+#include "sarloc/app/json_io.hpp"
 #include "sarloc/app/child_process.hpp"
 #include "sarloc/app/logging.hpp"
-#include "sarloc/core/avalanche/evaluation.hpp"
 #include "sarloc/app/mission_config.hpp"
 #include "sarloc/app/node_options.hpp"
 #include "sarloc/app/progress_bar.hpp"
 #include "sarloc/app/run_main.hpp"
 #include "sarloc/app/shutdown_signal.hpp"
+#include "sarloc/core/avalanche/evaluation.hpp"
 #include "sarloc/core/mission/simulated_rescuer.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/mission_clock.hpp"
@@ -40,7 +48,36 @@ using namespace sarloc;
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
+enum class Target { kEcho, kSarloc };
+
+const char* to_string(Target t) { return t == Target::kEcho ? "echo" : "sarloc"; }
+
+Target parse_target(const std::string& text) {
+  if (text == "echo") return Target::kEcho;
+  if (text == "sarloc") return Target::kSarloc;
+  throw ConfigError("--targets contains '" + text + "': must be echo or sarloc");
+}
+
+/// What every run shares.
+struct BenchSetup {
+  app::MissionConfig mission;
+  std::string bin_dir;
+  std::string config_path;  ///< absolute
+  std::string core_exe;     ///< the daemon's executable (default: sarloc-core next to this one)
+  std::uint32_t domain = 60;
+  std::string log_dir;
+  std::uint64_t seed = 1;
+  bench::EchoHandoff echo_handoff = bench::EchoHandoff::kListener;
+  std::string trace_dir;  ///< per-sample CSV of every run here, if set
+  /// Seconds of load published before measuring starts. The daemon's filters start at ~1700
+  /// mixture components and prune over the first tens of epochs: without a warm-up the bench
+  /// measures that opening phase, with one it measures later, smaller mixtures.
+  double warmup_s = 0.0;
+};
+
 struct LoadResult {
+  Target target = Target::kSarloc;
+  std::size_t repeat = 0;
   std::size_t rescuers = 0;
   double rate_hz = 0.0;
   std::size_t measurements = 0;
@@ -48,10 +85,27 @@ struct LoadResult {
   double p50_ms = -1.0;
   double p99_ms = -1.0;
   double max_ms = -1.0;
-  double cpu_percent = -1.0;  ///< daemon, mean over the run (% of one core)
-  double rss_mb = -1.0;       ///< daemon, peak
+  /// Medians of the two legs, split at the answer's DDS source timestamp (the responder's
+  /// write() call): publication -> answer written (inbound DDS + the responder's own time),
+  /// answer written -> arrival here (outbound DDS and this process's listener).
+  double to_write_p50_ms = -1.0;
+  double return_p50_ms = -1.0;
+  double cpu_percent = -1.0;  ///< responder, mean over the run (% of one core)
+  double rss_mb = -1.0;       ///< responder, peak
 };
 
+/// One measurement's times, steady clock ns (-1: did not happen).
+struct SampleTimes {
+  std::int64_t published = -1;       ///< just before write()
+  std::int64_t write_returned = -1;  ///< write() returned
+  std::int64_t answer_written = -1;  ///< the answer's source timestamp (responder's write())
+  std::int64_t answer_received = -1; ///< the answer's reception timestamp (Fast DDS, here)
+  std::int64_t answered = -1;        ///< our listener got the answer
+};
+
+std::int64_t steady_ns(Clock::time_point t) {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
+}
 
 // Rescuers spread over the debris so that each hears one to three victims.
 mission::MissionScenario bench_scenario(const app::MissionConfig& mission, std::size_t n, std::uint64_t seed,
@@ -72,56 +126,96 @@ mission::MissionScenario bench_scenario(const app::MissionConfig& mission, std::
   return s;
 }
 
-LoadResult run_load(const app::MissionConfig& mission, const std::string& bin_dir, const std::string& config_path,
-                    std::uint32_t domain, std::size_t n, double rate_hz, double duration_s, const std::string& log_dir,
-                    std::uint64_t seed) {
+/// The responder process and the node_id its NodeStatus carries.
+std::pair<std::unique_ptr<app::ChildProcess>, std::string> start_target(const BenchSetup& setup, Target target,
+                                                                       const std::string& log_path) {
+  const std::string domain = std::to_string(setup.domain);
+  if (target == Target::kEcho) {
+    return {std::make_unique<app::ChildProcess>(
+                "sarloc-bench-echo",
+                std::vector<std::string>{setup.bin_dir + "/sarloc-bench-echo", "-c", setup.config_path, "--domain", domain,
+                                         "--handoff", bench::to_string(setup.echo_handoff), "--log-level", "warn"},
+                log_path),
+            bench::EchoNodeConfig{}.node_id};
+  }
+  return {std::make_unique<app::ChildProcess>(
+              "sarloc-core",
+              std::vector<std::string>{setup.core_exe, "-c", setup.config_path, "--domain", domain,
+                                       "--log-level", "warn"},
+              log_path),
+          setup.mission.core_config("").node_id};
+}
+
+void write_trace(const std::string& path,
+                 const std::map<std::tuple<std::string, std::uint32_t, std::uint64_t>, SampleTimes>& samples) {
+  std::ofstream out(path);
+  out << "rescuer_id,signal_id,sequence,published_ns,write_returned_ns,answer_written_ns,answer_received_ns,answered_ns\n";
+  for (const auto& [key, t] : samples) {
+    out << std::get<0>(key) << ',' << std::get<1>(key) << ',' << std::get<2>(key) << ',' << t.published << ','
+        << t.write_returned << ',' << t.answer_written << ',' << t.answer_received << ',' << t.answered << '\n';
+  }
+  if (!out) throw Error("cannot write the trace '" + path + "'");
+}
+
+LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, std::size_t n, double rate_hz,
+                    double duration_s) {
   LoadResult result;
+  result.target = target;
+  result.repeat = repeat;
   result.rescuers = n;
   result.rate_hz = rate_hz;
-  // A fresh daemon per load point: nothing left over from the previous one.
-  app::ChildProcess daemon("sarloc-core",
-                           {bin_dir + "/sarloc-core", "-c", config_path, "--domain", std::to_string(domain),
-                            "--log-level", "warn"},
-                           log_dir + "/core-" + std::to_string(n) + "-" + std::to_string(rate_hz) + ".log");
+  const std::string run_name = std::string(to_string(target)) + "-" + std::to_string(n) + "-" +
+                               std::to_string(rate_hz).substr(0, 4) + "-" + std::to_string(repeat);
+  // A fresh responder per load point: nothing left over from the previous one.
+  auto [responder, responder_id] = start_target(setup, target, setup.log_dir + "/" + run_name + ".log");
 
   auto participant = std::make_shared<sarloc::dds::Participant>(
-      app::participant_config(mission, static_cast<int>(domain), "bench-rescuers"));
+      app::participant_config(setup.mission, static_cast<int>(setup.domain), "bench-rescuers"));
   sarloc::dds::Writer<::sarloc::FieldMeasurement> measurements(participant);
   sarloc::dds::Writer<::sarloc::Odometry> odometry(participant);
 
+  // DDS stamps samples with the real-time clock; this run's offset maps them to steady time.
+  const std::int64_t realtime_minus_steady =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count() -
+      steady_ns(Clock::now());
   std::mutex mutex;
-  std::map<std::tuple<std::string, std::uint32_t, std::uint64_t>, Clock::time_point> sent;
-  std::vector<double> latencies;
+  std::map<std::tuple<std::string, std::uint32_t, std::uint64_t>, SampleTimes> samples;
   std::vector<double> cpu;
   double rss = -1.0;
-  sarloc::dds::Reader<::sarloc::VictimEstimate> estimates(participant, [&](const ::sarloc::VictimEstimate& e, const auto&) {
-    const auto now = Clock::now();
-    std::lock_guard<std::mutex> lock(mutex);
-    const auto it = sent.find({e.rescuer_id().to_string(), e.signal_id(), e.measurement_sequence()});
-    if (it == sent.end()) return;
-    latencies.push_back(std::chrono::duration<double, std::milli>(now - it->second).count());
-    sent.erase(it);
-  });
+  sarloc::dds::Reader<::sarloc::VictimEstimate> estimates(
+      participant, [&](const ::sarloc::VictimEstimate& e, const eprosima::fastdds::dds::SampleInfo& info) {
+        const std::int64_t now = steady_ns(Clock::now());
+        std::lock_guard<std::mutex> lock(mutex);
+        const auto it = samples.find({e.rescuer_id().to_string(), e.signal_id(), e.measurement_sequence()});
+        if (it == samples.end() || it->second.answered >= 0) return;  // not ours, or answered already
+        it->second.answered = now;
+        it->second.answer_written = info.source_timestamp.to_ns() - realtime_minus_steady;
+        it->second.answer_received = info.reception_timestamp.to_ns() - realtime_minus_steady;
+      });
   sarloc::dds::Reader<::sarloc::NodeStatus> status(participant, [&](const ::sarloc::NodeStatus& s, const auto&) {
-    if (s.kind() != ::sarloc::NODE_CORE) return;
+    if (s.node_id().to_string() != responder_id) return;
     std::lock_guard<std::mutex> lock(mutex);
     cpu.push_back(s.cpu_percent());
     rss = std::max(rss, s.rss_mb());
   });
-  if (!measurements.wait_for_readers(1, std::chrono::seconds(10)) || !odometry.wait_for_readers(1, std::chrono::seconds(10)) ||
+  if (!measurements.wait_for_readers(1, std::chrono::seconds(10)) ||
+      !odometry.wait_for_readers(1, std::chrono::seconds(10)) ||
       !estimates.wait_for_writers(1, std::chrono::seconds(10))) {
-    throw Error("sarloc-core did not come up on domain " + std::to_string(domain));
+    throw Error(std::string(responder->name()) + " did not come up on domain " + std::to_string(setup.domain));
   }
 
-  const auto scenario = bench_scenario(mission, n, seed, "bench-" + std::to_string(n) + "-");
+  const auto scenario = bench_scenario(setup.mission, n, setup.seed, "bench-" + std::to_string(n) + "-");
   std::vector<mission::SimulatedRescuer> sims;
   for (const auto& r : scenario.rescuers) sims.emplace_back(scenario, r.id);
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / rate_hz));
   const auto start = Clock::now() + std::chrono::milliseconds(200);
-  const std::size_t epochs = static_cast<std::size_t>(duration_s * rate_hz);
+  const std::size_t warmup_epochs = static_cast<std::size_t>(setup.warmup_s * rate_hz);
+  const std::size_t epochs = warmup_epochs + static_cast<std::size_t>(duration_s * rate_hz);
   const TimestampNs t0 = sarloc::dds::MissionClock::wall_now_ns();
   const auto period_ns = static_cast<TimestampNs>(1e9 / rate_hz);
-  app::ProgressBar bar(std::to_string(n) + " rescuers @ " + std::to_string(rate_hz).substr(0, 4) + " Hz", epochs * n);
+  app::ProgressBar bar(std::string(to_string(target)) + " " + std::to_string(n) + " rescuers @ " +
+                           std::to_string(rate_hz).substr(0, 4) + " Hz",
+                       epochs * n);
   // Every rescuer on its own phase; walk straight on (the guidance is not the point here).
   for (std::size_t k = 0; k < epochs && !app::shutdown_requested(); ++k) {
     for (std::size_t i = 0; i < n; ++i) {
@@ -129,17 +223,29 @@ LoadResult run_load(const app::MissionConfig& mission, const std::string& bin_di
       std::this_thread::sleep_until(due);
       // Integer stamps: one step's end is exactly the next one's start.
       const auto stamp_of = [&](std::size_t epoch) {
-        return t0 + static_cast<TimestampNs>(epoch) * period_ns + period_ns * static_cast<TimestampNs>(i) / static_cast<TimestampNs>(n);
+        return t0 + static_cast<TimestampNs>(epoch) * period_ns +
+               period_ns * static_cast<TimestampNs>(i) / static_cast<TimestampNs>(n);
       };
       const TimestampNs stamp = stamp_of(k);
       auto& sim = sims[i];
       if (k > 0) odometry.write(sarloc::dds::to_idl(sim.walk(0.0, 1.0 / rate_hz, stamp_of(k - 1), stamp)));
       for (const auto& m : sim.measure(stamp)) {
+        const auto sample = sarloc::dds::to_idl(m);
+        if (k < warmup_epochs) {  // load only, not measured
+          measurements.write(sample);
+          continue;
+        }
+        const std::tuple<std::string, std::uint32_t, std::uint64_t> key{m.rescuer_id, m.signal_id, m.sequence};
         {
           std::lock_guard<std::mutex> lock(mutex);
-          sent[{m.rescuer_id, m.signal_id, m.sequence}] = Clock::now();
+          samples[key].published = steady_ns(Clock::now());
         }
-        measurements.write(sarloc::dds::to_idl(m));
+        measurements.write(sample);
+        const std::int64_t returned = steady_ns(Clock::now());
+        {
+          std::lock_guard<std::mutex> lock(mutex);
+          samples[key].write_returned = returned;
+        }
         ++result.measurements;
       }
       bar.tick();
@@ -148,11 +254,22 @@ LoadResult run_load(const app::MissionConfig& mission, const std::string& bin_di
   bar.finish();
   std::this_thread::sleep_for(std::chrono::seconds(1));  // stragglers
   std::lock_guard<std::mutex> lock(mutex);
+  std::vector<double> latencies;
+  std::vector<double> to_write;
+  std::vector<double> back;
+  for (const auto& [key, t] : samples) {
+    if (t.answered < 0) continue;
+    latencies.push_back(1e-6 * static_cast<double>(t.answered - t.published));
+    to_write.push_back(1e-6 * static_cast<double>(t.answer_written - t.published));
+    back.push_back(1e-6 * static_cast<double>(t.answered - t.answer_written));
+  }
   result.answered = latencies.size();
   if (!latencies.empty()) {  // otherwise -1: no answer at all
     result.p50_ms = avalanche::percentile(latencies, 0.5);
     result.p99_ms = avalanche::percentile(latencies, 0.99);
     result.max_ms = avalanche::percentile(latencies, 1.0);
+    result.to_write_p50_ms = avalanche::percentile(to_write, 0.5);
+    result.return_p50_ms = avalanche::percentile(back, 0.5);
   }
   if (cpu.size() > 2) {
     // The first status covers start-up; the mean of the rest is the load's.
@@ -161,28 +278,117 @@ LoadResult run_load(const app::MissionConfig& mission, const std::string& bin_di
     result.cpu_percent = sum / static_cast<double>(cpu.size() - 1);
   }
   result.rss_mb = rss;
-  daemon.stop(std::chrono::seconds(5));
+  if (!setup.trace_dir.empty()) write_trace(setup.trace_dir + "/" + run_name + ".csv", samples);
+  responder->stop(std::chrono::seconds(5));
   return result;
 }
 
 nlohmann::json to_json(const LoadResult& r) {
-  return {{"rescuers", r.rescuers}, {"rate_hz", r.rate_hz},   {"measurements", r.measurements},
-          {"answered", r.answered}, {"p50_ms", r.p50_ms},     {"p99_ms", r.p99_ms},
-          {"max_ms", r.max_ms},     {"cpu_percent", r.cpu_percent}, {"rss_mb", r.rss_mb}};
+  return {{"target", to_string(r.target)},
+          {"repeat", r.repeat},
+          {"rescuers", r.rescuers},
+          {"rate_hz", r.rate_hz},
+          {"measurements", r.measurements},
+          {"answered", r.answered},
+          {"p50_ms", r.p50_ms},
+          {"p99_ms", r.p99_ms},
+          {"max_ms", r.max_ms},
+          {"to_write_p50_ms", r.to_write_p50_ms},
+          {"return_p50_ms", r.return_p50_ms},
+          {"cpu_percent", r.cpu_percent},
+          {"rss_mb", r.rss_mb}};
 }
 
-void print_row(const LoadResult& r) {
-  std::printf("%9zu %8.1f %10zu %9zu %9.1f %9.1f %9.1f %9.0f %9.1f\n", r.rescuers, r.rate_hz, r.measurements, r.answered,
-              r.p50_ms, r.p99_ms, r.max_ms, r.cpu_percent, r.rss_mb);
+void print_run_header() {
+  std::printf("%-7s %3s %9s %8s %10s %9s %9s %9s %9s %9s %9s %9s %9s\n", "target", "run", "rescuers", "rate Hz",
+              "measured", "answered", "p50 ms", "p99 ms", "max ms", "write ms", "back ms", "cpu %", "rss MB");
+}
+
+void print_run_row(const LoadResult& r) {
+  std::printf("%-7s %3zu %9zu %8.1f %10zu %9zu %9.2f %9.2f %9.2f %9.2f %9.2f %9.0f %9.1f\n", to_string(r.target), r.repeat,
+              r.rescuers, r.rate_hz, r.measurements, r.answered, r.p50_ms, r.p99_ms, r.max_ms, r.to_write_p50_ms,
+              r.return_p50_ms, r.cpu_percent, r.rss_mb);
+  std::fflush(stdout);
+}
+
+/// Medians over the repeats of one target at one load point.
+struct Medians {
+  std::size_t runs = 0;
+  std::size_t measurements = 0;  ///< summed over the runs
+  std::size_t answered = 0;
+  double p50_ms = -1.0;
+  double p99_ms = -1.0;
+  double max_ms = -1.0;
+  double cpu_percent = -1.0;
+  double rss_mb = -1.0;
+};
+
+Medians medians_of(const std::vector<LoadResult>& runs, Target target, std::size_t rescuers) {
+  Medians m;
+  std::vector<double> p50, p99, max, cpu, rss;
+  for (const auto& r : runs) {
+    if (r.target != target || r.rescuers != rescuers) continue;
+    ++m.runs;
+    m.measurements += r.measurements;
+    m.answered += r.answered;
+    // A run with no answer at all counts as infinitely slow, not as missing.
+    const double inf = std::numeric_limits<double>::infinity();
+    p50.push_back(r.p50_ms >= 0.0 ? r.p50_ms : inf);
+    p99.push_back(r.p99_ms >= 0.0 ? r.p99_ms : inf);
+    max.push_back(r.max_ms >= 0.0 ? r.max_ms : inf);
+    if (r.cpu_percent >= 0.0) cpu.push_back(r.cpu_percent);
+    if (r.rss_mb >= 0.0) rss.push_back(r.rss_mb);
+  }
+  if (m.runs == 0) return m;
+  m.p50_ms = avalanche::percentile(p50, 0.5);
+  m.p99_ms = avalanche::percentile(p99, 0.5);
+  m.max_ms = avalanche::percentile(max, 0.5);
+  if (!cpu.empty()) m.cpu_percent = avalanche::percentile(cpu, 0.5);
+  if (!rss.empty()) m.rss_mb = avalanche::percentile(rss, 0.5);
+  return m;
+}
+
+nlohmann::json to_json(const Medians& m) {
+  return {{"runs", m.runs},           {"measurements", m.measurements}, {"answered", m.answered},
+          {"p50_ms", m.p50_ms},       {"p99_ms", m.p99_ms},             {"max_ms", m.max_ms},
+          {"cpu_percent", m.cpu_percent}, {"rss_mb", m.rss_mb}};
+}
+
+double ratio(double a, double b) { return a >= 0.0 && b > 0.0 ? a / b : -1.0; }
+
+/// Side by side: echo and sarloc medians over the repeats, and sarloc/echo for p50 and p99.
+nlohmann::json print_summary(const std::vector<LoadResult>& runs, const std::vector<std::size_t>& loads, double rate_hz,
+                             std::size_t repeats) {
+  std::printf("\nmedians over %zu run(s) per target, %.1f Hz:\n", repeats, rate_hz);
+  std::printf("%9s | %8s %8s %8s %6s | %8s %8s %8s %6s %7s | %9s %9s\n", "rescuers", "echo p50", "p99", "max", "cpu %",
+              "sarloc p50", "p99", "max", "cpu %", "rss MB", "p50 ratio", "p99 ratio");
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto n : loads) {
+    const Medians echo = medians_of(runs, Target::kEcho, n);
+    const Medians core = medians_of(runs, Target::kSarloc, n);
+    std::printf("%9zu | %8.2f %8.2f %8.2f %6.0f | %10.2f %8.2f %8.2f %6.0f %7.1f | %9.2f %9.2f\n", n, echo.p50_ms,
+                echo.p99_ms, echo.max_ms, echo.cpu_percent, core.p50_ms, core.p99_ms, core.max_ms, core.cpu_percent,
+                core.rss_mb, ratio(core.p50_ms, echo.p50_ms), ratio(core.p99_ms, echo.p99_ms));
+    out.push_back({{"rescuers", n},
+                   {"rate_hz", rate_hz},
+                   {"echo", to_json(echo)},
+                   {"sarloc", to_json(core)},
+                   {"ratio_p50", ratio(core.p50_ms, echo.p50_ms)},
+                   {"ratio_p99", ratio(core.p99_ms, echo.p99_ms)}});
+  }
+  return out;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   app::install_shutdown_handlers();
-  CLI::App cli{"sarloc-bench-latency: measurement -> estimate latency of sarloc-core under load"};
+  CLI::App cli{"sarloc-bench-latency: measurement -> estimate latency of sarloc-core under load, against a DDS echo"};
   std::string config_path = SARLOC_SOURCE_DIR "/config/missions/default.yaml";
   std::vector<std::size_t> loads{1, 10, 50};
+  std::vector<std::string> target_names{"echo", "sarloc"};
+  std::string echo_handoff = "listener";
+  std::size_t repeats = 1;
   double rate = 1.0;
   double duration = 30.0;
   std::size_t search_rescuers = 50;
@@ -190,20 +396,42 @@ int main(int argc, char** argv) {
   double p99_limit_ms = 100.0;
   bool search = true;
   int domain = 60;
-  std::uint64_t seed = 1;
   std::string json_path;
   std::string log_level = "warn";
+  BenchSetup setup;
   cli.add_option("-c,--config", config_path, "mission YAML (victims, sensors, filter parameters)")->capture_default_str();
-  cli.add_option("--rescuers", loads, "load points: numbers of simulated rescuers (e.g. 1,10,50)")->delimiter(',')->capture_default_str();
+  cli.add_option("--rescuers", loads, "load points: numbers of simulated rescuers (e.g. 1,10,50)")
+      ->delimiter(',')
+      ->capture_default_str();
+  cli.add_option("--targets", target_names, "responders, in the order run at each load point: echo, sarloc")
+      ->delimiter(',')
+      ->capture_default_str();
+  cli.add_option("--echo-handoff", echo_handoff,
+                 "listener: the echo answers on the DDS listener thread; queue: through a worker, as sarloc-core; waitset: a worker in a DDS WaitSet")
+      ->capture_default_str();
+  cli.add_option("--repeat", repeats, "runs of every (load point, target), interleaved; the summary takes medians")
+      ->capture_default_str();
   cli.add_option("--rate", rate, "measurement rate of the load points (Hz)")->capture_default_str();
   cli.add_option("--duration", duration, "seconds per load point")->capture_default_str();
-  cli.add_option("--search-rescuers", search_rescuers, "rescuers for the highest-rate search")->capture_default_str();
-  cli.add_option("--search-rates", search_rates, "rates tried, increasing, until p99 exceeds the limit (e.g. 1,2,4)")->delimiter(',')->capture_default_str();
+  cli.add_option("--warmup", setup.warmup_s,
+                 "seconds of load before measuring (filters start at ~1700 components and prune over tens of "
+                 "epochs; 0 measures that opening phase)")
+      ->capture_default_str();
+  cli.add_option("--search-rescuers", search_rescuers, "rescuers for the highest-rate search (sarloc-core only)")
+      ->capture_default_str();
+  cli.add_option("--search-rates", search_rates, "rates tried, increasing, until p99 exceeds the limit (e.g. 1,2,4)")
+      ->delimiter(',')
+      ->capture_default_str();
   cli.add_option("--p99-limit-ms", p99_limit_ms, "the p99 bound of the rate search")->capture_default_str();
   cli.add_flag("!--no-search", search, "skip the highest-rate search");
   cli.add_option("--domain", domain, "DDS domain id")->capture_default_str();
-  cli.add_option("--seed", seed, "seed of the rescuers' placement and noise")->capture_default_str();
+  cli.add_option("--seed", setup.seed, "seed of the rescuers' placement and noise")->capture_default_str();
   cli.add_option("--json", json_path, "write the figures as JSON here");
+  cli.add_option("--trace-dir", setup.trace_dir,
+                 "write every run's per-measurement times here (CSV, steady-clock ns: published, write returned, "
+                 "answer written, answer received, answered)");
+  cli.add_option("--core-exe", setup.core_exe,
+                 "daemon executable to measure instead of sarloc-core next to this one (e.g. another build)");
   app::add_log_level_option(cli, log_level);
   cli.set_version_flag("--version", SARLOC_VERSION);
   if (auto code = app::parse_command_line(cli, argc, argv)) return *code;
@@ -212,30 +440,54 @@ int main(int argc, char** argv) {
     app::setup_logging(log_level, "bench");
     if (!(rate > 0.0 && rate <= 100.0)) throw ConfigError("--rate = " + std::to_string(rate) + ": must be in (0, 100]");
     if (!(duration >= 2.0)) throw ConfigError("--duration = " + std::to_string(duration) + ": must be >= 2 s");
-    const auto mission = app::load_mission_config(config_path);
-    const std::string bin_dir = fs::canonical("/proc/self/exe").parent_path().string();
-    const std::string log_dir = (fs::temp_directory_path() / ("sarloc-bench-" + std::to_string(getpid()))).string();
-    fs::create_directories(log_dir);
-    const std::string config_abs = fs::absolute(config_path).string();
+    if (!(setup.warmup_s >= 0.0 && setup.warmup_s <= 3600.0)) {
+      throw ConfigError("--warmup = " + std::to_string(setup.warmup_s) + ": must be in [0, 3600]");
+    }
+    if (repeats < 1) throw ConfigError("--repeat = 0: must be >= 1");
+    if (domain < 0 || domain > 232) throw ConfigError("--domain = " + std::to_string(domain) + ": must be in [0, 232]");
+    std::vector<Target> targets;
+    for (const auto& t : target_names) targets.push_back(parse_target(t));
+    setup.echo_handoff = bench::parse_echo_handoff(echo_handoff);
+    setup.mission = app::load_mission_config(config_path);
+    setup.bin_dir = fs::canonical("/proc/self/exe").parent_path().string();
+    setup.log_dir = (fs::temp_directory_path() / ("sarloc-bench-" + std::to_string(getpid()))).string();
+    fs::create_directories(setup.log_dir);
+    if (!setup.trace_dir.empty()) fs::create_directories(setup.trace_dir);
+    setup.config_path = fs::absolute(config_path).string();
+    if (setup.core_exe.empty()) setup.core_exe = setup.bin_dir + "/sarloc-core";
+    if (!fs::is_regular_file(setup.core_exe)) throw ConfigError("--core-exe = '" + setup.core_exe + "': no such file");
+    setup.core_exe = fs::absolute(setup.core_exe).string();
+    setup.domain = static_cast<std::uint32_t>(domain);
 
     nlohmann::json out;
-    out["loads"] = nlohmann::json::array();
-    std::printf("%9s %8s %10s %9s %9s %9s %9s %9s %9s\n", "rescuers", "rate Hz", "measured", "answered", "p50 ms",
-                "p99 ms", "max ms", "cpu %", "rss MB");
-    for (const auto n : loads) {
-      const auto r = run_load(mission, bin_dir, config_abs, static_cast<std::uint32_t>(domain), n, rate, duration, log_dir, seed);
-      print_row(r);
-      out["loads"].push_back(to_json(r));
-      if (app::shutdown_requested()) return app::ExitCode::kInterrupted;
+    out["seed"] = setup.seed;
+    out["warmup_s"] = setup.warmup_s;
+    out["duration_s"] = duration;
+    out["echo_handoff"] = bench::to_string(setup.echo_handoff);
+    out["runs"] = nlohmann::json::array();
+    std::vector<LoadResult> runs;
+    print_run_header();
+    // Interleaved: every target at every load point once, then again, so that a noisy
+    // neighbour on the machine hits all variants alike.
+    for (std::size_t rep = 0; rep < repeats; ++rep) {
+      for (const auto n : loads) {
+        for (const auto target : targets) {
+          runs.push_back(run_load(setup, target, rep, n, rate, duration));
+          print_run_row(runs.back());
+          out["runs"].push_back(to_json(runs.back()));
+          if (app::shutdown_requested()) return app::ExitCode::kInterrupted;
+        }
+      }
     }
+    out["loads"] = print_summary(runs, loads, rate, repeats);
     if (search) {
-      std::printf("\nhighest rate with %zu rescuers and p99 < %.0f ms:\n", search_rescuers, p99_limit_ms);
+      std::printf("\nhighest rate with %zu rescuers and p99 < %.0f ms (sarloc-core):\n", search_rescuers, p99_limit_ms);
+      print_run_header();
       double best = 0.0;
       out["rate_search"] = nlohmann::json::array();
       for (const double r_hz : search_rates) {
-        const auto r = run_load(mission, bin_dir, config_abs, static_cast<std::uint32_t>(domain), search_rescuers, r_hz,
-                                std::max(10.0, duration / 2.0), log_dir, seed);
-        print_row(r);
+        const auto r = run_load(setup, Target::kSarloc, 0, search_rescuers, r_hz, std::max(10.0, duration / 2.0));
+        print_run_row(r);
         out["rate_search"].push_back(to_json(r));
         const bool ok = r.p99_ms >= 0.0 && r.p99_ms < p99_limit_ms && r.answered * 100 >= r.measurements * 99;
         if (!ok || app::shutdown_requested()) break;
@@ -244,7 +496,7 @@ int main(int argc, char** argv) {
       std::printf("=> %.1f Hz\n", best);
       out["highest_rate_hz"] = best;
     }
-    if (!json_path.empty()) std::ofstream(json_path) << out.dump(2) << "\n";
+    if (!json_path.empty()) app::write_json_file(json_path, out);
     return app::ExitCode::kOk;
   });
 }

@@ -18,6 +18,9 @@ enum DdsTestDomain : std::uint32_t {
   kDomainManyParticipants = 128,
   kDomainSecurity = 129,
   kDomainDiscoveryServer = 140,
+  kDomainBenchEchoListener = 141,
+  kDomainBenchEchoQueue = 142,
+  kDomainBenchEchoWaitSet = 143,
   kDomainMissionSmall = 130,  // mission_test: 130..139 (138: lossy.yaml)
   // tests/interop/cyclone_interop_test.sh (a script: the ids are passed by its CMakeLists.txt)
   kDomainCycloneSubscribe = 150,

@@ -15,8 +15,8 @@ int exit_code_of(const std::string& command) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-const std::vector<std::string> kApps = {"sarloc-core",    "sarloc-rescuer", "sarloc-command",
-                                        "sarloc-mission", "sarloc-eval",    "sarloc-bench-latency"};
+const std::vector<std::string> kApps = {"sarloc-core", "sarloc-rescuer",       "sarloc-command",   "sarloc-mission",
+                                        "sarloc-eval", "sarloc-bench-latency", "sarloc-bench-echo"};
 
 std::string app(const std::string& name) { return std::string(SARLOC_BIN_DIR) + "/" + name; }
 
