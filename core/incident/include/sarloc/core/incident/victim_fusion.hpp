@@ -50,6 +50,11 @@
 // each rescuer that needs association O(S + V) gate tests and an O(k^2 (V + k)) assignment
 // (k = that rescuer's sources). The merge search is over victim pairs (V <= ~50).
 //
+// Hot standby (docs/operations.md, "Incident command that cannot be lost"): a second
+// incident command feeds update() with the same estimates but, instead of step(), adopt()s
+// the picture the active one publishes. When it takes over, step() continues from that
+// picture: the same ids, states and timestamps, and no victim opened twice.
+//
 //   VictimFusion fusion(VictimFusionConfig{});      // config validated here
 //   fusion.update(make_source_estimate(estimate, antenna_at(estimate.stamp)));
 //   fusion.step(now);
@@ -81,6 +86,10 @@ struct VictimFusionConfig {
   void validate() const;
 };
 
+/// Throws InputError unless `v` can join a fusion: id > 0, finite position, symmetric
+/// positive-definite covariance, sources with a rescuer id.
+void check_adoptable(const FusedVictim& v);
+
 class VictimFusion {
  public:
   explicit VictimFusion(VictimFusionConfig config = {});
@@ -99,6 +108,18 @@ class VictimFusion {
 
   /// Associate, fuse, merge and update states (see the overview above).
   void step(TimestampNs now);
+
+  /// Makes `picture` (another incident command's published victims) this fusion's victims,
+  /// verbatim: ids, positions, floors, states, first_seen / last_update / located_at /
+  /// found_at and evidence_conflict. Each source the picture lists is bound to its victim (a
+  /// source not heard yet is bound when its first estimate arrives). Nothing is fused here:
+  /// the next step() continues from the adopted picture. Victims created later get ids after
+  /// the largest of the picture and `largest_id_seen` (ids disposed of earlier stay unused).
+  /// Throws InputError (and changes nothing) for a victim that check_adoptable() refuses or
+  /// an id listed twice.
+  void adopt(const std::vector<FusedVictim>& picture, std::uint32_t largest_id_seen = 0);
+  /// The id the next new victim gets.
+  std::uint32_t next_id() const { return next_id_; }
 
   /// Current victims, stable ids (from 1), sorted by id.
   const std::vector<FusedVictim>& victims() const { return victims_; }
@@ -140,6 +161,7 @@ class VictimFusion {
   std::vector<FusedVictim> victims_;          ///< sorted by id
   std::vector<std::uint32_t> removed_;
   std::vector<std::uint32_t> orphaned_;       ///< lost their last source to re-association
+  std::map<SourceKey, std::uint32_t> adopted_bindings_;  ///< adopted, source not heard yet
   std::uint32_t next_id_ = 1;
 };
 
