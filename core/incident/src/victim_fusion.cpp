@@ -101,12 +101,24 @@ void VictimFusion::adopt(const std::vector<FusedVictim>& picture, std::uint32_t 
       throw InputError("fused_victim[" + std::to_string(sorted[i].victim_id) + "]: listed twice");
   }
 
+  // What step() advanced on the victims adopted last time (a standby steps between
+  // adoptions) is kept; victims it opened itself were never published and are dropped.
+  std::map<std::uint32_t, FusedVictim> advanced;
+  for (FusedVictim& v : victims_)
+    if (adopted_ids_.count(v.victim_id) != 0) advanced.emplace(v.victim_id, std::move(v));
   for (auto& [key, s] : sources_) s.victim_id = 0;
   victims_.clear();
   removed_.clear();
   orphaned_.clear();
   adopted_bindings_.clear();
+  adopted_ids_.clear();
   for (FusedVictim& v : sorted) {
+    adopted_ids_.insert(v.victim_id);
+    if (const auto own = advanced.find(v.victim_id); own != advanced.end() && own->second.state > v.state) {
+      v.state = own->second.state;
+      if (v.located_at == 0) v.located_at = own->second.located_at;
+      if (v.found_at == 0) v.found_at = own->second.found_at;
+    }
     std::vector<VictimSource> listed;
     listed.swap(v.sources);
     for (const VictimSource& vs : listed) {
@@ -127,7 +139,7 @@ void VictimFusion::adopt(const std::vector<FusedVictim>& picture, std::uint32_t 
     victims_.push_back(std::move(v));
   }
   const std::uint32_t largest = victims_.empty() ? 0 : victims_.back().victim_id;
-  next_id_ = std::max({next_id_, largest + 1, largest_id_seen + 1});
+  next_id_ = std::max(largest, largest_id_seen) + 1;
 }
 
 bool VictimFusion::update(const SourceEstimate& estimate) {

@@ -58,7 +58,8 @@ void run_history(VictimFusion& active, VictimFusion& standby) {
   update_both(active, standby, src("c", 2, 1 * kSec, Vec3(30, 0, -1)));
   update_both(active, standby, src("d", 1, 1 * kSec, Vec3(8, 0, -1), 0.5));
   active.step(1 * kSec);
-  standby.adopt(active.victims());
+  standby.adopt(active.victims());  // a standby cycle: adopt the new picture, then step
+  standby.step(1 * kSec);
   ASSERT_EQ(active.victims().size(), 3U);
   update_both(active, standby, src("b", 1, 2 * kSec, Vec3(0.2, 0, -1)));
   update_both(active, standby, src("d", 1, 2 * kSec, Vec3(0.4, 0, -1)));  // d moves onto victim 1
@@ -68,6 +69,8 @@ void run_history(VictimFusion& active, VictimFusion& standby) {
   ASSERT_EQ(active.take_removed(), (std::vector<std::uint32_t>{3}));
   ASSERT_EQ(active.victims().size(), 2U);
   standby.adopt(active.victims(), /*largest_id_seen=*/3);
+  standby.step(2 * kSec);
+  EXPECT_TRUE(standby.take_removed().empty()) << "a standby's removals are not published anyway";
 }
 
 TEST(VictimFusionAdopt, TheStandbyContinuesExactlyAsTheActiveWould) {
@@ -178,6 +181,66 @@ TEST(VictimFusionAdopt, RefusesABadPictureAndKeepsItsOwn) {
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(), "fused_victim[5].sources.rescuer_id = \"\": must not be empty");
   }
+}
+
+// A standby adopts each new picture and steps every cycle, as incident command's node does.
+// The active instance dies after publishing victim 1 LOCATED: no new picture comes, and until
+// the standby notices (the 3 s lease) it fuses on its own from the last one. A FOUND heard in
+// between, and a victim opened in between, are not lost, even once their sources time out.
+TEST(VictimFusionAdopt, WhatTheStandbyFusedAfterTheLastPictureIsKept) {
+  VictimFusion active;
+  VictimFusion standby;
+  update_both(active, standby, src("a", 1, 1 * kSec, Vec3(0, 0, -1), 0.5, EstimatorStatus::kLocated));
+  active.step(1 * kSec);
+  const std::vector<FusedVictim> last_picture = active.victims();  // then it dies
+  ASSERT_EQ(last_picture.size(), 1U);
+  standby.adopt(last_picture);
+  standby.step(1 * kSec);
+
+  standby.update(src("a", 1, 2 * kSec, Vec3(0, 0, -1), 0.3, EstimatorStatus::kFound));
+  standby.update(src("z", 1, 2 * kSec, Vec3(50, 0, -1)));  // a victim the active one never saw
+  standby.step(2 * kSec);
+  standby.step(20 * kSec);  // sources timed out (10 s) by the time it takes over
+  ASSERT_EQ(standby.victims().size(), 2U);
+  EXPECT_EQ(standby.victims()[0].victim_id, 1U);
+  EXPECT_EQ(standby.victims()[0].state, VictimState::kFound);
+  EXPECT_EQ(standby.victims()[0].located_at, 1 * kSec) << "as published";
+  EXPECT_EQ(standby.victims()[0].found_at, 2 * kSec) << "when the standby fused it";
+  EXPECT_EQ(standby.victims()[1].victim_id, 2U);
+}
+
+// The active instance is alive but a cycle behind the standby: the standby's own progress on
+// an adopted victim survives the next adoption (states never go back), a victim the standby
+// opened itself gives way to the picture (which has it, or will), and the picture's own
+// timestamps win once it has the same state.
+TEST(VictimFusionAdopt, AdoptingALaggingPictureKeepsStatesAndDropsOwnVictims) {
+  VictimFusion standby;
+  FusedVictim located;
+  located.victim_id = 1;
+  located.position.position = Vec3(0, 0, -1);
+  located.position.covariance = 0.25 * Mat3::Identity();
+  located.state = VictimState::kLocated;
+  located.first_seen = kSec;
+  located.located_at = kSec;
+  located.sources = {{"a", 1, kSec}};
+  standby.update(src("a", 1, kSec, Vec3(0, 0, -1), 0.5, EstimatorStatus::kLocated));
+  standby.adopt({located});
+  standby.update(src("a", 1, 2 * kSec, Vec3(0, 0, -1), 0.3, EstimatorStatus::kFound));
+  standby.update(src("z", 1, 2 * kSec, Vec3(50, 0, -1)));
+  standby.step(2 * kSec);
+  ASSERT_EQ(standby.victims().size(), 2U);
+
+  standby.adopt({located});  // the active one's picture of the cycle before
+  ASSERT_EQ(standby.victims().size(), 1U) << "a victim the standby opened itself was never published";
+  EXPECT_EQ(standby.victims()[0].state, VictimState::kFound);
+  EXPECT_EQ(standby.victims()[0].found_at, 2 * kSec);
+  EXPECT_EQ(standby.next_id(), 2U);
+
+  FusedVictim found = located;
+  found.state = VictimState::kFound;
+  found.found_at = 2 * kSec + kSec / 4;
+  standby.adopt({found});
+  EXPECT_EQ(standby.victims()[0].found_at, 2 * kSec + kSec / 4);
 }
 
 // A source the picture lists twice (it cannot: one victim per source) binds to the first.
