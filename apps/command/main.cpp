@@ -1,6 +1,8 @@
 // sarloc-command: the incident-command aggregator. Fuses every rescuer's victim estimates in
 // the incident frame, tracks responders by team, publishes the incident picture
 // (TRANSIENT_LOCAL: a dashboard that subscribes late gets the current state at once).
+// An incident runs command.instances of it (--instance 1, 2, ...): one publishes, the others
+// stand by with the same picture and take over when it is lost (docs/operations.md).
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
@@ -18,6 +20,7 @@ void write_summary(const sarloc::dds::CommandNode& node, const std::string& path
   j["victims"] = nlohmann::json::array();
   for (const auto& v : node.victims()) j["victims"].push_back(sarloc::app::to_json(v));
   j["teams"] = sarloc::app::to_json(node.teams());
+  j["role"] = sarloc::incident::to_string(node.role());
   sarloc::app::write_json_file(path, j);
 }
 
@@ -29,17 +32,22 @@ int main(int argc, char** argv) {
   CLI::App cli{"sarloc-command: incident-command aggregator (fused victims, team accountability)"};
   app::NodeOptions options;
   std::string summary_path;
+  unsigned instance = 1;
   app::add_node_options(cli, options);
   cli.add_option("--summary", summary_path, "write the final picture as JSON here on exit");
+  cli.add_option("--instance", instance, "which of the command.instances this is (1 claims first)")
+      ->capture_default_str();
   if (auto code = app::parse_command_line(cli, argc, argv)) return *code;
 
   return app::run_main("sarloc-command", [&] {
     app::setup_logging(options.log_level, "command");
     const auto mission = app::load_mission_config(options.config_path);
-    const auto node_config = mission.command_config();
+    const auto node_config = mission.command_config(instance);
+    node_config.validate();  // --instance within command.instances
     auto participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, node_config.node_id));
     sarloc::dds::CommandNode node(participant, node_config, options.clock(mission));
-    spdlog::info("{} running for incident '{}'", node_config.node_id, node_config.incident_id);
+    spdlog::info("{} running for incident '{}' (instance {} of {})", node_config.node_id, node_config.incident_id,
+                 instance, node_config.standby.instances);
     std::size_t last_count = 0;
     while (!app::wait_for_shutdown(std::chrono::seconds(1))) {
       const auto victims = node.victims();

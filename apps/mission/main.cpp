@@ -1,7 +1,8 @@
 // sarloc-mission: sarloc's main job. Starts the core daemon(s), one sarloc-rescuer process per
-// rescuer and sarloc-command as separate processes over DDS, watches the incident picture like
-// a dashboard would, stops everything when every victim is found or the time limit passes, and
-// prints the summary. Exit 0 only when every victim was found.
+// rescuer and command.instances sarloc-command processes (one active, the others standing by)
+// as separate processes over DDS, watches the incident picture like a dashboard would, stops
+// everything when every victim is found or the time limit passes, and prints the summary.
+// Exit 0 only when every victim was found.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
@@ -31,11 +32,17 @@ namespace fs = std::filesystem;
 
 struct Fault {
   bool restart = false;  ///< --restart (start again what an earlier --kill stopped) instead of --kill
-  std::string target;  ///< "core", "command" or a rescuer id
+  std::string target;  ///< "core", "command" (the active instance) or a rescuer id
   double at_s = 0.0;   ///< mission seconds
   bool done = false;
   std::chrono::steady_clock::time_point when{};
   double link_lost_after_s = -1.0;  ///< rescuer faults: wall seconds until command reported it lost
+  // Incident-command faults.
+  unsigned instance = 0;               ///< which sarloc-command instance (1..)
+  std::string killed_participant;      ///< its DDS participant (GUID prefix), if known
+  double handover_after_s = -1.0;      ///< wall seconds until another instance's picture arrived
+  std::string taken_over_by;           ///< that instance's node id
+  std::vector<incident::FusedVictim> picture_at_kill;
 };
 
 Fault parse_fault(const std::string& text, bool restart) {
@@ -51,19 +58,26 @@ Fault parse_fault(const std::string& text, bool restart) {
     throw ConfigError(option + " = '" + text + "': '" + text.substr(at + 1) + "' is not a number of seconds");
   }
   if (!(f.at_s >= 0.0)) throw ConfigError(option + " = '" + text + "': time must be >= 0");
-  if (restart && f.target != "core") throw ConfigError(option + " = '" + text + "': only core can be restarted");
+  if (restart && f.target != "core" && f.target != "command") {
+    throw ConfigError(option + " = '" + text + "': only core or command can be restarted");
+  }
   return f;
 }
 
 // A fault that kills one rescuer's device (not a daemon, not incident command).
 bool is_rescuer_kill(const Fault& f) { return f.target != "core" && f.target != "command"; }
 
-// The incident picture as a late-joining dashboard sees it.
+// The incident picture as a late-joining dashboard sees it, and who publishes it.
 struct Picture {
   std::mutex mutex;
   std::map<std::uint32_t, incident::FusedVictim> victims;
   std::map<std::string, incident::LinkState> links;
   std::vector<std::pair<eprosima::fastrtps::rtps::InstanceHandle_t, std::uint32_t>> instances;
+  // The active incident command: the participant whose IncidentSummary arrives (exclusive
+  // ownership: only the active instance's), and since when; NodeStatus names participants.
+  std::string owner;
+  std::chrono::steady_clock::time_point owner_since{}, owner_heard{};
+  std::map<std::string, std::string> node_of_participant, participant_of_node;
 
   /// The fused victims now (copied, so matching runs without the lock).
   std::vector<incident::FusedVictim> victims_now() {
@@ -87,14 +101,26 @@ std::string position_text(const Vec3& p) {
   return buf;
 }
 
+// "yes" (FOUND in the picture), "finder" (only its finders' devices know: no picture), "NO".
+const char* found_text(const mission::VictimOutcome& v) {
+  if (v.found) return "yes";
+  return v.found_by_finder() ? "finder" : "NO";
+}
+
+std::string finders_text(const mission::VictimOutcome& v) {
+  std::string out;
+  for (const auto& id : v.finders) out += (out.empty() ? "" : ",") + id;
+  return out.empty() ? "-" : out;
+}
+
 void print_summary(const mission::MissionSummary& s, const std::string& run_dir) {
-  std::printf("\n%-10s %-26s %-26s %8s %10s %12s %6s\n", "victim", "true position (E N U) m", "fused estimate m",
-              "error m", "finder m", "located s", "found");
+  std::printf("\n%-10s %-26s %-26s %8s %10s %12s %6s  %s\n", "victim", "true position (E N U) m", "fused estimate m",
+              "error m", "finder m", "located s", "found", "found by");
   for (const auto& v : s.victims) {
-    std::printf("%-10s %-26s %-26s %8s %10s %12s %6s\n", v.name.c_str(), position_text(v.true_position).c_str(),
+    std::printf("%-10s %-26s %-26s %8s %10s %12s %6s  %s\n", v.name.c_str(), position_text(v.true_position).c_str(),
                 v.estimate ? position_text(*v.estimate).c_str() : "-", optional_text(v.error_m, "%.2f").c_str(),
                 optional_text(v.relative_error_m, "%.2f").c_str(), optional_text(v.time_to_locate_s, "%.0f").c_str(),
-                v.found ? "yes" : "NO");
+                found_text(v), finders_text(v).c_str());
   }
   std::printf("\n%-10s %18s %10s %22s\n", "rescuer", "distance walked m", "fallbacks", "latency p50/p99 ms");
   for (const auto& id : s.rescuer_ids) {
@@ -107,8 +133,21 @@ void print_summary(const mission::MissionSummary& s, const std::string& run_dir)
     std::printf("%-10s %18.1f %10d %10.1f / %-10.1f\n", id.c_str(), d.distance_walked_m, d.fallbacks,
                 d.latency_p50_ms.value_or(-1.0), d.latency_p99_ms.value_or(-1.0));
   }
-  std::printf("\n%zu of %zu victims found, %zu in the incident picture; %.0f mission s in %.0f wall s. Logs: %s\n",
-              s.found_count(), s.victims.size(), s.fused_victims.size(), s.mission_s, s.wall_s, run_dir.c_str());
+  for (const auto& f : s.faults) {
+    if (f.handover_after_s) {
+      std::printf("\nincident command killed at mission second %.0f: %s took over after %.2f wall s\n", f.at_s,
+                  f.taken_over_by.c_str(), *f.handover_after_s);
+    }
+  }
+  if (!s.picture_available) {
+    std::printf("\nNO INCIDENT PICTURE at the end (%s): \"found\" is what the picture knew before it was lost; "
+                "\"found by\" is what the finders' devices know.\n",
+                s.command_alive_at_end ? "no incident command published it" : "no incident command alive");
+  }
+  std::printf("\n%zu of %zu victims found in the incident picture, %zu by their finders; %zu in the picture; "
+              "%.0f mission s in %.0f wall s. Logs: %s\n",
+              s.found_count(), s.victims.size(), s.found_by_finder_count(), s.fused_victims.size(), s.mission_s,
+              s.wall_s, run_dir.c_str());
 }
 
 }  // namespace
@@ -127,8 +166,12 @@ int main(int argc, char** argv) {
   cli.add_option("mission", config_path, "mission YAML")->capture_default_str();
   cli.add_option("--json", json_path, "write the summary as JSON here");
   cli.add_option("--run-dir", run_dir, "folder for the processes' logs and summaries (default: a new one in /tmp)");
-  cli.add_option("--restart", restarts, "start the core daemon(s) again at mission SECONDS after a --kill, e.g. core@25");
-  cli.add_option("--kill", kills, "fault injection: SIGKILL TARGET (core, command or a rescuer id) at mission SECONDS, e.g. core@40");
+  cli.add_option("--restart", restarts,
+                 "start again what a --kill stopped (core: the daemon(s); command: the killed instance, which "
+                 "rejoins as standby) at mission SECONDS, e.g. core@25");
+  cli.add_option("--kill", kills,
+                 "fault injection: SIGKILL TARGET (core, command = the active incident command, or a rescuer id) "
+                 "at mission SECONDS, e.g. core@40");
   cli.add_option("--startup", startup_s, "wall seconds given to the processes to start and discover each other");
   cli.add_option("--domain", domain, "DDS domain id for every process, overriding dds.domain_id of the mission");
   app::add_log_level_option(cli, log_level);
@@ -182,6 +225,25 @@ int main(int argc, char** argv) {
           }
         },
         {}, victim_events);
+    sarloc::dds::Reader<::sarloc::IncidentSummary> summary_reader(
+        participant, [&](const ::sarloc::IncidentSummary&, const auto& info) {
+          const std::string from = sarloc::dds::handle_text(info.publication_handle).substr(0, 24);
+          const auto now = std::chrono::steady_clock::now();
+          std::lock_guard<std::mutex> lock(picture.mutex);
+          if (from != picture.owner) {
+            picture.owner = from;
+            picture.owner_since = now;
+          }
+          picture.owner_heard = now;
+        });
+    sarloc::dds::Reader<::sarloc::NodeStatus> status_reader(
+        participant, [&](const ::sarloc::NodeStatus& n, const auto& info) {
+          if (n.kind() != ::sarloc::NODE_COMMAND) return;
+          const std::string from = sarloc::dds::handle_text(info.publication_handle).substr(0, 24);
+          std::lock_guard<std::mutex> lock(picture.mutex);
+          picture.node_of_participant[from] = n.node_id().to_string();
+          picture.participant_of_node[n.node_id().to_string()] = from;
+        });
     sarloc::dds::Reader<::sarloc::TeamStatus> team_reader(participant, [&](const ::sarloc::TeamStatus& t, const auto&) {
       try {
         const auto team = sarloc::dds::to_core(t);
@@ -211,11 +273,33 @@ int main(int argc, char** argv) {
       }
     };
     start_cores("");
-    auto command = std::make_unique<app::ChildProcess>(
-        "command",
-        std::vector<std::string>{(bin_dir / "sarloc-command").string(), "-c", config_abs, "--epoch-ns", epoch_arg,
-                                 "--summary", (fs::path(run_dir) / "command.json").string(), "--domain", domain_arg, "--log-level", log_level},
-        log_file("command"));
+    // Incident command: instance 1 claims the picture, the others stand by (command.instances).
+    const unsigned instances = mission.command_instances();
+    std::vector<std::unique_ptr<app::ChildProcess>> commands(instances);
+    std::vector<bool> command_killed(instances, false);
+    auto command_name = [&](unsigned k) { return instances == 1 ? std::string("command") : "command-" + std::to_string(k); };
+    auto start_command = [&](unsigned k, const std::string& suffix) {
+      const std::string name = command_name(k) + suffix;
+      commands[k - 1] = std::make_unique<app::ChildProcess>(
+          name,
+          std::vector<std::string>{(bin_dir / "sarloc-command").string(), "-c", config_abs, "--instance",
+                                   std::to_string(k), "--epoch-ns", epoch_arg, "--summary",
+                                   (fs::path(run_dir) / (name + ".json")).string(), "--domain", domain_arg,
+                                   "--log-level", log_level},
+          log_file(name));
+      command_killed[k - 1] = false;
+    };
+    for (unsigned k = 1; k <= instances; ++k) start_command(k, "");
+    // The instance publishing the picture now (0: none heard yet).
+    auto active_command = [&]() -> unsigned {
+      std::lock_guard<std::mutex> lock(picture.mutex);
+      const auto it = picture.node_of_participant.find(picture.owner);
+      if (it == picture.node_of_participant.end()) return 0;
+      for (unsigned k = 1; k <= instances; ++k) {
+        if (mission.command_config(k).node_id == it->second) return k;
+      }
+      return 0;
+    };
     std::map<std::string, std::unique_ptr<app::ChildProcess>> rescuers;
     for (const auto& r : mission.scenario.rescuers) {
       rescuers[r.id] = std::make_unique<app::ChildProcess>(
@@ -239,16 +323,45 @@ int main(int argc, char** argv) {
         if (f.done || mission_s < f.at_s) continue;
         f.done = true;
         f.when = std::chrono::steady_clock::now();
+        if (f.restart && f.target == "command") {
+          // The instance the latest command kill stopped: it rejoins as standby.
+          for (const auto& k : faults) {
+            if (!k.restart && k.target == "command" && k.done && k.instance > 0) f.instance = k.instance;
+          }
+          if (f.instance == 0 || !command_killed[f.instance - 1]) {
+            spdlog::warn("fault injection: no killed incident command to restart at mission second {:.1f}", mission_s);
+            continue;
+          }
+          spdlog::warn("fault injection: restarting {} at mission second {:.1f}", command_name(f.instance), mission_s);
+          start_command(f.instance, "-restarted");
+          continue;
+        }
         if (f.restart) {
           spdlog::warn("fault injection: restarting {} at mission second {:.1f}", f.target, mission_s);
           start_cores("-restarted");  // a new daemon: no filter state survives
           continue;
         }
+        if (f.target == "command") {
+          f.instance = active_command();
+          if (f.instance == 0) {  // no picture heard yet: the one that claims first
+            f.instance = 1;
+            spdlog::warn("fault injection: no active incident command heard yet: killing instance 1");
+          }
+          {
+            std::lock_guard<std::mutex> lock(picture.mutex);
+            const auto it = picture.participant_of_node.find(mission.command_config(f.instance).node_id);
+            if (it != picture.participant_of_node.end()) f.killed_participant = it->second;
+          }
+          f.picture_at_kill = picture.victims_now();
+          spdlog::warn("fault injection: killing {} (the active incident command) at mission second {:.1f}",
+                       command_name(f.instance), mission_s);
+          commands[f.instance - 1]->kill_now();
+          command_killed[f.instance - 1] = true;
+          continue;
+        }
         spdlog::warn("fault injection: killing {} at mission second {:.1f}", f.target, mission_s);
         if (f.target == "core") {
           for (auto& c : cores) c->kill_now();
-        } else if (f.target == "command") {
-          command->kill_now();
         } else {
           rescuers.at(f.target)->kill_now();
         }
@@ -263,14 +376,24 @@ int main(int argc, char** argv) {
             spdlog::info("incident command reports the link to {} lost after {:.1f} s", f.target, f.link_lost_after_s);
           }
         }
+        // Handover: the picture comes from another participant than the killed one.
+        for (auto& f : faults) {
+          if (!f.done || f.restart || f.target != "command" || f.handover_after_s >= 0.0) continue;
+          if (picture.owner.empty() || picture.owner == f.killed_participant || picture.owner_since <= f.when) continue;
+          f.handover_after_s = std::chrono::duration<double>(picture.owner_since - f.when).count();
+          const auto node = picture.node_of_participant.find(picture.owner);
+          f.taken_over_by = node == picture.node_of_participant.end() ? picture.owner : node->second;
+          spdlog::info("{} took the incident picture over {:.2f} s after the kill", f.taken_over_by, f.handover_after_s);
+        }
       }
       // Every buried victim matched by a FOUND victim of the picture (not just as many FOUND
       // as buried: a duplicate whose disposal is still on its way must not end the mission).
       if (mission::every_victim_found(mission.scenario.victims, picture.victims_now())) {
         // Let the pending link-lost detections finish before stopping.
         const bool waiting_link = std::any_of(faults.begin(), faults.end(), [&](const Fault& f) {
-          return f.done && f.link_lost_after_s < 0.0 && is_rescuer_kill(f) &&
-                 std::chrono::steady_clock::now() - f.when < std::chrono::seconds(30);
+          const bool pending = (is_rescuer_kill(f) && f.link_lost_after_s < 0.0) ||
+                               (f.target == "command" && !f.restart && f.handover_after_s < 0.0 && instances > 1);
+          return f.done && pending && std::chrono::steady_clock::now() - f.when < std::chrono::seconds(30);
         });
         if (!waiting_link) {
           break;
@@ -280,19 +403,31 @@ int main(int argc, char** argv) {
         spdlog::warn("time limit of {:.0f} mission seconds reached", mission.time_limit_s);
         break;
       }
-      if (!command->running()) {
-        const bool killed = std::any_of(faults.begin(), faults.end(), [](const Fault& f) { return f.target == "command"; });
-        if (!killed) {
-          spdlog::error("sarloc-command exited unexpectedly (code {}); see {}", command->exit_code(), log_file("command"));
-          break;
-        }
+      bool command_failed = false;
+      for (unsigned k = 1; k <= instances; ++k) {
+        if (command_killed[k - 1] || commands[k - 1]->running()) continue;
+        spdlog::error("{} exited unexpectedly (code {}); see {}", commands[k - 1]->name(), commands[k - 1]->exit_code(),
+                      log_file(commands[k - 1]->name()));
+        command_failed = true;
       }
+      if (command_failed) break;
     }
     const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    const bool command_alive_at_end = std::any_of(commands.begin(), commands.end(), [](auto& c) { return c->running(); });
+    bool picture_available = false;
+    {
+      std::lock_guard<std::mutex> lock(picture.mutex);  // heard within the 3 s lease of the picture writers
+      picture_available = !picture.owner.empty() && std::chrono::steady_clock::now() - picture.owner_heard < std::chrono::seconds(3);
+    }
 
-    // Rescuers first (they write their summaries), then command, then the daemons.
+    // Rescuers first (they write their summaries), then command (standby instances before the
+    // active one, which they would otherwise take over from), then the daemons.
     for (auto& [id, r] : rescuers) r->stop(std::chrono::seconds(10));
-    command->stop(std::chrono::seconds(10));
+    const unsigned last_active = active_command();
+    for (unsigned k = 1; k <= instances; ++k) {
+      if (k != last_active) commands[k - 1]->stop(std::chrono::seconds(10));
+    }
+    if (last_active > 0) commands[last_active - 1]->stop(std::chrono::seconds(10));
     for (auto& c : cores) c->stop(std::chrono::seconds(10));
 
     // What each rescuer's device knew (its summary): found signals and their own errors.
@@ -309,9 +444,18 @@ int main(int argc, char** argv) {
     auto summary = mission::summarise_mission(mission.name, mission.scenario, picture.victims_now(), epoch, devices);
     summary.mission_s = mission_s;
     summary.wall_s = wall_s;
+    summary.command_alive_at_end = command_alive_at_end;
+    summary.picture_available = picture_available;
     for (const auto& f : faults) {
-      mission::FaultOutcome outcome{f.restart ? "restart" : "kill", f.target, f.at_s, f.done, std::nullopt};
+      mission::FaultOutcome outcome;
+      outcome.action = f.restart ? "restart" : "kill";
+      outcome.target = f.target;
+      outcome.at_s = f.at_s;
+      outcome.done = f.done;
       if (f.link_lost_after_s >= 0.0) outcome.link_lost_after_s = f.link_lost_after_s;
+      if (f.handover_after_s >= 0.0) outcome.handover_after_s = f.handover_after_s;
+      outcome.taken_over_by = f.taken_over_by;
+      outcome.picture_at_kill = mission::picture_outcomes(mission.scenario, f.picture_at_kill, epoch);
       summary.faults.push_back(outcome);
     }
     print_summary(summary, run_dir);

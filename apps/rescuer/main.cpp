@@ -111,6 +111,9 @@ int main(int argc, char** argv) {
     std::size_t daemon_after_fallback = 0;          // daemon-guided epochs after the first fallback
     std::map<std::uint32_t, double> error_when_found;  // simulation truth: the diggers' error
     std::map<std::uint32_t, double> radius_when_found;  // the 95 % radius the device stated then
+    // Every signal heard, with the furthest status it reached: a victim found and then left
+    // behind (out of range) is still one this device found.
+    std::map<std::uint32_t, responder::EstimatorStatus> furthest;
     std::size_t epochs = 0;
     const auto period_ns = static_cast<TimestampNs>(mission.period_s * 1e9);
     sarloc::dds::EpochResult last;
@@ -136,6 +139,8 @@ int main(int argc, char** argv) {
       if (node.fallbacks() > 0 && last.source == responder::GuidanceSource::kDaemon) ++daemon_after_fallback;
       // The diggers' error is the one when the rescuer stood over the victim, not later.
       for (const auto& [signal, status] : last.signals) {
+        auto& best = furthest.emplace(signal, status).first->second;
+        best = std::max(best, status);
         if (status != responder::EstimatorStatus::kFound || error_when_found.count(signal) != 0) continue;
         const auto estimate = node.local_estimator().estimate_of(signal);
         const auto truth = sensors->true_relative(signal);
@@ -160,7 +165,7 @@ int main(int argc, char** argv) {
         d.latency_p50_ms = avalanche::percentile(latencies, 0.5);
         d.latency_p99_ms = avalanche::percentile(latencies, 0.99);
       }
-      for (const auto& [signal, status] : last.signals) {
+      for (const auto& [signal, status] : furthest) {
         mission::DeviceSignal s{signal, status, sensors->victim_of_signal(signal), std::nullopt, std::nullopt};
         // The diggers' view: this device's own estimate against the truth when it was found.
         if (const auto it = error_when_found.find(signal); it != error_when_found.end()) s.relative_error_m = it->second;

@@ -14,6 +14,7 @@ namespace sarloc::dds {
 void CommandNodeConfig::validate() const {
   fusion.validate();
   teams.validate();
+  standby.validate();
   if (node_id.empty() || node_id.size() > 64) throw ConfigError("command.node_id = '" + node_id + "': must be 1-64 characters");
   if (incident_id.empty() || incident_id.size() > 64) {
     throw ConfigError("incident.id = '" + incident_id + "': must be 1-64 characters");
@@ -50,19 +51,19 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
       warnings_(std::chrono::seconds(5)),
       fusion_(config_.fusion),
       tracker_(config_.teams),
+      arbiter_(config_.standby, MissionClock::wall_now_ns()),
       victim_writer_(participant_),
       team_writer_(participant_),
       summary_writer_(participant_),
       frame_writer_(participant_),
       status_writer_(participant_) {
-  ::sarloc::IncidentFrame frame;
-  frame.incident_id(config_.incident_id);
-  frame.latitude_deg(config_.origin.latitude_deg);
-  frame.longitude_deg(config_.origin.longitude_deg);
-  frame.altitude_m(config_.origin.altitude_m);
-  frame.name(config_.incident_name.substr(0, ::sarloc::TEXT_MAX));
-  frame.established(clock_.now());
-  frame_writer_.write(frame);
+  // Published while active (established: when this instance first takes over, unless it
+  // adopts the frame of the instance before it).
+  frame_.incident_id(config_.incident_id);
+  frame_.latitude_deg(config_.origin.latitude_deg);
+  frame_.longitude_deg(config_.origin.longitude_deg);
+  frame_.altitude_m(config_.origin.altitude_m);
+  frame_.name(config_.incident_name.substr(0, ::sarloc::TEXT_MAX));
 
   estimate_reader_ = std::make_unique<Reader<::sarloc::VictimEstimate>>(
       participant_,
@@ -71,8 +72,7 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
           auto estimate = to_core(e);
           // The writer tells the daemon's estimates from a device's own: two estimators of one
           // source, which VictimFusion holds to agreeing with each other.
-          std::string writer;
-          for (int i = 0; i < 16; ++i) writer += fmt::format("{:02x}", info.publication_handle.value[i]);
+          std::string writer = handle_text(info.publication_handle);
           spdlog::debug("estimate {}/{} status {} stamp {} from writer {} relative ({:.2f}, {:.2f}, {:.2f})",
                         estimate.rescuer_id, estimate.signal_id, static_cast<int>(estimate.status), estimate.stamp,
                         writer, estimate.relative.position.x(), estimate.relative.position.y(),
@@ -120,13 +120,87 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
       },
       EndpointOptions{}, events);
 
+  // The picture as the active instance publishes it. Exclusive ownership: these readers
+  // deliver the strongest live writer's samples only, so another instance's summary here means
+  // that one is active and outranks this one (incident::StandbyArbiter). Own samples come back
+  // too and are ignored.
+  ReaderEvents summary_events;
+  summary_events.on_liveliness = [this](const auto& handle, bool alive) {
+    if (alive) return;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      arbiter_.on_peer_lost(handle_text(handle), MissionClock::wall_now_ns());
+    }
+    wake_.store(true);
+  };
+  summary_reader_ = std::make_unique<Reader<::sarloc::IncidentSummary>>(
+      participant_,
+      [this](const ::sarloc::IncidentSummary&, const auto& info) {
+        if (participant_->is_own_writer(info.publication_handle)) return;
+        std::lock_guard<std::mutex> lock(mutex_);
+        arbiter_.on_peer_sample(handle_text(info.publication_handle), MissionClock::wall_now_ns());
+        fresh_picture_ = true;  // written after that cycle's victims and teams
+      },
+      EndpointOptions{}, summary_events);
+  ReaderEvents victim_events;
+  victim_events.on_instance_gone = [this](const auto& info) {
+    // Merged away. (Its writer lost: NOT_ALIVE_NO_WRITERS, the victim stays.)
+    if (info.instance_state != eprosima::fastdds::dds::NOT_ALIVE_DISPOSED_INSTANCE_STATE) return;
+    if (participant_->is_own_writer(info.publication_handle)) return;
+    const auto id = victim_id_of(info.instance_handle);
+    if (!id) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    adopted_victims_.erase(*id);
+    largest_id_seen_ = std::max(largest_id_seen_, *id);
+  };
+  picture_victim_reader_ = std::make_unique<Reader<::sarloc::FusedVictim>>(
+      participant_,
+      [this](const ::sarloc::FusedVictim& v, const auto& info) {
+        if (participant_->is_own_writer(info.publication_handle)) return;
+        try {
+          auto victim = to_core(v);
+          incident::check_adoptable(victim);
+          std::lock_guard<std::mutex> lock(mutex_);
+          largest_id_seen_ = std::max(largest_id_seen_, victim.victim_id);
+          adopted_victims_[victim.victim_id] = std::move(victim);
+        } catch (const InputError& error) {
+          counters_.rejected("invalid_value");
+          warnings_.warn("picture", "invalid_value", std::string("adopted victim: ") + error.what());
+        }
+      },
+      EndpointOptions{}, victim_events);
+  picture_team_reader_ = std::make_unique<Reader<::sarloc::TeamStatus>>(
+      participant_, [this](const ::sarloc::TeamStatus& t, const auto& info) {
+        if (participant_->is_own_writer(info.publication_handle)) return;
+        try {
+          auto team = to_core(t);
+          std::lock_guard<std::mutex> lock(mutex_);
+          adopted_teams_[team.team_id] = std::move(team);
+        } catch (const InputError& error) {
+          counters_.rejected("invalid_value");
+          warnings_.warn("picture", "invalid_value", std::string("adopted team: ") + error.what());
+        }
+      });
+  picture_frame_reader_ = std::make_unique<Reader<::sarloc::IncidentFrame>>(
+      participant_, [this](const ::sarloc::IncidentFrame& f, const auto& info) {
+        if (participant_->is_own_writer(info.publication_handle) || f.incident_id() != frame_.incident_id()) return;
+        std::lock_guard<std::mutex> lock(mutex_);
+        adopted_frame_ = f;
+      });
+
   thread_ = std::thread([this] {
+    using Clock = std::chrono::steady_clock;
+    auto asserted = Clock::now();
     while (!stopping_.load()) {
       cycle();
-      const auto until =
-          std::chrono::steady_clock::now() + std::chrono::milliseconds(static_cast<std::int64_t>(config_.cycle_s * 1000));
-      while (!stopping_.load() && std::chrono::steady_clock::now() < until) {
+      asserted = Clock::now();
+      const auto until = Clock::now() + std::chrono::milliseconds(static_cast<std::int64_t>(config_.cycle_s * 1000));
+      while (!stopping_.load() && Clock::now() < until && !wake_.exchange(false)) {
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        if (Clock::now() - asserted >= std::chrono::seconds(1)) {  // long cycles: keep the 3 s lease
+          assert_picture_liveliness();
+          asserted = Clock::now();
+        }
       }
     }
   });
@@ -135,6 +209,10 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
 CommandNode::~CommandNode() {
   estimate_reader_.reset();
   position_reader_.reset();
+  summary_reader_.reset();
+  picture_victim_reader_.reset();
+  picture_team_reader_.reset();
+  picture_frame_reader_.reset();
   stopping_.store(true);
   thread_.join();
 }
@@ -154,6 +232,15 @@ void CommandNode::cycle() {
   const TimestampNs now = clock_.now();
   std::size_t responders = 0;
   std::size_t lost = 0;
+  std::optional<incident::RoleChange> change;
+  std::size_t adopted = 0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    change = arbiter_.decide(MissionClock::wall_now_ns());
+    adopted = adopted_victims_.size();
+  }
+  if (change) apply(*change, adopted);
+  bool active = false;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     std::deque<PendingEstimate> waiting;
@@ -186,8 +273,26 @@ void CommandNode::cycle() {
       }
     }
     pending_estimates_ = std::move(waiting);
+    active = arbiter_.role() == incident::CommandRole::kActive;
+    // A standby adopts each new picture of the active one, then fuses as the active one would
+    // (unpublished): when no new picture comes (the active one just died), it carries on from
+    // the last one, so what it hears until it takes over is not lost (VictimFusion::adopt).
+    if (!active && fresh_picture_) {
+      adopt_picture();
+      fresh_picture_ = false;
+    }
+    if (change && change->role == incident::CommandRole::kActive) {
+      if (adopted_frame_) frame_ = *adopted_frame_;
+      if (frame_.established() == 0) frame_.established(now);
+      adopted_victims_.clear();
+      adopted_teams_.clear();
+      adopted_frame_.reset();
+    }
     fusion_.step(now);
     victims = fusion_.victims();
+    if (active) {
+      for (const auto& v : victims) largest_id_seen_ = std::max(largest_id_seen_, v.victim_id);
+    }
     if (spdlog::should_log(spdlog::level::trace)) {
       for (const auto& v : victims) {
         std::string sources;
@@ -202,6 +307,18 @@ void CommandNode::cycle() {
     responders = tracker_.responders_total();
     lost = tracker_.link_lost_count(now);
   }
+
+  const auto snapshot = counters_.snapshot();
+  ::sarloc::NodeStatus status;
+  status.node_id(config_.node_id);
+  status.kind(::sarloc::NODE_COMMAND);
+  status.stamp(now);
+  status.samples_accepted(snapshot.accepted);
+  status.samples_rejected(snapshot.rejected);
+  status.cpu_percent(stats.cpu_percent());
+  status.rss_mb(ProcessStats::rss_mb());
+  status_writer_.write(status);
+  if (!active) return;  // a standby publishes no picture
 
   for (const auto id : removed) {
     ::sarloc::FusedVictim key;
@@ -235,17 +352,52 @@ void CommandNode::cycle() {
   summary.responders_total(static_cast<std::uint32_t>(responders));
   summary.responders_link_lost(static_cast<std::uint32_t>(lost));
   summary_writer_.write(summary);
+  // Every cycle: a reader that still counted the previous active instance alive when this one
+  // took over dropped its first frame.
+  frame_writer_.write(frame_);
+  assert_picture_liveliness();
+}
 
-  const auto snapshot = counters_.snapshot();
-  ::sarloc::NodeStatus status;
-  status.node_id(config_.node_id);
-  status.kind(::sarloc::NODE_COMMAND);
-  status.stamp(now);
-  status.samples_accepted(snapshot.accepted);
-  status.samples_rejected(snapshot.rejected);
-  status.cpu_percent(stats.cpu_percent());
-  status.rss_mb(ProcessStats::rss_mb());
-  status_writer_.write(status);
+void CommandNode::apply(const incident::RoleChange& change, std::size_t adopted_victims) {
+  victim_writer_.set_ownership_strength(change.strength);
+  team_writer_.set_ownership_strength(change.strength);
+  summary_writer_.set_ownership_strength(change.strength);
+  frame_writer_.set_ownership_strength(change.strength);
+  if (change.role == incident::CommandRole::kStandby) {
+    spdlog::warn("{}: standing by: {}", config_.node_id, change.reason);
+  } else if (arbiter_.config().instances > 1) {
+    spdlog::warn("{}: taking over as the active incident command ({}): {} victim(s) adopted, ownership strength {}",
+                 config_.node_id, change.reason, adopted_victims, change.strength);
+  } else {
+    spdlog::info("{}: active ({})", config_.node_id, change.reason);
+  }
+}
+
+void CommandNode::adopt_picture() {
+  std::vector<incident::FusedVictim> victims;
+  victims.reserve(adopted_victims_.size());
+  for (const auto& [id, v] : adopted_victims_) victims.push_back(v);
+  std::vector<incident::TeamStatus> teams;
+  for (const auto& [id, t] : adopted_teams_) teams.push_back(t);
+  try {
+    fusion_.adopt(victims, largest_id_seen_);
+    tracker_.adopt(teams);
+  } catch (const InputError& error) {  // checked on arrival: not expected
+    spdlog::error("{}: cannot adopt the picture: {}", config_.node_id, error.what());
+  }
+}
+
+void CommandNode::assert_picture_liveliness() {
+  if (role() != incident::CommandRole::kActive) return;
+  victim_writer_.assert_liveliness();
+  team_writer_.assert_liveliness();
+  summary_writer_.assert_liveliness();
+  frame_writer_.assert_liveliness();
+}
+
+incident::CommandRole CommandNode::role() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return arbiter_.role();
 }
 
 std::vector<incident::FusedVictim> CommandNode::victims() const {

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/idl/incidentPubSubTypes.h"
 
 namespace sarloc::dds {
 namespace {
@@ -312,6 +313,21 @@ incident::TeamStatus to_core(const ::sarloc::TeamStatus& t) {
     out.members.push_back(m);
   }
   return out;
+}
+
+std::optional<std::uint32_t> victim_id_of(const eprosima::fastrtps::rtps::InstanceHandle_t& instance) {
+  // fastddsgen keys of at most 16 bytes are the big-endian CDR of the key: victim_id first.
+  std::uint32_t id = 0;
+  for (std::size_t i = 0; i < 4; ++i) id = (id << 8) | instance.value[i];
+  ::sarloc::FusedVictim key;
+  key.victim_id(id);
+  ::sarloc::FusedVictimPubSubType type;
+  eprosima::fastrtps::rtps::InstanceHandle_t expected;
+  if (!type.getKey(&key, &expected)) return std::nullopt;
+  for (std::size_t i = 0; i < 16; ++i) {
+    if (expected.value[i] != instance.value[i]) return std::nullopt;
+  }
+  return id;
 }
 
 }  // namespace sarloc::dds

@@ -70,6 +70,24 @@ Participant::~Participant() {
   DomainParticipantFactory::get_instance()->delete_participant(participant_);
 }
 
+bool Participant::is_own_writer(const eprosima::fastrtps::rtps::InstanceHandle_t& publication_handle) const {
+  const auto& prefix = participant_->guid().guidPrefix;
+  for (std::size_t i = 0; i < eprosima::fastrtps::rtps::GuidPrefix_t::size; ++i) {
+    if (prefix.value[i] != publication_handle.value[i]) return false;
+  }
+  return true;
+}
+
+std::string handle_text(const eprosima::fastrtps::rtps::InstanceHandle_t& handle) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out;
+  for (std::size_t i = 0; i < 16; ++i) {
+    out += kHex[(handle.value[i] >> 4) & 0xF];
+    out += kHex[handle.value[i] & 0xF];
+  }
+  return out;
+}
+
 eprosima::fastdds::dds::Topic* Participant::topic(const std::string& name,
                                                   eprosima::fastdds::dds::TypeSupport type) {
   std::lock_guard<std::mutex> lock(topics_mutex_);

@@ -10,18 +10,20 @@
 
 #define LEASE_3S DDS_SECS(3)
 
-/* name, type, TRANSIENT_LOCAL, depth, liveliness lease, checks: as config/dds/topics.xml. */
+/* name, type, TRANSIENT_LOCAL, depth, liveliness lease, exclusive, checks: as
+ * config/dds/topics.xml. The picture topics' writers offer MANUAL_BY_TOPIC with a 3 s lease: an
+ * AUTOMATIC reader with no lease matches them. */
 const SarlocTopic kSarlocTopics[kSarlocTopicCount] = {
-    {"sarloc/field_measurement", &sarloc_FieldMeasurement_desc, false, 16, DDS_INFINITY, check_field_measurement},
-    {"sarloc/odometry", &sarloc_Odometry_desc, false, 64, DDS_INFINITY, check_odometry},
-    {"sarloc/victim_estimate", &sarloc_VictimEstimate_desc, true, 1, DDS_INFINITY, check_victim_estimate},
-    {"sarloc/guidance", &sarloc_Guidance_desc, true, 1, DDS_INFINITY, check_guidance},
-    {"sarloc/responder_position", &sarloc_ResponderPosition_desc, true, 1, LEASE_3S, check_responder_position},
-    {"sarloc/incident_frame", &sarloc_IncidentFrame_desc, true, 1, DDS_INFINITY, check_incident_frame},
-    {"sarloc/fused_victim", &sarloc_FusedVictim_desc, true, 1, DDS_INFINITY, check_fused_victim},
-    {"sarloc/team_status", &sarloc_TeamStatus_desc, true, 1, DDS_INFINITY, check_team_status},
-    {"sarloc/incident_summary", &sarloc_IncidentSummary_desc, true, 1, DDS_INFINITY, check_incident_summary},
-    {"sarloc/node_status", &sarloc_NodeStatus_desc, true, 1, LEASE_3S, check_node_status},
+    {"sarloc/field_measurement", &sarloc_FieldMeasurement_desc, false, 16, DDS_INFINITY, false, check_field_measurement},
+    {"sarloc/odometry", &sarloc_Odometry_desc, false, 64, DDS_INFINITY, false, check_odometry},
+    {"sarloc/victim_estimate", &sarloc_VictimEstimate_desc, true, 1, DDS_INFINITY, false, check_victim_estimate},
+    {"sarloc/guidance", &sarloc_Guidance_desc, true, 1, DDS_INFINITY, false, check_guidance},
+    {"sarloc/responder_position", &sarloc_ResponderPosition_desc, true, 1, LEASE_3S, false, check_responder_position},
+    {"sarloc/incident_frame", &sarloc_IncidentFrame_desc, true, 1, DDS_INFINITY, true, check_incident_frame},
+    {"sarloc/fused_victim", &sarloc_FusedVictim_desc, true, 1, DDS_INFINITY, true, check_fused_victim},
+    {"sarloc/team_status", &sarloc_TeamStatus_desc, true, 1, DDS_INFINITY, true, check_team_status},
+    {"sarloc/incident_summary", &sarloc_IncidentSummary_desc, true, 1, DDS_INFINITY, true, check_incident_summary},
+    {"sarloc/node_status", &sarloc_NodeStatus_desc, true, 1, LEASE_3S, false, check_node_status},
 };
 
 const SarlocTopic* find_sarloc_topic(const char* name) {
@@ -40,6 +42,9 @@ dds_qos_t* sarloc_endpoint_qos(const SarlocTopic* topic) {
   dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, topic->depth);
   /* A reader's lease must not be shorter than the writer's (3 s on two topics). */
   dds_qset_liveliness(qos, DDS_LIVELINESS_AUTOMATIC, topic->liveliness_lease);
+  /* The picture is OWNERSHIP EXCLUSIVE (the active incident command's writer only): a SHARED
+   * reader does not match an EXCLUSIVE writer. */
+  dds_qset_ownership(qos, topic->exclusive ? DDS_OWNERSHIP_EXCLUSIVE : DDS_OWNERSHIP_SHARED);
   /* Fast DDS 2.9 writes and reads only XCDR1 (plain CDR); Cyclone allows XCDR1 for @final
    * types only (docs/topics.md, "Interoperability with other DDS vendors"). */
   const dds_data_representation_id_t xcdr1 = DDS_DATA_REPRESENTATION_XCDR1;

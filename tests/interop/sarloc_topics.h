@@ -18,6 +18,7 @@ typedef struct SarlocTopic {
   bool transient_local;                     /* else VOLATILE */
   int32_t depth;                            /* KEEP_LAST depth of topics.xml */
   dds_duration_t liveliness_lease;          /* AUTOMATIC lease, DDS_INFINITY when none */
+  bool exclusive;                           /* OWNERSHIP EXCLUSIVE: the incident picture */
   SampleCheck check;
 } SarlocTopic;
 

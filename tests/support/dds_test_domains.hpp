@@ -21,7 +21,12 @@ enum DdsTestDomain : std::uint32_t {
   kDomainBenchEchoListener = 141,
   kDomainBenchEchoQueue = 142,
   kDomainBenchEchoWaitSet = 143,
-  kDomainMissionSmall = 130,  // mission_test: 130..139 (138: lossy.yaml)
+  kDomainOwnership = 144,
+  kDomainCommandStandby = 145,
+  kDomainMissionSmall = 130,  // mission_test: 130..139 (138: lossy.yaml), and:
+  kDomainMissionCommandKill = 134,
+  kDomainMissionCommandRestart = 136,
+  kDomainMissionNoCommand = 137,
   // tests/interop/cyclone_interop_test.sh (a script: the ids are passed by its CMakeLists.txt)
   kDomainCycloneSubscribe = 150,
   kDomainCyclonePublish = 151,

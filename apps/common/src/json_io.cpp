@@ -21,6 +21,22 @@ responder::EstimatorStatus status_from_name(const std::string& name) {
   throw std::runtime_error("signals[].status = '" + name + "': not an estimator status");
 }
 
+nlohmann::json picture_json(const std::vector<mission::PictureVictimOutcome>& picture) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& f : picture) {
+    out.push_back({{"victim_id", f.victim_id},
+                   {"position", to_json(f.position)},
+                   {"confirmed", f.confirmed},
+                   {"found", f.found},
+                   {"sources", f.sources},
+                   {"matches_a_buried_victim", f.matches_a_buried_victim},
+                   {"evidence_conflict", f.evidence_conflict},
+                   {"located_at_s", optional_json(f.located_at_s)},
+                   {"found_at_s", optional_json(f.found_at_s)}});
+  }
+  return out;
+}
+
 }  // namespace
 
 const char* status_name(responder::EstimatorStatus status) {
@@ -175,19 +191,15 @@ nlohmann::json to_json(const mission::MissionSummary& s) {
     j["found"] = v.found;
     j["relative_error_m"] = optional_json(v.relative_error_m);
     j["false_found"] = v.false_found;
+    j["found_by_finder"] = v.found_by_finder();
+    j["finders"] = v.finders;
     out["victims"].push_back(j);
   }
   out["all_found"] = s.all_found;
-  out["fused_victims"] = nlohmann::json::array();
-  for (const auto& f : s.fused_victims) {
-    out["fused_victims"].push_back({{"victim_id", f.victim_id},
-                                    {"position", to_json(f.position)},
-                                    {"confirmed", f.confirmed},
-                                    {"found", f.found},
-                                    {"sources", f.sources},
-                                    {"matches_a_buried_victim", f.matches_a_buried_victim},
-                                    {"evidence_conflict", f.evidence_conflict}});
-  }
+  out["found_by_finder_count"] = s.found_by_finder_count();
+  out["command_alive_at_end"] = s.command_alive_at_end;
+  out["picture_available"] = s.picture_available;
+  out["fused_victims"] = picture_json(s.fused_victims);
   out["confirmed_fused_victim_count"] = s.confirmed_fused_victim_count();
   out["mission_s"] = s.mission_s;
   out["wall_s"] = s.wall_s;
@@ -210,6 +222,9 @@ nlohmann::json to_json(const mission::MissionSummary& s) {
   for (const auto& f : s.faults) {
     nlohmann::json fj{{"action", f.action}, {"target", f.target}, {"at_s", f.at_s}, {"done", f.done}};
     if (f.link_lost_after_s) fj["link_lost_after_s"] = *f.link_lost_after_s;
+    if (f.handover_after_s) fj["handover_after_s"] = *f.handover_after_s;
+    if (!f.taken_over_by.empty()) fj["taken_over_by"] = f.taken_over_by;
+    if (f.action == "kill" && f.target == "command") fj["picture_at_kill"] = picture_json(f.picture_at_kill);
     out["faults"].push_back(fj);
   }
   return out;

@@ -71,7 +71,7 @@ void MissionConfig::validate() const {
   for (const auto& s : sectors) core_config(s).validate();
   if (sectors.empty()) core_config("").validate();
   for (const auto& r : scenario.rescuers) rescuer_config(r.id).validate();
-  command_config().validate();
+  for (unsigned k = 1; k <= std::max(1U, command.standby.instances); ++k) command_config(k).validate();
 }
 
 dds::CoreNodeConfig MissionConfig::core_config(const std::string& sector) const {
@@ -97,9 +97,11 @@ dds::RescuerNodeConfig MissionConfig::rescuer_config(const std::string& rescuer_
   return c;
 }
 
-dds::CommandNodeConfig MissionConfig::command_config() const {
+dds::CommandNodeConfig MissionConfig::command_config(unsigned instance) const {
   dds::CommandNodeConfig c = command;
   if (!sectors.empty()) c.estimate_partitions = {"*"};
+  c.standby.instance = instance;
+  if (c.standby.instances > 1) c.node_id += "-" + std::to_string(instance);
   return c;
 }
 
@@ -220,6 +222,8 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     c.command.antenna_height_m = c.scenario.sensors.antenna_height_m;
     r.read("antenna_height_m", c.command.antenna_height_m);
     r.read("antenna_height_sigma_m", c.command.antenna_height_sigma_m);
+    r.read("instances", c.command.standby.instances);
+    r.read("claim_wait_s", c.command.standby.claim_wait_s);
     read_fusion(r.child("fusion"), c.command.fusion);
     {
       auto t = r.child("teams");

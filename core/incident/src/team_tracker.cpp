@@ -61,6 +61,31 @@ void TeamTracker::on_link(const std::string& responder_id, bool alive, Timestamp
   }
 }
 
+void TeamTracker::adopt(const std::vector<TeamStatus>& teams) {
+  for (const TeamStatus& t : teams)
+    for (const MemberStatus& s : t.members)
+      if (s.responder_id.empty()) throw InputError("team_status[" + t.team_id + "].members.responder_id = \"\": must not be empty");
+  for (const TeamStatus& t : teams) {
+    for (const MemberStatus& s : t.members) {
+      const bool known = members_.count(s.responder_id) != 0;
+      Member& m = members_[s.responder_id];
+      if (!known) {
+        m.team_id = t.team_id;
+        m.liveliness_lost = s.link == LinkState::kLost;
+      }
+      if (!m.has_position && s.has_position) {
+        if (m.team_id.empty()) m.team_id = t.team_id;
+        m.last_position.responder_id = s.responder_id;
+        m.last_position.team_id = t.team_id;
+        m.last_position.stamp = s.position_stamp;
+        m.last_position.position = s.last_position;
+        m.has_position = true;
+      }
+      m.last_heard = std::max(m.last_heard, s.last_seen);
+    }
+  }
+}
+
 LinkState TeamTracker::link_of(const Member& m, TimestampNs now) const {
   if (m.liveliness_lost) return LinkState::kLost;
   const double silent_s = static_cast<double>(now - m.last_heard) * 1e-9;

@@ -35,6 +35,15 @@ double mahalanobis2(const GaussianPosition& a, const GaussianPosition& b) {
   return std::isfinite(d2) ? std::max(d2, 0.0) : std::numeric_limits<double>::infinity();
 }
 
+// A covariance the fusion can use: finite, symmetric, positive definite (InputError naming
+// `where` otherwise).
+void check_covariance(const std::string& where, const Mat3& p) {
+  if (!p.allFinite()) throw InputError(where + ".covariance: must be finite");
+  if ((p - p.transpose()).cwiseAbs().maxCoeff() > 1e-9 * (1.0 + p.cwiseAbs().maxCoeff()))
+    throw InputError(where + ".covariance: must be symmetric");
+  if (Eigen::LLT<Mat3>(p).info() != Eigen::Success) throw InputError(where + ".covariance: must be positive definite");
+}
+
 bool same_rescuer_conflict(const FusedVictim& a, const FusedVictim& b) {
   for (const VictimSource& x : a.sources)
     for (const VictimSource& y : b.sources)
@@ -73,17 +82,73 @@ VictimFusion::VictimFusion(VictimFusionConfig config) : config_(config) {
   merge_gate_ = chi_square_quantile(config_.merge_gate_probability, 3.0);
 }
 
+void check_adoptable(const FusedVictim& v) {
+  const std::string where = "fused_victim[" + std::to_string(v.victim_id) + "]";
+  if (v.victim_id == 0) throw InputError("fused_victim.victim_id = 0: ids start at 1");
+  if (!v.position.position.allFinite()) throw InputError(where + ".position: must be finite");
+  check_covariance(where, v.position.covariance);
+  for (const VictimSource& vs : v.sources)
+    if (vs.rescuer_id.empty()) throw InputError(where + ".sources.rescuer_id = \"\": must not be empty");
+}
+
+void VictimFusion::adopt(const std::vector<FusedVictim>& picture, std::uint32_t largest_id_seen) {
+  std::vector<FusedVictim> sorted(picture);
+  std::sort(sorted.begin(), sorted.end(),
+            [](const FusedVictim& a, const FusedVictim& b) { return a.victim_id < b.victim_id; });
+  for (std::size_t i = 0; i < sorted.size(); ++i) {
+    check_adoptable(sorted[i]);
+    if (i > 0 && sorted[i].victim_id == sorted[i - 1].victim_id)
+      throw InputError("fused_victim[" + std::to_string(sorted[i].victim_id) + "]: listed twice");
+  }
+
+  // What step() advanced on the victims adopted last time (a standby steps between
+  // adoptions) is kept; victims it opened itself were never published and are dropped.
+  std::map<std::uint32_t, FusedVictim> advanced;
+  for (FusedVictim& v : victims_)
+    if (adopted_ids_.count(v.victim_id) != 0) advanced.emplace(v.victim_id, std::move(v));
+  for (auto& [key, s] : sources_) s.victim_id = 0;
+  victims_.clear();
+  removed_.clear();
+  orphaned_.clear();
+  adopted_bindings_.clear();
+  adopted_ids_.clear();
+  for (FusedVictim& v : sorted) {
+    adopted_ids_.insert(v.victim_id);
+    if (const auto own = advanced.find(v.victim_id); own != advanced.end() && own->second.state > v.state) {
+      v.state = own->second.state;
+      if (v.located_at == 0) v.located_at = own->second.located_at;
+      if (v.found_at == 0) v.found_at = own->second.found_at;
+    }
+    std::vector<VictimSource> listed;
+    listed.swap(v.sources);
+    for (const VictimSource& vs : listed) {
+      const SourceKey key{vs.rescuer_id, vs.signal_id};
+      const auto it = sources_.find(key);
+      if (it == sources_.end()) {
+        adopted_bindings_.emplace(key, v.victim_id);  // the first victim listing it wins
+        continue;
+      }
+      if (it->second.victim_id != 0) continue;  // listed by a victim before this one
+      it->second.victim_id = v.victim_id;
+      it->second.last_victim_id = v.victim_id;
+      v.sources.push_back(vs);  // the picture's last_update, as published
+    }
+    std::sort(v.sources.begin(), v.sources.end(), [](const VictimSource& a, const VictimSource& b) {
+      return std::tie(a.rescuer_id, a.signal_id) < std::tie(b.rescuer_id, b.signal_id);
+    });
+    victims_.push_back(std::move(v));
+  }
+  const std::uint32_t largest = victims_.empty() ? 0 : victims_.back().victim_id;
+  next_id_ = std::max(largest, largest_id_seen) + 1;
+}
+
 bool VictimFusion::update(const SourceEstimate& estimate) {
   const std::string where =
       "source_estimate[" + estimate.rescuer_id + "/" + std::to_string(estimate.signal_id) + "]";
   if (estimate.rescuer_id.empty()) throw InputError("source_estimate.rescuer_id = \"\": must not be empty");
   if (!estimate.position.position.allFinite()) throw InputError(where + ".position: must be finite");
   const Mat3& p = estimate.position.covariance;
-  if (!p.allFinite()) throw InputError(where + ".covariance: must be finite");
-  if ((p - p.transpose()).cwiseAbs().maxCoeff() > 1e-9 * (1.0 + p.cwiseAbs().maxCoeff()))
-    throw InputError(where + ".covariance: must be symmetric");
-  if (Eigen::LLT<Mat3>(p).info() != Eigen::Success)
-    throw InputError(where + ".covariance: must be positive definite");
+  check_covariance(where, p);
   // Heights are above the snow surface (z = 0): a victim is buried. An estimate confidently
   // above the surface comes from a filter locked on its mirror solution and would open a
   // ghost victim (seen under packet loss: 30 m up, "found").
@@ -101,6 +166,11 @@ bool VictimFusion::update(const SourceEstimate& estimate) {
     it = sources_.emplace(key, Source{}).first;
     it->second.estimate = estimate;
     check_conflict(it->second, estimate);
+    // First heard after adopt(): it joins the victim the adopted picture listed it under.
+    if (const auto bound = adopted_bindings_.find(key); bound != adopted_bindings_.end()) {
+      if (FusedVictim* v = find_victim(bound->second); v != nullptr && v->floor == estimate.floor) bind(it->second, *v);
+      adopted_bindings_.erase(bound);
+    }
     return true;
   }
   check_conflict(it->second, estimate);

@@ -32,7 +32,59 @@ std::size_t false_found_of(std::size_t victim, const std::map<std::string, Devic
   return n;
 }
 
+std::vector<std::string> finders_of(std::size_t victim, const std::map<std::string, DeviceSummary>& devices) {
+  std::vector<std::string> out;  // std::map: by rescuer id
+  for (const auto& [id, device] : devices) {
+    const bool found = std::any_of(device.signals.begin(), device.signals.end(), [&](const DeviceSignal& s) {
+      return s.victim_index == victim && s.status == responder::EstimatorStatus::kFound;
+    });
+    if (found) out.push_back(id);
+  }
+  return out;
+}
+
+std::optional<double> mission_seconds(TimestampNs t, TimestampNs epoch) {
+  if (t == 0) return std::nullopt;
+  return static_cast<double>(t - epoch) / 1e9;
+}
+
 }  // namespace
+
+std::size_t MissionSummary::found_by_finder_count() const {
+  return static_cast<std::size_t>(
+      std::count_if(victims.begin(), victims.end(), [](const auto& v) { return v.found_by_finder(); }));
+}
+
+namespace {
+
+// `match`: match_to_truth of the picture.
+std::vector<PictureVictimOutcome> outcomes_of(const std::vector<incident::FusedVictim>& picture,
+                                              const std::vector<int>& match, TimestampNs epoch) {
+  std::vector<PictureVictimOutcome> out;
+  for (std::size_t j = 0; j < picture.size(); ++j) {
+    const auto& f = picture[j];
+    PictureVictimOutcome p;
+    p.victim_id = f.victim_id;
+    p.position = f.position.position;
+    p.confirmed = f.state != incident::VictimState::kUnconfirmed;
+    p.found = incident::is_found(f.state);
+    p.sources = f.sources.size();
+    p.evidence_conflict = f.evidence_conflict;
+    p.matches_a_buried_victim = std::find(match.begin(), match.end(), static_cast<int>(j)) != match.end();
+    p.located_at_s = mission_seconds(f.located_at, epoch);
+    p.found_at_s = mission_seconds(f.found_at, epoch);
+    out.push_back(p);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<PictureVictimOutcome> picture_outcomes(const MissionScenario& scenario,
+                                                   const std::vector<incident::FusedVictim>& picture,
+                                                   TimestampNs epoch) {
+  return outcomes_of(picture, match_to_truth(scenario.victims, picture), epoch);
+}
 
 std::size_t MissionSummary::confirmed_fused_victim_count() const {
   return static_cast<std::size_t>(
@@ -62,25 +114,15 @@ MissionSummary summarise_mission(const std::string& mission_name, const MissionS
       v.error_m = (f.position.position - truth.position).norm();
       v.sources = f.sources.size();
       v.found = incident::is_found(f.state);
-      if (f.located_at > 0) v.time_to_locate_s = static_cast<double>(f.located_at - epoch) / 1e9;
+      v.time_to_locate_s = mission_seconds(f.located_at, epoch);
     }
     v.relative_error_m = relative_error_of(i, devices);
     v.false_found = false_found_of(i, devices);
+    v.finders = finders_of(i, devices);
     s.all_found = s.all_found && v.found;
     s.victims.push_back(std::move(v));
   }
-  for (std::size_t j = 0; j < picture.size(); ++j) {
-    const auto& f = picture[j];
-    PictureVictimOutcome p;
-    p.victim_id = f.victim_id;
-    p.position = f.position.position;
-    p.confirmed = f.state != incident::VictimState::kUnconfirmed;
-    p.found = incident::is_found(f.state);
-    p.sources = f.sources.size();
-    p.evidence_conflict = f.evidence_conflict;
-    p.matches_a_buried_victim = std::find(match.begin(), match.end(), static_cast<int>(j)) != match.end();
-    s.fused_victims.push_back(p);
-  }
+  s.fused_victims = outcomes_of(picture, match, epoch);
   for (const auto& r : scenario.rescuers) s.rescuer_ids.push_back(r.id);
   s.devices = std::move(devices);
   return s;

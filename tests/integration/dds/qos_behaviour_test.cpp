@@ -1,6 +1,9 @@
 // The per-topic QoS in config/dds/topics.xml does what docs/topics.md promises.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <atomic>
+
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/reader.hpp"
 #include "sarloc/dds/writer.hpp"
@@ -97,6 +100,122 @@ TEST(QosBehaviour, ReaderHearsWhenAResponderWriterDisappears) {
   }  // the rescuer's participant is gone
   std::unique_lock<std::mutex> lock(mutex);
   EXPECT_TRUE(cv.wait_for(lock, 10s, [&] { return lost > 0; })) << "writer loss never reported";
+}
+
+// The picture topics are OWNERSHIP EXCLUSIVE (hot-standby incident command): a reader takes an
+// instance only from its strongest live writer; Fast DDS 2.9 honours a strength raised at run
+// time with set_qos; a writer that stops asserting its MANUAL_BY_TOPIC liveliness (a killed or
+// hung instance) loses the instance about 3 s (the lease) after its last write; and a weaker
+// writer cannot dispose of what the stronger one owns.
+TEST(QosBehaviour, PictureOwnershipFollowsTheStrongestLiveWriter) {
+  auto dashboard = test::make_participant(test::kDomainOwnership, "dashboard");
+  auto one = test::make_participant(test::kDomainOwnership, "command-1");
+  auto two = test::make_participant(test::kDomainOwnership, "command-2");
+  std::mutex mutex;
+  std::condition_variable cv;
+  std::vector<std::uint32_t> taken;  // victims_total carries the writer's tag
+  int lost = 0;
+  ReaderEvents events;
+  events.on_liveliness = [&](const auto&, bool alive) {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (!alive) ++lost;
+    cv.notify_all();
+  };
+  Reader<::sarloc::IncidentSummary> reader(
+      dashboard,
+      [&](const ::sarloc::IncidentSummary& s, const auto&) {
+        std::lock_guard<std::mutex> lock(mutex);
+        taken.push_back(s.victims_total());
+        cv.notify_all();
+      },
+      {}, events);
+  Writer<::sarloc::IncidentSummary> w1(one);
+  Writer<::sarloc::IncidentSummary> w2(two);
+  ASSERT_TRUE(w1.wait_for_readers(1, 10s));
+  ASSERT_TRUE(w2.wait_for_readers(1, 10s));
+  w1.set_ownership_strength(100);
+  w2.set_ownership_strength(50);
+  std::this_thread::sleep_for(300ms);  // the new strengths travel by discovery
+  auto tagged = [](std::uint32_t tag) {
+    ::sarloc::IncidentSummary s;
+    s.incident_id("ownership");
+    s.victims_total(tag);
+    return s;
+  };
+  auto write_both = [&](std::uint32_t tag1, std::uint32_t tag2) {
+    for (int i = 0; i < 5; ++i) {
+      ASSERT_TRUE(w1.write(tagged(tag1)));
+      ASSERT_TRUE(w2.write(tagged(tag2)));
+      std::this_thread::sleep_for(50ms);
+    }
+    std::this_thread::sleep_for(300ms);
+  };
+  auto taken_since = [&](std::size_t from) {
+    std::lock_guard<std::mutex> lock(mutex);
+    return std::vector<std::uint32_t>(taken.begin() + static_cast<std::ptrdiff_t>(from), taken.end());
+  };
+  write_both(1, 2);
+  auto got = taken_since(0);
+  ASSERT_FALSE(got.empty());
+  for (const auto tag : got) EXPECT_EQ(tag, 1U) << "the weaker writer's sample reached the reader";
+
+  // The standby becomes the stronger one at run time.
+  std::size_t mark = taken_since(0).size();
+  w2.set_ownership_strength(200);
+  std::this_thread::sleep_for(300ms);
+  write_both(3, 4);
+  got = taken_since(mark);
+  ASSERT_FALSE(got.empty());
+  EXPECT_EQ(got.back(), 4U) << "a strength raised with set_qos was not honoured";
+
+  // The stronger one stops writing (killed, hung): the weaker one's samples get through once
+  // its lease (3 s, MANUAL_BY_TOPIC) has run out.
+  mark = taken_since(0).size();
+  const auto stopped = std::chrono::steady_clock::now();
+  double handed_over_s = -1.0;
+  while (std::chrono::steady_clock::now() - stopped < 8s) {
+    ASSERT_TRUE(w1.write(tagged(5)));
+    std::this_thread::sleep_for(50ms);
+    got = taken_since(mark);
+    if (std::find(got.begin(), got.end(), 5U) != got.end()) {
+      handed_over_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - stopped).count();
+      break;
+    }
+  }
+  EXPECT_GE(handed_over_s, 2.5) << "taken before the stronger writer's lease ran out";
+  EXPECT_LE(handed_over_s, 3.6) << "not within the 3 s lease (-1: never)";
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    EXPECT_GE(lost, 1) << "the lost writer was not reported";
+  }
+
+  // A weaker writer's dispose of an instance the stronger one owns is ignored.
+  Writer<::sarloc::FusedVictim> strong(one);
+  Writer<::sarloc::FusedVictim> weak(two);
+  strong.set_ownership_strength(100);
+  weak.set_ownership_strength(50);
+  std::atomic<int> disposed{0};
+  ReaderEvents victim_events;
+  victim_events.on_instance_gone = [&](const auto& info) {
+    if (info.instance_state == eprosima::fastdds::dds::NOT_ALIVE_DISPOSED_INSTANCE_STATE) disposed.fetch_add(1);
+  };
+  test::Inbox<::sarloc::FusedVictim> victims;
+  Reader<::sarloc::FusedVictim> victim_reader(
+      dashboard, [&](const auto& v, const auto&) { victims.push(v); }, {}, victim_events);
+  ASSERT_TRUE(strong.wait_for_readers(1, 10s));
+  ASSERT_TRUE(weak.wait_for_readers(1, 10s));
+  std::this_thread::sleep_for(300ms);
+  const auto v = to_idl(test::sample_fused_victim());
+  ASSERT_TRUE(strong.write(v));
+  ASSERT_EQ(victims.wait_for(1, 10s).size(), 1U);
+  ASSERT_TRUE(weak.write(v));  // a writer disposes only what it registered
+  EXPECT_TRUE(weak.dispose(v));
+  std::this_thread::sleep_for(500ms);
+  EXPECT_EQ(disposed.load(), 0) << "a weaker writer disposed of the stronger one's victim";
+  EXPECT_TRUE(strong.dispose(v));
+  const auto until = std::chrono::steady_clock::now() + 5s;
+  while (disposed.load() == 0 && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(10ms);
+  EXPECT_EQ(disposed.load(), 1) << "the owner's dispose did not arrive";
 }
 
 }  // namespace

@@ -43,6 +43,23 @@ TEST(ConfigFiles, ShippedAndValidMissionsLoad) {
   }
 }
 
+// Incident command runs as a hot-standby pair unless the mission says otherwise; each
+// instance has its own NodeStatus key.
+TEST(ConfigFiles, IncidentCommandInstancesHaveTheirOwnNodeIds) {
+  const auto standby = load_mission_config((kSource / "tests/config/valid/mission/command_standby.yaml").string());
+  EXPECT_EQ(standby.command_instances(), 3U);
+  EXPECT_DOUBLE_EQ(standby.command.standby.claim_wait_s, 6.0);
+  EXPECT_EQ(standby.command_config(1).node_id, "sarloc-command-1");
+  EXPECT_EQ(standby.command_config(3).node_id, "sarloc-command-3");
+  EXPECT_EQ(standby.command_config(3).standby.instance, 3U);
+  EXPECT_THROW(standby.command_config(4).validate(), ConfigError);
+  const auto minimal = load_mission_config((kSource / "tests/config/valid/mission/minimal.yaml").string());
+  EXPECT_EQ(minimal.command_instances(), 2U) << "the default: one active, one standing by";
+  const auto single = load_mission_config((kSource / "tests/integration/mission/single_command.yaml").string());
+  EXPECT_EQ(single.command_instances(), 1U);
+  EXPECT_EQ(single.command_config(1).node_id, "sarloc-command");
+}
+
 TEST(ConfigFiles, ShippedAndValidEvaluationConfigsLoad) {
   std::vector<fs::path> files = yaml_files(kSource / "config/eval");
   for (const auto& f : yaml_files(kSource / "tests/config/valid/eval")) files.push_back(f);

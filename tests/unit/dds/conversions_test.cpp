@@ -1,5 +1,6 @@
 // to_core(to_idl(x)) == x for every message, field by field; plus the wire rules.
 #include "sarloc/dds/conversions.hpp"
+#include "sarloc/idl/incidentPubSubTypes.h"
 
 #include "sarloc/core/common/errors.hpp"
 
@@ -166,6 +167,24 @@ TEST(Conversions, UnknownEnumValueFromTheWireIsRefusedByName) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("guidance.mode = 17"), std::string::npos) << e.what();
   }
+}
+
+// A disposal carries only the instance handle: the victim id comes back from it, and a
+// handle that is not a FusedVictim's gives nothing.
+TEST(Conversions, VictimIdOfAFusedVictimInstanceHandle) {
+  for (const std::uint32_t id : {1U, 7U, 256U, 70000U, 4294967295U}) {
+    ::sarloc::FusedVictim v;
+    v.victim_id(id);
+    ::sarloc::FusedVictimPubSubType type;
+    eprosima::fastrtps::rtps::InstanceHandle_t handle;
+    ASSERT_TRUE(type.getKey(&v, &handle));
+    EXPECT_EQ(victim_id_of(handle), id);
+  }
+  eprosima::fastrtps::rtps::InstanceHandle_t other;
+  other.value[0] = 0;
+  other.value[3] = 5;
+  other.value[9] = 1;  // not a 4-byte key
+  EXPECT_FALSE(victim_id_of(other).has_value());
 }
 
 }  // namespace

@@ -133,5 +133,40 @@ TEST(TeamTracker, LinkBeforePositionIsUnassigned) {
   EXPECT_THROW(t.on_position(pos("", "c", 0), 0), InputError);
 }
 
+// A restarted incident command never heard a responder whose device died before it started:
+// the active one's published TeamStatus fills that in; what it heard itself stays.
+TEST(TeamTracker, AdoptFillsInWhatThisTrackerNeverHeard) {
+  TeamTracker active;
+  active.on_position(pos("dead", "north", 2 * kSec, 4.0), 2 * kSec);
+  active.on_link("dead", false, 5 * kSec);
+  active.on_position(pos("alive", "south", 9 * kSec, 7.0), 9 * kSec);
+  const auto published = active.evaluate(10 * kSec);
+
+  TeamTracker restarted;
+  restarted.on_position(pos("alive", "south", 11 * kSec, 8.0), 11 * kSec);
+  restarted.adopt(published);
+  const auto teams = restarted.evaluate(12 * kSec);
+  const auto dead = member(teams, "dead");
+  EXPECT_EQ(dead.link, LinkState::kLost);
+  EXPECT_EQ(dead.accountability, AccountabilityState::kMissing);
+  EXPECT_TRUE(dead.has_position);
+  EXPECT_DOUBLE_EQ(dead.last_position.position.x(), 4.0);
+  EXPECT_EQ(dead.position_stamp, 2 * kSec);
+  EXPECT_EQ(dead.last_seen, 2 * kSec);
+  EXPECT_EQ(teams[0].team_id, "north");
+  const auto alive = member(teams, "alive");
+  EXPECT_DOUBLE_EQ(alive.last_position.position.x(), 8.0) << "its own, newer position stays";
+  EXPECT_EQ(alive.link, LinkState::kAlive);
+  EXPECT_EQ(restarted.responders_total(), 2u);
+
+  // Heard again: alive, whatever the picture said.
+  restarted.on_position(pos("dead", "north", 13 * kSec, 4.5), 13 * kSec);
+  EXPECT_EQ(member(restarted.evaluate(13 * kSec), "dead").link, LinkState::kAlive);
+
+  TeamStatus bad;
+  bad.members.push_back(MemberStatus{});
+  EXPECT_THROW(restarted.adopt({bad}), InputError);
+}
+
 }  // namespace
 }  // namespace sarloc::incident

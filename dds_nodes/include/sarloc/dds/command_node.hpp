@@ -7,6 +7,15 @@
 // time, associated and fused (incident::VictimFusion), teams evaluated (incident::TeamTracker),
 // and the picture published TRANSIENT_LOCAL (FusedVictim per victim, TeamStatus per team,
 // IncidentSummary, IncidentFrame), so a dashboard that subscribes late has it at once.
+//
+// Hot standby (docs/operations.md): an incident runs `standby.instances` of these. Each one
+// reads the inputs and places every estimate, but only the active one fuses and publishes;
+// a standby reads the picture (the topics are OWNERSHIP EXCLUSIVE, so its readers deliver the
+// active one's samples only), adopts each new one (VictimFusion::adopt, TeamTracker::adopt)
+// and fuses on top of it as the active one would, without publishing. incident::StandbyArbiter decides the role: the active one's summary
+// writer losing its liveliness (3 s lease, asserted every cycle) makes the standby active at
+// once, with the same victim ids, states and timestamps. The active one raises its picture
+// writers' ownership strength (set_qos) so that an instance activating later ranks below it.
 #include <atomic>
 #include <deque>
 #include <map>
@@ -14,7 +23,10 @@
 #include <mutex>
 #include <thread>
 
+#include <optional>
+
 #include "sarloc/core/incident/responder_track.hpp"
+#include "sarloc/core/incident/standby_arbiter.hpp"
 #include "sarloc/core/incident/team_tracker.hpp"
 #include "sarloc/core/incident/victim_fusion.hpp"
 #include "sarloc/dds/mission_clock.hpp"
@@ -53,6 +65,9 @@ struct CommandNodeConfig {
   /// indoors) keep their height and floor (incident::reporter_fix_of).
   double antenna_height_m = 1.0;
   double antenna_height_sigma_m = 0.15;
+  /// Hot standby: this instance's number, how many the incident runs (alone by default; a
+  /// mission file runs two unless command.instances says otherwise), when to claim.
+  incident::StandbyConfig standby;
 
   /// Throws ConfigError naming the key ("command.cycle_s = 0: must be in (0, 60]").
   void validate() const;
@@ -68,9 +83,17 @@ class CommandNode {
   /// A copy of the current picture (thread-safe).
   std::vector<incident::FusedVictim> victims() const;
   std::vector<incident::TeamStatus> teams() const;
+  /// Standby or active now (thread-safe).
+  incident::CommandRole role() const;
 
  private:
   void cycle();
+  /// Ownership strength of the picture writers and the log line of a role change.
+  void apply(const incident::RoleChange& change, std::size_t adopted_victims);
+  /// The active one's picture (as received) into the fusion and the tracker; under mutex_.
+  void adopt_picture();
+  /// Keeps the picture writers' MANUAL_BY_TOPIC liveliness (3 s lease) while active.
+  void assert_picture_liveliness();
   std::optional<incident::ReporterFix> fix_at(const std::string& rescuer_id, TimestampNs stamp) const;
 
   CommandNodeConfig config_;
@@ -91,6 +114,14 @@ class CommandNode {
   std::map<std::string, incident::ResponderTrack> fixes_;  ///< per responder
   std::vector<std::pair<eprosima::fastrtps::rtps::InstanceHandle_t, std::string>> writer_owner_;
   std::vector<incident::TeamStatus> last_teams_;
+  incident::StandbyArbiter arbiter_;
+  // The active instance's picture as this instance's readers receive it (while standby).
+  std::map<std::uint32_t, incident::FusedVictim> adopted_victims_;
+  std::map<std::string, incident::TeamStatus> adopted_teams_;
+  std::optional<::sarloc::IncidentFrame> adopted_frame_;
+  bool fresh_picture_ = false;         ///< a summary of the active one arrived since the last adoption
+  std::uint32_t largest_id_seen_ = 0;  ///< victim ids published so far, disposed ones included
+  ::sarloc::IncidentFrame frame_;      ///< what this instance publishes while active
 
   Writer<::sarloc::FusedVictim> victim_writer_;
   Writer<::sarloc::TeamStatus> team_writer_;
@@ -98,9 +129,14 @@ class CommandNode {
   Writer<::sarloc::IncidentFrame> frame_writer_;
   Writer<::sarloc::NodeStatus> status_writer_;
   std::atomic<bool> stopping_{false};
+  std::atomic<bool> wake_{false};  ///< run the next cycle now (the active instance was lost)
   std::thread thread_;
   std::unique_ptr<Reader<::sarloc::VictimEstimate>> estimate_reader_;
   std::unique_ptr<Reader<::sarloc::ResponderPosition>> position_reader_;
+  std::unique_ptr<Reader<::sarloc::IncidentSummary>> summary_reader_;
+  std::unique_ptr<Reader<::sarloc::FusedVictim>> picture_victim_reader_;
+  std::unique_ptr<Reader<::sarloc::TeamStatus>> picture_team_reader_;
+  std::unique_ptr<Reader<::sarloc::IncidentFrame>> picture_frame_reader_;
 };
 
 }  // namespace sarloc::dds

@@ -6,6 +6,10 @@
 // (a peer built from a newer IDL) throw sarloc::InputError naming the field and value.
 // to_idl() rejects what the wire cannot carry: identifiers longer than sarloc::ID_MAX.
 // Finite-ness and plausibility of numbers are the core's input validation, not this layer's.
+#include <fastdds/rtps/common/InstanceHandle.h>
+
+#include <optional>
+
 #include "sarloc/core/avalanche/field_measurement.hpp"
 #include "sarloc/core/responder/guidance.hpp"
 #include "sarloc/core/responder/odometry.hpp"
@@ -47,5 +51,9 @@ responder::ResponderPosition to_core(const ::sarloc::ResponderPosition& r);
 incident::FusedVictim to_core(const ::sarloc::FusedVictim& v);
 ::sarloc::TeamStatus to_idl(const incident::TeamStatus& t);
 incident::TeamStatus to_core(const ::sarloc::TeamStatus& t);
+/// The victim_id of a FusedVictim instance (a disposal carries only its instance handle):
+/// the key's serialised form, checked by computing the handle of that id again; nothing if
+/// the handle is not a FusedVictim's.
+std::optional<std::uint32_t> victim_id_of(const eprosima::fastrtps::rtps::InstanceHandle_t& instance);
 
 }  // namespace sarloc::dds

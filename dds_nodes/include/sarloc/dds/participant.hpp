@@ -54,6 +54,10 @@ class Participant {
   /// True when the participant runs with DDS Security (checked at start-up).
   bool secured() const { return secured_; }
 
+  /// True when `publication_handle` (SampleInfo) is a writer of this participant: a reader
+  /// also receives what its own participant writes.
+  bool is_own_writer(const eprosima::fastrtps::rtps::InstanceHandle_t& publication_handle) const;
+
   /// The topic `name` of type `type` (registered and created once, then shared).
   eprosima::fastdds::dds::Topic* topic(const std::string& name, eprosima::fastdds::dds::TypeSupport type);
 
@@ -64,6 +68,10 @@ class Participant {
   std::mutex topics_mutex_;
   std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
 };
+
+/// A writer's GUID (a SampleInfo's publication_handle) as 32 hex digits: the first 24 name
+/// its participant.
+std::string handle_text(const eprosima::fastrtps::rtps::InstanceHandle_t& handle);
 
 /// Loads a Fast DDS XML profile file once per process (throws DdsError naming the file).
 void load_profiles_file(const std::string& path);

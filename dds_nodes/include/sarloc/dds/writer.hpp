@@ -3,11 +3,13 @@
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/DataWriterListener.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/publisher/qos/PublisherQos.hpp>
 
 #include <atomic>
 #include <chrono>
 #include <memory>
+#include <string>
 #include <thread>
 
 #include "sarloc/dds/dds_error.hpp"
@@ -70,6 +72,24 @@ class Writer {
   bool dispose(const T& key_holder) {
     return writer_->dispose(const_cast<T*>(&key_holder), eprosima::fastrtps::rtps::InstanceHandle_t()) ==
            eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+  }
+
+  /// Ownership strength on an EXCLUSIVE topic, changed at run time (the DDS policy is
+  /// mutable; Fast DDS 2.9 re-announces it and readers honour it: QosBehaviour tests).
+  /// Throws DdsError if Fast DDS refuses.
+  void set_ownership_strength(std::uint32_t strength) {
+    eprosima::fastdds::dds::DataWriterQos qos;
+    writer_->get_qos(qos);
+    qos.ownership_strength().value = strength;
+    if (writer_->set_qos(qos) != eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+      throw DdsError("cannot set the ownership strength of the '" + std::string(TopicTraits<T>::kName) +
+                     "' writer to " + std::to_string(strength));
+    }
+  }
+
+  /// Asserts a MANUAL_BY_TOPIC writer's liveliness without writing.
+  bool assert_liveliness() {
+    return writer_->assert_liveliness() == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
   }
 
   int matched_readers() const { return listener_->matched.load(); }

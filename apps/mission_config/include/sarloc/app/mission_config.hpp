@@ -30,7 +30,13 @@ struct MissionConfig {
   estimator::EstimatorConfigs estimators;             ///< every role's estimator (sog:, search:, rescuer_search:)
   dds::CoreNodeConfig core;
   dds::RescuerNodeConfig rescuer;                     ///< template: id/team/partitions filled per rescuer
-  dds::CommandNodeConfig command;
+  /// Two instances of incident command unless the file says otherwise (command.instances):
+  /// one publishes the picture, the other stands by (docs/operations.md).
+  dds::CommandNodeConfig command = [] {
+    dds::CommandNodeConfig c;
+    c.standby.instances = 2;
+    return c;
+  }();
 
   /// Throws ConfigError naming the key.
   void validate() const;
@@ -39,7 +45,11 @@ struct MissionConfig {
   static std::vector<std::string> partitions_of_sector(const std::string& sector);
   dds::CoreNodeConfig core_config(const std::string& sector) const;
   dds::RescuerNodeConfig rescuer_config(const std::string& rescuer_id) const;
-  dds::CommandNodeConfig command_config() const;
+  /// Incident command instance `instance` (1..command.standby.instances): with more than one,
+  /// its node id gets "-<instance>" (NodeStatus keys must differ).
+  dds::CommandNodeConfig command_config(unsigned instance = 1) const;
+  /// How many sarloc-command processes the incident runs (command.instances).
+  unsigned command_instances() const { return command.standby.instances; }
 };
 
 /// Loads and validates a mission file (relative DDS file paths resolve against its folder).

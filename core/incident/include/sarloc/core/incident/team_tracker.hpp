@@ -53,6 +53,14 @@ class TeamTracker {
   /// DDS liveliness: alive = false marks the link lost at once; alive = true counts as heard.
   void on_link(const std::string& responder_id, bool alive, TimestampNs now);
 
+  /// Fills in what another incident command published (hot standby, see VictimFusion::adopt)
+  /// and this tracker has not heard itself: responders it does not know yet join with the
+  /// picture's team, last position (a position with stamp position_stamp), last_seen and
+  /// link (kLost stays lost until heard again); a known responder without a position takes
+  /// the picture's, and its last_seen is the later of both. What this tracker heard itself
+  /// is never overwritten. Throws InputError for an empty responder_id.
+  void adopt(const std::vector<TeamStatus>& teams);
+
   /// Teams sorted by id, members sorted by id, states evaluated at `now`.
   std::vector<TeamStatus> evaluate(TimestampNs now) const;
 

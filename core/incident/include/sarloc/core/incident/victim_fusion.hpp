@@ -50,6 +50,13 @@
 // each rescuer that needs association O(S + V) gate tests and an O(k^2 (V + k)) assignment
 // (k = that rescuer's sources). The merge search is over victim pairs (V <= ~50).
 //
+// Hot standby (docs/operations.md, "Incident command that cannot be lost"): a second
+// incident command feeds update() with the same estimates and, every cycle, adopt()s the
+// picture the active one publishes and then step()s as the active one would. Nothing of it is
+// published until it takes over; then it continues from that picture: the same ids, states
+// and timestamps, no victim opened twice, and what it fused itself since the active one's
+// last picture (e.g. a FOUND heard while the active one was already dead) is not lost.
+//
 //   VictimFusion fusion(VictimFusionConfig{});      // config validated here
 //   fusion.update(make_source_estimate(estimate, antenna_at(estimate.stamp)));
 //   fusion.step(now);
@@ -57,6 +64,7 @@
 //   for (std::uint32_t id : fusion.take_removed()) dispose(id);
 #include <cstdint>
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -81,6 +89,10 @@ struct VictimFusionConfig {
   void validate() const;
 };
 
+/// Throws InputError unless `v` can join a fusion: id > 0, finite position, symmetric
+/// positive-definite covariance, sources with a rescuer id.
+void check_adoptable(const FusedVictim& v);
+
 class VictimFusion {
  public:
   explicit VictimFusion(VictimFusionConfig config = {});
@@ -99,6 +111,20 @@ class VictimFusion {
 
   /// Associate, fuse, merge and update states (see the overview above).
   void step(TimestampNs now);
+
+  /// Makes `picture` (another incident command's published victims) this fusion's victims:
+  /// ids, positions, floors, states, first_seen / last_update / located_at / found_at and
+  /// evidence_conflict as published, except that a victim of the previous adopted picture that
+  /// step() has since advanced further keeps its further state (and the time it got there):
+  /// states never go back. Victims this fusion opened itself are dropped (never published: the
+  /// picture has them, or step() opens them again). Each source the picture lists is bound to
+  /// its victim (a source not heard yet is bound when its first estimate arrives). Nothing is
+  /// fused here. Victims opened later get ids after the largest of the picture and
+  /// `largest_id_seen` (ids disposed of earlier stay unused). Throws InputError (and changes
+  /// nothing) for a victim that check_adoptable() refuses or an id listed twice.
+  void adopt(const std::vector<FusedVictim>& picture, std::uint32_t largest_id_seen = 0);
+  /// The id the next new victim gets.
+  std::uint32_t next_id() const { return next_id_; }
 
   /// Current victims, stable ids (from 1), sorted by id.
   const std::vector<FusedVictim>& victims() const { return victims_; }
@@ -140,6 +166,8 @@ class VictimFusion {
   std::vector<FusedVictim> victims_;          ///< sorted by id
   std::vector<std::uint32_t> removed_;
   std::vector<std::uint32_t> orphaned_;       ///< lost their last source to re-association
+  std::map<SourceKey, std::uint32_t> adopted_bindings_;  ///< adopted, source not heard yet
+  std::set<std::uint32_t> adopted_ids_;      ///< victims of the last adopted picture
   std::uint32_t next_id_ = 1;
 };
 

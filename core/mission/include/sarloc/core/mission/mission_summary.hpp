@@ -1,7 +1,9 @@
 #pragma once
 // The outcome of a simulated mission against its truth: per buried victim (matched, error,
-// time to locate, found), every victim of the picture (a confirmed one that matches no buried
-// victim is a ghost), per rescuer what its device knew, and the injected faults.
+// time to locate, found in the picture, and which finders' devices found it: a victim found
+// while no incident command was alive is missing from the picture but not from its finder),
+// every victim of the picture (a confirmed one that matches no buried victim is a ghost), per
+// rescuer what its device knew, and the injected faults.
 // sarloc-mission prints and writes it (apps/common json_io.hpp); the post-mission report
 // reuses it.
 //
@@ -17,9 +19,10 @@
 
 namespace sarloc::mission {
 
-/// One victim signal as a rescuer's device last saw it.
+/// One victim signal a rescuer's device heard during the mission.
 struct DeviceSignal {
   std::uint32_t signal_id = 0;
+  /// The furthest its estimate got (FOUND stays FOUND after the rescuer walks out of range).
   responder::EstimatorStatus status = responder::EstimatorStatus::kInitialising;
   std::optional<std::size_t> victim_index;     ///< simulation truth: which buried victim
   std::optional<double> relative_error_m;      ///< the device's own error when it was found
@@ -48,10 +51,15 @@ struct VictimOutcome {
   std::optional<double> error_m;
   std::size_t sources = 0;
   std::optional<double> time_to_locate_s;        ///< mission seconds
-  bool found = false;
+  bool found = false;                            ///< FOUND in the incident picture
   std::optional<double> relative_error_m;        ///< best finder device's own error (no GNSS)
   /// Finders whose FOUND was farther from the victim than their stated 95 % radius + 0.5 m.
   std::size_t false_found = 0;
+  /// Rescuers whose device reported this victim's signal FOUND (its summary), by id: what
+  /// the finders know, whether or not an incident command was alive to put it in the picture.
+  std::vector<std::string> finders;
+
+  bool found_by_finder() const { return !finders.empty(); }
 };
 
 struct PictureVictimOutcome {
@@ -62,6 +70,8 @@ struct PictureVictimOutcome {
   std::size_t sources = 0;
   bool matches_a_buried_victim = false;
   bool evidence_conflict = false;                ///< incident command flagged conflicting estimates
+  std::optional<double> located_at_s;            ///< mission seconds, as the picture says
+  std::optional<double> found_at_s;
 };
 
 struct FaultOutcome {
@@ -70,6 +80,11 @@ struct FaultOutcome {
   double at_s = 0.0;
   bool done = false;
   std::optional<double> link_lost_after_s;       ///< rescuer kills: until command reported it
+  /// Incident-command kills: wall seconds until another instance's picture arrived, and its node.
+  std::optional<double> handover_after_s;
+  std::string taken_over_by;
+  /// Incident-command kills: the picture as the mission saw it at the kill.
+  std::vector<PictureVictimOutcome> picture_at_kill;
 };
 
 struct MissionSummary {
@@ -82,10 +97,22 @@ struct MissionSummary {
   std::vector<std::string> rescuer_ids;          ///< scenario order
   std::map<std::string, DeviceSummary> devices;  ///< those that wrote a summary
   std::vector<FaultOutcome> faults;
+  /// Whether a sarloc-command process was still running when the mission stopped, and
+  /// whether an active one was publishing the picture then: when not, `victims[].found` only
+  /// tells what the picture knew before it was lost, and `finders` what the devices know.
+  bool command_alive_at_end = true;
+  bool picture_available = true;
 
   std::size_t confirmed_fused_victim_count() const;
-  std::size_t found_count() const;
+  std::size_t found_count() const;               ///< FOUND in the picture
+  std::size_t found_by_finder_count() const;     ///< FOUND by some finder's device
 };
+
+/// The picture's victims against the truth (matched to a buried victim or not), times in
+/// mission seconds since `epoch`.
+std::vector<PictureVictimOutcome> picture_outcomes(const MissionScenario& scenario,
+                                                   const std::vector<incident::FusedVictim>& picture,
+                                                   TimestampNs epoch);
 
 /// Matches the picture to the truth (victim_matching.hpp) and fills the summary; mission_s,
 /// wall_s and faults are the caller's.

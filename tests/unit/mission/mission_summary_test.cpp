@@ -1,0 +1,74 @@
+// The mission summary against the truth: what the picture knew and what each finder's device
+// found, also when no incident command was left to put it in the picture.
+#include <gtest/gtest.h>
+
+#include "sarloc/core/mission/mission_summary.hpp"
+
+namespace sarloc::mission {
+namespace {
+
+constexpr TimestampNs kEpoch = 1'763'800'000'000'000'000;
+constexpr TimestampNs kSec = 1'000'000'000;
+
+MissionScenario two_victims() {
+  MissionScenario s;
+  s.victims = {{"A", Vec3(0, 30, -1), Vec3(0.01, 0, 0)}, {"B", Vec3(10, 30, -1), Vec3(0.01, 0, 0)}};
+  s.rescuers = {{"r1", "t", Vec3::Zero(), 90.0}, {"r2", "t", Vec3(10, 0, 0), 90.0}};
+  return s;
+}
+
+DeviceSummary device(const std::string& id, std::vector<DeviceSignal> signals) {
+  DeviceSummary d;
+  d.rescuer_id = id;
+  d.signals = std::move(signals);
+  return d;
+}
+
+incident::FusedVictim victim(std::uint32_t id, const Vec3& p, incident::VictimState state, TimestampNs located) {
+  incident::FusedVictim v;
+  v.victim_id = id;
+  v.position.position = p;
+  v.state = state;
+  v.located_at = located;
+  return v;
+}
+
+TEST(MissionSummary, VictimsFoundOnlyByTheirFindersAreNamedWithTheFinders) {
+  std::map<std::string, DeviceSummary> devices;
+  devices["r1"] = device("r1", {{1, responder::EstimatorStatus::kFound, 0, 0.05, 0.3},
+                                {2, responder::EstimatorStatus::kLocated, 1, std::nullopt, std::nullopt}});
+  devices["r2"] = device("r2", {{1, responder::EstimatorStatus::kFound, 1, 0.07, 0.3},
+                                {2, responder::EstimatorStatus::kFound, 0, 0.04, 0.3}});
+  // The picture was lost while A was LOCATED and before B was seen.
+  const std::vector<incident::FusedVictim> picture = {
+      victim(1, Vec3(0.2, 30, -1), incident::VictimState::kLocated, kEpoch + 38 * kSec)};
+  const auto s = summarise_mission("m", two_victims(), picture, kEpoch, devices);
+  ASSERT_EQ(s.victims.size(), 2U);
+  EXPECT_FALSE(s.all_found);
+  EXPECT_EQ(s.found_count(), 0U);
+  EXPECT_EQ(s.found_by_finder_count(), 2U);
+  EXPECT_EQ(s.victims[0].finders, (std::vector<std::string>{"r1", "r2"}));
+  EXPECT_EQ(s.victims[1].finders, (std::vector<std::string>{"r2"}));
+  EXPECT_TRUE(s.victims[1].found_by_finder());
+  EXPECT_FALSE(s.victims[1].victim_id.has_value()) << "B never reached the picture";
+  ASSERT_EQ(s.fused_victims.size(), 1U);
+  EXPECT_DOUBLE_EQ(*s.fused_victims[0].located_at_s, 38.0);
+  EXPECT_FALSE(s.fused_victims[0].found_at_s.has_value());
+}
+
+TEST(MissionSummary, PictureOutcomesMatchTheTruth) {
+  const std::vector<incident::FusedVictim> picture = {
+      victim(4, Vec3(10.3, 30, -1), incident::VictimState::kFound, kEpoch + 40 * kSec),
+      victim(9, Vec3(-40, 0, -1), incident::VictimState::kUnconfirmed, 0)};
+  const auto p = picture_outcomes(two_victims(), picture, kEpoch);
+  ASSERT_EQ(p.size(), 2U);
+  EXPECT_EQ(p[0].victim_id, 4U);
+  EXPECT_TRUE(p[0].matches_a_buried_victim);
+  EXPECT_TRUE(p[0].found);
+  EXPECT_DOUBLE_EQ(*p[0].located_at_s, 40.0);
+  EXPECT_FALSE(p[1].matches_a_buried_victim);
+  EXPECT_FALSE(p[1].located_at_s.has_value());
+}
+
+}  // namespace
+}  // namespace sarloc::mission
