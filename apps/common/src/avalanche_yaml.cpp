@@ -82,6 +82,8 @@ void read_search(YamlReader r, avalanche::SearchConfig& c) {
   r.read("lookahead_horizon_steps", c.lookahead.horizon_steps);
   r.read("lookahead_detour_weight", c.lookahead.detour_weight);
   r.read("lookahead_information_scale", c.lookahead.information_scale);
+  r.read("stall_window_steps", c.stall_window_steps);
+  r.read("stall_min_improvement", c.stall_min_improvement);
   r.expect_done();
 }
 

@@ -83,6 +83,8 @@ nlohmann::json to_json(const avalanche::EvaluationSummary& s) {
   j["initial_distance_m"] = stats_json(s.initial_distance_m);
   j["steps"] = stats_json(s.steps);
   j["not_found"] = s.not_found;
+  j["false_found"] = s.false_found;
+  j["found_by_probe_pattern"] = s.found_by_probe_pattern;
   j["ms_per_step"] = {{"median", s.ms_per_step_median}, {"p95", s.ms_per_step_p95}};
   j["nees"] = {{"mean", s.nees_mean},
                {"fraction_inside_95", s.nees_fraction_inside_95},
@@ -107,7 +109,11 @@ nlohmann::json to_json(const avalanche::EvaluationSummary& s) {
                       {"nees_mean", nees_mean},
                       {"nees_samples", t.nees.size()},
                       {"final_nees", t.final_nees},
-                      {"final_components", t.final_components}});
+                      {"final_components", t.final_components},
+                      {"radius95_m", t.radius95_m},
+                      {"false_found", t.false_found},
+                      {"probe_points", t.probe_points},
+                      {"found_by_probe_pattern", t.found_by_probe_pattern}});
   }
   j["per_trial"] = trials;
   return j;

@@ -11,6 +11,7 @@
 
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/gaussian.hpp"
 
 namespace sarloc::avalanche {
 
@@ -82,9 +83,13 @@ TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index,
     tr.error_m = err.norm();
     tr.horizontal_error_m = err.head<2>().norm();
     tr.final_components = static_cast<std::uint32_t>(filter.size());
+    tr.radius95_m = radius95_3d(e.relative.covariance);
+    tr.probe_points = static_cast<std::uint32_t>(ctl.probe_pattern().size());
     if (observer) observer(TrialStep{index, step, sim, z, sr, filter, g, e});
     if (g.mode == GuidanceMode::kFound) {
       tr.found = true;
+      tr.found_by_probe_pattern = ctl.found_by_probe_pattern();
+      tr.false_found = tr.error_m > tr.radius95_m + kFalseFoundMarginM;
       break;
     }
     filter.add_odometry(sim.walk(g.bearing_rad, g.step_m));
@@ -150,6 +155,8 @@ EvaluationSummary run_evaluation(const EvaluationSetup& setup,
     dist.push_back(r.initial_distance_m);
     steps.push_back(r.steps);
     if (!r.found) ++s.not_found;
+    if (r.false_found) ++s.false_found;
+    if (r.found_by_probe_pattern) ++s.found_by_probe_pattern;
     ms.insert(ms.end(), r.step_ms.begin(), r.step_ms.end());
     if (!r.nees.empty()) {
       trial_nees.push_back(std::accumulate(r.nees.begin(), r.nees.end(), 0.0) /

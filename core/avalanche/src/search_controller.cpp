@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "sarloc/core/avalanche/bearing_density.hpp"
+#include "sarloc/core/avalanche/probe_pattern.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/gaussian.hpp"
@@ -20,6 +21,21 @@ void check(const char* key, double v, double lo, double hi, bool lo_open) {
        << hi << "]";
     throw ConfigError(os.str());
   }
+}
+
+/// A probe pattern is laid out for the 95 % radius of its moment; once the radius has grown
+/// by half over it (a late innovation, a re-initialisation) the pattern no longer covers the
+/// region and is dropped: the stall watch starts again and lays out a new one if needed.
+constexpr double kPatternRegrowth = 1.5;
+
+/// Within this distance (m) of a probe point the rescuer stands on it: no step is needed.
+constexpr double kOnProbePoint = 0.01;
+
+/// A buried victim is below the receiver, which is held above the snow. An estimate above it
+/// is the mirror solution of a filter that has lost the victim (H(r) = H(-r)); its 95 %
+/// radius can still look "located" (seen under packet loss: "found" 30 m up).
+bool below_receiver(const Vec3& position, const Mat3& covariance) {
+  return position.z() + 2.0 * std::sqrt(std::max(covariance(2, 2), 0.0)) < 0.0;
 }
 
 }  // namespace
@@ -38,6 +54,8 @@ void SearchConfig::validate() const {
   check("flux_detection_snr2", flux_detection_snr2, 0.0, 100.0, false);
   check("bearing_kernel_deg", bearing_kernel_deg, 0.0, 180.0, true);
   check("bearing_switch_ratio", bearing_switch_ratio, 1.0, 100.0, false);
+  check("stall_window_steps", stall_window_steps, 0.0, 1000.0, false);
+  check("stall_min_improvement", stall_min_improvement, 0.0, 0.5, false);
   lookahead.validate();
 }
 
@@ -69,10 +87,7 @@ double SearchController::located_radius(const Vec3& relative_position) const {
 
 EstimatorStatus SearchController::assess(const VictimEstimate& e) const {
   if (e.status == EstimatorStatus::kInitialising) return e.status;
-  // A buried victim is below the receiver, which is held above the snow. An estimate above it
-  // is the mirror solution of a filter that has lost the victim (H(r) = H(-r)); its 95 %
-  // radius can still look "located" (seen under packet loss: "found" 30 m up).
-  if (!(e.relative.position.z() + 2.0 * std::sqrt(std::max(e.relative.covariance(2, 2), 0.0)) < 0.0))
+  if (!below_receiver(e.relative.position, e.relative.covariance))
     return std::min(e.status, EstimatorStatus::kConverged);
   if (radius95_3d(e.relative.covariance) > located_radius(e.relative.position)) return e.status;
   if (e.relative.position.head<2>().norm() <= config_.found_distance_m)
@@ -150,8 +165,14 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
   const Eigen::Matrix2d cov_h = cov.topLeftCorner<2, 2>();
   const double maha2 = mean_h.dot(cov_h.ldlt().solve(mean_h));
   const double thr2 = config_.approach_mahalanobis * config_.approach_mahalanobis;
-  if (st == EstimatorStatus::kFound) {
+  const double r95 = radius95_3d(cov);
+  const bool below = below_receiver(mean, cov);
+  if (!pattern_.empty() && !pattern_complete_ && (r95 > kPatternRegrowth * pattern_radius95_ || !below))
+    drop_pattern();
+  if (st == EstimatorStatus::kFound || pattern_complete_) {
     mode_ = GuidanceMode::kFound;
+  } else if (!pattern_.empty()) {
+    mode_ = GuidanceMode::kFineSearch;  // walking the probe pattern, wherever it leads
   } else if (mode_ == GuidanceMode::kOpening) {
     // The mean must be away from the receiver AND the data must have narrowed the initial
     // ring: with a signal at the noise floor the mean of a still-uniform ring only wanders.
@@ -164,7 +185,8 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
     else mode_ = dist < config_.fine_search_radius_m ? GuidanceMode::kFineSearch
                                                      : GuidanceMode::kApproach;
   }
-  g.mode = mode_;
+  // The stall watch covers consecutive fine-search steps only.
+  if (mode_ != GuidanceMode::kFineSearch && stall_) stall_->reset();
 
   double heading = std::atan2(mean_h.y(), mean_h.x());
   double step = config_.step_length_m;
@@ -191,7 +213,10 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
     case GuidanceMode::kApproach:
       break;
     case GuidanceMode::kFineSearch:
-      if (dist > config_.found_distance_m) {
+      if (config_.stall_window_steps > 0 &&
+          adaptive_end(mean_h, cov, r95, filter.config().converged_radius_m, below, heading, step)) {
+        if (pattern_complete_) mode_ = GuidanceMode::kFound;
+      } else if (dist > config_.found_distance_m) {
         step = std::min(step, dist);
       } else {
         // On top of the estimate but not located: a short sideways probe to change geometry.
@@ -200,10 +225,44 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
       }
       break;
   }
+  g.mode = mode_;
   g.heading_rad = wrap_angle(heading);
   g.bearing_rad = wrap_angle(heading - yaw);
   g.step_m = step;
   return g;
+}
+
+bool SearchController::adaptive_end(const Eigen::Vector2d& mean_h, const Mat3& cov, double r95,
+                                    double converged_radius, bool below, double& heading, double& step) {
+  if (pattern_.empty()) {
+    if (!stall_) stall_.emplace(config_.stall_window_steps, config_.stall_min_improvement);
+    // Stalled, and the estimate is one worth probing around: converged (a mixture whose modes
+    // are still apart has a large radius) and below the receiver (not the mirror solution).
+    if (!stall_->add(r95) || r95 > converged_radius || !below) return false;
+    pattern_ = avalanche::probe_pattern(cov, config_.found_distance_m);  // the free function
+    pattern_next_ = 0;
+    pattern_radius95_ = r95;
+  }
+  // Offsets are from the current estimate: the pattern moves with it as the data refine it.
+  while (pattern_next_ < pattern_.size() && (mean_h + pattern_[pattern_next_]).norm() <= kOnProbePoint)
+    ++pattern_next_;  // standing on it: this sample was taken there
+  if (pattern_next_ == pattern_.size()) {
+    pattern_complete_ = true;
+    step = 0.0;
+    return true;
+  }
+  const Eigen::Vector2d target = mean_h + pattern_[pattern_next_];
+  heading = std::atan2(target.y(), target.x());
+  step = std::min(config_.step_length_m, target.norm());
+  if (target.norm() <= config_.step_length_m) ++pattern_next_;  // the next sample is taken there
+  return true;
+}
+
+void SearchController::drop_pattern() {
+  pattern_.clear();
+  pattern_next_ = 0;
+  pattern_radius95_ = 0.0;
+  if (stall_) stall_->reset();
 }
 
 }  // namespace sarloc::avalanche

@@ -74,6 +74,50 @@ TEST(EvaluationTest, StepObserverSeesEveryStepWithoutChangingResults) {
   }
 }
 
+// At the default noise the fixed "located" radius is reached while the uncertainty still
+// shrinks: the adaptive end changes nothing (same steps, same errors, no probe pattern), and
+// the FOUNDs are honest. Not vacuous: an impatient stall rule (1 step, 50 %) does lay out
+// probe patterns in these same searches.
+TEST(EvaluationTest, TheAdaptiveEndLeavesSearchesThatReachTheFixedRadiusAlone) {
+  EvaluationSetup off = small_setup(4, 2);
+  off.search.stall_window_steps = 0;
+  const auto fixed = run_evaluation(off);
+  const auto adaptive = run_evaluation(small_setup(4, 2));
+  EXPECT_EQ(adaptive.found_by_probe_pattern, 0u);
+  EXPECT_EQ(adaptive.false_found, 0u);
+  EXPECT_EQ(adaptive.not_found, 0u);
+  for (std::size_t i = 0; i < fixed.per_trial.size(); ++i) {
+    EXPECT_EQ(adaptive.per_trial[i].steps, fixed.per_trial[i].steps) << "trial " << i;
+    EXPECT_DOUBLE_EQ(adaptive.per_trial[i].error_m, fixed.per_trial[i].error_m) << "trial " << i;
+    EXPECT_EQ(adaptive.per_trial[i].probe_points, 0u);
+    EXPECT_LE(adaptive.per_trial[i].error_m, adaptive.per_trial[i].radius95_m + kFalseFoundMarginM);
+  }
+  EvaluationSetup impatient = small_setup(4, 2);
+  impatient.search.stall_window_steps = 1;
+  impatient.search.stall_min_improvement = 0.5;
+  const auto early = run_evaluation(impatient);
+  std::uint32_t laid_out = 0;
+  for (const auto& t : early.per_trial) laid_out += t.probe_points > 0 ? 1 : 0;
+  EXPECT_GT(laid_out, 0u) << "these searches do pass through the fine search the rule watches";
+}
+
+// A FOUND farther from the victim than its stated 95 % radius + 0.5 m is a false FOUND. A filter
+// told 5 % field noise while the receiver has 15 % is over-confident and declares some.
+TEST(EvaluationTest, CountsFalseFoundsOfAnOverconfidentFilter) {
+  EvaluationSetup overconfident = small_setup(6, 2);
+  overconfident.simulation.field_noise_relative = 0.15;
+  overconfident.sog.noise_relative = 0.05;
+  const auto s = run_evaluation(overconfident);
+  std::uint32_t counted = 0;
+  for (const auto& t : s.per_trial) {
+    EXPECT_EQ(t.false_found, t.found && t.error_m > t.radius95_m + kFalseFoundMarginM) << "trial " << t.index;
+    counted += t.false_found ? 1 : 0;
+  }
+  EXPECT_EQ(s.false_found, counted);
+  EXPECT_GE(s.false_found, 1u);
+  EXPECT_EQ(run_evaluation(small_setup(6, 2)).false_found, 0u) << "the filter told the truth: none";
+}
+
 TEST(EvaluationTest, ConfigErrorsNameTheKey) {
   EvaluationSetup s;
   s.evaluation.trials = 0;

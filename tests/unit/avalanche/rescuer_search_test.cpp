@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/gaussian.hpp"
 #include "sarloc/core/mission/simulated_rescuer.hpp"
 
 namespace sarloc::avalanche {
@@ -286,6 +287,61 @@ TEST(RescuerSearch, FoundEstimateOnlyMovesWithTheOdometry) {
     EXPECT_GT(current->relative.covariance.trace(), found->relative.covariance.trace()) << "odometry adds uncertainty";
   }
   ASSERT_TRUE(seen) << "the found victim's signal was measured again";
+}
+
+// The live path of the adaptive end: with a located radius the data cannot reach, the search
+// still ends; the victim's estimate is published kFound with the estimate of that moment, and
+// the rescuer is guided on to the next victim.
+TEST(RescuerSearch, AStalledSearchEndsFoundAfterItsProbePattern) {
+  const auto s = scenario();
+  struct Outcome {
+    std::optional<VictimEstimate> found;
+    std::optional<std::uint32_t> signal;
+    Vec3 truth = Vec3::Zero();  // victim relative to the receiver when it was found
+    std::optional<std::uint32_t> target_after;
+    std::optional<VictimEstimate> stored;
+  };
+  auto run = [&s](const RescuerSearchConfig& c) {
+    mission::SimulatedRescuer sim(s, "r");
+    RescuerSearch search("r", c);
+    Outcome out;
+    for (int k = 0; k < 150 && !out.found; ++k) {
+      const TimestampNs t = (k + 1) * kSecond;
+      std::optional<Guidance> g;
+      for (const auto& m : sim.measure(t)) {
+        auto outcome = search.process(m);
+        EXPECT_TRUE(std::holds_alternative<SearchUpdate>(outcome));
+        const auto& u = std::get<SearchUpdate>(outcome);
+        if (u.guidance) g = u.guidance;
+        if (u.estimate.status == EstimatorStatus::kFound) {
+          out.found = u.estimate;
+          out.signal = m.signal_id;
+          out.truth = s.victims[*sim.victim_of_signal(m.signal_id)].position - sim.pose().position;
+        }
+      }
+      if (!g) g = search.coast(t);
+      if (!g) break;
+      EXPECT_FALSE(search.add_odometry(sim.walk(g->bearing_rad, g->step_m, t, t + kSecond)).has_value());
+    }
+    out.target_after = search.target_signal();
+    if (out.signal) out.stored = search.estimate(*out.signal);
+    return out;
+  };
+  RescuerSearchConfig c = quick();
+  c.search.located_radius_m = 0.02;
+  c.search.located_radius_per_range = 0.0;
+  RescuerSearchConfig off = c;
+  off.search.stall_window_steps = 0;
+  EXPECT_FALSE(run(off).found.has_value()) << "without the adaptive end it never ends";
+
+  const Outcome o = run(c);
+  ASSERT_TRUE(o.found.has_value()) << "the search ends although the located radius is never reached";
+  EXPECT_LE((o.found->relative.position - o.truth).norm(), radius95_3d(o.found->relative.covariance) + 0.5)
+      << "an honest FOUND";
+  EXPECT_GT(radius95_3d(o.found->relative.covariance), c.search.located_radius_m) << "not the fixed criterion";
+  EXPECT_NE(o.target_after, o.signal) << "guided on to the next victim";
+  ASSERT_TRUE(o.stored.has_value());
+  EXPECT_EQ(o.stored->status, EstimatorStatus::kFound);
 }
 
 // Under packet loss one signal's sample can be retransmitted after the next epoch's odometry

@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
+#include <vector>
 
 #include "sarloc/core/avalanche/bearing_density.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
@@ -119,6 +121,112 @@ TEST(SearchControllerLocated, RadiusScalesWithRangeAboveTheNearRangeFloor) {
   EXPECT_THROW(fixed.validate(), ConfigError);
 }
 
+
+// The search loop of the evaluation on one scenario (default noise, a victim 15 m away), until
+// kFound or the budget: what the adaptive end did.
+struct SearchRun {
+  bool found = false;
+  int steps = 0;
+  double error_m = 0.0;              ///< |estimate - truth| (3-D) at the end
+  double radius95_m = 0.0;           ///< stated with the final estimate
+  double final_distance_m = 0.0;     ///< rescuer to victim, horizontal, at the end
+  bool by_probe_pattern = false;
+  std::size_t pattern_size = 0;
+  std::size_t pattern_visited = 0;
+  int fine_steps_before_pattern = 0; ///< consecutive fine-search steps before it was laid out
+  int steps_walking_pattern = 0;     ///< steps from its layout to the end
+  std::vector<double> fine_radius95; ///< 95 % radius of each fine-search step before the layout
+};
+
+SearchRun run_search(const SearchConfig& sc, int budget) {
+  Scenario s;
+  s.transmitter = Vec3(12.0, -9.0, -1.8);
+  s.moment = Vec3(0.01, 0.004, -0.006);
+  s.receiver = Vec3(0, 0, 1);
+  s.receiver_rpy = Vec3(0, 0, 0.4);
+  AvalancheSimulator sim(SimulationConfig{}, s, 4);
+  SogConfig cfg;
+  cfg.initial_components = 500;
+  SogFilter f(cfg);
+  SearchController ctl(sc);
+  SearchRun run;
+  int fine_steps = 0;
+  for (run.steps = 1; run.steps <= budget; ++run.steps) {
+    const FieldMeasurement z = sim.measure();
+    f.process(z);
+    const bool had_pattern = !ctl.probe_pattern().empty();
+    const Guidance g = ctl.guide(f, z);
+    const VictimEstimate e = f.estimate(0);
+    run.error_m = (e.relative.position - sim.true_relative_position()).norm();
+    run.radius95_m = radius95_3d(e.relative.covariance);
+    run.final_distance_m = sim.true_horizontal_distance();
+    if (!had_pattern && !ctl.probe_pattern().empty()) run.fine_steps_before_pattern = fine_steps + 1;
+    if (!ctl.probe_pattern().empty()) ++run.steps_walking_pattern;
+    fine_steps = g.mode == GuidanceMode::kFineSearch ? fine_steps + 1 : 0;
+    if (!had_pattern && g.mode == GuidanceMode::kFineSearch) {
+      if (fine_steps == 1) run.fine_radius95.clear();
+      run.fine_radius95.push_back(run.radius95_m);
+    }
+    if (g.mode == GuidanceMode::kFound) {
+      EXPECT_DOUBLE_EQ(g.step_m, 0.0);
+      run.found = true;
+      break;
+    }
+    f.add_odometry(sim.walk(g.bearing_rad, g.step_m));
+  }
+  run.by_probe_pattern = ctl.found_by_probe_pattern();
+  run.pattern_size = ctl.probe_pattern().size();
+  run.pattern_visited = ctl.probe_points_visited();
+  return run;
+}
+
+// A located radius the data cannot reach (2 cm) stands for noisier sensors than the
+// defaults: without the adaptive end the rescuer stands on the estimate and probes until the
+// budget runs out; with it, the search ends after the stall window and a complete probe
+// pattern, and the FOUND is honest (the victim within the stated 95 % radius + 0.5 m).
+TEST(SearchControllerAdaptiveEnd, EndsAStalledSearchWithAProbePattern) {
+  SearchConfig unreachable;
+  unreachable.located_radius_m = 0.02;
+  unreachable.located_radius_per_range = 0.0;
+  SearchConfig off = unreachable;
+  off.stall_window_steps = 0;
+  const SearchRun stuck = run_search(off, 120);
+  EXPECT_FALSE(stuck.found);
+  EXPECT_LT(stuck.final_distance_m, 1.0) << "the rescuer stood on the victim all along";
+  EXPECT_LT(stuck.error_m, 0.5) << "with a good estimate";
+
+  const SearchRun ended = run_search(unreachable, 120);
+  ASSERT_TRUE(ended.found);
+  EXPECT_TRUE(ended.by_probe_pattern);
+  ASSERT_GE(ended.pattern_size, 1u);
+  EXPECT_EQ(ended.pattern_visited, ended.pattern_size) << "every probe point walked";
+  EXPECT_GE(ended.steps_walking_pattern, static_cast<int>(ended.pattern_size));
+  EXPECT_LE(ended.error_m, ended.radius95_m + 0.5);
+  EXPECT_LT(ended.steps, 100);
+  // Not ended while still improving: the pattern was laid out after a full window of
+  // fine-search steps none of which undercut the earlier best by stall_min_improvement.
+  const int w = unreachable.stall_window_steps;
+  const auto& r = ended.fine_radius95;
+  ASSERT_EQ(static_cast<int>(r.size()), ended.fine_steps_before_pattern);
+  ASSERT_GT(static_cast<int>(r.size()), w);
+  const double best_before = *std::min_element(r.begin(), r.end() - w);
+  const double best_in_window = *std::min_element(r.end() - w, r.end());
+  EXPECT_GE(best_in_window, (1.0 - unreachable.stall_min_improvement) * best_before);
+}
+
+TEST(SearchControllerAdaptiveEnd, ConfigIsValidated) {
+  SearchConfig c;
+  c.stall_window_steps = -1;
+  try {
+    c.validate();
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("search.stall_window_steps = -1"), std::string::npos);
+  }
+  c = SearchConfig{};
+  c.stall_min_improvement = 0.9;
+  EXPECT_THROW(c.validate(), ConfigError);
+}
 
 TEST(SearchControllerOpening, ParsesHeadingSourceAndNamesABadOne) {
   EXPECT_EQ(parse_opening_heading("flux_line"), OpeningHeading::kFluxLine);

@@ -10,6 +10,8 @@
 //   ms per step        wall time of SogFilter::process for every step of every trial
 //   NEES               position part of the mixture (eq. (18)) against the truth, 3 dof, over the
 //                      converged phase (steps whose mixture 95 % radius <= sog.converged_radius_m)
+//   false FOUND        found, but farther from the victim than the 95 % radius stated with the
+//                      estimate + kFalseFoundMarginM: a FOUND the rescuer could not trust
 //
 //   EvaluationSetup setup;  setup.evaluation.trials = 100;
 //   EvaluationSummary s = run_evaluation(setup, [&] { bar.tick(); });
@@ -23,6 +25,10 @@
 #include "sarloc/core/avalanche/sog_filter.hpp"
 
 namespace sarloc::avalanche {
+
+/// A FOUND farther than its stated 95 % 3-D radius plus this margin (m) from the true victim is
+/// a false FOUND (the margin is the found distance: the rescuer stands within it).
+inline constexpr double kFalseFoundMarginM = 0.5;
 
 struct EvaluationConfig {
   std::uint32_t trials = 100;       ///< seed 000, section V
@@ -56,6 +62,10 @@ struct TrialResult {
   std::uint32_t flux_line_steps = 0;   ///< steps guided in kOpening mode
   std::uint32_t first_converged_step = 0;  ///< first step with a converged mixture (0 = never)
   std::uint32_t reinitialisations = 0;     ///< SogStepResult::reinitialised count
+  double radius95_m = 0.0;        ///< 3-D 95 % radius stated with the final estimate
+  bool false_found = false;       ///< found and error_m > radius95_m + kFalseFoundMarginM
+  std::uint32_t probe_points = 0; ///< points of the adaptive end's probe pattern (0 = none)
+  bool found_by_probe_pattern = false;  ///< ended by the adaptive end, not the fixed radius
 };
 
 struct Stats {
@@ -72,6 +82,8 @@ struct EvaluationSummary {
   Stats initial_distance_m;
   Stats steps;
   std::uint32_t not_found = 0;
+  std::uint32_t false_found = 0;         ///< found farther than radius95 + kFalseFoundMarginM
+  std::uint32_t found_by_probe_pattern = 0;  ///< trials ended by the adaptive end
   double ms_per_step_median = 0.0;
   double ms_per_step_p95 = 0.0;
   double nees_mean = 0.0;              ///< mean over trials of the per-trial converged-phase mean

@@ -18,7 +18,20 @@
 //   kApproach        once the receiver is far enough from the mixture mean in Mahalanobis terms
 //                    (horizontal d^2 = p^T P^-1 p > approach_mahalanobis^2), walk to the mean;
 //   kFineSearch      horizontal distance < fine_search_radius_m: steps of min(step, distance);
-//   kFound           located AND the rescuer stands within found_distance_m of the estimate.
+//   kFound           located AND the rescuer stands within found_distance_m of the estimate;
+//                    or the adaptive end below.
+// Adaptive end (docs/estimation/avalanche.md, "The search always ends"): with noisy sensors the
+// 95 % radius can level off above the located radius while the estimate is already as good as
+// the data make it, and the rescuer would probe on the spot forever. In fine search, once the
+// 95 % radius has not shrunk by stall_min_improvement (relative to its best) for
+// stall_window_steps steps (StallDetector) and the estimate is converged
+// (sog.converged_radius_m) and below the receiver, the rescuer walks a probe pattern
+// (probe_pattern.hpp): every point of the horizontal 95 % region of the estimate lies within
+// found_distance_m of one of its points, each visited in turn (the guidance stays
+// kFineSearch). At its end the search is kFound with the estimate of that moment, stated with
+// its own 95 % radius. The pattern is dropped (and the stall watch restarts) if the 95 %
+// radius grows by half over the one it was laid out for. The fixed criterion keeps priority:
+// reached at any step, it ends the search as before, so runs that reach it are unchanged.
 // Criteria (applied identically in every trial):
 //   located: 95 % radius of the mixture position, sqrt(chi2_3(0.95) lambda_max(P_p)),
 //            <= max(located_radius_m, located_radius_per_range * |p_mean|) (eq. (18) includes the spread between modes, so a multimodal
@@ -31,11 +44,13 @@
 //   Guidance g = ctl.guide(filter, measurement);   // after filter.process(measurement)
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "sarloc/core/avalanche/field_measurement.hpp"
 #include "sarloc/core/avalanche/responder_types.hpp"
 #include "sarloc/core/avalanche/lookahead_heading.hpp"
 #include "sarloc/core/avalanche/sog_filter.hpp"
+#include "sarloc/core/avalanche/stall_detector.hpp"
 
 namespace sarloc::avalanche {
 
@@ -75,6 +90,11 @@ struct SearchConfig {
   double bearing_switch_ratio = 2.0;
   /// opening_heading = lookahead: the information-aware planner (lookahead_heading.hpp).
   LookaheadConfig lookahead;
+  /// Adaptive end (see above): fine-search steps without the 95 % radius shrinking by
+  /// stall_min_improvement before the probe pattern starts. 0 = off (fixed radius only).
+  int stall_window_steps = 10;
+  /// Relative shrink of the 95 % radius below its best that counts as progress.
+  double stall_min_improvement = 0.05;
 
   /// Throws ConfigError "search.<key> = value: rule".
   void validate() const;
@@ -90,6 +110,13 @@ class SearchController {
   EstimatorStatus assess(const VictimEstimate& estimate) const;
   GuidanceMode mode() const { return mode_; }
   const SearchConfig& config() const { return config_; }
+  /// Probe points (offsets from the estimate, G_k axes) of the adaptive end; empty when none
+  /// is being walked or was walked.
+  const std::vector<Eigen::Vector2d>& probe_pattern() const { return pattern_; }
+  /// Probe points visited so far (== probe_pattern().size() once it is complete).
+  std::size_t probe_points_visited() const { return pattern_next_; }
+  /// The search ended kFound by the adaptive end (a complete probe pattern).
+  bool found_by_probe_pattern() const { return pattern_complete_; }
 
  private:
   SearchConfig config_;
@@ -98,6 +125,17 @@ class SearchController {
   std::optional<double> initial_r95h_;  ///< 95 % horizontal radius at the first guidance
   Eigen::Vector2d flux_dir_ = Eigen::Vector2d::Zero();  ///< smoothed flux-line direction in G
   std::optional<double> opening_heading_;  ///< posterior-bearing heading held in G
+  std::optional<StallDetector> stall_;     ///< fine-search watch (stall_window_steps > 0)
+  std::vector<Eigen::Vector2d> pattern_;   ///< adaptive end: probe offsets from the estimate
+  std::size_t pattern_next_ = 0;           ///< next probe point to walk to
+  double pattern_radius95_ = 0.0;          ///< 3-D 95 % radius the pattern was laid out for
+  bool pattern_complete_ = false;
+
+  /// Adaptive end, in fine search: feeds the stall watch, lays out, walks or drops the probe
+  /// pattern. Sets `heading`/`step` while a pattern is walked; true once it is complete.
+  bool adaptive_end(const Eigen::Vector2d& mean_h, const Mat3& cov, double r95, double converged_radius,
+                    bool below, double& heading, double& step);
+  void drop_pattern();
 
   double flux_line_heading(const SogFilter& filter, const FieldMeasurement& meas,
                            const Eigen::Vector2d& mean_h, const Vec3& psi);
