@@ -359,10 +359,14 @@ void CommandNode::cycle() {
 }
 
 void CommandNode::apply(const incident::RoleChange& change, std::size_t adopted_victims) {
-  victim_writer_.set_ownership_strength(change.strength);
-  team_writer_.set_ownership_strength(change.strength);
-  summary_writer_.set_ownership_strength(change.strength);
-  frame_writer_.set_ownership_strength(change.strength);
+  try {
+    victim_writer_.set_ownership_strength(change.strength);
+    team_writer_.set_ownership_strength(change.strength);
+    summary_writer_.set_ownership_strength(change.strength);
+    frame_writer_.set_ownership_strength(change.strength);
+  } catch (const DdsError& error) {  // publishes anyway: readers take it once no stronger one is alive
+    spdlog::error("{}: {}", config_.node_id, error.what());
+  }
   if (change.role == incident::CommandRole::kStandby) {
     spdlog::warn("{}: standing by: {}", config_.node_id, change.reason);
   } else if (arbiter_.config().instances > 1) {
