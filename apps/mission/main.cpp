@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 
 #include "sarloc/app/command_line.hpp"
 #include "sarloc/app/child_process.hpp"
@@ -62,6 +63,23 @@ Fault parse_fault(const std::string& text, bool restart) {
     throw ConfigError(option + " = '" + text + "': only core or command can be restarted");
   }
   return f;
+}
+
+// --host NAME=HOST needs a --launcher and a process of that name in this mission.
+void check_placement(const app::MissionConfig& mission, const std::map<std::string, std::string>& hosts,
+                     const std::string& launcher) {
+  if (hosts.empty()) return;
+  if (launcher.empty()) throw ConfigError("--host given without --launcher: nothing can start a process on a host");
+  std::set<std::string> names;
+  if (mission.sectors.empty()) names.insert("core");
+  for (const auto& sector : mission.sectors) names.insert("core-" + sector);
+  const unsigned instances = mission.command_instances();
+  for (unsigned k = 1; k <= instances; ++k) names.insert(instances == 1 ? "command" : "command-" + std::to_string(k));
+  for (const auto& r : mission.scenario.rescuers) names.insert("rescuer-" + r.id);
+  for (const auto& [name, host] : hosts) {
+    if (names.count(name) == 0) throw ConfigError("--host " + name + "=" + host + ": no process '" + name + "' in this mission");
+    if (host.empty()) throw ConfigError("--host " + name + "=: empty host");
+  }
 }
 
 // A fault that kills one rescuer's device (not a daemon, not incident command).
@@ -122,7 +140,8 @@ void print_summary(const mission::MissionSummary& s, const std::string& run_dir)
                 optional_text(v.relative_error_m, "%.2f").c_str(), optional_text(v.time_to_locate_s, "%.0f").c_str(),
                 found_text(v), finders_text(v).c_str());
   }
-  std::printf("\n%-10s %18s %10s %22s\n", "rescuer", "distance walked m", "fallbacks", "latency p50/p99 ms");
+  std::printf("\n%-10s %18s %10s %18s %22s\n", "rescuer", "distance walked m", "fallbacks", "guidance switches",
+              "latency p50/p99 ms");
   for (const auto& id : s.rescuer_ids) {
     const auto it = s.devices.find(id);
     if (it == s.devices.end()) {
@@ -130,8 +149,8 @@ void print_summary(const mission::MissionSummary& s, const std::string& run_dir)
       continue;
     }
     const auto& d = it->second;
-    std::printf("%-10s %18.1f %10d %10.1f / %-10.1f\n", id.c_str(), d.distance_walked_m, d.fallbacks,
-                d.latency_p50_ms.value_or(-1.0), d.latency_p99_ms.value_or(-1.0));
+    std::printf("%-10s %18.1f %10d %18d %10.1f / %-10.1f\n", id.c_str(), d.distance_walked_m, d.fallbacks,
+                d.guidance_switches, d.latency_p50_ms.value_or(-1.0), d.latency_p99_ms.value_or(-1.0));
   }
   for (const auto& f : s.faults) {
     if (f.handover_after_s) {
@@ -163,6 +182,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> restarts;
   double startup_s = 3.0;
   int domain = -1;
+  std::string launcher;
+  std::map<std::string, std::string> hosts;  // process name -> host
   cli.add_option("mission", config_path, "mission YAML")->capture_default_str();
   cli.add_option("--json", json_path, "write the summary as JSON here");
   cli.add_option("--run-dir", run_dir, "folder for the processes' logs and summaries (default: a new one in /tmp)");
@@ -174,6 +195,13 @@ int main(int argc, char** argv) {
                  "at mission SECONDS, e.g. core@40");
   cli.add_option("--startup", startup_s, "wall seconds given to the processes to start and discover each other");
   cli.add_option("--domain", domain, "DDS domain id for every process, overriding dds.domain_id of the mission");
+  cli.add_option("--launcher", launcher,
+                 "command that runs a process on another host as LAUNCHER HOST PROGRAM ARGS... (e.g. lan-exec of "
+                 "../shared/tools/lan; scripts/lan-mission)");
+  cli.add_option("--host", hosts,
+                 "run process NAME on HOST through --launcher: NAME is core (core-SECTOR), command (command-K with "
+                 "several instances) or rescuer-ID, e.g. --host rescuer-r1=h5")
+      ->delimiter(',');
   app::add_log_level_option(cli, log_level);
   cli.set_version_flag("--version", SARLOC_VERSION);
   if (auto code = app::parse_command_line(cli, argc, argv)) return *code;
@@ -188,6 +216,7 @@ int main(int argc, char** argv) {
       faults.push_back(f);
     }
     for (const auto& r : restarts) faults.push_back(parse_fault(r, true));
+    check_placement(mission, hosts, launcher);
     const fs::path bin_dir = fs::canonical("/proc/self/exe").parent_path();
     if (run_dir.empty()) run_dir = (fs::temp_directory_path() / ("sarloc-mission-" + std::to_string(getpid()))).string();
     fs::create_directories(run_dir);
@@ -259,6 +288,11 @@ int main(int argc, char** argv) {
     const sarloc::dds::MissionClock clock(epoch, mission.speedup);
     const std::string epoch_arg = std::to_string(epoch);
     auto log_file = [&](const std::string& name) { return (fs::path(run_dir) / (name + ".log")).string(); };
+    // A process placed on a host (--host) starts through the launcher; the others here.
+    auto placed = [&](const std::string& name, std::vector<std::string> args) {
+      if (const auto it = hosts.find(name); it != hosts.end()) args.insert(args.begin(), {launcher, it->second});
+      return args;
+    };
 
     std::vector<std::unique_ptr<app::ChildProcess>> cores;
     std::vector<std::string> sectors = mission.sectors.empty() ? std::vector<std::string>{""} : mission.sectors;
@@ -269,7 +303,8 @@ int main(int argc, char** argv) {
                                       "--log-level", log_level};
         if (!sector.empty()) args.insert(args.end(), {"--sector", sector});
         const std::string name = (sector.empty() ? "core" : "core-" + sector) + suffix;
-        cores.push_back(std::make_unique<app::ChildProcess>(name, args, log_file(name)));
+        cores.push_back(std::make_unique<app::ChildProcess>(
+            name, placed(sector.empty() ? "core" : "core-" + sector, args), log_file(name)));
       }
     };
     start_cores("");
@@ -282,10 +317,10 @@ int main(int argc, char** argv) {
       const std::string name = command_name(k) + suffix;
       commands[k - 1] = std::make_unique<app::ChildProcess>(
           name,
-          std::vector<std::string>{(bin_dir / "sarloc-command").string(), "-c", config_abs, "--instance",
-                                   std::to_string(k), "--epoch-ns", epoch_arg, "--summary",
-                                   (fs::path(run_dir) / (name + ".json")).string(), "--domain", domain_arg,
-                                   "--log-level", log_level},
+          placed(command_name(k),
+                 {(bin_dir / "sarloc-command").string(), "-c", config_abs, "--instance", std::to_string(k),
+                  "--epoch-ns", epoch_arg, "--summary", (fs::path(run_dir) / (name + ".json")).string(), "--domain",
+                  domain_arg, "--log-level", log_level}),
           log_file(name));
       command_killed[k - 1] = false;
     };
@@ -304,9 +339,10 @@ int main(int argc, char** argv) {
     for (const auto& r : mission.scenario.rescuers) {
       rescuers[r.id] = std::make_unique<app::ChildProcess>(
           "rescuer-" + r.id,
-          std::vector<std::string>{(bin_dir / "sarloc-rescuer").string(), "-c", config_abs, "--id", r.id, "--epoch-ns",
-                                   epoch_arg, "--summary", (fs::path(run_dir) / (r.id + ".json")).string(),
-                                   "--domain", domain_arg, "--log-level", log_level},
+          placed("rescuer-" + r.id,
+                 {(bin_dir / "sarloc-rescuer").string(), "-c", config_abs, "--id", r.id, "--epoch-ns", epoch_arg,
+                  "--summary", (fs::path(run_dir) / (r.id + ".json")).string(), "--domain", domain_arg, "--log-level",
+                  log_level}),
           log_file("rescuer-" + r.id));
     }
 

@@ -158,6 +158,7 @@ int main(int argc, char** argv) {
       d.epochs = epochs;
       d.distance_walked_m = sensors->distance_walked_m();
       d.fallbacks = node.fallbacks();
+      d.guidance_switches = node.guidance_switches();
       d.guided_by = guided_by;
       d.daemon_after_fallback = daemon_after_fallback;
       d.latency_samples = latencies.size();

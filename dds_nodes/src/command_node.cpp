@@ -78,7 +78,7 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
                         writer, estimate.relative.position.x(), estimate.relative.position.y(),
                         estimate.relative.position.z());
           std::lock_guard<std::mutex> lock(mutex_);
-          pending_estimates_.push_back({std::move(estimate), std::move(writer), e.from_device()});
+          pending_estimates_.push_back({std::move(estimate), std::move(writer), e.from_device(), clock_.now()});
         } catch (const InputError& error) {
           counters_.rejected("invalid_value");
           warnings_.warn(e.rescuer_id().to_string(), "invalid_value", std::string("victim estimate: ") + error.what());
@@ -252,14 +252,16 @@ void CommandNode::cycle() {
       const auto fix = fix_at(e.rescuer_id, e.stamp);
       if (!fix) {
         spdlog::debug("no fix of '{}' near stamp {}: estimate waits", e.rescuer_id, e.stamp);
-        // The fix may still be on its way: keep the estimate for the next cycle, briefly.
-        if (static_cast<double>(now - e.stamp) < config_.fix_wait_s * 1e9) waiting.push_back(std::move(pending));
+        // The fix may still be on its way: keep the estimate for the next cycle, briefly. Counted
+        // from its arrival, not its stamp: after a radio fade both arrive late, in a burst.
+        if (static_cast<double>(now - pending.arrived) < config_.fix_wait_s * 1e9) waiting.push_back(std::move(pending));
         continue;
       }
       try {
         auto source = incident::make_source_estimate(e, *fix);
         source.estimator = pending.writer;
         source.from_device = pending.from_device;
+        source.received = pending.arrived;
         spdlog::trace("source {}/{} stamp {} status {} at ({:.2f}, {:.2f}, {:.2f}) sd ({:.2f}, {:.2f}, {:.2f})",
                       source.rescuer_id, source.signal_id, source.stamp, static_cast<int>(source.state),
                       source.position.position.x(), source.position.position.y(), source.position.position.z(),

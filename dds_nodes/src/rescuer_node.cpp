@@ -20,6 +20,9 @@ void RescuerNodeConfig::validate() const {
   if (!(guidance_wait_s >= 0.0 && guidance_wait_s <= 10.0)) {
     throw ConfigError("rescuer.guidance_wait_s = " + std::to_string(guidance_wait_s) + ": must be in [0, 10]");
   }
+  if (rejoin_epochs < 1 || rejoin_epochs > 100) {
+    throw ConfigError("rescuer.rejoin_epochs = " + std::to_string(rejoin_epochs) + ": must be in [1, 100]");
+  }
 }
 
 RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeConfig config, MissionClock clock)
@@ -31,7 +34,7 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
       odometry_writer_(participant_, EndpointOptions::in(config_.partitions)),
       estimate_writer_(participant_, EndpointOptions::in(config_.partitions)),
       position_writer_(participant_),
-      arbiter_(config_.fallback_timeout_s, clock_.now()) {
+      arbiter_(config_.fallback_timeout_s, clock_.now(), config_.rejoin_epochs) {
   guidance_reader_ = std::make_unique<Reader<::sarloc::Guidance>>(
       participant_,
       [this](const ::sarloc::Guidance& g, const auto&) {
@@ -105,6 +108,11 @@ bool RescuerNode::wait_for_daemon(std::chrono::milliseconds timeout) const {
 int RescuerNode::fallbacks() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return arbiter_.fallbacks();
+}
+
+int RescuerNode::guidance_switches() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return arbiter_.switches();
 }
 
 RescuerNode::~RescuerNode() {
@@ -200,14 +208,14 @@ EpochResult RescuerNode::epoch(const std::vector<responder::Odometry>& odometry,
   for (auto it = reported_conflicts_.begin(); it != reported_conflicts_.end();) {
     it = decision.conflicting_signals.count(*it) == 0 ? reported_conflicts_.erase(it) : std::next(it);
   }
-  // Incident command must keep seeing victims while the daemon is away, and must see both
-  // sides of a conflict (it then confirms neither).
+  // The device's own estimate always goes to incident command: it saw every sample, so it is
+  // the one that may confirm a victim there (VictimFusion: the daemon's copy can miss samples
+  // in a fade and must agree with it); it also keeps victims in the picture while the daemon
+  // is away.
   for (const auto& e : local_estimates) {
-    if (!result.daemon_reachable || decision.conflicting_signals.count(e.signal_id) != 0) {
-      auto message = to_idl(e, sequence);
-      message.from_device(true);
-      estimate_writer_.write(message);
-    }
+    auto message = to_idl(e, sequence);
+    message.from_device(true);
+    if (!estimate_writer_.write(message)) spdlog::error("DDS refused the device's estimate of signal {}", e.signal_id);
   }
   return result;
 }

@@ -23,10 +23,12 @@ enum DdsTestDomain : std::uint32_t {
   kDomainBenchEchoWaitSet = 143,
   kDomainOwnership = 144,
   kDomainCommandStandby = 145,
-  kDomainMissionSmall = 130,  // mission_test: 130..139 (138: lossy.yaml), and:
+  kDomainMissionSmall = 130,  // mission_test: 130..139, and:
   kDomainMissionCommandKill = 134,
   kDomainMissionCommandRestart = 136,
   kDomainMissionNoCommand = 137,
+  kDomainMissionLossy = 138,   // lossy.yaml names it too
+  kDomainMissionFades = 139,
   // tests/interop/cyclone_interop_test.sh (a script: the ids are passed by its CMakeLists.txt)
   kDomainCycloneSubscribe = 150,
   kDomainCyclonePublish = 151,

@@ -125,6 +125,7 @@ nlohmann::json to_json(const mission::DeviceSummary& d) {
   j["epochs"] = d.epochs;
   j["distance_walked_m"] = d.distance_walked_m;
   j["fallbacks"] = d.fallbacks;
+  j["guidance_switches"] = d.guidance_switches;
   j["guided_by"] = d.guided_by;
   j["daemon_after_fallback"] = d.daemon_after_fallback;
   j["latency_ms"] = {{"samples", d.latency_samples}};
@@ -150,6 +151,7 @@ mission::DeviceSummary device_summary_from_json(const nlohmann::json& j) {
     d.epochs = j.value("epochs", std::size_t{0});
     d.distance_walked_m = j.value("distance_walked_m", 0.0);
     d.fallbacks = j.value("fallbacks", 0);
+    d.guidance_switches = j.value("guidance_switches", 0);
     d.guided_by = j.value("guided_by", std::map<std::string, std::size_t>{});
     d.daemon_after_fallback = j.value("daemon_after_fallback", std::size_t{0});
     if (const auto it = j.find("latency_ms"); it != j.end()) {
@@ -211,6 +213,7 @@ nlohmann::json to_json(const mission::MissionSummary& s) {
       const auto device = to_json(d);
       entry["distance_walked_m"] = d.distance_walked_m;
       entry["fallbacks"] = d.fallbacks;
+      entry["guidance_switches"] = d.guidance_switches;
       entry["latency_ms"] = device["latency_ms"];
       entry["gnss_error_m"] = d.gnss_error_m.value_or(-1.0);
       entry["guided_by"] = d.guided_by;

@@ -29,6 +29,7 @@ void read_fusion(YamlReader r, incident::VictimFusionConfig& c) {
   r.read("merge_gate_probability", c.merge_gate_probability);
   r.read("source_timeout_s", c.source_timeout_s);
   r.read("located_radius_m", c.located_radius_m);
+  r.read("confirm_requires_device", c.confirm_requires_device);
   std::string weighting = c.weighting == incident::CiWeighting::kInverseTrace ? "inverse_trace" : "min_trace";
   r.read("weighting", weighting);
   if (weighting == "inverse_trace") {
@@ -209,6 +210,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     auto r = root.child("rescuer");
     r.read("fallback_timeout_s", c.rescuer.fallback_timeout_s);
     r.read("guidance_wait_s", c.rescuer.guidance_wait_s);
+    r.read("rejoin_epochs", c.rescuer.rejoin_epochs);
     r.expect_done();
   }
   {

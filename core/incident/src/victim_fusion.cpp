@@ -177,7 +177,11 @@ bool VictimFusion::update(const SourceEstimate& estimate) {
   Source& s = it->second;
   // While conflicted, a source with a device estimator follows that one only.
   const bool distrusted = !s.trusted.empty() && estimate.stamp < s.conflict_until && estimate.estimator != s.trusted;
-  if (distrusted || estimate.stamp < s.estimate.stamp) return false;
+  // The device's own LOCATED / FOUND holds the source (see the header, Conflicts).
+  auto device_located = [](const SourceEstimate& e) { return e.from_device && e.state >= SourceState::kLocated; };
+  const bool held = device_located(s.estimate) && !estimate.from_device;
+  const bool takes_over = device_located(estimate) && !s.estimate.from_device;
+  if (distrusted || held || (estimate.stamp < s.estimate.stamp && !takes_over)) return false;
   s.estimate = estimate;
   return true;
 }
@@ -378,6 +382,17 @@ void VictimFusion::merge_victims() {
   }
 }
 
+std::optional<SourceState> VictimFusion::confirming_state(const Source& s) const {
+  if (!config_.confirm_requires_device) return s.estimate.state;
+  const auto window = static_cast<TimestampNs>(config_.source_timeout_s * 1e9);
+  const SourceEstimate* device = nullptr;
+  for (const auto& [name, e] : s.by_estimator)
+    if (e.from_device && (device == nullptr || e.stamp > device->stamp)) device = &e;
+  if (device == nullptr || device->state < SourceState::kConverged) return std::nullopt;
+  if (std::llabs(s.estimate.stamp - device->stamp) > window) return std::nullopt;
+  return device->state;
+}
+
 void VictimFusion::update_states(TimestampNs now) {
   for (FusedVictim& v : victims_) {
     v.evidence_conflict = std::any_of(sources_.begin(), sources_.end(), [&](const auto& kv) {
@@ -391,12 +406,15 @@ void VictimFusion::update_states(TimestampNs now) {
     }
     if (v.sources.empty()) continue;
     VictimState target = VictimState::kUnconfirmed;
+    bool corroborated = false;
     for (const VictimSource& vs : v.sources) {
-      const SourceState st = sources_.at({vs.rescuer_id, vs.signal_id}).estimate.state;
-      if (st == SourceState::kFound) target = VictimState::kFound;
-      else if (st == SourceState::kLocated) target = std::max(target, VictimState::kLocated);
+      const std::optional<SourceState> st = confirming_state(sources_.at({vs.rescuer_id, vs.signal_id}));
+      if (!st) continue;
+      corroborated = true;
+      if (*st == SourceState::kFound) target = VictimState::kFound;
+      else if (*st == SourceState::kLocated) target = std::max(target, VictimState::kLocated);
     }
-    if (radius95_3d(v.position.covariance) < config_.located_radius_m)
+    if (corroborated && radius95_3d(v.position.covariance) < config_.located_radius_m)
       target = std::max(target, VictimState::kLocated);
     v.state = std::max(v.state, target);  // never backwards
     if (v.state >= VictimState::kLocated && v.located_at == 0) v.located_at = now;
@@ -408,8 +426,8 @@ void VictimFusion::step(TimestampNs now) {
   // 1. activity.
   const double timeout_ns = config_.source_timeout_s * 1e9;
   for (auto& [key, s] : sources_) {
-    s.active = s.estimate.state >= SourceState::kConverged &&
-               static_cast<double>(now - s.estimate.stamp) <= timeout_ns &&
+    const TimestampNs heard = std::max(s.estimate.stamp, s.estimate.received);
+    s.active = s.estimate.state >= SourceState::kConverged && static_cast<double>(now - heard) <= timeout_ns &&
                (now >= s.conflict_until || !s.trusted.empty());
     if (!s.active) unbind(s, Unbind::kInactive);
   }

@@ -26,10 +26,13 @@ const char* to_string(GuidanceSource source) {
   return "unknown";
 }
 
-GuidanceArbiter::GuidanceArbiter(double fallback_timeout_s, TimestampNs started)
-    : timeout_ns_(static_cast<TimestampNs>(fallback_timeout_s * 1e9)), started_(started) {
+GuidanceArbiter::GuidanceArbiter(double fallback_timeout_s, TimestampNs started, int rejoin_epochs)
+    : timeout_ns_(static_cast<TimestampNs>(fallback_timeout_s * 1e9)), started_(started), rejoin_epochs_(rejoin_epochs) {
   if (!(fallback_timeout_s > 0.0 && fallback_timeout_s <= 600.0)) {
     throw ConfigError("rescuer.fallback_timeout_s = " + std::to_string(fallback_timeout_s) + ": must be in (0, 600]");
+  }
+  if (rejoin_epochs < 1 || rejoin_epochs > 100) {
+    throw ConfigError("rescuer.rejoin_epochs = " + std::to_string(rejoin_epochs) + ": must be in [1, 100]");
   }
 }
 
@@ -103,6 +106,11 @@ ArbiterDecision GuidanceArbiter::decide(const ArbiterInput& in) {
     if (in.sequence != 0 && conflicts(local, in.sequence)) d.conflicting_signals.insert(local.signal_id);
   }
   if (use_daemon && d.conflicting_signals.count(guidance_->signal_id) != 0) use_daemon = false;
+  daemon_streak_ = use_daemon ? daemon_streak_ + 1 : 0;
+  // Hysteresis: back from the device's own guidance only after rejoin_epochs good answers.
+  if (use_daemon && followed_ == GuidanceSource::kLocal && in.local_guidance && daemon_streak_ < rejoin_epochs_) {
+    use_daemon = false;
+  }
   if (use_daemon) {
     d.guidance = guidance_;
     d.source = GuidanceSource::kDaemon;
@@ -110,6 +118,10 @@ ArbiterDecision GuidanceArbiter::decide(const ArbiterInput& in) {
   } else if (in.local_guidance) {
     d.guidance = in.local_guidance;
     d.source = GuidanceSource::kLocal;
+  }
+  if (d.source != GuidanceSource::kNone) {
+    if (followed_ != GuidanceSource::kNone && d.source != followed_) ++switches_;
+    followed_ = d.source;
   }
   d.fell_back = was_reachable_ && !d.daemon_reachable;
   d.reconnected = !was_reachable_ && d.daemon_reachable && answered_ever;

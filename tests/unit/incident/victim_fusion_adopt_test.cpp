@@ -22,6 +22,7 @@ SourceEstimate src(const std::string& rescuer, std::uint32_t signal, TimestampNs
   s.position.covariance = sigma * sigma * Mat3::Identity();
   s.state = source_state_of(st);
   s.below_surface = true;
+  s.from_device = true;  // the reporter's own estimate: it may confirm
   return s;
 }
 

@@ -25,6 +25,7 @@ SourceEstimate src(const std::string& rescuer, std::uint32_t signal, TimestampNs
   s.position.covariance = sigma * sigma * Mat3::Identity();
   s.state = source_state_of(st);
   s.below_surface = true;  // avalanche victims: heights above the snow
+  s.from_device = true;     // the reporter's own estimate unless a test says otherwise
   return s;
 }
 
@@ -179,9 +180,9 @@ TEST(VictimFusion, InAConflictWithTheDaemonTheDevicesEstimateCarriesTheSource) {
   VictimFusion f;
   SourceEstimate daemon = src("r1", 1, 10 * kSec, Vec3(-27.9, 40.8, -1.8), 0.15, EstimatorStatus::kLocated);
   daemon.estimator = "daemon";
+  daemon.from_device = false;
   SourceEstimate device = src("r1", 1, 10 * kSec, Vec3(-20.0, 42.0, -1.2), 0.15, EstimatorStatus::kFound);
   device.estimator = "device";
-  device.from_device = true;
   f.update(daemon);
   f.update(device);
   SourceEstimate later = daemon;  // the daemon keeps publishing its wrong copy
@@ -193,6 +194,83 @@ TEST(VictimFusion, InAConflictWithTheDaemonTheDevicesEstimateCarriesTheSource) {
   EXPECT_TRUE(v.position.position.isApprox(Vec3(-20.0, 42.0, -1.2), 1e-9));
   EXPECT_EQ(v.state, VictimState::kFound);
   EXPECT_TRUE(v.evidence_conflict);
+}
+
+// The daemon's copy can miss samples in a fade: alone it shows where a victim may be, but a
+// LOCATED or FOUND daemon estimate (or a tight fused radius) confirms nothing until the
+// reporter's own device, which saw every sample, says so too.
+TEST(VictimFusion, OnlyTheReportersOwnDeviceConfirms) {
+  VictimFusion f;
+  SourceEstimate daemon = src("r1", 1, 10 * kSec, Vec3(-20.0, 42.0, -1.2), 0.1, EstimatorStatus::kFound);
+  daemon.estimator = "daemon";
+  daemon.from_device = false;
+  f.update(daemon);
+  f.step(10 * kSec);
+  ASSERT_EQ(f.victims().size(), 1U) << "the daemon's estimate still places a victim";
+  EXPECT_EQ(f.victims()[0].state, VictimState::kUnconfirmed) << "FOUND and a 0.2 m radius from the daemon alone";
+  SourceEstimate device = src("r1", 1, 11 * kSec, Vec3(-20.05, 42.0, -1.2), 0.1, EstimatorStatus::kConverged);
+  device.estimator = "device";
+  f.update(device);
+  f.step(11 * kSec);
+  ASSERT_EQ(f.victims().size(), 1U);
+  EXPECT_EQ(f.victims()[0].state, VictimState::kLocated) << "corroborated: the radius rule applies";
+  SourceEstimate found = device;
+  found.stamp = 12 * kSec;
+  found.state = SourceState::kFound;
+  f.update(found);
+  f.step(12 * kSec);
+  EXPECT_EQ(f.victims()[0].state, VictimState::kFound);
+}
+
+// Seen under radio fades: the daemon restarted its filter next to a victim the device had
+// FOUND; its fresh filter claimed CONVERGED 10 m off with newer stamps, and the device's
+// FOUND (republished with the stamp of its epoch) arrived 16 s late.
+TEST(VictimFusion, TheDevicesFoundHoldsItsSourceAgainstNewerDaemonEstimates) {
+  VictimFusion f;
+  SourceEstimate daemon = src("r1", 1, 26 * kSec, Vec3(-17.0, 40.0, -1.5), 0.5, EstimatorStatus::kConverged);
+  daemon.estimator = "daemon";
+  daemon.from_device = false;
+  EXPECT_TRUE(f.update(daemon));
+  SourceEstimate found = src("r1", 1, 10 * kSec, Vec3(-6.0, 35.0, -1.0), 0.1, EstimatorStatus::kFound);
+  found.estimator = "device";
+  found.received = 27 * kSec;
+  EXPECT_TRUE(f.update(found)) << "older stamp, but the device's FOUND";
+  f.step(27 * kSec);
+  ASSERT_EQ(f.victims().size(), 1U);
+  EXPECT_EQ(f.victims()[0].state, VictimState::kFound) << "heard 17 s after its stamp, still active";
+  EXPECT_TRUE(f.victims()[0].position.position.isApprox(Vec3(-6.0, 35.0, -1.0), 1e-9));
+  daemon.stamp = 28 * kSec;
+  EXPECT_FALSE(f.update(daemon)) << "the daemon's copy does not replace the device's FOUND";
+  f.step(28 * kSec);
+  EXPECT_TRUE(f.victims()[0].position.position.isApprox(Vec3(-6.0, 35.0, -1.0), 1e-9));
+}
+
+TEST(VictimFusion, ADeviceEstimateOlderThanTheTimeoutCorroboratesNothing) {
+  VictimFusionConfig c;
+  c.source_timeout_s = 5.0;
+  VictimFusion f(c);
+  SourceEstimate device = src("r1", 1, 1 * kSec, Vec3(-20.0, 42.0, -1.2), 1.5, EstimatorStatus::kConverged);
+  device.estimator = "device";
+  f.update(device);
+  SourceEstimate daemon = src("r1", 1, 9 * kSec, Vec3(-20.0, 42.0, -1.2), 0.1, EstimatorStatus::kLocated);
+  daemon.estimator = "daemon";
+  daemon.from_device = false;
+  f.update(daemon);
+  f.step(9 * kSec);
+  ASSERT_EQ(f.victims().size(), 1U);
+  EXPECT_EQ(f.victims()[0].state, VictimState::kUnconfirmed);
+}
+
+TEST(VictimFusion, WithoutTheDeviceRuleAnyEstimatorConfirms) {
+  VictimFusionConfig c;
+  c.confirm_requires_device = false;
+  VictimFusion f(c);
+  SourceEstimate daemon = src("r1", 1, 10 * kSec, Vec3(-20.0, 42.0, -1.2), 0.1, EstimatorStatus::kLocated);
+  daemon.from_device = false;
+  f.update(daemon);
+  f.step(10 * kSec);
+  ASSERT_EQ(f.victims().size(), 1U);
+  EXPECT_EQ(f.victims()[0].state, VictimState::kLocated);
 }
 
 TEST(VictimFusion, AgreeingEstimatorsAreNoConflict) {

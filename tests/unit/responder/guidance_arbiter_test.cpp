@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <set>
+#include <vector>
 
 #include "sarloc/core/common/errors.hpp"
 
@@ -168,9 +169,49 @@ TEST(GuidanceArbiter, AgreeingOrUnsettledEstimatesAreNoConflict) {
   EXPECT_TRUE(d.conflicting_signals.empty());
 }
 
+// One daemon answer lost under packet loss sends the device to its own guidance; it comes
+// back to the daemon only after rejoin_epochs answers in a row, not at the next one.
+TEST(GuidanceArbiter, BackToTheDaemonOnlyAfterRejoinEpochsAnswersInARow) {
+  GuidanceArbiter a(3.0, 0, 3);
+  auto answer = [&](std::uint64_t seq) {
+    a.on_daemon_guidance(guidance(1, 0.5), seq, static_cast<TimestampNs>(seq) * kS, 0);
+    a.on_daemon_estimate(1, EstimatorStatus::kConverged, seq, static_cast<TimestampNs>(seq) * kS);
+  };
+  auto decide = [&](std::uint64_t seq) {
+    return a.decide(input(static_cast<TimestampNs>(seq), seq, guidance(1, -1.0), EstimatorStatus::kConverged)).source;
+  };
+  answer(1);
+  EXPECT_EQ(decide(1), GuidanceSource::kDaemon) << "the first answer is followed at once";
+  EXPECT_EQ(decide(2), GuidanceSource::kLocal) << "epoch 2's answer was lost";
+  std::vector<GuidanceSource> after;
+  for (std::uint64_t seq = 3; seq <= 6; ++seq) {
+    answer(seq);
+    after.push_back(decide(seq));
+  }
+  EXPECT_EQ(after, (std::vector<GuidanceSource>{GuidanceSource::kLocal, GuidanceSource::kLocal,
+                                                GuidanceSource::kDaemon, GuidanceSource::kDaemon}));
+  EXPECT_EQ(a.switches(), 2) << "daemon -> device -> daemon";
+  EXPECT_EQ(decide(7), GuidanceSource::kLocal);
+  EXPECT_EQ(a.switches(), 3);
+}
+
+TEST(GuidanceArbiter, WithoutOwnGuidanceTheDaemonIsFollowedAtOnce) {
+  GuidanceArbiter a(3.0, 0, 5);
+  a.on_daemon_guidance(guidance(1, 0.5), 1, 1 * kS, 0);
+  a.on_daemon_estimate(1, EstimatorStatus::kConverged, 1, 1 * kS);
+  EXPECT_EQ(a.decide(input(1, 1, guidance(1, -1.0), EstimatorStatus::kConverged)).source, GuidanceSource::kDaemon);
+  EXPECT_EQ(a.decide(input(2, 2, guidance(1, -1.0), EstimatorStatus::kConverged)).source, GuidanceSource::kLocal);
+  a.on_daemon_guidance(guidance(1, 0.5), 3, 3 * kS, 0);
+  a.on_daemon_estimate(1, EstimatorStatus::kConverged, 3, 3 * kS);
+  EXPECT_EQ(a.decide(input(3, 3, std::nullopt)).source, GuidanceSource::kDaemon)
+      << "the device has nothing of its own to guide with";
+}
+
 TEST(GuidanceArbiter, RefusesAnAbsurdTimeout) {
   EXPECT_THROW(GuidanceArbiter(0.0, 0), ConfigError);
   EXPECT_THROW(GuidanceArbiter(1e6, 0), ConfigError);
+  EXPECT_THROW(GuidanceArbiter(3.0, 0, 0), ConfigError);
+  EXPECT_THROW(GuidanceArbiter(3.0, 0, 101), ConfigError);
 }
 
 }  // namespace

@@ -109,6 +109,7 @@ class CommandNode {
     responder::VictimEstimate estimate;
     std::string writer;  ///< the DDS writer's GUID: which estimator
     bool from_device = false;
+    TimestampNs arrived = 0;  ///< mission time it arrived: it waits fix_wait_s from then for its fix
   };
   std::deque<PendingEstimate> pending_estimates_;
   std::map<std::string, incident::ResponderTrack> fixes_;  ///< per responder

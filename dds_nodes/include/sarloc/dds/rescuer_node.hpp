@@ -37,6 +37,9 @@ struct RescuerNodeConfig {
   /// Wall time to wait for the daemon's answer each epoch (only while it is reachable); keep it
   /// well below an epoch's wall duration (MissionConfig caps it at half an epoch).
   double guidance_wait_s = 0.25;
+  /// Epochs in a row the daemon must answer before the device follows it again after guiding
+  /// on its own (responder::GuidanceArbiter hysteresis).
+  int rejoin_epochs = 3;
 
   /// Throws ConfigError naming the key ("rescuer.fallback_timeout_s = 0: must be in (0, 600]").
   void validate() const;
@@ -71,6 +74,8 @@ class RescuerNode {
 
   /// Times the responder switched from daemon to local guidance.
   int fallbacks() const;
+  /// Epochs whose guidance source (daemon or device) differs from the epoch before.
+  int guidance_switches() const;
   const estimator::ResponderEstimator& local_estimator() const { return *local_; }
 
  private:

@@ -38,6 +38,10 @@ struct SourceEstimate {
   /// Computed on the reporter's own device, which saw every sample (nothing crosses a network
   /// between its sensors and its estimator); the core daemon's copy can miss samples.
   bool from_device = false;
+  /// When incident command heard it (mission time; 0: at its stamp). A source is active while
+  /// heard within source_timeout_s: after a radio fade a device's FOUND arrives long after its
+  /// stamp (it is republished with the stamp of the epoch it was found in) and still counts.
+  TimestampNs received = 0;
 };
 
 /// Where the reporter's detector was at the estimate's stamp (ResponderTrack::at).

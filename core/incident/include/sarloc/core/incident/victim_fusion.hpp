@@ -8,8 +8,9 @@
 // step(now) turns the sources into VICTIMS with stable ids:
 //
 //   1. activity: a source takes part only while its state >= kConverged (a multimodal mixture
-//      mean is meaningless) and it was updated within source_timeout_s; an inactive source is
-//      unbound, its victim keeps its last fused position and state;
+//      mean is meaningless) and it was heard (SourceEstimate::received, else its stamp) within
+//      source_timeout_s; an inactive source is unbound, its victim keeps its last fused
+//      position and state;
 //   2. keep: a bound source stays bound while its Mahalanobis d^2 to the CI fusion of the
 //      victim's OTHER sources, with summed covariances, is inside the keep gate
 //      (chi2_3(keep_gate_probability)); otherwise it is unbound;
@@ -39,12 +40,24 @@
 //      evidence_conflict. If one of them was computed on the reporter's own device
 //      (from_device: it saw every sample) and the other not, the source follows the device's
 //      estimates only; otherwise it is treated as inactive (fuses and confirms nothing) and a
-//      victim confirmed only by conflicted sources goes back to kUnconfirmed. Seen under radio
+//      victim confirmed only by conflicted sources goes back to kUnconfirmed.
+//      The device's own kLocated / kFound holds its source whatever the stamps: a daemon
+//      estimate never replaces it, and it replaces a newer daemon estimate. Seen under fades:
+//      the daemon restarted its filter (motion unknown for > 10 s) next to a victim the device
+//      had FOUND, its fresh filter claimed kConverged 10 m off, and its newer stamps kept the
+//      device's FOUND (republished with the stamp of the epoch it was found in) out. Seen under radio
 //      fades: the daemon's filter LOCATED 7 m from the device's, which was 0.07 m from the
 //      victim, and incident command confirmed ghosts from the daemon's copy.
 //   6. state: kLocated when a bound source is kLocated or kFound or the fused 95 % radius
 //      (worst axis) is below located_radius_m; kFound when a bound source is kFound; states
 //      never go back. located_at / found_at are set once (to `now`).
+//      Only CORROBORATED sources confirm (confirm_requires_device, the default): a source
+//      whose reporter's own device (from_device: every sample, no network in between) sent an
+//      estimate of at least kConverged within source_timeout_s of the source's newest. Its
+//      state for confirmation is the device's, and the radius rule needs one such source bound.
+//      A source known only through the core daemon's copy fuses and shows where a victim may
+//      be, but confirms nothing: under radio fades the daemon misses samples and was seen
+//      LOCATED 12 m from any victim with nothing to compare it against.
 //
 // Cost per step: O(S) for activity and fusion, O(k^2) per victim for the keep test, and for
 // each rescuer that needs association O(S + V) gate tests and an O(k^2 (V + k)) assignment
@@ -64,6 +77,7 @@
 //   for (std::uint32_t id : fusion.take_removed()) dispose(id);
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <utility>
@@ -84,6 +98,8 @@ struct VictimFusionConfig {
   double source_timeout_s = 10.0;         ///< sources older than this leave the fusion
   double located_radius_m = 1.0;          ///< fused 95 % radius (worst axis) that means located
   CiWeighting weighting = CiWeighting::kInverseTrace;  ///< covariance intersection weights
+  /// Only sources corroborated by their reporter's own device confirm a victim (step 6).
+  bool confirm_requires_device = true;
 
   /// Throws ConfigError "fusion.<key> = value: rule".
   void validate() const;
@@ -156,6 +172,8 @@ class VictimFusion {
   void associate_rescuer(const std::string& rescuer_id, TimestampNs now);
   void merge_victims();
   void update_states(TimestampNs now);
+  /// The state a source confirms with (step 6): its device's, nullopt if not corroborated.
+  std::optional<SourceState> confirming_state(const Source& s) const;
   /// Records the estimate as its estimator's latest; marks the source conflicted when it
   /// disagrees with another estimator's.
   void check_conflict(Source& s, const SourceEstimate& estimate);

@@ -35,6 +35,7 @@ struct DeviceSummary {
   std::size_t epochs = 0;
   double distance_walked_m = 0.0;
   int fallbacks = 0;
+  int guidance_switches = 0;  ///< epochs whose guidance source (daemon / device) changed
   std::map<std::string, std::size_t> guided_by;  ///< epochs per guidance source
   std::size_t daemon_after_fallback = 0;         ///< daemon-guided epochs after the first fallback
   std::size_t latency_samples = 0;

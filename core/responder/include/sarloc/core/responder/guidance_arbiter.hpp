@@ -21,9 +21,14 @@
 //     0.07 m from the victim). Conflicting signals are reported (ArbiterDecision), so that
 //     the device publishes its own estimate next to the daemon's and incident command sees
 //     the conflict instead of a confident guess;
+//   - hysteresis: once the device guides on its own, it goes back to the daemon only after
+//     the daemon passed every rule above for rejoin_epochs epochs in a row (the first answer
+//     of a session is followed at once). Under packet loss the daemon misses single epochs;
+//     without it the guidance flapped between two filters whose estimates differ a little,
+//     and the rescuer zig-zagged;
 //   - otherwise the device's own guidance, if any.
 //
-//   GuidanceArbiter arbiter(3.0, clock.now());
+//   GuidanceArbiter arbiter(3.0, clock.now(), 3);
 //   arbiter.on_daemon_guidance(g, seq, now, wall);            // from the reader callbacks
 //   if (arbiter.worth_waiting()) wait until arbiter.answered(seq);
 //   auto d = arbiter.decide({now, seq, wall_published, local_guidance, local_status});
@@ -70,8 +75,8 @@ struct ArbiterDecision {
 
 class GuidanceArbiter {
  public:
-  /// Throws ConfigError unless fallback_timeout_s is in (0, 600].
-  GuidanceArbiter(double fallback_timeout_s, TimestampNs started);
+  /// Throws ConfigError unless fallback_timeout_s is in (0, 600] and rejoin_epochs in [1, 100].
+  GuidanceArbiter(double fallback_timeout_s, TimestampNs started, int rejoin_epochs = 3);
 
   void on_daemon_guidance(const Guidance& guidance, std::uint64_t sequence, TimestampNs now, std::int64_t wall_ns);
   void on_daemon_estimate(std::uint32_t signal_id, EstimatorStatus status, std::uint64_t sequence, TimestampNs now,
@@ -93,6 +98,8 @@ class GuidanceArbiter {
   /// (see the rules above).
   bool conflicts(const VictimEstimate& local, std::uint64_t sequence) const;
   int fallbacks() const { return fallbacks_; }
+  /// Epochs whose guidance came from another source than the epoch before (daemon <-> device).
+  int switches() const { return switches_; }
 
  private:
   struct SignalStatus {
@@ -104,6 +111,9 @@ class GuidanceArbiter {
 
   TimestampNs timeout_ns_;
   TimestampNs started_;
+  int rejoin_epochs_;
+  int daemon_streak_ = 0;             ///< epochs in a row the daemon's answer could be followed
+  GuidanceSource followed_ = GuidanceSource::kNone;
   std::optional<Guidance> guidance_;
   std::uint64_t guidance_sequence_ = 0;
   TimestampNs guidance_at_ = 0;       ///< mission time it arrived
@@ -114,6 +124,7 @@ class GuidanceArbiter {
   bool daemons_lost_ = false;
   bool was_reachable_ = false;
   int fallbacks_ = 0;
+  int switches_ = 0;
 };
 
 }  // namespace sarloc::responder
