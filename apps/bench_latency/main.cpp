@@ -12,16 +12,25 @@
 // costs on this machine. Both run at every load point, interleaved, `--repeat` times; the
 // summary gives the medians over the repeats side by side, with the ratio sarloc/echo.
 // The responders' CPU and memory come from their NodeStatus. docs/benchmarks.md has the tables.
+//
+// Each load point's responder reads a copy of the mission file whose rescuers are the bench's
+// (so the daemon's roster admits them; `--admission open` admits any id instead). For soaks,
+// the responder's resident memory is followed over the run (RSS at 20-30 % of it, at the end,
+// and its slope over the second half). `--intruder-ids N` adds a hostile publisher on its own
+// participant: field samples and odometry cycling through N rescuer ids that no one serves,
+// at `--intruder-rate` samples per second, while the real rescuers are measured.
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <random>
 #include <thread>
 
@@ -73,6 +82,10 @@ struct BenchSetup {
   /// mixture components and prune over the first tens of epochs: without a warm-up the bench
   /// measures that opening phase, with one it measures later, smaller mixtures.
   double warmup_s = 0.0;
+  std::string admission = "roster";  ///< core.admission of the responder's config copy
+  std::size_t intruder_ids = 0;      ///< distinct ids of the hostile publisher (0: none)
+  double intruder_rate = 1000.0;     ///< its samples per second
+  bool intruder_odometry = true;     ///< odometry as well as field samples
 };
 
 struct LoadResult {
@@ -92,6 +105,11 @@ struct LoadResult {
   double return_p50_ms = -1.0;
   double cpu_percent = -1.0;  ///< responder, mean over the run (% of one core)
   double rss_mb = -1.0;       ///< responder, peak
+  double rss_early_mb = -1.0;          ///< responder, median RSS over 20-30 % of the measured run
+  double rss_end_mb = -1.0;            ///< median over its last 10 %
+  double rss_growth_mb_per_min = 0.0;  ///< least-squares slope over its second half
+  std::uint64_t refused = 0;           ///< samples the responder refused (its last NodeStatus)
+  std::size_t intruder_sent = 0;       ///< samples the hostile publisher wrote
 };
 
 /// One measurement's times, steady clock ns (-1: did not happen).
@@ -126,21 +144,164 @@ mission::MissionScenario bench_scenario(const app::MissionConfig& mission, std::
   return s;
 }
 
+/// The mission file with the bench's rescuers in place of its own (and no sectors), so that
+/// the daemon's roster serves exactly them; returns its path.
+std::string write_bench_config(const BenchSetup& setup, const mission::MissionScenario& scenario,
+                               const std::string& path) {
+  YAML::Node doc = YAML::LoadFile(setup.config_path);
+  doc.remove("sectors");
+  YAML::Node rescuers(YAML::NodeType::Sequence);
+  for (const auto& r : scenario.rescuers) {
+    YAML::Node n;
+    n["id"] = r.id;
+    n["team"] = r.team;
+    n["start"].push_back(r.start.x());
+    n["start"].push_back(r.start.y());
+    n["heading_deg"] = r.heading_deg;
+    rescuers.push_back(n);
+  }
+  doc["rescuers"] = rescuers;
+  doc["core"]["admission"] = setup.admission;
+  doc["dds"]["profiles_file"] = fs::absolute(setup.mission.dds.profiles_file).string();
+  doc["dds"]["topics_file"] = fs::absolute(setup.mission.dds.topics_file).string();
+  std::ofstream out(path);
+  out << doc << '\n';
+  if (!out) throw Error("cannot write the bench's mission copy '" + path + "'");
+  return path;
+}
+
+/// Median of the values whose time lies in [from, to).
+double median_between(const std::vector<std::pair<double, double>>& series, double from, double to) {
+  std::vector<double> v;
+  for (const auto& [t, x] : series) {
+    if (t >= from && t < to) v.push_back(x);
+  }
+  return v.empty() ? -1.0 : avalanche::percentile(v, 0.5);
+}
+
+/// Least-squares slope (per unit of t) of the values with t >= from; 0 with fewer than 3.
+double slope_after(const std::vector<std::pair<double, double>>& series, double from) {
+  double n = 0, st = 0, sx = 0, stt = 0, stx = 0;
+  for (const auto& [t, x] : series) {
+    if (t < from) continue;
+    n += 1;
+    st += t;
+    sx += x;
+    stt += t * t;
+    stx += t * x;
+  }
+  const double den = n * stt - st * st;
+  return n >= 3 && den > 0.0 ? (n * stx - st * sx) / den : 0.0;
+}
+
+// The intruder's writers: reliable, one sample per id and no limit on ids, so that its own
+// history never holds it back (sarloc's writer profiles stop at 1024 / 256 ids).
+constexpr const char* kIntruderProfiles = R"(<?xml version="1.0" encoding="UTF-8" ?>
+<dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles"><profiles>
+  <data_writer profile_name="bench_intruder.writer">
+    <topic>
+      <historyQos><kind>KEEP_LAST</kind><depth>1</depth></historyQos>
+      <resourceLimitsQos><max_samples>200000</max_samples><max_instances>200000</max_instances>
+        <max_samples_per_instance>1</max_samples_per_instance><allocated_samples>64</allocated_samples></resourceLimitsQos>
+    </topic>
+    <qos><reliability><kind>RELIABLE</kind></reliability><durability><kind>VOLATILE</kind></durability></qos>
+    <historyMemoryPolicy>PREALLOCATED_WITH_REALLOC</historyMemoryPolicy>
+  </data_writer>
+</profiles></dds>
+)";
+
+sarloc::dds::EndpointOptions intruder_writer(const BenchSetup& setup) {
+  const std::string path = setup.log_dir + "/intruder-profiles.xml";
+  std::ofstream(path) << kIntruderProfiles;
+  sarloc::dds::load_profiles_file(path);
+  sarloc::dds::EndpointOptions options;
+  options.profile_override = "bench_intruder.writer";
+  return options;
+}
+
+/// The hostile publisher: its own participant, valid-looking samples of ids nobody serves.
+class Intruder {
+ public:
+  Intruder(const BenchSetup& setup, avalanche::FieldMeasurement field_template)
+      : participant_(std::make_shared<sarloc::dds::Participant>(
+            app::participant_config(setup.mission, static_cast<int>(setup.domain), "bench-intruder"))),
+        measurements_(participant_, intruder_writer(setup)),
+        odometry_(participant_, intruder_writer(setup)),
+        template_(std::move(field_template)),
+        ids_(setup.intruder_ids),
+        rate_(setup.intruder_rate),
+        odometry_too_(setup.intruder_odometry) {}
+
+  bool wait_for_daemon() {
+    return measurements_.wait_for_readers(1, std::chrono::seconds(10)) &&
+           odometry_.wait_for_readers(1, std::chrono::seconds(10));
+  }
+  /// Publishes from `from` to `until` on its own thread.
+  void start(Clock::time_point from, Clock::time_point until) {
+    thread_ = std::thread([this, from, until] { run(from, until); });
+  }
+  std::size_t join() {
+    if (thread_.joinable()) thread_.join();
+    return sent_;
+  }
+  ~Intruder() { join(); }
+
+ private:
+  void run(Clock::time_point from, Clock::time_point until) {
+    const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / rate_));
+    auto due = from;
+    for (std::size_t k = 0; Clock::now() < until && !app::shutdown_requested(); ++k) {
+      std::this_thread::sleep_until(due);
+      due += period;
+      const std::string id = "intruder-" + std::to_string(k % ids_);
+      const TimestampNs stamp = sarloc::dds::MissionClock::wall_now_ns();
+      bool written;
+      if (k % 2 == 0 || !odometry_too_) {
+        auto m = template_;
+        m.rescuer_id = id;
+        m.sequence = k / ids_ + 1;
+        m.stamp = stamp;
+        written = measurements_.write(sarloc::dds::to_idl(m));
+      } else {
+        responder::Odometry o;
+        o.rescuer_id = id;
+        o.sequence = k / ids_ + 1;
+        o.interval_start = stamp - 1'000'000'000;
+        o.interval_end = stamp;
+        o.covariance = Mat6::Identity() * 0.01;
+        written = odometry_.write(sarloc::dds::to_idl(o));
+      }
+      if (written) ++sent_;
+    }
+  }
+
+  std::shared_ptr<sarloc::dds::Participant> participant_;
+  sarloc::dds::Writer<::sarloc::FieldMeasurement> measurements_;
+  sarloc::dds::Writer<::sarloc::Odometry> odometry_;
+  avalanche::FieldMeasurement template_;
+  std::size_t ids_;
+  double rate_;
+  bool odometry_too_;
+  std::size_t sent_ = 0;
+  std::thread thread_;
+};
+
 /// The responder process and the node_id its NodeStatus carries.
 std::pair<std::unique_ptr<app::ChildProcess>, std::string> start_target(const BenchSetup& setup, Target target,
+                                                                       const std::string& config_path,
                                                                        const std::string& log_path) {
   const std::string domain = std::to_string(setup.domain);
   if (target == Target::kEcho) {
     return {std::make_unique<app::ChildProcess>(
                 "sarloc-bench-echo",
-                std::vector<std::string>{setup.bin_dir + "/sarloc-bench-echo", "-c", setup.config_path, "--domain", domain,
+                std::vector<std::string>{setup.bin_dir + "/sarloc-bench-echo", "-c", config_path, "--domain", domain,
                                          "--handoff", bench::to_string(setup.echo_handoff), "--log-level", "warn"},
                 log_path),
             bench::EchoNodeConfig{}.node_id};
   }
   return {std::make_unique<app::ChildProcess>(
               "sarloc-core",
-              std::vector<std::string>{setup.core_exe, "-c", setup.config_path, "--domain", domain,
+              std::vector<std::string>{setup.core_exe, "-c", config_path, "--domain", domain,
                                        "--log-level", "warn"},
               log_path),
           setup.mission.core_config("").node_id};
@@ -166,8 +327,11 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
   result.rate_hz = rate_hz;
   const std::string run_name = std::string(to_string(target)) + "-" + std::to_string(n) + "-" +
                                std::to_string(rate_hz).substr(0, 4) + "-" + std::to_string(repeat);
+  const auto scenario = bench_scenario(setup.mission, n, setup.seed, "bench-" + std::to_string(n) + "-");
   // A fresh responder per load point: nothing left over from the previous one.
-  auto [responder, responder_id] = start_target(setup, target, setup.log_dir + "/" + run_name + ".log");
+  auto [responder, responder_id] =
+      start_target(setup, target, write_bench_config(setup, scenario, setup.log_dir + "/" + run_name + ".yaml"),
+                   setup.log_dir + "/" + run_name + ".log");
 
   auto participant = std::make_shared<sarloc::dds::Participant>(
       app::participant_config(setup.mission, static_cast<int>(setup.domain), "bench-rescuers"));
@@ -182,6 +346,8 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
   std::map<std::tuple<std::string, std::uint32_t, std::uint64_t>, SampleTimes> samples;
   std::vector<double> cpu;
   double rss = -1.0;
+  std::vector<std::pair<double, double>> rss_series;  // (steady s, MB)
+  std::uint64_t refused = 0;
   sarloc::dds::Reader<::sarloc::VictimEstimate> estimates(
       participant, [&](const ::sarloc::VictimEstimate& e, const eprosima::fastdds::dds::SampleInfo& info) {
         const std::int64_t now = steady_ns(Clock::now());
@@ -197,6 +363,8 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
     std::lock_guard<std::mutex> lock(mutex);
     cpu.push_back(s.cpu_percent());
     rss = std::max(rss, s.rss_mb());
+    rss_series.emplace_back(1e-9 * static_cast<double>(steady_ns(Clock::now())), s.rss_mb());
+    refused = s.samples_rejected();
   });
   if (!measurements.wait_for_readers(1, std::chrono::seconds(10)) ||
       !odometry.wait_for_readers(1, std::chrono::seconds(10)) ||
@@ -204,15 +372,36 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
     throw Error(std::string(responder->name()) + " did not come up on domain " + std::to_string(setup.domain));
   }
 
-  const auto scenario = bench_scenario(setup.mission, n, setup.seed, "bench-" + std::to_string(n) + "-");
   std::vector<mission::SimulatedRescuer> sims;
   for (const auto& r : scenario.rescuers) sims.emplace_back(scenario, r.id);
+  std::unique_ptr<Intruder> intruder;
+  if (setup.intruder_ids > 0) {
+    // A real-looking field sample: the first a bench rescuer takes (its own sim, left untouched).
+    std::optional<avalanche::FieldMeasurement> field;
+    for (const auto& r : scenario.rescuers) {
+      mission::SimulatedRescuer probe(scenario, r.id);
+      const auto ms = probe.measure(sarloc::dds::MissionClock::wall_now_ns());
+      if (!ms.empty()) {
+        field = ms.front();
+        break;
+      }
+    }
+    if (!field) throw Error("no bench rescuer hears a victim: nothing for the intruder to imitate");
+    intruder = std::make_unique<Intruder>(setup, *field);
+    if (!intruder->wait_for_daemon()) throw Error("the intruder did not match " + std::string(responder->name()));
+  }
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / rate_hz));
   const auto start = Clock::now() + std::chrono::milliseconds(200);
   const std::size_t warmup_epochs = static_cast<std::size_t>(setup.warmup_s * rate_hz);
   const std::size_t epochs = warmup_epochs + static_cast<std::size_t>(duration_s * rate_hz);
   const TimestampNs t0 = sarloc::dds::MissionClock::wall_now_ns();
   const auto period_ns = static_cast<TimestampNs>(1e9 / rate_hz);
+  const double measure_from_s = 1e-9 * static_cast<double>(steady_ns(start)) + setup.warmup_s;
+  const double measure_to_s = measure_from_s + duration_s;
+  if (intruder) {  // from the start of the measured phase: the rescuers are served by then if warmed up
+    const auto seconds = [](double s) { return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s)); };
+    intruder->start(start + seconds(setup.warmup_s), start + seconds(setup.warmup_s + duration_s));
+  }
   app::ProgressBar bar(std::string(to_string(target)) + " " + std::to_string(n) + " rescuers @ " +
                            std::to_string(rate_hz).substr(0, 4) + " Hz",
                        epochs * n);
@@ -252,8 +441,14 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
     }
   }
   bar.finish();
+  if (intruder) result.intruder_sent = intruder->join();
   std::this_thread::sleep_for(std::chrono::seconds(1));  // stragglers
   std::lock_guard<std::mutex> lock(mutex);
+  const double span = measure_to_s - measure_from_s;
+  result.rss_early_mb = median_between(rss_series, measure_from_s + 0.2 * span, measure_from_s + 0.3 * span);
+  result.rss_end_mb = median_between(rss_series, measure_to_s - 0.1 * span, measure_to_s + 1.0);
+  result.rss_growth_mb_per_min = 60.0 * slope_after(rss_series, measure_from_s + 0.5 * span);
+  result.refused = refused;
   std::vector<double> latencies;
   std::vector<double> to_write;
   std::vector<double> back;
@@ -296,18 +491,25 @@ nlohmann::json to_json(const LoadResult& r) {
           {"to_write_p50_ms", r.to_write_p50_ms},
           {"return_p50_ms", r.return_p50_ms},
           {"cpu_percent", r.cpu_percent},
-          {"rss_mb", r.rss_mb}};
+          {"rss_mb", r.rss_mb},
+          {"rss_early_mb", r.rss_early_mb},
+          {"rss_end_mb", r.rss_end_mb},
+          {"rss_growth_mb_per_min", r.rss_growth_mb_per_min},
+          {"refused", r.refused},
+          {"intruder_sent", r.intruder_sent}};
 }
 
 void print_run_header() {
-  std::printf("%-7s %3s %9s %8s %10s %9s %9s %9s %9s %9s %9s %9s %9s\n", "target", "run", "rescuers", "rate Hz",
-              "measured", "answered", "p50 ms", "p99 ms", "max ms", "write ms", "back ms", "cpu %", "rss MB");
+  std::printf("%-7s %3s %9s %8s %10s %9s %9s %9s %9s %9s %9s %9s %9s %9s %9s %9s %9s %9s\n", "target", "run",
+              "rescuers", "rate Hz", "measured", "answered", "p50 ms", "p99 ms", "max ms", "write ms", "back ms",
+              "cpu %", "rss MB", "rss@25%", "rss end", "MB/min", "refused", "intruder");
 }
 
 void print_run_row(const LoadResult& r) {
-  std::printf("%-7s %3zu %9zu %8.1f %10zu %9zu %9.2f %9.2f %9.2f %9.2f %9.2f %9.0f %9.1f\n", to_string(r.target), r.repeat,
-              r.rescuers, r.rate_hz, r.measurements, r.answered, r.p50_ms, r.p99_ms, r.max_ms, r.to_write_p50_ms,
-              r.return_p50_ms, r.cpu_percent, r.rss_mb);
+  std::printf("%-7s %3zu %9zu %8.1f %10zu %9zu %9.2f %9.2f %9.2f %9.2f %9.2f %9.0f %9.1f %9.1f %9.1f %9.2f %9llu %9zu\n",
+              to_string(r.target), r.repeat, r.rescuers, r.rate_hz, r.measurements, r.answered, r.p50_ms, r.p99_ms,
+              r.max_ms, r.to_write_p50_ms, r.return_p50_ms, r.cpu_percent, r.rss_mb, r.rss_early_mb, r.rss_end_mb,
+              r.rss_growth_mb_per_min, static_cast<unsigned long long>(r.refused), r.intruder_sent);
   std::fflush(stdout);
 }
 
@@ -417,6 +619,15 @@ int main(int argc, char** argv) {
                  "seconds of load before measuring (filters start at ~1700 components and prune over tens of "
                  "epochs; 0 measures that opening phase)")
       ->capture_default_str();
+  cli.add_option("--admission", setup.admission,
+                 "core.admission of the responder's mission copy: roster (only the bench's rescuers) or open")
+      ->capture_default_str();
+  cli.add_option("--intruder-ids", setup.intruder_ids,
+                 "a hostile publisher cycles through this many rescuer ids no one serves (0: none)")
+      ->capture_default_str();
+  cli.add_option("--intruder-rate", setup.intruder_rate, "the hostile publisher's samples per second")
+      ->capture_default_str();
+  cli.add_flag("!--intruder-field-only", setup.intruder_odometry, "the hostile publisher sends no odometry");
   cli.add_option("--search-rescuers", search_rescuers, "rescuers for the highest-rate search (sarloc-core only)")
       ->capture_default_str();
   cli.add_option("--search-rates", search_rates, "rates tried, increasing, until p99 exceeds the limit (e.g. 1,2,4)")
@@ -444,6 +655,12 @@ int main(int argc, char** argv) {
       throw ConfigError("--warmup = " + std::to_string(setup.warmup_s) + ": must be in [0, 3600]");
     }
     if (repeats < 1) throw ConfigError("--repeat = 0: must be >= 1");
+    if (setup.admission != "roster" && setup.admission != "open") {
+      throw ConfigError("--admission = '" + setup.admission + "': must be roster or open");
+    }
+    if (!(setup.intruder_rate > 0.0 && setup.intruder_rate <= 100000.0)) {
+      throw ConfigError("--intruder-rate = " + std::to_string(setup.intruder_rate) + ": must be in (0, 100000]");
+    }
     if (domain < 0 || domain > 232) throw ConfigError("--domain = " + std::to_string(domain) + ": must be in [0, 232]");
     std::vector<Target> targets;
     for (const auto& t : target_names) targets.push_back(parse_target(t));
@@ -464,6 +681,9 @@ int main(int argc, char** argv) {
     out["warmup_s"] = setup.warmup_s;
     out["duration_s"] = duration;
     out["echo_handoff"] = bench::to_string(setup.echo_handoff);
+    out["admission"] = setup.admission;
+    out["intruder_ids"] = setup.intruder_ids;
+    out["intruder_rate"] = setup.intruder_rate;
     out["runs"] = nlohmann::json::array();
     std::vector<LoadResult> runs;
     print_run_header();

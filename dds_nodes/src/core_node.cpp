@@ -13,9 +13,9 @@ namespace sarloc::dds {
 
 void CoreNodeConfig::validate() const {
   estimators.validate();
+  roster.validate();
   if (node_id.empty() || node_id.size() > 64) throw ConfigError("core.node_id = '" + node_id + "': must be 1-64 characters");
   if (workers < 1 || workers > 64) throw ConfigError("core.workers = " + std::to_string(workers) + ": must be in [1, 64]");
-  if (max_rescuers < 1) throw ConfigError("core.max_rescuers = 0: must be >= 1");
   if (queue_limit < 16) throw ConfigError("core.queue_limit = " + std::to_string(queue_limit) + ": must be >= 16");
   if (!(status_period_s > 0.0 && status_period_s <= 60.0)) {
     throw ConfigError("core.status_period_s = " + std::to_string(status_period_s) + ": must be in (0, 60]");
@@ -35,11 +35,11 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
     : config_((config.validate(), std::move(config))),
       participant_(std::move(participant)),
       warnings_(std::chrono::milliseconds(static_cast<std::int64_t>(config_.warning_interval_s * 1000.0))),
+      roster_(config_.roster),
       estimate_writer_(participant_, EndpointOptions::in(config_.partitions)),
       guidance_writer_(participant_, EndpointOptions::in(config_.partitions)),
       position_writer_(participant_),
       status_writer_(participant_) {
-  known_rescuers_.insert(config_.rescuers.begin(), config_.rescuers.end());
   for (unsigned i = 0; i < config_.workers; ++i) {
     workers_.push_back(std::make_unique<Worker>());
     Worker& w = *workers_.back();
@@ -48,6 +48,7 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
   status_thread_ = std::thread([this] {
     while (!stopping_.load()) {
       publish_status();
+      evict_idle();
       const auto period = std::chrono::milliseconds(static_cast<std::int64_t>(config_.status_period_s * 1000.0));
       const auto until = std::chrono::steady_clock::now() + period;
       while (!stopping_.load() && std::chrono::steady_clock::now() < until) {
@@ -60,7 +61,10 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
   // threads above must be stopped before the exception leaves (a joinable std::thread
   // destroyed by unwinding would terminate the process instead of reporting the error).
   try {
-    const auto inputs = EndpointOptions::in(config_.partitions);
+    auto inputs = EndpointOptions::in(config_.partitions);
+    // The roster decides inside DDS, before the reader's history: a publisher cycling through
+    // ids it refuses takes no instance there (responder_filter.hpp).
+    inputs.admit_responder = [this](const std::string& id) { return admit(id); };
     // Listener callbacks: convert, refuse what cannot even be converted, enqueue.
     auto refuse = [this](const std::string& id, const std::string& detail) { reject(id, "invalid_value", detail); };
     sample_readers_ = std::make_unique<SampleReaders>(
@@ -126,6 +130,32 @@ void CoreNode::reject(const std::string& rescuer_id, const std::string& reason, 
   warnings_.warn(rescuer_id, reason, "rejected sample (" + reason + "): " + detail);
 }
 
+bool CoreNode::admit(const std::string& rescuer_id) {
+  estimator::ResponderRoster::Admission admission;
+  {
+    std::lock_guard<std::mutex> lock(roster_mutex_);
+    admission = roster_.admit(rescuer_id, std::chrono::steady_clock::now());
+  }
+  if (!estimator::refused(admission)) return true;
+  std::string detail = "rescuer_id = '" + rescuer_id + "': ";
+  if (admission == estimator::ResponderRoster::Admission::kFull) {
+    detail += "already serving max_rescuers = " + std::to_string(config_.roster.max_responders);
+  } else {
+    detail += rescuer_id.empty() ? "empty" : "not on this daemon's roster";
+  }
+  reject(rescuer_id, estimator::reason_of(admission), detail);
+  return false;
+}
+
+void CoreNode::evict_idle() {
+  // Under the roster's lock, so that a sample admitted after the eviction is queued after it.
+  std::lock_guard<std::mutex> lock(roster_mutex_);
+  for (auto& id : roster_.evict_idle(std::chrono::steady_clock::now())) {
+    const std::string key = id;
+    enqueue(key, Evict{std::move(id)});
+  }
+}
+
 void CoreNode::enqueue(const std::string& rescuer_id, Work work) {
   Worker& w = *workers_[std::hash<std::string>{}(rescuer_id) % workers_.size()];
   bool dropped = false;
@@ -173,25 +203,8 @@ void CoreNode::run_worker(Worker& worker) {
 }
 
 estimator::SampleSequencer* CoreNode::sequencer_for(Worker& worker, const std::string& rescuer_id) {
+  // The roster admitted this id before its sample was queued (CoreNode::admit).
   if (auto it = worker.responders.find(rescuer_id); it != worker.responders.end()) return &it->second;
-  if (rescuer_id.empty()) {
-    reject(rescuer_id, "unknown_rescuer", "rescuer_id is empty");
-    return nullptr;
-  }
-  {
-    std::lock_guard<std::mutex> lock(rescuers_mutex_);
-    const bool listed = !config_.rescuers.empty();
-    if (listed && known_rescuers_.count(rescuer_id) == 0) {
-      reject(rescuer_id, "unknown_rescuer", "rescuer_id = '" + rescuer_id + "' is not one of this node's rescuers");
-      return nullptr;
-    }
-    if (!listed && known_rescuers_.size() >= config_.max_rescuers) {
-      reject(rescuer_id, "too_many_rescuers",
-             "rescuer_id = '" + rescuer_id + "': already serving max_rescuers = " + std::to_string(config_.max_rescuers));
-      return nullptr;
-    }
-    known_rescuers_.insert(rescuer_id);
-  }
   const auto role_it = config_.roles.find(rescuer_id);
   const auto role = role_it == config_.roles.end() ? config_.default_role : role_it->second;
   rescuers_served_.fetch_add(1);
@@ -209,6 +222,15 @@ void CoreNode::handle(Worker& worker, Work& work) {
   if (auto* done = std::get_if<MarkDone>(&work)) {
     if (auto it = worker.responders.find(done->rescuer_id); it != worker.responders.end()) {
       it->second.estimator().mark_done(done->signal_id);
+    }
+    return;
+  }
+  if (auto* evict = std::get_if<Evict>(&work)) {
+    if (auto it = worker.responders.find(evict->rescuer_id); it != worker.responders.end()) {
+      active_filters_.fetch_sub(it->second.estimator().active_filters());
+      worker.responders.erase(it);
+      spdlog::info("{}: responder '{}' idle for {} s: its state is released", config_.node_id, evict->rescuer_id,
+                   config_.roster.idle_evict_s);
     }
     return;
   }

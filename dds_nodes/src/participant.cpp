@@ -65,7 +65,9 @@ Participant::Participant(const ParticipantConfig& config) : config_(config) {
 
 Participant::~Participant() {
   // Writers and readers hold shared_ptrs to us, so only topics are left here.
+  for (auto* filtered : filtered_) participant_->delete_contentfilteredtopic(filtered);
   for (auto& [name, topic] : topics_) participant_->delete_topic(topic);
+  if (responder_filters_) participant_->unregister_content_filter_factory(kResponderFilterClass);
   participant_->delete_contained_entities();
   DomainParticipantFactory::get_instance()->delete_participant(participant_);
 }
@@ -100,6 +102,24 @@ eprosima::fastdds::dds::Topic* Participant::topic(const std::string& name,
   if (topic == nullptr) throw DdsError("cannot create topic '" + name + "' of type '" + type_name + "'");
   topics_.emplace(name, topic);
   return topic;
+}
+
+eprosima::fastdds::dds::TopicDescription* Participant::filtered_by_responder(eprosima::fastdds::dds::Topic* topic,
+                                                                             ResponderPredicate admit) {
+  std::lock_guard<std::mutex> lock(topics_mutex_);
+  if (!responder_filters_) {
+    auto factory = std::make_unique<ResponderFilterFactory>();
+    if (participant_->register_content_filter_factory(kResponderFilterClass, factory.get()) != ReturnCode_t::RETCODE_OK) {
+      throw DdsError("cannot register the content filter class " + std::string(kResponderFilterClass));
+    }
+    responder_filters_ = std::move(factory);
+  }
+  const std::string name = topic->get_name() + "/admitted-" + std::to_string(filtered_.size());
+  auto* cft = participant_->create_contentfilteredtopic(name, topic, responder_filters_->expression_for(std::move(admit)),
+                                                        {}, kResponderFilterClass);
+  if (cft == nullptr) throw DdsError("cannot filter topic '" + topic->get_name() + "' by responder");
+  filtered_.push_back(cft);
+  return cft;
 }
 
 }  // namespace sarloc::dds

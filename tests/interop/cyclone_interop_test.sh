@@ -115,7 +115,8 @@ setsid "$bin/sarloc-core" -c "$mission_file" --domain "$pub_domain" --log-level 
 core_pid=$!
 started+=("$core_pid")
 pub_rc=0
-"$interop" publish --domain "$pub_domain" --timeout 15 >"$run_dir/publish.out" 2>&1 || pub_rc=$?
+# As r1, a rescuer of the mission: the daemon serves only its mission's roster (core.admission).
+"$interop" publish --domain "$pub_domain" --rescuer r1 --timeout 15 >"$run_dir/publish.out" 2>&1 || pub_rc=$?
 stop "$core_pid"
 wait "$core_pid" 2>/dev/null || true
 reaped "$core_pid"

@@ -23,6 +23,8 @@ enum DdsTestDomain : std::uint32_t {
   kDomainBenchEchoWaitSet = 143,
   kDomainOwnership = 144,
   kDomainCommandStandby = 145,
+  kDomainAdmissionRoster = 146,
+  kDomainAdmissionEviction = 147,
   kDomainMissionSmall = 130,  // mission_test: 130..139, and:
   kDomainMissionCommandKill = 134,
   kDomainMissionCommandRestart = 136,

@@ -81,6 +81,12 @@ dds::CoreNodeConfig MissionConfig::core_config(const std::string& sector) const 
   c.roles = role_of;
   c.partitions = partitions_of_sector(sector);
   c.node_id = sector.empty() ? core.node_id : core.node_id + "-" + sector;
+  // Roster mode: the rescuers this daemon serves are the mission's, of its sector.
+  c.roster.listed.clear();
+  for (const auto& r : scenario.rescuers) {
+    const auto it = sector_of.find(r.id);
+    if ((it == sector_of.end() ? "" : it->second) == sector) c.roster.listed.push_back(r.id);
+  }
   return c;
 }
 
@@ -195,9 +201,16 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     auto r = root.child("core");
     r.read("node_id", c.core.node_id);
     r.read("workers", c.core.workers);
-    unsigned u = static_cast<unsigned>(c.core.max_rescuers);
+    std::string admission = "roster";
+    r.read("admission", admission);
+    if (admission != "roster" && admission != "open") {
+      throw ConfigError("core.admission = '" + admission + "': must be roster or open");
+    }
+    c.core.roster.open = admission == "open";
+    unsigned u = static_cast<unsigned>(c.core.roster.max_responders);
     r.read("max_rescuers", u);
-    c.core.max_rescuers = u;
+    c.core.roster.max_responders = u;
+    r.read("idle_evict_s", c.core.roster.idle_evict_s);
     u = static_cast<unsigned>(c.core.queue_limit);
     r.read("queue_limit", u);
     c.core.queue_limit = u;

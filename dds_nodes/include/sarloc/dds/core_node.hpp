@@ -10,17 +10,22 @@
 // came) is the sequencer's rule; what is refused is the estimator's. This node publishes what
 // they produce (victim estimates, guidance, positions), counts refusals by reason in
 // NodeStatus and logs them once per (responder, reason) per warning interval.
+//
+// Who gets state at all is estimator::ResponderRoster's rule, applied inside DDS by a content
+// filter on the input readers (responder_filter.hpp): a sample of an id the roster refuses
+// takes no instance in a reader's history and no place in a worker's queue. Idle responders'
+// state is released on the status thread's period.
 #include <atomic>
 #include <condition_variable>
 #include <deque>
 #include <map>
 #include <memory>
-#include <set>
 #include <thread>
 #include <variant>
 #include <vector>
 
 #include "sarloc/core/estimator/make_estimator.hpp"
+#include "sarloc/core/estimator/responder_roster.hpp"
 #include "sarloc/core/estimator/sample_sequencer.hpp"
 #include "sarloc/dds/participant.hpp"
 #include "sarloc/dds/rate_limited_log.hpp"
@@ -39,9 +44,8 @@ struct CoreNodeConfig {
   estimator::ResponderRole default_role = estimator::ResponderRole::kAvalancheRescuer;
   /// DDS partitions (sectors) whose responders this instance serves; empty = default partition.
   std::vector<std::string> partitions;
-  /// Responders allowed; empty = any (up to max_rescuers). Others are rejected as unknown.
-  std::vector<std::string> rescuers;
-  std::size_t max_rescuers = 256;
+  /// Who is served (the sector's roster, or any id up to a maximum) and when idle state goes.
+  estimator::ResponderRosterConfig roster;
   unsigned workers = 2;              ///< threads running estimators (this machine: 2 cores)
   std::size_t queue_limit = 4096;    ///< samples waiting per worker before the oldest are dropped
   double status_period_s = 1.0;      ///< NodeStatus publication period (wall clock)
@@ -69,7 +73,10 @@ class CoreNode {
     std::string rescuer_id;
     std::uint32_t signal_id = 0;
   };
-  using Work = std::variant<responder::Odometry, estimator::SensorSample, MarkDone>;
+  struct Evict {
+    std::string rescuer_id;
+  };
+  using Work = std::variant<responder::Odometry, estimator::SensorSample, MarkDone, Evict>;
   struct Worker {
     std::thread thread;
     std::mutex mutex;
@@ -78,7 +85,11 @@ class CoreNode {
     std::map<std::string, estimator::SampleSequencer> responders;  // only this worker's thread touches them
   };
 
+  /// The input readers' filter: does the roster serve this id? Counts and logs a refusal.
+  bool admit(const std::string& rescuer_id);
   void enqueue(const std::string& rescuer_id, Work work);
+  /// Queues the release of every idle responder's state on its worker.
+  void evict_idle();
   void run_worker(Worker& worker);
   void handle(Worker& worker, Work& work);
   estimator::SampleSequencer* sequencer_for(Worker& worker, const std::string& rescuer_id);
@@ -94,8 +105,8 @@ class CoreNode {
   RateLimitedLog warnings_;
   std::atomic<std::size_t> rescuers_served_{0};
   std::atomic<std::size_t> active_filters_{0};
-  std::mutex rescuers_mutex_;
-  std::set<std::string> known_rescuers_;  // listed in the config, or admitted so far (max_rescuers)
+  std::mutex roster_mutex_;  // listener threads admit, the status thread evicts
+  estimator::ResponderRoster roster_;
 
   Writer<::sarloc::VictimEstimate> estimate_writer_;
   Writer<::sarloc::Guidance> guidance_writer_;

@@ -1,4 +1,5 @@
 #pragma once
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,10 @@ struct EndpointOptions {
   std::vector<std::string> partitions;
   /// A profile name to use instead of the topic's own ("<topic>.writer" / "<topic>.reader").
   std::string profile_override;
+  /// Readers of FieldMeasurement and Odometry only: a sample enters the reader only if this
+  /// says yes to its rescuer_id, decided by DDS before the reader's history
+  /// (responder_filter.hpp). Unset: every sample enters.
+  std::function<bool(const std::string& responder_id)> admit_responder;
 
   /// Options that only place the endpoint in `names` (a sector's partitions).
   static EndpointOptions in(const std::vector<std::string>& names) {
@@ -19,5 +24,6 @@ struct EndpointOptions {
     return options;
   }
 };
+
 
 }  // namespace sarloc::dds

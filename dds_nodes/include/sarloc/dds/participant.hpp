@@ -11,6 +11,7 @@
 //   Writer<sarloc::FieldMeasurement> writer(participant);
 //   Reader<responder::VictimEstimate> reader(participant, [](const auto& sample, const auto& info) {...});
 #include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/topic/ContentFilteredTopic.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
@@ -19,6 +20,9 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
+
+#include "sarloc/dds/responder_filter.hpp"
 
 namespace sarloc::dds {
 
@@ -60,6 +64,10 @@ class Participant {
 
   /// The topic `name` of type `type` (registered and created once, then shared).
   eprosima::fastdds::dds::Topic* topic(const std::string& name, eprosima::fastdds::dds::TypeSupport type);
+  /// `topic` with only the samples whose responder `admit` accepts (a ContentFilteredTopic of
+  /// the responder_filter.hpp class, one per call).
+  eprosima::fastdds::dds::TopicDescription* filtered_by_responder(eprosima::fastdds::dds::Topic* topic,
+                                                                  ResponderPredicate admit);
 
  private:
   ParticipantConfig config_;
@@ -67,6 +75,8 @@ class Participant {
   bool secured_ = false;
   std::mutex topics_mutex_;
   std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
+  std::unique_ptr<ResponderFilterFactory> responder_filters_;  // registered on first use
+  std::vector<eprosima::fastdds::dds::ContentFilteredTopic*> filtered_;
 };
 
 /// A writer's GUID (a SampleInfo's publication_handle) as 32 hex digits: the first 24 name

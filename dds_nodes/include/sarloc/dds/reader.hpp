@@ -85,7 +85,12 @@ class Reader {
       : participant_(std::move(participant)),
         listener_(std::make_unique<detail::TypedReaderListener<T>>(std::move(callback), std::move(events))) {
     using Traits = TopicTraits<T>;
-    auto* topic = participant_->topic(Traits::kName, eprosima::fastdds::dds::TypeSupport(new typename Traits::PubSubType()));
+    eprosima::fastdds::dds::TopicDescription* topic =
+        participant_->topic(Traits::kName, eprosima::fastdds::dds::TypeSupport(new typename Traits::PubSubType()));
+    if (options.admit_responder) {
+      topic = participant_->filtered_by_responder(static_cast<eprosima::fastdds::dds::Topic*>(topic),
+                                                  options.admit_responder);
+    }
     subscriber_ = detail::create_subscriber(participant_->get(), options);
     const std::string profile =
         options.profile_override.empty() ? std::string(Traits::kProfile) + ".reader" : options.profile_override;

@@ -1,0 +1,71 @@
+#pragma once
+// Which responders a daemon keeps state for, and when that state goes.
+//
+// A daemon must not grow with whoever publishes on its topics: a hostile or misconfigured
+// publisher cycling through 100,000 rescuer ids would otherwise create 100,000 estimators.
+// The roster decides before a sample is queued (so refused samples cost a set look-up and
+// never wait in a worker's queue ahead of real ones):
+//   - roster mode (`open` false): only the listed responders are served, the mission's
+//     roster of the daemon's sector; anything else is refused as unknown.
+//   - open mode: any id, up to `max_responders` at once.
+// A responder not heard for `idle_evict_s` has its state released (evict_idle): its
+// estimators go, its slot frees (open mode). If it is heard again it starts afresh, as after
+// a restart of the daemon; the device's own filter, the authority, is unaffected.
+//
+//   ResponderRoster roster(config);
+//   if (roster.admit(id, now) is refused) count and drop the sample;
+//   for (const auto& id : roster.evict_idle(now)) drop id's estimator state;
+// Not thread-safe: the daemon guards it with one mutex.
+#include <chrono>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace sarloc::estimator {
+
+struct ResponderRosterConfig {
+  /// Open mode: any id, up to max_responders; otherwise only `listed`.
+  bool open = true;
+  std::vector<std::string> listed;
+  std::size_t max_responders = 256;
+  /// Wall seconds without a sample after which a responder's state is released.
+  double idle_evict_s = 300.0;
+
+  /// Throws ConfigError naming the key ("core.idle_evict_s = 0: must be in [1, 86400]").
+  void validate() const;
+};
+
+class ResponderRoster {
+ public:
+  using Clock = std::chrono::steady_clock;
+
+  enum class Admission {
+    kServed,     ///< state exists: go on
+    kNew,        ///< admitted now: its state is to be created
+    kEmptyId,    ///< refused: no id
+    kNotListed,  ///< refused: roster mode and not on the roster
+    kFull,       ///< refused: open mode and max_responders already served
+  };
+
+  explicit ResponderRoster(ResponderRosterConfig config);
+
+  /// Records that `id` was heard at `now` if it is (or becomes) served.
+  Admission admit(const std::string& id, Clock::time_point now);
+  /// Responders not heard for idle_evict_s by `now`, removed from the served set (oldest first).
+  std::vector<std::string> evict_idle(Clock::time_point now);
+
+  std::size_t served() const { return last_heard_.size(); }
+  bool open() const { return config_.open; }
+
+ private:
+  ResponderRosterConfig config_;
+  std::set<std::string> listed_;
+  std::map<std::string, Clock::time_point> last_heard_;
+};
+
+bool refused(ResponderRoster::Admission a);
+/// The rejection reason counted for a refusal ("unknown_rescuer", "too_many_rescuers").
+const char* reason_of(ResponderRoster::Admission a);
+
+}  // namespace sarloc::estimator

@@ -1,0 +1,69 @@
+#include "sarloc/core/estimator/responder_roster.hpp"
+
+#include <algorithm>
+#include <utility>
+
+#include "sarloc/core/common/errors.hpp"
+
+namespace sarloc::estimator {
+
+void ResponderRosterConfig::validate() const {
+  if (max_responders < 1) throw ConfigError("core.max_rescuers = 0: must be >= 1");
+  if (!(idle_evict_s >= 1.0 && idle_evict_s <= 86400.0)) {
+    throw ConfigError("core.idle_evict_s = " + std::to_string(idle_evict_s) + ": must be in [1, 86400]");
+  }
+  for (const auto& id : listed) {
+    if (id.empty()) throw ConfigError("core roster: a listed responder id is empty");
+  }
+}
+
+ResponderRoster::ResponderRoster(ResponderRosterConfig config)
+    : config_((config.validate(), std::move(config))), listed_(config_.listed.begin(), config_.listed.end()) {}
+
+ResponderRoster::Admission ResponderRoster::admit(const std::string& id, Clock::time_point now) {
+  if (id.empty()) return Admission::kEmptyId;
+  if (auto it = last_heard_.find(id); it != last_heard_.end()) {
+    it->second = std::max(it->second, now);
+    return Admission::kServed;
+  }
+  if (!config_.open && listed_.count(id) == 0) return Admission::kNotListed;
+  if (config_.open && last_heard_.size() >= config_.max_responders) return Admission::kFull;
+  last_heard_.emplace(id, now);
+  return Admission::kNew;
+}
+
+std::vector<std::string> ResponderRoster::evict_idle(Clock::time_point now) {
+  const auto idle = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(config_.idle_evict_s));
+  std::vector<std::pair<Clock::time_point, std::string>> gone;
+  for (auto it = last_heard_.begin(); it != last_heard_.end();) {
+    if (now - it->second >= idle) {
+      gone.emplace_back(it->second, it->first);
+      it = last_heard_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  std::sort(gone.begin(), gone.end());
+  std::vector<std::string> ids;
+  ids.reserve(gone.size());
+  for (auto& [heard, id] : gone) ids.push_back(std::move(id));
+  return ids;
+}
+
+bool refused(ResponderRoster::Admission a) {
+  return a != ResponderRoster::Admission::kServed && a != ResponderRoster::Admission::kNew;
+}
+
+const char* reason_of(ResponderRoster::Admission a) {
+  switch (a) {
+    case ResponderRoster::Admission::kFull:
+      return "too_many_rescuers";
+    case ResponderRoster::Admission::kEmptyId:
+    case ResponderRoster::Admission::kNotListed:
+      return "unknown_rescuer";
+    default:
+      return "";
+  }
+}
+
+}  // namespace sarloc::estimator

@@ -1,0 +1,136 @@
+// Who sarloc-core keeps state for: its roster decides inside DDS (responder_filter.hpp), so a
+// publisher cycling through ids nobody serves neither takes the reader's instances nor stops
+// a real rescuer; idle state is released and rebuilt when the rescuer is heard again.
+#include <gtest/gtest.h>
+
+#include <condition_variable>
+#include <map>
+#include <mutex>
+
+#include "sarloc/core/mission/simulated_rescuer.hpp"
+#include "sarloc/dds/conversions.hpp"
+#include "sarloc/dds/core_node.hpp"
+#include "support/dds_test_domains.hpp"
+#include "support/dds_test_helpers.hpp"
+
+namespace sarloc::dds {
+namespace {
+
+using namespace std::chrono_literals;
+
+mission::MissionScenario one_victim_scenario() {
+  mission::MissionScenario s;
+  s.victims = {{"A", Vec3(-5.0, 25.0, -1.0), Vec3(0.01, -0.005, 0.004)}};
+  s.rescuers = {{"good", "t", Vec3(0.0, 0.0, 0.0), 90.0}};
+  s.seed = 5;
+  return s;
+}
+
+CoreNodeConfig small_node(bool open, double idle_evict_s) {
+  CoreNodeConfig config;
+  config.estimators.avalanche_rescuer.sog.initial_components = 300;  // about admission, not accuracy
+  config.roster.open = open;
+  config.roster.listed = {"good"};
+  config.roster.idle_evict_s = idle_evict_s;
+  config.status_period_s = 0.2;
+  config.warning_interval_s = 60.0;
+  return config;
+}
+
+// The rescuer "good": publishes epochs and waits for the daemon's estimates of each.
+class GoodRescuer {
+ public:
+  explicit GoodRescuer(std::uint32_t domain)
+      : participant_(test::make_participant(domain, "good")),
+        measurements_(participant_),
+        odometry_(participant_),
+        estimates_(participant_, [this](const ::sarloc::VictimEstimate& e, const auto&) {
+          if (e.rescuer_id().to_string() != "good") return;
+          std::lock_guard<std::mutex> lock(mutex_);
+          answered_.insert(e.measurement_sequence());
+          cv_.notify_all();
+        }),
+        scenario_(one_victim_scenario()),
+        sim_(scenario_, "good") {}
+
+  bool matched() {
+    return measurements_.wait_for_readers(1, 10s) && odometry_.wait_for_readers(1, 10s) &&
+           estimates_.wait_for_writers(1, 10s);
+  }
+
+  /// Epoch k (stamps k seconds): odometry from the previous epoch, then the field samples;
+  /// true once every sample of it was answered.
+  bool epoch(int k) {
+    const TimestampNs stamp = 1'000'000'000LL * k;
+    if (k > 1 && !odometry_.write(to_idl(sim_.walk(0.0, 1.0, stamp - 1'000'000'000LL, stamp)))) return false;
+    const auto samples = sim_.measure(stamp);
+    if (samples.empty()) return false;
+    for (const auto& m : samples) {
+      if (!measurements_.write(to_idl(m))) return false;
+    }
+    std::unique_lock<std::mutex> lock(mutex_);
+    return cv_.wait_for(lock, 10s, [&] {
+      for (const auto& m : samples) {
+        if (answered_.count(m.sequence) == 0) return false;
+      }
+      return true;
+    });
+  }
+
+  avalanche::FieldMeasurement sample_at(TimestampNs stamp) {
+    mission::SimulatedRescuer probe(scenario_, "good");
+    return probe.measure(stamp).front();
+  }
+
+ private:
+  std::shared_ptr<Participant> participant_;
+  Writer<::sarloc::FieldMeasurement> measurements_;
+  Writer<::sarloc::Odometry> odometry_;
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::set<std::uint64_t> answered_;
+  Reader<::sarloc::VictimEstimate> estimates_;
+  mission::MissionScenario scenario_;
+  mission::SimulatedRescuer sim_;
+};
+
+TEST(CoreNodeAdmission, IdsOffTheRosterTakeNoReaderInstanceAndTheRescuerIsStillServed) {
+  auto node = std::make_unique<CoreNode>(test::make_participant(test::kDomainAdmissionRoster, "core"), small_node(false, 300));
+  GoodRescuer good(test::kDomainAdmissionRoster);
+  auto intruder_participant = test::make_participant(test::kDomainAdmissionRoster, "intruder");
+  Writer<::sarloc::FieldMeasurement> intruder(intruder_participant);
+  ASSERT_TRUE(good.matched());
+  ASSERT_TRUE(intruder.wait_for_readers(1, 10s));
+
+  // As many distinct ids as the field reader has instances (topics.xml: 1024). Were they let
+  // into its history, the rescuer's own keys would find no instance left.
+  constexpr std::uint64_t kIntruderIds = 1024;
+  auto fake = to_idl(good.sample_at(1'000'000'000LL));
+  for (std::uint64_t k = 0; k < kIntruderIds; ++k) {
+    fake.rescuer_id("intruder-" + std::to_string(k));
+    ASSERT_TRUE(intruder.write(fake)) << "intruder sample " << k;
+  }
+  const auto deadline = std::chrono::steady_clock::now() + 20s;
+  while (node->counters().rejected < kIntruderIds && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(10ms);
+  }
+  ASSERT_EQ(node->counters().rejected, kIntruderIds);
+  EXPECT_EQ(node->counters().by_reason.at("unknown_rescuer"), kIntruderIds);
+
+  for (int k = 1; k <= 5; ++k) ASSERT_TRUE(good.epoch(k)) << "the listed rescuer was not answered in epoch " << k;
+  EXPECT_EQ(node->rescuers_served(), 1U) << "state for the listed rescuer only";
+}
+
+TEST(CoreNodeAdmission, IdleStateIsReleasedAndRebuiltWhenTheRescuerIsHeardAgain) {
+  auto node = std::make_unique<CoreNode>(test::make_participant(test::kDomainAdmissionEviction, "core"), small_node(true, 1.0));
+  GoodRescuer good(test::kDomainAdmissionEviction);
+  ASSERT_TRUE(good.matched());
+  for (int k = 1; k <= 3; ++k) ASSERT_TRUE(good.epoch(k));
+  EXPECT_EQ(node->rescuers_served(), 1U);
+  std::this_thread::sleep_for(1800ms);  // idle for longer than idle_evict_s (1 s), status period 0.2 s
+  ASSERT_TRUE(good.epoch(4)) << "not served again after its idle state was released";
+  EXPECT_EQ(node->rescuers_served(), 2U) << "its state was not released and rebuilt";
+}
+
+}  // namespace
+}  // namespace sarloc::dds
