@@ -65,6 +65,17 @@ Fault parse_fault(const std::string& text, bool restart) {
   return f;
 }
 
+// "NAME=HOST" of each --host (CLI11 reads a map option as key/value token pairs, not as NAME=HOST).
+std::map<std::string, std::string> parse_hosts(const std::vector<std::string>& items) {
+  std::map<std::string, std::string> hosts;
+  for (const auto& item : items) {
+    const auto eq = item.find('=');
+    if (eq == std::string::npos || eq == 0) throw ConfigError("--host " + item + ": expected NAME=HOST");
+    hosts[item.substr(0, eq)] = item.substr(eq + 1);
+  }
+  return hosts;
+}
+
 // --host NAME=HOST needs a --launcher and a process of that name in this mission.
 void check_placement(const app::MissionConfig& mission, const std::map<std::string, std::string>& hosts,
                      const std::string& launcher) {
@@ -183,7 +194,7 @@ int main(int argc, char** argv) {
   double startup_s = 3.0;
   int domain = -1;
   std::string launcher;
-  std::map<std::string, std::string> hosts;  // process name -> host
+  std::vector<std::string> host_args;  // NAME=HOST
   cli.add_option("mission", config_path, "mission YAML")->capture_default_str();
   cli.add_option("--json", json_path, "write the summary as JSON here");
   cli.add_option("--run-dir", run_dir, "folder for the processes' logs and summaries (default: a new one in /tmp)");
@@ -198,7 +209,7 @@ int main(int argc, char** argv) {
   cli.add_option("--launcher", launcher,
                  "command that runs a process on another host as LAUNCHER HOST PROGRAM ARGS... (e.g. lan-exec of "
                  "../shared/tools/lan; scripts/lan-mission)");
-  cli.add_option("--host", hosts,
+  cli.add_option("--host", host_args,
                  "run process NAME on HOST through --launcher: NAME is core (core-SECTOR), command (command-K with "
                  "several instances) or rescuer-ID, e.g. --host rescuer-r1=h5")
       ->delimiter(',');
@@ -216,6 +227,7 @@ int main(int argc, char** argv) {
       faults.push_back(f);
     }
     for (const auto& r : restarts) faults.push_back(parse_fault(r, true));
+    const auto hosts = parse_hosts(host_args);  // process name -> host
     check_placement(mission, hosts, launcher);
     const fs::path bin_dir = fs::canonical("/proc/self/exe").parent_path();
     if (run_dir.empty()) run_dir = (fs::temp_directory_path() / ("sarloc-mission-" + std::to_string(getpid()))).string();

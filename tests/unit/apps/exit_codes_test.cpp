@@ -53,4 +53,11 @@ TEST(ExitCodes, MissingConfigFileIsAConfigurationErrorNotUsage) {
   EXPECT_EQ(exit_code_of(app("sarloc-core") + " -c /nonexistent/mission.yaml"), 3);
 }
 
+TEST(ExitCodes, AMisplacedProcessIsAConfigurationError) {
+  const std::string mission = app("sarloc-mission") + " " + SARLOC_SOURCE_DIR + "/config/missions/default.yaml";
+  EXPECT_EQ(exit_code_of(mission + " --launcher /bin/true --host core"), 3) << "no =HOST";
+  EXPECT_EQ(exit_code_of(mission + " --launcher /bin/true --host core=h2 --host nosuch=h9"), 3) << "no such process";
+  EXPECT_EQ(exit_code_of(mission + " --host core=h2"), 3) << "no launcher";
+}
+
 }  // namespace
