@@ -86,6 +86,9 @@ struct BenchSetup {
   std::size_t intruder_ids = 0;      ///< distinct ids of the hostile publisher (0: none)
   double intruder_rate = 1000.0;     ///< its samples per second
   bool intruder_odometry = true;     ///< odometry as well as field samples
+  /// Rescuers circle the debris instead of walking straight on: they stay in range of the
+  /// victims however long the run (soaks); straight on, they leave it after 1-2 minutes.
+  bool circle = false;
 };
 
 struct LoadResult {
@@ -125,6 +128,12 @@ std::int64_t steady_ns(Clock::time_point t) {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
 }
 
+Vec3 centre_of_victims(const mission::MissionScenario& s) {
+  Vec3 centre = Vec3::Zero();
+  for (const auto& v : s.victims) centre += v.position / static_cast<double>(s.victims.size());
+  return centre;
+}
+
 // Rescuers spread over the debris so that each hears one to three victims.
 mission::MissionScenario bench_scenario(const app::MissionConfig& mission, std::size_t n, std::uint64_t seed,
                                         const std::string& prefix) {
@@ -132,8 +141,7 @@ mission::MissionScenario bench_scenario(const app::MissionConfig& mission, std::
   s.rescuers.clear();
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  Vec3 centre = Vec3::Zero();
-  for (const auto& v : s.victims) centre += v.position / static_cast<double>(s.victims.size());
+  const Vec3 centre = centre_of_victims(s);
   for (std::size_t i = 0; i < n; ++i) {
     const double r = 25.0 + 25.0 * u(rng);
     const double a = 2.0 * M_PI * u(rng);
@@ -374,6 +382,7 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
 
   std::vector<mission::SimulatedRescuer> sims;
   for (const auto& r : scenario.rescuers) sims.emplace_back(scenario, r.id);
+  const Vec3 centre = centre_of_victims(scenario);
   std::unique_ptr<Intruder> intruder;
   if (setup.intruder_ids > 0) {
     // A real-looking field sample: the first a bench rescuer takes (its own sim, left untouched).
@@ -417,7 +426,14 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
       };
       const TimestampNs stamp = stamp_of(k);
       auto& sim = sims[i];
-      if (k > 0) odometry.write(sarloc::dds::to_idl(sim.walk(0.0, 1.0 / rate_hz, stamp_of(k - 1), stamp)));
+      if (k > 0) {
+        double bearing = 0.0;  // east
+        if (setup.circle) {  // tangent to the circle around the debris: counter-clockwise
+          const Vec3 d = sim.pose().position - centre;
+          bearing = std::atan2(d.y(), d.x()) + M_PI / 2.0;
+        }
+        odometry.write(sarloc::dds::to_idl(sim.walk(bearing, 1.0 / rate_hz, stamp_of(k - 1), stamp)));
+      }
       for (const auto& m : sim.measure(stamp)) {
         const auto sample = sarloc::dds::to_idl(m);
         if (k < warmup_epochs) {  // load only, not measured
@@ -628,6 +644,8 @@ int main(int argc, char** argv) {
   cli.add_option("--intruder-rate", setup.intruder_rate, "the hostile publisher's samples per second")
       ->capture_default_str();
   cli.add_flag("!--intruder-field-only", setup.intruder_odometry, "the hostile publisher sends no odometry");
+  cli.add_flag("--circle", setup.circle,
+               "rescuers circle the debris (stay in range for soaks) instead of walking straight on (east)");
   cli.add_option("--search-rescuers", search_rescuers, "rescuers for the highest-rate search (sarloc-core only)")
       ->capture_default_str();
   cli.add_option("--search-rates", search_rates, "rates tried, increasing, until p99 exceeds the limit (e.g. 1,2,4)")
@@ -682,6 +700,7 @@ int main(int argc, char** argv) {
     out["duration_s"] = duration;
     out["echo_handoff"] = bench::to_string(setup.echo_handoff);
     out["admission"] = setup.admission;
+    out["circle"] = setup.circle;
     out["intruder_ids"] = setup.intruder_ids;
     out["intruder_rate"] = setup.intruder_rate;
     out["runs"] = nlohmann::json::array();
