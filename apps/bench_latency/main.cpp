@@ -35,6 +35,7 @@
 #include <thread>
 
 #include "echo_node.hpp"
+#include "intruder.hpp"
 #include "sarloc/app/command_line.hpp"
 #include "sarloc/app/json_io.hpp"
 #include "sarloc/app/child_process.hpp"
@@ -202,98 +203,6 @@ double slope_after(const std::vector<std::pair<double, double>>& series, double 
   return n >= 3 && den > 0.0 ? (n * stx - st * sx) / den : 0.0;
 }
 
-// The intruder's writers: reliable, one sample per id and no limit on ids, so that its own
-// history never holds it back (sarloc's writer profiles stop at 1024 / 256 ids).
-constexpr const char* kIntruderProfiles = R"(<?xml version="1.0" encoding="UTF-8" ?>
-<dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles"><profiles>
-  <data_writer profile_name="bench_intruder.writer">
-    <topic>
-      <historyQos><kind>KEEP_LAST</kind><depth>1</depth></historyQos>
-      <resourceLimitsQos><max_samples>200000</max_samples><max_instances>200000</max_instances>
-        <max_samples_per_instance>1</max_samples_per_instance><allocated_samples>64</allocated_samples></resourceLimitsQos>
-    </topic>
-    <qos><reliability><kind>RELIABLE</kind></reliability><durability><kind>VOLATILE</kind></durability></qos>
-    <historyMemoryPolicy>PREALLOCATED_WITH_REALLOC</historyMemoryPolicy>
-  </data_writer>
-</profiles></dds>
-)";
-
-sarloc::dds::EndpointOptions intruder_writer(const BenchSetup& setup) {
-  const std::string path = setup.log_dir + "/intruder-profiles.xml";
-  std::ofstream(path) << kIntruderProfiles;
-  sarloc::dds::load_profiles_file(path);
-  sarloc::dds::EndpointOptions options;
-  options.profile_override = "bench_intruder.writer";
-  return options;
-}
-
-/// The hostile publisher: its own participant, valid-looking samples of ids nobody serves.
-class Intruder {
- public:
-  Intruder(const BenchSetup& setup, avalanche::FieldMeasurement field_template)
-      : participant_(std::make_shared<sarloc::dds::Participant>(
-            app::participant_config(setup.mission, static_cast<int>(setup.domain), "bench-intruder"))),
-        measurements_(participant_, intruder_writer(setup)),
-        odometry_(participant_, intruder_writer(setup)),
-        template_(std::move(field_template)),
-        ids_(setup.intruder_ids),
-        rate_(setup.intruder_rate),
-        odometry_too_(setup.intruder_odometry) {}
-
-  bool wait_for_daemon() {
-    return measurements_.wait_for_readers(1, std::chrono::seconds(10)) &&
-           odometry_.wait_for_readers(1, std::chrono::seconds(10));
-  }
-  /// Publishes from `from` to `until` on its own thread.
-  void start(Clock::time_point from, Clock::time_point until) {
-    thread_ = std::thread([this, from, until] { run(from, until); });
-  }
-  std::size_t join() {
-    if (thread_.joinable()) thread_.join();
-    return sent_;
-  }
-  ~Intruder() { join(); }
-
- private:
-  void run(Clock::time_point from, Clock::time_point until) {
-    const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / rate_));
-    auto due = from;
-    for (std::size_t k = 0; Clock::now() < until && !app::shutdown_requested(); ++k) {
-      std::this_thread::sleep_until(due);
-      due += period;
-      const std::string id = "intruder-" + std::to_string(k % ids_);
-      const TimestampNs stamp = sarloc::dds::MissionClock::wall_now_ns();
-      bool written;
-      if (k % 2 == 0 || !odometry_too_) {
-        auto m = template_;
-        m.rescuer_id = id;
-        m.sequence = k / ids_ + 1;
-        m.stamp = stamp;
-        written = measurements_.write(sarloc::dds::to_idl(m));
-      } else {
-        responder::Odometry o;
-        o.rescuer_id = id;
-        o.sequence = k / ids_ + 1;
-        o.interval_start = stamp - 1'000'000'000;
-        o.interval_end = stamp;
-        o.covariance = Mat6::Identity() * 0.01;
-        written = odometry_.write(sarloc::dds::to_idl(o));
-      }
-      if (written) ++sent_;
-    }
-  }
-
-  std::shared_ptr<sarloc::dds::Participant> participant_;
-  sarloc::dds::Writer<::sarloc::FieldMeasurement> measurements_;
-  sarloc::dds::Writer<::sarloc::Odometry> odometry_;
-  avalanche::FieldMeasurement template_;
-  std::size_t ids_;
-  double rate_;
-  bool odometry_too_;
-  std::size_t sent_ = 0;
-  std::thread thread_;
-};
-
 /// The responder process and the node_id its NodeStatus carries.
 std::pair<std::unique_ptr<app::ChildProcess>, std::string> start_target(const BenchSetup& setup, Target target,
                                                                        const std::string& config_path,
@@ -383,7 +292,7 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
   std::vector<mission::SimulatedRescuer> sims;
   for (const auto& r : scenario.rescuers) sims.emplace_back(scenario, r.id);
   const Vec3 centre = centre_of_victims(scenario);
-  std::unique_ptr<Intruder> intruder;
+  std::unique_ptr<bench::Intruder> intruder;
   if (setup.intruder_ids > 0) {
     // A real-looking field sample: the first a bench rescuer takes (its own sim, left untouched).
     std::optional<avalanche::FieldMeasurement> field;
@@ -396,7 +305,9 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
       }
     }
     if (!field) throw Error("no bench rescuer hears a victim: nothing for the intruder to imitate");
-    intruder = std::make_unique<Intruder>(setup, *field);
+    intruder = std::make_unique<bench::Intruder>(
+        app::participant_config(setup.mission, static_cast<int>(setup.domain), "bench-intruder"),
+        bench::IntruderOptions{setup.intruder_ids, setup.intruder_rate, setup.intruder_odometry, setup.log_dir}, *field);
     if (!intruder->wait_for_daemon()) throw Error("the intruder did not match " + std::string(responder->name()));
   }
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / rate_hz));
