@@ -19,8 +19,14 @@ class ResponderFilter final : public IContentFilter {
   bool evaluate(const SerializedPayload& payload, const FilterSampleInfo&, const GUID_t&) const override {
     T sample;
     typename TopicTraits<T>::PubSubType type;
-    // deserialize() only reads the payload; its signature predates const.
-    if (!type.deserialize(const_cast<SerializedPayload*>(&payload), &sample)) return false;
+    try {
+      // deserialize() only reads the payload; its signature predates const.
+      if (!type.deserialize(const_cast<SerializedPayload*>(&payload), &sample)) return false;
+    } catch (...) {
+      // Fast CDR throws on some malformed payloads (the generated code catches only one
+      // exception type); refused here, such a sample never reaches the reader either.
+      return false;
+    }
     return admit_(sample.rescuer_id().to_string());
   }
 
