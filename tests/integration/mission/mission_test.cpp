@@ -149,7 +149,7 @@ TEST(Mission, EveryVictimFoundWithTwentyPercentUdpLoss) {
 }
 
 // Every link fades: up a random 8 s on average, then every UDP datagram dropped for 4 s on
-// average (docs/benchmarks.md, "Under radio fades and heavy loss").
+// average (docs/benchmarks.md, "Under faults").
 TEST(Mission, EveryVictimFoundUnderRadioFades) {
   const auto run = run_degraded_mission(kDomainMissionFades, "ISOLATED_UDP_OUTAGE=8:4");
   if (run.run_dir.empty()) GTEST_SKIP() << "no ../shared/tools/isolated to make a fading namespace";
