@@ -113,6 +113,8 @@ struct LoadResult {
   double rss_end_mb = -1.0;            ///< median over its last 10 %
   double rss_growth_mb_per_min = 0.0;  ///< least-squares slope over its second half
   std::uint64_t refused = 0;           ///< samples the responder refused (its last NodeStatus)
+  std::uint64_t accepted = 0;          ///< samples (field and odometry) it accepted (its last NodeStatus)
+  std::uint64_t published = 0;         ///< samples (field and odometry) this bench's rescuers wrote
   std::size_t intruder_sent = 0;       ///< samples the hostile publisher wrote
 };
 
@@ -265,6 +267,7 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
   double rss = -1.0;
   std::vector<std::pair<double, double>> rss_series;  // (steady s, MB)
   std::uint64_t refused = 0;
+  std::uint64_t accepted = 0;
   sarloc::dds::Reader<::sarloc::VictimEstimate> estimates(
       participant, [&](const ::sarloc::VictimEstimate& e, const eprosima::fastdds::dds::SampleInfo& info) {
         const std::int64_t now = steady_ns(Clock::now());
@@ -282,6 +285,7 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
     rss = std::max(rss, s.rss_mb());
     rss_series.emplace_back(1e-9 * static_cast<double>(steady_ns(Clock::now())), s.rss_mb());
     refused = s.samples_rejected();
+    accepted = s.samples_accepted();
   });
   if (!measurements.wait_for_readers(1, std::chrono::seconds(10)) ||
       !odometry.wait_for_readers(1, std::chrono::seconds(10)) ||
@@ -343,12 +347,14 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
           const Vec3 d = sim.pose().position - centre;
           bearing = std::atan2(d.y(), d.x()) + M_PI / 2.0;
         }
-        odometry.write(sarloc::dds::to_idl(sim.walk(bearing, 1.0 / rate_hz, stamp_of(k - 1), stamp)));
+        if (odometry.write(sarloc::dds::to_idl(sim.walk(bearing, 1.0 / rate_hz, stamp_of(k - 1), stamp)))) {
+          ++result.published;
+        }
       }
       for (const auto& m : sim.measure(stamp)) {
         const auto sample = sarloc::dds::to_idl(m);
         if (k < warmup_epochs) {  // load only, not measured
-          measurements.write(sample);
+          if (measurements.write(sample)) ++result.published;
           continue;
         }
         const std::tuple<std::string, std::uint32_t, std::uint64_t> key{m.rescuer_id, m.signal_id, m.sequence};
@@ -356,7 +362,7 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
           std::lock_guard<std::mutex> lock(mutex);
           samples[key].published = steady_ns(Clock::now());
         }
-        measurements.write(sample);
+        if (measurements.write(sample)) ++result.published;
         const std::int64_t returned = steady_ns(Clock::now());
         {
           std::lock_guard<std::mutex> lock(mutex);
@@ -376,6 +382,7 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
   result.rss_end_mb = median_between(rss_series, measure_to_s - 0.1 * span, measure_to_s + 1.0);
   result.rss_growth_mb_per_min = 60.0 * slope_after(rss_series, measure_from_s + 0.5 * span);
   result.refused = refused;
+  result.accepted = accepted;
   std::vector<double> latencies;
   std::vector<double> to_write;
   std::vector<double> back;
@@ -423,6 +430,8 @@ nlohmann::json to_json(const LoadResult& r) {
           {"rss_end_mb", r.rss_end_mb},
           {"rss_growth_mb_per_min", r.rss_growth_mb_per_min},
           {"refused", r.refused},
+          {"accepted", r.accepted},
+          {"published", r.published},
           {"intruder_sent", r.intruder_sent}};
 }
 
