@@ -202,19 +202,19 @@ void CoreNode::run_worker(Worker& worker) {
   }
 }
 
-estimator::SampleSequencer* CoreNode::sequencer_for(Worker& worker, const std::string& rescuer_id) {
+estimator::SampleSequencer& CoreNode::sequencer_for(Worker& worker, const std::string& rescuer_id) {
   // The roster admitted this id before its sample was queued (CoreNode::admit).
-  if (auto it = worker.responders.find(rescuer_id); it != worker.responders.end()) return &it->second;
+  if (auto it = worker.responders.find(rescuer_id); it != worker.responders.end()) return it->second;
   const auto role_it = config_.roles.find(rescuer_id);
   const auto role = role_it == config_.roles.end() ? config_.default_role : role_it->second;
   rescuers_served_.fetch_add(1);
   spdlog::info("{}: new responder '{}' ({})", config_.node_id, rescuer_id, estimator::to_string(role));
   const auto wait = std::chrono::duration_cast<estimator::SampleSequencer::Clock::duration>(
       std::chrono::duration<double>(config_.odometry_wait_s));
-  return &worker.responders
-              .emplace(rescuer_id, estimator::SampleSequencer(
-                                       estimator::make_estimator(role, rescuer_id, config_.estimators), wait))
-              .first->second;
+  return worker.responders
+      .emplace(rescuer_id,
+               estimator::SampleSequencer(estimator::make_estimator(role, rescuer_id, config_.estimators), wait))
+      .first->second;
 }
 
 void CoreNode::handle(Worker& worker, Work& work) {
@@ -235,14 +235,13 @@ void CoreNode::handle(Worker& worker, Work& work) {
     return;
   }
   if (auto* odometry = std::get_if<responder::Odometry>(&work)) {
-    if (auto* sequencer = sequencer_for(worker, odometry->rescuer_id)) sequencer->on_odometry(*odometry, report);
+    sequencer_for(worker, odometry->rescuer_id).on_odometry(*odometry, report);
   } else {
     auto& sample = std::get<estimator::SensorSample>(work);
-    if (auto* sequencer = sequencer_for(worker, estimator::responder_of(sample))) {
-      const std::size_t filters_before = sequencer->estimator().active_filters();
-      sequencer->on_sample(sample, std::chrono::steady_clock::now(), report);
-      active_filters_.fetch_add(sequencer->estimator().active_filters() - filters_before);
-    }
+    auto& sequencer = sequencer_for(worker, estimator::responder_of(sample));
+    const std::size_t filters_before = sequencer.estimator().active_filters();
+    sequencer.on_sample(sample, std::chrono::steady_clock::now(), report);
+    active_filters_.fetch_add(sequencer.estimator().active_filters() - filters_before);
   }
   publish(report);
 }

@@ -92,7 +92,8 @@ class CoreNode {
   void evict_idle();
   void run_worker(Worker& worker);
   void handle(Worker& worker, Work& work);
-  estimator::SampleSequencer* sequencer_for(Worker& worker, const std::string& rescuer_id);
+  /// The responder's sequencer, created on its first sample (the roster admitted it already).
+  estimator::SampleSequencer& sequencer_for(Worker& worker, const std::string& rescuer_id);
   /// Publishes the answers, counts the rest; clears the report.
   void publish(estimator::SequencerReport& report);
   void reject(const std::string& rescuer_id, const std::string& reason, const std::string& detail);

@@ -85,16 +85,13 @@ class Reader {
       : participant_(std::move(participant)),
         listener_(std::make_unique<detail::TypedReaderListener<T>>(std::move(callback), std::move(events))) {
     using Traits = TopicTraits<T>;
-    eprosima::fastdds::dds::TopicDescription* topic =
-        participant_->topic(Traits::kName, eprosima::fastdds::dds::TypeSupport(new typename Traits::PubSubType()));
-    if (options.admit_responder) {
-      topic = participant_->filtered_by_responder(static_cast<eprosima::fastdds::dds::Topic*>(topic),
-                                                  options.admit_responder);
-    }
+    auto* topic = participant_->topic(Traits::kName, eprosima::fastdds::dds::TypeSupport(new typename Traits::PubSubType()));
+    eprosima::fastdds::dds::TopicDescription* source = topic;
+    if (options.admit_responder) source = participant_->filtered_by_responder(topic, options.admit_responder);
     subscriber_ = detail::create_subscriber(participant_->get(), options);
     const std::string profile =
         options.profile_override.empty() ? std::string(Traits::kProfile) + ".reader" : options.profile_override;
-    reader_ = subscriber_->create_datareader_with_profile(topic, profile, listener_.get());
+    reader_ = subscriber_->create_datareader_with_profile(source, profile, listener_.get());
     if (reader_ == nullptr) {
       participant_->get()->delete_subscriber(subscriber_);
       throw DdsError("cannot create reader for '" + std::string(Traits::kName) + "' from profile '" + profile + "'");
