@@ -9,6 +9,25 @@ void read_transmitter_standard(YamlReader r, avalanche::TransmitterStandard& s) 
   r.expect_done();
 }
 
+void read_receiver(YamlReader r, avalanche::ReceiverModelConfig& c) {
+  std::string kind = avalanche::to_string(c.kind);
+  r.read("kind", kind);
+  c.kind = avalanche::parse_receiver_kind(kind, "simulation.receiver.kind");
+  r.read("carrier_hz", c.carrier_hz);
+  r.read("short_axis_noise_factor", c.short_axis_noise_factor);
+  r.read("detect_snr", c.detect_snr);
+  r.read("gain_sigma", c.gain_sigma);
+  r.read("misalignment_sigma_deg", c.misalignment_sigma_deg);
+  r.read("phase_coherent", c.phase_coherent);
+  r.read("period_min_ms", c.period_min_ms);
+  r.read("period_max_ms", c.period_max_ms);
+  r.read("on_time_min_ms", c.on_time_min_ms);
+  r.read("on_time_max_ms", c.on_time_max_ms);
+  r.read("carrier_tolerance_hz", c.carrier_tolerance_hz);
+  r.read("sample_rate_hz", c.sample_rate_hz);
+  r.expect_done();
+}
+
 void read_simulation(YamlReader r, avalanche::SimulationConfig& c) {
   r.read("start_distance_min_m", c.start_distance_min_m);
   r.read("start_distance_max_m", c.start_distance_max_m);
@@ -26,6 +45,8 @@ void read_simulation(YamlReader r, avalanche::SimulationConfig& c) {
   r.read("attitude_roll_pitch_sigma_deg", c.attitude_roll_pitch_sigma_deg);
   r.read("attitude_yaw_sigma_deg", c.attitude_yaw_sigma_deg);
   r.read("attitude_updates", c.attitude_updates);
+  r.read("primary_strip_half_width_m", c.primary_strip_half_width_m);
+  read_receiver(r.child("receiver"), c.receiver);
   r.expect_done();
 }
 
@@ -44,6 +65,7 @@ void read_sog(YamlReader r, avalanche::SogConfig& c) {
   r.read("attitude_prior_sigma_rad", c.attitude_prior_sigma_rad);
   r.read("noise_relative", c.noise_relative);
   r.read("noise_floor_A_per_m", c.noise_floor_A_per_m);
+  r.read("censored_axis_sigmas", c.censored_axis_sigmas);
   r.read("idle_translation_sigma_m", c.idle_translation_sigma_m);
   r.read("idle_rotation_sigma_rad", c.idle_rotation_sigma_rad);
   r.read("use_orientation", c.use_orientation);
@@ -75,6 +97,7 @@ void read_search(YamlReader r, avalanche::SearchConfig& c) {
   std::string opening = avalanche::to_string(c.opening_heading);
   r.read("opening_heading", opening);
   c.opening_heading = avalanche::parse_opening_heading(opening);
+  r.read("opening_line_samples", c.opening_line_samples);
   r.read("bearing_kernel_deg", c.bearing_kernel_deg);
   r.read("bearing_switch_ratio", c.bearing_switch_ratio);
   r.read("lookahead_hypotheses", c.lookahead.hypotheses);

@@ -7,11 +7,15 @@
 #include <numeric>
 #include <sstream>
 #include <mutex>
+#include <optional>
+#include <map>
+#include <set>
 #include <thread>
 
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/gaussian.hpp"
+#include "sarloc/core/avalanche/rotation.hpp"
 
 namespace sarloc::avalanche {
 
@@ -53,39 +57,88 @@ Stats compute_stats(std::vector<double> v) {
   return s;
 }
 
+namespace {
+constexpr std::uint32_t kSwitchAfterSilentSteps = 5;
+}  // namespace
+
 TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index,
                       const StepObserver& observer) {
   using Clock = std::chrono::steady_clock;
   TrialResult tr;
   tr.index = index;
   AvalancheSimulator sim(setup.simulation, derive_seed(setup.evaluation.seed, index));
+  const bool realistic = setup.simulation.receiver.kind == ReceiverKind::kRealistic;
   SogFilter filter(setup.sog, "sim", 1);
   SearchController ctl(setup.search);
   tr.initial_distance_m = sim.true_horizontal_distance();
+  // The first signal heard is searched. If it falls silent while another is heard more (the
+  // separation split one transmitter in two at the edge of range), the search moves to that one.
+  std::optional<std::uint32_t> signal;
+  std::set<std::uint32_t> signals;
+  std::map<std::uint32_t, std::uint32_t> heard;
+  std::uint32_t silent = 0;
   for (std::uint32_t step = 1; step <= setup.evaluation.step_budget; ++step) {
-    const FieldMeasurement z = sim.measure();
+    std::optional<FieldMeasurement> z;
+    if (realistic) {
+      std::vector<FieldMeasurement> samples = sim.listen();
+      for (auto& m : samples) {
+        signals.insert(m.signal_id);
+        ++heard[m.signal_id];
+        if (!signal) signal = m.signal_id;
+        if (m.signal_id == *signal) z = m;
+      }
+      silent = z ? 0 : silent + 1;
+      if (!z && silent >= kSwitchAfterSilentSteps) {
+        for (auto& m : samples) {
+          if (heard[m.signal_id] <= heard[*signal]) continue;
+          signal = m.signal_id;
+          z = m;
+          filter = SogFilter(setup.sog, "sim", 1);
+          ctl = SearchController(setup.search);
+          silent = 0;
+          break;
+        }
+      }
+    } else {
+      z = sim.measure();
+    }
+    if (!z) {
+      // Not heard: before the first sample the primary search walks its strip; after it, the
+      // rescuer keeps heading for the estimate.
+      if (!filter.initialised()) {
+        ++tr.primary_steps;
+        tr.initial_distance_m = sim.true_horizontal_distance();
+        sim.walk(0.0, setup.search.step_length_m);
+        continue;
+      }
+      tr.steps = step - tr.primary_steps;
+      const Guidance g = ctl.coast(filter);
+      filter.add_odometry(sim.walk(g.bearing_rad, g.step_m));
+      continue;
+    }
+    ++tr.measurements;
     const auto t0 = Clock::now();
-    const SogStepResult sr = filter.process(z);
+    const SogStepResult sr = filter.process(*z);
     if (sr.reinitialised) ++tr.reinitialisations;
     const auto t1 = Clock::now();
     tr.step_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
-    const Guidance g = ctl.guide(filter, z);
+    const Guidance g = ctl.guide(filter, *z);
     const VictimEstimate e = filter.estimate(0);
     const Vec3 err = e.relative.position - sim.true_relative_position();
     const double nees = err.dot(e.relative.covariance.ldlt().solve(err));
     tr.final_nees = nees;
     if (e.status == EstimatorStatus::kConverged) {
       tr.nees.push_back(nees);
-      if (tr.first_converged_step == 0) tr.first_converged_step = step;
+      if (tr.first_converged_step == 0) tr.first_converged_step = step - tr.primary_steps;
     }
     if (g.mode == GuidanceMode::kOpening) ++tr.flux_line_steps;
-    tr.steps = step;
+    tr.steps = step - tr.primary_steps;
     tr.error_m = err.norm();
     tr.horizontal_error_m = err.head<2>().norm();
     tr.final_components = static_cast<std::uint32_t>(filter.size());
     tr.radius95_m = radius95_3d(e.relative.covariance);
     tr.probe_points = static_cast<std::uint32_t>(ctl.probe_pattern().size());
-    if (observer) observer(TrialStep{index, step, sim, z, sr, filter, g, e});
+    if (observer) observer(TrialStep{index, step, sim, *z, sr, filter, g, e});
     if (g.mode == GuidanceMode::kFound) {
       tr.found = true;
       tr.found_by_probe_pattern = ctl.found_by_probe_pattern();
@@ -94,6 +147,8 @@ TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index,
     }
     filter.add_odometry(sim.walk(g.bearing_rad, g.step_m));
   }
+  tr.wrong_attributions = sim.wrong_attributions();
+  tr.spurious_signals = signals.empty() ? 0 : static_cast<std::uint32_t>(signals.size() - 1);
   return tr;
 }
 
@@ -147,13 +202,18 @@ EvaluationSummary run_evaluation(const EvaluationSetup& setup,
   }
   s.trials = static_cast<std::uint32_t>(results.size());
   s.seed = setup.evaluation.seed;
-  std::vector<double> err, dist, steps, ms, trial_nees;
+  s.receiver = to_string(setup.simulation.receiver.kind);
+  std::vector<double> err, dist, steps, ms, trial_nees, primary, measurements;
   std::size_t inside = 0, samples = 0;
   const double lo3 = chi_square_quantile(0.025, 3.0), hi3 = chi_square_quantile(0.975, 3.0);
   for (const auto& r : results) {
     err.push_back(r.error_m);
     dist.push_back(r.initial_distance_m);
     steps.push_back(r.steps);
+    primary.push_back(r.primary_steps);
+    measurements.push_back(r.measurements);
+    s.wrong_attributions += r.wrong_attributions;
+    s.spurious_signals += r.spurious_signals;
     if (!r.found) ++s.not_found;
     if (r.false_found) ++s.false_found;
     if (r.found_by_probe_pattern) ++s.found_by_probe_pattern;
@@ -170,6 +230,8 @@ EvaluationSummary run_evaluation(const EvaluationSetup& setup,
   s.error_m = compute_stats(err);
   s.initial_distance_m = compute_stats(dist);
   s.steps = compute_stats(steps);
+  s.primary_steps = compute_stats(primary);
+  s.measurements = compute_stats(measurements);
   s.ms_per_step_median = percentile(ms, 0.5);
   s.ms_per_step_p95 = percentile(ms, 0.95);
   s.nees_trials = static_cast<std::uint32_t>(trial_nees.size());

@@ -261,19 +261,10 @@ std::optional<Guidance> RescuerSearch::coast(TimestampNs stamp) const {
   const auto it = signals_.find(*target_);
   if (it == signals_.end() || !it->second.filter.initialised()) return std::nullopt;
   const SignalState& s = it->second;
-  const MixtureMoments mm = s.filter.predicted_moments();
-  const Vec3 p = mm.mean.segment<3>(idx::kPos);
-  const double yaw = mm.mean[idx::kAtt + 2];
-  Guidance g;
+  Guidance g = s.controller.coast(s.filter);
   g.rescuer_id = rescuer_id_;
   g.signal_id = *target_;
   g.stamp = stamp;
-  g.mode = s.controller.mode() == GuidanceMode::kFound ? GuidanceMode::kApproach : s.controller.mode();
-  g.distance_m = p.head<2>().norm();
-  g.uncertainty_radius_m = radius95_2d(mm.covariance.block<3, 3>(idx::kPos, idx::kPos));
-  g.heading_rad = std::atan2(p.y(), p.x());
-  g.bearing_rad = wrap_angle(g.heading_rad - yaw);
-  g.step_m = std::min(config_.search.step_length_m, g.distance_m);
   return g;
 }
 

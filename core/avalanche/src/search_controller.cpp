@@ -50,6 +50,7 @@ void SearchConfig::validate() const {
   check("probe_step_m", probe_step_m, 0.0, 10.0, true);
   check("approach_radius_fraction", approach_radius_fraction, 0.0, 1.0, true);
   check("flux_smoothing", flux_smoothing, 0.0, 0.99, false);
+  check("opening_line_samples", opening_line_samples, 0.0, 100.0, false);
   check("flux_snr_cap", flux_snr_cap, 0.0, 1000.0, true);
   check("flux_detection_snr2", flux_detection_snr2, 0.0, 100.0, false);
   check("bearing_kernel_deg", bearing_kernel_deg, 0.0, 180.0, true);
@@ -195,6 +196,12 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
       step = 0.0;
       break;
     case GuidanceMode::kOpening:
+      // A pulse or two at the edge of range is no direction yet (the ring is still whole and
+      // the next pulse may not be heard): keep walking the primary search's line.
+      if (++opening_samples_ <= config_.opening_line_samples) {
+        heading = yaw;
+        break;
+      }
       switch (config_.opening_heading) {
         case OpeningHeading::kFluxLine:
           heading = flux_line_heading(filter, meas, mean_h, psi);
@@ -263,6 +270,24 @@ void SearchController::drop_pattern() {
   pattern_next_ = 0;
   pattern_radius95_ = 0.0;
   if (stall_) stall_->reset();
+}
+
+Guidance SearchController::coast(const SogFilter& filter) const {
+  const MixtureMoments mm = filter.predicted_moments();
+  const Vec3 p = mm.mean.segment<3>(idx::kPos);
+  Guidance g;
+  g.mode = mode_ == GuidanceMode::kFound ? GuidanceMode::kApproach : mode_;
+  g.distance_m = p.head<2>().norm();
+  g.uncertainty_radius_m = radius95_2d(mm.covariance.block<3, 3>(idx::kPos, idx::kPos));
+  g.heading_rad = std::atan2(p.y(), p.x());
+  if (mode_ == GuidanceMode::kOpening) {
+    g.bearing_rad = 0.0;
+    g.step_m = config_.step_length_m;
+  } else {
+    g.bearing_rad = wrap_angle(g.heading_rad - mm.mean[idx::kAtt + 2]);
+    g.step_m = std::min(config_.step_length_m, g.distance_m);
+  }
+  return g;
 }
 
 }  // namespace sarloc::avalanche

@@ -2,6 +2,9 @@
 
 #include "sarloc/core/avalanche/sensor_simulation.hpp"
 
+#include "sarloc/core/avalanche/beacon_receiver.hpp"
+
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -67,6 +70,8 @@ void SimulationConfig::validate() const {
   check("sway_roll_pitch_deg", sway_roll_pitch_deg, 0.0, 30.0);
   check("attitude_roll_pitch_sigma_deg", attitude_roll_pitch_sigma_deg, 0.01, 90.0);
   check("attitude_yaw_sigma_deg", attitude_yaw_sigma_deg, 0.01, 180.0);
+  check("primary_strip_half_width_m", primary_strip_half_width_m, 0.0, 100.0);
+  receiver.validate();
 }
 
 std::uint64_t derive_seed(std::uint64_t seed, std::uint64_t index) {
@@ -79,10 +84,57 @@ std::uint64_t derive_seed(std::uint64_t seed, std::uint64_t index) {
 AvalancheSimulator::AvalancheSimulator(SimulationConfig config, std::uint64_t seed)
     : config_((config.validate(), config)), rng_(seed) {
   scenario_ = draw_scenario(config_, rng_);
+  if (config_.receiver.kind != ReceiverKind::kRealistic) return;
+  // Its own stream: the ideal receiver's trials stay exactly what they were.
+  std::mt19937_64 rng(derive_seed(seed, 0xBEAC0));
+  receiver_ = std::make_unique<BeaconReceiver>(config_, derive_seed(seed, 0xBEAC1));
+  beacons_.push_back({scenario_.transmitter, scenario_.moment, TransmitterTiming::draw(config_.receiver, rng)});
+  // Walking a strip of the primary search: the line passes within the half width of the victim.
+  std::uniform_real_distribution<double> lateral(-config_.primary_strip_half_width_m, config_.primary_strip_half_width_m);
+  const Vec3 to_victim = scenario_.transmitter - scenario_.receiver;
+  const double d = to_victim.head<2>().norm();
+  const double offset = std::asin(std::clamp(lateral(rng) / d, -1.0, 1.0));
+  scenario_.receiver_rpy.z() = wrap_angle(std::atan2(to_victim.y(), to_victim.x()) + offset);
 }
 
 AvalancheSimulator::AvalancheSimulator(SimulationConfig config, Scenario scenario, std::uint64_t seed)
-    : config_((config.validate(), config)), scenario_(scenario), rng_(seed) {}
+    : config_((config.validate(), config)), scenario_(scenario), rng_(seed) {
+  if (config_.receiver.kind != ReceiverKind::kRealistic) return;
+  std::mt19937_64 rng(derive_seed(seed, 0xBEAC0));
+  receiver_ = std::make_unique<BeaconReceiver>(config_, derive_seed(seed, 0xBEAC1));
+  beacons_.push_back({scenario_.transmitter, scenario_.moment, TransmitterTiming::draw(config_.receiver, rng)});
+}
+
+AvalancheSimulator::~AvalancheSimulator() = default;
+AvalancheSimulator::AvalancheSimulator(AvalancheSimulator&&) noexcept = default;
+
+std::vector<FieldMeasurement> AvalancheSimulator::listen() {
+  std::vector<FieldMeasurement> out;
+  if (!receiver_) return out;
+  const ReceiverPose pose{scenario_.receiver, scenario_.receiver_rpy};
+  const Listening heard = receiver_->listen(pose, beacons_, static_cast<double>(stamp_) * 1e-9, 1.0);
+  wrong_attributions_ += heard.wrong_attributions;
+  ++sequence_;
+  std::optional<OrientationObservation> attitude;
+  if (sequence_ == 1 || config_.attitude_updates) attitude = simulate_attitude(config_, pose, rng_);
+  for (const auto& h : heard.samples) {
+    FieldMeasurement m = to_measurement(h.sample);
+    m.rescuer_id = "sim";
+    m.sequence = sequence_;
+    m.stamp = stamp_;
+    m.orientation = attitude;
+    m.unattributed_pulses = heard.report.unattributed;
+    out.push_back(m);
+  }
+  return out;
+}
+
+std::optional<std::uint32_t> AvalancheSimulator::transmitter_signal() const {
+  if (!receiver_) return std::nullopt;
+  for (std::uint32_t id = 1; id <= 64; ++id)
+    if (receiver_->beacon_of_signal(id) == std::optional<std::size_t>(0)) return id;
+  return std::nullopt;
+}
 
 FieldMeasurement AvalancheSimulator::measure() {
   const ReceiverPose pose{scenario_.receiver, scenario_.receiver_rpy};

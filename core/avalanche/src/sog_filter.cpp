@@ -96,6 +96,8 @@ void SogConfig::validate() const {
   }
   if (!std::isfinite(noise_relative) || noise_relative < 0.0 || noise_relative > 1.0)
     config_fail("noise_relative", noise_relative, "must be in [0, 1]");
+  if (!finite_positive(censored_axis_sigmas) || censored_axis_sigmas > 20.0)
+    config_fail("censored_axis_sigmas", censored_axis_sigmas, "must be in (0, 20]");
   if (!finite_positive(noise_floor_A_per_m) || noise_floor_A_per_m > 1e-3)
     config_fail("noise_floor_A_per_m", noise_floor_A_per_m, "must be in (0, 1e-3]");
   if (!finite_positive(idle_translation_sigma_m) || idle_translation_sigma_m > 10.0)
@@ -122,6 +124,8 @@ void validate_field_measurement(const FieldMeasurement& m) {
   if (!m.noise_stddev.allFinite() || m.noise_stddev.minCoeff() < 0.0 ||
       m.noise_stddev.maxCoeff() > 1.0)
     input_fail("noise_stddev", fmt(m.noise_stddev), "must be finite and in [0, 1] A/m");
+  if (m.valid_axes == 0 || m.valid_axes > kAllAxes)
+    input_fail("valid_axes", std::to_string(m.valid_axes), "must be a non-empty mask of axes 0-2 (1..7)");
   if (m.orientation) {
     const auto& o = *m.orientation;
     if (!o.rpy.allFinite() || o.rpy.cwiseAbs().maxCoeff() > kPi + 1e-9)
@@ -188,7 +192,8 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   const Displacement disp = odometry_.take();
   const OrientationObservation* orientation =
       measurement.orientation && config_.use_orientation ? &*measurement.orientation : nullptr;
-  update_field(measurement.field, noise_floor(measurement), disp, orientation, result);
+  update_field(measurement.field, noise_floor(measurement), measurement.valid_axes, disp, orientation,
+               result);
   gate_failures_ = result.min_nis > nis_gate_ ? gate_failures_ + 1 : 0;
   bool diverged = config_.reinit_after > 0 && gate_failures_ >= config_.reinit_after;
   if (config_.divergence_window > 0) {
@@ -244,9 +249,19 @@ void SogFilter::initialise(const FieldMeasurement& meas) {
   gate_failures_ = 0;  // a new mixture starts a new innovation history
   nis_window_.clear();
   nis_next_ = 0;
-  const Vec3 z = meas.field;
+  // An invalid axis is below the receiver's detection threshold: the ring is built with it at
+  // 0 +- censored_axis_sigmas times its noise (what "not detected" says), never dropped, since
+  // the moment of each hypothesis needs all three components.
+  Vec3 z = meas.field;
+  const Vec3 floor = noise_floor(meas);
+  Vec3 censored = Vec3::Zero();
+  for (int a = 0; a < 3; ++a) {
+    if ((meas.valid_axes & (1U << a)) != 0) continue;
+    z[a] = 0.0;
+    censored[a] = config_.censored_axis_sigmas * floor[a];
+  }
   const double zn = z.norm();
-  if (!(zn > 0.0)) input_fail("field", fmt(z), "first measurement must be non-zero");
+  if (!(zn > 0.0)) input_fail("field", fmt(z), "first measurement must be non-zero on a valid axis");
   Vec3 psi0 = Vec3::Zero();
   Mat3 p_psi = config_.attitude_prior_sigma_rad.cwiseAbs2().asDiagonal();
   if (meas.orientation && config_.use_orientation) {
@@ -256,8 +271,9 @@ void SogFilter::initialise(const FieldMeasurement& meas) {
   const Mat3 r_g = rotation_from_rpy(psi0);
   const Vec3 h_g = r_g * z;  // G_1 z_1
 
-  const Vec3 floor = noise_floor(meas);
-  const Vec3 sigma_axis = Vec3::Constant(config_.noise_relative * zn) + floor;
+  Vec3 sigma_axis = Vec3::Constant(config_.noise_relative * zn) + floor;
+  for (int a = 0; a < 3; ++a)
+    if (censored[a] > 0.0) sigma_axis[a] = censored[a];
   const double sigma_norm = sigma_axis.norm();
   const double m_lo = config_.standard.moment_min() * (1.0 - config_.moment_margin);
   const double m_hi = config_.standard.moment_max() * (1.0 + config_.moment_margin);
@@ -392,12 +408,16 @@ double orientation_update(SogComponent& c, const OrientationObservation& o) {
 
 }  // namespace
 
-void SogFilter::update_field(const Vec3& z, const Vec3& floor, const Displacement& disp,
-                             const OrientationObservation* orientation, SogStepResult& result) {
+void SogFilter::update_field(const Vec3& z, const Vec3& floor, std::uint8_t axes,
+                             const Displacement& disp, const OrientationObservation* orientation,
+                             SogStepResult& result) {
   const DispCov& q = disp.covariance;
   // h of eq. (14) linearised at the odometry mean: R(dPsi), E_w(dPsi) shared by every component.
   const MeasurementModel measurement(disp.mean);
   const double rel = config_.noise_relative;
+  Vec3 z_valid = z;
+  for (int a = 0; a < 3; ++a)
+    if ((axes & (1U << a)) == 0) z_valid[a] = 0.0;
   double max_ll = -std::numeric_limits<double>::infinity();
   double min_nis = std::numeric_limits<double>::infinity();
 
@@ -408,25 +428,40 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, const Displacemen
     // --- Estimation step (eq. (14)) on x* = [x; d], P* = blkdiag(P, Q) ---
     Jacobian<3, idx::kStateDim> h_x;
     Jacobian<3, idx::kDispDim> h_d;
-    const Vec3 h = measurement.h(c.x, &h_x, &h_d);
-
+    Vec3 h = measurement.h(c.x, &h_x, &h_d);
+    const Vec3 sigma = Vec3::Constant(rel * h.norm()) + floor;
+    // An invalid axis is no observation: its rows of h, H_x and H_d are zeroed and its
+    // innovation variance set to 1, so S is block-diagonal, the axis's innovation is 0 and
+    // the update, the NIS and the weights (up to a constant) are those of the valid axes.
+    for (int a = 0; a < 3; ++a) {
+      if ((axes & (1U << a)) != 0) continue;
+      h[a] = 0.0;
+      h_x.row(a).setZero();
+      h_d.row(a).setZero();
+    }
     const Jacobian<idx::kStateDim, 3> pht = p.lazyProduct(h_x.transpose());
     const Jacobian<idx::kDispDim, 3> qht = q.lazyProduct(h_d.transpose());
-    const Vec3 sigma = Vec3::Constant(rel * h.norm()) + floor;
     Mat3 s = h_x * pht + h_d * qht;
-    s.diagonal() += sigma.cwiseAbs2();
+    for (int a = 0; a < 3; ++a) s(a, a) += (axes & (1U << a)) != 0 ? sigma[a] * sigma[a] : 1.0;
     const double det = s.determinant();
     if (!(det > 0.0) || !std::isfinite(det)) {
       ++result.dropped_numerical;
       continue;
     }
     const Mat3 s_inv = s.inverse();
-    const Vec3 nu = z - h;
+    // Sign-invariant likelihood: the receiver measures +-h, p(z) = (N(z; h, S) + N(-z; h, S)) / 2.
+    // The component is updated with the sign that explains z best (zeta = z^T S^-1 h decides:
+    // NIS(+-) = z^T S^-1 z + h^T S^-1 h -+ 2 zeta); its weight takes both terms.
+    const Vec3 s_inv_h = s_inv * h;
+    const double zeta = z_valid.dot(s_inv_h);
+    const Vec3 z_signed = zeta >= 0.0 ? z_valid : Vec3(-z_valid);
+    const Vec3 nu = z_signed - h;
     const Vec3 s_inv_nu = s_inv * nu;
-    // eq. (17) in log space (the common -1.5 log(2 pi) is dropped).
-    const double nis = nu.dot(s_inv_nu);
+    const double nis = nu.dot(s_inv_nu);             // the better sign's NIS
+    const double nis_other = nis + 4.0 * std::fabs(zeta);
     min_nis = std::min(min_nis, nis);
-    const double ll = -0.5 * (nis + std::log(det));
+    // eq. (17) in log space (the common -1.5 log(2 pi) and log 1/2 are dropped).
+    const double ll = -0.5 * (nis + std::log(det)) + std::log1p(std::exp(-0.5 * (nis_other - nis)));
     const StateVec x_post = c.x + pht * s_inv_nu;
     const DispVec d_post = disp.mean + qht * s_inv_nu;
 

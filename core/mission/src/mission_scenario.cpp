@@ -19,6 +19,9 @@ std::string fmt(const Vec3& v) {
 
 void MissionScenario::validate() const {
   sensors.validate();
+  if (sensors.receiver.kind != avalanche::ReceiverKind::kIdeal)
+    throw ConfigError("simulation.receiver.kind = realistic: live missions do not run the realistic receiver yet "
+                      "(sarloc-eval avalanche / multi-burial do); use ideal");
   if (victims.empty()) throw ConfigError("victims: at least one victim is needed");
   if (rescuers.empty()) throw ConfigError("rescuers: at least one rescuer is needed");
   for (std::size_t i = 0; i < victims.size(); ++i) {

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <limits>
+#include <random>
 #include <vector>
 
 #include "sarloc/core/avalanche/odometry_accumulator.hpp"
@@ -373,6 +374,47 @@ TEST(SogFilterTest, DivergenceOfAConvergedMixtureIsReportedNotReinitialised) {
   }
   EXPECT_GE(ignored, 1) << "the innovation test should have failed on these readings";
   EXPECT_EQ(f.estimate(0).status, EstimatorStatus::kConverged);
+}
+
+
+// A real receiver gives the field up to its sign: flipping the sign of any sample changes
+// nothing in the posterior (sign-invariant likelihood).
+TEST(SogFilterTest, SignOfTheFieldDoesNotMatter) {
+  AvalancheSimulator sim(SimulationConfig{}, fixed_scenario(), 3);
+  SogFilter plain, flipped;
+  std::mt19937_64 coin(4);
+  for (int k = 0; k < 12; ++k) {
+    FieldMeasurement z = sim.measure();
+    plain.process(z);
+    if (coin() % 2 == 0) z.field = -z.field;
+    flipped.process(z);
+    const Odometry o = sim.walk(bearing_to_truth(sim), 1.0);
+    plain.add_odometry(o);
+    flipped.add_odometry(o);
+  }
+  const VictimEstimate a = plain.estimate(), b = flipped.estimate();
+  EXPECT_LT((a.relative.position - b.relative.position).norm(), 1e-9);
+  EXPECT_LT((a.relative.covariance - b.relative.covariance).norm(), 1e-12);
+}
+
+// An invalid axis carries no information: its value is ignored by the update.
+TEST(SogFilterTest, InvalidAxisIsIgnored) {
+  AvalancheSimulator sim(SimulationConfig{}, fixed_scenario(), 5);
+  SogFilter a, b;
+  for (int k = 0; k < 6; ++k) {
+    FieldMeasurement z = sim.measure();
+    if (k > 0) z.valid_axes = 0b101;
+    a.process(z);
+    if (k > 0) z.field.y() *= -7.0;  // garbage on the invalid axis
+    b.process(z);
+    const Odometry o = sim.walk(bearing_to_truth(sim), 1.0);
+    a.add_odometry(o);
+    b.add_odometry(o);
+  }
+  EXPECT_LT((a.estimate().relative.position - b.estimate().relative.position).norm(), 1e-9);
+  FieldMeasurement none = sim.measure();
+  none.valid_axes = 0;
+  EXPECT_THROW(a.process(none), InputError);
 }
 
 }  // namespace

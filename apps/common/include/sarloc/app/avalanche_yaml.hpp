@@ -9,6 +9,7 @@
 namespace sarloc::app {
 
 void read_transmitter_standard(YamlReader section, avalanche::TransmitterStandard& standard);
+void read_receiver(YamlReader section, avalanche::ReceiverModelConfig& config);
 void read_simulation(YamlReader section, avalanche::SimulationConfig& config);
 void read_sog(YamlReader section, avalanche::SogConfig& config);
 void read_search(YamlReader section, avalanche::SearchConfig& config);

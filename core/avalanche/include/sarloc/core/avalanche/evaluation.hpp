@@ -5,8 +5,10 @@
 //
 // Per trial: measure -> filter.process -> controller.guide -> (stop if found) -> walk -> odometry.
 //   error_m            |p_est - p_true| (3-D, G_k) when "found" is declared (or at the budget)
-//   initial_distance_m horizontal rescuer -> transmitter distance at the start
-//   steps              field measurements used (the first one included)
+//   initial_distance_m horizontal rescuer -> transmitter distance when first heard
+//   steps              steps walked from the first sample heard (the first one included); with
+//                      the ideal receiver every step has a sample, with the realistic one a
+//                      step hears 0-2 pulses of the transmitter (period 0.7-1.3 s)
 //   ms per step        wall time of SogFilter::process for every step of every trial
 //   NEES               position part of the mixture (eq. (18)) against the truth, 3 dof, over the
 //                      converged phase (steps whose mixture 95 % radius <= sog.converged_radius_m)
@@ -66,6 +68,11 @@ struct TrialResult {
   bool false_found = false;       ///< found and error_m > radius95_m + kFalseFoundMarginM
   std::uint32_t probe_points = 0; ///< points of the adaptive end's probe pattern (0 = none)
   bool found_by_probe_pattern = false;  ///< ended by the adaptive end, not the fixed radius
+  // Realistic receiver only:
+  std::uint32_t primary_steps = 0;      ///< steps of the primary search before the first sample
+  std::uint32_t measurements = 0;       ///< samples the filter took (steps without one: none heard)
+  std::uint32_t wrong_attributions = 0; ///< pulses attributed to a signal not theirs
+  std::uint32_t spurious_signals = 0;   ///< signal ids other than the transmitter's
 };
 
 struct Stats {
@@ -84,6 +91,11 @@ struct EvaluationSummary {
   std::uint32_t not_found = 0;
   std::uint32_t false_found = 0;         ///< found farther than radius95 + kFalseFoundMarginM
   std::uint32_t found_by_probe_pattern = 0;  ///< trials ended by the adaptive end
+  std::string receiver = "realistic";
+  Stats primary_steps;                   ///< realistic: steps before the signal was first heard
+  Stats measurements;                    ///< samples the filter took
+  std::uint32_t wrong_attributions = 0;  ///< summed over trials
+  std::uint32_t spurious_signals = 0;
   double ms_per_step_median = 0.0;
   double ms_per_step_p95 = 0.0;
   double nees_mean = 0.0;              ///< mean over trials of the per-trial converged-phase mean

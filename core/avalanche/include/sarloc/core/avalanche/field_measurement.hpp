@@ -1,5 +1,6 @@
 #pragma once
 // One 3-axis avalanche-beacon field sample, for one separated signal (one transmitter).
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -14,13 +15,32 @@ struct OrientationObservation {
   Mat3 covariance = Mat3::Identity();
 };
 
+/// What the receiver's signal separation says about a signal in this sample
+/// (signal_separator.hpp): the event is carried by the first sample after it.
+enum class SignalEvent : std::uint8_t {
+  kNone = 0,        ///< tracked as before
+  kNew,             ///< first sample of a newly separated transmitter
+  kReacquired,      ///< heard again after the separation had declared it lost
+  kSeparated,       ///< attributed again after pulses merged with another transmitter's
+};
+/// "none", "new", "reacquired", "separated".
+const char* to_string(SignalEvent event);
+
 struct FieldMeasurement {
   std::string rescuer_id;
   std::uint32_t signal_id = 0;       ///< transmitter as separated by the receiver
   std::uint64_t sequence = 0;        ///< per (rescuer, signal), strictly increasing
   TimestampNs stamp = 0;
-  Vec3 field = Vec3::Zero();         ///< magnetic field in the receiver antenna frame R (A/m)
+  /// Magnetic field in the receiver antenna frame R (A/m), up to its sign: a real receiver
+  /// does not carry the carrier's phase from pulse to pulse, so every filter reads it as +-field.
+  Vec3 field = Vec3::Zero();
   Vec3 noise_stddev = Vec3::Zero();  ///< per-axis 1-sigma noise (A/m)
+  /// Bit i set: axis i carries signal. A clear bit: the axis was below the receiver's
+  /// detection threshold (its value is near zero and its sign unknown); field[i] is ignored.
+  std::uint8_t valid_axes = 0b111;
+  SignalEvent event = SignalEvent::kNone;
+  /// Pulses of the receiver's last listening window it could not attribute to any signal.
+  std::uint32_t unattributed_pulses = 0;
   std::optional<OrientationObservation> orientation;
 };
 

@@ -18,9 +18,14 @@
 //   FieldMeasurement z = sim.measure();
 //   Odometry o = sim.walk(guidance.bearing_rad, guidance.step_m);
 #include <cstdint>
+#include <optional>
 #include <random>
 
+#include <memory>
+#include <vector>
+
 #include "sarloc/core/avalanche/field_measurement.hpp"
+#include "sarloc/core/avalanche/receiver_model.hpp"
 #include "sarloc/core/avalanche/responder_types.hpp"
 #include "sarloc/core/avalanche/transmitter_standard.hpp"
 
@@ -46,6 +51,12 @@ struct SimulationConfig {
   /// Attach the attitude-sensor reading to every measurement (false: first one only, which
   /// gives the initial misalignment G_1 -> R_1 of seed 000, section III-B).
   bool attitude_updates = true;
+  /// The receiver: realistic (pulses, unknown sign, unequal antennas, separation; the
+  /// default) or ideal (a signed, separated 3-axis sample per step, seed 000).
+  ReceiverModelConfig receiver;
+  /// Realistic receiver only: the signal is first heard during the primary search, so a trial
+  /// starts walking a search strip whose line passes within this of the victim (m).
+  double primary_strip_half_width_m = 20.0;
 
   /// Throws ConfigError "simulation.<key> = value: rule".
   void validate() const;
@@ -58,6 +69,9 @@ struct Scenario {
   Vec3 receiver_rpy = Vec3::Zero(); ///< receiver orientation R in W = G axes (rad)
 };
 
+class BeaconReceiver;
+struct Beacon;
+
 class AvalancheSimulator {
  public:
   /// Draws a random scenario from config with the given seed.
@@ -65,8 +79,19 @@ class AvalancheSimulator {
   /// Uses a fixed scenario (tests); seed drives the noise only.
   AvalancheSimulator(SimulationConfig config, Scenario scenario, std::uint64_t seed);
 
-  /// A noisy field sample at the current true pose.
+  ~AvalancheSimulator();
+  AvalancheSimulator(AvalancheSimulator&&) noexcept;
+
+  /// Ideal receiver: a noisy, signed field sample at the current true pose.
   FieldMeasurement measure();
+  /// Realistic receiver: what the device separates while it stands at the current pose for the
+  /// second until the next walk(): zero, one or (rarely, a spurious signal) more samples, each
+  /// with its signal id, sign unknown, invalid axes marked.
+  std::vector<FieldMeasurement> listen();
+  /// Realistic receiver: the transmitter's signal id, once the separation has attributed it.
+  std::optional<std::uint32_t> transmitter_signal() const;
+  /// Realistic receiver: attributed pulses that were not the transmitter's (spurious signals).
+  std::uint32_t wrong_attributions() const { return wrong_attributions_; }
   /// Turns by bearing_rad from the TRUE heading, walks step_m horizontally, returns odometry.
   Odometry walk(double bearing_rad, double step_m);
 
@@ -83,6 +108,9 @@ class AvalancheSimulator {
   std::uint64_t sequence_ = 0;
   std::uint64_t odo_sequence_ = 0;
   TimestampNs stamp_ = 0;
+  std::unique_ptr<BeaconReceiver> receiver_;  ///< realistic receiver only
+  std::vector<Beacon> beacons_;
+  std::uint32_t wrong_attributions_ = 0;
 };
 
 /// Seed of trial `index` from the evaluation seed (splitmix64), independent of thread count.

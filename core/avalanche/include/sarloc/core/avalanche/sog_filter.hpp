@@ -6,7 +6,9 @@
 // ENU-aligned frame G_k. Per field measurement:
 //   1. prediction: x* = [x; d], P* = blkdiag(P, Q) (eq. (10)-(11), C_k = 0 because odometry
 //      is independent of the state; the block structure is used, never a dense 15x15 product);
-//   2. EKF update with the dipole model (eq. (14)), weight update in log space (eq. (17));
+//   2. EKF update with the dipole model (eq. (14)), weight update in log space (eq. (17)), on
+//      the valid axes only and sign-invariant: a real receiver measures the field up to its
+//      sign, so p(z | x) = (N(z; h, S) + N(-z; h, S)) / 2 (issue 12);
 //   3. composition back to G_k (eq. (9), (15)):
 //        P_k = F P*_post F^T = F_x P F_x^T + F_d Q F_d^T - M S^-1 M^T,  M = F_x P H_x^T + F_d Q H_d^T;
 //   4. optional attitude-sensor update (OrientationObservation), a linear update of Psi;
@@ -27,6 +29,7 @@
 #include "sarloc/core/avalanche/field_measurement.hpp"
 #include "sarloc/core/avalanche/responder_types.hpp"
 #include "sarloc/core/avalanche/odometry_accumulator.hpp"
+#include "sarloc/core/avalanche/receiver_model.hpp"
 #include "sarloc/core/avalanche/transmitter_standard.hpp"
 
 namespace sarloc::avalanche {
@@ -49,6 +52,9 @@ struct SogConfig {
   // --- measurement noise known to the filter (same model as the simulator) ---
   double noise_relative = 0.05;         ///< per-axis sigma = relative * |h(x)| + floor
   double noise_floor_A_per_m = 2.1e-9;  ///< >= strongest on-axis field at 60 m / 10
+  /// An axis the receiver reports invalid is below this many times its noise (the receiver's
+  /// detection threshold, ReceiverModelConfig::detect_snr): used when initialising.
+  double censored_axis_sigmas = 3.0;
   // --- odometry ---
   double idle_translation_sigma_m = 0.02;  ///< displacement sigma when no odometry arrived
   double idle_rotation_sigma_rad = 0.005;
@@ -151,7 +157,7 @@ class SogFilter {
   void initialise(const FieldMeasurement& measurement);
 
  private:
-  void update_field(const Vec3& z, const Vec3& floor, const Displacement& disp,
+  void update_field(const Vec3& z, const Vec3& floor, std::uint8_t axes, const Displacement& disp,
                     const OrientationObservation* orientation, SogStepResult& r);
   /// log P(transmitter of c below the snow surface) (SogConfig::surface_constraint), else 0.
   double surface_log_support(const SogComponent& c) const;

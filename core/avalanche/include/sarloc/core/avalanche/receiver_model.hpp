@@ -1,0 +1,89 @@
+#pragma once
+// A real 3-antenna avalanche-beacon receiver, as opposed to the ideal one of seed 000 (issue 12;
+// docs/estimation/avalanche.md, "Receiver model", gives the sources of every default).
+//
+// What the coils see: every transmitter is one coil, so its field at the receiver is the full
+// field of an oscillating magnetic dipole at 457 kHz (quasi-static 1/r^3 term, induction 1/r^2
+// term a quarter period out of phase, radiation 1/r term), a complex vector H. The receiver's
+// three antennas are unequal (the long x antenna is the most sensitive), each with its own gain
+// error and misalignment: the device measures a = G R^T H, G fixed per device.
+//
+// What the device reports from the complex amplitudes a of one pulse: the major axis of the
+// polarisation ellipse, v = Re(a e^{-j theta}) with theta = arg(sum a_i^2) / 2 (the real vector
+// that explains most of the pulse's energy). Its sign depends on the carrier phase of that
+// pulse, which nothing carries from one pulse to the next: the reported vector is +-v at
+// random. An axis whose amplitude is below detect_snr times its noise is reported invalid: its
+// phase, hence its sign relative to the other axes, is not measurable.
+//
+//   ReceiverHardware hw = ReceiverHardware::draw(config, rng);     // once per device
+//   Vec3c a = hw.apply(R.transpose() * full_dipole_field(r, m, wavenumber(config)));
+//   Vec3 v = principal_axis(a);
+#include <complex>
+#include <cstdint>
+#include <random>
+#include <string>
+
+#include "sarloc/core/common/types.hpp"
+
+namespace sarloc::avalanche {
+
+using Vec3c = Eigen::Vector3cd;
+
+enum class ReceiverKind { kIdeal, kRealistic };
+/// "ideal" / "realistic"; parse throws ConfigError naming `key`.
+std::string to_string(ReceiverKind kind);
+ReceiverKind parse_receiver_kind(const std::string& text, const std::string& key);
+
+/// Bit i set: axis i of FieldMeasurement::field carries signal.
+inline constexpr std::uint8_t kAllAxes = 0b111;
+
+struct ReceiverModelConfig {
+  /// ideal by default in code (unit tests, live missions); config/eval/avalanche.yaml, hence
+  /// sarloc-eval, selects realistic.
+  ReceiverKind kind = ReceiverKind::kIdeal;
+  double carrier_hz = 457000.0;         ///< EN 300 718
+  /// Noise of the two short antennas relative to the long one (whose floor is
+  /// SimulationConfig::field_noise_floor_A_per_m per 70 ms pulse): 3x the noise is about 0.7x
+  /// the range of the long antenna.
+  double short_axis_noise_factor = 3.0;
+  double detect_snr = 3.0;              ///< an axis below this amplitude / noise is invalid
+  double gain_sigma = 0.03;             ///< per-axis gain error (1 sigma, fixed per device)
+  double misalignment_sigma_deg = 1.0;  ///< per-axis pointing error (1 sigma, fixed per device)
+  /// The transmitter's carrier keeps its phase from pulse to pulse (none is required to):
+  /// the device then carries the sign with its frequency estimate.
+  bool phase_coherent = false;
+  // Pulse timing of every transmitter, drawn within EN 300 718 (NOTES.md).
+  double period_min_ms = 700.0;
+  double period_max_ms = 1300.0;
+  double on_time_min_ms = 70.0;
+  double on_time_max_ms = 200.0;
+  double carrier_tolerance_hz = 80.0;   ///< carrier offset drawn in +- this
+  double sample_rate_hz = 500.0;        ///< complex baseband sampling of each axis
+
+  /// Throws ConfigError "simulation.receiver.<key> = value: rule".
+  void validate() const;
+};
+
+/// k = 2 pi f / c of the carrier (rad/m).
+double wavenumber(const ReceiverModelConfig& config);
+
+/// Full field of an oscillating magnetic dipole (time factor e^{j w t}, common phase e^{-jkr}
+/// dropped): H = [(3 n (n.m) - m)(1/r^3 + j k/r^2) + k^2 (m - n (n.m)) / r] / (4 pi),
+/// r = transmitter -> receiver. k = 0 gives DipoleField::field exactly.
+Vec3c full_dipole_field(const Vec3& r, const Vec3& m, double k);
+
+/// Major axis of the polarisation ellipse of a: Re(a e^{-j theta}), theta = arg(sum a_i^2)/2.
+/// Its sign follows the branch of theta, i.e. the carrier phase of the pulse.
+Vec3 principal_axis(const Vec3c& a);
+
+/// Per-axis gain and pointing errors of one device: a = G h.
+struct ReceiverHardware {
+  Mat3 gain = Mat3::Identity();
+  static ReceiverHardware draw(const ReceiverModelConfig& config, std::mt19937_64& rng);
+  Vec3c apply(const Vec3c& h) const { return gain.cast<std::complex<double>>() * h; }
+};
+
+/// Per-axis noise floor (A/m, 1 sigma per 70 ms pulse) from the long antenna's floor.
+Vec3 axis_noise_floor(const ReceiverModelConfig& config, double long_axis_floor);
+
+}  // namespace sarloc::avalanche

@@ -1,0 +1,119 @@
+#pragma once
+// Signal separation on the rescuer's device (issue 12): turns the pulses detected in each
+// listening window (pulse_detector.hpp) into per-transmitter field samples with a signal id
+// that stays the same for as long as the transmitter is tracked.
+//
+// A transmitter is tracked by what identifies it physically: its carrier offset (fixed per
+// device, within +-80 Hz) and its pulse timing (period and on-time, learnt from its clean
+// pulses). A pulse is attributed to a track when its carrier matches and its edges fall where
+// the track's timing predicts. It is NOT attributed, and counted as such, when:
+//   - the detector could not separate it from an overlapping pulse (variance inflation above
+//     max_variance_inflation: same carrier, same time), or it lasts longer than its track's
+//     on-time (two pulses merged into one);
+//   - two tracks match it and the field-consistency hook (each track's filter) does not pick
+//     one by a wide margin;
+//   - it matches nothing and cannot start a track (cut by the window's edges, or max_signals).
+// Events: a track not heard for lost_after_s is declared lost; heard again, its next sample
+// carries kReacquired. Tracks that shared an unattributable pulse are merged; the next
+// sample attributed to each carries kSeparated. Each sample's field is the major axis of its
+// pulse's polarisation ellipse (principal_axis), sign unknown; axes below detect_snr are
+// reported invalid.
+//
+//   SignalSeparator separator(SeparatorConfig{});
+//   SeparationReport r = separator.process(window);
+//   for (const auto& s : r.samples) publish(s.signal_id, s.field, s.noise, s.valid_axes, s.event);
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include "sarloc/core/avalanche/field_measurement.hpp"
+#include "sarloc/core/avalanche/pulse_detector.hpp"
+
+namespace sarloc::avalanche {
+
+struct SeparatorConfig {
+  PulseDetectorConfig detector;
+  double detect_snr = 3.0;               ///< per-axis validity threshold (amplitude / noise)
+  double carrier_match_hz = 2.0;         ///< a pulse's carrier matches a track within this, plus
+  double carrier_match_weak_hz = 30.0;   ///< this / sqrt(statistic of the pulse or the track)
+  double timing_tolerance_s = 0.010;     ///< edges within this of the predicted ones, plus
+  double timing_tolerance_weak_s = 3.0;  ///< this / the pulse's statistic (weak edges are vague)
+  double timing_drift_s = 0.002;         ///< tolerance added per predicted period
+  double max_variance_inflation = 2.0;   ///< overlap leaves a pulse this much noisier: unattributable
+  double lost_after_s = 5.0;             ///< declared lost after this silence
+  double forget_after_s = 600.0;         ///< a track silent this long is dropped (its id retired)
+  double log_likelihood_margin = 9.2;    ///< consistency hook must prefer a track by e^9.2 = 10^4
+  std::uint32_t max_signals = 8;
+
+  /// Throws ConfigError "separator.<key> = value: rule".
+  void validate() const;
+};
+
+struct SeparatedSample {
+  std::uint32_t signal_id = 0;
+  Vec3 field = Vec3::Zero();        ///< receiver frame, sign unknown (A/m)
+  Vec3 noise = Vec3::Zero();        ///< per-axis 1 sigma of field (A/m)
+  std::uint8_t valid_axes = 0;
+  SignalEvent event = SignalEvent::kNone;
+  std::size_t pulse = 0;            ///< index into SeparationReport::pulses
+};
+
+enum class TrackChange : std::uint8_t { kNew, kLost, kMerged, kReacquired, kSeparated, kForgotten };
+const char* to_string(TrackChange change);
+
+struct TrackEvent {
+  std::uint32_t signal_id = 0;
+  TrackChange change = TrackChange::kNew;
+  double time_s = 0.0;
+};
+
+struct SeparationReport {
+  std::vector<DetectedPulse> pulses;                   ///< everything the detector found
+  std::vector<std::optional<std::uint32_t>> attributed;///< per pulse: its signal, or none
+  std::vector<SeparatedSample> samples;                ///< at most one per signal: its best pulse
+  std::uint32_t unattributed = 0;
+  std::vector<TrackEvent> events;
+};
+
+/// Log-likelihood of a field sample under the filter of a signal (nullopt: no filter yet).
+using FieldConsistency =
+    std::function<std::optional<double>(std::uint32_t signal_id, const Vec3& field, const Vec3& noise, std::uint8_t axes)>;
+
+class SignalSeparator {
+ public:
+  explicit SignalSeparator(SeparatorConfig config = {});
+  void set_consistency(FieldConsistency consistency) { consistency_ = std::move(consistency); }
+
+  SeparationReport process(const BasebandWindow& window);
+
+  /// Tracked signals right now (lost ones included until forgotten).
+  std::size_t tracks() const { return tracks_.size(); }
+  /// Carrier offset of a tracked signal (Hz), nullopt if unknown.
+  std::optional<double> carrier_of(std::uint32_t signal_id) const;
+
+ private:
+  struct Track {
+    std::uint32_t id = 0;
+    double carrier_hz = 0.0;
+    double carrier_weight = 0.0;       ///< sum of the statistics averaged into carrier_hz
+    std::optional<double> on_time_s;   ///< from clean (untruncated) pulses
+    std::optional<double> last_start_s;
+    std::optional<double> period_s;
+    double last_heard_s = 0.0;
+    bool lost = false;
+    bool merged = false;
+    SignalEvent pending = SignalEvent::kNew;
+  };
+
+  bool timing_fits(const Track& t, const DetectedPulse& p) const;
+  void learn(Track& t, const DetectedPulse& p);
+  SeparatedSample sample_of(const DetectedPulse& p, std::uint32_t id, std::size_t index) const;
+
+  SeparatorConfig config_;
+  std::vector<Track> tracks_;
+  std::uint32_t next_id_ = 1;
+  FieldConsistency consistency_;
+};
+
+}  // namespace sarloc::avalanche

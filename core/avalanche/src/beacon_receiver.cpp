@@ -1,0 +1,102 @@
+#include "sarloc/core/avalanche/beacon_receiver.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "sarloc/core/avalanche/dipole_model.hpp"
+#include "sarloc/core/avalanche/rotation.hpp"
+
+namespace sarloc::avalanche {
+namespace {
+
+SeparatorConfig separator_config(const SimulationConfig& c) {
+  SeparatorConfig s;
+  s.detect_snr = c.receiver.detect_snr;
+  s.detector.search_band_hz = c.receiver.carrier_tolerance_hz + 20.0;
+  s.detector.max_on_time_s = 1e-3 * c.receiver.on_time_max_ms * 1.1;
+  return s;
+}
+
+}  // namespace
+
+BeaconReceiver::BeaconReceiver(SimulationConfig config, std::uint64_t seed)
+    : config_((config.validate(), std::move(config))),
+      rng_(seed),
+      hardware_(ReceiverHardware::draw(config_.receiver, rng_)),
+      pulse_noise_(axis_noise_floor(config_.receiver, config_.field_noise_floor_A_per_m)),
+      k_(wavenumber(config_.receiver)),
+      separator_(separator_config(config_)) {}
+
+Listening BeaconReceiver::listen(const ReceiverPose& pose, const std::vector<Beacon>& beacons, double t0_s,
+                                 double duration_s) {
+  const Mat3 r_world = rotation_from_rpy(pose.rpy);
+  std::uniform_real_distribution<double> phase(0.0, 2.0 * kPi);
+  std::vector<IncomingPulse> pulses;
+  for (std::size_t b = 0; b < beacons.size(); ++b) {
+    const Beacon& beacon = beacons[b];
+    const Vec3c h_world = full_dipole_field(pose.position - beacon.position, beacon.moment, k_);
+    Vec3c h_device = r_world.transpose().cast<std::complex<double>>() * h_world;
+    const double magnitude = h_device.norm();
+    for (double start : beacon.timing.starts_in(t0_s, t0_s + duration_s)) {
+      // Pulse-to-pulse fluctuation in phase with the pulse (5 % of |H| per axis, as the ideal
+      // receiver's), the device's gains, then the carrier phase of this pulse.
+      const Vec3 fluctuation = config_.field_noise_relative * magnitude * normal3(rng_);
+      const Vec3c a = hardware_.apply(h_device + fluctuation.cast<std::complex<double>>());
+      const double phi = config_.receiver.phase_coherent ? beacon.timing.phase_rad : phase(rng_);
+      IncomingPulse p;
+      p.transmitter = b;
+      p.start_s = start;
+      p.end_s = start + beacon.timing.on_time_s;
+      p.carrier_offset_hz = beacon.timing.carrier_offset_hz;
+      p.amplitude = a * std::polar(1.0, phi);
+      pulses.push_back(p);
+    }
+  }
+  const BasebandWindow window =
+      synthesize(pulses, t0_s, duration_s, config_.receiver.sample_rate_hz, pulse_noise_, rng_);
+  Listening out;
+  out.report = separator_.process(window);
+  // Truth of each detected pulse: the incoming pulse on its carrier that overlaps it with the most energy.
+  auto dominant = [&](const DetectedPulse& d) -> std::optional<std::size_t> {
+    std::optional<std::size_t> best;
+    double best_energy = 0.0;
+    for (const auto& p : pulses) {
+      const double overlap = std::min(p.end_s, d.end_s) - std::max(p.start_s, d.start_s);
+      if (overlap <= 0.0 || std::fabs(p.carrier_offset_hz - d.carrier_offset_hz) > std::max(5.0, 1.0 / overlap)) continue;
+      const double energy = overlap * p.amplitude.squaredNorm();
+      if (overlap > 0.0 && energy > best_energy) {
+        best_energy = energy;
+        best = p.transmitter;
+      }
+    }
+    return best;
+  };
+  for (std::size_t i = 0; i < out.report.pulses.size(); ++i) {
+    if (!out.report.attributed[i]) continue;
+    const std::uint32_t signal = *out.report.attributed[i];
+    const auto truth = dominant(out.report.pulses[i]);
+    const auto known = beacon_of_signal(signal);
+    if (!known && truth) truth_.emplace_back(signal, *truth);
+    else if (known && truth != known) ++out.wrong_attributions;
+  }
+  for (const auto& s : out.report.samples) out.samples.push_back({s, dominant(out.report.pulses[s.pulse])});
+  return out;
+}
+
+std::optional<std::size_t> BeaconReceiver::beacon_of_signal(std::uint32_t signal_id) const {
+  for (const auto& [signal, beacon] : truth_)
+    if (signal == signal_id) return beacon;
+  return std::nullopt;
+}
+
+FieldMeasurement to_measurement(const SeparatedSample& s) {
+  FieldMeasurement m;
+  m.signal_id = s.signal_id;
+  m.field = s.field;
+  m.noise_stddev = s.noise;
+  m.valid_axes = s.valid_axes;
+  m.event = s.event;
+  return m;
+}
+
+}  // namespace sarloc::avalanche

@@ -1,0 +1,196 @@
+#include "sarloc/core/avalanche/multi_burial.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "sarloc/core/avalanche/beacon_receiver.hpp"
+#include "sarloc/core/avalanche/dipole_model.hpp"
+#include "sarloc/core/avalanche/rotation.hpp"
+#include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/gaussian.hpp"
+
+namespace sarloc::avalanche {
+
+void MultiBurialSetup::validate() const {
+  simulation.validate();
+  rescuer.validate();
+  evaluation.validate();
+  auto fail = [](const char* key, double v, const char* rule) {
+    std::ostringstream os;
+    os << "multi_burial." << key << " = " << v << ": " << rule;
+    throw ConfigError(os.str());
+  };
+  if (simulation.receiver.kind != ReceiverKind::kRealistic)
+    throw ConfigError("simulation.receiver.kind = ideal: multiple burials need the realistic receiver");
+  if (victims < 1 || victims > 8) fail("victims", victims, "must be in [1, 8]");
+  if (!(spread_m >= 0.5 && spread_m <= 100.0)) fail("spread_m", spread_m, "must be in [0.5, 100]");
+  if (!(period_spread >= 0.0 && period_spread <= 0.3)) fail("period_spread", period_spread, "must be in [0, 0.3]");
+}
+
+MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint32_t index) {
+  const SimulationConfig& sim = setup.simulation;
+  std::mt19937_64 rng(derive_seed(setup.evaluation.seed, index));
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  // The cluster: its centre 40-60 m away, every victim within spread_m / 2 of it.
+  const double dist = sim.start_distance_min_m + (sim.start_distance_max_m - sim.start_distance_min_m) * u01(rng);
+  const double az = 2.0 * kPi * u01(rng);
+  const Vec3 centre(dist * std::cos(az), dist * std::sin(az), 0.0);
+  TransmitterTiming common = TransmitterTiming::draw(sim.receiver, rng);
+  std::vector<Beacon> beacons;
+  for (std::uint32_t v = 0; v < setup.victims; ++v) {
+    const double r = 0.5 * setup.spread_m * std::sqrt(u01(rng));
+    const double a = 2.0 * kPi * u01(rng);
+    const double depth = std::max(sim.min_burial_depth_m, std::fabs(n01(rng)) * sim.burial_depth_p95_m / 1.96);
+    Beacon b;
+    b.position = centre + Vec3(r * std::cos(a), r * std::sin(a), -depth);
+    Vec3 dir = normal3(rng);
+    const double mag = sim.standard.moment_min() + (sim.standard.moment_max() - sim.standard.moment_min()) * u01(rng);
+    b.moment = mag * dir.normalized();
+    b.timing = TransmitterTiming::draw(sim.receiver, rng);
+    if (setup.period_spread > 0.0) {
+      b.timing.period_s = std::clamp(common.period_s * (1.0 + setup.period_spread * (2.0 * u01(rng) - 1.0)),
+                                     1e-3 * sim.receiver.period_min_ms, 1e-3 * sim.receiver.period_max_ms);
+      b.timing.first_start_s = common.first_start_s + 0.3 * b.timing.on_time_s * (2.0 * u01(rng) - 1.0);
+    }
+    beacons.push_back(b);
+  }
+  // The rescuer walks a primary-search strip passing within its half width of the cluster.
+  ReceiverPose pose;
+  pose.position = Vec3(0.0, 0.0, sim.antenna_height_m);
+  const double offset = std::asin(std::clamp(sim.primary_strip_half_width_m * (2.0 * u01(rng) - 1.0) / dist, -1.0, 1.0));
+  pose.rpy = Vec3(0.0, 0.0, wrap_angle(az + offset));
+
+  BeaconReceiver receiver(sim, derive_seed(setup.evaluation.seed, 0x5EED0000ULL + index));
+  RescuerSearch search("sim", setup.rescuer);
+  MultiBurialTrial tr;
+  tr.index = index;
+  std::set<std::size_t> found_victims;
+  std::set<std::uint32_t> reported, signals;
+  std::uint64_t odometry_sequence = 0;
+  for (std::uint32_t step = 1; step <= setup.evaluation.step_budget; ++step) {
+    const TimestampNs stamp = static_cast<TimestampNs>(step) * 1'000'000'000;
+    const Listening heard = receiver.listen(pose, beacons, static_cast<double>(step), 1.0);
+    tr.wrong_attributions += heard.wrong_attributions;
+    tr.unattributed_pulses += heard.report.unattributed;
+    const OrientationObservation attitude = simulate_attitude(sim, pose, rng);
+    std::optional<Guidance> guidance;
+    for (const auto& h : heard.samples) {
+      FieldMeasurement m = to_measurement(h.sample);
+      m.rescuer_id = "sim";
+      m.sequence = step;
+      m.stamp = stamp;
+      m.orientation = attitude;
+      signals.insert(m.signal_id);
+      const auto outcome = search.process(m);
+      const auto* update = std::get_if<SearchUpdate>(&outcome);
+      if (update == nullptr) continue;
+      if (update->guidance) guidance = update->guidance;
+      if (update->estimate.status != EstimatorStatus::kFound || reported.count(m.signal_id) != 0) continue;
+      reported.insert(m.signal_id);
+      // A FOUND: is it a victim, one not found before?
+      const Vec3 where = pose.position + update->estimate.relative.position;
+      const double r95 = radius95_3d(update->estimate.relative.covariance);
+      std::optional<std::size_t> victim;
+      double best = 1e300;
+      for (std::size_t v = 0; v < beacons.size(); ++v) {
+        const double d = (beacons[v].position - where).norm();
+        if (d <= r95 + kFalseFoundMarginM && d < best) {
+          best = d;
+          victim = v;
+        }
+      }
+      if (!victim) ++tr.ghosts;
+      else if (!found_victims.insert(*victim).second) ++tr.duplicates;
+    }
+    tr.found = static_cast<std::uint32_t>(found_victims.size());
+    tr.steps = step;
+    if (tr.found == setup.victims) {
+      tr.all_found = true;
+      break;
+    }
+    if (!guidance) guidance = search.coast(stamp);
+    const double bearing = guidance ? guidance->bearing_rad : 0.0;  // no target: the primary line
+    const double step_m = guidance ? guidance->step_m : setup.rescuer.search.step_length_m;
+    const Vec3 before = pose.position;
+    Odometry o = simulate_step(sim, pose, bearing, step_m, rng);
+    tr.distance_m += (pose.position - before).norm();
+    o.rescuer_id = "sim";
+    o.sequence = ++odometry_sequence;
+    o.interval_start = stamp;
+    o.interval_end = stamp + 1'000'000'000;
+    search.add_odometry(o);
+  }
+  tr.signals = static_cast<std::uint32_t>(signals.size());
+  return tr;
+}
+
+MultiBurialSummary run_multi_burial(const MultiBurialSetup& setup, const std::function<void()>& on_trial_done,
+                                    const std::function<bool()>& cancelled) {
+  setup.validate();
+  const auto start = std::chrono::steady_clock::now();
+  const std::uint32_t n = setup.evaluation.trials;
+  std::uint32_t threads = setup.evaluation.threads;
+  if (threads == 0) threads = std::max(1U, std::thread::hardware_concurrency());
+  threads = std::min(threads, n);
+  std::vector<MultiBurialTrial> results(n);
+  std::vector<char> done(n, 0);
+  std::atomic<std::uint32_t> next{0};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  auto worker = [&] {
+    for (;;) {
+      if (cancelled && cancelled()) return;
+      const std::uint32_t i = next.fetch_add(1);
+      if (i >= n) return;
+      try {
+        results[i] = run_multi_burial_trial(setup, i);
+        done[i] = 1;
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+        next = n;
+        return;
+      }
+      if (on_trial_done) on_trial_done();
+    }
+  };
+  std::vector<std::thread> pool;
+  for (std::uint32_t t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (auto& th : pool) th.join();
+  if (error) std::rethrow_exception(error);
+  MultiBurialSummary s;
+  s.victims = setup.victims;
+  s.spread_m = setup.spread_m;
+  s.seed = setup.evaluation.seed;
+  std::vector<double> steps, distance;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (!done[i]) continue;
+    const auto& r = results[i];
+    ++s.trials;
+    if (r.all_found) {
+      ++s.all_found;
+      steps.push_back(r.steps);
+      distance.push_back(r.distance_m);
+    }
+    s.ghosts += r.ghosts;
+    s.duplicates += r.duplicates;
+    s.wrong_attributions += r.wrong_attributions;
+    s.unattributed_pulses += r.unattributed_pulses;
+    s.per_trial.push_back(r);
+  }
+  s.steps = compute_stats(steps);
+  s.distance_m = compute_stats(distance);
+  s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return s;
+}
+
+}  // namespace sarloc::avalanche
