@@ -12,6 +12,7 @@
 #include <set>
 #include <thread>
 
+#include "sarloc/core/avalanche/parallel_trials.hpp"
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/gaussian.hpp"
@@ -158,48 +159,13 @@ EvaluationSummary run_evaluation(const EvaluationSetup& setup,
                                  const StepObserver& observer) {
   setup.validate();
   const auto start = std::chrono::steady_clock::now();
-  const std::uint32_t n = setup.evaluation.trials;
-  std::uint32_t threads = setup.evaluation.threads;
-  if (threads == 0) threads = std::max(1U, std::thread::hardware_concurrency());
-  threads = std::min(threads, n);
-  std::vector<TrialResult> results(n);
-  std::vector<char> done(n, 0);
-  std::atomic<bool> stop{false};
-  std::atomic<std::uint32_t> next{0};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto worker = [&] {
-    for (;;) {
-      if (cancelled && cancelled()) stop = true;
-      if (stop) return;
-      const std::uint32_t i = next.fetch_add(1);
-      if (i >= n) return;
-      try {
-        results[i] = run_trial(setup, i, observer);
-        done[i] = 1;
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-        next = n;
-        return;
-      }
-      if (on_trial_done) on_trial_done();
-    }
-  };
-  std::vector<std::thread> pool;
-  for (std::uint32_t t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& th : pool) th.join();
-  if (error) std::rethrow_exception(error);
+  TrialRun<TrialResult> run = run_parallel_trials<TrialResult>(
+      setup.evaluation.trials, setup.evaluation.threads,
+      [&](std::uint32_t i) { return run_trial(setup, i, observer); }, on_trial_done, cancelled);
+  std::vector<TrialResult> results = std::move(run.results);
 
   EvaluationSummary s;
-  s.cancelled = stop;
-  if (s.cancelled) {
-    std::vector<TrialResult> kept;
-    for (std::uint32_t i = 0; i < n; ++i)
-      if (done[i]) kept.push_back(std::move(results[i]));
-    results = std::move(kept);
-  }
+  s.cancelled = run.cancelled;
   s.trials = static_cast<std::uint32_t>(results.size());
   s.seed = setup.evaluation.seed;
   s.receiver = to_string(setup.simulation.receiver.kind);

@@ -1,17 +1,15 @@
 #include "sarloc/core/avalanche/multi_burial.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <map>
-#include <mutex>
 #include <set>
 #include <sstream>
-#include <thread>
 
 #include "sarloc/core/avalanche/beacon_receiver.hpp"
 #include "sarloc/core/avalanche/dipole_model.hpp"
+#include "sarloc/core/avalanche/parallel_trials.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/gaussian.hpp"
@@ -136,45 +134,15 @@ MultiBurialSummary run_multi_burial(const MultiBurialSetup& setup, const std::fu
                                     const std::function<bool()>& cancelled) {
   setup.validate();
   const auto start = std::chrono::steady_clock::now();
-  const std::uint32_t n = setup.evaluation.trials;
-  std::uint32_t threads = setup.evaluation.threads;
-  if (threads == 0) threads = std::max(1U, std::thread::hardware_concurrency());
-  threads = std::min(threads, n);
-  std::vector<MultiBurialTrial> results(n);
-  std::vector<char> done(n, 0);
-  std::atomic<std::uint32_t> next{0};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto worker = [&] {
-    for (;;) {
-      if (cancelled && cancelled()) return;
-      const std::uint32_t i = next.fetch_add(1);
-      if (i >= n) return;
-      try {
-        results[i] = run_multi_burial_trial(setup, i);
-        done[i] = 1;
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-        next = n;
-        return;
-      }
-      if (on_trial_done) on_trial_done();
-    }
-  };
-  std::vector<std::thread> pool;
-  for (std::uint32_t t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (auto& th : pool) th.join();
-  if (error) std::rethrow_exception(error);
+  TrialRun<MultiBurialTrial> run = run_parallel_trials<MultiBurialTrial>(
+      setup.evaluation.trials, setup.evaluation.threads,
+      [&](std::uint32_t i) { return run_multi_burial_trial(setup, i); }, on_trial_done, cancelled);
   MultiBurialSummary s;
   s.victims = setup.victims;
   s.spread_m = setup.spread_m;
   s.seed = setup.evaluation.seed;
   std::vector<double> steps, distance;
-  for (std::uint32_t i = 0; i < n; ++i) {
-    if (!done[i]) continue;
-    const auto& r = results[i];
+  for (const auto& r : run.results) {
     ++s.trials;
     if (r.all_found) {
       ++s.all_found;

@@ -129,12 +129,6 @@ std::vector<FieldMeasurement> AvalancheSimulator::listen() {
   return out;
 }
 
-std::optional<std::uint32_t> AvalancheSimulator::transmitter_signal() const {
-  if (!receiver_) return std::nullopt;
-  for (std::uint32_t id = 1; id <= 64; ++id)
-    if (receiver_->beacon_of_signal(id) == std::optional<std::size_t>(0)) return id;
-  return std::nullopt;
-}
 
 FieldMeasurement AvalancheSimulator::measure() {
   const ReceiverPose pose{scenario_.receiver, scenario_.receiver_rpy};

@@ -88,8 +88,6 @@ class AvalancheSimulator {
   /// second until the next walk(): zero, one or (rarely, a spurious signal) more samples, each
   /// with its signal id, sign unknown, invalid axes marked.
   std::vector<FieldMeasurement> listen();
-  /// Realistic receiver: the transmitter's signal id, once the separation has attributed it.
-  std::optional<std::uint32_t> transmitter_signal() const;
   /// Realistic receiver: attributed pulses that were not the transmitter's (spurious signals).
   std::uint32_t wrong_attributions() const { return wrong_attributions_; }
   /// Turns by bearing_rad from the TRUE heading, walks step_m horizontally, returns odometry.
