@@ -17,6 +17,7 @@ void read_receiver(YamlReader r, avalanche::ReceiverModelConfig& c) {
   r.read("short_axis_noise_factor", c.short_axis_noise_factor);
   r.read("detect_snr", c.detect_snr);
   r.read("gain_sigma", c.gain_sigma);
+  r.read("calibration_relative", c.calibration_relative);
   r.read("misalignment_sigma_deg", c.misalignment_sigma_deg);
   r.read("phase_coherent", c.phase_coherent);
   r.read("period_min_ms", c.period_min_ms);
@@ -98,6 +99,7 @@ void read_search(YamlReader r, avalanche::SearchConfig& c) {
   r.read("opening_heading", opening);
   c.opening_heading = avalanche::parse_opening_heading(opening);
   r.read("opening_line_samples", c.opening_line_samples);
+  r.read("coast_return_m", c.coast_return_m);
   r.read("bearing_kernel_deg", c.bearing_kernel_deg);
   r.read("bearing_switch_ratio", c.bearing_switch_ratio);
   r.read("lookahead_hypotheses", c.lookahead.hypotheses);

@@ -12,6 +12,7 @@ namespace {
 SeparatorConfig separator_config(const SimulationConfig& c) {
   SeparatorConfig s;
   s.detect_snr = c.receiver.detect_snr;
+  s.calibration_relative = c.receiver.calibration_relative;
   s.detector.search_band_hz = c.receiver.carrier_tolerance_hz + 20.0;
   s.detector.max_on_time_s = 1e-3 * c.receiver.on_time_max_ms * 1.1;
   return s;

@@ -88,6 +88,7 @@ std::vector<DetectedPulse> detect_pulses(const BasebandWindow& w, const PulseDet
     double f;
     Eigen::Index a, b;
     double t;
+    bool blended = false;
   };
   std::vector<Found> pulses;
   for (std::uint32_t iteration = 0; iteration < 2 * c.max_pulses + bands.size() && pulses.size() < c.max_pulses;
@@ -139,15 +140,18 @@ std::vector<DetectedPulse> detect_pulses(const BasebandWindow& w, const PulseDet
     // Nor is a burst overlapping a pulse within one frequency cell of their overlap (not
     // resolvable), nor a much weaker one: the sidelobes of a strong pulse whose carrier was
     // estimated a fraction of a hertz off.
-    const bool residual = std::any_of(pulses.begin(), pulses.end(), [&](const Found& p) {
+    bool residual = false;
+    for (Found& p : pulses) {
       const auto overlap = std::min(cand.b, p.b) - std::max(cand.a, p.a);
-      if (overlap <= 0) return false;
+      if (overlap <= 0) continue;
       const double resolution_hz = fs / static_cast<double>(overlap);  // one cell of the overlap
       const double df = std::fabs(p.f - cand.f);
-      return df < std::max(3.0, resolution_hz) || cand.t < c.sidelobe_ratio * p.t;
-    });
+      const bool unresolved = df < std::max(3.0, resolution_hz);
+      if (unresolved && cand.t >= c.blend_ratio * p.t) p.blended = true;
+      if (unresolved || cand.t < c.sidelobe_ratio * p.t) residual = true;
+    }
     std::vector<Found> fitted = pulses;
-    fitted.push_back({cand.f, cand.a, cand.b, cand.t});
+    fitted.push_back({cand.f, cand.a, cand.b, cand.t, false});
     if (!residual) pulses = fitted;
     cancel(fitted);
   }
@@ -174,6 +178,7 @@ std::vector<DetectedPulse> detect_pulses(const BasebandWindow& w, const PulseDet
       d.amplitude[a] = coeffs(j, a) * w.sample_noise[a];
       d.amplitude_noise[a] = w.sample_noise[a] * std::sqrt(joint);
     }
+    d.blended = pulses[j].blended;
     d.truncated_start = pulses[j].a == 0;
     d.truncated_end = pulses[j].b == n;
     found.push_back(d);

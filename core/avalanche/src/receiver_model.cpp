@@ -35,6 +35,7 @@ void ReceiverModelConfig::validate() const {
   check("short_axis_noise_factor", short_axis_noise_factor, 1.0, 100.0);
   check("detect_snr", detect_snr, 1.0, 20.0);
   check("gain_sigma", gain_sigma, 0.0, 0.3);
+  check("calibration_relative", calibration_relative, 0.0, 0.5);
   check("misalignment_sigma_deg", misalignment_sigma_deg, 0.0, 20.0);
   // EN 300 718 as quoted in NOTES.md: period 1000 +- 300 ms, on-time >= 70 ms, +-80 Hz.
   check("period_min_ms", period_min_ms, 700.0, 1300.0);
@@ -62,14 +63,19 @@ Vec3c full_dipole_field(const Vec3& r, const Vec3& m, double k) {
   return h;
 }
 
-Vec3 principal_axis(const Vec3c& a) {
+namespace {
+
+// a e^{-j theta}, theta = arg(sum a_i^2) / 2: real part along the major axis, imaginary along the minor.
+Vec3c ellipse_aligned(const Vec3c& a) {
   const std::complex<double> s = a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
-  const double theta = 0.5 * std::arg(s);
-  const std::complex<double> rot = std::polar(1.0, -theta);
-  Vec3 v;
-  for (int i = 0; i < 3; ++i) v[i] = (a[i] * rot).real();
-  return v;
+  return a * std::polar(1.0, -0.5 * std::arg(s));
 }
+
+}  // namespace
+
+Vec3 principal_axis(const Vec3c& a) { return ellipse_aligned(a).real(); }
+
+Vec3 minor_axis(const Vec3c& a) { return ellipse_aligned(a).imag(); }
 
 ReceiverHardware ReceiverHardware::draw(const ReceiverModelConfig& config, std::mt19937_64& rng) {
   const double mis = config.misalignment_sigma_deg * kPi / 180.0;

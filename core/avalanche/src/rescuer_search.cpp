@@ -256,11 +256,11 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
   return update;
 }
 
-std::optional<Guidance> RescuerSearch::coast(TimestampNs stamp) const {
+std::optional<Guidance> RescuerSearch::coast(TimestampNs stamp) {
   if (!target_) return std::nullopt;
   const auto it = signals_.find(*target_);
   if (it == signals_.end() || !it->second.filter.initialised()) return std::nullopt;
-  const SignalState& s = it->second;
+  SignalState& s = it->second;
   Guidance g = s.controller.coast(s.filter);
   g.rescuer_id = rescuer_id_;
   g.signal_id = *target_;

@@ -51,6 +51,7 @@ void SearchConfig::validate() const {
   check("approach_radius_fraction", approach_radius_fraction, 0.0, 1.0, true);
   check("flux_smoothing", flux_smoothing, 0.0, 0.99, false);
   check("opening_line_samples", opening_line_samples, 0.0, 100.0, false);
+  check("coast_return_m", coast_return_m, 1.0, 1000.0, false);
   check("flux_snr_cap", flux_snr_cap, 0.0, 1000.0, true);
   check("flux_detection_snr2", flux_detection_snr2, 0.0, 100.0, false);
   check("bearing_kernel_deg", bearing_kernel_deg, 0.0, 180.0, true);
@@ -141,6 +142,7 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
   g.rescuer_id = meas.rescuer_id;
   g.signal_id = meas.signal_id;
   g.stamp = meas.stamp;
+  returning_ = false;
   if (!filter.initialised()) {
     g.mode = mode_;
     g.step_m = 0.0;
@@ -272,7 +274,7 @@ void SearchController::drop_pattern() {
   if (stall_) stall_->reset();
 }
 
-Guidance SearchController::coast(const SogFilter& filter) const {
+Guidance SearchController::coast(const SogFilter& filter) {
   const MixtureMoments mm = filter.predicted_moments();
   const Vec3 p = mm.mean.segment<3>(idx::kPos);
   Guidance g;
@@ -280,7 +282,14 @@ Guidance SearchController::coast(const SogFilter& filter) const {
   g.distance_m = p.head<2>().norm();
   g.uncertainty_radius_m = radius95_2d(mm.covariance.block<3, 3>(idx::kPos, idx::kPos));
   g.heading_rad = std::atan2(p.y(), p.x());
-  if (mode_ == GuidanceMode::kOpening) {
+  const Vec3 heard = filter.predicted_last_measurement_position();
+  const double back_m = heard.head<2>().norm();
+  if (back_m > config_.coast_return_m) returning_ = true;
+  if (back_m <= config_.step_length_m) returning_ = false;
+  if (returning_) {
+    g.bearing_rad = wrap_angle(std::atan2(heard.y(), heard.x()) - mm.mean[idx::kAtt + 2]);
+    g.step_m = std::min(config_.step_length_m, heard.head<2>().norm());
+  } else if (mode_ == GuidanceMode::kOpening) {
     g.bearing_rad = 0.0;
     g.step_m = config_.step_length_m;
   } else {

@@ -45,12 +45,19 @@ const char* to_string(TrackChange change) {
 
 void SeparatorConfig::validate() const {
   check("detect_snr", detect_snr, 1.0, 20.0);
+  check("calibration_relative", calibration_relative, 0.0, 0.5);
   check("carrier_match_hz", carrier_match_hz, 0.1, 40.0);
   check("carrier_match_weak_hz", carrier_match_weak_hz, 0.0, 1000.0);
-  check("timing_tolerance_s", timing_tolerance_s, 0.002, 0.2);
-  check("timing_drift_s", timing_drift_s, 0.0, 0.05);
-  check("timing_tolerance_weak_s", timing_tolerance_weak_s, 0.0, 100.0);
+  check("edge_sigma_s", edge_sigma_s, 1e-4, 0.1);
+  check("edge_sigma_weak_s", edge_sigma_weak_s, 0.0, 100.0);
+  check("timing_gate_sigmas", timing_gate_sigmas, 1.0, 10.0);
+  check("on_time_tolerance_s", on_time_tolerance_s, 0.0, 0.5);
+  check("timing.min_period_s", timing.min_period_s, 0.1, 5.0);
+  check("timing.max_period_s", timing.max_period_s, timing.min_period_s, 5.0);
+  check("timing.clock_jitter_s", timing.clock_jitter_s, 0.0, 0.1);
+  check("timing.reanchor_period_sigma_s", timing.reanchor_period_sigma_s, 0.0, 0.5);
   check("max_variance_inflation", max_variance_inflation, 1.0, 100.0);
+  check("max_ellipticity", max_ellipticity, 0.0, 1.0);
   check("lost_after_s", lost_after_s, 1.0, 600.0);
   check("forget_after_s", forget_after_s, lost_after_s, 86400.0);
   check("log_likelihood_margin", log_likelihood_margin, 0.0, 1000.0);
@@ -62,6 +69,7 @@ void SeparatorConfig::validate() const {
   check("detector.fine_step_hz", detector.fine_step_hz, 0.001, detector.coarse_step_hz);
   check("detector.false_alarms_per_window", detector.false_alarms_per_window, 1e-9, 0.5);
   check("detector.max_pulses", detector.max_pulses, 1, 32);
+  check("detector.blend_ratio", detector.blend_ratio, detector.sidelobe_ratio, 1.0);
 }
 
 SignalSeparator::SignalSeparator(SeparatorConfig config) : config_((config.validate(), std::move(config))) {}
@@ -72,21 +80,27 @@ std::optional<double> SignalSeparator::carrier_of(std::uint32_t signal_id) const
   return std::nullopt;
 }
 
+double SignalSeparator::edge_sigma(const DetectedPulse& p) const {
+  return config_.edge_sigma_s + config_.edge_sigma_weak_s / std::max(p.statistic, 1.0);
+}
+
+std::optional<std::pair<double, double>> SignalSeparator::start_of(const Track& t, const DetectedPulse& p) const {
+  if (!p.truncated_start) return std::make_pair(p.start_s, edge_sigma(p));
+  if (p.truncated_end || !t.on_time_s) return std::nullopt;
+  return std::make_pair(p.end_s - *t.on_time_s, 2.0 * edge_sigma(p));  // end and learnt on-time
+}
+
 bool SignalSeparator::timing_fits(const Track& t, const DetectedPulse& p) const {
-  if (!t.last_start_s || !t.on_time_s) return true;  // timing not learnt yet: the carrier decides
-  // Edges of a weak pulse are found less precisely: the tolerance grows as 1 / statistic.
-  const double tol_base = config_.timing_tolerance_s + config_.timing_tolerance_weak_s / std::max(p.statistic, 1.0);
+  if (!t.on_time_s) return true;  // timing not learnt yet: the carrier decides
   // A pulse longer than the track's on-time holds another pulse on the same carrier.
-  if (!p.truncated() && p.end_s - p.start_s > *t.on_time_s + 2.0 * tol_base) return false;
-  if (!t.period_s) return true;
-  const double period = *t.period_s;
-  const double reference = p.truncated_start ? p.end_s - *t.on_time_s : p.start_s;
-  const double k = std::round((reference - *t.last_start_s) / period);
-  const double predicted_start = *t.last_start_s + k * period;
-  const double tol = tol_base + config_.timing_drift_s * std::fabs(k);
-  if (!p.truncated_start && std::fabs(p.start_s - predicted_start) > tol) return false;
-  if (!p.truncated_end && std::fabs(p.end_s - (predicted_start + *t.on_time_s)) > tol) return false;
-  return true;
+  const double edges = std::sqrt(2.0) * edge_sigma(p);
+  if (!p.truncated() &&
+      p.end_s - p.start_s > *t.on_time_s + config_.timing_gate_sigmas * edges + config_.on_time_tolerance_s)
+    return false;
+  const auto start = start_of(t, p);
+  if (!start) return true;
+  const auto fit = t.timing.fit(start->first, start->second);
+  return !fit || fit->sigmas() <= config_.timing_gate_sigmas;
 }
 
 void SignalSeparator::learn(Track& t, const DetectedPulse& p) {
@@ -94,20 +108,17 @@ void SignalSeparator::learn(Track& t, const DetectedPulse& p) {
   t.carrier_hz = (t.carrier_hz * t.carrier_weight + p.carrier_offset_hz * w) / (t.carrier_weight + w);
   t.carrier_weight = std::min(t.carrier_weight + w, 1e4);  // keeps following a slow drift
   t.last_heard_s = p.end_s;
-  if (p.truncated()) return;
-  const double on = p.end_s - p.start_s;
-  t.on_time_s = t.on_time_s ? 0.8 * *t.on_time_s + 0.2 * on : on;
-  if (t.last_start_s) {
-    const double gap = p.start_s - *t.last_start_s;
-    if (t.period_s) {
-      const double k = std::round(gap / *t.period_s);
-      if (k >= 1.0 && std::fabs(gap - k * *t.period_s) <= config_.timing_tolerance_s + config_.timing_drift_s * k)
-        *t.period_s += 0.3 * (gap / k - *t.period_s);
-    } else if (gap >= 0.65 && gap <= 1.35) {
-      t.period_s = gap;  // two consecutive clean pulses (a standard period is 0.7-1.3 s)
-    }
+  if (!p.truncated()) {
+    const double on = p.end_s - p.start_s;
+    t.on_time_s = (t.on_time_s.value_or(0.0) * t.on_time_weight + on * w) / (t.on_time_weight + w);
+    t.on_time_weight = std::min(t.on_time_weight + w, 1e4);
   }
-  t.last_start_s = p.start_s;
+  if (const auto start = start_of(t, p)) t.timing.update(start->first, start->second);
+}
+
+bool SignalSeparator::elliptical(const DetectedPulse& p) const {
+  return minor_axis(p.amplitude).norm() >
+         config_.max_ellipticity * principal_axis(p.amplitude).norm() + 3.0 * p.amplitude_noise.norm();
 }
 
 SeparatedSample SignalSeparator::sample_of(const DetectedPulse& p, std::uint32_t id, std::size_t index) const {
@@ -122,7 +133,7 @@ SeparatedSample SignalSeparator::sample_of(const DetectedPulse& p, std::uint32_t
     }
   }
   s.field = principal_axis(valid);
-  s.noise = p.amplitude_noise;
+  s.noise = p.amplitude_noise + Vec3::Constant(config_.calibration_relative * s.field.norm());
   return s;
 }
 
@@ -137,7 +148,7 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
   std::vector<std::size_t> order(r.pulses.size());
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return r.pulses[a].statistic > r.pulses[b].statistic; });
-  auto merge = [&](std::vector<Track*>& tracks, double time) {
+  auto merge = [&](const std::vector<Track*>& tracks, double time) {
     for (Track* t : tracks) {
       if (!t->merged) r.events.push_back({t->id, TrackChange::kMerged, time});
       t->merged = true;
@@ -145,19 +156,22 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
   };
   for (std::size_t i : order) {
     const DetectedPulse& p = r.pulses[i];
-    std::vector<Track*> carrier_matches, candidates;
+    std::vector<Track*> carrier_matches, confirmed, tentative;
     for (auto& t : tracks_) {
       // A weak pulse's carrier (and a young track's) is known less precisely: ~1 / sqrt(statistic).
       const double tolerance = config_.carrier_match_hz +
                                config_.carrier_match_weak_hz / std::sqrt(std::max(1.0, std::min(p.statistic, t.carrier_weight)));
       if (std::fabs(t.carrier_hz - p.carrier_offset_hz) > tolerance) continue;
       carrier_matches.push_back(&t);
-      if (timing_fits(t, p)) candidates.push_back(&t);
+      if (timing_fits(t, p)) (t.timing.has_period() ? confirmed : tentative).push_back(&t);
     }
-    if (p.variance_inflation > config_.max_variance_inflation) {
+    if (p.variance_inflation > config_.max_variance_inflation || p.blended || elliptical(p)) {
       merge(carrier_matches, p.start_s);  // overlapping on the same carrier: not separable
       continue;
     }
+    // A confirmed track's timing decides before a tentative one's (which fits anything on its
+    // carrier until it knows its period).
+    const std::vector<Track*>& candidates = confirmed.empty() ? tentative : confirmed;
     Track* chosen = nullptr;
     if (candidates.size() == 1) {
       chosen = candidates.front();
@@ -176,10 +190,14 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
         merge(candidates, p.start_s);
         continue;
       }
+    } else if (carrier_matches.size() == 1 && carrier_matches.front()->lost && !p.truncated()) {
+      chosen = carrier_matches.front();  // unheard a while, its timing drifted: reanchor on this pulse
+      chosen->timing.reanchor();
     } else if (carrier_matches.empty() && !p.truncated() && tracks_.size() < config_.max_signals) {
       Track t;
       t.id = next_id_++;
       t.carrier_hz = p.carrier_offset_hz;
+      t.timing = PulseTiming(config_.timing);
       tracks_.reserve(config_.max_signals);
       tracks_.push_back(t);
       chosen = &tracks_.back();
@@ -203,9 +221,9 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
       if (chosen->pending == SignalEvent::kNone) chosen->pending = SignalEvent::kSeparated;
       r.events.push_back({chosen->id, TrackChange::kSeparated, p.start_s});
     }
-    const bool confirmed = chosen->period_s.has_value();
+    const bool was_confirmed = chosen->timing.has_period();
     learn(*chosen, p);
-    if (!confirmed && chosen->period_s) r.events.push_back({chosen->id, TrackChange::kNew, p.start_s});
+    if (!was_confirmed && chosen->timing.has_period()) r.events.push_back({chosen->id, TrackChange::kNew, p.start_s});
   }
   for (std::size_t i = 0; i < r.pulses.size(); ++i)
     if (!r.attributed[i]) ++r.unattributed;
@@ -214,10 +232,13 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
   // by its second pulse a period later: a one-off burst (a residual, a false alarm) never
   // becomes a signal.
   for (auto& t : tracks_) {
-    if (!t.period_s) continue;
+    if (!t.timing.has_period()) continue;
     std::optional<std::size_t> best;
-    for (std::size_t i = 0; i < r.pulses.size(); ++i)
-      if (r.attributed[i] == t.id && (!best || r.pulses[i].statistic > r.pulses[*best].statistic)) best = i;
+    for (std::size_t i = 0; i < r.pulses.size(); ++i) {
+      const DetectedPulse& p = r.pulses[i];
+      if (p.truncated() && p.end_s - p.start_s < config_.detector.min_on_time_s) continue;
+      if (r.attributed[i] == t.id && (!best || p.statistic > r.pulses[*best].statistic)) best = i;
+    }
     if (!best) continue;
     SeparatedSample s = sample_of(r.pulses[*best], t.id, *best);
     if (s.valid_axes == 0) continue;
@@ -227,13 +248,13 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
   }
   // Silence: lost, then forgotten.
   for (auto& t : tracks_) {
-    if (t.period_s && !t.lost && window_end - t.last_heard_s > config_.lost_after_s) {
+    if (t.timing.has_period() && !t.lost && window_end - t.last_heard_s > config_.lost_after_s) {
       t.lost = true;
       r.events.push_back({t.id, TrackChange::kLost, window_end});
     }
   }
   for (auto it = tracks_.begin(); it != tracks_.end();) {
-    if (!it->period_s && window_end - it->last_heard_s > 2.0 * 1.35) {
+    if (!it->timing.has_period() && window_end - it->last_heard_s > 2.0 * 1.35) {
       it = tracks_.erase(it);  // never confirmed: dropped quietly
     } else if (window_end - it->last_heard_s > config_.forget_after_s) {
       r.events.push_back({it->id, TrackChange::kForgotten, window_end});

@@ -244,6 +244,14 @@ MixtureMoments SogFilter::predicted_moments() const {
   return mm;
 }
 
+Vec3 SogFilter::predicted_last_measurement_position() const {
+  const Displacement& d = odometry_.peek();
+  if (d.samples == 0) return Vec3::Zero();
+  StateVec origin = moments().mean;
+  origin.segment<3>(idx::kPos).setZero();
+  return CompositionModel::f(origin, d.mean, static_cast<CompositionJacobians*>(nullptr)).segment<3>(idx::kPos);
+}
+
 void SogFilter::initialise(const FieldMeasurement& meas) {
   validate_field_measurement(meas);
   gate_failures_ = 0;  // a new mixture starts a new innovation history

@@ -29,7 +29,7 @@ Outcome AvalancheRescuerEstimator::process(const SensorSample& sample) {
   return out;
 }
 
-std::optional<responder::Guidance> AvalancheRescuerEstimator::coast(TimestampNs stamp) const {
+std::optional<responder::Guidance> AvalancheRescuerEstimator::coast(TimestampNs stamp) {
   return search_.coast(stamp);
 }
 

@@ -46,6 +46,21 @@ TEST(PrincipalAxis, RecoversTheVectorUpToItsSign) {
   }
 }
 
+TEST(MinorAxis, OneTransmitterIsLinearTwoSummedAreNot) {
+  const Vec3 m(0.02, -0.01, 0.015);
+  const double k = wavenumber(ReceiverModelConfig{});
+  // One transmitter: linear to within (kr)^3 (the radiation term alone points elsewhere).
+  for (double r : {2.0, 20.0, 50.0}) {
+    const Vec3c h = full_dipole_field(Vec3(r * 0.6, r * 0.8, -1.0), m, k) * std::polar(1.0, 0.7);
+    EXPECT_LT(minor_axis(h).norm(), (r < 30.0 ? 0.01 : 0.1) * principal_axis(h).norm()) << "r = " << r;
+  }
+  // Two of similar strength, their carrier phases a quarter cycle apart: clearly elliptical.
+  const Vec3c a = full_dipole_field(Vec3(3.0, 1.0, -1.5), m, k);
+  const Vec3c b = full_dipole_field(Vec3(2.0, -2.0, -1.0), Vec3(-0.01, 0.02, 0.0), k);
+  const Vec3c sum = a + b * std::complex<double>(0.0, 1.0);
+  EXPECT_GT(minor_axis(sum).norm(), 0.3 * principal_axis(sum).norm());
+}
+
 TEST(ReceiverModelConfig, RefusesTimingOutsideTheStandard) {
   ReceiverModelConfig c;
   c.period_min_ms = 600.0;
@@ -146,6 +161,36 @@ TEST(SignalSeparator, SameCarrierSameTimeIsNotAttributed) {
   }
   EXPECT_GE(unattributed, 5U);  // at least half of the 10 overlapping pairs: never guessed
   EXPECT_LE(wrong, 1U);
+}
+
+// Two transmitters 0.5 Hz apart, their pulses overlapping almost entirely: the detector cannot
+// resolve them; the pulse is flagged blended or elliptical and never becomes a field sample.
+TEST(SignalSeparator, UnresolvableBlendGivesNoSample) {
+  SimulationConfig config;
+  BeaconReceiver receiver(config, 13);
+  std::vector<Beacon> beacons(2);
+  beacons[0].position = Vec3(10.0, 0.0, -1.0);
+  beacons[0].moment = Vec3(0.01, 0.0, 0.01);
+  beacons[1].position = Vec3(8.0, -4.0, -1.0);
+  beacons[1].moment = Vec3(0.0, 0.012, 0.004);
+  for (auto& b : beacons) {
+    b.timing.period_s = 1.0;
+    b.timing.on_time_s = 0.15;
+    b.timing.first_start_s = 0.3;
+  }
+  beacons[0].timing.carrier_offset_hz = 20.0;
+  beacons[1].timing.carrier_offset_hz = 20.5;
+  beacons[1].timing.first_start_s = 0.31;
+  ReceiverPose pose;
+  pose.position = Vec3(0.0, 0.0, 1.0);
+  std::uint32_t samples = 0, unattributed = 0;
+  for (int k = 0; k < 8; ++k) {
+    const Listening heard = receiver.listen(pose, beacons, k, 1.0);
+    samples += static_cast<std::uint32_t>(heard.samples.size());
+    unattributed += heard.report.unattributed;
+  }
+  EXPECT_EQ(samples, 0U);
+  EXPECT_GE(unattributed, 6U);
 }
 
 }  // namespace

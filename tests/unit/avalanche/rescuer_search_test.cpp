@@ -164,6 +164,24 @@ TEST(RescuerSearch, CoastingMovesTheTargetByTheStepsTakenSinceItWasHeard) {
   EXPECT_NEAR(coasted->distance_m, true_distance, 1.5);
 }
 
+TEST(RescuerSearch, CoastingFarFromWhereTheSignalWasLastHeardTurnsBack) {
+  const auto s = scenario();
+  mission::SimulatedRescuer sim(s, "r");
+  RescuerSearch search("r", quick());
+  feed(search, sim, 4);
+  ASSERT_TRUE(search.target_signal().has_value());
+  // Walk away, unheard, in the receiver's own x direction: 12 one-metre steps.
+  TimestampNs t = 4 * kSecond;
+  for (int k = 0; k < 12; ++k, t += kSecond)
+    ASSERT_FALSE(search.add_odometry(sim.walk(0.0, 1.0, t, t + kSecond)).has_value());
+  const auto g = search.coast(t);
+  ASSERT_TRUE(g.has_value());
+  // More than search.coast_return_m (10 m) from the last sample: back where it was heard,
+  // i.e. behind the receiver (bearing about 180 degrees), whatever the mixture says.
+  EXPECT_GT(std::fabs(g->bearing_rad), 2.6);
+  EXPECT_GT(g->step_m, 0.0);
+}
+
 
 // Horizontal NEES of signal `signal`'s estimate against the truth.
 double horizontal_nees(const RescuerSearch& search, std::uint32_t signal, const Vec3& truth_relative) {

@@ -48,7 +48,7 @@ class RecordingEstimator final : public ResponderEstimator {
     out.estimates.emplace_back();
     return out;
   }
-  std::optional<responder::Guidance> coast(TimestampNs) const override { return std::nullopt; }
+  std::optional<responder::Guidance> coast(TimestampNs) override { return std::nullopt; }
   void mark_done(std::uint32_t) override {}
   std::optional<responder::VictimEstimate> estimate_of(std::uint32_t) const override { return std::nullopt; }
   std::size_t active_filters() const override { return 0; }

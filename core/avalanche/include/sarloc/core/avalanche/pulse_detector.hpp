@@ -33,6 +33,10 @@ struct PulseDetectorConfig {
   /// taken for that pulse's residual: the receiver's dynamic range. A transmitter this much
   /// weaker under a strong one's pulse is heard in its other pulses.
   double sidelobe_ratio = 0.02;
+  /// A burst overlapping a pulse within one frequency cell and at least this fraction of its
+  /// statistic (13 dB) is not a residual but another transmitter's pulse that cannot be resolved
+  /// from it: the pulse is flagged blended (its field and edges are not its own).
+  double blend_ratio = 0.05;
   std::uint32_t max_pulses = 8;
   double tracked_band_hz = 3.0;        ///< search band around a tracked carrier
 };
@@ -45,6 +49,7 @@ struct DetectedPulse {
   Vec3 amplitude_noise = Vec3::Zero();  ///< 1 sigma of each real component of amplitude
   double statistic = 0.0;            ///< matched-filter statistic (chi-square 6 dof under noise)
   double variance_inflation = 1.0;   ///< joint fit variance / the pulse's own (1 = no overlap)
+  bool blended = false;              ///< an unresolvable pulse overlapped it (blend_ratio)
   bool truncated_start = false;      ///< began before the window: the start is the window's
   bool truncated_end = false;        ///< still on at the window's end
   bool truncated() const { return truncated_start || truncated_end; }

@@ -82,7 +82,7 @@ class RescuerSearch {
   /// Guidance to the target from its filter moved by the odometry since it was last heard,
   /// for an epoch in which the target's signal was not received (out of range, lost
   /// sample): the rescuer keeps heading for it instead of stopping. nullopt without a target.
-  std::optional<Guidance> coast(TimestampNs stamp) const;
+  std::optional<Guidance> coast(TimestampNs stamp);
 
   /// The signal is a victim already found (by this rescuer or reported by incident command):
   /// stop guiding to it.

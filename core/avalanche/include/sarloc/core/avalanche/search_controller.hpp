@@ -87,6 +87,11 @@ struct SearchConfig {
   /// receiver first hears a pulse now and then at the edge of range, and a turn on such a
   /// ring walks out of range half of the time (measured: 10 of 40 trials lost).
   std::uint32_t opening_line_samples = 0;
+  /// Farther than this from where the signal was last heard without hearing it again: head
+  /// back there (what a searcher who lost the signal does). Walking on, straight or for a
+  /// mixture still wide, can leave the range for good (1-2 trials in 100 walked off at 40-50 m);
+  /// a hypothesis this close would have been heard on the way.
+  double coast_return_m = 10.0;
   /// Angular width (1 sigma) of the kernel smoothing the posterior bearing density: wide
   /// enough that an arc of the ring counts as one direction, narrow enough to tell arcs apart.
   double bearing_kernel_deg = 35.0;
@@ -113,10 +118,12 @@ class SearchController {
   /// Guidance after the filter processed `measurement` (the same signal).
   Guidance guide(const SogFilter& filter, const FieldMeasurement& measurement);
   /// Guidance for a step in which the signal was not heard (a pulse period up to 1.3 s, a pulse
-  /// below the detection threshold, a lost sample): in the opening search, keep walking straight
-  /// on (the ring's mean says nothing yet); after it, head for the mixture moved by the odometry
-  /// since (SogFilter::predicted_moments). Ids and stamp are left for the caller.
-  Guidance coast(const SogFilter& filter) const;
+  /// below the detection threshold, a lost sample). Farther than coast_return_m from where the
+  /// last sample was taken, head back there, all the way (until a step from it or a sample
+  /// arrives). Otherwise, in the opening search, keep walking straight on (the ring's mean says little
+  /// yet); after it, head for the mixture moved by the odometry since
+  /// (SogFilter::predicted_moments). Ids and stamp are left for the caller.
+  Guidance coast(const SogFilter& filter);
   /// kLocated / kFound refinement of a filter estimate (same criteria as guide()).
   EstimatorStatus assess(const VictimEstimate& estimate) const;
   GuidanceMode mode() const { return mode_; }
@@ -137,6 +144,7 @@ class SearchController {
   Eigen::Vector2d flux_dir_ = Eigen::Vector2d::Zero();  ///< smoothed flux-line direction in G
   std::optional<double> opening_heading_;  ///< posterior-bearing heading held in G
   std::uint32_t opening_samples_ = 0;      ///< samples guided in the opening search so far
+  bool returning_ = false;                 ///< coasting back to where the signal was last heard
   std::optional<StallDetector> stall_;     ///< fine-search watch (stall_window_steps > 0)
   std::vector<Eigen::Vector2d> pattern_;   ///< adaptive end: probe offsets from the estimate
   std::size_t pattern_next_ = 0;           ///< next probe point to walk to

@@ -6,18 +6,23 @@
 // A transmitter is tracked by what identifies it physically: its carrier offset (fixed per
 // device, within +-80 Hz) and its pulse timing (period and on-time, learnt from its clean
 // pulses). A pulse is attributed to a track when its carrier matches and its edges fall where
-// the track's timing predicts. It is NOT attributed, and counted as such, when:
+// the track's timing predicts (pulse_timing.hpp: a Kalman filter on phase and period whose gate
+// widens with the periods predicted); confirmed tracks first. It is NOT attributed, and counted as such, when:
 //   - the detector could not separate it from an overlapping pulse (variance inflation above
-//     max_variance_inflation: same carrier, same time), or it lasts longer than its track's
+//     max_variance_inflation, or flagged blended: same carrier, same time), its polarisation is
+//     elliptical (two transmitters' fields summed), or it lasts longer than its track's
 //     on-time (two pulses merged into one);
 //   - two tracks match it and the field-consistency hook (each track's filter) does not pick
 //     one by a wide margin;
 //   - it matches nothing and cannot start a track (cut by the window's edges, or max_signals).
 // Events: a track not heard for lost_after_s is declared lost; heard again, its next sample
-// carries kReacquired. Tracks that shared an unattributable pulse are merged; the next
+// carries kReacquired (a lost track whose carrier alone matches a pulse that misses its timing
+// is reanchored on that pulse: its timing estimate drifted while it was unheard). Tracks that shared an unattributable pulse are merged; the next
 // sample attributed to each carries kSeparated. Each sample's field is the major axis of its
 // pulse's polarisation ellipse (principal_axis), sign unknown; axes below detect_snr are
-// reported invalid.
+// reported invalid. A pulse cut by the window's edge to less than the detector's matched window
+// (min_on_time_s) gives no sample: an edge a sample off biases a 20 ms fragment's amplitude by
+// 10 % and more, where a whole pulse's is biased by 1 %.
 //
 //   SignalSeparator separator(SeparatorConfig{});
 //   SeparationReport r = separator.process(window);
@@ -29,18 +34,27 @@
 
 #include "sarloc/core/avalanche/field_measurement.hpp"
 #include "sarloc/core/avalanche/pulse_detector.hpp"
+#include "sarloc/core/avalanche/pulse_timing.hpp"
 
 namespace sarloc::avalanche {
 
 struct SeparatorConfig {
   PulseDetectorConfig detector;
   double detect_snr = 3.0;               ///< per-axis validity threshold (amplitude / noise)
+  double calibration_relative = 0.0;     ///< added to each sample's noise, times |field|
   double carrier_match_hz = 2.0;         ///< a pulse's carrier matches a track within this, plus
   double carrier_match_weak_hz = 30.0;   ///< this / sqrt(statistic of the pulse or the track)
-  double timing_tolerance_s = 0.010;     ///< edges within this of the predicted ones, plus
-  double timing_tolerance_weak_s = 3.0;  ///< this / the pulse's statistic (weak edges are vague)
-  double timing_drift_s = 0.002;         ///< tolerance added per predicted period
+  double edge_sigma_s = 0.001;           ///< 1 sigma of a strong pulse's edge (half a sample), plus
+  double edge_sigma_weak_s = 2.0;        ///< this / the pulse's statistic (weak edges are vague)
+  double timing_gate_sigmas = 4.0;       ///< a pulse fits a track's timing within this many sigma
+  /// A pulse longer than the track's on-time by more than the edges' gate and this is two
+  /// pulses merged (the on-time learnt from weak pulses, whose edges the noise hides, runs short).
+  double on_time_tolerance_s = 0.015;
+  PulseTimingConfig timing;
   double max_variance_inflation = 2.0;   ///< overlap leaves a pulse this much noisier: unattributable
+  /// Minor / major axis of a pulse's polarisation ellipse above this (beyond 3 sigma of noise):
+  /// two transmitters' pulses summed (one is linear to within 0.1 at 50 m; minor_axis()).
+  double max_ellipticity = 0.15;
   double lost_after_s = 5.0;             ///< declared lost after this silence
   double forget_after_s = 600.0;         ///< a track silent this long is dropped (its id retired)
   double log_likelihood_margin = 9.2;    ///< consistency hook must prefer a track by e^9.2 = 10^4
@@ -97,16 +111,20 @@ class SignalSeparator {
     std::uint32_t id = 0;
     double carrier_hz = 0.0;
     double carrier_weight = 0.0;       ///< sum of the statistics averaged into carrier_hz
-    std::optional<double> on_time_s;   ///< from clean (untruncated) pulses
-    std::optional<double> last_start_s;
-    std::optional<double> period_s;
+    std::optional<double> on_time_s;   ///< from clean (untruncated) pulses, weighted by statistic
+    double on_time_weight = 0.0;
+    PulseTiming timing;                ///< confirmed once it knows the period
     double last_heard_s = 0.0;
     bool lost = false;
     bool merged = false;
     SignalEvent pending = SignalEvent::kNew;
   };
 
+  double edge_sigma(const DetectedPulse& p) const;
+  /// Start of the pulse and its 1 sigma; a pulse cut at the window's start is dated by its end.
+  std::optional<std::pair<double, double>> start_of(const Track& t, const DetectedPulse& p) const;
   bool timing_fits(const Track& t, const DetectedPulse& p) const;
+  bool elliptical(const DetectedPulse& p) const;
   void learn(Track& t, const DetectedPulse& p);
   SeparatedSample sample_of(const DetectedPulse& p, std::uint32_t id, std::size_t index) const;
 

@@ -146,6 +146,9 @@ class SogFilter {
   /// eq. (9) on the mixture mean, no update): where the transmitter is relative to the receiver
   /// now, for guidance when this signal was not heard. Position covariance grows by the step's.
   MixtureMoments predicted_moments() const;
+  /// Where the antenna was at the last measurement, relative to the receiver now (same
+  /// composition on the mixture's attitude): the place the signal was last heard.
+  Vec3 predicted_last_measurement_position() const;
   /// Reduced mixture: position moments (eq. (18)), the top_k components, the mean moment.
   /// status is kInitialising, kMultimodal or kConverged; SearchController::assess() refines it.
   VictimEstimate estimate(std::size_t top_k = 5) const;

@@ -16,7 +16,7 @@ class AvalancheRescuerEstimator final : public ResponderEstimator {
   bool add_unknown_motion(TimestampNs from, TimestampNs until) override;
   /// FieldMeasurement samples; anything else is refused (kWrongRole).
   Outcome process(const SensorSample& sample) override;
-  std::optional<responder::Guidance> coast(TimestampNs stamp) const override;
+  std::optional<responder::Guidance> coast(TimestampNs stamp) override;
   void mark_done(std::uint32_t signal_id) override { search_.mark_done(signal_id); }
   std::optional<responder::VictimEstimate> estimate_of(std::uint32_t signal_id) const override {
     return search_.estimate(signal_id);

@@ -52,7 +52,7 @@ class ResponderEstimator {
 
   /// Guidance for an epoch in which nothing was measured (the target not heard): from the
   /// belief moved by the odometry since. nullopt without a target.
-  virtual std::optional<responder::Guidance> coast(TimestampNs stamp) const = 0;
+  virtual std::optional<responder::Guidance> coast(TimestampNs stamp) = 0;
   /// The victim behind `signal_id` was found (here or as incident command reports): stop
   /// guiding to it.
   virtual void mark_done(std::uint32_t signal_id) = 0;
