@@ -90,14 +90,25 @@ std::optional<std::size_t> BeaconReceiver::beacon_of_signal(std::uint32_t signal
   return std::nullopt;
 }
 
-FieldMeasurement to_measurement(const SeparatedSample& s) {
-  FieldMeasurement m;
-  m.signal_id = s.signal_id;
-  m.field = s.field;
-  m.noise_stddev = s.noise;
-  m.valid_axes = s.valid_axes;
-  m.event = s.event;
-  return m;
+std::vector<FieldMeasurement> to_measurements(const Listening& heard, const std::string& rescuer_id,
+                                              std::uint64_t sequence, TimestampNs stamp,
+                                              const std::optional<OrientationObservation>& attitude) {
+  std::vector<FieldMeasurement> out;
+  for (const auto& h : heard.samples) {
+    FieldMeasurement m;
+    m.rescuer_id = rescuer_id;
+    m.signal_id = h.sample.signal_id;
+    m.sequence = sequence;
+    m.stamp = stamp;
+    m.field = h.sample.field;
+    m.noise_stddev = h.sample.noise;
+    m.valid_axes = h.sample.valid_axes;
+    m.event = h.sample.event;
+    m.unattributed_pulses = heard.report.unattributed;
+    m.orientation = attitude;
+    out.push_back(m);
+  }
+  return out;
 }
 
 }  // namespace sarloc::avalanche

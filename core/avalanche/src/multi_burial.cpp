@@ -80,12 +80,7 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
     tr.unattributed_pulses += heard.report.unattributed;
     const OrientationObservation attitude = simulate_attitude(sim, pose, rng);
     std::optional<Guidance> guidance;
-    for (const auto& h : heard.samples) {
-      FieldMeasurement m = to_measurement(h.sample);
-      m.rescuer_id = "sim";
-      m.sequence = step;
-      m.stamp = stamp;
-      m.orientation = attitude;
+    for (const FieldMeasurement& m : to_measurements(heard, "sim", step, stamp, attitude)) {
       signals.insert(m.signal_id);
       const auto outcome = search.process(m);
       const auto* update = std::get_if<SearchUpdate>(&outcome);

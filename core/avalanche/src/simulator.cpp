@@ -109,24 +109,14 @@ AvalancheSimulator::~AvalancheSimulator() = default;
 AvalancheSimulator::AvalancheSimulator(AvalancheSimulator&&) noexcept = default;
 
 std::vector<FieldMeasurement> AvalancheSimulator::listen() {
-  std::vector<FieldMeasurement> out;
-  if (!receiver_) return out;
+  if (!receiver_) return {};
   const ReceiverPose pose{scenario_.receiver, scenario_.receiver_rpy};
   const Listening heard = receiver_->listen(pose, beacons_, static_cast<double>(stamp_) * 1e-9, 1.0);
   wrong_attributions_ += heard.wrong_attributions;
   ++sequence_;
   std::optional<OrientationObservation> attitude;
   if (sequence_ == 1 || config_.attitude_updates) attitude = simulate_attitude(config_, pose, rng_);
-  for (const auto& h : heard.samples) {
-    FieldMeasurement m = to_measurement(h.sample);
-    m.rescuer_id = "sim";
-    m.sequence = sequence_;
-    m.stamp = stamp_;
-    m.orientation = attitude;
-    m.unattributed_pulses = heard.report.unattributed;
-    out.push_back(m);
-  }
-  return out;
+  return to_measurements(heard, "sim", sequence_, stamp_, attitude);
 }
 
 

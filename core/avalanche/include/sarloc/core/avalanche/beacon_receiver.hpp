@@ -8,7 +8,7 @@
 //
 //   BeaconReceiver receiver(simulation_config, seed);
 //   auto heard = receiver.listen(pose, beacons, t0, 1.0);
-//   for (const auto& h : heard.samples) filter_of(h.sample.signal_id).process(to_measurement(h.sample));
+//   for (const auto& m : to_measurements(heard, "r1", sequence, stamp, attitude)) filter_of(m.signal_id).process(m);
 #include <optional>
 #include <random>
 #include <vector>
@@ -60,7 +60,10 @@ class BeaconReceiver {
   std::vector<std::pair<std::uint32_t, std::size_t>> truth_;  ///< signal -> beacon
 };
 
-/// A FieldMeasurement of a separated sample (ids, sequence and stamp left for the caller).
-FieldMeasurement to_measurement(const SeparatedSample& sample);
+/// The window's samples as measurements of one rescuer, all with the window's sequence, stamp,
+/// attitude and count of unattributed pulses.
+std::vector<FieldMeasurement> to_measurements(const Listening& heard, const std::string& rescuer_id,
+                                              std::uint64_t sequence, TimestampNs stamp,
+                                              const std::optional<OrientationObservation>& attitude);
 
 }  // namespace sarloc::avalanche
