@@ -130,6 +130,13 @@ int main(int argc, char** argv) {
         spdlog::info("sensor source exhausted after {} epochs", epochs);
         break;
       }
+      // The device's separation: a new, reacquired or separated signal is worth a line.
+      for (const auto& sample : samples->samples) {
+        const auto* m = std::get_if<avalanche::FieldMeasurement>(&sample);
+        if (m != nullptr && m->event != avalanche::SignalEvent::kNone)
+          spdlog::info("signal {}: {} ({} pulses unattributed in this window)", m->signal_id, to_string(m->event),
+                       m->unattributed_pulses);
+      }
       last = node.epoch(samples->odometry, samples->position, samples->samples);
       if (samples->position) last_fix = samples->position;
       ++epochs;

@@ -60,6 +60,15 @@ T number_field(const json& j, const char* key) {
   return j[key].get<T>();
 }
 
+avalanche::SignalEvent signal_event_field(const json& j) {
+  const std::string name = j["signal_event"].is_string() ? j["signal_event"].get<std::string>() : "";
+  for (auto e : {avalanche::SignalEvent::kNone, avalanche::SignalEvent::kNew, avalanche::SignalEvent::kReacquired,
+                 avalanche::SignalEvent::kSeparated}) {
+    if (name == to_string(e)) return e;
+  }
+  throw InputError("signal_event = '" + name + "': expected none, new, reacquired or separated");
+}
+
 }  // namespace
 
 RecordedSource::RecordedSource(const std::string& path, std::string rescuer_id, std::string team)
@@ -95,6 +104,12 @@ bool RecordedSource::read_line(SensorEpoch& epoch, std::optional<TimestampNs>& f
       m.stamp = number_field<TimestampNs>(j, "stamp_ns");
       m.field = vector_field<3>(j, "field");
       m.noise_stddev = vector_field<3>(j, "noise_stddev");
+      if (j.contains("valid_axes")) {
+        const auto axes = number_field<int>(j, "valid_axes");
+        if (axes < 1 || axes > 7) throw InputError("valid_axes = " + std::to_string(axes) + ": a non-empty mask of bits 0-2 (1..7)");
+        m.valid_axes = static_cast<std::uint8_t>(axes);
+      }
+      if (j.contains("signal_event")) m.event = signal_event_field(j);
       if (j.contains("orientation_rpy")) {
         m.orientation = avalanche::OrientationObservation{vector_field<3>(j, "orientation_rpy"),
                                                           matrix_field<3>(j, "orientation_covariance")};

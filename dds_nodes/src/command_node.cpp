@@ -248,6 +248,7 @@ void CommandNode::cycle() {
       auto pending = std::move(pending_estimates_.front());
       pending_estimates_.pop_front();
       const auto& e = pending.estimate;
+      log_separation_event(e);
       if (e.status < responder::EstimatorStatus::kConverged) continue;  // a multimodal mean means nothing
       const auto fix = fix_at(e.rescuer_id, e.stamp);
       if (!fix) {
@@ -377,6 +378,16 @@ void CommandNode::apply(const incident::RoleChange& change, std::size_t adopted_
   } else {
     spdlog::info("{}: active ({})", config_.node_id, change.reason);
   }
+}
+
+void CommandNode::log_separation_event(const responder::VictimEstimate& e) {
+  if (e.signal_event != responder::SignalEvent::kReacquired && e.signal_event != responder::SignalEvent::kSeparated)
+    return;
+  auto& logged = separation_events_logged_[{e.rescuer_id, e.signal_id}];
+  if (e.signal_event_stamp <= logged) return;
+  logged = e.signal_event_stamp;
+  spdlog::info("signal separation: rescuer '{}' signal {} {} at stamp {} (its victim estimate continues from it)",
+               e.rescuer_id, e.signal_id, responder::to_string(e.signal_event), e.signal_event_stamp);
 }
 
 void CommandNode::adopt_picture() {

@@ -98,6 +98,9 @@ GaussianPose to_core(const ::sarloc::PoseWithCovariance& p) {
   out.stamp(m.stamp);
   out.field(to_idl(m.field));
   out.noise_stddev(to_idl(m.noise_stddev));
+  out.valid_axes(m.valid_axes);
+  out.signal_event(static_cast<::sarloc::SignalEvent>(m.event));
+  out.unattributed_pulses(m.unattributed_pulses);
   out.has_orientation(m.orientation.has_value());
   if (m.orientation) {
     out.orientation_rpy(to_idl(m.orientation->rpy));
@@ -114,6 +117,10 @@ avalanche::FieldMeasurement to_core(const ::sarloc::FieldMeasurement& m) {
   out.stamp = m.stamp();
   out.field = to_core(m.field());
   out.noise_stddev = to_core(m.noise_stddev());
+  out.valid_axes = m.valid_axes();  // the filters' gate names a bad mask
+  out.event = checked_enum<responder::SignalEvent>(m.signal_event(), ::sarloc::SIGNAL_SEPARATED,
+                                                   "field_measurement.signal_event");
+  out.unattributed_pulses = m.unattributed_pulses();
   if (m.has_orientation()) {
     out.orientation = avalanche::OrientationObservation{to_core(m.orientation_rpy()),
                                                         array_to_matrix<3>(m.orientation_covariance())};
@@ -166,6 +173,8 @@ responder::Odometry to_core(const ::sarloc::Odometry& o) {
   }
   out.live_components(e.live_components);
   out.moment(to_idl(e.moment));
+  out.signal_event(static_cast<::sarloc::SignalEvent>(e.signal_event));
+  out.signal_event_stamp(e.signal_event_stamp);
   return out;
 }
 
@@ -181,6 +190,9 @@ responder::VictimEstimate to_core(const ::sarloc::VictimEstimate& e) {
   }
   out.live_components = e.live_components();
   out.moment = to_core(e.moment());
+  out.signal_event = checked_enum<responder::SignalEvent>(e.signal_event(), ::sarloc::SIGNAL_SEPARATED,
+                                                          "victim_estimate.signal_event");
+  out.signal_event_stamp = e.signal_event_stamp();
   return out;
 }
 
@@ -252,6 +264,8 @@ responder::ResponderPosition to_core(const ::sarloc::ResponderPosition& r) {
     s.rescuer_id(to_identifier(v.sources[i].rescuer_id, "fused_victim.sources.rescuer_id"));
     s.signal_id(v.sources[i].signal_id);
     s.last_update(v.sources[i].last_update);
+    s.signal_event(static_cast<::sarloc::SignalEvent>(v.sources[i].signal_event));
+    s.signal_event_stamp(v.sources[i].signal_event_stamp);
     out.sources().push_back(s);
   }
   out.state(static_cast<::sarloc::VictimState>(v.state));
@@ -269,7 +283,10 @@ incident::FusedVictim to_core(const ::sarloc::FusedVictim& v) {
   out.position = to_core(v.position());
   out.floor = v.floor();
   for (const auto& s : v.sources()) {
-    out.sources.push_back({s.rescuer_id().to_string(), s.signal_id(), s.last_update()});
+    out.sources.push_back({s.rescuer_id().to_string(), s.signal_id(), s.last_update(),
+                           checked_enum<responder::SignalEvent>(s.signal_event(), ::sarloc::SIGNAL_SEPARATED,
+                                                                "fused_victim.sources.signal_event"),
+                           s.signal_event_stamp()});
   }
   out.state = checked_enum<incident::VictimState>(v.state(), ::sarloc::VICTIM_RECOVERED, "fused_victim.state");
   out.first_seen = v.first_seen();

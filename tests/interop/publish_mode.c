@@ -120,6 +120,8 @@ static sarloc_FieldMeasurement measurement_at(const char* rescuer_id, uint64_t s
   m.field = to_frame(&rpy, &h_enu);
   const double sigma = 0.05 * vector3_norm(&h_enu) + 2.1e-9;
   m.noise_stddev.x = m.noise_stddev.y = m.noise_stddev.z = sigma;
+  m.valid_axes = sarloc_FIELD_AXIS_X | sarloc_FIELD_AXIS_Y | sarloc_FIELD_AXIS_Z;
+  m.signal_event = sequence == 1 ? sarloc_SIGNAL_NEW : sarloc_SIGNAL_TRACKED;
   m.has_orientation = true;
   m.orientation_rpy = rpy;
   const double attitude[3] = {pow(1.0 * kDeg, 2), pow(1.0 * kDeg, 2), pow(5.0 * kDeg, 2)};

@@ -71,6 +71,8 @@ void check_field_measurement(const void* sample, CheckReport* r) {
     check_fail(r, "noise_stddev", "(%g, %g, %g): a standard deviation must be >= 0", m->noise_stddev.x,
                m->noise_stddev.y, m->noise_stddev.z);
   }
+  if (m->valid_axes == 0 || m->valid_axes > 7) check_fail(r, "valid_axes", "%u: a non-empty mask of bits 0-2", m->valid_axes);
+  check_enum(r, "signal_event", m->signal_event, sarloc_SIGNAL_SEPARATED);
   if (m->has_orientation) {
     check_orientation(r, &m->orientation_rpy);
     check_covariance(r, "orientation_covariance", m->orientation_covariance, 3);
@@ -141,6 +143,8 @@ void check_victim_estimate(const void* sample, CheckReport* r) {
   }
   check_components(r, e);
   check_vector3(r, "moment", &e->moment, MAX_MOMENT_A_M2);
+  check_enum(r, "signal_event", e->signal_event, sarloc_SIGNAL_SEPARATED);
+  check_stamp_or_zero(r, "signal_event_stamp", e->signal_event_stamp);
 }
 
 void check_guidance(const void* sample, CheckReport* r) {
@@ -203,6 +207,10 @@ void check_fused_victim(const void* sample, CheckReport* r) {
       check_id(r, field, v->sources._buffer[i].rescuer_id, sizeof v->sources._buffer[i].rescuer_id);
       snprintf(field, sizeof field, "sources[%u].last_update", i);
       check_stamp(r, field, v->sources._buffer[i].last_update);
+      snprintf(field, sizeof field, "sources[%u].signal_event", i);
+      check_enum(r, field, v->sources._buffer[i].signal_event, sarloc_SIGNAL_SEPARATED);
+      snprintf(field, sizeof field, "sources[%u].signal_event_stamp", i);
+      check_stamp_or_zero(r, field, v->sources._buffer[i].signal_event_stamp);
     }
   }
   check_stamp(r, "first_seen", v->first_seen);

@@ -25,6 +25,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainCommandStandby = 145,
   kDomainAdmissionRoster = 146,
   kDomainAdmissionEviction = 147,
+  kDomainMissionFourWithin5m = 148,
   kDomainMissionSmall = 130,  // mission_test: 130..139, and:
   kDomainMissionCommandKill = 134,
   kDomainMissionCommandRestart = 136,

@@ -32,6 +32,9 @@ inline avalanche::FieldMeasurement sample_field_measurement() {
   m.stamp = 1763731200123456789LL;
   m.field = Vec3(1.5e-6, -2.5e-7, 3.25e-8);
   m.noise_stddev = Vec3(1e-8, 2e-8, 3e-8);
+  m.valid_axes = 0b101;
+  m.event = avalanche::SignalEvent::kSeparated;
+  m.unattributed_pulses = 3;
   m.orientation = avalanche::OrientationObservation{Vec3(0.1, -0.2, 1.3), distinct_matrix<3>(0.001)};
   return m;
 }
@@ -61,6 +64,8 @@ inline responder::VictimEstimate sample_victim_estimate() {
   }
   e.live_components = 17;
   e.moment = Vec3(0.01, -0.02, 0.005);
+  e.signal_event = responder::SignalEvent::kReacquired;
+  e.signal_event_stamp = 1763731250000000000LL;
   return e;
 }
 
@@ -96,7 +101,8 @@ inline incident::FusedVictim sample_fused_victim() {
   incident::FusedVictim v;
   v.victim_id = 11;
   v.position = sample_position(55.0);
-  v.sources = {{"rescuer-alpha", 1, 1763731290000000000LL}, {"rescuer-bravo", 4, 1763731291000000000LL}};
+  v.sources = {{"rescuer-alpha", 1, 1763731290000000000LL, responder::SignalEvent::kNone, 0},
+               {"rescuer-bravo", 4, 1763731291000000000LL, responder::SignalEvent::kSeparated, 1763731280000000000LL}};
   v.state = incident::VictimState::kFound;
   v.first_seen = 1763731200000000000LL;
   v.last_update = 1763731291000000000LL;

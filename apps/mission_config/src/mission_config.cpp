@@ -157,6 +157,15 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("name", v.name);
     r.require("position", v.position);
     r.require("moment", v.moment);
+    double value = 0.0;
+    if (r.has("period_ms")) {
+      r.read("period_ms", value);
+      v.period_ms = value;
+    }
+    if (r.has("carrier_offset_hz")) {
+      r.read("carrier_offset_hz", value);
+      v.carrier_offset_hz = value;
+    }
     r.expect_done();
     c.scenario.victims.push_back(v);
   }

@@ -202,6 +202,15 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
              .first;
   }
   SignalState& s = it->second;
+  if (m.event != SignalEvent::kNone) {
+    s.last_event = m.event;
+    s.last_event_stamp = m.stamp;
+  }
+  auto with_event = [&s](VictimEstimate e) {
+    e.signal_event = s.last_event;
+    e.signal_event_stamp = s.last_event_stamp;
+    return e;
+  };
   if (s.found) {
     // Found here: the victim stays where the rescuer stood over it. The filter takes no more
     // measurement updates (while the rescuer walks off to the next victim, a late or lost
@@ -215,9 +224,9 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
     moved.top_components.clear();  // they describe the mixture of the moment it was found
     s.last_sequence = m.sequence;
     s.last_stamp = m.stamp;
-    s.estimate = moved;
+    s.estimate = with_event(moved);
     SearchUpdate unchanged;
-    unchanged.estimate = *s.found;
+    unchanged.estimate = with_event(*s.found);
     return unchanged;
   }
   // The gate already checked everything the filter checks; a throw here is a numerical
@@ -232,7 +241,7 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
   s.last_field_norm = m.field.norm();
 
   SearchUpdate update;
-  update.estimate = s.filter.estimate(config_.summary_components);
+  update.estimate = with_event(s.filter.estimate(config_.summary_components));
   update.estimate.stamp = m.stamp;
   bool found_now = false;
   if (target_ ? *target_ == m.signal_id : !s.done) {

@@ -21,16 +21,6 @@ void check(const char* key, double v, double lo, double hi) {
 
 }  // namespace
 
-const char* to_string(SignalEvent event) {
-  switch (event) {
-    case SignalEvent::kNone: return "none";
-    case SignalEvent::kNew: return "new";
-    case SignalEvent::kReacquired: return "reacquired";
-    case SignalEvent::kSeparated: return "separated";
-  }
-  return "none";
-}
-
 const char* to_string(TrackChange change) {
   switch (change) {
     case TrackChange::kNew: return "new";

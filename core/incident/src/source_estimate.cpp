@@ -36,6 +36,8 @@ SourceEstimate make_source_estimate(const responder::VictimEstimate& estimate, c
   s.rescuer_id = estimate.rescuer_id;
   s.signal_id = estimate.signal_id;
   s.stamp = estimate.stamp;
+  s.signal_event = estimate.signal_event;
+  s.signal_event_stamp = estimate.signal_event_stamp;
   s.state = source_state_of(estimate.status);
   s.position = to_incident_frame(estimate.relative, fix.antenna);
   s.floor = fix.floor;

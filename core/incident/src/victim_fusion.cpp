@@ -256,7 +256,8 @@ std::vector<GaussianPosition> VictimFusion::bound_positions(const FusedVictim& v
 void VictimFusion::bind(Source& s, FusedVictim& v) {
   s.victim_id = v.victim_id;
   s.last_victim_id = v.victim_id;
-  VictimSource vs{s.estimate.rescuer_id, s.estimate.signal_id, s.estimate.stamp};
+  VictimSource vs{s.estimate.rescuer_id, s.estimate.signal_id, s.estimate.stamp, s.estimate.signal_event,
+                  s.estimate.signal_event_stamp};
   auto pos = std::lower_bound(v.sources.begin(), v.sources.end(), vs,
                               [](const VictimSource& a, const VictimSource& b) {
                                 return std::tie(a.rescuer_id, a.signal_id) <
@@ -284,7 +285,10 @@ void VictimFusion::refuse(FusedVictim& v) {
   if (v.sources.empty()) return;  // keeps its last fused position
   v.position = covariance_intersection(bound_positions(v, std::string()), config_.weighting).fused;
   for (VictimSource& vs : v.sources) {
-    vs.last_update = sources_.at({vs.rescuer_id, vs.signal_id}).estimate.stamp;
+    const SourceEstimate& e = sources_.at({vs.rescuer_id, vs.signal_id}).estimate;
+    vs.last_update = e.stamp;
+    vs.signal_event = e.signal_event;
+    vs.signal_event_stamp = e.signal_event_stamp;
     v.last_update = std::max(v.last_update, vs.last_update);
   }
 }

@@ -19,9 +19,6 @@ std::string fmt(const Vec3& v) {
 
 void MissionScenario::validate() const {
   sensors.validate();
-  if (sensors.receiver.kind != avalanche::ReceiverKind::kIdeal)
-    throw ConfigError("simulation.receiver.kind = realistic: live missions do not run the realistic receiver yet "
-                      "(sarloc-eval avalanche / multi-burial do); use ideal");
   if (victims.empty()) throw ConfigError("victims: at least one victim is needed");
   if (rescuers.empty()) throw ConfigError("rescuers: at least one rescuer is needed");
   for (std::size_t i = 0; i < victims.size(); ++i) {
@@ -37,6 +34,19 @@ void MissionScenario::validate() const {
       std::ostringstream os;
       os << key << ".moment = " << fmt(v.moment) << ": |m| = " << m << " outside the standard's [" << lo << ", "
          << hi << "] A m^2";
+      throw ConfigError(os.str());
+    }
+    const auto& rx = sensors.receiver;
+    if (v.period_ms && !(*v.period_ms >= rx.period_min_ms && *v.period_ms <= rx.period_max_ms)) {
+      std::ostringstream os;
+      os << key << ".period_ms = " << *v.period_ms << ": outside the standard's [" << rx.period_min_ms << ", "
+         << rx.period_max_ms << "] ms";
+      throw ConfigError(os.str());
+    }
+    if (v.carrier_offset_hz && !(std::fabs(*v.carrier_offset_hz) <= rx.carrier_tolerance_hz)) {
+      std::ostringstream os;
+      os << key << ".carrier_offset_hz = " << *v.carrier_offset_hz << ": outside the standard's +-"
+         << rx.carrier_tolerance_hz << " Hz";
       throw ConfigError(os.str());
     }
   }

@@ -13,12 +13,45 @@ SimulatedRescuer::SimulatedRescuer(const MissionScenario& scenario, const std::s
       rng_(avalanche::derive_seed(scenario.seed, scenario.rescuer_index(rescuer_id))) {
   pose_.position = Vec3(spec_.start.x(), spec_.start.y(), scenario.sensors.antenna_height_m);
   pose_.rpy = Vec3(0.0, 0.0, spec_.heading_deg * avalanche::kPi / 180.0);
+  if (scenario.sensors.receiver.kind != avalanche::ReceiverKind::kRealistic) return;
+  // The transmitters are the victims': every rescuer hears the same timing (from the mission
+  // seed), each through its own device (hardware errors and noise from its own seed).
+  for (std::size_t v = 0; v < scenario.victims.size(); ++v) {
+    const VictimSpec& victim = scenario.victims[v];
+    std::mt19937_64 timing_rng(avalanche::derive_seed(scenario.seed, 0xBEAC0000ULL + v));
+    avalanche::Beacon b;
+    b.position = victim.position;
+    b.moment = victim.moment;
+    b.timing = avalanche::TransmitterTiming::draw(scenario.sensors.receiver, timing_rng);
+    if (victim.period_ms) b.timing.period_s = 1e-3 * *victim.period_ms;
+    if (victim.carrier_offset_hz) b.timing.carrier_offset_hz = *victim.carrier_offset_hz;
+    beacons_.push_back(b);
+  }
+  receiver_.emplace(scenario.sensors,
+                    avalanche::derive_seed(scenario.seed, 0x5EED0000ULL + scenario.rescuer_index(rescuer_id)));
 }
 
 std::vector<avalanche::FieldMeasurement> SimulatedRescuer::measure(TimestampNs stamp) {
-  std::vector<avalanche::FieldMeasurement> out;
   ++measurement_sequence_;
   const auto attitude = avalanche::simulate_attitude(scenario_.sensors, pose_, rng_);
+  if (!receiver_) return measure_ideal(stamp, attitude);
+  constexpr double kNsPerS = 1e9;
+  const double window_s =
+      last_listened_ ? std::clamp(static_cast<double>(stamp - *last_listened_) / kNsPerS, 0.1, 2.0) : 1.0;
+  last_listened_ = stamp;
+  const avalanche::Listening heard =
+      receiver_->listen(pose_, beacons_, static_cast<double>(stamp) / kNsPerS - window_s, window_s);
+  unattributed_pulses_ += heard.report.unattributed;
+  wrong_attributions_ += heard.wrong_attributions;
+  std::optional<avalanche::OrientationObservation> orientation;
+  if (scenario_.sensors.attitude_updates || measurement_sequence_ == 1) orientation = attitude;
+  // One epoch, one sequence number across signals.
+  return avalanche::to_measurements(heard, spec_.id, measurement_sequence_, stamp, orientation);
+}
+
+std::vector<avalanche::FieldMeasurement> SimulatedRescuer::measure_ideal(
+    TimestampNs stamp, const avalanche::OrientationObservation& attitude) {
+  std::vector<avalanche::FieldMeasurement> out;
   for (std::size_t v = 0; v < scenario_.victims.size(); ++v) {
     const auto& victim = scenario_.victims[v];
     if ((victim.position - pose_.position).norm() > scenario_.detection_range_m) continue;
@@ -77,6 +110,7 @@ responder::ResponderPosition SimulatedRescuer::gnss(TimestampNs stamp) {
 }
 
 std::optional<std::size_t> SimulatedRescuer::victim_of_signal(std::uint32_t signal_id) const {
+  if (receiver_) return receiver_->beacon_of_signal(signal_id);
   for (const auto& [victim, signal] : signal_of_victim_) {
     if (signal == signal_id) return victim;
   }

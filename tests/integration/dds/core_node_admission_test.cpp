@@ -20,9 +20,11 @@ using namespace std::chrono_literals;
 
 mission::MissionScenario one_victim_scenario() {
   mission::MissionScenario s;
-  s.victims = {{"A", Vec3(-5.0, 25.0, -1.0), Vec3(0.01, -0.005, 0.004)}};
+  s.victims = {{"A", Vec3(-5.0, 25.0, -1.0), Vec3(0.01, -0.005, 0.004), {}, {}}};
   s.rescuers = {{"good", "t", Vec3(0.0, 0.0, 0.0), 90.0}};
   s.seed = 5;
+  // A sample of every victim every epoch: the daemon's input handling is under test, not separation.
+  s.sensors.receiver.kind = avalanche::ReceiverKind::kIdeal;
   return s;
 }
 

@@ -19,10 +19,12 @@ using namespace std::chrono_literals;
 
 mission::MissionScenario two_victim_scenario() {
   mission::MissionScenario s;
-  s.victims = {{"A", Vec3(-10.0, 30.0, -1.0), Vec3(0.01, -0.005, 0.004)},
-               {"B", Vec3(12.0, 25.0, -1.5), Vec3(-0.004, 0.003, 0.015)}};
+  s.victims = {{"A", Vec3(-10.0, 30.0, -1.0), Vec3(0.01, -0.005, 0.004), {}, {}},
+               {"B", Vec3(12.0, 25.0, -1.5), Vec3(-0.004, 0.003, 0.015), {}, {}}};
   s.rescuers = {{"good", "t", Vec3(0.0, 0.0, 0.0), 90.0}};
   s.seed = 11;
+  // A sample of every victim every epoch: the daemon's input handling is under test, not separation.
+  s.sensors.receiver.kind = avalanche::ReceiverKind::kIdeal;
   return s;
 }
 

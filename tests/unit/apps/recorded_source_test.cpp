@@ -60,6 +60,20 @@ TEST(RecordedSource, GroupsEpochsByFieldStampAndSkipsMalformedLines) {
   EXPECT_FALSE(source.next(0, std::nullopt).has_value());
 }
 
+TEST(RecordedSource, ReadsTheSeparationsAxesAndEventsAndSkipsBadOnes) {
+  std::string text;
+  text += R"({"type":"field","signal_id":1,"sequence":1,"stamp_ns":1000000000,"field":[1e-7,0,0],"noise_stddev":[2e-9,2e-9,2e-9],"valid_axes":5,"signal_event":"separated"})" "\n";
+  text += R"({"type":"field","signal_id":2,"sequence":1,"stamp_ns":1000000000,"field":[1e-7,0,0],"noise_stddev":[2e-9,2e-9,2e-9],"valid_axes":0})" "\n";
+  text += R"({"type":"field","signal_id":3,"sequence":1,"stamp_ns":1000000000,"field":[1e-7,0,0],"noise_stddev":[2e-9,2e-9,2e-9],"signal_event":"swapped"})" "\n";
+  RecordedSource source(write_file(text), "r9", "team-x");
+  const auto epoch = source.next(0, std::nullopt);
+  ASSERT_TRUE(epoch.has_value());
+  ASSERT_EQ(epoch->samples.size(), 1U) << "an empty axis mask and an unknown event are skipped";
+  EXPECT_EQ(field(epoch->samples[0]).valid_axes, 5U);
+  EXPECT_EQ(field(epoch->samples[0]).event, sarloc::avalanche::SignalEvent::kSeparated);
+  EXPECT_EQ(source.skipped_lines(), 2U);
+}
+
 TEST(RecordedSource, MissingFileIsAConfigError) {
   EXPECT_THROW(RecordedSource("/nonexistent/sensors.jsonl", "r", "t"), ConfigError);
 }

@@ -16,10 +16,11 @@ namespace {
 mission::MissionScenario scenario() {
   mission::MissionScenario s;
   // A is much closer than B: its signal is the strongest.
-  s.victims = {{"A", Vec3(0.0, 15.0, -1.0), Vec3(0.01, -0.005, 0.004)},
-               {"B", Vec3(30.0, 35.0, -1.5), Vec3(-0.004, 0.003, 0.015)}};
+  s.victims = {{"A", Vec3(0.0, 15.0, -1.0), Vec3(0.01, -0.005, 0.004), {}, {}},
+               {"B", Vec3(30.0, 35.0, -1.5), Vec3(-0.004, 0.003, 0.015), {}, {}}};
   s.rescuers = {{"r", "t", Vec3(0.0, 0.0, 0.0), 90.0}};
   s.seed = 5;
+  s.sensors.receiver.kind = ReceiverKind::kIdeal;  // the search logic, not the separation
   return s;
 }
 
@@ -62,6 +63,31 @@ TEST(RescuerSearch, OneFilterPerSignalAndGuidanceOnlyForTheTarget) {
   const auto strongest = first[0].field.norm() > first[1].field.norm() ? first[0].signal_id : first[1].signal_id;
   EXPECT_EQ(*search.target_signal(), strongest);
   EXPECT_EQ(sim.victim_of_signal(strongest), 0U) << "the nearer victim has the strongest signal";
+}
+
+TEST(RescuerSearch, TheLastSeparationEventOfASignalStaysInItsEstimate) {
+  const auto s = scenario();
+  mission::SimulatedRescuer sim(s, "r");
+  RescuerSearch search("r", quick());
+  auto epoch = feed(search, sim, 3);
+  ASSERT_FALSE(epoch.empty());
+  const std::uint32_t signal = epoch.front().signal_id;
+  EXPECT_EQ(search.estimate(signal)->signal_event, SignalEvent::kNone);
+  ASSERT_FALSE(search.add_odometry(sim.walk(0.0, 0.5, 3 * kSecond, 4 * kSecond)).has_value());
+  epoch = sim.measure(4 * kSecond);
+  for (auto& m : epoch) {
+    if (m.signal_id == signal) m.event = SignalEvent::kSeparated;
+    const auto out = search.process(m);
+    ASSERT_TRUE(std::holds_alternative<SearchUpdate>(out));
+    if (m.signal_id == signal) {
+      EXPECT_EQ(std::get<SearchUpdate>(out).estimate.signal_event, SignalEvent::kSeparated);
+    }
+  }
+  // Later samples carry no event: the estimate keeps the last one and its stamp.
+  ASSERT_FALSE(search.add_odometry(sim.walk(0.0, 0.5, 4 * kSecond, 5 * kSecond)).has_value());
+  for (const auto& m : sim.measure(5 * kSecond)) ASSERT_TRUE(std::holds_alternative<SearchUpdate>(search.process(m)));
+  EXPECT_EQ(search.estimate(signal)->signal_event, SignalEvent::kSeparated);
+  EXPECT_EQ(search.estimate(signal)->signal_event_stamp, 4 * kSecond);
 }
 
 TEST(RescuerSearch, RefusedSamplesNameTheirReasonAndLeaveTheFiltersAlone) {

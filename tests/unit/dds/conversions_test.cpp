@@ -25,6 +25,9 @@ TEST(Conversions, FieldMeasurementRoundTrips) {
   EXPECT_EQ(out.stamp, in.stamp);
   EXPECT_EQ(out.field, in.field);
   EXPECT_EQ(out.noise_stddev, in.noise_stddev);
+  EXPECT_EQ(out.valid_axes, in.valid_axes);
+  EXPECT_EQ(out.event, in.event);
+  EXPECT_EQ(out.unattributed_pulses, in.unattributed_pulses);
   ASSERT_TRUE(out.orientation.has_value());
   EXPECT_EQ(out.orientation->rpy, in.orientation->rpy);
   EXPECT_EQ(out.orientation->covariance, in.orientation->covariance);
@@ -76,6 +79,8 @@ TEST(Conversions, VictimEstimateRoundTrips) {
   }
   EXPECT_EQ(out.live_components, in.live_components);
   EXPECT_EQ(out.moment, in.moment);
+  EXPECT_EQ(out.signal_event, in.signal_event);
+  EXPECT_EQ(out.signal_event_stamp, in.signal_event_stamp);
 }
 
 TEST(Conversions, VictimEstimateKeepsOnlyTheBoundedNumberOfComponents) {
@@ -122,6 +127,8 @@ TEST(Conversions, FusedVictimRoundTrips) {
     EXPECT_EQ(out.sources[i].rescuer_id, in.sources[i].rescuer_id);
     EXPECT_EQ(out.sources[i].signal_id, in.sources[i].signal_id);
     EXPECT_EQ(out.sources[i].last_update, in.sources[i].last_update);
+    EXPECT_EQ(out.sources[i].signal_event, in.sources[i].signal_event);
+    EXPECT_EQ(out.sources[i].signal_event_stamp, in.sources[i].signal_event_stamp);
   }
   EXPECT_EQ(out.state, in.state);
   EXPECT_EQ(out.first_seen, in.first_seen);
@@ -156,6 +163,17 @@ TEST(Conversions, IdentifierLongerThanTheBoundIsRefusedByName) {
   }
   in.rescuer_id = std::string(::sarloc::ID_MAX, 'x');  // exactly the bound is fine
   EXPECT_EQ(to_core(to_idl(in)).rescuer_id, in.rescuer_id);
+}
+
+TEST(Conversions, UnknownSignalEventFromTheWireIsRefusedByName) {
+  auto wire = to_idl(test::sample_field_measurement());
+  wire.signal_event(static_cast<::sarloc::SignalEvent>(9));
+  try {
+    (void)to_core(wire);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("field_measurement.signal_event = 9"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Conversions, UnknownEnumValueFromTheWireIsRefusedByName) {

@@ -136,6 +136,22 @@ TEST(VictimFusion, ReporterFixKeepsIndoorHeightsAndFloorsAndMapsGnssToTheSnowSur
 // A rescuer's device and the core daemon estimate the same (rescuer, signal) from the same
 // samples. When they confidently disagree, one is wrong and the picture cannot tell which:
 // the source confirms nothing, the victim is flagged, and nothing is confirmed on it alone.
+TEST(VictimFusion, EachSourceShowsItsSignalsLastSeparationEvent) {
+  VictimFusion f;
+  f.update(src("r1", 1, 10 * kSec, Vec3(-20.0, 42.0, -1.2), 0.3));
+  f.step(10 * kSec);
+  ASSERT_EQ(f.victims().size(), 1U);
+  EXPECT_EQ(f.victims()[0].sources.at(0).signal_event, responder::SignalEvent::kNone);
+  SourceEstimate separated = src("r1", 1, 11 * kSec, Vec3(-20.1, 42.0, -1.2), 0.3);
+  separated.signal_event = responder::SignalEvent::kSeparated;
+  separated.signal_event_stamp = 11 * kSec;
+  f.update(separated);
+  f.step(11 * kSec);
+  ASSERT_EQ(f.victims().size(), 1U);
+  EXPECT_EQ(f.victims()[0].sources.at(0).signal_event, responder::SignalEvent::kSeparated);
+  EXPECT_EQ(f.victims()[0].sources.at(0).signal_event_stamp, 11 * kSec);
+}
+
 TEST(VictimFusion, ConflictingEstimatorsOfOneSourceConfirmNothing) {
   VictimFusion f;
   SourceEstimate device = src("r1", 1, 10 * kSec, Vec3(-20.0, 42.0, -1.2), 0.15, EstimatorStatus::kLocated);

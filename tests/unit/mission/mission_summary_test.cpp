@@ -12,7 +12,7 @@ constexpr TimestampNs kSec = 1'000'000'000;
 
 MissionScenario two_victims() {
   MissionScenario s;
-  s.victims = {{"A", Vec3(0, 30, -1), Vec3(0.01, 0, 0)}, {"B", Vec3(10, 30, -1), Vec3(0.01, 0, 0)}};
+  s.victims = {{"A", Vec3(0, 30, -1), Vec3(0.01, 0, 0), {}, {}}, {"B", Vec3(10, 30, -1), Vec3(0.01, 0, 0), {}, {}}};
   s.rescuers = {{"r1", "t", Vec3::Zero(), 90.0}, {"r2", "t", Vec3(10, 0, 0), 90.0}};
   return s;
 }

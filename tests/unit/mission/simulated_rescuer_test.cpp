@@ -5,14 +5,18 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <set>
+
+#include "sarloc/core/common/errors.hpp"
 
 namespace sarloc::mission {
 namespace {
 
 MissionScenario scenario(std::uint64_t seed) {
   MissionScenario s;
-  s.victims = {{"near", Vec3(0.0, 20.0, -1.0), Vec3(0.01, 0.0, 0.005)},
-               {"far", Vec3(0.0, 120.0, -1.0), Vec3(0.01, 0.0, 0.005)}};
+  s.victims = {{"near", Vec3(0.0, 20.0, -1.0), Vec3(0.01, 0.0, 0.005), {}, {}},
+               {"far", Vec3(0.0, 120.0, -1.0), Vec3(0.01, 0.0, 0.005), {}, {}}};
   s.rescuers = {{"r", "t", Vec3(0.0, 0.0, 0.0), 90.0}};
   s.seed = seed;
   return s;
@@ -20,8 +24,10 @@ MissionScenario scenario(std::uint64_t seed) {
 
 constexpr TimestampNs kSecond = 1'000'000'000;
 
-TEST(SimulatedRescuer, MeasuresOnlyVictimsInRangeAndNumbersSignalsAsDetected) {
-  SimulatedRescuer sim(scenario(1), "r");
+TEST(SimulatedRescuer, IdealReceiverMeasuresOnlyVictimsInRangeAndNumbersSignalsAsDetected) {
+  MissionScenario s = scenario(1);
+  s.sensors.receiver.kind = avalanche::ReceiverKind::kIdeal;
+  SimulatedRescuer sim(s, "r");
   const auto first = sim.measure(kSecond);
   ASSERT_EQ(first.size(), 1U) << "the far victim is 120 m away, beyond detection_range_m";
   EXPECT_EQ(first[0].signal_id, 1U);
@@ -56,6 +62,54 @@ TEST(SimulatedRescuer, GnssErrorHasTheConfiguredSpreadAndDriftsSlowly) {
   const double sigma = std::sqrt(sum2 / (2.0 * n));
   EXPECT_NEAR(sigma, scenario(1).gnss_sigma_m, 0.1 * scenario(1).gnss_sigma_m);
   EXPECT_GT(lag1 / sum2, 0.9) << "GNSS error should be a slowly drifting bias";
+}
+
+TEST(SimulatedRescuer, RealisticReceiverSeparatesEveryVictimItHearsIntoOneSignalEach) {
+  // Two victims 4 m apart, their pulses on the same period (they overlap for long stretches
+  // when their phases meet), and one 120 m away that the receiver's noise floor hides.
+  MissionScenario s = scenario(3);
+  s.victims.insert(s.victims.begin() + 1, VictimSpec{"beside", Vec3(4.0, 20.0, -1.5), Vec3(-0.004, 0.003, 0.015), {}, {}});
+  s.victims[0].period_ms = 1000.0;
+  s.victims[1].period_ms = 1000.0;
+  ASSERT_EQ(s.sensors.receiver.kind, avalanche::ReceiverKind::kRealistic) << "a mission's receiver is realistic";
+  s.validate();
+  SimulatedRescuer sim(s, "r");
+  std::map<std::uint32_t, int> samples, news;
+  for (int k = 1; k <= 40; ++k) {
+    for (const auto& m : sim.measure(k * kSecond)) {
+      ++samples[m.signal_id];
+      if (m.event == avalanche::SignalEvent::kNew) ++news[m.signal_id];
+      EXPECT_EQ(m.sequence, static_cast<std::uint64_t>(k));
+      EXPECT_NE(m.valid_axes, 0U);
+      EXPECT_TRUE(m.field.allFinite());
+    }
+  }
+  ASSERT_EQ(samples.size(), 2U) << "the 120 m victim is out of range, the two near ones are two signals";
+  std::set<std::size_t> victims;
+  for (const auto& [signal, n] : samples) {
+    EXPECT_GE(n, 20) << "signal " << signal << ": most epochs carry a sample of each";
+    EXPECT_EQ(news[signal], 1) << "signal " << signal << ": announced new exactly once";
+    const auto victim = sim.victim_of_signal(signal);
+    ASSERT_TRUE(victim.has_value());
+    EXPECT_LT(*victim, 2U);
+    victims.insert(*victim);
+  }
+  EXPECT_EQ(victims.size(), 2U) << "each signal is a different victim";
+  EXPECT_EQ(sim.wrong_attributions(), 0U);
+}
+
+TEST(SimulatedRescuer, VictimTimingOutsideTheStandardIsRefusedByName) {
+  MissionScenario s = scenario(1);
+  s.victims[1].period_ms = 500.0;
+  try {
+    s.validate();
+    FAIL() << "a 500 ms period is outside EN 300 718";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("victims[1].period_ms = 500"), std::string::npos) << e.what();
+  }
+  s.victims[1].period_ms.reset();
+  s.victims[0].carrier_offset_hz = 120.0;
+  EXPECT_THROW(s.validate(), ConfigError);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "sarloc/core/common/types.hpp"
+#include "sarloc/core/responder/signal_event.hpp"
 
 namespace sarloc::avalanche {
 
@@ -17,14 +18,7 @@ struct OrientationObservation {
 
 /// What the receiver's signal separation says about a signal in this sample
 /// (signal_separator.hpp): the event is carried by the first sample after it.
-enum class SignalEvent : std::uint8_t {
-  kNone = 0,        ///< tracked as before
-  kNew,             ///< first sample of a newly separated transmitter
-  kReacquired,      ///< heard again after the separation had declared it lost
-  kSeparated,       ///< attributed again after pulses merged with another transmitter's
-};
-/// "none", "new", "reacquired", "separated".
-const char* to_string(SignalEvent event);
+using responder::SignalEvent;
 
 struct FieldMeasurement {
   std::string rescuer_id;

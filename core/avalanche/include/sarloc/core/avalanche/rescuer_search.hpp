@@ -108,6 +108,8 @@ class RescuerSearch {
     bool done = false;        ///< not to be guided to: found here or elsewhere
     /// Set when this rescuer stood over it (GuidanceMode::kFound): the estimate of that moment.
     std::optional<VictimEstimate> found;
+    SignalEvent last_event = SignalEvent::kNone;  ///< the separation's last word on this signal
+    TimestampNs last_event_stamp = 0;
   };
 
   std::optional<Rejection> gate(const FieldMeasurement& m) const;

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "sarloc/core/common/types.hpp"
+#include "sarloc/core/responder/signal_event.hpp"
 
 namespace sarloc::incident {
 
@@ -13,6 +14,10 @@ struct VictimSource {
   std::string rescuer_id;
   std::uint32_t signal_id = 0;
   TimestampNs last_update = 0;
+  /// The rescuer's signal separation's last event on this signal (lost and reacquired,
+  /// separated after a merge): the commander sees which contributions went through one.
+  responder::SignalEvent signal_event = responder::SignalEvent::kNone;
+  TimestampNs signal_event_stamp = 0;
 };
 
 struct FusedVictim {

@@ -42,6 +42,9 @@ struct SourceEstimate {
   /// heard within source_timeout_s: after a radio fade a device's FOUND arrives long after its
   /// stamp (it is republished with the stamp of the epoch it was found in) and still counts.
   TimestampNs received = 0;
+  /// The reporter's signal separation's last event on this signal (VictimEstimate).
+  responder::SignalEvent signal_event = responder::SignalEvent::kNone;
+  TimestampNs signal_event_stamp = 0;
 };
 
 /// Where the reporter's detector was at the estimate's stamp (ResponderTrack::at).

@@ -1,6 +1,7 @@
 #pragma once
 // A simulated multi-victim, multi-rescuer avalanche mission: who is buried where, who searches
 // from where, and how the rescuers' sensors behave. Incident frame: ENU, snow surface z = 0.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,10 @@ struct VictimSpec {
   std::string name;              ///< for reports only; rescuers never see it
   Vec3 position = Vec3::Zero();  ///< transmitter in the incident frame (m), z < 0 = buried
   Vec3 moment = Vec3::Zero();    ///< magnetic moment in the incident frame (A m^2)
+  /// The transmitter's pulse period and carrier offset (realistic receiver); unset: drawn from
+  /// the mission seed within the standard. Set them to make victims' pulses overlap.
+  std::optional<double> period_ms;
+  std::optional<double> carrier_offset_hz;
 };
 
 struct RescuerSpec {
@@ -24,15 +29,18 @@ struct RescuerSpec {
 struct MissionScenario {
   std::vector<VictimSpec> victims;
   std::vector<RescuerSpec> rescuers;
-  /// Noise of receivers, attitude sensors and odometry. Live missions still give each device
-  /// separated, signed samples (the ideal receiver): the realistic receiver and its signal
-  /// separation are evaluated in sarloc-eval but not yet on the devices (issue 12, open).
+  /// Receivers, attitude sensors and odometry. A mission's receiver is realistic: each device
+  /// hears the pulses of every transmitter, summed on its coils, and separates them itself
+  /// (avalanche/beacon_receiver.hpp). The ideal receiver (separated, signed samples of every
+  /// victim within detection_range_m) stays for comparison and for unit tests.
   avalanche::SimulationConfig sensors = [] {
     avalanche::SimulationConfig c;
-    c.receiver.kind = avalanche::ReceiverKind::kIdeal;
+    c.receiver.kind = avalanche::ReceiverKind::kRealistic;
     return c;
   }();
-  double detection_range_m = 60.0;      ///< a receiver separates signals within this range (NOTES: 40-70 m)
+  /// Ideal receiver only: it separates signals within this range (NOTES: 40-70 m). The
+  /// realistic receiver's range follows from its noise floor.
+  double detection_range_m = 60.0;
   /// GNSS error of a rescuer's fix: a slowly drifting bias (first-order Gauss-Markov, as
   /// real receivers' errors are) plus a little white noise. The default 0.3 m is a
   /// dual-frequency / SBAS-corrected handheld; consumer phones are nearer 1.5-3 m, which then

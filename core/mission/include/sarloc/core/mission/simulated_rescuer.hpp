@@ -1,7 +1,10 @@
 #pragma once
 // One rescuer's device in a simulated mission: its true pose, its receiver separating the
-// signals of every victim in range (numbered in the order it first detects them, as a real
-// transceiver does), its odometry and its GNSS.
+// signals of the victims it hears (numbered in the order it first separates them, as a real
+// transceiver does), its odometry and its GNSS. The realistic receiver (the default) listens to
+// the pulses of every victim's transmitter between two epochs and separates them itself
+// (avalanche/beacon_receiver.hpp); the ideal one hands over one signed sample per victim within
+// detection_range_m.
 //
 //   SimulatedRescuer sim(scenario, "r1");
 //   for (auto& m : sim.measure(stamp)) publish(m);
@@ -10,6 +13,7 @@
 #include <optional>
 #include <random>
 
+#include "sarloc/core/avalanche/beacon_receiver.hpp"
 #include "sarloc/core/avalanche/sensor_simulation.hpp"
 #include "sarloc/core/responder/responder_position.hpp"
 #include "sarloc/core/mission/mission_scenario.hpp"
@@ -20,7 +24,9 @@ class SimulatedRescuer {
  public:
   SimulatedRescuer(const MissionScenario& scenario, const std::string& rescuer_id);
 
-  /// One measurement epoch at the current pose: a sample per victim within detection range.
+  /// One measurement epoch at the current pose: what the receiver separated from the pulses of
+  /// the listening window that ends at `stamp` (since the previous epoch, 0.1-2 s; 1 s for the
+  /// first). The ideal receiver: a sample per victim within detection range.
   std::vector<avalanche::FieldMeasurement> measure(TimestampNs stamp);
   /// Walks one step as guided; returns the odometry over [start, end].
   responder::Odometry walk(double bearing_rad, double step_m, TimestampNs start, TimestampNs end);
@@ -32,13 +38,25 @@ class SimulatedRescuer {
   /// Truth for evaluation: which victim this receiver's signal id is (nullopt if unknown).
   std::optional<std::size_t> victim_of_signal(std::uint32_t signal_id) const;
   const RescuerSpec& spec() const { return spec_; }
+  /// Realistic receiver: pulses heard but attributed to no signal, and pulses attributed to a
+  /// signal of another victim (truth), since the start.
+  std::uint64_t unattributed_pulses() const { return unattributed_pulses_; }
+  std::uint64_t wrong_attributions() const { return wrong_attributions_; }
 
  private:
+  std::vector<avalanche::FieldMeasurement> measure_ideal(TimestampNs stamp,
+                                                        const avalanche::OrientationObservation& attitude);
+
   MissionScenario scenario_;  // a copy: the rescuer outlives any loader
   RescuerSpec spec_;
   avalanche::ReceiverPose pose_;
   std::mt19937_64 rng_;
-  std::map<std::size_t, std::uint32_t> signal_of_victim_;
+  std::map<std::size_t, std::uint32_t> signal_of_victim_;  // ideal receiver
+  std::optional<avalanche::BeaconReceiver> receiver_;      // realistic receiver
+  std::vector<avalanche::Beacon> beacons_;
+  std::optional<TimestampNs> last_listened_;
+  std::uint64_t unattributed_pulses_ = 0;
+  std::uint64_t wrong_attributions_ = 0;
   std::uint64_t measurement_sequence_ = 0;
   std::uint64_t odometry_sequence_ = 0;
   double walked_m_ = 0.0;

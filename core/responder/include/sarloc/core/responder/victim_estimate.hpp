@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "sarloc/core/common/types.hpp"
+#include "sarloc/core/responder/signal_event.hpp"
 
 namespace sarloc::responder {
 
@@ -33,6 +34,10 @@ struct VictimEstimate {
   std::vector<MixtureComponentSummary> top_components;  ///< highest weights first
   std::uint32_t live_components = 0;
   Vec3 moment = Vec3::Zero();          ///< beacon moment in G (A m^2); zero without a beacon
+  /// The last change the detector's signal separation reported on this signal (new, reacquired
+  /// after loss, separated after a merge) and the stamp of the sample that carried it.
+  SignalEvent signal_event = SignalEvent::kNone;
+  TimestampNs signal_event_stamp = 0;
 };
 
 }  // namespace sarloc::responder
