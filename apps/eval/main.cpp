@@ -97,6 +97,16 @@ void print_multi_burial(const av::MultiBurialSummary& s, const av::EvaluationSum
               s.spread_m, s.trials, static_cast<unsigned long long>(s.seed));
   std::printf("%-34s %u of %u (%.1f %%)\n", "All victims found", s.all_found, s.trials,
               s.trials > 0 ? 100.0 * s.all_found / s.trials : 0.0);
+  // Two carriers within one frequency cell can only be told apart by timing and field.
+  constexpr double kCellHz = 10.0;
+  unsigned close = 0, close_found = 0;
+  for (const auto& t : s.per_trial) {
+    if (t.min_carrier_gap_hz >= kCellHz) continue;
+    ++close;
+    if (t.all_found) ++close_found;
+  }
+  std::printf("%-34s %u of %u with two carriers < %.0f Hz apart; %u of %u with all further apart\n", "  of which",
+              close_found, close, kCellHz, s.all_found - close_found, s.trials - close);
   std::printf("%-34s %u\n", "Ghosts (FOUND near no victim)", s.ghosts);
   std::printf("%-34s %u\n", "Victims reported twice", s.duplicates);
   std::printf("%-34s %llu   unattributed pulses %llu\n", "Wrong attributions (pulses)",
@@ -163,6 +173,8 @@ int main(int argc, char** argv) {
   multi->add_option("--seed", multi_seed, "evaluation seed (default: config)");
   multi->add_option("-c,--config", multi_config, "YAML config (simulation:, sog:, search:, evaluation:)")
       ->check(CLI::ExistingFile);
+  std::string multi_json;
+  multi->add_option("--json", multi_json, "write the summary and every trial as JSON to this file");
   if (auto code = sarloc::app::parse_command_line(app, argc, argv)) return *code;
   try {
     sarloc::app::setup_logging(log_level, "sarloc-eval");
@@ -208,6 +220,14 @@ int main(int argc, char** argv) {
     }
     if (sarloc::app::shutdown_requested()) return to_int(ExitCode::kInterrupted);
     print_multi_burial(ms, single);
+    if (!multi_json.empty()) {
+      try {
+        sarloc::app::write_json_file(multi_json, sarloc::app::to_json(ms));
+      } catch (const std::exception& e) {
+        spdlog::error("--json {}: {}", multi_json, e.what());
+        return to_int(ExitCode::kRuntime);
+      }
+    }
     const bool ok = ms.all_found * 100 >= 98 * ms.trials && ms.ghosts == 0 && ms.duplicates == 0;
     std::printf("Targets (issue 12): [%s] >= 98 %% find every victim, no ghost, no victim reported twice\n",
                 ok ? "ok" : "MISSED");

@@ -91,6 +91,8 @@ void read_search(YamlReader r, avalanche::SearchConfig& c) {
   r.read("located_radius_m", c.located_radius_m);
   r.read("located_radius_per_range", c.located_radius_per_range);
   r.read("found_distance_m", c.found_distance_m);
+  r.read("confirm_min_samples", c.confirm_min_samples);
+  r.read("confirm_max_innovation_ratio", c.confirm_max_innovation_ratio);
   r.read("probe_step_m", c.probe_step_m);
   r.read("flux_smoothing", c.flux_smoothing);
   r.read("flux_snr_cap", c.flux_snr_cap);
@@ -121,6 +123,7 @@ void read_rescuer_search(YamlReader r, avalanche::RescuerSearchConfig& c) {
   r.read("max_rotation_rad", c.max_rotation_rad);
   r.read("unknown_motion_speed_m_per_s", c.unknown_motion_speed_m_per_s);
   r.read("unknown_motion_turn_rad_per_s", c.unknown_motion_turn_rad_per_s);
+  r.read("target_silence_s", c.target_silence_s);
   r.read("measurement_lag_tolerance_s", c.measurement_lag_tolerance_s);
   r.expect_done();
 }

@@ -74,6 +74,37 @@ nlohmann::json to_json(const std::vector<incident::TeamStatus>& teams) {
   return rows;
 }
 
+nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
+  nlohmann::json j;
+  j["victims"] = s.victims;
+  j["spread_m"] = s.spread_m;
+  j["trials"] = s.trials;
+  j["seed"] = s.seed;
+  j["all_found"] = s.all_found;
+  j["ghosts"] = s.ghosts;
+  j["duplicates"] = s.duplicates;
+  j["wrong_attributions"] = s.wrong_attributions;
+  j["unattributed_pulses"] = s.unattributed_pulses;
+  j["steps"] = stats_json(s.steps);
+  j["distance_m"] = stats_json(s.distance_m);
+  j["wall_s"] = s.wall_s;
+  j["per_trial"] = nlohmann::json::array();
+  for (const auto& t : s.per_trial) {
+    j["per_trial"].push_back({{"index", t.index},
+                              {"found", t.found},
+                              {"all_found", t.all_found},
+                              {"ghosts", t.ghosts},
+                              {"duplicates", t.duplicates},
+                              {"wrong_attributions", t.wrong_attributions},
+                              {"unattributed_pulses", t.unattributed_pulses},
+                              {"steps", t.steps},
+                              {"distance_m", t.distance_m},
+                              {"signals", t.signals},
+                              {"min_carrier_gap_hz", t.min_carrier_gap_hz}});
+  }
+  return j;
+}
+
 nlohmann::json to_json(const avalanche::EvaluationSummary& s) {
   nlohmann::json j;
   j["filter"] = s.filter;

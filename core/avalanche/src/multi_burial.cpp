@@ -67,9 +67,17 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
   pose.rpy = Vec3(0.0, 0.0, wrap_angle(az + offset));
 
   BeaconReceiver receiver(sim, derive_seed(setup.evaluation.seed, 0x5EED0000ULL + index));
+  double min_gap = 2.0 * sim.receiver.carrier_tolerance_hz;
+  for (std::size_t a = 0; a < beacons.size(); ++a)
+    for (std::size_t b = a + 1; b < beacons.size(); ++b)
+      min_gap = std::min(min_gap, std::fabs(beacons[a].timing.carrier_offset_hz - beacons[b].timing.carrier_offset_hz));
   RescuerSearch search("sim", setup.rescuer);
+  // The device's separation asks each signal's filter when carrier and timing cannot decide.
+  receiver.separator().set_consistency([&search](std::uint32_t signal, const Vec3& field, const Vec3& noise,
+                                                 std::uint8_t axes) { return search.log_likelihood(signal, field, noise, axes); });
   MultiBurialTrial tr;
   tr.index = index;
+  tr.min_carrier_gap_hz = min_gap;
   std::set<std::size_t> found_victims;
   std::set<std::uint32_t> reported, signals;
   std::uint64_t odometry_sequence = 0;

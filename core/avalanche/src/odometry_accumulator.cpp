@@ -80,7 +80,7 @@ void OdometryAccumulator::compose(const DispVec& d, const DispCov& covariance) {
   ++acc_.samples;
 }
 
-Displacement OdometryAccumulator::take() {
+Displacement OdometryAccumulator::pending_displacement() const {
   Displacement out = acc_;
   if (out.samples == 0) {
     out.mean.setZero();
@@ -89,6 +89,11 @@ Displacement OdometryAccumulator::take() {
     const double vr = idle_rotation_sigma_rad_ * idle_rotation_sigma_rad_;
     out.covariance.diagonal() << vt, vt, vt, vr, vr, vr;
   }
+  return out;
+}
+
+Displacement OdometryAccumulator::take() {
+  Displacement out = pending_displacement();
   acc_ = Displacement{};
   return out;
 }

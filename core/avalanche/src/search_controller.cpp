@@ -47,6 +47,8 @@ void SearchConfig::validate() const {
   check("located_radius_m", located_radius_m, 0.0, 50.0, true);
   check("located_radius_per_range", located_radius_per_range, 0.0, 1.0, false);
   check("found_distance_m", found_distance_m, 0.0, 50.0, true);
+  check("confirm_min_samples", confirm_min_samples, 1.0, 1000.0, false);
+  check("confirm_max_innovation_ratio", confirm_max_innovation_ratio, 0.0, 100.0, true);
   check("probe_step_m", probe_step_m, 0.0, 10.0, true);
   check("approach_radius_fraction", approach_radius_fraction, 0.0, 1.0, true);
   check("flux_smoothing", flux_smoothing, 0.0, 0.99, false);
@@ -87,8 +89,10 @@ double SearchController::located_radius(const Vec3& relative_position) const {
   return std::max(config_.located_radius_m, config_.located_radius_per_range * relative_position.norm());
 }
 
-EstimatorStatus SearchController::assess(const VictimEstimate& e) const {
+EstimatorStatus SearchController::assess(const VictimEstimate& e, std::uint64_t samples, double innovation_ratio) const {
   if (e.status == EstimatorStatus::kInitialising) return e.status;
+  if (static_cast<double>(samples) < config_.confirm_min_samples || innovation_ratio > config_.confirm_max_innovation_ratio)
+    return std::min(e.status, EstimatorStatus::kConverged);
   if (!below_receiver(e.relative.position, e.relative.covariance))
     return std::min(e.status, EstimatorStatus::kConverged);
   if (radius95_3d(e.relative.covariance) > located_radius(e.relative.position)) return e.status;
@@ -163,7 +167,9 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
   e.status = EstimatorStatus::kMultimodal;
   e.relative.position = mean;
   e.relative.covariance = cov;
-  const EstimatorStatus st = assess(e);
+  const EstimatorStatus st = assess(e, filter.steps(), filter.recent_innovation_ratio());
+  const bool confirmable = static_cast<double>(filter.steps()) >= config_.confirm_min_samples &&
+                           filter.recent_innovation_ratio() <= config_.confirm_max_innovation_ratio;
 
   const Eigen::Matrix2d cov_h = cov.topLeftCorner<2, 2>();
   const double maha2 = mean_h.dot(cov_h.ldlt().solve(mean_h));
@@ -172,7 +178,7 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
   const bool below = below_receiver(mean, cov);
   if (!pattern_.empty() && !pattern_complete_ && (r95 > kPatternRegrowth * pattern_radius95_ || !below))
     drop_pattern();
-  if (st == EstimatorStatus::kFound || pattern_complete_) {
+  if (st == EstimatorStatus::kFound || (pattern_complete_ && confirmable)) {
     mode_ = GuidanceMode::kFound;
   } else if (!pattern_.empty()) {
     mode_ = GuidanceMode::kFineSearch;  // walking the probe pattern, wherever it leads
@@ -224,7 +230,7 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
     case GuidanceMode::kFineSearch:
       if (config_.stall_window_steps > 0 &&
           adaptive_end(mean_h, cov, r95, filter.config().converged_radius_m, below, heading, step)) {
-        if (pattern_complete_) mode_ = GuidanceMode::kFound;
+        if (pattern_complete_ && confirmable) mode_ = GuidanceMode::kFound;
       } else if (dist > config_.found_distance_m) {
         step = std::min(step, dist);
       } else {

@@ -232,6 +232,13 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   return result;
 }
 
+double SogFilter::recent_innovation_ratio() const {
+  if (config_.divergence_window == 0 || nis_window_.size() < config_.divergence_window) return 0.0;
+  double sum = 0.0;
+  for (double v : nis_window_) sum += v;
+  return sum / window_gate_;
+}
+
 MixtureMoments SogFilter::predicted_moments() const {
   MixtureMoments mm = moments();
   const Displacement& d = odometry_.peek();
@@ -414,6 +421,91 @@ double orientation_update(SogComponent& c, const OrientationObservation& o) {
   return -0.5 * (nu.dot(s_inv * nu) + std::log(s.determinant()));
 }
 
+// The estimation step of eq. (14) for one component on x* = [x; d], P* = blkdiag(P, Q), with the
+// sign-invariant likelihood: what the update and the predictive likelihood share.
+struct Innovation {
+  Jacobian<idx::kStateDim, 3> pht;
+  Jacobian<idx::kDispDim, 3> qht;
+  Mat3 s_inv;
+  Vec3 s_inv_nu;
+  double nis = 0.0;  ///< the better sign's NIS
+  double ll = 0.0;   ///< log p(z | component), common constants dropped
+};
+
+std::optional<Innovation> innovate(const SogComponent& c, const Vec3& z_valid, const Vec3& floor, std::uint8_t axes,
+                                   const MeasurementModel& measurement, const DispCov& q, double rel) {
+  const StateCov& p = c.P;
+  Jacobian<3, idx::kStateDim> h_x;
+  Jacobian<3, idx::kDispDim> h_d;
+  Vec3 h = measurement.h(c.x, &h_x, &h_d);
+  const Vec3 sigma = Vec3::Constant(rel * h.norm()) + floor;
+  // An invalid axis is no observation: its rows of h, H_x and H_d are zeroed and its
+  // innovation variance set to 1, so S is block-diagonal, the axis's innovation is 0 and
+  // the update, the NIS and the weights (up to a constant) are those of the valid axes.
+  for (int a = 0; a < 3; ++a) {
+    if ((axes & (1U << a)) != 0) continue;
+    h[a] = 0.0;
+    h_x.row(a).setZero();
+    h_d.row(a).setZero();
+  }
+  Innovation in;
+  in.pht = p.lazyProduct(h_x.transpose());
+  in.qht = q.lazyProduct(h_d.transpose());
+  Mat3 s = h_x * in.pht + h_d * in.qht;
+  for (int a = 0; a < 3; ++a) s(a, a) += (axes & (1U << a)) != 0 ? sigma[a] * sigma[a] : 1.0;
+  const double det = s.determinant();
+  if (!(det > 0.0) || !std::isfinite(det)) return std::nullopt;
+  in.s_inv = s.inverse();
+  // Sign-invariant likelihood: the receiver measures +-h, p(z) = (N(z; h, S) + N(-z; h, S)) / 2.
+  // The component is updated with the sign that explains z best (zeta = z^T S^-1 h decides:
+  // NIS(+-) = z^T S^-1 z + h^T S^-1 h -+ 2 zeta); its weight takes both terms.
+  const double zeta = z_valid.dot(in.s_inv * h);
+  const Vec3 nu = (zeta >= 0.0 ? z_valid : Vec3(-z_valid)) - h;
+  in.s_inv_nu = in.s_inv * nu;
+  in.nis = nu.dot(in.s_inv_nu);
+  const double nis_other = in.nis + 4.0 * std::fabs(zeta);
+  // eq. (17) in log space (the common -1.5 log(2 pi) and log 1/2 are dropped).
+  in.ll = -0.5 * (in.nis + std::log(det)) + std::log1p(std::exp(-0.5 * (nis_other - in.nis)));
+  return in;
+}
+
+Vec3 valid_part(const Vec3& z, std::uint8_t axes) {
+  Vec3 out = z;
+  for (int a = 0; a < 3; ++a)
+    if ((axes & (1U << a)) == 0) out[a] = 0.0;
+  return out;
+}
+
+}  // namespace
+
+std::optional<double> SogFilter::predictive_log_likelihood(const Vec3& field, const Vec3& noise,
+                                                           std::uint8_t axes) const {
+  if (components_.empty() || axes == 0 || axes > kAllAxes || !field.allFinite() || !noise.allFinite())
+    return std::nullopt;
+  const Displacement disp = odometry_.pending_displacement();
+  const MeasurementModel measurement(disp.mean);
+  const Vec3 floor = noise.cwiseMax(config_.noise_floor_A_per_m);
+  const Vec3 z_valid = valid_part(field, axes);
+  double max_term = -std::numeric_limits<double>::infinity();
+  std::vector<double> terms;
+  terms.reserve(components_.size());
+  double max_weight = -std::numeric_limits<double>::infinity();
+  for (const SogComponent& c : components_) max_weight = std::max(max_weight, c.log_weight);
+  double weight_sum = 0.0;
+  for (const SogComponent& c : components_) {
+    weight_sum += std::exp(c.log_weight - max_weight);
+    const auto in = innovate(c, z_valid, floor, axes, measurement, disp.covariance, config_.noise_relative);
+    if (!in) continue;
+    terms.push_back(c.log_weight + in->ll);
+    max_term = std::max(max_term, terms.back());
+  }
+  if (terms.empty()) return std::nullopt;
+  double sum = 0.0;
+  for (double t : terms) sum += std::exp(t - max_term);
+  return max_term + std::log(sum) - (max_weight + std::log(weight_sum));
+}
+
+namespace {
 }  // namespace
 
 void SogFilter::update_field(const Vec3& z, const Vec3& floor, std::uint8_t axes,
@@ -423,9 +515,7 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, std::uint8_t axes
   // h of eq. (14) linearised at the odometry mean: R(dPsi), E_w(dPsi) shared by every component.
   const MeasurementModel measurement(disp.mean);
   const double rel = config_.noise_relative;
-  Vec3 z_valid = z;
-  for (int a = 0; a < 3; ++a)
-    if ((axes & (1U << a)) == 0) z_valid[a] = 0.0;
+  const Vec3 z_valid = valid_part(z, axes);
   double max_ll = -std::numeric_limits<double>::infinity();
   double min_nis = std::numeric_limits<double>::infinity();
 
@@ -433,43 +523,13 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, std::uint8_t axes
   for (std::size_t i = 0; i < components_.size(); ++i) {
     SogComponent& c = components_[i];
     const StateCov& p = c.P;
-    // --- Estimation step (eq. (14)) on x* = [x; d], P* = blkdiag(P, Q) ---
-    Jacobian<3, idx::kStateDim> h_x;
-    Jacobian<3, idx::kDispDim> h_d;
-    Vec3 h = measurement.h(c.x, &h_x, &h_d);
-    const Vec3 sigma = Vec3::Constant(rel * h.norm()) + floor;
-    // An invalid axis is no observation: its rows of h, H_x and H_d are zeroed and its
-    // innovation variance set to 1, so S is block-diagonal, the axis's innovation is 0 and
-    // the update, the NIS and the weights (up to a constant) are those of the valid axes.
-    for (int a = 0; a < 3; ++a) {
-      if ((axes & (1U << a)) != 0) continue;
-      h[a] = 0.0;
-      h_x.row(a).setZero();
-      h_d.row(a).setZero();
-    }
-    const Jacobian<idx::kStateDim, 3> pht = p.lazyProduct(h_x.transpose());
-    const Jacobian<idx::kDispDim, 3> qht = q.lazyProduct(h_d.transpose());
-    Mat3 s = h_x * pht + h_d * qht;
-    for (int a = 0; a < 3; ++a) s(a, a) += (axes & (1U << a)) != 0 ? sigma[a] * sigma[a] : 1.0;
-    const double det = s.determinant();
-    if (!(det > 0.0) || !std::isfinite(det)) {
+    const auto innovation = innovate(c, z_valid, floor, axes, measurement, q, rel);
+    if (!innovation) {
       ++result.dropped_numerical;
       continue;
     }
-    const Mat3 s_inv = s.inverse();
-    // Sign-invariant likelihood: the receiver measures +-h, p(z) = (N(z; h, S) + N(-z; h, S)) / 2.
-    // The component is updated with the sign that explains z best (zeta = z^T S^-1 h decides:
-    // NIS(+-) = z^T S^-1 z + h^T S^-1 h -+ 2 zeta); its weight takes both terms.
-    const Vec3 s_inv_h = s_inv * h;
-    const double zeta = z_valid.dot(s_inv_h);
-    const Vec3 z_signed = zeta >= 0.0 ? z_valid : Vec3(-z_valid);
-    const Vec3 nu = z_signed - h;
-    const Vec3 s_inv_nu = s_inv * nu;
-    const double nis = nu.dot(s_inv_nu);             // the better sign's NIS
-    const double nis_other = nis + 4.0 * std::fabs(zeta);
+    const auto& [pht, qht, s_inv, s_inv_nu, nis, ll] = *innovation;
     min_nis = std::min(min_nis, nis);
-    // eq. (17) in log space (the common -1.5 log(2 pi) and log 1/2 are dropped).
-    const double ll = -0.5 * (nis + std::log(det)) + std::log1p(std::exp(-0.5 * (nis_other - nis)));
     const StateVec x_post = c.x + pht * s_inv_nu;
     const DispVec d_post = disp.mean + qht * s_inv_nu;
 

@@ -102,12 +102,16 @@ TEST(EvaluationTest, TheAdaptiveEndLeavesSearchesThatReachTheFixedRadiusAlone) {
 }
 
 // A FOUND farther from the victim than its stated 95 % radius + 0.5 m is a false FOUND. A filter
-// told 5 % field noise while the receiver has 15 % is over-confident and declares some.
+// told 5 % field noise while the receiver has 15 % is over-confident and declares some once
+// the innovation guard is off (search.confirm_max_innovation_ratio); with it, fewer.
 TEST(EvaluationTest, CountsFalseFoundsOfAnOverconfidentFilter) {
   EvaluationSetup overconfident = small_setup(6, 2);
   overconfident.simulation.field_noise_relative = 0.15;
   overconfident.sog.noise_relative = 0.05;
+  const auto guarded = run_evaluation(overconfident);
+  overconfident.search.confirm_max_innovation_ratio = 100.0;
   const auto s = run_evaluation(overconfident);
+  EXPECT_LT(guarded.false_found, s.false_found) << "the innovation guard refuses some of them";
   std::uint32_t counted = 0;
   for (const auto& t : s.per_trial) {
     EXPECT_EQ(t.false_found, t.found && t.error_m > t.radius95_m + kFalseFoundMarginM) << "trial " << t.index;

@@ -90,6 +90,51 @@ TEST(RescuerSearch, TheLastSeparationEventOfASignalStaysInItsEstimate) {
   EXPECT_EQ(search.estimate(signal)->signal_event_stamp, 4 * kSecond);
 }
 
+// The separation's question: which signal's filter explains this field? Its own, by far.
+TEST(RescuerSearch, ASignalsFilterExplainsItsOwnSamplesFarBetterThanAnothers) {
+  const auto s = scenario();
+  mission::SimulatedRescuer sim(s, "r");
+  RescuerSearch search("r", quick());
+  feed(search, sim, 15);
+  ASSERT_FALSE(search.add_odometry(sim.walk(0.0, 0.5, 15 * kSecond, 16 * kSecond)).has_value());
+  const auto next = sim.measure(16 * kSecond);
+  ASSERT_EQ(next.size(), 2U);
+  for (const auto& m : next) {
+    const std::uint32_t other = m.signal_id == next[0].signal_id ? next[1].signal_id : next[0].signal_id;
+    const auto own = search.log_likelihood(m.signal_id, m.field, m.noise_stddev, m.valid_axes);
+    const auto foreign = search.log_likelihood(other, m.field, m.noise_stddev, m.valid_axes);
+    ASSERT_TRUE(own && foreign);
+    EXPECT_GT(*own - *foreign, 9.2) << "signal " << m.signal_id;  // the separator's margin
+    // Sign-invariant: the receiver does not know the field's sign.
+    EXPECT_NEAR(*search.log_likelihood(m.signal_id, -m.field, m.noise_stddev, m.valid_axes), *own, 1e-9);
+  }
+  EXPECT_FALSE(search.log_likelihood(99, next[0].field, next[0].noise_stddev, 7).has_value());
+}
+
+// The target gives way when it has been silent for target_silence_s while another is heard.
+TEST(RescuerSearch, ASilentTargetGivesWayToASignalThatIsHeard) {
+  const auto s = scenario();
+  mission::SimulatedRescuer sim(s, "r");
+  RescuerSearch search("r", quick());
+  feed(search, sim, 3);
+  ASSERT_TRUE(search.target_signal().has_value());
+  const std::uint32_t target = *search.target_signal();
+  const double silence = quick().target_silence_s;
+  for (int k = 3; k < 3 + static_cast<int>(silence) + 2; ++k) {
+    ASSERT_FALSE(search.add_odometry(sim.walk(0.0, 0.0, k * kSecond, (k + 1) * kSecond)).has_value());
+    for (const auto& m : sim.measure((k + 1) * kSecond)) {
+      if (m.signal_id != target) {
+        ASSERT_TRUE(std::holds_alternative<SearchUpdate>(search.process(m)));
+      }
+    }
+    if (k < 3 + static_cast<int>(silence) - 1) {
+      EXPECT_EQ(search.target_signal(), target) << "still sticky at " << k;
+    }
+  }
+  ASSERT_TRUE(search.target_signal().has_value());
+  EXPECT_NE(*search.target_signal(), target) << "the silent target kept the rescuer";
+}
+
 TEST(RescuerSearch, RefusedSamplesNameTheirReasonAndLeaveTheFiltersAlone) {
   const auto s = scenario();
   mission::SimulatedRescuer sim(s, "r");

@@ -34,12 +34,28 @@ TEST(SearchControllerTest, AssessAppliesLocatedAndFoundCriteria) {
   e.status = EstimatorStatus::kConverged;
   e.relative.position = Vec3(3.0, 0.0, -2.0);
   e.relative.covariance = Mat3::Identity() * 0.01;  // 95 % radius 0.28 m
-  EXPECT_EQ(ctl.assess(e), EstimatorStatus::kLocated);
+  EXPECT_EQ(ctl.assess(e, 100), EstimatorStatus::kLocated);
   e.relative.position = Vec3(0.2, 0.1, -2.0);
-  EXPECT_EQ(ctl.assess(e), EstimatorStatus::kFound);
+  EXPECT_EQ(ctl.assess(e, 100), EstimatorStatus::kFound);
   e.relative.covariance = Mat3::Identity() * 0.1;  // 95 % radius 0.88 m
-  EXPECT_EQ(ctl.assess(e), EstimatorStatus::kConverged);
+  EXPECT_EQ(ctl.assess(e, 100), EstimatorStatus::kConverged);
   EXPECT_NEAR(radius95_3d(Mat3::Identity()), std::sqrt(7.814727903), 1e-6);
+}
+
+// A filter of a few samples is a guess, however tight it looks: never located, never found.
+TEST(SearchControllerTest, FewSamplesConfirmNothing) {
+  SearchController ctl;
+  VictimEstimate e;
+  e.status = EstimatorStatus::kConverged;
+  e.relative.position = Vec3(0.2, 0.1, -2.0);
+  e.relative.covariance = Mat3::Identity() * 0.01;
+  const auto enough = static_cast<std::uint64_t>(ctl.config().confirm_min_samples);
+  EXPECT_EQ(ctl.assess(e, enough - 1), EstimatorStatus::kConverged);
+  EXPECT_EQ(ctl.assess(e, enough), EstimatorStatus::kFound);
+  // Recent samples that do not fit the filter: its estimate is not confirmed either.
+  const double gate = ctl.config().confirm_max_innovation_ratio;
+  EXPECT_EQ(ctl.assess(e, enough, 1.01 * gate), EstimatorStatus::kConverged);
+  EXPECT_EQ(ctl.assess(e, enough, 0.99 * gate), EstimatorStatus::kFound);
 }
 
 // An estimate above the receiver is a filter's mirror solution (H(r) = H(-r)), not a victim:
@@ -50,14 +66,14 @@ TEST(SearchControllerTest, AnEstimateAboveTheReceiverIsNeverLocated) {
   e.status = EstimatorStatus::kConverged;
   e.relative.covariance = Mat3::Identity() * 0.01;
   e.relative.position = Vec3(0.1, 0.1, 30.0);  // straight up: "found" by radius and distance
-  EXPECT_EQ(ctl.assess(e), EstimatorStatus::kConverged);
+  EXPECT_EQ(ctl.assess(e, 100), EstimatorStatus::kConverged);
   e.relative.position = Vec3(0.1, 0.1, -0.1);  // below, but not by 2 sigma (0.2 m)
-  EXPECT_EQ(ctl.assess(e), EstimatorStatus::kConverged);
+  EXPECT_EQ(ctl.assess(e, 100), EstimatorStatus::kConverged);
   e.relative.position = Vec3(0.1, 0.1, -1.5);
-  EXPECT_EQ(ctl.assess(e), EstimatorStatus::kFound);
+  EXPECT_EQ(ctl.assess(e, 100), EstimatorStatus::kFound);
   e.status = EstimatorStatus::kMultimodal;
   e.relative.position = Vec3(0.1, 0.1, 3.0);
-  EXPECT_EQ(ctl.assess(e), EstimatorStatus::kMultimodal) << "never raised";
+  EXPECT_EQ(ctl.assess(e, 100), EstimatorStatus::kMultimodal) << "never raised";
 }
 
 TEST(SearchControllerTest, BearingIsRelativeToReceiverForwardAxis) {
@@ -108,15 +124,15 @@ TEST(SearchControllerLocated, RadiusScalesWithRangeAboveTheNearRangeFloor) {
   ASSERT_NEAR(radius95_3d(e.relative.covariance), 0.48, 1e-3);
 
   e.relative.position = Vec3(1.5, 0.0, -2.0);  // 2.5 m away: the 0.4 m floor applies
-  EXPECT_EQ(controller.assess(e), EstimatorStatus::kConverged);
+  EXPECT_EQ(controller.assess(e, 100), EstimatorStatus::kConverged);
   e.relative.position = Vec3(1.5, 0.0, -6.6);  // 6.8 m away: 10 % of it is 0.68 m
-  EXPECT_EQ(controller.assess(e), EstimatorStatus::kLocated);
+  EXPECT_EQ(controller.assess(e, 100), EstimatorStatus::kLocated);
   e.relative.position = Vec3(0.2, 0.0, -6.6);  // on top of it
-  EXPECT_EQ(controller.assess(e), EstimatorStatus::kFound);
+  EXPECT_EQ(controller.assess(e, 100), EstimatorStatus::kFound);
 
   SearchConfig fixed;
   fixed.located_radius_per_range = 0.0;
-  EXPECT_EQ(SearchController(fixed).assess(e), EstimatorStatus::kConverged);
+  EXPECT_EQ(SearchController(fixed).assess(e, 100), EstimatorStatus::kConverged);
   fixed.located_radius_per_range = 1.5;
   EXPECT_THROW(fixed.validate(), ConfigError);
 }

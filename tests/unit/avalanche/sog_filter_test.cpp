@@ -374,6 +374,16 @@ TEST(SogFilterTest, DivergenceOfAConvergedMixtureIsReportedNotReinitialised) {
   }
   EXPECT_GE(ignored, 1) << "the innovation test should have failed on these readings";
   EXPECT_EQ(f.estimate(0).status, EstimatorStatus::kConverged);
+  // What the search controller refuses to confirm: the recent samples do not fit the filter.
+  EXPECT_GT(f.recent_innovation_ratio(), 1.0);
+}
+
+TEST(SogFilterTest, RecentInnovationsOfAConsistentRunAreWithinTheGate) {
+  AvalancheSimulator sim(SimulationConfig{}, fixed_scenario(), 11);
+  int reinitialisations = -1;
+  const SogFilter f = walk_to_fixed_transmitter(sim, &reinitialisations);
+  EXPECT_GT(f.recent_innovation_ratio(), 0.0) << "the window is full after a walk";
+  EXPECT_LE(f.recent_innovation_ratio(), 1.0);
 }
 
 

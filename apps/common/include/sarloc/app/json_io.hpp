@@ -8,6 +8,7 @@
 #include <string>
 
 #include "sarloc/core/avalanche/evaluation.hpp"
+#include "sarloc/core/avalanche/multi_burial.hpp"
 #include "sarloc/core/incident/fused_victim.hpp"
 #include "sarloc/core/incident/team_status.hpp"
 #include "sarloc/core/mission/mission_summary.hpp"
@@ -19,6 +20,8 @@ nlohmann::json to_json(const incident::FusedVictim& victim);
 /// One row per member: team_id, responder_id, link, accountability.
 nlohmann::json to_json(const std::vector<incident::TeamStatus>& teams);
 nlohmann::json to_json(const avalanche::EvaluationSummary& summary);
+/// The multiple-burial evaluation: its totals and every trial (found, ghosts, duplicates, ...).
+nlohmann::json to_json(const avalanche::MultiBurialSummary& summary);
 nlohmann::json to_json(const mission::DeviceSummary& device);
 nlohmann::json to_json(const mission::MissionSummary& summary);
 

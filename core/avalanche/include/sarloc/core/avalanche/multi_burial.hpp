@@ -44,6 +44,9 @@ struct MultiBurialTrial {
   std::uint32_t steps = 0;          ///< until the last victim was found (or the budget)
   double distance_m = 0.0;
   std::uint32_t signals = 0;        ///< signal ids the separation created
+  /// Truth: the smallest carrier-offset difference between two of its transmitters (Hz). Under
+  /// about 1 / on-time (5-14 Hz) two carriers fall in one frequency cell of the detector.
+  double min_carrier_gap_hz = 0.0;
 };
 
 struct MultiBurialSummary {

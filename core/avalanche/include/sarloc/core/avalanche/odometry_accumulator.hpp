@@ -33,6 +33,8 @@ class OdometryAccumulator {
   void add_unknown(const DispCov& covariance);
   /// The displacement since the last take(), then resets.
   Displacement take();
+  /// What take() would return now (the idle displacement when nothing arrived), no reset.
+  Displacement pending_displacement() const;
   std::uint32_t pending() const { return acc_.samples; }
   /// What take() would return now, without resetting (zero mean when nothing arrived).
   const Displacement& peek() const { return acc_; }

@@ -37,6 +37,10 @@ struct RescuerSearchConfig {
   /// A field sample is refused when the odometry already received reaches more than this
   /// beyond its stamp: its filter would otherwise apply motion made after the sample was taken.
   double measurement_lag_tolerance_s = 0.5;
+  /// The target stays the target until found, unless it has been silent this long while
+  /// another unfound signal is heard: then the strongest one heard is searched (a searcher
+  /// follows the signal that can be heard, not one lost at the edge of range).
+  double target_silence_s = 10.0;
 
   /// Throws ConfigError naming the key ("rescuer_search.max_signals = 0: must be in [1, 64]").
   void validate() const;
@@ -96,6 +100,11 @@ class RescuerSearch {
   std::size_t restarts() const { return restarts_; }
   /// Latest estimate of a signal (nullopt if never measured).
   std::optional<VictimEstimate> estimate(std::uint32_t signal_id) const;
+  /// How well a field sample would fit a signal's filter (SogFilter::predictive_log_likelihood):
+  /// the receiver's separation (SignalSeparator::set_consistency) asks it when a pulse's carrier
+  /// and timing fit several signals. nullopt for a signal without a filter yet, or found here.
+  std::optional<double> log_likelihood(std::uint32_t signal_id, const Vec3& field, const Vec3& noise,
+                                       std::uint8_t axes) const;
 
  private:
   struct SignalState {
@@ -121,6 +130,7 @@ class RescuerSearch {
   std::map<std::uint32_t, SignalState> signals_;
   std::set<std::uint32_t> done_;
   std::optional<std::uint32_t> target_;
+  TimestampNs newest_stamp_ = 0;  ///< of any signal's last measurement
   std::optional<std::uint64_t> last_odometry_sequence_;
   TimestampNs last_odometry_end_ = 0;
   TimestampNs superseded_until_ = 0;  ///< end of the last unknown-motion stand-in

@@ -125,6 +125,14 @@ class SignalSeparator {
   std::optional<std::pair<double, double>> start_of(const Track& t, const DetectedPulse& p) const;
   bool timing_fits(const Track& t, const DetectedPulse& p) const;
   bool elliptical(const DetectedPulse& p) const;
+  /// A clean pulse on the carrier of `mates` (every one confirmed and heard) that falls a whole
+  /// on-time away from each mate's predicted pulse: a second transmitter on that carrier (two
+  /// carriers within one frequency cell, 1 / on-time), to be tracked by its own timing.
+  bool another_transmitter(const std::vector<Track*>& mates, const DetectedPulse& p) const;
+  /// Timing gave the pulse to `chosen`, but the consistency hook says another track on its
+  /// carrier explains its field by more than log_likelihood_margin: not attributed.
+  bool better_fit_elsewhere(const Track& chosen, const std::vector<Track*>& mates, const DetectedPulse& p,
+                            std::size_t index) const;
   void learn(Track& t, const DetectedPulse& p);
   SeparatedSample sample_of(const DetectedPulse& p, std::uint32_t id, std::size_t index) const;
 

@@ -135,6 +135,10 @@ class SogFilter {
   SogStepResult process(const FieldMeasurement& measurement);
 
   bool initialised() const { return !components_.empty(); }
+  /// Sum of the smallest NIS of the last divergence_window updates over its gate
+  /// (chi2_{3n}(divergence_probability)): above 1, the recent samples do not fit the filter.
+  /// 0 until the window is full (or without a window).
+  double recent_innovation_ratio() const;
   std::size_t size() const { return components_.size(); }
   const std::vector<SogComponent>& components() const { return components_; }
   const SogConfig& config() const { return config_; }
@@ -152,6 +156,12 @@ class SogFilter {
   /// Reduced mixture: position moments (eq. (18)), the top_k components, the mean moment.
   /// status is kInitialising, kMultimodal or kConverged; SearchController::assess() refines it.
   VictimEstimate estimate(std::size_t top_k = 5) const;
+
+  /// log p(field | everything so far), the odometry received since the last measurement
+  /// applied, without updating: how well a sample would fit this signal's transmitter (the
+  /// receiver's separation asks it when a pulse's carrier and timing fit several signals).
+  /// Up to a constant common to every filter; nullopt before initialisation or for bad input.
+  std::optional<double> predictive_log_likelihood(const Vec3& field, const Vec3& noise, std::uint8_t axes) const;
 
   /// Per-axis noise floor the filter applies to `m`: max(config floor, m.noise_stddev).
   Vec3 noise_floor(const FieldMeasurement& m) const;
