@@ -13,8 +13,12 @@
 //     elliptical (two transmitters' fields summed), or it lasts longer than its track's
 //     on-time (two pulses merged into one);
 //   - two tracks match it and the field-consistency hook (each track's filter) does not pick
-//     one by a wide margin;
-//   - it matches nothing and cannot start a track (cut by the window's edges, or max_signals).
+//     one by a wide margin, or timing picked one and the hook says a carrier-mate's filter
+//     explains its field by that margin;
+//   - it cannot start a track: cut by the window's edges, max_signals, or its carrier is
+//     tracked and it falls within the standard's longest on-time of a mate's predicted pulse
+//     (further away, with every mate heard on its timing, it is a second transmitter on that
+//     carrier and starts a track of its own).
 // Events: a track not heard for lost_after_s is declared lost; heard again, its next sample
 // carries kReacquired (a lost track whose carrier alone matches a pulse that misses its timing
 // is reanchored on that pulse: its timing estimate drifted while it was unheard). Tracks that shared an unattributable pulse are merged; the next
