@@ -89,10 +89,14 @@ double SearchController::located_radius(const Vec3& relative_position) const {
   return std::max(config_.located_radius_m, config_.located_radius_per_range * relative_position.norm());
 }
 
+bool SearchController::confirmable(std::uint64_t samples, double innovation_ratio) const {
+  return static_cast<double>(samples) >= config_.confirm_min_samples &&
+         innovation_ratio <= config_.confirm_max_innovation_ratio;
+}
+
 EstimatorStatus SearchController::assess(const VictimEstimate& e, std::uint64_t samples, double innovation_ratio) const {
   if (e.status == EstimatorStatus::kInitialising) return e.status;
-  if (static_cast<double>(samples) < config_.confirm_min_samples || innovation_ratio > config_.confirm_max_innovation_ratio)
-    return std::min(e.status, EstimatorStatus::kConverged);
+  if (!confirmable(samples, innovation_ratio)) return std::min(e.status, EstimatorStatus::kConverged);
   if (!below_receiver(e.relative.position, e.relative.covariance))
     return std::min(e.status, EstimatorStatus::kConverged);
   if (radius95_3d(e.relative.covariance) > located_radius(e.relative.position)) return e.status;
@@ -167,9 +171,8 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
   e.status = EstimatorStatus::kMultimodal;
   e.relative.position = mean;
   e.relative.covariance = cov;
+  const bool may_confirm = confirmable(filter.steps(), filter.recent_innovation_ratio());
   const EstimatorStatus st = assess(e, filter.steps(), filter.recent_innovation_ratio());
-  const bool confirmable = static_cast<double>(filter.steps()) >= config_.confirm_min_samples &&
-                           filter.recent_innovation_ratio() <= config_.confirm_max_innovation_ratio;
 
   const Eigen::Matrix2d cov_h = cov.topLeftCorner<2, 2>();
   const double maha2 = mean_h.dot(cov_h.ldlt().solve(mean_h));
@@ -178,7 +181,7 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
   const bool below = below_receiver(mean, cov);
   if (!pattern_.empty() && !pattern_complete_ && (r95 > kPatternRegrowth * pattern_radius95_ || !below))
     drop_pattern();
-  if (st == EstimatorStatus::kFound || (pattern_complete_ && confirmable)) {
+  if (st == EstimatorStatus::kFound || (pattern_complete_ && may_confirm)) {
     mode_ = GuidanceMode::kFound;
   } else if (!pattern_.empty()) {
     mode_ = GuidanceMode::kFineSearch;  // walking the probe pattern, wherever it leads
@@ -230,7 +233,7 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
     case GuidanceMode::kFineSearch:
       if (config_.stall_window_steps > 0 &&
           adaptive_end(mean_h, cov, r95, filter.config().converged_radius_m, below, heading, step)) {
-        if (pattern_complete_ && confirmable) mode_ = GuidanceMode::kFound;
+        if (pattern_complete_ && may_confirm) mode_ = GuidanceMode::kFound;
       } else if (dist > config_.found_distance_m) {
         step = std::min(step, dist);
       } else {

@@ -486,27 +486,24 @@ std::optional<double> SogFilter::predictive_log_likelihood(const Vec3& field, co
   const MeasurementModel measurement(disp.mean);
   const Vec3 floor = noise.cwiseMax(config_.noise_floor_A_per_m);
   const Vec3 z_valid = valid_part(field, axes);
+  // log sum_i w_i p(z | i), accumulated stably; the log weights are normalised (every update
+  // ends in normalise_and_prune, merging keeps the sum).
   double max_term = -std::numeric_limits<double>::infinity();
-  std::vector<double> terms;
-  terms.reserve(components_.size());
-  double max_weight = -std::numeric_limits<double>::infinity();
-  for (const SogComponent& c : components_) max_weight = std::max(max_weight, c.log_weight);
-  double weight_sum = 0.0;
+  double sum = 0.0;
   for (const SogComponent& c : components_) {
-    weight_sum += std::exp(c.log_weight - max_weight);
     const auto in = innovate(c, z_valid, floor, axes, measurement, disp.covariance, config_.noise_relative);
     if (!in) continue;
-    terms.push_back(c.log_weight + in->ll);
-    max_term = std::max(max_term, terms.back());
+    const double term = c.log_weight + in->ll;
+    if (term > max_term) {
+      sum = sum * std::exp(max_term - term) + 1.0;
+      max_term = term;
+    } else {
+      sum += std::exp(term - max_term);
+    }
   }
-  if (terms.empty()) return std::nullopt;
-  double sum = 0.0;
-  for (double t : terms) sum += std::exp(t - max_term);
-  return max_term + std::log(sum) - (max_weight + std::log(weight_sum));
+  if (sum == 0.0) return std::nullopt;
+  return max_term + std::log(sum);
 }
-
-namespace {
-}  // namespace
 
 void SogFilter::update_field(const Vec3& z, const Vec3& floor, std::uint8_t axes,
                              const Displacement& disp, const OrientationObservation* orientation,

@@ -41,7 +41,6 @@ std::vector<avalanche::FieldMeasurement> SimulatedRescuer::measure(TimestampNs s
   last_listened_ = stamp;
   const avalanche::Listening heard =
       receiver_->listen(pose_, beacons_, static_cast<double>(stamp) / kNsPerS - window_s, window_s);
-  unattributed_pulses_ += heard.report.unattributed;
   wrong_attributions_ += heard.wrong_attributions;
   std::optional<avalanche::OrientationObservation> orientation;
   if (scenario_.sensors.attitude_updates || measurement_sequence_ == 1) orientation = attitude;

@@ -136,6 +136,8 @@ class SearchController {
   /// kLocated / kFound refinement of a filter estimate made from `samples` samples whose recent
   /// innovations are `innovation_ratio` of the divergence gate (same criteria as guide()).
   EstimatorStatus assess(const VictimEstimate& estimate, std::uint64_t samples, double innovation_ratio = 0.0) const;
+  /// Enough samples, recent innovations within the gate: an estimate that may be confirmed.
+  bool confirmable(std::uint64_t samples, double innovation_ratio) const;
   GuidanceMode mode() const { return mode_; }
   const SearchConfig& config() const { return config_; }
   /// Probe points (offsets from the estimate, G_k axes) of the adaptive end; empty when none

@@ -38,9 +38,8 @@ class SimulatedRescuer {
   /// Truth for evaluation: which victim this receiver's signal id is (nullopt if unknown).
   std::optional<std::size_t> victim_of_signal(std::uint32_t signal_id) const;
   const RescuerSpec& spec() const { return spec_; }
-  /// Realistic receiver: pulses heard but attributed to no signal, and pulses attributed to a
-  /// signal of another victim (truth), since the start.
-  std::uint64_t unattributed_pulses() const { return unattributed_pulses_; }
+  /// Realistic receiver: pulses attributed to a signal of another victim (truth), since the
+  /// start (each sample carries its window's unattributed pulses).
   std::uint64_t wrong_attributions() const { return wrong_attributions_; }
 
  private:
@@ -55,7 +54,6 @@ class SimulatedRescuer {
   std::optional<avalanche::BeaconReceiver> receiver_;      // realistic receiver
   std::vector<avalanche::Beacon> beacons_;
   std::optional<TimestampNs> last_listened_;
-  std::uint64_t unattributed_pulses_ = 0;
   std::uint64_t wrong_attributions_ = 0;
   std::uint64_t measurement_sequence_ = 0;
   std::uint64_t odometry_sequence_ = 0;
