@@ -106,27 +106,6 @@ void SignalSeparator::learn(Track& t, const DetectedPulse& p) {
   if (const auto start = start_of(t, p)) t.timing.update(start->first, start->second);
 }
 
-bool SignalSeparator::another_transmitter(const std::vector<Track*>& mates, const DetectedPulse& p) const {
-  for (const Track* t : mates) {
-    // Only a mate that knows its timing, and was heard on it within the last period and a half,
-    // can say the pulse is not its own (a mate silent longer may have drifted off its timing:
-    // seen, a single transmitter split into two signals and lost at 30 m).
-    if (!t->timing.has_period() || t->lost || !t->on_time_s) return false;
-    if (p.start_s - t->last_heard_s > 1.5 * t->timing.period_s()) return false;
-    const auto start = start_of(*t, p);
-    if (!start) return false;
-    const auto fit = t->timing.fit(start->first, start->second);
-    if (!fit) return false;
-    // Within the longest on-time the standard allows of the mate's predicted start (plus its
-    // gate) the pulse may be the mate's own, cut or a little off its timing: the learnt on-time
-    // is no bound (seen: a pulse split by the window's edges, its 44 ms second half taken for
-    // another transmitter, and the victim lost at 30 m).
-    if (std::fabs(fit->innovation_s) <= config_.detector.max_on_time_s + config_.timing_gate_sigmas * std::sqrt(fit->variance_s2))
-      return false;
-  }
-  return true;
-}
-
 bool SignalSeparator::better_fit_elsewhere(const Track& chosen, const std::vector<Track*>& mates,
                                            const DetectedPulse& p, std::size_t index) const {
   if (!consistency_) return false;
@@ -219,8 +198,7 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
     } else if (carrier_matches.size() == 1 && carrier_matches.front()->lost && !p.truncated()) {
       chosen = carrier_matches.front();  // unheard a while, its timing drifted: reanchor on this pulse
       chosen->timing.reanchor();
-    } else if ((carrier_matches.empty() || another_transmitter(carrier_matches, p)) && !p.truncated() &&
-               tracks_.size() < config_.max_signals) {
+    } else if (carrier_matches.empty() && !p.truncated() && tracks_.size() < config_.max_signals) {
       Track t;
       t.id = next_id_++;
       t.carrier_hz = p.carrier_offset_hz;

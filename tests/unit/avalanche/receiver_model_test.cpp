@@ -4,9 +4,6 @@
 
 #include <gtest/gtest.h>
 
-#include <map>
-#include <set>
-
 #include <cmath>
 
 #include "sarloc/core/avalanche/beacon_receiver.hpp"
@@ -163,44 +160,6 @@ TEST(SignalSeparator, SameCarrierSameTimeIsNotAttributed) {
     unattributed += heard.report.unattributed;
   }
   EXPECT_GE(unattributed, 5U);  // at least half of the 10 overlapping pairs: never guessed
-  EXPECT_LE(wrong, 1U);
-}
-
-// Two transmitters on one carrier (within one frequency cell), their pulses half a period
-// apart: only timing tells them apart, and it does: two signals, each its own transmitter's.
-TEST(SignalSeparator, SameCarrierDistinctTimingGivesTwoSignals) {
-  SimulationConfig config;
-  BeaconReceiver receiver(config, 14);
-  std::vector<Beacon> beacons(2);
-  beacons[0].position = Vec3(12.0, 0.0, -1.0);
-  beacons[0].moment = Vec3(0.01, 0.0, 0.01);
-  beacons[1].position = Vec3(14.0, -3.0, -1.5);
-  beacons[1].moment = Vec3(0.0, 0.012, 0.004);
-  for (auto& b : beacons) {
-    b.timing.period_s = 1.0;
-    b.timing.on_time_s = 0.12;
-    b.timing.carrier_offset_hz = -30.0;
-  }
-  beacons[1].timing.carrier_offset_hz = -29.5;  // 0.5 Hz: the same carrier to the receiver
-  beacons[0].timing.first_start_s = 0.1;
-  beacons[1].timing.first_start_s = 0.6;
-  ReceiverPose pose;
-  pose.position = Vec3(0.0, 0.0, 1.0);
-  std::uint32_t wrong = 0;
-  std::map<std::uint32_t, std::set<std::size_t>> truth_of_signal;
-  for (int k = 0; k < 15; ++k) {
-    const Listening heard = receiver.listen(pose, beacons, k, 1.0);
-    wrong += heard.wrong_attributions;
-    for (const auto& h : heard.samples)
-      if (h.transmitter) truth_of_signal[h.sample.signal_id].insert(*h.transmitter);
-  }
-  ASSERT_EQ(truth_of_signal.size(), 2U) << "one signal per transmitter";
-  std::set<std::size_t> transmitters;
-  for (const auto& [signal, truth] : truth_of_signal) {
-    EXPECT_EQ(truth.size(), 1U) << "signal " << signal << " mixes transmitters";
-    transmitters.insert(truth.begin(), truth.end());
-  }
-  EXPECT_EQ(transmitters.size(), 2U);
   EXPECT_LE(wrong, 1U);
 }
 

@@ -15,10 +15,10 @@
 //   - two tracks match it and the field-consistency hook (each track's filter) does not pick
 //     one by a wide margin, or timing picked one and the hook says a carrier-mate's filter
 //     explains its field by that margin;
-//   - it cannot start a track: cut by the window's edges, max_signals, or its carrier is
-//     tracked and it falls within the standard's longest on-time of a mate's predicted pulse
-//     (further away, with every mate heard on its timing, it is a second transmitter on that
-//     carrier and starts a track of its own).
+//   - it matches nothing and cannot start a track (cut by the window's edges, or max_signals),
+//     or it is on a tracked carrier at the wrong time (a second transmitter on that carrier is
+//     not tracked: tried, it split single transmitters into two signals; see
+//     docs/estimation/avalanche.md).
 // Events: a track not heard for lost_after_s is declared lost; heard again, its next sample
 // carries kReacquired (a lost track whose carrier alone matches a pulse that misses its timing
 // is reanchored on that pulse: its timing estimate drifted while it was unheard). Tracks that shared an unattributable pulse are merged; the next
@@ -129,10 +129,6 @@ class SignalSeparator {
   std::optional<std::pair<double, double>> start_of(const Track& t, const DetectedPulse& p) const;
   bool timing_fits(const Track& t, const DetectedPulse& p) const;
   bool elliptical(const DetectedPulse& p) const;
-  /// A clean pulse on the carrier of `mates` (every one confirmed and heard) that falls a whole
-  /// on-time away from each mate's predicted pulse: a second transmitter on that carrier (two
-  /// carriers within one frequency cell, 1 / on-time), to be tracked by its own timing.
-  bool another_transmitter(const std::vector<Track*>& mates, const DetectedPulse& p) const;
   /// Timing gave the pulse to `chosen`, but the consistency hook says another track on its
   /// carrier explains its field by more than log_likelihood_margin: not attributed.
   bool better_fit_elsewhere(const Track& chosen, const std::vector<Track*>& mates, const DetectedPulse& p,
