@@ -26,7 +26,128 @@ void load(YamlReader root, avalanche::EvaluationSetup& setup) {
   setup.validate();
 }
 
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+
+// Reads `key` given in degrees (or deg/s, deg/s/sqrt(Hz), deg/h) into radians.
+void read_scaled(YamlReader& r, const std::string& key, double& value, double unit) {
+  double v = value / unit;
+  r.read(key, v);
+  value = v * unit;
+}
+
+void load_firefighter(YamlReader root, firefighter::FirefighterEvalConfig& c) {
+  {
+    auto r = root.child("walk");
+    auto& w = c.walk;
+    r.read("duration_s", w.duration_s);
+    r.read("standing_s", w.standing_s);
+    r.read("speed_min_mps", w.speed_min_mps);
+    r.read("speed_max_mps", w.speed_max_mps);
+    r.read("crawl_speed_mps", w.crawl_speed_mps);
+    r.read("stride_m", w.stride_m);
+    r.read("crawl_stride_m", w.crawl_stride_m);
+    r.read("stance_fraction", w.stance_fraction);
+    r.read("offset_min_m", w.offset_min_m);
+    r.read("offset_max_m", w.offset_max_m);
+    r.read("stop_per_m", w.stop_per_m);
+    r.read("sweep_per_m", w.sweep_per_m);
+    r.read("turn_back_per_m", w.turn_back_per_m);
+    r.read("crawl_per_m", w.crawl_per_m);
+    r.read("skip_room_probability", w.skip_room_probability);
+    r.read("follower_delay_s", w.follower_delay_s);
+    r.expect_done();
+  }
+  {
+    auto r = root.child("imu");
+    auto& m = c.imu;
+    constexpr double g = firefighter::kGravity;
+    r.read("rate_hz", m.rate_hz);
+    read_scaled(r, "accel_noise_density_ug_per_sqrt_hz", m.accel_noise_density, 1e-6 * g);
+    read_scaled(r, "accel_bias_instability_mg", m.accel_bias_instability, 1e-3 * g);
+    read_scaled(r, "accel_turn_on_bias_mg", m.accel_turn_on_bias, 1e-3 * g);
+    r.read("accel_scale_factor", m.accel_scale_factor);
+    read_scaled(r, "gyro_noise_density_deg_per_s_sqrt_hz", m.gyro_noise_density, kDeg);
+    read_scaled(r, "gyro_bias_instability_deg_per_h", m.gyro_bias_instability, kDeg / 3600.0);
+    read_scaled(r, "gyro_turn_on_bias_deg_per_s", m.gyro_turn_on_bias, kDeg);
+    r.read("gyro_scale_factor", m.gyro_scale_factor);
+    r.read("bias_correlation_time_s", m.bias_correlation_time_s);
+    r.expect_done();
+  }
+  {
+    auto r = root.child("ins");
+    auto& n = c.ins;
+    r.read("alignment_s", n.alignment_s);
+    r.read("zupt_sigma_mps", n.zupt_sigma_mps);
+    r.read("detector_window", n.detector_window);
+    r.read("detector_sigma_accel", n.detector_sigma_accel);
+    read_scaled(r, "detector_sigma_gyro_deg_per_s", n.detector_sigma_gyro, kDeg);
+    r.read("detector_threshold", n.detector_threshold);
+    r.read("motionless_after_s", n.motionless_after_s);
+    r.expect_done();
+  }
+  {
+    auto r = root.child("pattern");
+    r.read("grid_spacing_m", c.grid.spacing_m);
+    r.read("min_clearance_m", c.grid.min_clearance_m);
+    r.read("pattern_length_m", c.pattern.pattern_length_m);
+    r.read("compare_every_m", c.pattern.compare_every_m);
+    r.read("trajectory_spacing_m", c.pattern.trajectory_spacing_m);
+    r.read("pattern_point_spacing_m", c.pattern.pattern_point_spacing_m);
+    r.read("icp_iterations", c.pattern.icp_iterations);
+    r.read("icp_tolerance_m", c.pattern.icp_tolerance_m);
+    r.read("prune_margin_m", c.pattern.prune_margin_m);
+    r.expect_done();
+  }
+  {
+    auto r = root.child("filter");
+    auto& f = c.filter;
+    r.read("particles", f.particles);
+    r.read("position_noise_m", f.position_noise_m);
+    r.read("heading_noise_deg_per_m", f.heading_noise_deg_per_m);
+    r.read("moving_threshold_m", f.moving_threshold_m);
+    r.read("likelihood_sigma", f.likelihood_sigma);
+    r.read("weight_floor_factor", f.weight_floor_factor);
+    r.read("replace_fraction", f.replace_fraction);
+    r.read("replace_position_sigma_m", f.replace_position_sigma_m);
+    r.read("replace_heading_sigma_deg", f.replace_heading_sigma_deg);
+    std::string resampling = firefighter::to_string(f.resampling);
+    r.read("resampling", resampling);
+    f.resampling = firefighter::parse_pseudo_resampling(resampling, r.source() + ": filter.resampling");
+    r.read("converged_variance_m2", f.converged_variance_m2);
+    r.read("known_position_sigma_m", f.known_position_sigma_m);
+    r.read("known_heading_sigma_deg", f.known_heading_sigma_deg);
+    r.read("floor_tolerance_m", f.floor_tolerance_m);
+    r.read("map_error_removed_fraction", f.map_error_removed_fraction);
+    r.read("map_error_clear_updates", f.map_error_clear_updates);
+    r.expect_done();
+  }
+  {
+    auto r = root.child("evaluation");
+    r.read("runs", c.runs);
+    r.read("seed", c.seed);
+    r.read("threads", c.threads);
+    r.read("odometry_rate_hz", c.odometry_rate_hz);
+    r.read("rmse_every_s", c.rmse_every_s);
+    r.expect_done();
+  }
+  root.expect_done();
+  try {
+    c.validate();
+  } catch (const ConfigError& e) {
+    throw ConfigError(root.source() + ": " + e.what());
+  }
+}
+
 }  // namespace
+
+void load_firefighter_config(const std::string& path, firefighter::FirefighterEvalConfig& config) {
+  load_firefighter(YamlReader::from_file(path), config);
+}
+
+void load_firefighter_config_text(const std::string& text, const std::string& name,
+                                  firefighter::FirefighterEvalConfig& config) {
+  load_firefighter(YamlReader::from_string(text, name), config);
+}
 
 void load_avalanche_config(const std::string& path, avalanche::EvaluationSetup& setup) {
   load(YamlReader::from_file(path), setup);

@@ -2,6 +2,8 @@
 //
 //   sarloc-eval avalanche --filter sog --trials 100 --seed 1 [--config FILE] [--json FILE]
 //                         [--trace-csv FILE] [--trace-trial N]
+//   sarloc-eval multi-burial --victims 3 --spread 5 [--trials N] [--seed S] [--json FILE]
+//   sarloc-eval firefighter --building FILE --runs N --seed S [--json FILE] [--plot FILE.svg]
 //
 // Prints a table in the layout of seed 000, Table I, plus timing and NEES consistency, and the
 // same figures as JSON. Exit codes (sarloc::app::ExitCode): 0 all accuracy/consistency targets
@@ -18,6 +20,7 @@
 #include <string>
 
 #include "eval_config.hpp"
+#include "firefighter_command.hpp"
 #include "trial_trace.hpp"
 #include "sarloc/app/command_line.hpp"
 #include "sarloc/app/exit_codes.hpp"
@@ -175,6 +178,8 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   std::string multi_json;
   multi->add_option("--json", multi_json, "write the summary and every trial as JSON to this file");
+  sarloc::eval::FirefighterOptions firefighter_options;
+  auto* firefighter = sarloc::eval::add_firefighter_command(app, firefighter_options);
   if (auto code = sarloc::app::parse_command_line(app, argc, argv)) return *code;
   try {
     sarloc::app::setup_logging(log_level, "sarloc-eval");
@@ -184,6 +189,7 @@ int main(int argc, char** argv) {
   }
   sarloc::app::install_shutdown_handlers();
 
+  if (firefighter->parsed()) return sarloc::eval::run_firefighter_command(firefighter_options);
   if (multi->parsed()) {
     av::EvaluationSetup base;
     try {

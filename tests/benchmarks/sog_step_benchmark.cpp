@@ -16,7 +16,7 @@ using namespace sarloc::avalanche;
 void BM_SogStep(benchmark::State& state) {
   SogConfig cfg;
   cfg.initial_components = static_cast<std::uint32_t>(state.range(0));
-  AvalancheSimulator sim(SimulationConfig{}, derive_seed(7, 0));
+  AvalancheSimulator sim(SimulationConfig{}, sarloc::derive_seed(7, 0));
   SogFilter base(cfg, "sim", 1);
   base.process(sim.measure());
   const Odometry odo = sim.walk(0.3, 1.0);
@@ -35,7 +35,7 @@ void BM_SogStep(benchmark::State& state) {
 
 void BM_LookaheadHeading(benchmark::State& state) {
   SogConfig cfg;
-  AvalancheSimulator sim(SimulationConfig{}, derive_seed(7, 0));
+  AvalancheSimulator sim(SimulationConfig{}, sarloc::derive_seed(7, 0));
   SogFilter f(cfg, "sim", 1);
   f.process(sim.measure());
   f.add_odometry(sim.walk(0.3, 1.0));

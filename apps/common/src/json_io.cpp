@@ -1,5 +1,6 @@
 #include "sarloc/app/json_io.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <stdexcept>
 
@@ -270,6 +271,53 @@ void write_json_file(const std::string& path, const nlohmann::json& j) {
   out << j.dump(2) << "\n";
   out.flush();
   if (!out) throw std::runtime_error("writing " + path + " failed (disk full?)");
+}
+
+nlohmann::json to_json(const firefighter::FirefighterSummary& s, double rmse_every_s,
+                       const firefighter::MapErrorExperiment* map_error) {
+  nlohmann::json configs = nlohmann::json::array();
+  for (const auto& v : s.variants) {
+    nlohmann::json at = nlohmann::json::object();
+    for (std::size_t j = 0; j < v.rmse_at_s.size(); ++j) {
+      at[std::to_string(static_cast<long>(std::lround(rmse_every_s * static_cast<double>(j + 1))))] = v.rmse_at_s[j];
+    }
+    configs.push_back({{"name", v.variant.name},
+                       {"pseudo_observations", v.variant.pseudo_observations},
+                       {"resampling", firefighter::to_string(v.variant.resampling)},
+                       {"known_initial_state", v.variant.known_initial_state},
+                       {"rmse_m_at_s", at},
+                       {"final_rmse_m", v.final_rmse_m},
+                       {"overall_rmse_m", v.overall_rmse_m},
+                       {"converged_fraction", v.converged_fraction},
+                       {"wrong_floor_fraction", v.wrong_floor_fraction},
+                       {"ms_per_update", v.ms_per_update_amortised},
+                       {"ms_per_filter_step", v.ms_per_update_median},
+                       {"nees", {{"mean", v.nees_mean}, {"lower", v.nees_lower}, {"upper", v.nees_upper},
+                                 {"members", v.nees_members}, {"fraction_inside_95", v.nees_fraction_inside_95}}}});
+  }
+  nlohmann::json j = {{"building", s.building},
+                      {"runs", s.runs},
+                      {"seed", s.seed},
+                      {"members", s.members},
+                      {"duration_s", s.duration_s},
+                      {"area_m2", s.area_m2},
+                      {"pattern_windows", s.pattern_windows},
+                      {"ms_per_comparison_median", s.ms_per_comparison_median},
+                      {"distance_median_m", s.distance_median_m},
+                      {"ins_drift_percent", {{"median", s.ins_drift_median}, {"p95", s.ins_drift_p95},
+                                             {"per_member", s.ins_drift_percent}}},
+                      {"configs", configs},
+                      {"wall_s", s.wall_s}};
+  if (map_error) {
+    nlohmann::json timeline = nlohmann::json::array();
+    for (const auto& m : map_error->timeline) {
+      timeline.push_back({{"t_s", m.t}, {"variance_m2", m.variance_m2}, {"error_m", m.error_m},
+                          {"converged", m.converged}, {"map_error_suspected", m.map_error_suspected}});
+    }
+    j["map_error"] = {{"door", map_error->door}, {"shift_m", map_error->shift_m}, {"raised", map_error->raised},
+                      {"recovered", map_error->recovered}, {"timeline", timeline}};
+  }
+  return j;
 }
 
 }  // namespace sarloc::app

@@ -12,7 +12,7 @@
 #include <set>
 #include <thread>
 
-#include "sarloc/core/avalanche/parallel_trials.hpp"
+#include "sarloc/core/common/parallel_trials.hpp"
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/gaussian.hpp"

@@ -9,7 +9,7 @@
 
 #include "sarloc/core/avalanche/beacon_receiver.hpp"
 #include "sarloc/core/avalanche/dipole_model.hpp"
-#include "sarloc/core/avalanche/parallel_trials.hpp"
+#include "sarloc/core/common/parallel_trials.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/gaussian.hpp"

@@ -10,7 +10,7 @@ namespace sarloc::mission {
 SimulatedRescuer::SimulatedRescuer(const MissionScenario& scenario, const std::string& rescuer_id)
     : scenario_(scenario),
       spec_(scenario.rescuers.at(scenario.rescuer_index(rescuer_id))),
-      rng_(avalanche::derive_seed(scenario.seed, scenario.rescuer_index(rescuer_id))) {
+      rng_(derive_seed(scenario.seed, scenario.rescuer_index(rescuer_id))) {
   pose_.position = Vec3(spec_.start.x(), spec_.start.y(), scenario.sensors.antenna_height_m);
   pose_.rpy = Vec3(0.0, 0.0, spec_.heading_deg * avalanche::kPi / 180.0);
   if (scenario.sensors.receiver.kind != avalanche::ReceiverKind::kRealistic) return;
@@ -18,7 +18,7 @@ SimulatedRescuer::SimulatedRescuer(const MissionScenario& scenario, const std::s
   // seed), each through its own device (hardware errors and noise from its own seed).
   for (std::size_t v = 0; v < scenario.victims.size(); ++v) {
     const VictimSpec& victim = scenario.victims[v];
-    std::mt19937_64 timing_rng(avalanche::derive_seed(scenario.seed, 0xBEAC0000ULL + v));
+    std::mt19937_64 timing_rng(derive_seed(scenario.seed, 0xBEAC0000ULL + v));
     avalanche::Beacon b;
     b.position = victim.position;
     b.moment = victim.moment;
@@ -28,7 +28,7 @@ SimulatedRescuer::SimulatedRescuer(const MissionScenario& scenario, const std::s
     beacons_.push_back(b);
   }
   receiver_.emplace(scenario.sensors,
-                    avalanche::derive_seed(scenario.seed, 0x5EED0000ULL + scenario.rescuer_index(rescuer_id)));
+                    derive_seed(scenario.seed, 0x5EED0000ULL + scenario.rescuer_index(rescuer_id)));
 }
 
 std::vector<avalanche::FieldMeasurement> SimulatedRescuer::measure(TimestampNs stamp) {

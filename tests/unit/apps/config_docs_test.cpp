@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "eval_config.hpp"
+#include "sarloc/app/floor_plan_yaml.hpp"
 #include "sarloc/app/mission_config.hpp"
 #include "sarloc/app/yaml_reader.hpp"
 
@@ -76,13 +77,13 @@ std::set<std::string> documented_mission_keys() {
   return keys;
 }
 
-// docs/estimation/avalanche.md, "## Parameters": full key paths; "a.b, c" means a.b and a.c.
-std::set<std::string> documented_model_keys() {
+// The table(s) of section `heading` of `doc`: full key paths; "a.b, c" means a.b and a.c.
+std::set<std::string> documented_table_keys(const fs::path& doc, const std::string& heading) {
   std::set<std::string> keys;
   bool in_parameters = false;
-  const auto lines = lines_of(kSource / "docs/estimation/avalanche.md");
+  const auto lines = lines_of(doc);
   for (std::size_t i = 0; i < lines.size(); ++i) {
-    if (lines[i].rfind("## ", 0) == 0) in_parameters = lines[i].rfind("## Parameters", 0) == 0;
+    if (lines[i].rfind("## ", 0) == 0) in_parameters = lines[i].rfind(heading, 0) == 0;
     if (!in_parameters) continue;
     const std::string cell = key_cell(lines, i);
     if (cell.empty()) continue;
@@ -91,6 +92,11 @@ std::set<std::string> documented_model_keys() {
     for (const auto& key : parts) keys.insert(key.find('.') == std::string::npos ? section + key : key);
   }
   return keys;
+}
+
+// docs/estimation/avalanche.md, "## Parameters".
+std::set<std::string> documented_model_keys() {
+  return documented_table_keys(kSource / "docs/estimation/avalanche.md", "## Parameters");
 }
 
 // What a loader asked for, without the maps and lists that only hold other keys.
@@ -146,6 +152,27 @@ TEST(ConfigDocs, EvaluationKeysDocumentedAreExactlyThoseTheLoaderReads) {
   const auto accepted = leaves(recorder.keys());
   EXPECT_EQ(difference(documented, accepted), "") << "documented but refused as unknown by the evaluation loader";
   EXPECT_EQ(difference(accepted, documented), "") << "read by the evaluation loader but not documented";
+}
+
+TEST(ConfigDocs, FirefighterEvaluationKeysDocumentedAreExactlyThoseTheLoaderReads) {
+  const auto documented = documented_table_keys(kSource / "docs/estimation/firefighter.md", "## Parameters");
+  ASSERT_GT(documented.size(), 40U) << "docs/estimation/firefighter.md: parameter table not found";
+  YamlReader::KeyRecorder recorder;
+  firefighter::FirefighterEvalConfig config;
+  eval::load_firefighter_config((kSource / "config/eval/firefighter.yaml").string(), config);
+  const auto accepted = leaves(recorder.keys());
+  EXPECT_EQ(difference(documented, accepted), "") << "documented but refused by the firefighter loader";
+  EXPECT_EQ(difference(accepted, documented), "") << "read by the firefighter loader but not documented";
+}
+
+TEST(ConfigDocs, FloorPlanKeysDocumentedAreExactlyThoseTheLoaderReads) {
+  const auto documented = documented_table_keys(kSource / "docs/configuration.md", "## Floor plans");
+  ASSERT_GT(documented.size(), 20U) << "docs/configuration.md: floor-plan table not found";
+  YamlReader::KeyRecorder recorder;
+  for (const auto& f : yaml_files(kSource / "config/buildings")) load_floor_plan(f.string());
+  const auto accepted = leaves(recorder.keys());
+  EXPECT_EQ(difference(documented, accepted), "") << "documented but refused by the floor-plan loader";
+  EXPECT_EQ(difference(accepted, documented), "") << "read by the floor-plan loader but not documented";
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 
 #include "sarloc/core/avalanche/evaluation.hpp"
 #include "sarloc/core/avalanche/multi_burial.hpp"
+#include "sarloc/core/firefighter/firefighter_evaluation.hpp"
 #include "sarloc/core/incident/fused_victim.hpp"
 #include "sarloc/core/incident/team_status.hpp"
 #include "sarloc/core/mission/mission_summary.hpp"
@@ -22,6 +23,11 @@ nlohmann::json to_json(const std::vector<incident::TeamStatus>& teams);
 nlohmann::json to_json(const avalanche::EvaluationSummary& summary);
 /// The multiple-burial evaluation: its totals and every trial (found, ghosts, duplicates, ...).
 nlohmann::json to_json(const avalanche::MultiBurialSummary& summary);
+/// The firefighter evaluation: building, runs, seed, configs[] (name, pseudo_observations,
+/// resampling, known_initial_state, rmse_m_at_s, final_rmse_m, converged_fraction,
+/// ms_per_update, ...), ins_drift_percent {median, p95}; with the map-error experiment.
+nlohmann::json to_json(const firefighter::FirefighterSummary& summary, double rmse_every_s,
+                       const firefighter::MapErrorExperiment* map_error = nullptr);
 nlohmann::json to_json(const mission::DeviceSummary& device);
 nlohmann::json to_json(const mission::MissionSummary& summary);
 

@@ -26,6 +26,7 @@
 
 #include "sarloc/core/avalanche/field_measurement.hpp"
 #include "sarloc/core/avalanche/receiver_model.hpp"
+#include "sarloc/core/common/seeds.hpp"
 #include "sarloc/core/avalanche/responder_types.hpp"
 #include "sarloc/core/avalanche/transmitter_standard.hpp"
 
@@ -110,8 +111,5 @@ class AvalancheSimulator {
   std::vector<Beacon> beacons_;
   std::uint32_t wrong_attributions_ = 0;
 };
-
-/// Seed of trial `index` from the evaluation seed (splitmix64), independent of thread count.
-std::uint64_t derive_seed(std::uint64_t seed, std::uint64_t index);
 
 }  // namespace sarloc::avalanche

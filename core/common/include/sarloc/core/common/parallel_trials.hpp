@@ -12,7 +12,7 @@
 #include <thread>
 #include <vector>
 
-namespace sarloc::avalanche {
+namespace sarloc {
 
 template <typename Result>
 struct TrialRun {
@@ -64,4 +64,4 @@ TrialRun<Result> run_parallel_trials(std::uint32_t n, std::uint32_t threads, con
   return run;
 }
 
-}  // namespace sarloc::avalanche
+}  // namespace sarloc

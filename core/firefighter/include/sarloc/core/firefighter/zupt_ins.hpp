@@ -1,0 +1,125 @@
+#pragma once
+// Foot-mounted, ZUPT-aided inertial navigation (seed 004 section IV-A; Nilsson et al., "Foot-
+// mounted inertial navigation made easy", 2014): a strapdown INS on the boot's IMU, an
+// error-state Kalman filter, and a SHOE zero-velocity detector (Skog et al., "Zero-velocity
+// detection: an algorithm evaluation", 2010) whose stance phases feed zero-velocity updates.
+//
+// Navigation frame: x, y level, z up, yaw 0 along `initial_yaw_rad` (the frame is the INS's
+// own: the map-aided filter estimates its rotation to the map). Error state (global attitude
+// error, R_true = Exp(dtheta) R):
+//   [dp(3) dv(3) dtheta(3) dba(3) dbg(3) dp_clone(3)]
+// dp_clone is the position error at the start of the current odometry interval (stochastic
+// cloning), so that the covariance of a displacement is exact, not a difference of variances.
+//
+//   ZuptIns ins(config);
+//   for (const ImuSample& s : samples) ins.push(s);      // InputError on bad samples
+//   StepDisplacement d = ins.take_displacement();        // e.g. every 0.5 s (2 Hz)
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <deque>
+
+#include "sarloc/core/firefighter/imu_sample.hpp"
+
+namespace sarloc::firefighter {
+
+struct ZuptInsConfig {
+  double rate_hz = 100.0;
+  /// Stand still this long at power-up: roll, pitch and the gyro biases are taken from it.
+  double alignment_s = 5.0;
+  double initial_yaw_rad = 0.0;
+  // Process noise (the MTi 1-series figures, imu_error_model.hpp, inflated x2 for the unmodelled).
+  double accel_noise_density = 2.0 * 120e-6 * kGravity;
+  double gyro_noise_density = 2.0 * 0.007 * 3.14159265358979 / 180.0;
+  double accel_bias_walk = 1e-4;  ///< m/s^2/sqrt(s)
+  double gyro_bias_walk = 1e-5;   ///< rad/s/sqrt(s)
+  double initial_accel_bias_sigma = 0.1;    ///< m/s^2
+  double initial_gyro_bias_sigma = 2e-4;    ///< rad/s, after the alignment's averaging
+  double initial_tilt_sigma_rad = 0.01;
+  double initial_yaw_sigma_rad = 1e-3;
+  double zupt_sigma_mps = 0.01;
+  // SHOE detector: stationary when T < threshold, T = 1/W sum over the last W samples of
+  // |f - g mean(f)/|mean(f)||^2 / sigma_a^2 + |w|^2 / sigma_g^2. OpenShoe's sigmas; the
+  // threshold is a third of OpenShoe's 3e4, so that the slow swings of crawling (about 1 m/s^2,
+  // 10 deg/s at their ends) count as motion; at rest T is about 5 with MTi-3 noise.
+  std::uint32_t detector_window = 5;
+  double detector_sigma_accel = 0.01;                          ///< m/s^2
+  double detector_sigma_gyro = 0.1 * 3.14159265358979 / 180.0;  ///< rad/s
+  double detector_threshold = 1e4;
+  /// No swing phase for this long: the firefighter has not moved (a PASS device's alarm).
+  double motionless_after_s = 30.0;
+  void validate() const;
+};
+
+/// The displacement of the boot over [t0, t1] in the navigation frame, its covariance, and the
+/// yaw change (for the robocentric Odometry the device publishes).
+struct StepDisplacement {
+  double t0 = 0.0, t1 = 0.0;
+  Eigen::Vector3d delta = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  double yaw_change = 0.0;
+  double yaw_at_start = 0.0;
+};
+
+class ZuptIns {
+ public:
+  static constexpr int kP = 0, kV = 3, kTheta = 6, kBa = 9, kBg = 12, kClone = 15, kStates = 18;
+  using StateCov = Eigen::Matrix<double, kStates, kStates>;
+
+  struct Nominal {
+    Eigen::Vector3d p = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();
+    Eigen::Quaterniond q = Eigen::Quaterniond::Identity();  ///< body to navigation
+    Eigen::Vector3d ba = Eigen::Vector3d::Zero(), bg = Eigen::Vector3d::Zero();
+  };
+
+  explicit ZuptIns(ZuptInsConfig config);
+
+  /// One IMU sample. Throws InputError (naming the field) for NaN/Inf, magnitudes beyond the
+  /// sensor's range (16 g, 2000 deg/s), or a time not after the previous sample.
+  void push(const ImuSample& sample);
+
+  bool aligned() const { return aligned_; }
+  bool stationary() const { return stationary_; }
+  /// Seconds since the last swing phase (0 while moving).
+  double motionless_s() const { return motionless_s_; }
+  bool motionless() const { return motionless_s_ >= config_.motionless_after_s; }
+  const Nominal& nominal() const { return x_; }
+  const StateCov& covariance() const { return P_; }
+  double time() const { return t_; }
+  double yaw() const;
+
+  /// Displacement since the previous call (or since alignment), then starts a new interval.
+  StepDisplacement take_displacement();
+
+  /// The discrete nominal propagation over one sample interval, trapezoidal in the samples at
+  /// its two ends (a rectangle rule tilts the boot by half a sample of its 5 rad/s swing and
+  /// loses 3 cm of height a stride), and its error-state transition (exposed for the Jacobian
+  /// test): x' = f(x, s0, s1, dt); F = d(x' error)/d(x error).
+  static Nominal propagate(const Nominal& x, const ImuSample& s0, const ImuSample& s1, double dt);
+  static Eigen::Matrix<double, 15, 15> transition(const Nominal& x, const ImuSample& s0, const ImuSample& s1,
+                                                  double dt);
+  /// x (+) dx and x' (-) x for the 15 navigation error states.
+  static Nominal inject(const Nominal& x, const Eigen::Matrix<double, 15, 1>& dx);
+  static Eigen::Matrix<double, 15, 1> difference(const Nominal& a, const Nominal& b);
+
+ private:
+  void align();
+  bool detect();
+  void zero_velocity_update();
+
+  ZuptInsConfig config_;
+  Nominal x_;
+  StateCov P_ = StateCov::Zero();
+  std::deque<ImuSample> window_;
+  ImuSample previous_;
+  std::deque<ImuSample> alignment_;
+  bool aligned_ = false;
+  bool stationary_ = true;
+  bool have_time_ = false;
+  double t_ = 0.0;
+  double motionless_s_ = 0.0;
+  double interval_t0_ = 0.0;
+  Eigen::Vector3d interval_p0_ = Eigen::Vector3d::Zero();
+  double interval_yaw0_ = 0.0;
+};
+
+}  // namespace sarloc::firefighter

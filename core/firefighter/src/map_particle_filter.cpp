@@ -1,0 +1,360 @@
+#include "sarloc/core/firefighter/map_particle_filter.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+#include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
+#include "sarloc/core/firefighter/point_index.hpp"
+
+namespace sarloc::firefighter {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+constexpr double kHeightLeak = 0.05;
+
+double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
+Vec2 rotate(const Vec2& v, double a) {
+  return {std::cos(a) * v.x() - std::sin(a) * v.y(), std::sin(a) * v.x() + std::cos(a) * v.y()};
+}
+
+// Draws an index with probability proportional to `weights` (which need not sum to 1).
+std::size_t draw(const std::vector<double>& cumulative, std::mt19937_64& rng) {
+  const double u = std::uniform_real_distribution<double>(0.0, cumulative.back())(rng);
+  return static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin());
+}
+
+}  // namespace
+
+const char* to_string(PseudoResampling r) {
+  switch (r) {
+    case PseudoResampling::kNever: return "never";
+    case PseudoResampling::kAlways: return "always";
+    case PseudoResampling::kUnconverged: return "unconverged";
+  }
+  return "?";
+}
+
+PseudoResampling parse_pseudo_resampling(const std::string& text, const std::string& key) {
+  if (text == "never") return PseudoResampling::kNever;
+  if (text == "always") return PseudoResampling::kAlways;
+  if (text == "unconverged") return PseudoResampling::kUnconverged;
+  throw ConfigError(key + " = '" + text + "': must be never, always or unconverged");
+}
+
+void MapFilterConfig::validate() const {
+  auto check = [](const char* key, double v, double lo, double hi) { check_range("filter", key, v, lo, hi); };
+  check("particles", particles, 10.0, 1e6);
+  check("position_noise_m", position_noise_m, 0.0, 5.0);
+  check("heading_noise_deg_per_m", heading_noise_deg_per_m, 0.0, 90.0);
+  check("moving_threshold_m", moving_threshold_m, 0.0, 1.0);
+  check("likelihood_sigma", likelihood_sigma, 1e-3, 10.0);
+  check("weight_floor_factor", weight_floor_factor, 0.0, 1.0);
+  check("replace_fraction", replace_fraction, 0.0, 0.9);
+  check("replace_position_sigma_m", replace_position_sigma_m, 0.0, 10.0);
+  check("replace_heading_sigma_deg", replace_heading_sigma_deg, 0.0, 180.0);
+  check("converged_variance_m2", converged_variance_m2, 1e-3, 1e4);
+  check("known_position_sigma_m", known_position_sigma_m, 0.0, 100.0);
+  check("known_heading_sigma_deg", known_heading_sigma_deg, 0.0, 180.0);
+  check("floor_tolerance_m", floor_tolerance_m, 0.1, 10.0);
+  check("map_error_removed_fraction", map_error_removed_fraction, 0.05, 1.0);
+  check("map_error_clear_updates", map_error_clear_updates, 1.0, 1e6);
+}
+
+MapParticleFilter::MapParticleFilter(const FloorPlan& plan, const NavigableGrid& grid, MapFilterConfig config)
+    : plan_(plan), grid_(grid), config_((config.validate(), config)) {
+  for (std::size_t f = 0; f < plan.floors.size(); ++f) {
+    walls_.push_back(std::make_unique<WallIndex>(plan.solid_walls(f, WallSet::kNavigation)));
+  }
+}
+
+void MapParticleFilter::init_known(const Vec2& position, std::size_t floor, double heading, std::mt19937_64& rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  particles_.assign(config_.particles, Particle{});
+  for (Particle& p : particles_) {
+    p.position = position + config_.known_position_sigma_m * Vec2(n(rng), n(rng));
+    p.heading = wrap(heading + config_.known_heading_sigma_deg * kDeg * n(rng));
+    p.floor = floor;
+    p.z = plan_.floors.at(floor).elevation_m;
+  }
+  weights_.assign(config_.particles, 1.0 / config_.particles);
+  was_converged_ = map_error_ = false;
+  converged_run_ = 0;
+  refresh_flags();
+}
+
+void MapParticleFilter::init_unknown(std::mt19937_64& rng) {
+  std::vector<std::pair<std::size_t, Vec2>> nodes;
+  for (std::size_t f = 0; f < grid_.nodes_per_floor.size(); ++f) {
+    for (const Vec2& v : grid_.nodes_per_floor[f]) nodes.emplace_back(f, v);
+  }
+  if (nodes.empty()) throw InputError("init_unknown: the plan has no navigable area");
+  std::uniform_int_distribution<std::size_t> pick(0, nodes.size() - 1);
+  std::uniform_real_distribution<double> cell(-0.5 * grid_.spacing_m, 0.5 * grid_.spacing_m);
+  std::uniform_real_distribution<double> any_heading(-kPi, kPi);
+  particles_.assign(config_.particles, Particle{});
+  for (Particle& p : particles_) {
+    const auto& [floor, node] = nodes[pick(rng)];
+    Vec2 at(node.x() + cell(rng), node.y() + cell(rng));
+    if (walls_[floor]->crosses(node, at)) at = node;  // keep it in the node's room
+    p.position = at;
+    p.floor = floor;
+    p.z = plan_.floors[floor].elevation_m;
+    p.heading = any_heading(rng);
+  }
+  weights_.assign(config_.particles, 1.0 / config_.particles);
+  was_converged_ = map_error_ = false;
+  converged_run_ = 0;
+  refresh_flags();
+}
+
+bool MapParticleFilter::on_stairs(Particle& p) const {
+  for (const Stairs* s : plan_.stairs_of(p.floor)) {
+    if (!s->progress(p.position)) continue;
+    const std::size_t lower = plan_.floor_index(s->lower_floor), upper = plan_.floor_index(s->upper_floor);
+    const double mid = 0.5 * (plan_.floors[lower].elevation_m + plan_.floors[upper].elevation_m);
+    p.floor = p.z > mid ? upper : lower;
+    return true;
+  }
+  return false;
+}
+
+void MapParticleFilter::predict(const Eigen::Vector3d& delta, std::mt19937_64& rng) {
+  if (!delta.allFinite()) throw InputError("odometry delta: not finite");
+  if (particles_.empty()) throw InputError("predict before init");
+  std::normal_distribution<double> n(0.0, 1.0);
+  const double walked = delta.head<2>().norm();
+  const bool moving = walked > config_.moving_threshold_m;
+  const double heading_sigma = config_.heading_noise_deg_per_m * kDeg * walked;
+  std::vector<Particle> before = particles_;
+  std::vector<char> dead(particles_.size(), 0);
+  std::size_t alive = 0;
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    Particle& p = particles_[i];
+    const Vec2 from = p.position;
+    const std::size_t floor = p.floor;
+    p.heading = wrap(p.heading + heading_sigma * n(rng));
+    p.position += rotate(delta.head<2>(), p.heading);
+    if (moving) p.position += config_.position_noise_m * Vec2(n(rng), n(rng));
+    p.z += delta.z();
+    bool ok = !walls_[floor]->crosses(from, p.position);
+    if (ok && !on_stairs(p)) {
+      // Off the stairs the height must stay on the floor's: it leaks back to it (10 s time
+      // constant at 2 Hz, for the INS's slow vertical drift) but a climb of more than the
+      // tolerance removes the particle.
+      const double deviation = p.z - plan_.floors[p.floor].elevation_m;
+      if (std::abs(deviation) < config_.floor_tolerance_m) {
+        p.z -= kHeightLeak * deviation;
+      } else {
+        ok = false;
+      }
+    }
+    dead[i] = ok ? 0 : 1;
+    if (ok) ++alive;
+  }
+  if (alive == 0) {
+    // Every particle hit a wall or left its floor: the map and the odometry disagree. Keep the
+    // moves without the map for this step and say so.
+    particles_ = std::move(before);
+    for (Particle& p : particles_) {
+      p.position += rotate(delta.head<2>(), p.heading);
+      p.z += delta.z();
+      if (!on_stairs(p)) p.z = plan_.floors[p.floor].elevation_m;  // the map is off: start afresh
+    }
+    refresh_flags(1.0);
+    return;
+  }
+  double removed = 0.0;
+  for (std::size_t i = 0; i < particles_.size(); ++i) removed += dead[i] ? weights_[i] : 0.0;
+  replace_dead(dead, rng);
+  refresh_flags(removed);
+}
+
+void MapParticleFilter::replace_dead(const std::vector<char>& dead, std::mt19937_64& rng) {
+  std::vector<double> cumulative(particles_.size());
+  double sum = 0.0;
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    sum += dead[i] ? 0.0 : weights_[i];
+    cumulative[i] = sum;
+  }
+  if (!(sum > 0.0)) {  // survivors all at zero weight: uniform over them
+    sum = 0.0;
+    for (std::size_t i = 0; i < particles_.size(); ++i) cumulative[i] = sum += dead[i] ? 0.0 : 1.0;
+    for (std::size_t i = 0; i < particles_.size(); ++i) weights_[i] = dead[i] ? 0.0 : 1.0;
+  }
+  // Copies share their source's weight (the distribution keeps its mass).
+  std::vector<std::size_t> source(particles_.size());
+  std::vector<std::uint32_t> copies(particles_.size(), 1);
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    if (!dead[i]) continue;
+    source[i] = draw(cumulative, rng);
+    ++copies[source[i]];
+  }
+  std::vector<double> shared(particles_.size());
+  for (std::size_t i = 0; i < particles_.size(); ++i) shared[i] = weights_[i] / copies[i];
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    if (dead[i]) {
+      particles_[i] = particles_[source[i]];
+      weights_[i] = shared[source[i]];
+    } else {
+      weights_[i] = shared[i];
+    }
+  }
+  const double total = std::accumulate(weights_.begin(), weights_.end(), 0.0);
+  for (double& w : weights_) w /= total;
+}
+
+void MapParticleFilter::update(const std::vector<PseudoObservation>& observations, double walk_heading_ins,
+                               std::mt19937_64& rng) {
+  if (!config_.pseudo_observations || observations.empty() || particles_.empty()) return;
+  if (!std::isfinite(walk_heading_ins)) throw InputError("walk heading: not finite");
+  const double inv_sigma2 = 1.0 / (config_.likelihood_sigma * config_.likelihood_sigma);
+  // One k-d tree per floor over the observations' positions.
+  std::vector<std::vector<std::size_t>> ids(plan_.floors.size());
+  std::vector<std::vector<Vec2>> points(plan_.floors.size());
+  for (std::size_t k = 0; k < observations.size(); ++k) {
+    ids[observations[k].floor].push_back(k);
+    points[observations[k].floor].push_back(observations[k].position);
+  }
+  std::vector<std::unique_ptr<PointIndex>> index(plan_.floors.size());
+  for (std::size_t f = 0; f < plan_.floors.size(); ++f) {
+    if (!points[f].empty()) index[f] = std::make_unique<PointIndex>(points[f]);
+  }
+  // eq. (2): per particle, the RMSE of the observation at the nearest position whose heading is
+  // closest to the particle's walking direction.
+  std::vector<double> log_w(particles_.size(), -std::numeric_limits<double>::infinity());
+  constexpr std::size_t kK = 8;
+  std::uint32_t nn[kK];
+  double d2[kK];
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    const Particle& p = particles_[i];
+    if (!index[p.floor] || !(weights_[i] > 0.0)) continue;
+    const std::size_t found = index[p.floor]->nearest_k(p.position, kK, nn, d2);
+    const double walking = wrap(p.heading + walk_heading_ins);
+    double best_turn = 1e300, e = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < found; ++k) {
+      if (d2[k] > d2[0] + 1e-9) break;  // only the positions identical to the nearest
+      const PseudoObservation& o = observations[ids[p.floor][nn[k]]];
+      const double turn = std::abs(wrap(o.heading - walking));
+      if (turn < best_turn) {
+        best_turn = turn;
+        e = o.rmse;
+      }
+    }
+    log_w[i] = std::log(weights_[i]) - e * inv_sigma2;
+  }
+  const double top = *std::max_element(log_w.begin(), log_w.end());
+  if (!std::isfinite(top)) return;  // no particle near any usable observation: no information
+  // eq. (3), normalised in the log domain (exp(-E / sigma^2) underflows for E > 7 m).
+  double total = 0.0;
+  for (std::size_t i = 0; i < particles_.size(); ++i) total += weights_[i] = std::exp(log_w[i] - top);
+  for (double& w : weights_) w /= total;
+  // The epsilon floor: particles below it are replaced by copies of the others.
+  const double epsilon = config_.weight_floor_factor / static_cast<double>(particles_.size());
+  std::vector<char> dead(particles_.size(), 0);
+  for (std::size_t i = 0; i < particles_.size(); ++i) dead[i] = weights_[i] < epsilon ? 1 : 0;
+  if (std::find(dead.begin(), dead.end(), 0) != dead.end()) replace_dead(dead, rng);
+  refresh_flags();
+
+  const bool resample = config_.resampling == PseudoResampling::kAlways ||
+                        (config_.resampling == PseudoResampling::kUnconverged && !converged_);
+  if (!resample || config_.replace_fraction <= 0.0) return;
+  // The q % lowest-weighted particles are drawn from the observations, in proportion to eq. (2).
+  std::vector<double> cumulative;
+  std::vector<std::size_t> usable;
+  double best_e = std::numeric_limits<double>::infinity();
+  for (const auto& o : observations) best_e = std::min(best_e, o.rmse);
+  if (!std::isfinite(best_e)) return;
+  double sum = 0.0;
+  for (std::size_t k = 0; k < observations.size(); ++k) {
+    if (!std::isfinite(observations[k].rmse)) continue;
+    sum += std::exp(-(observations[k].rmse - best_e) * inv_sigma2);
+    cumulative.push_back(sum);
+    usable.push_back(k);
+  }
+  const auto count = static_cast<std::size_t>(std::lround(config_.replace_fraction * particles_.size()));
+  std::vector<std::size_t> order(particles_.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::partial_sort(order.begin(), order.begin() + static_cast<long>(count), order.end(),
+                    [&](std::size_t a, std::size_t b) { return weights_[a] < weights_[b]; });
+  std::normal_distribution<double> n(0.0, 1.0);
+  for (std::size_t r = 0; r < count; ++r) {
+    // From the observation's best ICP fit (pattern_matcher.hpp): its current position, and the
+    // frame heading it implies.
+    const PseudoObservation& o = observations[usable[draw(cumulative, rng)]];
+    Particle& p = particles_[order[r]];
+    const Vec2 centre = walls_[o.floor]->crosses(o.position, o.fitted_position) ? o.position : o.fitted_position;
+    p.position = centre;
+    for (int attempt = 0; attempt < 5; ++attempt) {
+      const Vec2 at = centre + config_.replace_position_sigma_m * Vec2(n(rng), n(rng));
+      if (!walls_[o.floor]->crosses(centre, at)) {
+        p.position = at;
+        break;
+      }
+    }
+    p.floor = o.floor;
+    p.z = plan_.floors[o.floor].elevation_m;
+    p.heading = wrap(o.frame_heading + config_.replace_heading_sigma_deg * kDeg * n(rng));
+    weights_[order[r]] = 1.0 / static_cast<double>(particles_.size());
+  }
+  total = std::accumulate(weights_.begin(), weights_.end(), 0.0);
+  for (double& w : weights_) w /= total;
+  refresh_flags();
+}
+
+MapEstimate MapParticleFilter::estimate() const {
+  MapEstimate e;
+  if (particles_.empty()) return e;
+  std::vector<double> per_floor(plan_.floors.size(), 0.0);
+  for (std::size_t i = 0; i < particles_.size(); ++i) per_floor[particles_[i].floor] += weights_[i];
+  e.floor = static_cast<std::size_t>(std::max_element(per_floor.begin(), per_floor.end()) - per_floor.begin());
+  e.floor_probability = per_floor[e.floor];
+  Vec2 mean = Vec2::Zero();
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    if (particles_[i].floor == e.floor) mean += weights_[i] * particles_[i].position;
+  }
+  mean /= e.floor_probability;
+  Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    if (particles_[i].floor != e.floor) continue;
+    const Vec2 d = particles_[i].position - mean;
+    cov += weights_[i] * d * d.transpose();
+  }
+  cov /= e.floor_probability;
+  e.position = mean;
+  e.covariance = cov;
+  e.variance_m2 = cov.trace();
+  e.converged = converged_;
+  e.map_error_suspected = map_error_;
+  return e;
+}
+
+void MapParticleFilter::refresh_flags(double removed_weight) {
+  // Position variance over all particles (a split across floors is not converged).
+  Vec2 mean = Vec2::Zero();
+  for (std::size_t i = 0; i < particles_.size(); ++i) mean += weights_[i] * particles_[i].position;
+  double var = 0.0;
+  std::size_t floor0 = particles_.empty() ? 0 : particles_[0].floor;
+  double off_floor = 0.0;
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    var += weights_[i] * (particles_[i].position - mean).squaredNorm();
+    if (particles_[i].floor != floor0) off_floor += weights_[i];
+  }
+  const bool was = converged_;
+  converged_ = var < config_.converged_variance_m2 && (off_floor < 0.05 || off_floor > 0.95);
+  if (removed_weight > config_.map_error_removed_fraction && (was || was_converged_)) {
+    map_error_ = true;
+    converged_run_ = 0;
+  } else if (!converged_ && was_converged_) {
+    map_error_ = true;
+    converged_run_ = 0;
+  } else if (converged_ && ++converged_run_ >= config_.map_error_clear_updates) {
+    map_error_ = false;
+  }
+  if (converged_) was_converged_ = true;
+}
+
+}  // namespace sarloc::firefighter

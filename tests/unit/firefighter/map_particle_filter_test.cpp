@@ -1,0 +1,101 @@
+// The map-aided particle filter (seed 004 section IV-E) on simulated searches with the real INS:
+// a known start tracks within a metre, particles never end on the far side of a wall from
+// where they were, floors change only on stairs, bad input is refused, the map-error flag rises
+// when a door moves, and the Monte Carlo NEES of its estimate is reported by the evaluation
+// (this test bounds it from above: the filter must not claim more than it knows).
+#include <gtest/gtest.h>
+
+#include "sarloc/core/common/chi_square.hpp"
+#include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/firefighter/firefighter_evaluation.hpp"
+#include "test_buildings.hpp"
+
+namespace sarloc::firefighter {
+namespace {
+
+FirefighterEvalConfig short_config(std::uint32_t runs) {
+  FirefighterEvalConfig c;
+  c.runs = runs;
+  c.walk.duration_s = 150.0;
+  c.threads = 1;
+  return c;
+}
+
+const VariantSummary& variant(const FirefighterSummary& s, const std::string& name) {
+  for (const auto& v : s.variants) {
+    if (v.variant.name == name) return v;
+  }
+  throw std::runtime_error("no variant " + name);
+}
+
+TEST(MapParticleFilter, KnownStartTracksWithinAMetreAndIsNotOverconfident) {
+  const FloorPlan plan = test::building("house-125");
+  const FirefighterEvaluation eval(plan, short_config(4));
+  const FirefighterSummary s = eval.run();
+  EXPECT_LT(s.ins_drift_median, 1.0);
+  for (const char* name : {"known/no-pseudo", "known/default"}) {
+    const VariantSummary& v = variant(s, name);
+    EXPECT_LT(v.overall_rmse_m, 1.0) << name;
+    ASSERT_GT(v.nees_members, 0U) << name;
+    EXPECT_LT(v.nees_mean, v.nees_upper) << name << ": NEES above its chi-square bound";
+  }
+}
+
+TEST(MapParticleFilter, ChangesFloorOnlyOnTheStairs) {
+  const FloorPlan plan = test::building("office-253");
+  const NavigableGrid grid = navigable_grid(plan, PatternGridConfig{});
+  MapParticleFilter pf(plan, grid, MapFilterConfig{});
+  std::mt19937_64 rng(1);
+  // At the foot of the flight, facing up it (+y): 5 m forward while climbing 3 m.
+  pf.init_known({10.75, 3.0}, 0, 0.5 * 3.14159265358979, rng);
+  for (int k = 0; k < 25; ++k) pf.predict(Eigen::Vector3d(0.22, 0.0, 0.135), rng);
+  EXPECT_EQ(pf.estimate().floor, 1U) << "at the top of the stairs";
+  // Away from the stairs, a climb without stairs removes every particle: the map disagrees.
+  MapParticleFilter flat(plan, grid, MapFilterConfig{});
+  flat.init_known({2.5, 2.5}, 0, 0.0, rng);
+  for (int k = 0; k < 10; ++k) flat.predict(Eigen::Vector3d(0.0, 0.0, 0.2), rng);
+  EXPECT_EQ(flat.estimate().floor, 0U);
+  EXPECT_TRUE(flat.estimate().map_error_suspected);
+}
+
+TEST(MapParticleFilter, RemovesParticlesThatCrossAWall) {
+  const FloorPlan plan = test::building("house-125");
+  const NavigableGrid grid = navigable_grid(plan, PatternGridConfig{});
+  MapFilterConfig config;
+  config.known_position_sigma_m = 0.3;
+  MapParticleFilter pf(plan, grid, config);
+  std::mt19937_64 rng(2);
+  pf.init_known({3.5, 5.0}, 0, -0.5 * 3.14159265358979, rng);  // in the corridor, facing door_a (south)
+  for (int k = 0; k < 8; ++k) pf.predict(Eigen::Vector3d(0.25, 0.0, 0.0), rng);
+  // Two metres south: through door_a into room A, or still in the corridor; a particle in
+  // room B (its door is 4 m east) would have walked through the corridor wall.
+  for (const Particle& p : pf.particles()) {
+    EXPECT_FALSE(p.position.y() < 4.0 && p.position.x() > 5.0) << p.position.transpose();
+  }
+  EXPECT_LT(std::abs(pf.estimate().position.x() - 3.5), 0.6);
+  EXPECT_LT(pf.estimate().position.y(), 4.0) << "most of the weight went through the door";
+}
+
+TEST(MapParticleFilter, RefusesNonFiniteOdometry) {
+  const FloorPlan plan = test::building("house-125");
+  const NavigableGrid grid = navigable_grid(plan, PatternGridConfig{});
+  MapParticleFilter pf(plan, grid, MapFilterConfig{});
+  std::mt19937_64 rng(3);
+  pf.init_unknown(rng);
+  EXPECT_THROW(pf.predict(Eigen::Vector3d(NAN, 0, 0), rng), InputError);
+  EXPECT_THROW(pf.update({PseudoObservation{}}, INFINITY, rng), InputError);
+  pf.predict(Eigen::Vector3d(0.1, 0, 0), rng);  // still usable
+}
+
+TEST(MapParticleFilter, RaisesTheMapErrorFlagWhenADoorHasMoved) {
+  const FloorPlan plan = test::building("house-125");
+  FirefighterEvalConfig c = short_config(1);
+  c.walk.duration_s = 300.0;
+  const FirefighterEvaluation eval(plan, c);
+  const MapErrorExperiment m = eval.map_error_experiment("", 2.0);
+  ASSERT_FALSE(m.timeline.empty());
+  EXPECT_TRUE(m.raised) << "door " << m.door;
+}
+
+}  // namespace
+}  // namespace sarloc::firefighter

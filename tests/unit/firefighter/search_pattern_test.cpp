@@ -1,0 +1,51 @@
+// Pattern extraction (seed 004 section IV-C) on the shipped buildings.
+#include <gtest/gtest.h>
+
+#include "sarloc/core/firefighter/search_pattern.hpp"
+#include "sarloc/core/firefighter/wall_index.hpp"
+#include "test_buildings.hpp"
+
+namespace sarloc::firefighter {
+namespace {
+
+TEST(SearchPattern, SequencesAreClosedUnitStepsThatNeverCrossAWall) {
+  for (const char* name : {"house-125", "office-253", "warehouse-1040"}) {
+    const FloorPlan plan = test::building(name);
+    const auto sequences = extract_node_sequences(plan, PatternGridConfig{});
+    ASSERT_FALSE(sequences.empty()) << name;
+    for (const NodeSequence& seq : sequences) {
+      const WallIndex walls(plan.solid_walls(seq.floor, WallSet::kNavigation));
+      for (std::size_t k = 0; k < seq.nodes.size(); ++k) {
+        const Vec2& a = seq.nodes[k];
+        const Vec2& b = seq.nodes[(k + 1) % seq.nodes.size()];  // p_N is adjacent to p_1
+        EXPECT_NEAR((b - a).norm(), 1.0, 1e-9) << name << " node " << k;
+        EXPECT_FALSE(walls.crosses(a, b)) << name << " node " << k;
+      }
+    }
+  }
+}
+
+TEST(SearchPattern, InnerWallsGetTheirOwnSequencesAndTheMainOneVisitsEveryRoom) {
+  const FloorPlan plan = test::building("house-125");
+  const auto sequences = extract_node_sequences(plan, PatternGridConfig{});
+  std::size_t inner = 0;
+  for (const auto& s : sequences) inner += s.around_inner_walls ? 1 : 0;
+  EXPECT_EQ(inner, 2U) << "the kitchen island and the partition of room E";
+  // The entry's right-hand sequence passes every room: a node in each room's interior.
+  const std::vector<Vec2> rooms = {{2.5, 2.5}, {7.0, 2.0}, {10.75, 2.0}, {3.0, 8.0}, {9.25, 8.0}, {6.0, 5.0}};
+  for (const Vec2& room : rooms) {
+    bool visited = false;
+    for (const Vec2& n : sequences.front().nodes) visited = visited || (n - room).cwiseAbs().maxCoeff() < 2.0;
+    EXPECT_TRUE(visited) << room.transpose();
+  }
+}
+
+TEST(SearchPattern, NavigableAreaMatchesTheBuildingsSize) {
+  EXPECT_NEAR(navigable_grid(test::building("house-125"), PatternGridConfig{}).area_m2(0), 125.0, 12.0);
+  const auto office = navigable_grid(test::building("office-253"), PatternGridConfig{});
+  EXPECT_NEAR(office.area_m2(0) + office.area_m2(1), 253.0, 35.0);
+  EXPECT_GE(navigable_grid(test::building("warehouse-1040"), PatternGridConfig{}).area_m2(0), 900.0);
+}
+
+}  // namespace
+}  // namespace sarloc::firefighter

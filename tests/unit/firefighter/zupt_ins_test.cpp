@@ -1,0 +1,157 @@
+// ZUPT-aided INS: the error-state transition against the propagation it linearises, standing
+// still, the motionless alarm, bad samples, drift over a simulated walk, and a Monte Carlo
+// consistency check of the displacement covariance.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "sarloc/core/common/chi_square.hpp"
+#include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/firefighter/foot_trajectory.hpp"
+#include "sarloc/core/firefighter/imu_error_model.hpp"
+#include "sarloc/core/firefighter/zupt_ins.hpp"
+#include "support/numeric_jacobian.hpp"
+
+namespace sarloc::firefighter {
+namespace {
+
+using Vec15 = Eigen::Matrix<double, 15, 1>;
+
+ImuSample sample(double t, const Eigen::Vector3d& f, const Eigen::Vector3d& w) {
+  ImuSample s;
+  s.t = t;
+  s.specific_force = f;
+  s.angular_rate = w;
+  return s;
+}
+
+TEST(ZuptIns, TransitionMatchesTheNumericJacobianOfThePropagation) {
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> n(0.0, 1.0);
+  auto random3 = [&](double s) -> Eigen::Vector3d { return Eigen::Vector3d(n(rng), n(rng), n(rng)) * s; };
+  for (int c = 0; c < 3; ++c) {  // zero, tiny and random motion
+    const double scale = c == 0 ? 0.0 : (c == 1 ? 1e-6 : 1.0);
+    ZuptIns::Nominal x;
+    x.q = Eigen::Quaterniond(Eigen::AngleAxisd(scale * 0.7, Eigen::Vector3d(1, 2, 3).normalized()));
+    x.v = random3(scale);
+    x.ba = random3(0.05 * scale);
+    x.bg = random3(0.01 * scale);
+    const ImuSample s0 = sample(0.0, Eigen::Vector3d(0, 0, kGravity) + random3(3.0 * scale), random3(4.0 * scale));
+    const ImuSample s1 = sample(0.01, Eigen::Vector3d(0, 0, kGravity) + random3(3.0 * scale), random3(4.0 * scale));
+    const double dt = 0.01;
+    const ZuptIns::Nominal y = ZuptIns::propagate(x, s0, s1, dt);
+    const auto numeric = test::numeric_jacobian<15, 15>(
+        [&](const Vec15& dx) { return ZuptIns::difference(ZuptIns::propagate(ZuptIns::inject(x, dx), s0, s1, dt), y); },
+        Vec15::Zero(), 1e-6);
+    const auto analytic = ZuptIns::transition(x, s0, s1, dt);
+    EXPECT_LT(test::relative_error(analytic, numeric, 1e-9), 1e-5) << "case " << c << "\n" << analytic - numeric;
+  }
+}
+
+TEST(ZuptIns, StandingStillStaysPutAndRaisesTheMotionlessAlarmAfterItsTime) {
+  std::mt19937_64 rng(1);
+  ImuErrors errors(ImuErrorConfig{}, rng);
+  ZuptInsConfig config;
+  config.motionless_after_s = 30.0;
+  ZuptIns ins(config);
+  const Eigen::Vector3d f(0.3, -0.2, std::sqrt(kGravity * kGravity - 0.13));
+  for (int k = 0; k < 6000; ++k) {  // 60 s
+    ins.push(errors.apply(sample(k * 0.01, f, Eigen::Vector3d::Zero()), rng));
+    if (k == 2500) {
+      EXPECT_FALSE(ins.motionless()) << "only 25 s still";
+    }
+  }
+  EXPECT_TRUE(ins.aligned());
+  EXPECT_TRUE(ins.motionless());
+  EXPECT_LT(ins.take_displacement().delta.norm(), 0.05);
+  // Moving again clears it at once.
+  const Eigen::Vector3d kick(3.0, 0.0, kGravity), spin(0.0, 2.0, 0.0);
+  ins.push(sample(60.0, kick, spin));
+  EXPECT_FALSE(ins.motionless());
+}
+
+TEST(ZuptIns, RefusesBadSamplesNamingTheField) {
+  ZuptIns ins(ZuptInsConfig{});
+  const Eigen::Vector3d g(0, 0, kGravity);
+  ins.push(sample(1.0, g, Eigen::Vector3d::Zero()));
+  auto expect_error = [&](const ImuSample& s, const std::string& field) {
+    try {
+      ins.push(s);
+      ADD_FAILURE() << "accepted " << field;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+  };
+  expect_error(sample(1.01, Eigen::Vector3d(NAN, 0, 9.81), Eigen::Vector3d::Zero()), "imu.specific_force");
+  expect_error(sample(1.01, g, Eigen::Vector3d(0, INFINITY, 0)), "imu.angular_rate");
+  expect_error(sample(1.01, Eigen::Vector3d(0, 0, 1e4), Eigen::Vector3d::Zero()), "16 g");
+  expect_error(sample(1.0, g, Eigen::Vector3d::Zero()), "not after the previous sample");
+  expect_error(sample(0.5, g, Eigen::Vector3d::Zero()), "not after the previous sample");
+  ins.push(sample(1.01, g, Eigen::Vector3d::Zero()));  // and the filter still runs
+  EXPECT_EQ(ins.time(), 1.01);
+}
+
+// A walk of straight strides and 90-degree turns, as footfalls.
+std::vector<Footfall> square_walk(int strides) {
+  std::vector<Footfall> feet;
+  Footfall start;
+  start.stance_s = 8.0;
+  feet.push_back(start);
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  double yaw = 0.0, t = 8.0;
+  for (int k = 0; k < strides; ++k) {
+    if (k % 10 == 9) yaw += 0.5 * 3.14159265358979;
+    p += 0.8 * Eigen::Vector3d(std::cos(yaw), std::sin(yaw), 0.0);
+    Footfall f;
+    f.t_land = t + 0.7;
+    f.stance_s = 0.9;
+    f.position = p;
+    f.yaw = yaw;
+    feet.push_back(f);
+    t = f.t_land + f.stance_s;
+  }
+  return feet;
+}
+
+TEST(ZuptIns, DriftsLessThanOnePercentOverASimulatedWalkWithMti3Errors) {
+  const FootTrajectory foot(square_walk(120));  // 96 m, about 200 s
+  for (std::uint64_t seed : {1, 2, 3}) {
+    std::mt19937_64 rng(seed);
+    ImuErrors errors(ImuErrorConfig{}, rng);
+    ZuptIns ins(ZuptInsConfig{});
+    for (const ImuSample& s : foot.imu_samples(100.0)) ins.push(errors.apply(s, rng));
+    const Eigen::Vector3d truth = foot.footfalls().back().position;
+    EXPECT_LT((ins.nominal().p - truth).head<2>().norm(), 0.01 * 96.0) << "seed " << seed;
+  }
+}
+
+// Seed 001's consistency test: over Monte Carlo runs the displacement's NEES must not exceed the
+// chi-square upper bound (an INS that claims more than it knows would mislead the particle filter).
+TEST(ZuptIns, DisplacementCovarianceIsNotOverconfidentMonteCarloNees) {
+  const FootTrajectory foot(square_walk(40));
+  constexpr int kRuns = 40;
+  double nees_sum = 0.0;
+  for (int r = 0; r < kRuns; ++r) {
+    std::mt19937_64 rng(100 + r);
+    ImuErrors errors(ImuErrorConfig{}, rng);
+    ZuptIns ins(ZuptInsConfig{});
+    bool started = false;
+    for (const ImuSample& s : foot.imu_samples(100.0)) {
+      ins.push(errors.apply(s, rng));
+      if (ins.aligned() && !started) {
+        (void)ins.take_displacement();
+        started = true;
+      }
+    }
+    const StepDisplacement d = ins.take_displacement();
+    const Eigen::Vector2d e = d.delta.head<2>() - foot.footfalls().back().position.head<2>();
+    nees_sum += e.dot(d.covariance.topLeftCorner<2, 2>().ldlt().solve(e));
+  }
+  const double mean = nees_sum / kRuns;
+  const double upper = chi_square_quantile(0.975, 2.0 * kRuns) / kRuns;
+  EXPECT_LT(mean, upper) << "mean NEES " << mean;
+  EXPECT_GT(mean, 0.0);
+}
+
+}  // namespace
+}  // namespace sarloc::firefighter
