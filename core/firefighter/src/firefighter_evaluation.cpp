@@ -193,7 +193,7 @@ std::vector<FilterVariant> standard_variants() {
     out.push_back({init + "/no-pseudo", known, false, PseudoResampling::kNever});
     out.push_back({init + "/weights", known, true, PseudoResampling::kNever});
     out.push_back({init + "/weights+resampling", known, true, PseudoResampling::kAlways});
-    out.push_back({init + "/default", known, true, PseudoResampling::kUnconverged});
+    out.push_back({init + "/default", known, true, PseudoResampling::kUntilConverged});
   }
   return out;
 }

@@ -33,7 +33,7 @@ const char* to_string(PseudoResampling r) {
   switch (r) {
     case PseudoResampling::kNever: return "never";
     case PseudoResampling::kAlways: return "always";
-    case PseudoResampling::kUnconverged: return "unconverged";
+    case PseudoResampling::kUntilConverged: return "until_converged";
   }
   return "?";
 }
@@ -41,8 +41,8 @@ const char* to_string(PseudoResampling r) {
 PseudoResampling parse_pseudo_resampling(const std::string& text, const std::string& key) {
   if (text == "never") return PseudoResampling::kNever;
   if (text == "always") return PseudoResampling::kAlways;
-  if (text == "unconverged") return PseudoResampling::kUnconverged;
-  throw ConfigError(key + " = '" + text + "': must be never, always or unconverged");
+  if (text == "until_converged") return PseudoResampling::kUntilConverged;
+  throw ConfigError(key + " = '" + text + "': must be never, always or until_converged");
 }
 
 void MapFilterConfig::validate() const {
@@ -260,7 +260,7 @@ void MapParticleFilter::update(const std::vector<PseudoObservation>& observation
   refresh_flags();
 
   const bool resample = config_.resampling == PseudoResampling::kAlways ||
-                        (config_.resampling == PseudoResampling::kUnconverged && !converged_);
+                        (config_.resampling == PseudoResampling::kUntilConverged && !was_converged_);
   if (!resample || config_.replace_fraction <= 0.0) return;
   // The q % lowest-weighted particles are drawn from the observations, in proportion to eq. (2).
   std::vector<double> cumulative;

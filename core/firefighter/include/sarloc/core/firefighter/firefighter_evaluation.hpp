@@ -42,11 +42,11 @@ struct FilterVariant {
   std::string name;
   bool known_initial_state = false;
   bool pseudo_observations = true;
-  PseudoResampling resampling = PseudoResampling::kUnconverged;
+  PseudoResampling resampling = PseudoResampling::kUntilConverged;
 };
 
 /// The configurations of Figs. 7-8 (known / unknown initial state x none / weights only /
-/// weights + q % resampling) and sarloc's default (resampling while unconverged), known and unknown.
+/// weights + q % resampling) and sarloc's default (resampling until first converged), known and unknown.
 std::vector<FilterVariant> standard_variants();
 
 struct VariantSummary {

@@ -34,8 +34,9 @@
 
 namespace sarloc::firefighter {
 
-/// When the q % replacement from pseudo-observations runs.
-enum class PseudoResampling { kNever, kAlways, kUnconverged };
+/// When the q % replacement from pseudo-observations runs: never, after every comparison, or
+/// until the estimate first converges (sarloc's default).
+enum class PseudoResampling { kNever, kAlways, kUntilConverged };
 const char* to_string(PseudoResampling r);
 PseudoResampling parse_pseudo_resampling(const std::string& text, const std::string& key);
 
@@ -52,9 +53,10 @@ struct MapFilterConfig {
   double replace_position_sigma_m = 0.5;
   double replace_heading_sigma_deg = 25.0;
   bool pseudo_observations = true;
-  /// Default: only while not converged. The paper's Fig. 7 saw "always" hurt on the larger
-  /// building; its Fig. 8 saw it needed to converge from an unknown state.
-  PseudoResampling resampling = PseudoResampling::kUnconverged;
+  /// Default: until the estimate first converges. The paper's Fig. 7 saw "always" hurt on the
+  /// larger building; its Fig. 8 saw it needed to converge from an unknown state. Resuming after
+  /// a later loss of convergence drew from wrong patterns (docs/estimation/firefighter.md).
+  PseudoResampling resampling = PseudoResampling::kUntilConverged;
   double converged_variance_m2 = 3.0;   ///< section V-E
   double known_position_sigma_m = 0.1;
   double known_heading_sigma_deg = 2.0;
