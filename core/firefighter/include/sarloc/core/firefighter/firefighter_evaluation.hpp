@@ -104,9 +104,9 @@ class FirefighterEvaluation {
                         std::vector<FilterVariant> variants = standard_variants());
   FirefighterSummary run(const std::function<void()>& on_run_done = {},
                          const std::function<bool()>& cancelled = {}) const;
-  /// Moves interior door `door` (empty: the first interior door the first run walks through)
-  /// by `shift_m` along its wall in the filter's map only, and runs the default filter from a
-  /// known initial state on run 0's leader.
+  /// Moves interior door `door` (empty: the interior door nearest run 0's path in its first two
+  /// minutes) by `shift_m` along its wall (as far as the wall allows) in the filter's map only,
+  /// and runs the default filter from a known initial state on run 0's leader.
   MapErrorExperiment map_error_experiment(std::string door, double shift_m) const;
 
  private:
