@@ -187,7 +187,7 @@ double median_between(const std::vector<std::pair<double, double>>& series, doub
   for (const auto& [t, x] : series) {
     if (t >= from && t < to) v.push_back(x);
   }
-  return v.empty() ? -1.0 : avalanche::percentile(v, 0.5);
+  return v.empty() ? -1.0 : sarloc::percentile(v, 0.5);
 }
 
 /// Least-squares slope (per unit of t) of the values with t >= from; 0 with fewer than 3.
@@ -394,11 +394,11 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
   }
   result.answered = latencies.size();
   if (!latencies.empty()) {  // otherwise -1: no answer at all
-    result.p50_ms = avalanche::percentile(latencies, 0.5);
-    result.p99_ms = avalanche::percentile(latencies, 0.99);
-    result.max_ms = avalanche::percentile(latencies, 1.0);
-    result.to_write_p50_ms = avalanche::percentile(to_write, 0.5);
-    result.return_p50_ms = avalanche::percentile(back, 0.5);
+    result.p50_ms = sarloc::percentile(latencies, 0.5);
+    result.p99_ms = sarloc::percentile(latencies, 0.99);
+    result.max_ms = sarloc::percentile(latencies, 1.0);
+    result.to_write_p50_ms = sarloc::percentile(to_write, 0.5);
+    result.return_p50_ms = sarloc::percentile(back, 0.5);
   }
   if (cpu.size() > 2) {
     // The first status covers start-up; the mean of the rest is the load's.
@@ -478,11 +478,11 @@ Medians medians_of(const std::vector<LoadResult>& runs, Target target, std::size
     if (r.rss_mb >= 0.0) rss.push_back(r.rss_mb);
   }
   if (m.runs == 0) return m;
-  m.p50_ms = avalanche::percentile(p50, 0.5);
-  m.p99_ms = avalanche::percentile(p99, 0.5);
-  m.max_ms = avalanche::percentile(max, 0.5);
-  if (!cpu.empty()) m.cpu_percent = avalanche::percentile(cpu, 0.5);
-  if (!rss.empty()) m.rss_mb = avalanche::percentile(rss, 0.5);
+  m.p50_ms = sarloc::percentile(p50, 0.5);
+  m.p99_ms = sarloc::percentile(p99, 0.5);
+  m.max_ms = sarloc::percentile(max, 0.5);
+  if (!cpu.empty()) m.cpu_percent = sarloc::percentile(cpu, 0.5);
+  if (!rss.empty()) m.rss_mb = sarloc::percentile(rss, 0.5);
   return m;
 }
 

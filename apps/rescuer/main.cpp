@@ -170,8 +170,8 @@ int main(int argc, char** argv) {
       d.daemon_after_fallback = daemon_after_fallback;
       d.latency_samples = latencies.size();
       if (!latencies.empty()) {  // no daemon answer at all: no percentiles (the mission shows -1)
-        d.latency_p50_ms = avalanche::percentile(latencies, 0.5);
-        d.latency_p99_ms = avalanche::percentile(latencies, 0.99);
+        d.latency_p50_ms = sarloc::percentile(latencies, 0.5);
+        d.latency_p99_ms = sarloc::percentile(latencies, 0.99);
       }
       for (const auto& [signal, status] : furthest) {
         mission::DeviceSignal s{signal, status, sensors->victim_of_signal(signal), std::nullopt, std::nullopt};

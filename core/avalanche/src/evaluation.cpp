@@ -40,15 +40,6 @@ void EvaluationSetup::validate() const {
   evaluation.validate();
 }
 
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const double pos = q * static_cast<double>(v.size() - 1);
-  const auto lo = static_cast<std::size_t>(std::floor(pos));
-  const auto hi = std::min(lo + 1, v.size() - 1);
-  return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
-}
-
 Stats compute_stats(std::vector<double> v) {
   Stats s;
   if (v.empty()) return s;

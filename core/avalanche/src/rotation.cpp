@@ -52,14 +52,6 @@ Mat3 euler_rate_to_world(const Vec3& rpy) { return EulerTrig::from_rpy(rpy).rate
 
 Mat3 world_to_euler_rate(const Vec3& rpy) { return EulerTrig::from_rpy(rpy).world_to_rate(); }
 
-Mat3 skew(const Vec3& v) {
-  Mat3 s;
-  s << 0.0, -v.z(), v.y(),  //
-      v.z(), 0.0, -v.x(),   //
-      -v.y(), v.x(), 0.0;
-  return s;
-}
-
 double wrap_angle(double a) {
   constexpr double kPi = 3.14159265358979323846;
   a = std::fmod(a + kPi, 2.0 * kPi);

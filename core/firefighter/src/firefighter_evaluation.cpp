@@ -10,6 +10,7 @@
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/parallel_trials.hpp"
 #include "sarloc/core/common/seeds.hpp"
+#include "sarloc/core/common/statistics.hpp"
 #include "sarloc/core/firefighter/odometry_track.hpp"
 
 namespace sarloc::firefighter {
@@ -21,21 +22,7 @@ double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-double percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const double at = p * static_cast<double>(v.size() - 1);
-  const auto lo = static_cast<std::size_t>(std::floor(at));
-  const std::size_t hi = std::min(lo + 1, v.size() - 1);
-  return v[lo] + (at - static_cast<double>(lo)) * (v[hi] - v[lo]);
-}
+double median(std::vector<double> v) { return percentile(std::move(v), 0.5); }
 
 Vec2 rotate(const Vec2& v, double a) {
   return {std::cos(a) * v.x() - std::sin(a) * v.y(), std::sin(a) * v.x() + std::cos(a) * v.y()};
@@ -83,7 +70,7 @@ MemberOdometry simulate_member(const FirefighterEvalConfig& config, const std::v
     if (!started) {
       (void)ins.take_displacement();  // standing at the entry is not part of the search
       ins_at_start = ins.nominal().p;
-      track.add(ideal.t, Eigen::Vector3d::Zero());
+      track.add(Eigen::Vector3d::Zero());
       started = true;
       next += period;
       continue;
@@ -95,7 +82,7 @@ MemberOdometry simulate_member(const FirefighterEvalConfig& config, const std::v
     const FootState truth = foot.at(ideal.t);
     m.truth.push_back(truth.position.head<2>());
     m.truth_floor.push_back(truth.floor);
-    track.add(ideal.t, ins.nominal().p - ins_at_start);
+    track.add(ins.nominal().p - ins_at_start);
     int index = -1;
     if (track.comparison_due()) {
       const auto t0 = Clock::now();

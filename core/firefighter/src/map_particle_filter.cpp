@@ -68,6 +68,12 @@ MapParticleFilter::MapParticleFilter(const FloorPlan& plan, const NavigableGrid&
     : plan_(plan), grid_(grid), config_((config.validate(), config)) {
   for (std::size_t f = 0; f < plan.floors.size(); ++f) {
     walls_.push_back(std::make_unique<WallIndex>(plan.solid_walls(f, WallSet::kNavigation)));
+    std::vector<Flight> flights;
+    for (const Stairs* s : plan.stairs_of(f)) {
+      const std::size_t lower = plan.floor_index(s->lower_floor), upper = plan.floor_index(s->upper_floor);
+      flights.push_back({s, lower, upper, 0.5 * (plan.floors[lower].elevation_m + plan.floors[upper].elevation_m)});
+    }
+    flights_.push_back(std::move(flights));
   }
 }
 
@@ -112,11 +118,9 @@ void MapParticleFilter::init_unknown(std::mt19937_64& rng) {
 }
 
 bool MapParticleFilter::on_stairs(Particle& p) const {
-  for (const Stairs* s : plan_.stairs_of(p.floor)) {
-    if (!s->progress(p.position)) continue;
-    const std::size_t lower = plan_.floor_index(s->lower_floor), upper = plan_.floor_index(s->upper_floor);
-    const double mid = 0.5 * (plan_.floors[lower].elevation_m + plan_.floors[upper].elevation_m);
-    p.floor = p.z > mid ? upper : lower;
+  for (const Flight& f : flights_[p.floor]) {
+    if (!f.stairs->progress(p.position)) continue;
+    p.floor = p.z > f.mid_height ? f.upper : f.lower;
     return true;
   }
   return false;

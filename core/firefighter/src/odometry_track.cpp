@@ -8,7 +8,7 @@ namespace sarloc::firefighter {
 
 OdometryTrack::OdometryTrack(PatternMatchConfig config) : config_((config.validate(), config)) {}
 
-void OdometryTrack::add(double /*t*/, const Eigen::Vector3d& position) {
+void OdometryTrack::add(const Eigen::Vector3d& position) {
   if (!position.allFinite()) throw InputError("odometry position: not finite");
   const Vec2 p = position.head<2>();
   if (!points_.empty()) walked_ += (p - points_.back()).norm();

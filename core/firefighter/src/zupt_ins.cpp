@@ -4,6 +4,7 @@
 #include <string>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/skew.hpp"
 #include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::firefighter {
@@ -14,12 +15,6 @@ using Vec3 = Eigen::Vector3d;
 
 constexpr double kMaxSpecificForce = 16.0 * kGravity;         // the MTi-3's range
 constexpr double kMaxAngularRate = 2000.0 * 3.14159265358979 / 180.0;
-
-Mat3 skew(const Vec3& v) {
-  Mat3 m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
-}
 
 Eigen::Quaterniond exp_q(const Vec3& phi) {
   const double a = phi.norm();

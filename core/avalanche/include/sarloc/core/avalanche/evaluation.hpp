@@ -25,6 +25,7 @@
 #include "sarloc/core/avalanche/search_controller.hpp"
 #include "sarloc/core/avalanche/simulator.hpp"
 #include "sarloc/core/avalanche/sog_filter.hpp"
+#include "sarloc/core/common/statistics.hpp"
 
 namespace sarloc::avalanche {
 
@@ -137,6 +138,6 @@ EvaluationSummary run_evaluation(const EvaluationSetup& setup,
                                  const StepObserver& observer = {});
 
 Stats compute_stats(std::vector<double> values);
-double percentile(std::vector<double> values, double q);
+
 
 }  // namespace sarloc::avalanche

@@ -6,6 +6,7 @@
 //   dR = [omega]x R,  omega = euler_rate_to_world(Psi) * dPsi,
 // with euler_rate_to_world(Psi) = [[cy*cp, -sy, 0], [sy*cp, cy, 0], [-sp, 0, 1]].
 // Every orientation Jacobian in the avalanche models is built from these two matrices.
+#include "sarloc/core/common/skew.hpp"
 #include "sarloc/core/common/types.hpp"
 
 namespace sarloc::avalanche {
@@ -34,8 +35,6 @@ Mat3 euler_rate_to_world(const Vec3& rpy);
 /// E_w(Psi)^-1 in closed form (singular at pitch = +-pi/2, never reached by a hand-held receiver).
 Mat3 world_to_euler_rate(const Vec3& rpy);
 
-/// [v]x such that skew(v) * u = v.cross(u).
-Mat3 skew(const Vec3& v);
 
 /// Angle wrapped to (-pi, pi].
 double wrap_angle(double a);

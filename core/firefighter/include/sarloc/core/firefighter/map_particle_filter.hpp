@@ -112,6 +112,13 @@ class MapParticleFilter {
   const NavigableGrid& grid_;
   MapFilterConfig config_;
   std::vector<std::unique_ptr<WallIndex>> walls_;
+  /// Per floor, the flights touching it with their two floors (found once, not per particle).
+  struct Flight {
+    const Stairs* stairs;
+    std::size_t lower, upper;
+    double mid_height;
+  };
+  std::vector<std::vector<Flight>> flights_;
   std::vector<Particle> particles_;
   std::vector<double> weights_;
   bool was_converged_ = false;

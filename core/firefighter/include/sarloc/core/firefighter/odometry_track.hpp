@@ -4,7 +4,7 @@
 // and when the next comparison is due (every `compare_every_m` walked).
 //
 //   OdometryTrack track(PatternMatchConfig{});
-//   track.add(t, ins_position);
+//   track.add(ins_position);
 //   if (track.comparison_due()) { obs = matcher.compare(track.recent()); track.compared(); }
 #include <Eigen/Core>
 #include <deque>
@@ -18,7 +18,7 @@ class OdometryTrack {
  public:
   explicit OdometryTrack(PatternMatchConfig config);
 
-  void add(double t, const Eigen::Vector3d& position);
+  void add(const Eigen::Vector3d& position);
   bool comparison_due() const;
   void compared();
   /// The last pattern_length_m of horizontal positions, oldest first.
