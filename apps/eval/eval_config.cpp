@@ -102,6 +102,11 @@ void load_firefighter(YamlReader root, firefighter::FirefighterEvalConfig& c) {
     auto r = root.child("filter");
     auto& f = c.filter;
     r.read("particles", f.particles);
+    r.read("particles_max", f.particles_max);
+    r.read("kld_epsilon", f.kld_epsilon);
+    r.read("kld_confidence", f.kld_confidence);
+    r.read("kld_bin_m", f.kld_bin_m);
+    r.read("kld_bin_deg", f.kld_bin_deg);
     r.read("position_noise_m", f.position_noise_m);
     r.read("heading_noise_deg_per_m", f.heading_noise_deg_per_m);
     r.read("moving_threshold_m", f.moving_threshold_m);

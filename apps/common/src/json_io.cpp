@@ -292,6 +292,9 @@ nlohmann::json to_json(const firefighter::FirefighterSummary& s, double rmse_eve
                        {"wrong_floor_fraction", v.wrong_floor_fraction},
                        {"ms_per_update", v.ms_per_update_amortised},
                        {"ms_per_filter_step", v.ms_per_update_median},
+                       {"ms_per_filter_step_mean", v.ms_per_update_mean},
+                       {"particles_mean", v.particles_mean},
+                       {"converged_wrong_fraction", v.converged_wrong_fraction},
                        {"nees", {{"mean", v.nees_mean}, {"lower", v.nees_lower}, {"upper", v.nees_upper},
                                  {"members", v.nees_members}, {"fraction_inside_95", v.nees_fraction_inside_95}}}});
   }

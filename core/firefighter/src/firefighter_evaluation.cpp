@@ -105,6 +105,8 @@ struct VariantTrace {
   std::vector<double> error;         // per update
   std::vector<char> wrong_floor;
   std::vector<double> step_ms;
+  std::vector<std::size_t> particles;  // per update
+  std::size_t converged = 0, converged_wrong = 0;
   std::vector<double> nees_late;     // converged estimates after 150 s
   bool converged_at_end = false;
   double nees_end = -1.0;            // -1: not converged at the end
@@ -135,6 +137,11 @@ VariantTrace run_filter(const FloorPlan& plan, const NavigableGrid& grid, const 
     const Vec2 err = e.position - m.truth[k];
     trace.error.push_back(err.norm());
     trace.wrong_floor.push_back(e.floor != m.truth_floor[k] ? 1 : 0);
+    trace.particles.push_back(pf.particles().size());
+    if (e.converged) {
+      ++trace.converged;
+      if (err.norm() > 2.0) ++trace.converged_wrong;
+    }
     if (e.converged && m.t[k] >= 150.0) {
       const Eigen::Matrix2d P = e.covariance + 1e-9 * Eigen::Matrix2d::Identity();
       trace.nees_late.push_back(err.dot(P.ldlt().solve(err)));
@@ -173,14 +180,24 @@ void FirefighterEvalConfig::validate() const {
   filter.validate();
 }
 
+std::string variant_name(bool known_initial_state, bool pseudo_observations, PseudoResampling resampling) {
+  const std::string init = known_initial_state ? "known/" : "unknown/";
+  if (!pseudo_observations) return init + "no-pseudo";
+  switch (resampling) {
+    case PseudoResampling::kNever: return init + "weights";
+    case PseudoResampling::kAlways: return init + "weights+resampling";
+    case PseudoResampling::kUntilConverged: return init + "until-converged";
+  }
+  return init + "?";
+}
+
 std::vector<FilterVariant> standard_variants() {
   std::vector<FilterVariant> out;
   for (bool known : {true, false}) {
-    const std::string init = known ? "known" : "unknown";
-    out.push_back({init + "/no-pseudo", known, false, PseudoResampling::kNever});
-    out.push_back({init + "/weights", known, true, PseudoResampling::kNever});
-    out.push_back({init + "/weights+resampling", known, true, PseudoResampling::kAlways});
-    out.push_back({init + "/default", known, true, PseudoResampling::kUntilConverged});
+    out.push_back({variant_name(known, false, PseudoResampling::kNever), known, false, PseudoResampling::kNever});
+    for (auto r : {PseudoResampling::kNever, PseudoResampling::kAlways, PseudoResampling::kUntilConverged}) {
+      out.push_back({variant_name(known, true, r), known, true, r});
+    }
   }
   return out;
 }
@@ -249,6 +266,8 @@ FirefighterSummary FirefighterEvaluation::run(const std::function<void()>& on_ru
     double all_sq = 0.0, final_sq = 0.0;
     std::size_t all_n = 0, final_n = 0, converged = 0, wrong_floor = 0, late_inside = 0, late_n = 0;
     std::vector<double> step_ms, nees_end;
+    double particle_sum = 0.0;
+    std::size_t converged_estimates = 0, converged_wrong = 0;
     for (const RunResult& r : run.results) {
       for (std::size_t mi = 0; mi < r.members.size(); ++mi) {
         const MemberOdometry& m = r.members[mi];
@@ -275,6 +294,9 @@ FirefighterSummary FirefighterEvaluation::run(const std::function<void()>& on_ru
           if (n <= 5.991) ++late_inside;  // chi2_2(0.95)
         }
         step_ms.insert(step_ms.end(), tr.step_ms.begin(), tr.step_ms.end());
+        for (std::size_t n : tr.particles) particle_sum += static_cast<double>(n);
+        converged_estimates += tr.converged;
+        converged_wrong += tr.converged_wrong;
       }
     }
     for (std::size_t j = 0; j < marks; ++j) vs.rmse_at_s.push_back(count[j] ? std::sqrt(sum_sq[j] / count[j]) : 0.0);
@@ -283,6 +305,11 @@ FirefighterSummary FirefighterEvaluation::run(const std::function<void()>& on_ru
     vs.converged_fraction = s.members ? static_cast<double>(converged) / s.members : 0.0;
     vs.wrong_floor_fraction = all_n ? static_cast<double>(wrong_floor) / all_n : 0.0;
     vs.ms_per_update_median = median(step_ms);
+    vs.ms_per_update_mean =
+        step_ms.empty() ? 0.0 : std::accumulate(step_ms.begin(), step_ms.end(), 0.0) / static_cast<double>(step_ms.size());
+    vs.particles_mean = all_n ? particle_sum / static_cast<double>(all_n) : 0.0;
+    vs.converged_wrong_fraction =
+        converged_estimates ? static_cast<double>(converged_wrong) / static_cast<double>(converged_estimates) : 0.0;
     vs.ms_per_update_amortised =
         vs.ms_per_update_median + (updates ? comparison_total / static_cast<double>(updates) : 0.0);
     vs.nees_members = static_cast<std::uint32_t>(nees_end.size());

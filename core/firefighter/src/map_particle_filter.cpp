@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 #include <string>
+#include <unordered_set>
 
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/validate.hpp"
@@ -15,6 +16,9 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 constexpr double kHeightLeak = 0.05;
+// The count adapts every 4 moving steps (2 s of walking at 2 Hz): often enough to shed
+// particles soon after the cloud concentrates, rarely enough not to deplete it by redrawing.
+constexpr std::uint32_t kAdaptEveryMovingSteps = 4;
 
 double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 Vec2 rotate(const Vec2& v, double a) {
@@ -48,6 +52,11 @@ PseudoResampling parse_pseudo_resampling(const std::string& text, const std::str
 void MapFilterConfig::validate() const {
   auto check = [](const char* key, double v, double lo, double hi) { check_range("filter", key, v, lo, hi); };
   check("particles", particles, 10.0, 1e6);
+  check("particles_max", particles_max, particles, 1e6);
+  check("kld_epsilon", kld_epsilon, 1e-4, 1.0);
+  check("kld_confidence", kld_confidence, 0.51, 0.9999);
+  check("kld_bin_m", kld_bin_m, 0.05, 10.0);
+  check("kld_bin_deg", kld_bin_deg, 1.0, 180.0);
   check("position_noise_m", position_noise_m, 0.0, 5.0);
   check("heading_noise_deg_per_m", heading_noise_deg_per_m, 0.0, 90.0);
   check("moving_threshold_m", moving_threshold_m, 0.0, 1.0);
@@ -65,7 +74,10 @@ void MapFilterConfig::validate() const {
 }
 
 MapParticleFilter::MapParticleFilter(const FloorPlan& plan, const NavigableGrid& grid, MapFilterConfig config)
-    : plan_(plan), grid_(grid), config_((config.validate(), config)) {
+    : plan_(plan),
+      grid_(grid),
+      config_((config.validate(), config)),
+      kld_needed_(config_.kld_epsilon, config_.kld_confidence) {
   for (std::size_t f = 0; f < plan.floors.size(); ++f) {
     walls_.push_back(std::make_unique<WallIndex>(plan.solid_walls(f, WallSet::kNavigation)));
     std::vector<Flight> flights;
@@ -88,7 +100,7 @@ void MapParticleFilter::init_known(const Vec2& position, std::size_t floor, doub
   }
   weights_.assign(config_.particles, 1.0 / config_.particles);
   was_converged_ = map_error_ = false;
-  converged_run_ = 0;
+  converged_run_ = moving_steps_ = 0;
   refresh_flags();
 }
 
@@ -101,7 +113,7 @@ void MapParticleFilter::init_unknown(std::mt19937_64& rng) {
   std::uniform_int_distribution<std::size_t> pick(0, nodes.size() - 1);
   std::uniform_real_distribution<double> cell(-0.5 * grid_.spacing_m, 0.5 * grid_.spacing_m);
   std::uniform_real_distribution<double> any_heading(-kPi, kPi);
-  particles_.assign(config_.particles, Particle{});
+  particles_.assign(config_.particles_max, Particle{});
   for (Particle& p : particles_) {
     const auto& [floor, node] = nodes[pick(rng)];
     Vec2 at(node.x() + cell(rng), node.y() + cell(rng));
@@ -111,9 +123,9 @@ void MapParticleFilter::init_unknown(std::mt19937_64& rng) {
     p.z = plan_.floors[floor].elevation_m;
     p.heading = any_heading(rng);
   }
-  weights_.assign(config_.particles, 1.0 / config_.particles);
+  weights_.assign(particles_.size(), 1.0 / static_cast<double>(particles_.size()));
   was_converged_ = map_error_ = false;
-  converged_run_ = 0;
+  converged_run_ = moving_steps_ = 0;
   refresh_flags();
 }
 
@@ -175,6 +187,39 @@ void MapParticleFilter::predict(const Eigen::Vector3d& delta, std::mt19937_64& r
   for (std::size_t i = 0; i < particles_.size(); ++i) removed += dead[i] ? weights_[i] : 0.0;
   replace_dead(dead, rng);
   refresh_flags(removed);
+  if (moving && ++moving_steps_ % kAdaptEveryMovingSteps == 0) adapt_count(rng);
+}
+
+std::uint64_t MapParticleFilter::bin_of(const Particle& p) const {
+  // 21 bits per coordinate (+-1 Mm at 0.5 m), 12 for the heading, 10 for the floor.
+  constexpr std::int64_t kOffset = std::int64_t{1} << 20;
+  const auto cell = [&](double v, double size) {
+    return static_cast<std::uint64_t>(std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor(v / size)) + kOffset, 0,
+                                                               2 * kOffset - 1));
+  };
+  const std::uint64_t x = cell(p.position.x(), config_.kld_bin_m), y = cell(p.position.y(), config_.kld_bin_m);
+  const std::uint64_t h = cell(p.heading + kPi, config_.kld_bin_deg * kDeg) & 0xFFF;
+  return (x << 43) | (y << 22) | (h << 10) | (p.floor & 0x3FF);
+}
+
+void MapParticleFilter::adapt_count(std::mt19937_64& rng) {
+  if (config_.particles_max <= config_.particles) return;  // a fixed count, the paper's
+  // Until the cloud has converged, KLD-sampling on a multi-modal cloud keeps a count that
+  // loses the true mode at random (house-125: a wrong room confirmed); hold every particle.
+  if (!converged_) return;
+  std::vector<double> cumulative(weights_.size());
+  std::partial_sum(weights_.begin(), weights_.end(), cumulative.begin());
+  std::unordered_set<std::uint64_t> bins;
+  std::vector<Particle> drawn;
+  drawn.reserve(std::min<std::size_t>(config_.particles_max, 2 * particles_.size()));
+  double needed = 0.0;
+  while (drawn.size() < config_.particles_max &&
+         (drawn.size() < config_.particles || static_cast<double>(drawn.size()) < needed)) {
+    drawn.push_back(particles_[draw(cumulative, rng)]);
+    if (bins.insert(bin_of(drawn.back())).second) needed = kld_needed_(bins.size());
+  }
+  particles_ = std::move(drawn);
+  weights_.assign(particles_.size(), 1.0 / static_cast<double>(particles_.size()));
 }
 
 void MapParticleFilter::replace_dead(const std::vector<char>& dead, std::mt19937_64& rng) {

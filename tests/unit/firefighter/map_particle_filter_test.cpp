@@ -30,10 +30,14 @@ const VariantSummary& variant(const FirefighterSummary& s, const std::string& na
 
 TEST(MapParticleFilter, KnownStartTracksWithinAMetreAndIsNotOverconfident) {
   const FloorPlan plan = test::building("house-125");
-  const FirefighterEvaluation eval(plan, short_config(4));
+  std::vector<FilterVariant> known;
+  for (const FilterVariant& v : standard_variants()) {
+    if (v.known_initial_state) known.push_back(v);
+  }
+  const FirefighterEvaluation eval(plan, short_config(4), known);
   const FirefighterSummary s = eval.run();
   EXPECT_LT(s.ins_drift_median, 1.0);
-  for (const char* name : {"known/no-pseudo", "known/default"}) {
+  for (const char* name : {"known/no-pseudo", "known/weights"}) {
     const VariantSummary& v = variant(s, name);
     EXPECT_LT(v.overall_rmse_m, 1.0) << name;
     ASSERT_GT(v.nees_members, 0U) << name;
@@ -74,6 +78,48 @@ TEST(MapParticleFilter, RemovesParticlesThatCrossAWall) {
   }
   EXPECT_LT(std::abs(pf.estimate().position.x() - 3.5), 0.6);
   EXPECT_LT(pf.estimate().position.y(), 4.0) << "most of the weight went through the door";
+}
+
+// KLD-sampling (map_particle_filter.hpp): an unknown start holds every particle while the cloud
+// is spread; a converged cloud sheds them down towards the paper's 500; a fixed count stays fixed.
+TEST(MapParticleFilter, HoldsEveryParticleWhileSpreadAndShedsThemOnceConverged) {
+  const FloorPlan plan = test::building("house-125");
+  const NavigableGrid grid = navigable_grid(plan, PatternGridConfig{});
+  const MapFilterConfig config;
+  MapParticleFilter pf(plan, grid, config);
+  std::mt19937_64 rng(4);
+  pf.init_unknown(rng);
+  EXPECT_EQ(pf.particles().size(), config.particles_max);
+  for (int k = 0; k < 8; ++k) pf.predict(Eigen::Vector3d(0.25, 0.0, 0.0), rng);
+  ASSERT_FALSE(pf.estimate().converged);
+  EXPECT_EQ(pf.particles().size(), config.particles_max) << "shed while still spread over the house";
+
+  pf.init_known({3.5, 5.0}, 0, 0.0, rng);  // in the corridor, walking east along it
+  EXPECT_EQ(pf.particles().size(), config.particles);
+  for (int k = 0; k < 8; ++k) pf.predict(Eigen::Vector3d(0.25, 0.0, 0.0), rng);
+  ASSERT_TRUE(pf.estimate().converged);
+  EXPECT_GE(pf.particles().size(), config.particles);
+  EXPECT_LE(pf.particles().size(), 3000U) << "a converged cloud needs no more";
+
+  MapFilterConfig fixed;
+  fixed.particles_max = fixed.particles;
+  MapParticleFilter paper(plan, grid, fixed);
+  paper.init_unknown(rng);
+  for (int k = 0; k < 8; ++k) paper.predict(Eigen::Vector3d(0.25, 0.0, 0.0), rng);
+  EXPECT_EQ(paper.particles().size(), fixed.particles);
+}
+
+// From an unknown start on the two-floor office, the adaptive count finds the firefighters and
+// never claims a place it is not: every converged estimate within 2 m.
+TEST(MapParticleFilter, UnknownStartConvergesOnTheOfficeWithoutAWrongClaim) {
+  const FloorPlan plan = test::building("office-253");
+  FirefighterEvalConfig c = short_config(2);
+  const FirefighterEvaluation eval(plan, c, {{"unknown/weights", false, true, PseudoResampling::kNever}});
+  const FirefighterSummary s = eval.run();
+  const VariantSummary& v = variant(s, "unknown/weights");
+  EXPECT_LT(v.final_rmse_m, 1.5);
+  EXPECT_EQ(v.converged_wrong_fraction, 0.0);
+  EXPECT_LT(v.particles_mean, 0.75 * c.filter.particles_max) << "the count never came down";
 }
 
 TEST(MapParticleFilter, RefusesNonFiniteOdometry) {

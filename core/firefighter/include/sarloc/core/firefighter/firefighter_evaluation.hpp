@@ -46,8 +46,11 @@ struct FilterVariant {
 };
 
 /// The configurations of Figs. 7-8 (known / unknown initial state x none / weights only /
-/// weights + q % resampling) and sarloc's default (resampling until first converged), known and unknown.
+/// weights + q % resampling), and resampling only until the estimate first converges.
 std::vector<FilterVariant> standard_variants();
+/// "known/weights", "unknown/no-pseudo", ...: the row of a configuration, e.g. of the filter's
+/// configured default.
+std::string variant_name(bool known_initial_state, bool pseudo_observations, PseudoResampling resampling);
 
 struct VariantSummary {
   FilterVariant variant;
@@ -58,6 +61,11 @@ struct VariantSummary {
   double wrong_floor_fraction = 0.0;   ///< of all estimates
   double ms_per_update_median = 0.0;   ///< predict + update, pattern comparison excluded
   double ms_per_update_amortised = 0.0;///< plus the comparisons' time spread over the updates
+  double ms_per_update_mean = 0.0;     ///< predict + update: the unconverged phase's cost shows here
+  double particles_mean = 0.0;         ///< over all updates (the count adapts, map_particle_filter.hpp)
+  /// Of the estimates flagged converged, the share more than 2 m from the truth: a position
+  /// claimed that is not there.
+  double converged_wrong_fraction = 0.0;
   double nees_mean = 0.0;              ///< at the end, members converged there (2 dof)
   double nees_lower = 0.0, nees_upper = 0.0;
   std::uint32_t nees_members = 0;

@@ -7,6 +7,14 @@
 // comparison weight the particles by eq. (2)-(3), with the epsilon floor; optionally the q %
 // lowest-weighted particles are drawn anew from the pseudo-observations.
 //
+// Particle count: KLD-sampling (core/common/kld_sampling.hpp). An unknown start begins with
+// `particles_max` particles spread over the whole plan; every few moving steps the cloud is
+// redrawn from its weights until the draws cover enough bins of (0.5 m, 0.5 m, 10 deg, floor)
+// for the KL bound, but never fewer than `particles` (the paper's 500) nor more than
+// `particles_max`. A concentrated cloud costs what the paper's does; a spread one keeps a
+// particle near the true pose, which 500 over the whole plan and all headings rarely hold
+// (docs/estimation/firefighter.md, "Particle count").
+//
 // Floors: a particle changes floor only on stairs of the plan, where its height follows the
 // INS's vertical displacement; off the stairs a particle whose height left its floor's by more
 // than `floor_tolerance_m` is removed (it did not climb where the firefighter climbed).
@@ -28,6 +36,7 @@
 #include <random>
 #include <vector>
 
+#include "sarloc/core/common/kld_sampling.hpp"
 #include "sarloc/core/firefighter/pattern_matcher.hpp"
 #include "sarloc/core/firefighter/search_pattern.hpp"
 #include "sarloc/core/firefighter/wall_index.hpp"
@@ -41,7 +50,12 @@ const char* to_string(PseudoResampling r);
 PseudoResampling parse_pseudo_resampling(const std::string& text, const std::string& key);
 
 struct MapFilterConfig {
-  std::uint32_t particles = 500;
+  std::uint32_t particles = 500;         ///< the least count (seed 004's 500); a known start's count
+  std::uint32_t particles_max = 20000;   ///< an unknown start's count; = particles: fixed count
+  double kld_epsilon = 0.05;             ///< KL bound of KLD-sampling
+  double kld_confidence = 0.99;          ///< 1 - delta
+  double kld_bin_m = 0.5;
+  double kld_bin_deg = 10.0;
   double position_noise_m = 0.12;
   double heading_noise_deg_per_m = 2.0;
   double moving_threshold_m = 0.02;     ///< below this per update: standing, no position noise
@@ -53,10 +67,11 @@ struct MapFilterConfig {
   double replace_position_sigma_m = 0.5;
   double replace_heading_sigma_deg = 25.0;
   bool pseudo_observations = true;
-  /// Default: until the estimate first converges. The paper's Fig. 7 saw "always" hurt on the
-  /// larger building; its Fig. 8 saw it needed to converge from an unknown state. Resuming after
-  /// a later loss of convergence drew from wrong patterns (docs/estimation/firefighter.md).
-  PseudoResampling resampling = PseudoResampling::kUntilConverged;
+  /// Default: never, pseudo-observations as weights only. The paper's Fig. 7 saw "always" hurt
+  /// on the larger building, its Fig. 8 needed it to converge from an unknown state with 500
+  /// particles; with the adaptive count an unknown start converges without it, and drawing 10 %
+  /// from ambiguous patterns only pulls the cloud apart (docs/estimation/firefighter.md).
+  PseudoResampling resampling = PseudoResampling::kNever;
   double converged_variance_m2 = 3.0;   ///< section V-E
   double known_position_sigma_m = 0.1;
   double known_heading_sigma_deg = 2.0;
@@ -105,6 +120,9 @@ class MapParticleFilter {
 
  private:
   void replace_dead(const std::vector<char>& dead, std::mt19937_64& rng);
+  /// Redraws the cloud from its weights with the KLD-sampling count (equal weights after).
+  void adapt_count(std::mt19937_64& rng);
+  std::uint64_t bin_of(const Particle& p) const;
   void refresh_flags(double removed_weight = 0.0);
   bool on_stairs(Particle& p) const;
 
@@ -125,6 +143,8 @@ class MapParticleFilter {
   bool map_error_ = false;
   bool converged_ = false;
   std::uint32_t converged_run_ = 0;
+  std::uint32_t moving_steps_ = 0;
+  KldSampleCount kld_needed_;
 };
 
 }  // namespace sarloc::firefighter
