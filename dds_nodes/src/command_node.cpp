@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 
 #include "sarloc/core/incident/source_estimate.hpp"
 #include "sarloc/dds/conversions.hpp"
@@ -224,6 +225,16 @@ std::optional<incident::ReporterFix> CommandNode::fix_at(const std::string& resc
                        static_cast<TimestampNs>(config_.fix_interpolation_max_gap_s * 1e9));
 }
 
+std::optional<incident::ReporterFix> CommandNode::fix_for(const responder::VictimEstimate& e) const {
+  // The fix the estimate carries (a device's own), if it is of the estimate's epoch: it
+  // survives any fade that lost the responder_position samples of that epoch.
+  if (e.reporter && e.reporter->position.position.allFinite() && e.reporter->position.covariance.allFinite() &&
+      std::llabs(e.reporter->stamp - e.stamp) <= static_cast<TimestampNs>(config_.position_max_age_s * 1e9)) {
+    return incident::reporter_fix_of(*e.reporter, config_.antenna_height_m, config_.antenna_height_sigma_m);
+  }
+  return fix_at(e.rescuer_id, e.stamp);
+}
+
 void CommandNode::cycle() {
   static thread_local ProcessStats stats;
   std::vector<incident::FusedVictim> victims;
@@ -250,7 +261,7 @@ void CommandNode::cycle() {
       const auto& e = pending.estimate;
       log_separation_event(e);
       if (e.status < responder::EstimatorStatus::kConverged) continue;  // a multimodal mean means nothing
-      const auto fix = fix_at(e.rescuer_id, e.stamp);
+      const auto fix = fix_for(e);
       if (!fix) {
         spdlog::debug("no fix of '{}' near stamp {}: estimate waits", e.rescuer_id, e.stamp);
         // The fix may still be on its way: keep the estimate for the next cycle, briefly. Counted

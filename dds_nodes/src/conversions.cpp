@@ -175,6 +175,8 @@ responder::Odometry to_core(const ::sarloc::Odometry& o) {
   out.moment(to_idl(e.moment));
   out.signal_event(static_cast<::sarloc::SignalEvent>(e.signal_event));
   out.signal_event_stamp(e.signal_event_stamp);
+  out.reporter_known(e.reporter.has_value());
+  if (e.reporter) out.reporter(to_idl(*e.reporter));
   return out;
 }
 
@@ -193,6 +195,13 @@ responder::VictimEstimate to_core(const ::sarloc::VictimEstimate& e) {
   out.signal_event = checked_enum<responder::SignalEvent>(e.signal_event(), ::sarloc::SIGNAL_SEPARATED,
                                                           "victim_estimate.signal_event");
   out.signal_event_stamp = e.signal_event_stamp();
+  if (e.reporter_known()) {
+    out.reporter = to_core(e.reporter());
+    if (out.reporter->responder_id != out.rescuer_id) {
+      throw InputError("victim_estimate.reporter.responder_id = '" + out.reporter->responder_id +
+                       "': not the estimate's rescuer '" + out.rescuer_id + "'");
+    }
+  }
   return out;
 }
 

@@ -7,6 +7,11 @@
 #include "sarloc/dds/conversions.hpp"
 
 namespace sarloc::dds {
+namespace {
+// The device's own fixes kept for its estimates: 3600 epochs, an hour at one epoch a second (a
+// FOUND estimate keeps the stamp it was found at for the rest of the search).
+constexpr std::size_t kOwnFixesKept = 3600;
+}  // namespace
 
 void RescuerNodeConfig::validate() const {
   estimators.validate();
@@ -137,7 +142,11 @@ EpochResult RescuerNode::epoch(const std::vector<responder::Odometry>& odometry,
       spdlog::warn("local estimator refused odometry: {}", rejected->detail);
     }
   }
-  if (fix && !position_writer_.write(to_idl(*fix))) spdlog::error("DDS refused the position fix");
+  if (fix) {
+    if (!position_writer_.write(to_idl(*fix))) spdlog::error("DDS refused the position fix");
+    if (own_fixes_.empty() || fix->stamp > own_fixes_.back().stamp) own_fixes_.push_back(*fix);
+    if (own_fixes_.size() > kOwnFixesKept) own_fixes_.pop_front();
+  }
 
   std::optional<responder::Guidance> local_guidance;
   std::vector<responder::VictimEstimate> local_estimates;
@@ -212,12 +221,22 @@ EpochResult RescuerNode::epoch(const std::vector<responder::Odometry>& odometry,
   // the one that may confirm a victim there (VictimFusion: the daemon's copy can miss samples
   // in a fade and must agree with it); it also keeps victims in the picture while the daemon
   // is away.
-  for (const auto& e : local_estimates) {
+  for (auto& e : local_estimates) {
+    e.reporter = own_fix_nearest(e.stamp);
     auto message = to_idl(e, sequence);
     message.from_device(true);
     if (!estimate_writer_.write(message)) spdlog::error("DDS refused the device's estimate of signal {}", e.signal_id);
   }
   return result;
+}
+
+std::optional<responder::ResponderPosition> RescuerNode::own_fix_nearest(TimestampNs stamp) const {
+  const auto after = std::lower_bound(own_fixes_.begin(), own_fixes_.end(), stamp,
+                                      [](const responder::ResponderPosition& f, TimestampNs s) { return f.stamp < s; });
+  if (after == own_fixes_.end()) return own_fixes_.empty() ? std::nullopt : std::optional(own_fixes_.back());
+  if (after == own_fixes_.begin()) return *after;
+  const auto before = std::prev(after);
+  return stamp - before->stamp < after->stamp - stamp ? *before : *after;
 }
 
 }  // namespace sarloc::dds

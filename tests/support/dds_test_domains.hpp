@@ -26,6 +26,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainAdmissionRoster = 146,
   kDomainAdmissionEviction = 147,
   kDomainMissionFourWithin5m = 148,
+  kDomainCommandPlacement = 149,
   kDomainMissionSmall = 130,  // mission_test: 130..139, and:
   kDomainMissionCommandKill = 134,
   kDomainMissionCommandRestart = 136,

@@ -1,10 +1,12 @@
 #pragma once
 // Helpers for DDS integration tests: participants on the localhost profile in a test's own
-// domain, and a thread-safe inbox that a reader callback fills.
+// domain, a thread-safe inbox that a reader callback fills, and waiting for a condition.
 #include <chrono>
 #include <condition_variable>
+#include <functional>
 #include <memory>
 #include <mutex>
+#include <thread>
 #include <vector>
 
 #include "sarloc/dds/participant.hpp"
@@ -18,6 +20,16 @@ inline std::shared_ptr<dds::Participant> make_participant(std::uint32_t domain, 
   config.name = name;
   config.profile = profile;
   return std::make_shared<dds::Participant>(config);
+}
+
+/// Polls `condition` every 20 ms until it holds (true) or `timeout` passes (false).
+inline bool eventually(const std::function<bool()>& condition, std::chrono::milliseconds timeout) {
+  const auto until = std::chrono::steady_clock::now() + timeout;
+  while (!condition()) {
+    if (std::chrono::steady_clock::now() > until) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return true;
 }
 
 template <class T>

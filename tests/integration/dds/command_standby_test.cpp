@@ -4,8 +4,6 @@
 // by the mission tests.)
 #include <gtest/gtest.h>
 
-#include <functional>
-
 #include "sarloc/dds/command_node.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/writer.hpp"
@@ -16,15 +14,7 @@ namespace sarloc::dds {
 namespace {
 
 using namespace std::chrono_literals;
-
-bool eventually(const std::function<bool()>& condition, std::chrono::milliseconds timeout) {
-  const auto until = std::chrono::steady_clock::now() + timeout;
-  while (!condition()) {
-    if (std::chrono::steady_clock::now() > until) return false;
-    std::this_thread::sleep_for(20ms);
-  }
-  return true;
-}
+using test::eventually;
 
 CommandNodeConfig instance(unsigned k) {
   CommandNodeConfig c;

@@ -83,6 +83,29 @@ TEST(Conversions, VictimEstimateRoundTrips) {
   EXPECT_EQ(out.signal_event_stamp, in.signal_event_stamp);
 }
 
+// A device's estimate carries its own fix of the estimate's epoch (incident command places it
+// with that); one naming another responder is refused.
+TEST(Conversions, VictimEstimateCarriesTheReportersFix) {
+  auto in = test::sample_victim_estimate();
+  EXPECT_FALSE(to_core(to_idl(in)).reporter.has_value());
+  responder::ResponderPosition fix;
+  fix.responder_id = in.rescuer_id;
+  fix.team_id = "north";
+  fix.stamp = in.stamp - 7;
+  fix.position.position = Vec3(1.0, 2.0, 3.0);
+  fix.floor = 2;
+  fix.source = responder::PositionSource::kMapAided;
+  in.reporter = fix;
+  const auto out = to_core(to_idl(in));
+  ASSERT_TRUE(out.reporter.has_value());
+  EXPECT_EQ(out.reporter->stamp, fix.stamp);
+  EXPECT_EQ(out.reporter->position.position, fix.position.position);
+  EXPECT_EQ(out.reporter->floor, 2);
+  EXPECT_EQ(out.reporter->source, responder::PositionSource::kMapAided);
+  in.reporter->responder_id = "someone-else";
+  EXPECT_THROW(to_core(to_idl(in)), InputError);
+}
+
 TEST(Conversions, VictimEstimateKeepsOnlyTheBoundedNumberOfComponents) {
   auto in = test::sample_victim_estimate();
   in.top_components.resize(::sarloc::MIXTURE_SUMMARY_MAX + 5, in.top_components.front());

@@ -98,6 +98,8 @@ class CommandNode {
   /// Keeps the picture writers' MANUAL_BY_TOPIC liveliness (3 s lease) while active.
   void assert_picture_liveliness();
   std::optional<incident::ReporterFix> fix_at(const std::string& rescuer_id, TimestampNs stamp) const;
+  /// The fix that places `e`: the one it carries if of its epoch, else fix_at (under mutex_).
+  std::optional<incident::ReporterFix> fix_for(const responder::VictimEstimate& e) const;
 
   CommandNodeConfig config_;
   MissionClock clock_;

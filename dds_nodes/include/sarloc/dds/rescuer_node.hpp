@@ -11,6 +11,7 @@
 // publishes its own estimates so incident command keeps seeing victims. This node only
 // converts, publishes and feeds the arbiter; the decisions are core's.
 #include <condition_variable>
+#include <deque>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -92,6 +93,11 @@ class RescuerNode {
   responder::GuidanceArbiter arbiter_;               // under mutex_
   std::set<std::uint32_t> found_elsewhere_;          // signals incident command reports found; under mutex_
   std::set<std::uint32_t> reported_conflicts_;       // conflicts already logged (epoch thread only)
+  /// The device's own fixes, oldest first (epoch thread only): each estimate it publishes
+  /// carries the one of its stamp, so that incident command can place a FOUND estimate
+  /// republished with the stamp it was found at, whatever fixes a radio fade lost on the way.
+  std::deque<responder::ResponderPosition> own_fixes_;
+  std::optional<responder::ResponderPosition> own_fix_nearest(TimestampNs stamp) const;
   std::vector<eprosima::fastrtps::rtps::InstanceHandle_t> live_core_writers_;  // NodeStatus writers of kind CORE
   std::unique_ptr<Reader<::sarloc::Guidance>> guidance_reader_;
   std::unique_ptr<Reader<::sarloc::VictimEstimate>> estimate_reader_;

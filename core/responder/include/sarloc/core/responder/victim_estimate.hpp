@@ -3,10 +3,12 @@
 // avalanche filter's reduced mixture today; a robot's camera or a dog team's handler later.
 // Incident command places it in the incident frame with the responder's position at `stamp`
 // (incident/source_estimate.hpp).
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "sarloc/core/common/types.hpp"
+#include "sarloc/core/responder/responder_position.hpp"
 #include "sarloc/core/responder/signal_event.hpp"
 
 namespace sarloc::responder {
@@ -38,6 +40,10 @@ struct VictimEstimate {
   /// after loss, separated after a merge) and the stamp of the sample that carried it.
   SignalEvent signal_event = SignalEvent::kNone;
   TimestampNs signal_event_stamp = 0;
+  /// Where the responder was at `stamp`, when the estimate's writer knows it (the device's own
+  /// estimates carry it): placed with this, the estimate needs no responder_position of its
+  /// epoch, which a long radio fade can lose for good.
+  std::optional<ResponderPosition> reporter;
 };
 
 }  // namespace sarloc::responder
