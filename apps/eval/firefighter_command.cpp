@@ -56,7 +56,7 @@ void print_summary(const ff::FirefighterSummary& s, double every_s, unsigned thr
     }
   }
   std::printf("(conv.: fraction converged within 2 m at the end; wrong: of the estimates flagged converged, the share "
-              "more than 2 m off; ms/upd: median filter step + pattern comparisons spread over the 2 Hz updates; mean: "
+              "whose truth is outside their own 99 %% ellipse; ms/upd: median filter step + pattern comparisons spread over the 2 Hz updates; mean: "
               "mean filter step; particles: mean count)\n");
   std::printf("Wall clock %.1f s\n", s.wall_s);
 }

@@ -101,6 +101,9 @@ MemberOdometry simulate_member(const FirefighterEvalConfig& config, const std::v
   return m;
 }
 
+// chi2_2(0.99): outside a converged estimate's own 99 % ellipse.
+constexpr double kChi2TwoDof99 = 9.2103;
+
 struct VariantTrace {
   std::vector<double> error;         // per update
   std::vector<char> wrong_floor;
@@ -140,7 +143,8 @@ VariantTrace run_filter(const FloorPlan& plan, const NavigableGrid& grid, const 
     trace.particles.push_back(pf.particles().size());
     if (e.converged) {
       ++trace.converged;
-      if (err.norm() > 2.0) ++trace.converged_wrong;
+      const Eigen::Matrix2d P = e.covariance + 1e-9 * Eigen::Matrix2d::Identity();
+      if (err.dot(P.ldlt().solve(err)) > kChi2TwoDof99) ++trace.converged_wrong;
     }
     if (e.converged && m.t[k] >= 150.0) {
       const Eigen::Matrix2d P = e.covariance + 1e-9 * Eigen::Matrix2d::Identity();

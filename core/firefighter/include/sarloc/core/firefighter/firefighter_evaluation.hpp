@@ -63,8 +63,8 @@ struct VariantSummary {
   double ms_per_update_amortised = 0.0;///< plus the comparisons' time spread over the updates
   double ms_per_update_mean = 0.0;     ///< predict + update: the unconverged phase's cost shows here
   double particles_mean = 0.0;         ///< over all updates (the count adapts, map_particle_filter.hpp)
-  /// Of the estimates flagged converged, the share more than 2 m from the truth: a position
-  /// claimed that is not there.
+  /// Of the estimates flagged converged, the share whose truth lies outside their own 99 %
+  /// ellipse: a position claimed that is not there (about 1 % if the covariance is honest).
   double converged_wrong_fraction = 0.0;
   double nees_mean = 0.0;              ///< at the end, members converged there (2 dof)
   double nees_lower = 0.0, nees_upper = 0.0;
