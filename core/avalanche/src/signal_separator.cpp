@@ -52,6 +52,7 @@ void SeparatorConfig::validate() const {
   check("forget_after_s", forget_after_s, lost_after_s, 86400.0);
   check("log_likelihood_margin", log_likelihood_margin, 0.0, 1000.0);
   check("max_signals", max_signals, 1, 64);
+  check("shadow_confirm_pulses", shadow_confirm_pulses, 2, 20);
   check("detector.min_on_time_s", detector.min_on_time_s, 0.01, 1.0);
   check("detector.max_on_time_s", detector.max_on_time_s, detector.min_on_time_s, 1.0);
   check("detector.search_band_hz", detector.search_band_hz, 1.0, 1000.0);
@@ -62,7 +63,15 @@ void SeparatorConfig::validate() const {
   check("detector.blend_ratio", detector.blend_ratio, detector.sidelobe_ratio, 1.0);
 }
 
-SignalSeparator::SignalSeparator(SeparatorConfig config) : config_((config.validate(), std::move(config))) {}
+SignalSeparator::SignalSeparator(SeparatorConfig config) : config_((config.validate(), std::move(config))) {
+  tracks_.reserve(config_.max_signals);  // process() holds pointers into it while adding a track
+}
+
+const SignalSeparator::Track* SignalSeparator::find(std::uint32_t id) const {
+  for (const auto& t : tracks_)
+    if (t.id == id) return &t;
+  return nullptr;
+}
 
 std::optional<double> SignalSeparator::carrier_of(std::uint32_t signal_id) const {
   for (const auto& t : tracks_)
@@ -94,16 +103,95 @@ bool SignalSeparator::timing_fits(const Track& t, const DetectedPulse& p) const 
 }
 
 void SignalSeparator::learn(Track& t, const DetectedPulse& p) {
-  const double w = std::max(p.statistic, 1.0);
+  // Weighted by statistic, but no pulse counts for more than a tenth of the track's history: at
+  // close range (statistic 1e9 and more) one burst measured off (a residual next to a strong
+  // pulse) otherwise moved the track's carrier onto itself, and the transmitter's own pulses
+  // no longer matched it (seen: one transmitter tracked as two signals, found twice).
+  const double w = std::clamp(p.statistic, 1.0, 1e3);
   t.carrier_hz = (t.carrier_hz * t.carrier_weight + p.carrier_offset_hz * w) / (t.carrier_weight + w);
   t.carrier_weight = std::min(t.carrier_weight + w, 1e4);  // keeps following a slow drift
   t.last_heard_s = p.end_s;
+  ++t.heard;
   if (!p.truncated()) {
     const double on = p.end_s - p.start_s;
-    t.on_time_s = (t.on_time_s.value_or(0.0) * t.on_time_weight + on * w) / (t.on_time_weight + w);
+    t.on_time_s = (t.on_time_s.value_or(0.0) * t.on_time_weight + on * w) / (t.on_time_weight + w);  // same cap
     t.on_time_weight = std::min(t.on_time_weight + w, 1e4);
   }
   if (const auto start = start_of(t, p)) t.timing.update(start->first, start->second);
+}
+
+bool SignalSeparator::another_transmitter(const std::vector<Track*>& mates, const DetectedPulse& p) const {
+  for (const Track* t : mates) {
+    // Only a mate that knows its timing and was heard on it within the last period and a half
+    // can say the pulse is not its own (one silent longer may have drifted off its timing).
+    if (!t->timing.has_period() || t->lost || !t->on_time_s) return false;
+    if (p.start_s - t->last_heard_s > 1.5 * t->timing.period_s()) return false;
+    const auto start = start_of(*t, p);
+    if (!start) return false;
+    const auto fit = t->timing.fit(start->first, start->second);
+    if (!fit) return false;
+    // The pulse must not touch the mate's predicted pulse (its learnt on-time, widened by the
+    // gate): a piece of the mate's own pulse repeats with it and would look interleaved.
+    const double margin = config_.timing_gate_sigmas * std::sqrt(fit->variance_s2) + config_.on_time_tolerance_s;
+    const bool after = fit->innovation_s > *t->on_time_s + margin;
+    const bool before = fit->innovation_s + (p.end_s - p.start_s) < -margin;
+    if (!after && !before) return false;
+  }
+  return true;
+}
+
+bool SignalSeparator::interleaved(const Track& shadow) const {
+  if (!shadow.timing.has_period() || shadow.heard < config_.shadow_confirm_pulses) return false;
+  return std::any_of(shadow.mates_at_start.begin(), shadow.mates_at_start.end(), [&](const auto& m) {
+    const Track* mate = find(m.first);
+    return mate != nullptr && !mate->lost && !mate->shadow && mate->heard >= m.second + config_.shadow_confirm_pulses;
+  });
+}
+
+void SignalSeparator::settle_shadows(SeparationReport& r, double window_end) {
+  std::vector<std::uint32_t> retired;
+  for (auto& s : tracks_) {
+    if (!s.shadow) continue;
+    if (interleaved(s)) {
+      s.shadow = false;
+      s.mates_at_start.clear();
+      r.events.push_back({s.id, TrackChange::kNew, window_end});
+      continue;
+    }
+    if (window_end - s.last_heard_s > config_.lost_after_s) {
+      retired.push_back(s.id);  // never published: dropped quietly
+      continue;
+    }
+    if (!s.timing.has_period()) continue;
+    // Every mate silent while the shadow is heard on its own period: it is the mate, re-timed.
+    Track* heir = nullptr;
+    bool mate_heard = false;
+    for (const auto& m : s.mates_at_start) {
+      auto it = std::find_if(tracks_.begin(), tracks_.end(), [&](const Track& t) { return t.id == m.first; });
+      if (it == tracks_.end()) continue;
+      if (!it->lost) mate_heard = true;
+      else if (heir == nullptr || it->last_heard_s > heir->last_heard_s) heir = &*it;
+    }
+    if (mate_heard) continue;
+    if (heir == nullptr) {  // its mates are forgotten: a signal of its own
+      s.shadow = false;
+      r.events.push_back({s.id, TrackChange::kNew, window_end});
+      continue;
+    }
+    heir->timing = s.timing;
+    heir->on_time_s = s.on_time_s;
+    heir->on_time_weight = s.on_time_weight;
+    heir->last_heard_s = s.last_heard_s;
+    heir->lost = false;
+    heir->pending = SignalEvent::kReacquired;
+    r.events.push_back({heir->id, TrackChange::kReacquired, window_end});
+    retired.push_back(s.id);
+  }
+  tracks_.erase(std::remove_if(tracks_.begin(), tracks_.end(),
+                               [&](const Track& t) {
+                                 return std::find(retired.begin(), retired.end(), t.id) != retired.end();
+                               }),
+                tracks_.end());
 }
 
 bool SignalSeparator::better_fit_elsewhere(const Track& chosen, const std::vector<Track*>& mates,
@@ -198,13 +286,15 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
     } else if (carrier_matches.size() == 1 && carrier_matches.front()->lost && !p.truncated()) {
       chosen = carrier_matches.front();  // unheard a while, its timing drifted: reanchor on this pulse
       chosen->timing.reanchor();
-    } else if (carrier_matches.empty() && !p.truncated() && tracks_.size() < config_.max_signals) {
+    } else if (!p.truncated() && tracks_.size() < config_.max_signals &&
+               (carrier_matches.empty() || another_transmitter(carrier_matches, p))) {
       Track t;
       t.id = next_id_++;
       t.carrier_hz = p.carrier_offset_hz;
       t.timing = PulseTiming(config_.timing);
-      tracks_.reserve(config_.max_signals);
-      tracks_.push_back(t);
+      t.shadow = !carrier_matches.empty();
+      for (const Track* m : carrier_matches) t.mates_at_start.emplace_back(m->id, m->heard);
+      tracks_.push_back(t);  // capacity reserved: carrier_matches stays valid
       chosen = &tracks_.back();
     }
     if (chosen == nullptr) continue;  // on a known carrier at the wrong time, or no room
@@ -229,7 +319,7 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
     }
     const bool was_confirmed = chosen->timing.has_period();
     learn(*chosen, p);
-    if (!was_confirmed && chosen->timing.has_period()) r.events.push_back({chosen->id, TrackChange::kNew, p.start_s});
+    if (!was_confirmed && chosen->timing.has_period() && !chosen->shadow) r.events.push_back({chosen->id, TrackChange::kNew, p.start_s});
   }
   for (std::size_t i = 0; i < r.pulses.size(); ++i)
     if (!r.attributed[i]) ++r.unattributed;
@@ -237,8 +327,9 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
   // One sample per signal: its strongest attributed pulse of the window. A track is confirmed
   // by its second pulse a period later: a one-off burst (a residual, a false alarm) never
   // becomes a signal.
+  settle_shadows(r, window_end);
   for (auto& t : tracks_) {
-    if (!t.timing.has_period()) continue;
+    if (!t.timing.has_period() || t.shadow) continue;
     std::optional<std::size_t> best;
     for (std::size_t i = 0; i < r.pulses.size(); ++i) {
       const DetectedPulse& p = r.pulses[i];
@@ -254,7 +345,7 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
   }
   // Silence: lost, then forgotten.
   for (auto& t : tracks_) {
-    if (t.timing.has_period() && !t.lost && window_end - t.last_heard_s > config_.lost_after_s) {
+    if (t.timing.has_period() && !t.shadow && !t.lost && window_end - t.last_heard_s > config_.lost_after_s) {
       t.lost = true;
       r.events.push_back({t.id, TrackChange::kLost, window_end});
     }

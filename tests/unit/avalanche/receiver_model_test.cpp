@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <set>
 
 #include "sarloc/core/avalanche/beacon_receiver.hpp"
 #include "sarloc/core/avalanche/dipole_model.hpp"
@@ -105,6 +107,53 @@ TEST(PulseDetector, NoiseAloneGivesNothing) {
   EXPECT_LE(false_alarms, 1);
 }
 
+// Two transmitters on one carrier (0.4 Hz apart), their pulses overlapping for 90 ms and
+// staggered by 40 ms: successive cancellation alone carves them into mixtures; the joint
+// two-burst fit (pulse_pair_fit.hpp) gives each its own edges and field, neither blended.
+TEST(PulseDetector, StaggeredPairOnOneCarrierIsResolved) {
+  for (std::uint64_t seed : {21U, 22U, 23U}) {
+    std::mt19937_64 rng(seed);
+    IncomingPulse a, b;
+    a.start_s = 0.300;
+    a.end_s = 0.430;
+    a.carrier_offset_hz = 12.0;
+    a.amplitude = Vec3c(std::complex<double>(4e-7, 1e-7), std::complex<double>(-1e-7, 0.0), std::complex<double>(0.0, 2e-7));
+    b.start_s = 0.340;
+    b.end_s = 0.480;
+    b.carrier_offset_hz = 12.4;
+    b.amplitude = Vec3c(std::complex<double>(0.0, -6e-7), std::complex<double>(3e-7, 1e-7), std::complex<double>(1e-7, 0.0));
+    const BasebandWindow w = synthesize({a, b}, 0.0, 1.0, 500.0, Vec3(2.1e-9, 6.3e-9, 6.3e-9), rng);
+    const auto found = detect_pulses(w, PulseDetectorConfig{});
+    ASSERT_EQ(found.size(), 2U) << "seed " << seed;
+    for (std::size_t i = 0; i < 2; ++i) {
+      const IncomingPulse& truth = i == 0 ? a : b;
+      EXPECT_NEAR(found[i].start_s, truth.start_s, 0.005) << "seed " << seed;
+      EXPECT_NEAR(found[i].end_s, truth.end_s, 0.005) << "seed " << seed;
+      EXPECT_FALSE(found[i].blended) << "seed " << seed;
+      const double alignment =
+          std::abs(found[i].amplitude.dot(truth.amplitude)) / (found[i].amplitude.norm() * truth.amplitude.norm());
+      EXPECT_GT(alignment, 0.98) << "seed " << seed << " pulse " << i;
+    }
+  }
+}
+
+// A single strong pulse is never split into two (the pair must beat one burst by the
+// detection threshold and a 30 dB model floor).
+TEST(PulseDetector, StrongSinglePulseStaysOne) {
+  for (std::uint64_t seed : {31U, 32U, 33U, 34U}) {
+    std::mt19937_64 rng(seed);
+    IncomingPulse p;
+    p.start_s = 0.2011;
+    p.end_s = 0.3811;
+    p.carrier_offset_hz = -41.3;
+    p.amplitude = Vec3c(std::complex<double>(3e-5, 1e-5), std::complex<double>(-1e-5, 0.0), std::complex<double>(0.0, 2e-5));
+    const BasebandWindow w = synthesize({p}, 0.0, 1.0, 500.0, Vec3(2.1e-9, 6.3e-9, 6.3e-9), rng);
+    const auto found = detect_pulses(w, PulseDetectorConfig{});
+    ASSERT_EQ(found.size(), 1U) << "seed " << seed;
+    EXPECT_FALSE(found[0].blended);
+  }
+}
+
 // Three transmitters 3 m apart whose pulses overlap, on distinct carriers: each keeps its id.
 TEST(SignalSeparator, OverlappingPulsesOnDistinctCarriersKeepTheirIds) {
   SimulationConfig config;
@@ -161,6 +210,70 @@ TEST(SignalSeparator, SameCarrierSameTimeIsNotAttributed) {
   }
   EXPECT_GE(unattributed, 5U);  // at least half of the 10 overlapping pairs: never guessed
   EXPECT_LE(wrong, 1U);
+}
+
+Beacon same_carrier_beacon(const Vec3& position, const Vec3& moment, double first_start_s, double carrier_hz) {
+  Beacon b;
+  b.position = position;
+  b.moment = moment;
+  b.timing.period_s = 1.0;
+  b.timing.on_time_s = 0.12;
+  b.timing.carrier_offset_hz = carrier_hz;
+  b.timing.first_start_s = first_start_s;
+  return b;
+}
+
+// Two transmitters on one carrier (within one frequency cell), their pulses half a period
+// apart: only timing tells them apart, and it does once the second train has proved itself
+// interleaved with the first: two signals, each its own transmitter's.
+TEST(SignalSeparator, SameCarrierDistinctTimingGivesTwoSignals) {
+  SimulationConfig config;
+  BeaconReceiver receiver(config, 14);
+  const std::vector<Beacon> beacons{same_carrier_beacon(Vec3(12.0, 0.0, -1.0), Vec3(0.01, 0.0, 0.01), 0.1, -30.0),
+                                    same_carrier_beacon(Vec3(14.0, -3.0, -1.5), Vec3(0.0, 0.012, 0.004), 0.6, -29.5)};
+  ReceiverPose pose;
+  pose.position = Vec3(0.0, 0.0, 1.0);
+  std::uint32_t wrong = 0;
+  std::map<std::uint32_t, std::set<std::size_t>> truth_of_signal;
+  for (int k = 0; k < 15; ++k) {
+    const Listening heard = receiver.listen(pose, beacons, k, 1.0);
+    wrong += heard.wrong_attributions;
+    for (const auto& h : heard.samples)
+      if (h.transmitter) truth_of_signal[h.sample.signal_id].insert(*h.transmitter);
+  }
+  ASSERT_EQ(truth_of_signal.size(), 2U) << "one signal per transmitter";
+  std::set<std::size_t> transmitters;
+  for (const auto& [signal, truth] : truth_of_signal) {
+    EXPECT_EQ(truth.size(), 1U) << "signal " << signal << " mixes transmitters";
+    transmitters.insert(truth.begin(), truth.end());
+  }
+  EXPECT_EQ(transmitters.size(), 2U);
+  EXPECT_LE(wrong, 1U);
+}
+
+// One transmitter whose pulses jump to another phase (its timing estimate went stale, or the
+// receiver lost the train): the new train is not a second transmitter. It stays one signal, its
+// id kept, reacquired; no sample is published from the new train before the hand-over.
+TEST(SignalSeparator, OneTransmitterRetimedIsNeverSplit) {
+  SimulationConfig config;
+  BeaconReceiver receiver(config, 15);
+  const Vec3 position(12.0, 0.0, -1.0), moment(0.01, 0.0, 0.01);
+  const std::vector<Beacon> before{same_carrier_beacon(position, moment, 0.1, -30.0)};
+  const std::vector<Beacon> after{same_carrier_beacon(position, moment, 0.6, -30.0)};
+  ReceiverPose pose;
+  pose.position = Vec3(0.0, 0.0, 1.0);
+  std::set<std::uint32_t> signals;
+  bool reacquired = false;
+  for (int k = 0; k < 25; ++k) {
+    const Listening heard = receiver.listen(pose, k < 8 ? before : after, k, 1.0);
+    for (const auto& h : heard.samples) {
+      signals.insert(h.sample.signal_id);
+      reacquired = reacquired || h.sample.event == SignalEvent::kReacquired;
+    }
+  }
+  EXPECT_EQ(signals.size(), 1U) << "one transmitter split into several signals";
+  EXPECT_TRUE(reacquired);
+  EXPECT_EQ(receiver.separator().tracks(), 1U);
 }
 
 // Two transmitters 0.5 Hz apart, their pulses overlapping almost entirely: the detector cannot

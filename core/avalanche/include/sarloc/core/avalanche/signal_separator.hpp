@@ -15,10 +15,16 @@
 //   - two tracks match it and the field-consistency hook (each track's filter) does not pick
 //     one by a wide margin, or timing picked one and the hook says a carrier-mate's filter
 //     explains its field by that margin;
-//   - it matches nothing and cannot start a track (cut by the window's edges, or max_signals),
-//     or it is on a tracked carrier at the wrong time (a second transmitter on that carrier is
-//     not tracked: tried, it split single transmitters into two signals; see
-//     docs/estimation/avalanche.md).
+//   - it matches nothing and cannot start a track (cut by the window's edges, or max_signals).
+// A second transmitter on a tracked carrier (carriers within a frequency cell): a clean pulse
+// clear of every carrier-mate's predicted pulse (its learnt on-time, widened by the gate) starts a
+// *shadow* track, which publishes nothing until the evidence says it is another transmitter: it
+// has its own period and shadow_confirm_pulses pulses, and a mate was heard on its own timing
+// shadow_confirm_pulses times meanwhile. One transmitter cannot pulse on two interleaved trains,
+// so one is never split into two signals (an earlier version confirmed such a track by its
+// second pulse and, live, split a transmitter whose timing had drifted: docs/estimation/
+// avalanche.md). A shadow whose mates all fall silent is the mate re-timed: it hands its timing
+// over (kReacquired on the mate's id).
 // Events: a track not heard for lost_after_s is declared lost; heard again, its next sample
 // carries kReacquired (a lost track whose carrier alone matches a pulse that misses its timing
 // is reanchored on that pulse: its timing estimate drifted while it was unheard). Tracks that shared an unattributable pulse are merged; the next
@@ -63,6 +69,9 @@ struct SeparatorConfig {
   double forget_after_s = 600.0;         ///< a track silent this long is dropped (its id retired)
   double log_likelihood_margin = 9.2;    ///< consistency hook must prefer a track by e^9.2 = 10^4
   std::uint32_t max_signals = 8;
+  /// A shadow track (a second transmitter on a tracked carrier) is promoted to a signal after
+  /// this many pulses of its own, interleaved with as many of a mate's.
+  std::uint32_t shadow_confirm_pulses = 3;
 
   /// Throws ConfigError "separator.<key> = value: rule".
   void validate() const;
@@ -122,6 +131,11 @@ class SignalSeparator {
     bool lost = false;
     bool merged = false;
     SignalEvent pending = SignalEvent::kNew;
+    std::uint32_t heard = 0;           ///< pulses attributed
+    /// A shadow: started on a tracked carrier, off every mate's timing; per mate at its start,
+    /// (id, mate's heard then). Publishes nothing until promoted (interleaved()).
+    bool shadow = false;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> mates_at_start;
   };
 
   double edge_sigma(const DetectedPulse& p) const;
@@ -129,6 +143,15 @@ class SignalSeparator {
   std::optional<std::pair<double, double>> start_of(const Track& t, const DetectedPulse& p) const;
   bool timing_fits(const Track& t, const DetectedPulse& p) const;
   bool elliptical(const DetectedPulse& p) const;
+  /// Every carrier-mate knows its timing, was heard within 1.5 periods and predicts its pulse
+  /// further than the standard's longest on-time (plus its gate) from this one.
+  bool another_transmitter(const std::vector<Track*>& mates, const DetectedPulse& p) const;
+  /// A shadow heard shadow_confirm_pulses times on its own period while a mate was too.
+  bool interleaved(const Track& shadow) const;
+  const Track* find(std::uint32_t id) const;
+  /// End of a window: promote the shadows that proved themselves, hand over those whose mates
+  /// all went silent, drop those unheard.
+  void settle_shadows(SeparationReport& r, double window_end);
   /// Timing gave the pulse to `chosen`, but the consistency hook says another track on its
   /// carrier explains its field by more than log_likelihood_margin: not attributed.
   bool better_fit_elsewhere(const Track& chosen, const std::vector<Track*>& mates, const DetectedPulse& p,
