@@ -12,6 +12,8 @@
 // mutual leakage, and each pulse gets its amplitude noise and variance inflation: how much the
 // other pulses' overlap (same carrier, same time) degrades it. Overlapping pulses whose
 // carriers are closer than about 1 / overlap cannot be told apart: their inflation is large.
+// Two such pulses on one carrier whose edges differ are refitted as a pair (pulse_pair_fit.hpp)
+// before that final fit; a pair that does not beat one burst stays flagged blended.
 //
 //   std::vector<DetectedPulse> pulses = detect_pulses(window, PulseDetectorConfig{});
 #include <vector>
