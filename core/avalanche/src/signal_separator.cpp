@@ -243,7 +243,7 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return r.pulses[a].statistic > r.pulses[b].statistic; });
   auto merge = [&](const std::vector<Track*>& tracks, double time) {
     for (Track* t : tracks) {
-      if (!t->merged) r.events.push_back({t->id, TrackChange::kMerged, time});
+      if (!t->merged && !t->shadow) r.events.push_back({t->id, TrackChange::kMerged, time});  // shadows are unpublished
       t->merged = true;
     }
   };
@@ -315,7 +315,7 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
     if (chosen->merged) {
       chosen->merged = false;
       if (chosen->pending == SignalEvent::kNone) chosen->pending = SignalEvent::kSeparated;
-      r.events.push_back({chosen->id, TrackChange::kSeparated, p.start_s});
+      if (!chosen->shadow) r.events.push_back({chosen->id, TrackChange::kSeparated, p.start_s});
     }
     const bool was_confirmed = chosen->timing.has_period();
     learn(*chosen, p);
