@@ -50,19 +50,29 @@ struct Found {
   bool split = false;  ///< one of a same-carrier pair refitted jointly: statistic from the fit
 };
 
+// Columns: each pulse's carrier on its interval.
+Eigen::MatrixXcd design_matrix(const std::vector<Found>& pulses, const BasebandWindow& w) {
+  Eigen::MatrixXcd design = Eigen::MatrixXcd::Zero(w.size(), static_cast<Eigen::Index>(pulses.size()));
+  for (Eigen::Index j = 0; j < design.cols(); ++j)
+    for (Eigen::Index k = pulses[j].a; k < pulses[j].b; ++k) design(k, j) = carrier(pulses[j].f, w.time(k));
+  return design;
+}
+
+// The samples less the joint least-squares fit of the pulses.
+Samples residual_of(const Samples& original, const BasebandWindow& w, const std::vector<Found>& pulses) {
+  if (pulses.empty()) return original;
+  const Eigen::MatrixXcd design = design_matrix(pulses, w);
+  const Eigen::MatrixXcd coeffs = (design.adjoint() * design).ldlt().solve(design.adjoint() * original.transpose());
+  return original - (design * coeffs).transpose();
+}
+
 // The samples less the joint least-squares fit of every pulse but those listed.
 Samples without_others(const Samples& original, const BasebandWindow& w, const std::vector<Found>& pulses,
                        const std::vector<std::size_t>& keep) {
-  std::vector<const Found*> others;
+  std::vector<Found> others;
   for (std::size_t j = 0; j < pulses.size(); ++j)
-    if (std::find(keep.begin(), keep.end(), j) == keep.end()) others.push_back(&pulses[j]);
-  if (others.empty()) return original;
-  const Eigen::Index n = original.cols();
-  Eigen::MatrixXcd design = Eigen::MatrixXcd::Zero(n, static_cast<Eigen::Index>(others.size()));
-  for (Eigen::Index j = 0; j < design.cols(); ++j)
-    for (Eigen::Index k = others[j]->a; k < others[j]->b; ++k) design(k, j) = carrier(others[j]->f, w.time(k));
-  const Eigen::MatrixXcd coeffs = (design.adjoint() * design).ldlt().solve(design.adjoint() * original.transpose());
-  return original - (design * coeffs).transpose();
+    if (std::find(keep.begin(), keep.end(), j) == keep.end()) others.push_back(pulses[j]);
+  return residual_of(original, w, others);
 }
 
 bool same_cell(const Found& p, const Found& q, double fs) {
@@ -205,16 +215,6 @@ std::vector<DetectedPulse> detect_pulses(const BasebandWindow& w, const PulseDet
       if (++current == bands.size()) break;
       continue;
     }
-    // Cancel every pulse found so far from the original by a joint fit (a pulse fitted alone
-    // under another's overlap carries its leakage, and the residual would hold ghosts).
-    auto cancel = [&](const std::vector<Found>& fitted) {
-      const auto m = static_cast<Eigen::Index>(fitted.size());
-      Eigen::MatrixXcd design = Eigen::MatrixXcd::Zero(n, m);
-      for (Eigen::Index j = 0; j < m; ++j)
-        for (Eigen::Index k = fitted[j].a; k < fitted[j].b; ++k) design(k, j) = carrier(fitted[j].f, w.time(k));
-      const Eigen::MatrixXcd coeffs = (design.adjoint() * design).ldlt().solve(design.adjoint() * original.transpose());
-      whitened = original - (design * coeffs).transpose();
-    };
     // What remains of a pulse already found (its carrier or edges a fraction off) is not a new one.
     // Nor is a burst overlapping a pulse within one frequency cell of their overlap (not
     // resolvable), nor a much weaker one: the sidelobes of a strong pulse whose carrier was
@@ -232,16 +232,16 @@ std::vector<DetectedPulse> detect_pulses(const BasebandWindow& w, const PulseDet
     std::vector<Found> fitted = pulses;
     fitted.push_back({cand.f, cand.a, cand.b, cand.t, false});
     if (!residual) pulses = fitted;
-    cancel(fitted);
+    // Cancel every pulse found so far from the original by a joint fit (a pulse fitted alone
+    // under another's overlap carries its leakage, and the residual would hold ghosts).
+    whitened = residual_of(original, w, fitted);
   }
   if (pulses.empty()) return found;
   resolve_same_carrier_pairs(pulses, original, w, c, bands.front().threshold);
 
   // Joint least squares on the original samples: columns = each pulse's carrier on its interval.
   const auto m = static_cast<Eigen::Index>(pulses.size());
-  Eigen::MatrixXcd design = Eigen::MatrixXcd::Zero(n, m);
-  for (Eigen::Index j = 0; j < m; ++j)
-    for (Eigen::Index k = pulses[j].a; k < pulses[j].b; ++k) design(k, j) = carrier(pulses[j].f, w.time(k));
+  const Eigen::MatrixXcd design = design_matrix(pulses, w);
   const Eigen::MatrixXcd gram = design.adjoint() * design;
   const Eigen::MatrixXcd gram_inv = gram.inverse();
   const Eigen::MatrixXcd coeffs = gram_inv * (design.adjoint() * original.transpose());  // m x 3 (whitened)

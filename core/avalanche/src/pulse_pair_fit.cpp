@@ -73,12 +73,6 @@ double PulsePairFit::energy(const ToneBurst& x, const ToneBurst& y) const {
                      static_cast<double>(y.end - y.begin), gram(w_, x, y));
 }
 
-double PulsePairFit::inflation(const ToneBurst& x, const ToneBurst& y) const {
-  const double gxx = static_cast<double>(x.end - x.begin), gyy = static_cast<double>(y.end - y.begin);
-  const double independence = 1.0 - std::norm(gram(w_, x, y)) / (gxx * gyy);
-  return 1.0 / std::max(independence, 1e-12);
-}
-
 ToneBurst PulsePairFit::best_single(Eigen::Index lo, Eigen::Index hi, double carrier_hz, const BurstLimits& limits) const {
   ToneBurst best{carrier_hz, lo, lo, 0.0};
   for (double f = carrier_hz - limits.carrier_span_hz; f <= carrier_hz + limits.carrier_span_hz + 1e-9;

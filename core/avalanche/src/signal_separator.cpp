@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 #include <sstream>
+#include <utility>
 
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
@@ -71,6 +72,10 @@ const SignalSeparator::Track* SignalSeparator::find(std::uint32_t id) const {
   for (const auto& t : tracks_)
     if (t.id == id) return &t;
   return nullptr;
+}
+
+SignalSeparator::Track* SignalSeparator::find(std::uint32_t id) {
+  return const_cast<Track*>(std::as_const(*this).find(id));
 }
 
 std::optional<double> SignalSeparator::carrier_of(std::uint32_t signal_id) const {
@@ -167,10 +172,10 @@ void SignalSeparator::settle_shadows(SeparationReport& r, double window_end) {
     Track* heir = nullptr;
     bool mate_heard = false;
     for (const auto& m : s.mates_at_start) {
-      auto it = std::find_if(tracks_.begin(), tracks_.end(), [&](const Track& t) { return t.id == m.first; });
-      if (it == tracks_.end()) continue;
-      if (!it->lost) mate_heard = true;
-      else if (heir == nullptr || it->last_heard_s > heir->last_heard_s) heir = &*it;
+      Track* mate = find(m.first);
+      if (mate == nullptr) continue;
+      if (!mate->lost) mate_heard = true;
+      else if (heir == nullptr || mate->last_heard_s > heir->last_heard_s) heir = mate;
     }
     if (mate_heard) continue;
     if (heir == nullptr) {  // its mates are forgotten: a signal of its own

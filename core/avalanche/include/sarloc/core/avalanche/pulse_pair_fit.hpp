@@ -50,8 +50,6 @@ class PulsePairFit {
   /// Energy captured by x and y fitted jointly; 0 if their columns are nearly collinear
   /// (variance inflation above 50: nothing tells them apart).
   double energy(const ToneBurst& x, const ToneBurst& y) const;
-  /// Variance inflation of x's amplitude in the joint fit (1 = no overlap).
-  double inflation(const ToneBurst& x, const ToneBurst& y) const;
   /// The single burst in [lo, hi) that captures the most energy, carrier within
   /// +- limits.carrier_span_hz of carrier_hz.
   ToneBurst best_single(Eigen::Index lo, Eigen::Index hi, double carrier_hz, const BurstLimits& limits) const;

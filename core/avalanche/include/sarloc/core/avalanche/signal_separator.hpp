@@ -149,6 +149,7 @@ class SignalSeparator {
   /// A shadow heard shadow_confirm_pulses times on its own period while a mate was too.
   bool interleaved(const Track& shadow) const;
   const Track* find(std::uint32_t id) const;
+  Track* find(std::uint32_t id);
   /// End of a window: promote the shadows that proved themselves, hand over those whose mates
   /// all went silent, drop those unheard.
   void settle_shadows(SeparationReport& r, double window_end);
