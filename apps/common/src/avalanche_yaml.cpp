@@ -74,6 +74,8 @@ void read_sog(YamlReader r, avalanche::SogConfig& c) {
   r.read("reinit_gate_probability", c.reinit_gate_probability);
   r.read("reinit_after", c.reinit_after);
   r.read("divergence_window", c.divergence_window);
+  r.read("iterated_update_max", c.iterated_update_max);
+  r.read("relinearise_threshold_sigmas", c.relinearise_threshold_sigmas);
   r.read("prune_log_weight", c.prune_log_weight);
   r.read("merge_interval", c.merge_interval);
   r.read("merge_cell_m", c.merge_cell_m);
@@ -93,6 +95,8 @@ void read_search(YamlReader r, avalanche::SearchConfig& c) {
   r.read("found_distance_m", c.found_distance_m);
   r.read("confirm_min_samples", c.confirm_min_samples);
   r.read("confirm_max_innovation_ratio", c.confirm_max_innovation_ratio);
+  r.read("confirm_max_last_nis", c.confirm_max_last_nis);
+  r.read("found_confirmations", c.found_confirmations);
   r.read("probe_step_m", c.probe_step_m);
   r.read("flux_smoothing", c.flux_smoothing);
   r.read("flux_snr_cap", c.flux_snr_cap);

@@ -261,7 +261,11 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
     }
     update.guidance = g;
   }
-  update.estimate.status = found_now ? EstimatorStatus::kFound : s.controller.assess(update.estimate, s.filter.steps(), s.filter.recent_innovation_ratio());
+  // FOUND only through the guidance's confirmation (found_confirmations samples in a row).
+  update.estimate.status =
+      found_now ? EstimatorStatus::kFound
+                : std::min(s.controller.assess(update.estimate, ConfirmationEvidence::of(s.filter)),
+                           EstimatorStatus::kLocated);
   s.estimate = update.estimate;
   if (found_now) s.found = update.estimate;
   choose_target();

@@ -49,6 +49,8 @@ void SearchConfig::validate() const {
   check("found_distance_m", found_distance_m, 0.0, 50.0, true);
   check("confirm_min_samples", confirm_min_samples, 1.0, 1000.0, false);
   check("confirm_max_innovation_ratio", confirm_max_innovation_ratio, 0.0, 100.0, true);
+  check("confirm_max_last_nis", confirm_max_last_nis, 0.0, 1000.0, true);
+  check("found_confirmations", found_confirmations, 1.0, 20.0, false);
   check("probe_step_m", probe_step_m, 0.0, 10.0, true);
   check("approach_radius_fraction", approach_radius_fraction, 0.0, 1.0, true);
   check("flux_smoothing", flux_smoothing, 0.0, 0.99, false);
@@ -89,14 +91,19 @@ double SearchController::located_radius(const Vec3& relative_position) const {
   return std::max(config_.located_radius_m, config_.located_radius_per_range * relative_position.norm());
 }
 
-bool SearchController::confirmable(std::uint64_t samples, double innovation_ratio) const {
-  return static_cast<double>(samples) >= config_.confirm_min_samples &&
-         innovation_ratio <= config_.confirm_max_innovation_ratio;
+ConfirmationEvidence ConfirmationEvidence::of(const SogFilter& filter) {
+  return {filter.steps(), filter.recent_innovation_ratio(), filter.last_min_nis(), filter.moment_plausible()};
 }
 
-EstimatorStatus SearchController::assess(const VictimEstimate& e, std::uint64_t samples, double innovation_ratio) const {
+bool SearchController::confirmable(const ConfirmationEvidence& evidence) const {
+  return static_cast<double>(evidence.samples) >= config_.confirm_min_samples &&
+         evidence.innovation_ratio <= config_.confirm_max_innovation_ratio &&
+         evidence.last_nis <= config_.confirm_max_last_nis && evidence.moment_plausible;
+}
+
+EstimatorStatus SearchController::assess(const VictimEstimate& e, const ConfirmationEvidence& evidence) const {
   if (e.status == EstimatorStatus::kInitialising) return e.status;
-  if (!confirmable(samples, innovation_ratio)) return std::min(e.status, EstimatorStatus::kConverged);
+  if (!confirmable(evidence)) return std::min(e.status, EstimatorStatus::kConverged);
   if (!below_receiver(e.relative.position, e.relative.covariance))
     return std::min(e.status, EstimatorStatus::kConverged);
   if (radius95_3d(e.relative.covariance) > located_radius(e.relative.position)) return e.status;
@@ -171,8 +178,9 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
   e.status = EstimatorStatus::kMultimodal;
   e.relative.position = mean;
   e.relative.covariance = cov;
-  const bool may_confirm = confirmable(filter.steps(), filter.recent_innovation_ratio());
-  const EstimatorStatus st = assess(e, filter.steps(), filter.recent_innovation_ratio());
+  const ConfirmationEvidence evidence = ConfirmationEvidence::of(filter);
+  const bool may_confirm = confirmable(evidence);
+  const EstimatorStatus st = assess(e, evidence);
 
   const Eigen::Matrix2d cov_h = cov.topLeftCorner<2, 2>();
   const double maha2 = mean_h.dot(cov_h.ldlt().solve(mean_h));
@@ -181,8 +189,17 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
   const bool below = below_receiver(mean, cov);
   if (!pattern_.empty() && !pattern_complete_ && (r95 > kPatternRegrowth * pattern_radius95_ || !below))
     drop_pattern();
-  if (st == EstimatorStatus::kFound || (pattern_complete_ && may_confirm)) {
+  // Once a sample has said "found", the confirming samples are taken found_distance_m to either
+  // side of the estimate: they count while the estimate stays located within twice that.
+  const bool confirms_beside = found_streak_ > 0 && st == EstimatorStatus::kLocated &&
+                               dist <= 2.0 * config_.found_distance_m;
+  const bool says_found = st == EstimatorStatus::kFound || confirms_beside || (pattern_complete_ && may_confirm);
+  found_streak_ = says_found ? found_streak_ + 1 : 0;
+  const bool confirming = says_found && found_streak_ < config_.found_confirmations;
+  if (says_found && !confirming) {
     mode_ = GuidanceMode::kFound;
+  } else if (confirming) {
+    mode_ = GuidanceMode::kFineSearch;
   } else if (!pattern_.empty()) {
     mode_ = GuidanceMode::kFineSearch;  // walking the probe pattern, wherever it leads
   } else if (mode_ == GuidanceMode::kOpening) {
@@ -231,9 +248,20 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
     case GuidanceMode::kApproach:
       break;
     case GuidanceMode::kFineSearch:
-      if (config_.stall_window_steps > 0 &&
-          adaptive_end(mean_h, cov, r95, filter.config().converged_radius_m, below, heading, step)) {
-        if (pattern_complete_ && may_confirm) mode_ = GuidanceMode::kFound;
+      if (confirming) {
+        // Said "found": the next samples are taken beside the estimate, alternately on either
+        // side of the line to it, found_distance_m from it. A right estimate predicts the field
+        // there; one that merely follows the rescuer (seen: a victim "found" 2 m off, under
+        // another victim the rescuer stood on) fails the newest-sample gate.
+        const Eigen::Vector2d along = dist > 1e-6 ? Eigen::Vector2d(mean_h / dist) : Eigen::Vector2d(1.0, 0.0);
+        const Eigen::Vector2d across(-along.y(), along.x());
+        const Eigen::Vector2d target =
+            mean_h + (probe_turn_++ % 2 == 0 ? 1.0 : -1.0) * config_.found_distance_m * across;
+        heading = std::atan2(target.y(), target.x());
+        step = target.norm();
+      } else if (config_.stall_window_steps > 0 &&
+                 adaptive_end(mean_h, cov, r95, filter.config().converged_radius_m, below, heading, step)) {
+        // A complete pattern says "found" from the next sample on (found_confirmations in a row).
       } else if (dist > config_.found_distance_m) {
         step = std::min(step, dist);
       } else {

@@ -112,6 +112,10 @@ void SogConfig::validate() const {
     config_fail("merge_mahalanobis", merge_mahalanobis, "must be in [0, 100]");
   if (!(reinit_gate_probability > 0.5 && reinit_gate_probability < 1.0))
     config_fail("reinit_gate_probability", reinit_gate_probability, "must be in (0.5, 1)");
+  if (iterated_update_max > 20)
+    config_fail("iterated_update_max", iterated_update_max, "must be in [0, 20]");
+  if (!finite_positive(relinearise_threshold_sigmas) || relinearise_threshold_sigmas > 100.0)
+    config_fail("relinearise_threshold_sigmas", relinearise_threshold_sigmas, "must be in (0, 100]");
   if (divergence_window > 100)
     config_fail("divergence_window", divergence_window, "must be in [0, 100]");
   if (!finite_positive(converged_radius_m) || converged_radius_m > 1000.0)
@@ -194,6 +198,7 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
       measurement.orientation && config_.use_orientation ? &*measurement.orientation : nullptr;
   update_field(measurement.field, noise_floor(measurement), measurement.valid_axes, disp, orientation,
                result);
+  last_min_nis_ = result.min_nis;
   gate_failures_ = result.min_nis > nis_gate_ ? gate_failures_ + 1 : 0;
   bool diverged = config_.reinit_after > 0 && gate_failures_ >= config_.reinit_after;
   if (config_.divergence_window > 0) {
@@ -210,7 +215,10 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   // linearising the dipole model within a metre or two of the transmitter, and rebuilding the
   // ring from such a near-field measurement lost a victim already pinned down (measured: found
   // 0.8-1.9 m off, NEES > 700).
-  if (diverged && estimate(0).status == EstimatorStatus::kConverged) {
+  // A converged mixture that pinned down nothing a transmitter could be (a moment outside the
+  // standard, or above the receiver: the mirror H(r) = H(-r)) has no such excuse (seen: a
+  // mirror 6 m up with |m| near 0, "converged" for 350 steps while the rescuer circled under it).
+  if (diverged && estimate(0).status == EstimatorStatus::kConverged && pinned_down_plausibly()) {
     diverged = false;
     result.divergence_ignored = true;
   }
@@ -230,6 +238,26 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   if (config_.merge_interval > 0 && steps_ % config_.merge_interval == 0) result.merged = merge();
   result.components_after = components_.size();
   return result;
+}
+
+bool SogFilter::pinned_down_plausibly() const {
+  const MixtureMoments mm = moments();
+  const double z = mm.mean[idx::kPos + 2];
+  const double sd_z = std::sqrt(std::max(0.0, mm.covariance(idx::kPos + 2, idx::kPos + 2)));
+  return z + 2.0 * sd_z < 0.0 && moment_plausible();
+}
+
+bool SogFilter::moment_plausible() const {
+  if (components_.empty()) return false;
+  const MixtureMoments mm = moments();
+  const Vec3 m = mm.mean.segment<3>(idx::kMom);
+  const double magnitude = m.norm();
+  if (!(magnitude > 0.0)) return false;
+  const Vec3 u = m / magnitude;
+  const double sd = std::sqrt(std::max(0.0, u.dot(mm.covariance.block<3, 3>(idx::kMom, idx::kMom) * u)));
+  const double lo = config_.standard.moment_min() * (1.0 - config_.moment_margin);
+  const double hi = config_.standard.moment_max() * (1.0 + config_.moment_margin);
+  return magnitude + 2.0 * sd >= lo && magnitude - 2.0 * sd <= hi;
 }
 
 double SogFilter::recent_innovation_ratio() const {
@@ -264,6 +292,7 @@ void SogFilter::initialise(const FieldMeasurement& meas) {
   gate_failures_ = 0;  // a new mixture starts a new innovation history
   nis_window_.clear();
   nis_next_ = 0;
+  last_min_nis_ = 0.0;
   // An invalid axis is below the receiver's detection threshold: the ring is built with it at
   // 0 +- censored_axis_sigmas times its noise (what "not detected" says), never dropped, since
   // the moment of each hypothesis needs all three components.
@@ -428,44 +457,105 @@ struct Innovation {
   Jacobian<idx::kDispDim, 3> qht;
   Mat3 s_inv;
   Vec3 s_inv_nu;
+  double sign = 1.0; ///< the sign of z that explains it best
   double nis = 0.0;  ///< the better sign's NIS
   double ll = 0.0;   ///< log p(z | component), common constants dropped
 };
 
-std::optional<Innovation> innovate(const SogComponent& c, const Vec3& z_valid, const Vec3& floor, std::uint8_t axes,
-                                   const MeasurementModel& measurement, const DispCov& q, double rel) {
-  const StateCov& p = c.P;
+// h and its Jacobians at (x, d) with the invalid axes' rows zeroed, and the per-axis noise.
+struct Linearisation {
+  Vec3 h;
   Jacobian<3, idx::kStateDim> h_x;
   Jacobian<3, idx::kDispDim> h_d;
-  Vec3 h = measurement.h(c.x, &h_x, &h_d);
-  const Vec3 sigma = Vec3::Constant(rel * h.norm()) + floor;
+  Vec3 sigma;
+};
+
+Linearisation linearise(const StateVec& x, const MeasurementModel& measurement, const Vec3& floor, std::uint8_t axes,
+                        double rel) {
+  Linearisation l;
+  l.h = measurement.h(x, &l.h_x, &l.h_d);
+  l.sigma = Vec3::Constant(rel * l.h.norm()) + floor;
   // An invalid axis is no observation: its rows of h, H_x and H_d are zeroed and its
   // innovation variance set to 1, so S is block-diagonal, the axis's innovation is 0 and
   // the update, the NIS and the weights (up to a constant) are those of the valid axes.
   for (int a = 0; a < 3; ++a) {
     if ((axes & (1U << a)) != 0) continue;
-    h[a] = 0.0;
-    h_x.row(a).setZero();
-    h_d.row(a).setZero();
+    l.h[a] = 0.0;
+    l.h_x.row(a).setZero();
+    l.h_d.row(a).setZero();
   }
-  Innovation in;
-  in.pht = p.lazyProduct(h_x.transpose());
-  in.qht = q.lazyProduct(h_d.transpose());
-  Mat3 s = h_x * in.pht + h_d * in.qht;
-  for (int a = 0; a < 3; ++a) s(a, a) += (axes & (1U << a)) != 0 ? sigma[a] * sigma[a] : 1.0;
-  const double det = s.determinant();
-  if (!(det > 0.0) || !std::isfinite(det)) return std::nullopt;
+  return l;
+}
+
+// S = H_x P H_x^T + H_d Q H_d^T + R and the gains' P H^T, Q H^T; false if S is not positive.
+bool innovation_covariance(const Linearisation& l, const StateCov& p, const DispCov& q, std::uint8_t axes,
+                           Innovation& in, double& det) {
+  in.pht = p.lazyProduct(l.h_x.transpose());
+  in.qht = q.lazyProduct(l.h_d.transpose());
+  Mat3 s = l.h_x * in.pht + l.h_d * in.qht;
+  for (int a = 0; a < 3; ++a) s(a, a) += (axes & (1U << a)) != 0 ? l.sigma[a] * l.sigma[a] : 1.0;
+  det = s.determinant();
+  if (!(det > 0.0) || !std::isfinite(det)) return false;
   in.s_inv = s.inverse();
+  return true;
+}
+
+std::optional<Innovation> innovate(const SogComponent& c, const Vec3& z_valid, const Vec3& floor, std::uint8_t axes,
+                                   const MeasurementModel& measurement, const DispCov& q, double rel) {
+  const Linearisation l = linearise(c.x, measurement, floor, axes, rel);
+  Innovation in;
+  double det = 0.0;
+  if (!innovation_covariance(l, c.P, q, axes, in, det)) return std::nullopt;
   // Sign-invariant likelihood: the receiver measures +-h, p(z) = (N(z; h, S) + N(-z; h, S)) / 2.
   // The component is updated with the sign that explains z best (zeta = z^T S^-1 h decides:
   // NIS(+-) = z^T S^-1 z + h^T S^-1 h -+ 2 zeta); its weight takes both terms.
-  const double zeta = z_valid.dot(in.s_inv * h);
-  const Vec3 nu = (zeta >= 0.0 ? z_valid : Vec3(-z_valid)) - h;
+  const double zeta = z_valid.dot(in.s_inv * l.h);
+  in.sign = zeta >= 0.0 ? 1.0 : -1.0;
+  const Vec3 nu = in.sign * z_valid - l.h;
   in.s_inv_nu = in.s_inv * nu;
   in.nis = nu.dot(in.s_inv_nu);
   const double nis_other = in.nis + 4.0 * std::fabs(zeta);
   // eq. (17) in log space (the common -1.5 log(2 pi) and log 1/2 are dropped).
   in.ll = -0.5 * (in.nis + std::log(det)) + std::log1p(std::exp(-0.5 * (nis_other - in.nis)));
+  return in;
+}
+
+// Iterated EKF (Gauss-Newton on the augmented state [x; d]): re-linearise at the updated state
+// while the field there differs from the linear prediction by more than threshold_sigmas.
+// x_{i+1} = x0 + P H_i^T S_i^-1 (z - h(x_i) - H_i (x0 - x_i)); the returned gains and S^-1
+// are those of the last linearisation (the posterior covariance uses them), nis and ll stay
+// the prior-linearised ones (the component's weight is the predictive likelihood).
+Innovation iterate(const SogComponent& c, const Innovation& first, const Vec3& z_valid, const Vec3& floor,
+                   std::uint8_t axes, const DispVec& d0, const DispCov& q, double rel, std::uint32_t max_iterations,
+                   double threshold_sigmas) {
+  Innovation in = first;
+  const Vec3 z = in.sign * z_valid;
+  StateVec x_i = c.x + in.pht * in.s_inv_nu;
+  DispVec d_i = d0 + in.qht * in.s_inv_nu;
+  Linearisation l_prev = linearise(c.x, MeasurementModel(d0), floor, axes, rel);
+  StateVec x_prev = c.x;
+  DispVec d_prev = d0;
+  for (std::uint32_t it = 0; it < max_iterations; ++it) {
+    const Linearisation l = linearise(x_i, MeasurementModel(d_i), floor, axes, rel);
+    // How far the field at x_i is from what the last linearisation predicted there.
+    const Vec3 linear = l_prev.h + l_prev.h_x * (x_i - x_prev) + l_prev.h_d * (d_i - d_prev);
+    const Vec3 gap = (l.h - linear).cwiseQuotient(l.sigma);
+    if (gap.squaredNorm() <= threshold_sigmas * threshold_sigmas) break;
+    Innovation next = in;
+    double det = 0.0;
+    if (!innovation_covariance(l, c.P, q, axes, next, det)) break;
+    const Vec3 nu = z - l.h - l.h_x * (c.x - x_i) - l.h_d * (d0 - d_i);
+    next.s_inv_nu = next.s_inv * nu;
+    const StateVec x_next = c.x + next.pht * next.s_inv_nu;
+    const DispVec d_next = d0 + next.qht * next.s_inv_nu;
+    if (!x_next.allFinite() || !d_next.allFinite()) break;
+    in = next;
+    l_prev = l;
+    x_prev = x_i;
+    d_prev = d_i;
+    x_i = x_next;
+    d_i = d_next;
+  }
   return in;
 }
 
@@ -525,7 +615,11 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, std::uint8_t axes
       ++result.dropped_numerical;
       continue;
     }
-    const auto& [pht, qht, s_inv, s_inv_nu, nis, ll] = *innovation;
+    const Innovation updated = config_.iterated_update_max > 0
+                                   ? iterate(c, *innovation, z_valid, floor, axes, disp.mean, q, rel,
+                                             config_.iterated_update_max, config_.relinearise_threshold_sigmas)
+                                   : *innovation;
+    const auto& [pht, qht, s_inv, s_inv_nu, sign, nis, ll] = updated;
     min_nis = std::min(min_nis, nis);
     const StateVec x_post = c.x + pht * s_inv_nu;
     const DispVec d_post = disp.mean + qht * s_inv_nu;

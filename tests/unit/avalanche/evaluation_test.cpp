@@ -110,8 +110,11 @@ TEST(EvaluationTest, CountsFalseFoundsOfAnOverconfidentFilter) {
   overconfident.sog.noise_relative = 0.05;
   const auto guarded = run_evaluation(overconfident);
   overconfident.search.confirm_max_innovation_ratio = 100.0;
+  overconfident.search.confirm_max_last_nis = 1000.0;
+  overconfident.search.found_confirmations = 1;
+  overconfident.sog.iterated_update_max = 0;
   const auto s = run_evaluation(overconfident);
-  EXPECT_LT(guarded.false_found, s.false_found) << "the innovation guard refuses some of them";
+  EXPECT_LT(guarded.false_found, s.false_found) << "the guards, the confirmations and the iterated update avoid some of them";
   std::uint32_t counted = 0;
   for (const auto& t : s.per_trial) {
     EXPECT_EQ(t.false_found, t.found && t.error_m > t.radius95_m + kFalseFoundMarginM) << "trial " << t.index;

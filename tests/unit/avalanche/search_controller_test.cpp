@@ -34,28 +34,34 @@ TEST(SearchControllerTest, AssessAppliesLocatedAndFoundCriteria) {
   e.status = EstimatorStatus::kConverged;
   e.relative.position = Vec3(3.0, 0.0, -2.0);
   e.relative.covariance = Mat3::Identity() * 0.01;  // 95 % radius 0.28 m
-  EXPECT_EQ(ctl.assess(e, 100), EstimatorStatus::kLocated);
+  EXPECT_EQ(ctl.assess(e, {100}), EstimatorStatus::kLocated);
   e.relative.position = Vec3(0.2, 0.1, -2.0);
-  EXPECT_EQ(ctl.assess(e, 100), EstimatorStatus::kFound);
+  EXPECT_EQ(ctl.assess(e, {100}), EstimatorStatus::kFound);
   e.relative.covariance = Mat3::Identity() * 0.1;  // 95 % radius 0.88 m
-  EXPECT_EQ(ctl.assess(e, 100), EstimatorStatus::kConverged);
+  EXPECT_EQ(ctl.assess(e, {100}), EstimatorStatus::kConverged);
   EXPECT_NEAR(radius95_3d(Mat3::Identity()), std::sqrt(7.814727903), 1e-6);
 }
 
 // A filter of a few samples is a guess, however tight it looks: never located, never found.
-TEST(SearchControllerTest, FewSamplesConfirmNothing) {
+// Nor is one whose newest sample does not fit, or whose moment the standard does not allow.
+TEST(SearchControllerTest, WeakEvidenceConfirmsNothing) {
   SearchController ctl;
   VictimEstimate e;
   e.status = EstimatorStatus::kConverged;
   e.relative.position = Vec3(0.2, 0.1, -2.0);
   e.relative.covariance = Mat3::Identity() * 0.01;
   const auto enough = static_cast<std::uint64_t>(ctl.config().confirm_min_samples);
-  EXPECT_EQ(ctl.assess(e, enough - 1), EstimatorStatus::kConverged);
-  EXPECT_EQ(ctl.assess(e, enough), EstimatorStatus::kFound);
+  EXPECT_EQ(ctl.assess(e, {enough - 1}), EstimatorStatus::kConverged);
+  EXPECT_EQ(ctl.assess(e, {enough}), EstimatorStatus::kFound);
   // Recent samples that do not fit the filter: its estimate is not confirmed either.
   const double gate = ctl.config().confirm_max_innovation_ratio;
-  EXPECT_EQ(ctl.assess(e, enough, 1.01 * gate), EstimatorStatus::kConverged);
-  EXPECT_EQ(ctl.assess(e, enough, 0.99 * gate), EstimatorStatus::kFound);
+  EXPECT_EQ(ctl.assess(e, {enough, 1.01 * gate}), EstimatorStatus::kConverged);
+  EXPECT_EQ(ctl.assess(e, {enough, 0.99 * gate}), EstimatorStatus::kFound);
+  // The newest sample does not fit, or the moment is not one the standard allows.
+  const double last_gate = ctl.config().confirm_max_last_nis;
+  EXPECT_EQ(ctl.assess(e, {enough, 0.0, 1.01 * last_gate}), EstimatorStatus::kConverged);
+  EXPECT_EQ(ctl.assess(e, {enough, 0.0, 0.99 * last_gate}), EstimatorStatus::kFound);
+  EXPECT_EQ(ctl.assess(e, {enough, 0.0, 0.0, false}), EstimatorStatus::kConverged);
 }
 
 // An estimate above the receiver is a filter's mirror solution (H(r) = H(-r)), not a victim:
@@ -66,25 +72,30 @@ TEST(SearchControllerTest, AnEstimateAboveTheReceiverIsNeverLocated) {
   e.status = EstimatorStatus::kConverged;
   e.relative.covariance = Mat3::Identity() * 0.01;
   e.relative.position = Vec3(0.1, 0.1, 30.0);  // straight up: "found" by radius and distance
-  EXPECT_EQ(ctl.assess(e, 100), EstimatorStatus::kConverged);
+  EXPECT_EQ(ctl.assess(e, {100}), EstimatorStatus::kConverged);
   e.relative.position = Vec3(0.1, 0.1, -0.1);  // below, but not by 2 sigma (0.2 m)
-  EXPECT_EQ(ctl.assess(e, 100), EstimatorStatus::kConverged);
+  EXPECT_EQ(ctl.assess(e, {100}), EstimatorStatus::kConverged);
   e.relative.position = Vec3(0.1, 0.1, -1.5);
-  EXPECT_EQ(ctl.assess(e, 100), EstimatorStatus::kFound);
+  EXPECT_EQ(ctl.assess(e, {100}), EstimatorStatus::kFound);
   e.status = EstimatorStatus::kMultimodal;
   e.relative.position = Vec3(0.1, 0.1, 3.0);
-  EXPECT_EQ(ctl.assess(e, 100), EstimatorStatus::kMultimodal) << "never raised";
+  EXPECT_EQ(ctl.assess(e, {100}), EstimatorStatus::kMultimodal) << "never raised";
 }
 
-TEST(SearchControllerTest, BearingIsRelativeToReceiverForwardAxis) {
-  // A converged filter: walk the real loop until the controller leaves the flux line, then
-  // the bearing must point the receiver at the estimate.
+// A transmitter 32 m away, the receiver facing away from it: the real loop walks it down.
+Scenario walk_scenario() {
   Scenario s;
   s.transmitter = Vec3(-20.0, 25.0, -1.0);
   s.moment = Vec3(0.0, 0.015, 0.01);
   s.receiver = Vec3(0, 0, 1);
   s.receiver_rpy = Vec3(0, 0, -2.0);
-  AvalancheSimulator sim(SimulationConfig{}, s, 21);
+  return s;
+}
+
+TEST(SearchControllerTest, BearingIsRelativeToReceiverForwardAxis) {
+  // A converged filter: walk the real loop until the controller leaves the flux line, then
+  // the bearing must point the receiver at the estimate.
+  AvalancheSimulator sim(SimulationConfig{}, walk_scenario(), 21);
   SogConfig cfg;
   cfg.initial_components = 500;
   SogFilter f(cfg);
@@ -113,6 +124,42 @@ TEST(SearchControllerTest, BearingIsRelativeToReceiverForwardAxis) {
 }
 
 
+// FOUND needs found_confirmations samples in a row that say so, taken beside the estimate:
+// with 3 the real loop ends at least 2 steps after it would with 1, after fine-search probes
+// that keep the rescuer near the transmitter.
+TEST(SearchControllerTest, FoundNeedsConfirmationsInARowBesideTheEstimate) {
+  auto run = [](std::uint32_t confirmations, std::vector<Guidance>* trace) {
+    AvalancheSimulator sim(SimulationConfig{}, walk_scenario(), 21);
+    SogConfig cfg;
+    cfg.initial_components = 500;
+    SogFilter f(cfg);
+    SearchConfig sc;
+    sc.found_confirmations = confirmations;
+    SearchController ctl(sc);
+    for (int k = 0; k < 80; ++k) {
+      const FieldMeasurement z = sim.measure();
+      f.process(z);
+      const Guidance g = ctl.guide(f, z);
+      trace->push_back(g);
+      if (g.mode == GuidanceMode::kFound) return std::pair<int, double>(k, sim.true_horizontal_distance());
+      f.add_odometry(sim.walk(g.bearing_rad, g.step_m));
+    }
+    return std::pair<int, double>(-1, sim.true_horizontal_distance());
+  };
+  std::vector<Guidance> once, thrice;
+  const auto [k1, d1] = run(1, &once);
+  const auto [k3, d3] = run(3, &thrice);
+  ASSERT_GE(k1, 0);
+  ASSERT_GE(k3, 0);
+  EXPECT_GE(k3, k1 + 2);
+  EXPECT_LT(d3, 1.0);
+  // The two samples before the FOUND were probes beside the estimate, not a stand-still.
+  for (int k = k3 - 2; k < k3; ++k) {
+    EXPECT_EQ(thrice[k].mode, GuidanceMode::kFineSearch) << "step " << k;
+    EXPECT_GT(thrice[k].step_m, 0.0) << "step " << k;
+  }
+}
+
 // Precision scales with range, so "located" does too: a deep burial is located at a radius a
 // shallow one is not (a fixed radius left a 5.6 m burial unfound for 150 steps).
 TEST(SearchControllerLocated, RadiusScalesWithRangeAboveTheNearRangeFloor) {
@@ -124,15 +171,15 @@ TEST(SearchControllerLocated, RadiusScalesWithRangeAboveTheNearRangeFloor) {
   ASSERT_NEAR(radius95_3d(e.relative.covariance), 0.48, 1e-3);
 
   e.relative.position = Vec3(1.5, 0.0, -2.0);  // 2.5 m away: the 0.4 m floor applies
-  EXPECT_EQ(controller.assess(e, 100), EstimatorStatus::kConverged);
+  EXPECT_EQ(controller.assess(e, {100}), EstimatorStatus::kConverged);
   e.relative.position = Vec3(1.5, 0.0, -6.6);  // 6.8 m away: 10 % of it is 0.68 m
-  EXPECT_EQ(controller.assess(e, 100), EstimatorStatus::kLocated);
+  EXPECT_EQ(controller.assess(e, {100}), EstimatorStatus::kLocated);
   e.relative.position = Vec3(0.2, 0.0, -6.6);  // on top of it
-  EXPECT_EQ(controller.assess(e, 100), EstimatorStatus::kFound);
+  EXPECT_EQ(controller.assess(e, {100}), EstimatorStatus::kFound);
 
   SearchConfig fixed;
   fixed.located_radius_per_range = 0.0;
-  EXPECT_EQ(SearchController(fixed).assess(e, 100), EstimatorStatus::kConverged);
+  EXPECT_EQ(SearchController(fixed).assess(e, {100}), EstimatorStatus::kConverged);
   fixed.located_radius_per_range = 1.5;
   EXPECT_THROW(fixed.validate(), ConfigError);
 }

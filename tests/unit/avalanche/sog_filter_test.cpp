@@ -178,28 +178,51 @@ TEST(OdometryAccumulatorTest, ComposesSamplesAndPropagatesCovariance) {
   EXPECT_THROW(acc.add(old), InputError);
 }
 
+// A filter of `components` unpruned, unmerged Gaussians, for checks against dense algebra.
+SogConfig dense_check_config(std::uint32_t components) {
+  SogConfig cfg;
+  cfg.initial_components = components;
+  cfg.prune_log_weight = 700.0;
+  cfg.merge_interval = 0;
+  cfg.use_orientation = false;
+  return cfg;
+}
+
+// One step of a filter started from the scenario's first sample: the mixture before it, the
+// displacement and the sample it took, and the step's result.
+struct OneStep {
+  SogFilter filter;
+  std::vector<SogComponent> before;
+  Displacement disp;
+  FieldMeasurement meas;
+  SogStepResult result;
+};
+
+OneStep one_step(const Scenario& scenario, std::uint64_t seed, const SogConfig& cfg, double bearing, double distance) {
+  AvalancheSimulator sim(SimulationConfig{}, scenario, seed);
+  OneStep one{SogFilter(cfg), {}, {}, {}, {}};
+  one.filter.process(sim.measure());
+  one.before = one.filter.components();
+  const Odometry odo = sim.walk(bearing, distance);
+  OdometryAccumulator acc(cfg.idle_translation_sigma_m, cfg.idle_rotation_sigma_rad);
+  acc.add(odo);
+  one.disp = acc.take();
+  one.meas = sim.measure();
+  one.filter.add_odometry(odo);
+  one.result = one.filter.process(one.meas);
+  return one;
+}
+
 // The filter's block-structured step (eq. (10)-(11), (14), (15), (17)) against Algorithm 1
 // written densely on x* = [x; d]: P* = blkdiag(P, Q), one 3x15 H, the 15x15 EKF update, then
 // P_k = F P*_post F^T with the 9x15 F. Pruning, merging and the attitude sensor are off so the
 // components stay in order.
 TEST(SogFilterTest, StepEqualsDenseAlgorithmOnTheAugmentedState) {
-  AvalancheSimulator sim(SimulationConfig{}, fixed_scenario(), 11);
-  SogConfig cfg;
-  cfg.initial_components = 120;
-  cfg.prune_log_weight = 700.0;
-  cfg.merge_interval = 0;
-  cfg.use_orientation = false;
-  SogFilter f(cfg);
-  f.process(sim.measure());
-  const std::vector<SogComponent> before = f.components();
-  const Odometry odo = sim.walk(0.4, 1.0);
-  OdometryAccumulator acc(cfg.idle_translation_sigma_m, cfg.idle_rotation_sigma_rad);
-  acc.add(odo);
-  const Displacement disp = acc.take();
-  const FieldMeasurement meas = sim.measure();
-  f.add_odometry(odo);
-  const SogStepResult r = f.process(meas);
-  ASSERT_EQ(r.dropped_numerical, 0u);
+  SogConfig cfg = dense_check_config(120);
+  cfg.iterated_update_max = 0;  // the plain EKF step (the iterated one: the next test)
+  const OneStep one = one_step(fixed_scenario(), 11, cfg, 0.4, 1.0);
+  const auto& [f, before, disp, meas, result] = one;
+  ASSERT_EQ(result.dropped_numerical, 0u);
   ASSERT_EQ(f.size(), before.size());
 
   using AugCov = Eigen::Matrix<double, idx::kAugDim, idx::kAugDim>;
@@ -235,6 +258,67 @@ TEST(SogFilterTest, StepEqualsDenseAlgorithmOnTheAugmentedState) {
   for (double v : log_w) sum += std::exp(v - max_log_w);
   for (std::size_t i = 0; i < before.size(); ++i)
     EXPECT_NEAR(f.components()[i].log_weight, log_w[i] - max_log_w - std::log(sum), 1e-8);
+}
+
+// The iterated update (SogConfig::iterated_update_max) against a dense Gauss-Newton on the
+// augmented state [x; d], 2-3 m from the transmitter where the field is far from linear over a
+// component's spread: same iterates, same stop rule, same posterior; the weights keep the
+// prior-linearised likelihood.
+TEST(SogFilterTest, IteratedStepEqualsDenseGaussNewtonOnTheAugmentedState) {
+  Scenario near = fixed_scenario();
+  near.transmitter = Vec3(1.6, 1.2, -1.2);
+  const SogConfig cfg = dense_check_config(80);
+  const OneStep one = one_step(near, 17, cfg, 0.3, 0.8);
+  const auto& [f, before, disp, meas, result] = one;
+  ASSERT_EQ(result.dropped_numerical, 0u);
+  ASSERT_EQ(f.size(), before.size());
+
+  using AugCov = Eigen::Matrix<double, idx::kAugDim, idx::kAugDim>;
+  const Vec3 floor = f.noise_floor(meas);
+  auto noise = [&](const Vec3& h) {
+    const Vec3 sigma = Vec3::Constant(cfg.noise_relative * h.norm()) + floor;
+    return std::pair<Vec3, Mat3>(sigma, Mat3(sigma.cwiseAbs2().asDiagonal()));
+  };
+  int iterated = 0;
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    const SogComponent& c = before[i];
+    AugVec xa0;
+    xa0 << c.x, disp.mean;
+    AugCov pa = AugCov::Zero();
+    pa.topLeftCorner<idx::kStateDim, idx::kStateDim>() = c.P;
+    pa.bottomRightCorner<idx::kDispDim, idx::kDispDim>() = disp.covariance;
+    Jacobian<3, idx::kAugDim> h_prev;
+    Vec3 z_prev = MeasurementModel::h(xa0, &h_prev);
+    Mat3 s = h_prev * pa * h_prev.transpose() + noise(z_prev).second;
+    const double sign = meas.field.dot(s.inverse() * z_prev) >= 0.0 ? 1.0 : -1.0;
+    const Vec3 z = sign * meas.field;
+    Jacobian<idx::kAugDim, 3> k = pa * h_prev.transpose() * s.inverse();
+    AugVec xa_prev = xa0;
+    AugVec xa = xa0 + k * (z - z_prev);
+    for (std::uint32_t it = 0; it < cfg.iterated_update_max; ++it) {
+      Jacobian<3, idx::kAugDim> h_i;
+      const Vec3 z_i = MeasurementModel::h(xa, &h_i);
+      const auto [sigma, r_i] = noise(z_i);
+      const Vec3 gap = (z_i - (z_prev + h_prev * (xa - xa_prev))).cwiseQuotient(sigma);
+      if (gap.squaredNorm() <= cfg.relinearise_threshold_sigmas * cfg.relinearise_threshold_sigmas) break;
+      if (it == 0) ++iterated;
+      s = h_i * pa * h_i.transpose() + r_i;
+      k = pa * h_i.transpose() * s.inverse();
+      xa_prev = xa;
+      z_prev = z_i;
+      h_prev = h_i;
+      xa = xa0 + k * (z - z_i - h_i * (xa0 - xa_prev));
+    }
+    const AugCov pa_post = pa - k * s * k.transpose();
+    Jacobian<idx::kStateDim, idx::kAugDim> fj;
+    const StateVec x_expect = CompositionModel::f(xa, &fj);
+    const StateCov p_expect = fj * pa_post * fj.transpose();
+    const SogComponent& got = f.components()[i];
+    EXPECT_LT((got.x - x_expect).norm(), 1e-8 * (1.0 + x_expect.norm())) << "component " << i;
+    EXPECT_LT((got.P - p_expect).cwiseAbs().maxCoeff(), 1e-7 * p_expect.cwiseAbs().maxCoeff())
+        << "component " << i;
+  }
+  EXPECT_GT(iterated, 0) << "no component was re-linearised: the test would check nothing";
 }
 
 // Surface term (SogConfig::surface_constraint): after every step, including the components a
@@ -405,6 +489,24 @@ TEST(SogFilterTest, SignOfTheFieldDoesNotMatter) {
   const VictimEstimate a = plain.estimate(), b = flipped.estimate();
   EXPECT_LT((a.relative.position - b.relative.position).norm(), 1e-9);
   EXPECT_LT((a.relative.covariance - b.relative.covariance).norm(), 1e-12);
+}
+
+// A transmitter the standard does not allow (10x its largest moment) is estimated as one, and
+// the filter says so; a compliant one is plausible.
+TEST(SogFilterTest, MomentOutsideTheStandardIsImplausible) {
+  for (const double scale : {1.0, 10.0}) {
+    Scenario s = fixed_scenario();
+    s.moment *= scale;
+    AvalancheSimulator sim(SimulationConfig{}, s, 9);
+    SogFilter f;
+    for (int k = 0; k < 45 && sim.true_horizontal_distance() > 1.0; ++k) {
+      f.process(sim.measure());
+      f.add_odometry(sim.walk(bearing_to_truth(sim), 1.0));
+    }
+    f.process(sim.measure());
+    EXPECT_EQ(f.moment_plausible(), scale == 1.0) << "moment x" << scale << ", |m| estimated "
+                                                  << f.moments().mean.segment<3>(idx::kMom).norm();
+  }
 }
 
 // An invalid axis carries no information: its value is ignored by the update.

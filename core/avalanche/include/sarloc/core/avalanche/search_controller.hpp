@@ -82,6 +82,13 @@ struct SearchConfig {
   /// another transmitter's pulses, or lost its own. 4 victims within 5 m, 100 trials: 6 of the 8
   /// FOUNDs near no victim were above 1, against 5 of 388 right ones.
   double confirm_max_innovation_ratio = 1.0;
+  /// ... and the newest sample's smallest NIS within this (chi2_3(0.999) = 16.27): a FOUND was
+  /// seen declared on the very sample that moved a near-field estimate 1.7 m off (NIS 24).
+  double confirm_max_last_nis = 16.27;
+  /// kFound needs this many consecutive samples that each say "found" (the rescuer probes
+  /// sideways meanwhile, as a searcher brackets the minimum): one near-field update can move
+  /// an estimate a metre with a small covariance, and the next samples from beside it tell.
+  std::uint32_t found_confirmations = 3;
   double probe_step_m = 0.5;           ///< sideways step when on top but not yet located
   double flux_smoothing = 0.7;         ///< memory of the SNR-weighted flux-line direction
   double flux_snr_cap = 10.0;          ///< SNR above which a direction gets no extra weight
@@ -120,6 +127,15 @@ struct SearchConfig {
   void validate() const;
 };
 
+/// What a filter says about whether its estimate may be confirmed (LOCATED, FOUND).
+struct ConfirmationEvidence {
+  std::uint64_t samples = 0;
+  double innovation_ratio = 0.0;  ///< SogFilter::recent_innovation_ratio
+  double last_nis = 0.0;          ///< SogFilter::last_min_nis
+  bool moment_plausible = true;   ///< SogFilter::moment_plausible
+  static ConfirmationEvidence of(const SogFilter& filter);
+};
+
 class SearchController {
  public:
   explicit SearchController(SearchConfig config = {});
@@ -133,11 +149,12 @@ class SearchController {
   /// yet); after it, head for the mixture moved by the odometry since
   /// (SogFilter::predicted_moments). Ids and stamp are left for the caller.
   Guidance coast(const SogFilter& filter);
-  /// kLocated / kFound refinement of a filter estimate made from `samples` samples whose recent
-  /// innovations are `innovation_ratio` of the divergence gate (same criteria as guide()).
-  EstimatorStatus assess(const VictimEstimate& estimate, std::uint64_t samples, double innovation_ratio = 0.0) const;
-  /// Enough samples, recent innovations within the gate: an estimate that may be confirmed.
-  bool confirmable(std::uint64_t samples, double innovation_ratio) const;
+  /// kLocated / kFound refinement of a filter estimate, given what its filter says (same
+  /// criteria as guide(), except that guide() also needs found_confirmations in a row for kFound).
+  EstimatorStatus assess(const VictimEstimate& estimate, const ConfirmationEvidence& evidence) const;
+  /// Enough samples, recent and newest innovations within their gates, a moment the standard
+  /// allows: an estimate that may be confirmed.
+  bool confirmable(const ConfirmationEvidence& evidence) const;
   GuidanceMode mode() const { return mode_; }
   const SearchConfig& config() const { return config_; }
   /// Probe points (offsets from the estimate, G_k axes) of the adaptive end; empty when none
@@ -162,6 +179,7 @@ class SearchController {
   std::size_t pattern_next_ = 0;           ///< next probe point to walk to
   double pattern_radius95_ = 0.0;          ///< 3-D 95 % radius the pattern was laid out for
   bool pattern_complete_ = false;
+  std::uint32_t found_streak_ = 0;         ///< consecutive guided samples that said "found"
 
   /// Adaptive end, in fine search: feeds the stall watch, lays out, walks or drops the probe
   /// pattern. Sets `heading`/`step` while a pattern is walked; true once it is complete.

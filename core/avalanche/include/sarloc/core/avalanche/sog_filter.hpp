@@ -80,6 +80,14 @@ struct SogConfig {
   /// single-step gates miss half of the time. Neither test re-initialises a converged
   /// mixture (SogStepResult::divergence_ignored). 0 = off.
   std::uint32_t divergence_window = 6;
+  /// Iterated EKF update (Gauss-Newton on each component): within a metre or two of the
+  /// transmitter the 1/r^3 field is far from linear over a component's spread, and one EKF step
+  /// can leave it off by a metre with a small covariance. After the ordinary step, a component
+  /// whose field at the updated state differs from the linear prediction by more than
+  /// relinearise_threshold_sigmas (Mahalanobis, measurement noise) is re-linearised at that
+  /// state, up to this many times. Its weight stays the prior-linearised likelihood. 0 = off.
+  std::uint32_t iterated_update_max = 4;
+  double relinearise_threshold_sigmas = 0.5;
   // --- mixture management ---
   double prune_log_weight = 14.0;   ///< drop components with log w < max log w - this
   std::uint32_t merge_interval = 1; ///< merge near-duplicates every n steps (0 = never)
@@ -139,6 +147,12 @@ class SogFilter {
   /// (chi2_{3n}(divergence_probability)): above 1, the recent samples do not fit the filter.
   /// 0 until the window is full (or without a window).
   double recent_innovation_ratio() const;
+  /// Smallest NIS of the latest update (0 after initialisation): does the newest sample fit?
+  double last_min_nis() const { return last_min_nis_; }
+  /// The mixture's moment magnitude within the transmitter standard's bounds (moment_margin
+  /// wider, 2 sigma): an estimate needing a transmitter the standard does not allow is wrong
+  /// (seen: a FOUND 1.8 m off with |m| 8x the largest allowed, and one at the antenna with 1.4x).
+  bool moment_plausible() const;
   std::size_t size() const { return components_.size(); }
   const std::vector<SogComponent>& components() const { return components_; }
   const SogConfig& config() const { return config_; }
@@ -175,6 +189,9 @@ class SogFilter {
   /// log P(transmitter of c below the snow surface) (SogConfig::surface_constraint), else 0.
   double surface_log_support(const SogComponent& c) const;
   void apply_surface_constraint();
+  /// Below the receiver (2 sigma) with a moment the standard allows: a converged mixture that
+  /// may have pinned down a transmitter, whose innovation excess the divergence test forgives.
+  bool pinned_down_plausibly() const;
   void normalise_and_prune();
   std::size_t merge();
 
@@ -190,6 +207,7 @@ class SogFilter {
   double nis_gate_ = 0.0;
   std::vector<double> nis_window_;  ///< last divergence_window smallest NIS (ring buffer)
   std::size_t nis_next_ = 0;
+  double last_min_nis_ = 0.0;
   double window_gate_ = 0.0;        ///< chi2_{3n}(reinit_gate_probability)
 };
 
