@@ -18,8 +18,10 @@
 //   kApproach        once the receiver is far enough from the mixture mean in Mahalanobis terms
 //                    (horizontal d^2 = p^T P^-1 p > approach_mahalanobis^2), walk to the mean;
 //   kFineSearch      horizontal distance < fine_search_radius_m: steps of min(step, distance);
-//   kFound           located AND the rescuer stands within found_distance_m of the estimate;
-//                    or the adaptive end below.
+//   kFound           located AND the rescuer stands within found_distance_m of the estimate,
+//                    or the adaptive end below; either way on found_confirmations guided samples
+//                    in a row (after the first, probes found_distance_m to alternate sides of
+//                    the estimate, counted while it stays located within twice that).
 // Adaptive end (docs/estimation/avalanche.md, "The search always ends"): with noisy sensors the
 // 95 % radius can level off above the located radius while the estimate is already as good as
 // the data make it, and the rescuer would probe on the spot forever. In fine search, once the
@@ -38,7 +40,9 @@
 //            mixture is never "located");
 //   found:   located and horizontal |p_mean| <= found_distance_m (G_k is rescuer-centred);
 //   neither while the estimate is not below the receiver (z + 2 sigma_z < 0): a victim is
-//   buried, so an estimate above is a filter's mirror solution (H(r) = H(-r)).
+//   buried, so an estimate above is a filter's mirror solution (H(r) = H(-r)); nor without
+//   enough samples, recent and newest innovations within their gates and a moment the
+//   transmitter standard allows (ConfirmationEvidence).
 //
 //   SearchController ctl(SearchConfig{});
 //   Guidance g = ctl.guide(filter, measurement);   // after filter.process(measurement)
