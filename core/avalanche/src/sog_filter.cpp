@@ -500,9 +500,9 @@ bool innovation_covariance(const Linearisation& l, const StateCov& p, const Disp
   return true;
 }
 
-std::optional<Innovation> innovate(const SogComponent& c, const Vec3& z_valid, const Vec3& floor, std::uint8_t axes,
-                                   const MeasurementModel& measurement, const DispCov& q, double rel) {
-  const Linearisation l = linearise(c.x, measurement, floor, axes, rel);
+// The innovation of component c linearised at its mean (l = linearise(c.x, ...)).
+std::optional<Innovation> innovate(const SogComponent& c, const Linearisation& l, const Vec3& z_valid,
+                                   std::uint8_t axes, const DispCov& q) {
   Innovation in;
   double det = 0.0;
   if (!innovation_covariance(l, c.P, q, axes, in, det)) return std::nullopt;
@@ -525,14 +525,14 @@ std::optional<Innovation> innovate(const SogComponent& c, const Vec3& z_valid, c
 // x_{i+1} = x0 + P H_i^T S_i^-1 (z - h(x_i) - H_i (x0 - x_i)); the returned gains and S^-1
 // are those of the last linearisation (the posterior covariance uses them), nis and ll stay
 // the prior-linearised ones (the component's weight is the predictive likelihood).
-Innovation iterate(const SogComponent& c, const Innovation& first, const Vec3& z_valid, const Vec3& floor,
-                   std::uint8_t axes, const DispVec& d0, const DispCov& q, double rel, std::uint32_t max_iterations,
-                   double threshold_sigmas) {
+Innovation iterate(const SogComponent& c, const Linearisation& at_prior, const Innovation& first, const Vec3& z_valid,
+                   const Vec3& floor, std::uint8_t axes, const DispVec& d0, const DispCov& q, double rel,
+                   std::uint32_t max_iterations, double threshold_sigmas) {
   Innovation in = first;
   const Vec3 z = in.sign * z_valid;
   StateVec x_i = c.x + in.pht * in.s_inv_nu;
   DispVec d_i = d0 + in.qht * in.s_inv_nu;
-  Linearisation l_prev = linearise(c.x, MeasurementModel(d0), floor, axes, rel);
+  Linearisation l_prev = at_prior;
   StateVec x_prev = c.x;
   DispVec d_prev = d0;
   for (std::uint32_t it = 0; it < max_iterations; ++it) {
@@ -581,7 +581,8 @@ std::optional<double> SogFilter::predictive_log_likelihood(const Vec3& field, co
   double max_term = -std::numeric_limits<double>::infinity();
   double sum = 0.0;
   for (const SogComponent& c : components_) {
-    const auto in = innovate(c, z_valid, floor, axes, measurement, disp.covariance, config_.noise_relative);
+    const auto in = innovate(c, linearise(c.x, measurement, floor, axes, config_.noise_relative), z_valid, axes,
+                             disp.covariance);
     if (!in) continue;
     const double term = c.log_weight + in->ll;
     if (term > max_term) {
@@ -610,13 +611,14 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, std::uint8_t axes
   for (std::size_t i = 0; i < components_.size(); ++i) {
     SogComponent& c = components_[i];
     const StateCov& p = c.P;
-    const auto innovation = innovate(c, z_valid, floor, axes, measurement, q, rel);
+    const Linearisation at_prior = linearise(c.x, measurement, floor, axes, rel);
+    const auto innovation = innovate(c, at_prior, z_valid, axes, q);
     if (!innovation) {
       ++result.dropped_numerical;
       continue;
     }
     const Innovation updated = config_.iterated_update_max > 0
-                                   ? iterate(c, *innovation, z_valid, floor, axes, disp.mean, q, rel,
+                                   ? iterate(c, at_prior, *innovation, z_valid, floor, axes, disp.mean, q, rel,
                                              config_.iterated_update_max, config_.relinearise_threshold_sigmas)
                                    : *innovation;
     const auto& [pht, qht, s_inv, s_inv_nu, sign, nis, ll] = updated;
