@@ -106,7 +106,8 @@ bool RecordedSource::read_line(SensorEpoch& epoch, std::optional<TimestampNs>& f
       m.noise_stddev = vector_field<3>(j, "noise_stddev");
       if (j.contains("valid_axes")) {
         const auto axes = number_field<int>(j, "valid_axes");
-        if (axes < 1 || axes > 7) throw InputError("valid_axes = " + std::to_string(axes) + ": a non-empty mask of bits 0-2 (1..7)");
+        if (axes < 0 || axes > 7)
+          throw InputError("valid_axes = " + std::to_string(axes) + ": a mask of bits 0-2 (0..7; 0: a pulse due, not heard)");
         m.valid_axes = static_cast<std::uint8_t>(axes);
       }
       if (j.contains("signal_event")) m.event = signal_event_field(j);

@@ -68,7 +68,7 @@ class SimulatedSource : public SensorSource {
 ///   {"type":"position","stamp_ns":..,"position":[e,n,u],"covariance":[9 numbers]}
 ///   {"type":"field","signal_id":1,"sequence":1,"stamp_ns":..,"field":[x,y,z],
 ///    "noise_stddev":[x,y,z], optional "orientation_rpy":[r,p,y],"orientation_covariance":[9],
-///    "valid_axes":1..7 (default 7), "signal_event":"none|new|reacquired|separated"}
+///    "valid_axes":0..7 (default 7; 0: a pulse due and not heard), "signal_event":"none|new|reacquired|separated"}
 /// An epoch is every line up to and including the field samples sharing one stamp_ns; the
 /// file's own stamps are kept. A malformed line is skipped with a warning naming the line
 /// number and the field; nothing else is lost.

@@ -76,6 +76,10 @@ void read_sog(YamlReader r, avalanche::SogConfig& c) {
   r.read("divergence_window", c.divergence_window);
   r.read("iterated_update_max", c.iterated_update_max);
   r.read("relinearise_threshold_sigmas", c.relinearise_threshold_sigmas);
+  r.read("negative_information", c.negative_information);
+  r.read("miss_detection_statistic", c.miss_detection_statistic);
+  r.read("miss_power_margin", c.miss_power_margin);
+  r.read("miss_weight_floor", c.miss_weight_floor);
   r.read("prune_log_weight", c.prune_log_weight);
   r.read("merge_interval", c.merge_interval);
   r.read("merge_cell_m", c.merge_cell_m);

@@ -108,6 +108,19 @@ std::vector<FieldMeasurement> to_measurements(const Listening& heard, const std:
     m.orientation = attitude;
     out.push_back(m);
   }
+  for (const auto& miss : heard.report.misses) {
+    FieldMeasurement m;  // a pulse due, not heard: valid_axes 0 (SogFilter::process)
+    m.rescuer_id = rescuer_id;
+    m.signal_id = miss.signal_id;
+    m.sequence = sequence;
+    m.stamp = stamp;
+    m.field = Vec3::Zero();
+    m.noise_stddev = miss.noise;
+    m.valid_axes = 0;
+    m.unattributed_pulses = heard.report.unattributed;
+    m.orientation = attitude;
+    out.push_back(m);
+  }
   return out;
 }
 

@@ -70,10 +70,14 @@ TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index,
   std::map<std::uint32_t, std::uint32_t> heard;
   std::uint32_t silent = 0;
   for (std::uint32_t step = 1; step <= setup.evaluation.step_budget; ++step) {
-    std::optional<FieldMeasurement> z;
+    std::optional<FieldMeasurement> z, miss;  // miss: the signal's pulse was due and not heard
     if (realistic) {
       std::vector<FieldMeasurement> samples = sim.listen();
       for (auto& m : samples) {
+        if (m.valid_axes == 0) {
+          if (signal && m.signal_id == *signal) miss = m;
+          continue;
+        }
         signals.insert(m.signal_id);
         ++heard[m.signal_id];
         if (!signal) signal = m.signal_id;
@@ -82,9 +86,10 @@ TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index,
       silent = z ? 0 : silent + 1;
       if (!z && silent >= kSwitchAfterSilentSteps) {
         for (auto& m : samples) {
-          if (heard[m.signal_id] <= heard[*signal]) continue;
+          if (m.valid_axes == 0 || heard[m.signal_id] <= heard[*signal]) continue;
           signal = m.signal_id;
           z = m;
+          miss.reset();
           filter = SogFilter(setup.sog, "sim", 1);
           ctl = SearchController(setup.search);
           silent = 0;
@@ -104,6 +109,7 @@ TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index,
         continue;
       }
       tr.steps = step - tr.primary_steps;
+      if (miss) filter.process(*miss);
       const Guidance g = ctl.coast(filter);
       filter.add_odometry(sim.walk(g.bearing_rad, g.step_m));
       continue;

@@ -94,11 +94,12 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
       const auto* update = std::get_if<SearchUpdate>(&outcome);
       if (update == nullptr) continue;
       if (update->guidance) guidance = update->guidance;
-      if (update->estimate.status != EstimatorStatus::kFound || reported.count(m.signal_id) != 0) continue;
+      if (!update->estimate || update->estimate->status != EstimatorStatus::kFound || reported.count(m.signal_id) != 0)
+        continue;
       reported.insert(m.signal_id);
       // A FOUND: is it a victim, one not found before?
-      const Vec3 where = pose.position + update->estimate.relative.position;
-      const double r95 = radius95_3d(update->estimate.relative.covariance);
+      const Vec3 where = pose.position + update->estimate->relative.position;
+      const double r95 = radius95_3d(update->estimate->relative.covariance);
       std::optional<std::size_t> victim;
       double best = 1e300;
       for (std::size_t v = 0; v < beacons.size(); ++v) {

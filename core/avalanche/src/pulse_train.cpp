@@ -26,8 +26,16 @@ std::vector<double> TransmitterTiming::starts_in(double t0, double t1) const {
   return starts;
 }
 
+namespace {
+constexpr double kReferencePulseS = 0.070;  // EN 300 718's shortest on-time: the noise floors' unit
+}  // namespace
+
 Vec3 sample_noise_of(const Vec3& pulse_noise, double sample_rate_hz) {
-  return pulse_noise * std::sqrt(0.070 * sample_rate_hz);
+  return pulse_noise * std::sqrt(kReferencePulseS * sample_rate_hz);
+}
+
+Vec3 pulse_noise_of(const Vec3& sample_noise, double sample_rate_hz) {
+  return sample_noise / std::sqrt(kReferencePulseS * sample_rate_hz);
 }
 
 BasebandWindow synthesize(const std::vector<IncomingPulse>& pulses, double t0_s, double duration_s,

@@ -195,11 +195,12 @@ std::optional<Rejection> RescuerSearch::gate(const FieldMeasurement& m) const {
 
 std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurement& m) {
   if (auto rejected = gate(m)) return *rejected;
+  if (m.valid_axes == 0) return process_miss(m);
   auto it = signals_.find(m.signal_id);
   if (it == signals_.end()) {
     it = signals_
              .emplace(m.signal_id, SignalState{SogFilter(config_.sog, rescuer_id_, m.signal_id),
-                                               SearchController(config_.search), 0, 0, 0.0, std::nullopt,
+                                               SearchController(config_.search), 0, 0, 0, 0.0, std::nullopt,
                                                done_.count(m.signal_id) != 0, std::nullopt})
              .first;
   }
@@ -231,21 +232,13 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
     unchanged.estimate = with_event(*s.found);
     return unchanged;
   }
-  // The gate already checked everything the filter checks; a throw here is a numerical
-  // refusal of this one sample, and the filter stays as it was.
-  try {
-    s.filter.process(m);
-  } catch (const InputError& e) {
-    return reject(RejectReason::kInvalidValue, rescuer_id_, "signal " + std::to_string(m.signal_id) + ": " + e.what());
-  }
-  s.last_sequence = m.sequence;
-  s.last_stamp = m.stamp;
+  if (auto rejected = update_filter(s, m)) return *rejected;
+  s.last_heard_stamp = m.stamp;
   s.last_field_norm = m.field.norm();
-  newest_stamp_ = std::max(newest_stamp_, m.stamp);
 
+  VictimEstimate estimate = with_event(s.filter.estimate(config_.summary_components));
+  estimate.stamp = m.stamp;
   SearchUpdate update;
-  update.estimate = with_event(s.filter.estimate(config_.summary_components));
-  update.estimate.stamp = m.stamp;
   bool found_now = false;
   if (target_ ? *target_ == m.signal_id : !s.done) {
     // Guidance only for the signal being searched (one direction at a time for the rescuer),
@@ -262,13 +255,48 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
     update.guidance = g;
   }
   // FOUND only through the guidance's confirmation (found_confirmations samples in a row).
-  update.estimate.status =
-      found_now ? EstimatorStatus::kFound
-                : std::min(s.controller.assess(update.estimate, ConfirmationEvidence::of(s.filter)),
-                           EstimatorStatus::kLocated);
-  s.estimate = update.estimate;
-  if (found_now) s.found = update.estimate;
+  estimate.status = found_now ? EstimatorStatus::kFound
+                              : std::min(s.controller.assess(estimate, ConfirmationEvidence::of(s.filter)),
+                                         EstimatorStatus::kLocated);
+  s.estimate = estimate;
+  if (found_now) s.found = estimate;
+  update.estimate = estimate;
   choose_target();
+  return update;
+}
+
+std::optional<Rejection> RescuerSearch::update_filter(SignalState& s, const FieldMeasurement& m) {
+  // The gate already checked everything the filter checks; a throw here is a numerical
+  // refusal of this one sample, and the filter stays as it was.
+  try {
+    s.filter.process(m);
+  } catch (const InputError& e) {
+    return reject(RejectReason::kInvalidValue, rescuer_id_, "signal " + std::to_string(m.signal_id) + ": " + e.what());
+  }
+  s.last_sequence = m.sequence;
+  s.last_stamp = m.stamp;
+  newest_stamp_ = std::max(newest_stamp_, m.stamp);
+  return std::nullopt;
+}
+
+std::variant<SearchUpdate, Rejection> RescuerSearch::process_miss(const FieldMeasurement& m) {
+  const auto it = signals_.find(m.signal_id);
+  // Nothing to learn for a signal never heard here (a daemon restarted mid-search) or found.
+  if (it == signals_.end() || it->second.found || !it->second.filter.initialised()) return SearchUpdate{};
+  SignalState& s = it->second;
+  if (auto rejected = update_filter(s, m)) return *rejected;
+  SearchUpdate update;
+  VictimEstimate e = s.filter.estimate(config_.summary_components);
+  e.stamp = m.stamp;
+  e.signal_event = s.last_event;
+  e.signal_event_stamp = s.last_event_stamp;
+  // Where the transmitter is not never confirms where it is: the status never rises on a miss.
+  const EstimatorStatus before = s.estimate ? s.estimate->status : EstimatorStatus::kInitialising;
+  e.status = std::min({s.controller.assess(e, ConfirmationEvidence::of(s.filter)), before, EstimatorStatus::kLocated});
+  s.estimate = e;
+  update.estimate = e;
+  choose_target();
+  if (target_ && *target_ == m.signal_id) update.guidance = coast(m.stamp);
   return update;
 }
 
@@ -310,7 +338,7 @@ void RescuerSearch::choose_target() {
   // silent for target_silence_s gives way to a signal heard since (measured: coasting back and
   // forth to where a signal lost at 40 m was last heard, next to two victims heard every step).
   const auto silence = static_cast<TimestampNs>(config_.target_silence_s * 1e9);
-  auto heard_lately = [&](const SignalState& state) { return newest_stamp_ - state.last_stamp < silence; };
+  auto heard_lately = [&](const SignalState& state) { return newest_stamp_ - state.last_heard_stamp < silence; };
   std::optional<std::uint32_t> keep;
   if (target_) {
     const auto it = signals_.find(*target_);

@@ -107,6 +107,31 @@ bool SignalSeparator::timing_fits(const Track& t, const DetectedPulse& p) const 
   return !fit || fit->sigmas() <= config_.timing_gate_sigmas;
 }
 
+bool SignalSeparator::on_carrier(const Track& t, const DetectedPulse& p) const {
+  // A weak pulse's carrier (and a young track's) is known less precisely: ~1 / sqrt(statistic).
+  const double tolerance = config_.carrier_match_hz +
+                           config_.carrier_match_weak_hz / std::sqrt(std::max(1.0, std::min(p.statistic, t.carrier_weight)));
+  return std::fabs(t.carrier_hz - p.carrier_offset_hz) <= tolerance;
+}
+
+std::optional<std::pair<double, double>> SignalSeparator::whole_pulse_due(const Track& t, double w0, double w1) const {
+  if (!t.timing.has_period() || !t.on_time_s) return std::nullopt;
+  const double gate = config_.timing_gate_sigmas;
+  const double on = *t.on_time_s + config_.on_time_tolerance_s;
+  const double period = t.timing.period_s();
+  // Any phase: a window longer than a period plus an on-time holds a whole pulse.
+  if (period + gate * t.timing.period_sigma_s() + on <= w1 - w0) return std::make_pair(w0, w1);
+  if (!t.timing.has_phase()) return std::nullopt;
+  for (double near = w0; near < w1 + period; near += 0.5 * period) {
+    const auto fit = t.timing.fit(near, 0.0);
+    if (!fit) return std::nullopt;
+    const double start = near - fit->innovation_s;
+    const double spread = gate * std::sqrt(fit->variance_s2);
+    if (start - spread >= w0 && start + on + spread <= w1) return std::make_pair(start - spread, start + on + spread);
+  }
+  return std::nullopt;
+}
+
 void SignalSeparator::learn(Track& t, const DetectedPulse& p) {
   // Weighted by statistic, but no pulse counts for more than a tenth of the track's history: at
   // close range (statistic 1e9 and more) one burst measured off (a residual next to a strong
@@ -242,6 +267,14 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
   r.pulses = detect_pulses(window, config_.detector, carriers);
   r.attributed.assign(r.pulses.size(), std::nullopt);
   const double window_end = window.time(window.size());
+  // A start found within its own uncertainty of the window's start may be the window's: the
+  // pulse may have begun before it (seen: the last 44 ms of a pulse, found 2 ms after the window
+  // began, taken for a whole pulse; it started a second track on the transmitter's carrier, and
+  // the transmitter's own pulses, claimed by both, were never attributed again, 25 m from it).
+  // The end is left as found: a transmitter whose period is close to the window's is cut by
+  // every window's end, and only such a pulse's start, which is its own, lets a track begin.
+  for (auto& p : r.pulses)
+    if (p.start_s - window.t0_s < config_.timing_gate_sigmas * edge_sigma(p)) p.truncated_start = true;
   // Strongest first: a weak pulse never takes a track from a strong one.
   std::vector<std::size_t> order(r.pulses.size());
   std::iota(order.begin(), order.end(), 0);
@@ -256,10 +289,7 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
     const DetectedPulse& p = r.pulses[i];
     std::vector<Track*> carrier_matches, confirmed, tentative;
     for (auto& t : tracks_) {
-      // A weak pulse's carrier (and a young track's) is known less precisely: ~1 / sqrt(statistic).
-      const double tolerance = config_.carrier_match_hz +
-                               config_.carrier_match_weak_hz / std::sqrt(std::max(1.0, std::min(p.statistic, t.carrier_weight)));
-      if (std::fabs(t.carrier_hz - p.carrier_offset_hz) > tolerance) continue;
+      if (!on_carrier(t, p)) continue;
       carrier_matches.push_back(&t);
       if (timing_fits(t, p)) (t.timing.has_period() ? confirmed : tentative).push_back(&t);
     }
@@ -347,6 +377,25 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
     s.event = t.pending;
     t.pending = SignalEvent::kNone;
     r.samples.push_back(s);
+  }
+  // Negative information: a confirmed track's whole pulse was due, and nothing was detected on
+  // its carrier nor over that pulse (another transmitter's pulse there could hide a weak one:
+  // the detector's dynamic range, PulseDetectorConfig::sidelobe_ratio).
+  if (config_.report_misses) {
+    const Vec3 floor = pulse_noise_of(window.sample_noise, window.sample_rate_hz);
+    for (const auto& t : tracks_) {
+      if (t.shadow || t.merged) continue;
+      const auto due = whole_pulse_due(t, window.t0_s, window_end);
+      if (!due) continue;
+      const bool heard = std::any_of(r.pulses.begin(), r.pulses.end(), [&](const DetectedPulse& p) {
+        return on_carrier(t, p) || (p.end_s > due->first && p.start_s < due->second);
+      });
+      if (heard) continue;
+      SeparatedSample miss;
+      miss.signal_id = t.id;
+      miss.noise = floor;
+      r.misses.push_back(miss);
+    }
   }
   // Silence: lost, then forgotten.
   for (auto& t : tracks_) {

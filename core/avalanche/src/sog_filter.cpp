@@ -43,6 +43,31 @@ StateVec near_angles(StateVec x, const StateVec& ref) {
   return x;
 }
 
+// F_x P F_x^T + F_d Q F_d^T of the composition (eq. (9), (15)), block by block: the covariance
+// of a component moved by a displacement before any measurement's correction.
+StateCov composed_covariance(const StateCov& p, const CompositionJacobians& f, const DispCov& q) {
+  // F_x P F_x^T: apply F_x on the left twice.
+  auto apply_f = [&](const StateCov& m) {
+    StateCov fm = m;
+    fm.middleRows<3>(idx::kAtt) = f.att_att * m.middleRows<3>(idx::kAtt);
+    fm.middleRows<3>(idx::kPos) += f.pos_att * m.middleRows<3>(idx::kAtt);
+    return fm;
+  };
+  const StateCov fp = apply_f(p);
+  StateCov p_new = apply_f(fp.transpose());
+  // F_d Q F_d^T: rows Psi <- dPsi (D), rows p <- t (T).
+  const Mat3 q_tt = q.block<3, 3>(idx::kTrans, idx::kTrans);
+  const Mat3 q_tr = q.block<3, 3>(idx::kTrans, idx::kRot);
+  const Mat3 q_rr = q.block<3, 3>(idx::kRot, idx::kRot);
+  const Mat3 psi_psi = f.att_rot * q_rr * f.att_rot.transpose();
+  const Mat3 psi_pos = f.att_rot * q_tr.transpose() * f.pos_trans.transpose();
+  p_new.block<3, 3>(idx::kAtt, idx::kAtt) += psi_psi;
+  p_new.block<3, 3>(idx::kAtt, idx::kPos) += psi_pos;
+  p_new.block<3, 3>(idx::kPos, idx::kAtt) += psi_pos.transpose();
+  p_new.block<3, 3>(idx::kPos, idx::kPos) += f.pos_trans * q_tt * f.pos_trans.transpose();
+  return p_new;
+}
+
 // Index list 0 .. n-1 (every component) for moments_of.
 struct AllIndices {
   std::size_t n;
@@ -120,6 +145,12 @@ void SogConfig::validate() const {
     config_fail("divergence_window", divergence_window, "must be in [0, 100]");
   if (!finite_positive(converged_radius_m) || converged_radius_m > 1000.0)
     config_fail("converged_radius_m", converged_radius_m, "must be in (0, 1000]");
+  if (!finite_positive(miss_detection_statistic) || miss_detection_statistic > 1e4)
+    config_fail("miss_detection_statistic", miss_detection_statistic, "must be in (0, 1e4]");
+  if (!finite_positive(miss_power_margin) || miss_power_margin > 1.0)
+    config_fail("miss_power_margin", miss_power_margin, "must be in (0, 1] (a miss never tells more than the model)");
+  if (!finite_positive(miss_weight_floor) || miss_weight_floor > 1.0)
+    config_fail("miss_weight_floor", miss_weight_floor, "must be in (0, 1]");
 }
 
 void validate_field_measurement(const FieldMeasurement& m) {
@@ -128,8 +159,8 @@ void validate_field_measurement(const FieldMeasurement& m) {
   if (!m.noise_stddev.allFinite() || m.noise_stddev.minCoeff() < 0.0 ||
       m.noise_stddev.maxCoeff() > 1.0)
     input_fail("noise_stddev", fmt(m.noise_stddev), "must be finite and in [0, 1] A/m");
-  if (m.valid_axes == 0 || m.valid_axes > kAllAxes)
-    input_fail("valid_axes", std::to_string(m.valid_axes), "must be a non-empty mask of axes 0-2 (1..7)");
+  if (m.valid_axes > kAllAxes)
+    input_fail("valid_axes", std::to_string(m.valid_axes), "must be a mask of axes 0-2 (0..7; 0: a pulse due, not heard)");
   if (m.orientation) {
     const auto& o = *m.orientation;
     if (!o.rpy.allFinite() || o.rpy.cwiseAbs().maxCoeff() > kPi + 1e-9)
@@ -151,6 +182,7 @@ SogFilter::SogFilter(SogConfig config, std::string rescuer_id, std::uint32_t sig
       signal_id_(signal_id),
       odometry_((config_.validate(), config_.idle_translation_sigma_m),
                 config_.idle_rotation_sigma_rad),
+      detection_(config_.miss_detection_statistic),
       nis_gate_(chi_square_quantile(config_.reinit_gate_probability, 3.0)),
       window_gate_(config_.divergence_window > 0
                        ? chi_square_quantile(config_.reinit_gate_probability,
@@ -180,6 +212,18 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
     input_fail("sequence", std::to_string(measurement.sequence),
                "must be > previous " + std::to_string(*last_sequence_));
   SogStepResult result;
+  if (measurement.valid_axes == 0) {
+    // A pulse of this signal was due and not heard: nothing to initialise from or update with,
+    // but where the transmitter would have been heard it is not.
+    last_sequence_ = measurement.sequence;
+    if (!initialised() || !config_.negative_information) return result;
+    result.components_before = components_.size();
+    last_stamp_ = measurement.stamp;  // the mixture moves to this sample's frame
+    result.log_likelihood = apply_miss(noise_floor(measurement));
+    result.miss = true;
+    result.components_after = components_.size();
+    return result;
+  }
   if (!initialised()) {
     initialise(measurement);
     odometry_.take();  // motion before the first measurement is irrelevant
@@ -192,6 +236,7 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   }
   last_sequence_ = measurement.sequence;
   last_stamp_ = measurement.stamp;
+  heard_at_ = Vec3::Zero();
   result.components_before = components_.size();
   const Displacement disp = odometry_.take();
   const OrientationObservation* orientation =
@@ -240,6 +285,54 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   return result;
 }
 
+double SogFilter::apply_miss(const Vec3& floor) {
+  // Move every Gaussian, and the place the signal was last heard, to where the rescuer stands
+  // now (composition, no correction).
+  const Displacement disp = odometry_.take();
+  heard_at_ = moved_point(heard_at_, disp.mean);
+  for (auto& c : components_) {
+    CompositionJacobians f;
+    const StateVec x = CompositionModel::f(c.x, disp.mean, &f);
+    c.P = composed_covariance(c.P, f, disp.covariance);
+    c.P = 0.5 * (c.P + c.P.transpose()).eval();
+    c.x = x;
+  }
+  // P(not detected | Gaussian): averaged over its sigma points in position and moment (kappa = 0,
+  // 2n equal weights). One wide Gaussian spans ranges whose fields differ by orders of magnitude;
+  // its mean alone would make it all heard or all unheard.
+  const MeasurementModel here(DispVec::Zero());
+  const Vec3 weight = floor.cwiseAbs2().cwiseInverse() * config_.miss_power_margin;
+  auto p_miss = [&](const StateVec& x) {
+    const Vec3 h = here.h(x);
+    return 1.0 - detection_.probability(h.cwiseAbs2().dot(weight));
+  };
+  constexpr int kDim = 6;  // p and m, adjacent in the state
+  static_assert(idx::kMom == idx::kPos + 3);
+  double max_log_weight = -std::numeric_limits<double>::infinity();
+  for (const auto& c : components_) max_log_weight = std::max(max_log_weight, c.log_weight);
+  double evidence = 0.0;  // P(not detected | everything so far), relative to the heaviest Gaussian
+  for (auto& c : components_) {
+    double p = p_miss(c.x);
+    const Eigen::LLT<Eigen::Matrix<double, kDim, kDim>> llt(c.P.block<kDim, kDim>(idx::kPos, idx::kPos));
+    if (llt.info() == Eigen::Success) {
+      const Eigen::Matrix<double, kDim, kDim> spread = std::sqrt(static_cast<double>(kDim)) * llt.matrixL().toDenseMatrix();
+      double sum = 0.0;
+      for (int j = 0; j < kDim; ++j) {
+        for (double side : {-1.0, 1.0}) {
+          StateVec x = c.x;
+          x.segment<kDim>(idx::kPos) += side * spread.col(j);
+          sum += p_miss(x);
+        }
+      }
+      p = sum / (2.0 * kDim);
+    }
+    evidence += std::exp(c.log_weight - max_log_weight) * p;
+    c.log_weight += std::log(std::max(p, config_.miss_weight_floor));
+  }
+  normalise_and_prune();
+  return std::log(std::max(evidence, std::numeric_limits<double>::min())) + max_log_weight;
+}
+
 bool SogFilter::pinned_down_plausibly() const {
   const MixtureMoments mm = moments();
   const double z = mm.mean[idx::kPos + 2];
@@ -281,14 +374,20 @@ MixtureMoments SogFilter::predicted_moments() const {
 
 Vec3 SogFilter::predicted_last_measurement_position() const {
   const Displacement& d = odometry_.peek();
-  if (d.samples == 0) return Vec3::Zero();
-  StateVec origin = moments().mean;
-  origin.segment<3>(idx::kPos).setZero();
-  return CompositionModel::f(origin, d.mean, static_cast<CompositionJacobians*>(nullptr)).segment<3>(idx::kPos);
+  if (d.samples == 0) return heard_at_;
+  return moved_point(heard_at_, d.mean);
+}
+
+Vec3 SogFilter::moved_point(const Vec3& point, const DispVec& d) const {
+  StateVec origin = moments().mean;  // the rescuer's attitude turns the step into G
+  origin.segment<3>(idx::kPos) = point;
+  return CompositionModel::f(origin, d, static_cast<CompositionJacobians*>(nullptr)).segment<3>(idx::kPos);
 }
 
 void SogFilter::initialise(const FieldMeasurement& meas) {
   validate_field_measurement(meas);
+  if (meas.valid_axes == 0) throw InputError("field_measurement.valid_axes = 0: a pulse not heard initialises nothing");
+  heard_at_ = Vec3::Zero();
   gate_failures_ = 0;  // a new mixture starts a new innovation history
   nis_window_.clear();
   nis_next_ = 0;
@@ -631,25 +730,7 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, std::uint8_t axes
     CompositionJacobians f;
     const StateVec x_new = CompositionModel::f(x_post, d_post, &f);
 
-    // F_x P F_x^T: apply F_x on the left twice.
-    auto apply_f = [&](const StateCov& m) {
-      StateCov fm = m;
-      fm.middleRows<3>(idx::kAtt) = f.att_att * m.middleRows<3>(idx::kAtt);
-      fm.middleRows<3>(idx::kPos) += f.pos_att * m.middleRows<3>(idx::kAtt);
-      return fm;
-    };
-    const StateCov fp = apply_f(p);
-    StateCov p_new = apply_f(fp.transpose());
-    // F_d Q F_d^T: rows Psi <- dPsi (D), rows p <- t (T).
-    const Mat3 q_tt = q.block<3, 3>(idx::kTrans, idx::kTrans);
-    const Mat3 q_tr = q.block<3, 3>(idx::kTrans, idx::kRot);
-    const Mat3 q_rr = q.block<3, 3>(idx::kRot, idx::kRot);
-    const Mat3 psi_psi = f.att_rot * q_rr * f.att_rot.transpose();
-    const Mat3 psi_pos = f.att_rot * q_tr.transpose() * f.pos_trans.transpose();
-    p_new.block<3, 3>(idx::kAtt, idx::kAtt) += psi_psi;
-    p_new.block<3, 3>(idx::kAtt, idx::kPos) += psi_pos;
-    p_new.block<3, 3>(idx::kPos, idx::kAtt) += psi_pos.transpose();
-    p_new.block<3, 3>(idx::kPos, idx::kPos) += f.pos_trans * q_tt * f.pos_trans.transpose();
+    StateCov p_new = composed_covariance(p, f, q);
     // M = F_x P H_x^T + F_d Q H_d^T.
     Jacobian<idx::kStateDim, 3> mm = pht;
     mm.middleRows<3>(idx::kAtt) = f.att_att * pht.middleRows<3>(idx::kAtt) +

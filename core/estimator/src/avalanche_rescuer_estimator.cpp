@@ -24,7 +24,7 @@ Outcome AvalancheRescuerEstimator::process(const SensorSample& sample) {
   if (auto* rejected = std::get_if<responder::Rejection>(&outcome)) return std::move(*rejected);
   auto& update = std::get<avalanche::SearchUpdate>(outcome);
   EstimatorOutput out;
-  out.estimates.push_back(std::move(update.estimate));
+  if (update.estimate) out.estimates.push_back(std::move(*update.estimate));
   out.guidance = std::move(update.guidance);
   return out;
 }

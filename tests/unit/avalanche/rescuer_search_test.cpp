@@ -80,7 +80,7 @@ TEST(RescuerSearch, TheLastSeparationEventOfASignalStaysInItsEstimate) {
     const auto out = search.process(m);
     ASSERT_TRUE(std::holds_alternative<SearchUpdate>(out));
     if (m.signal_id == signal) {
-      EXPECT_EQ(std::get<SearchUpdate>(out).estimate.signal_event, SignalEvent::kSeparated);
+      EXPECT_EQ(std::get<SearchUpdate>(out).estimate->signal_event, SignalEvent::kSeparated);
     }
   }
   // Later samples carry no event: the estimate keeps the last one and its stamp.
@@ -339,7 +339,7 @@ TEST(RescuerSearch, FoundEstimateOnlyMovesWithTheOdometry) {
       ASSERT_TRUE(std::holds_alternative<SearchUpdate>(outcome));
       const auto& u = std::get<SearchUpdate>(outcome);
       if (u.guidance) g = u.guidance;
-      if (u.estimate.status == EstimatorStatus::kFound) {
+      if (u.estimate->status == EstimatorStatus::kFound) {
         found = u.estimate;
       }
     }
@@ -360,9 +360,9 @@ TEST(RescuerSearch, FoundEstimateOnlyMovesWithTheOdometry) {
     const auto& u = std::get<SearchUpdate>(outcome);
     // The update carries the found estimate unchanged: incident command places it with the fix
     // of the moment it was found, and the rescuer's odometry since cannot spoil it.
-    EXPECT_EQ(u.estimate.status, EstimatorStatus::kFound);
-    EXPECT_EQ(u.estimate.stamp, found->stamp);
-    EXPECT_EQ(u.estimate.relative.position, found->relative.position);
+    EXPECT_EQ(u.estimate->status, EstimatorStatus::kFound);
+    EXPECT_EQ(u.estimate->stamp, found->stamp);
+    EXPECT_EQ(u.estimate->relative.position, found->relative.position);
     EXPECT_FALSE(u.guidance.has_value()) << "never guided back to a found victim";
     // The current-frame estimate (the display) followed the rescuer's motion: metres from where
     // it was found, it still points at the victim, whatever the field says.
@@ -402,7 +402,7 @@ TEST(RescuerSearch, AStalledSearchEndsFoundAfterItsProbePattern) {
         EXPECT_TRUE(std::holds_alternative<SearchUpdate>(outcome));
         const auto& u = std::get<SearchUpdate>(outcome);
         if (u.guidance) g = u.guidance;
-        if (u.estimate.status == EstimatorStatus::kFound) {
+        if (u.estimate->status == EstimatorStatus::kFound) {
           out.found = u.estimate;
           out.signal = m.signal_id;
           out.truth = s.victims[*sim.victim_of_signal(m.signal_id)].position - sim.pose().position;

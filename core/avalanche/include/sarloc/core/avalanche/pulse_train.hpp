@@ -52,6 +52,8 @@ struct BasebandWindow {
 /// Noise per sample that gives `pulse_noise` (1 sigma per axis) on the amplitude of a 70 ms
 /// pulse integrated coherently: sigma_sample = sigma_pulse sqrt(70 ms * sample rate).
 Vec3 sample_noise_of(const Vec3& pulse_noise, double sample_rate_hz);
+/// Its inverse: the noise of a 70 ms pulse's amplitude from the noise per sample.
+Vec3 pulse_noise_of(const Vec3& sample_noise, double sample_rate_hz);
 
 /// The coils' sum of every pulse over [t0, t0 + duration) plus each axis's white noise.
 BasebandWindow synthesize(const std::vector<IncomingPulse>& pulses, double t0_s, double duration_s,

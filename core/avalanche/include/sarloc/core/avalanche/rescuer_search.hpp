@@ -47,7 +47,9 @@ struct RescuerSearchConfig {
 };
 
 struct SearchUpdate {
-  VictimEstimate estimate;          ///< of the measured signal, status refined by assess()
+  /// Of the measured signal, status refined by assess(). None for a pulse not heard (valid_axes
+  /// 0) of a signal without a filter, or found here: nothing changed.
+  std::optional<VictimEstimate> estimate;
   std::optional<Guidance> guidance; ///< present when the measured signal is the target
 };
 
@@ -80,7 +82,9 @@ class RescuerSearch {
   /// update carries the estimate of the moment it was found, unchanged (its stamp, its frame:
   /// paired with that moment's GNSS fix it is the best position for incident command, and
   /// republishing it answers the epoch), while estimate(signal) is that one moved into the
-  /// current frame by the odometry since (for the display).
+  /// current frame by the odometry since (for the display). A pulse due and not heard
+  /// (valid_axes 0) updates the signal's filter (SogFilter::process) but never raises its status,
+  /// and, for the target, carries coast() guidance.
   std::variant<SearchUpdate, Rejection> process(const FieldMeasurement& measurement);
 
   /// Guidance to the target from its filter moved by the odometry since it was last heard,
@@ -111,7 +115,8 @@ class RescuerSearch {
     SogFilter filter;
     SearchController controller;
     std::uint64_t last_sequence = 0;
-    TimestampNs last_stamp = 0;
+    TimestampNs last_stamp = 0;        ///< of its last sample, heard or not (ordering)
+    TimestampNs last_heard_stamp = 0;  ///< of its last pulse heard (silence)
     double last_field_norm = 0.0;
     std::optional<VictimEstimate> estimate;
     bool done = false;        ///< not to be guided to: found here or elsewhere
@@ -122,6 +127,9 @@ class RescuerSearch {
   };
 
   std::optional<Rejection> gate(const FieldMeasurement& m) const;
+  std::variant<SearchUpdate, Rejection> process_miss(const FieldMeasurement& m);
+  /// The sample into the signal's filter; on success the signal's and the search's clocks advance.
+  std::optional<Rejection> update_filter(SignalState& s, const FieldMeasurement& m);
   void choose_target();
   void restart_unfound_filters();
 

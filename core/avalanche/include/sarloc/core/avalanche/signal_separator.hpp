@@ -72,6 +72,9 @@ struct SeparatorConfig {
   /// A shadow track (a second transmitter on a tracked carrier) is promoted to a signal after
   /// this many pulses of its own, interleaved with as many of a mate's.
   std::uint32_t shadow_confirm_pulses = 3;
+  /// Report a miss (SeparationReport::misses) when a confirmed track's whole pulse was due in the
+  /// window and nothing was detected on its carrier or over that pulse: negative information.
+  bool report_misses = true;
 
   /// Throws ConfigError "separator.<key> = value: rule".
   void validate() const;
@@ -99,6 +102,11 @@ struct SeparationReport {
   std::vector<DetectedPulse> pulses;                   ///< everything the detector found
   std::vector<std::optional<std::uint32_t>> attributed;///< per pulse: its signal, or none
   std::vector<SeparatedSample> samples;                ///< at most one per signal: its best pulse
+  /// Signals whose whole pulse was due in the window (their timing says so for every phase
+  /// within its gate, or the period is shorter than the window less the on-time), with nothing
+  /// detected on their carrier or over that pulse: field 0, valid_axes 0, noise the 70 ms
+  /// pulse floor of each axis. Never a signal that has a sample in this window.
+  std::vector<SeparatedSample> misses;
   std::uint32_t unattributed = 0;
   std::vector<TrackEvent> events;
 };
@@ -142,6 +150,11 @@ class SignalSeparator {
   /// Start of the pulse and its 1 sigma; a pulse cut at the window's start is dated by its end.
   std::optional<std::pair<double, double>> start_of(const Track& t, const DetectedPulse& p) const;
   bool timing_fits(const Track& t, const DetectedPulse& p) const;
+  /// The pulse's carrier matches the track's (a weak one's within a wider tolerance).
+  bool on_carrier(const Track& t, const DetectedPulse& p) const;
+  /// Where a whole pulse of t lies in [w0, w1) for every timing within its gate (the whole
+  /// window when the period is short enough for any phase), nullopt if none is sure to.
+  std::optional<std::pair<double, double>> whole_pulse_due(const Track& t, double w0, double w1) const;
   bool elliptical(const DetectedPulse& p) const;
   /// Every carrier-mate knows its timing, was heard within 1.5 periods and predicts its pulse
   /// further than the standard's longest on-time (plus its gate) from this one.

@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "sarloc/core/avalanche/detection_curve.hpp"
 #include "sarloc/core/avalanche/dipole_model.hpp"
 #include "sarloc/core/avalanche/field_measurement.hpp"
 #include "sarloc/core/avalanche/responder_types.hpp"
@@ -88,6 +89,20 @@ struct SogConfig {
   /// state, up to this many times. Its weight stays the prior-linearised likelihood. 0 = off.
   std::uint32_t iterated_update_max = 4;
   double relinearise_threshold_sigmas = 0.5;
+  // --- negative information (issue 12): a pulse due and not heard ---
+  /// A FieldMeasurement with valid_axes = 0 says a whole pulse of this signal was due in the
+  /// window and nothing was detected on its carrier or over it (SignalSeparator). Each Gaussian
+  /// is weighted by P(not detected | it) (DetectionCurve). false: such samples are ignored.
+  bool negative_information = true;
+  /// The detector's threshold on its statistic for a tracked carrier over the longest window a
+  /// device listens (2 s: 41.3 at the detector's defaults; 39.8 for 1 s). Higher says less.
+  double miss_detection_statistic = 41.5;
+  /// The predicted pulse power (noncentrality) is multiplied by this: what the model leaves out
+  /// (a moment estimate too large, the device's gain errors) makes a miss tell less, never more.
+  double miss_power_margin = 0.5;
+  /// No single miss lowers a Gaussian's weight by more than this factor: a miss the model did
+  /// not foresee (a pulse lost to interference) cannot erase the transmitter's hypothesis.
+  double miss_weight_floor = 1e-3;
   // --- mixture management ---
   double prune_log_weight = 14.0;   ///< drop components with log w < max log w - this
   std::uint32_t merge_interval = 1; ///< merge near-duplicates every n steps (0 = never)
@@ -127,6 +142,9 @@ struct SogStepResult {
   /// The gate failed on a converged mixture (95 % radius <= converged_radius_m): taken for
   /// near-field linearisation error, not a lost transmitter, so the mixture is kept.
   bool divergence_ignored = false;
+  /// A pulse due and not heard (valid_axes = 0) reweighted the mixture; log_likelihood is then
+  /// log P(not detected | everything so far), up to the same constant.
+  bool miss = false;
 };
 
 class SogFilter {
@@ -138,7 +156,10 @@ class SogFilter {
   void add_odometry(const Odometry& odometry);
   /// Unmeasured motion since the last measurement (OdometryAccumulator::add_unknown).
   void add_unknown_motion(const DispCov& covariance) { odometry_.add_unknown(covariance); }
-  /// One field measurement: initialises on the first call, then Algorithm 1.
+  /// One field measurement: initialises on the first call, then Algorithm 1. One with no valid
+  /// axis is a pulse due and not heard: it moves the mixture to this sample's frame and weights
+  /// each Gaussian by P(not detected) (SogConfig::negative_information); before the first
+  /// measurement it only advances the sequence.
   /// Throws InputError for unusable input (non-finite, absurd, non-PD, out of order).
   SogStepResult process(const FieldMeasurement& measurement);
 
@@ -164,8 +185,8 @@ class SogFilter {
   /// eq. (9) on the mixture mean, no update): where the transmitter is relative to the receiver
   /// now, for guidance when this signal was not heard. Position covariance grows by the step's.
   MixtureMoments predicted_moments() const;
-  /// Where the antenna was at the last measurement, relative to the receiver now (same
-  /// composition on the mixture's attitude): the place the signal was last heard.
+  /// Where the antenna was at the last measurement with a pulse heard, relative to the receiver
+  /// now (same composition on the mixture's attitude): the place the signal was last heard.
   Vec3 predicted_last_measurement_position() const;
   /// Reduced mixture: position moments (eq. (18)), the top_k components, the mean moment.
   /// status is kInitialising, kMultimodal or kConverged; SearchController::assess() refines it.
@@ -193,6 +214,10 @@ class SogFilter {
   /// may have pinned down a transmitter, whose innovation excess the divergence test forgives.
   bool pinned_down_plausibly() const;
   void normalise_and_prune();
+  /// The miss update (see process()); returns its log-likelihood.
+  double apply_miss(const Vec3& floor);
+  /// A point of the current frame moved by displacement d (on the mixture's attitude).
+  Vec3 moved_point(const Vec3& point, const DispVec& d) const;
   std::size_t merge();
 
   SogConfig config_;
@@ -200,8 +225,11 @@ class SogFilter {
   std::uint32_t signal_id_ = 0;
   std::vector<SogComponent> components_;
   OdometryAccumulator odometry_;
+  DetectionCurve detection_;
   std::optional<std::uint64_t> last_sequence_;
   TimestampNs last_stamp_ = 0;
+  /// Where the last pulse was heard, in the current frame: 0 unless misses moved the frame since.
+  Vec3 heard_at_ = Vec3::Zero();
   std::uint64_t steps_ = 0;
   std::uint32_t gate_failures_ = 0;
   double nis_gate_ = 0.0;
