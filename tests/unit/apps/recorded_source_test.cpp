@@ -65,12 +65,14 @@ TEST(RecordedSource, ReadsTheSeparationsAxesAndEventsAndSkipsBadOnes) {
   text += R"({"type":"field","signal_id":1,"sequence":1,"stamp_ns":1000000000,"field":[1e-7,0,0],"noise_stddev":[2e-9,2e-9,2e-9],"valid_axes":5,"signal_event":"separated"})" "\n";
   text += R"({"type":"field","signal_id":2,"sequence":1,"stamp_ns":1000000000,"field":[1e-7,0,0],"noise_stddev":[2e-9,2e-9,2e-9],"valid_axes":0})" "\n";
   text += R"({"type":"field","signal_id":3,"sequence":1,"stamp_ns":1000000000,"field":[1e-7,0,0],"noise_stddev":[2e-9,2e-9,2e-9],"signal_event":"swapped"})" "\n";
+  text += R"({"type":"field","signal_id":4,"sequence":1,"stamp_ns":1000000000,"field":[1e-7,0,0],"noise_stddev":[2e-9,2e-9,2e-9],"valid_axes":8})" "\n";
   RecordedSource source(write_file(text), "r9", "team-x");
   const auto epoch = source.next(0, std::nullopt);
   ASSERT_TRUE(epoch.has_value());
-  ASSERT_EQ(epoch->samples.size(), 1U) << "an empty axis mask and an unknown event are skipped";
+  ASSERT_EQ(epoch->samples.size(), 2U) << "a mask beyond the three axes and an unknown event are skipped";
   EXPECT_EQ(field(epoch->samples[0]).valid_axes, 5U);
   EXPECT_EQ(field(epoch->samples[0]).event, sarloc::avalanche::SignalEvent::kSeparated);
+  EXPECT_EQ(field(epoch->samples[1]).valid_axes, 0U) << "0: a pulse due and not heard (a miss)";
   EXPECT_EQ(source.skipped_lines(), 2U);
 }
 
