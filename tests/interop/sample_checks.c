@@ -71,7 +71,9 @@ void check_field_measurement(const void* sample, CheckReport* r) {
     check_fail(r, "noise_stddev", "(%g, %g, %g): a standard deviation must be >= 0", m->noise_stddev.x,
                m->noise_stddev.y, m->noise_stddev.z);
   }
-  if (m->valid_axes == 0 || m->valid_axes > 7) check_fail(r, "valid_axes", "%u: a non-empty mask of bits 0-2", m->valid_axes);
+  if (m->valid_axes > 7) check_fail(r, "valid_axes", "%u: a mask of bits 0-2 (0: a pulse due, not heard)", m->valid_axes);
+  if (m->valid_axes == 0 && (m->noise_stddev.x <= 0.0 || m->noise_stddev.y <= 0.0 || m->noise_stddev.z <= 0.0))
+    check_fail(r, "noise_stddev", "a miss (valid_axes 0) carries its pulse floor: every axis > 0");
   check_enum(r, "signal_event", m->signal_event, sarloc_SIGNAL_SEPARATED);
   if (m->has_orientation) {
     check_orientation(r, &m->orientation_rpy);
