@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 #include "sarloc/core/avalanche/rotation.hpp"
 #include "sarloc/core/common/errors.hpp"
@@ -209,11 +210,7 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
     s.last_event = m.event;
     s.last_event_stamp = m.stamp;
   }
-  auto with_event = [&s](VictimEstimate e) {
-    e.signal_event = s.last_event;
-    e.signal_event_stamp = s.last_event_stamp;
-    return e;
-  };
+  auto with_event = [&s](VictimEstimate e) { return with_last_event(s, std::move(e)); };
   if (s.found) {
     // Found here: the victim stays where the rescuer stood over it. The filter takes no more
     // measurement updates (while the rescuer walks off to the next victim, a late or lost
@@ -265,6 +262,12 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
   return update;
 }
 
+VictimEstimate RescuerSearch::with_last_event(const SignalState& s, VictimEstimate e) {
+  e.signal_event = s.last_event;
+  e.signal_event_stamp = s.last_event_stamp;
+  return e;
+}
+
 std::optional<Rejection> RescuerSearch::update_filter(SignalState& s, const FieldMeasurement& m) {
   // The gate already checked everything the filter checks; a throw here is a numerical
   // refusal of this one sample, and the filter stays as it was.
@@ -286,10 +289,8 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process_miss(const FieldMea
   SignalState& s = it->second;
   if (auto rejected = update_filter(s, m)) return *rejected;
   SearchUpdate update;
-  VictimEstimate e = s.filter.estimate(config_.summary_components);
+  VictimEstimate e = with_last_event(s, s.filter.estimate(config_.summary_components));
   e.stamp = m.stamp;
-  e.signal_event = s.last_event;
-  e.signal_event_stamp = s.last_event_stamp;
   // Where the transmitter is not never confirms where it is: the status never rises on a miss.
   const EstimatorStatus before = s.estimate ? s.estimate->status : EstimatorStatus::kInitialising;
   e.status = std::min({s.controller.assess(e, ConfirmationEvidence::of(s.filter)), before, EstimatorStatus::kLocated});

@@ -312,19 +312,20 @@ double SogFilter::apply_miss(const Vec3& floor) {
   for (const auto& c : components_) max_log_weight = std::max(max_log_weight, c.log_weight);
   double evidence = 0.0;  // P(not detected | everything so far), relative to the heaviest Gaussian
   for (auto& c : components_) {
-    double p = p_miss(c.x);
     const Eigen::LLT<Eigen::Matrix<double, kDim, kDim>> llt(c.P.block<kDim, kDim>(idx::kPos, idx::kPos));
-    if (llt.info() == Eigen::Success) {
+    double p = 0.0;
+    if (llt.info() != Eigen::Success) {
+      p = p_miss(c.x);  // no spread to average over: its mean
+    } else {
       const Eigen::Matrix<double, kDim, kDim> spread = std::sqrt(static_cast<double>(kDim)) * llt.matrixL().toDenseMatrix();
-      double sum = 0.0;
       for (int j = 0; j < kDim; ++j) {
         for (double side : {-1.0, 1.0}) {
           StateVec x = c.x;
           x.segment<kDim>(idx::kPos) += side * spread.col(j);
-          sum += p_miss(x);
+          p += p_miss(x);
         }
       }
-      p = sum / (2.0 * kDim);
+      p /= 2.0 * kDim;
     }
     evidence += std::exp(c.log_weight - max_log_weight) * p;
     c.log_weight += std::log(std::max(p, config_.miss_weight_floor));

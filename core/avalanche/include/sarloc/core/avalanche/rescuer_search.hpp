@@ -130,6 +130,8 @@ class RescuerSearch {
   std::variant<SearchUpdate, Rejection> process_miss(const FieldMeasurement& m);
   /// The sample into the signal's filter; on success the signal's and the search's clocks advance.
   std::optional<Rejection> update_filter(SignalState& s, const FieldMeasurement& m);
+  /// e carrying the separation's last word on the signal.
+  static VictimEstimate with_last_event(const SignalState& s, VictimEstimate e);
   void choose_target();
   void restart_unfound_filters();
 
