@@ -380,17 +380,31 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
   }
   // Negative information: a confirmed track's whole pulse was due, and nothing was detected on
   // its carrier nor over that pulse (another transmitter's pulse there could hide a weak one:
-  // the detector's dynamic range, PulseDetectorConfig::sidelobe_ratio).
+  // the detector's dynamic range, PulseDetectorConfig::sidelobe_ratio). Due within this window
+  // by its timing, or, when the timing is too vague for one window, somewhere in the carrier's
+  // silence since it was last heard for every phase (QuietSpan).
   if (config_.report_misses) {
     const Vec3 floor = pulse_noise_of(window.sample_noise, window.sample_rate_hz);
-    for (const auto& t : tracks_) {
-      if (t.shadow || t.merged) continue;
-      const auto due = whole_pulse_due(t, window.t0_s, window_end);
-      if (!due) continue;
-      const bool heard = std::any_of(r.pulses.begin(), r.pulses.end(), [&](const DetectedPulse& p) {
-        return on_carrier(t, p) || (p.end_s > due->first && p.start_s < due->second);
-      });
-      if (heard) continue;
+    std::vector<QuietSpan::Interval> pulse_spans;
+    for (const auto& p : r.pulses) pulse_spans.emplace_back(p.start_s, p.end_s);
+    for (auto& t : tracks_) {
+      const bool heard = std::any_of(r.pulses.begin(), r.pulses.end(), [&](const DetectedPulse& p) { return on_carrier(t, p); });
+      if (t.shadow || t.merged || heard || !t.timing.has_period() || !t.on_time_s) {
+        t.quiet.reset();
+        continue;
+      }
+      bool missed = false;
+      if (const auto due = whole_pulse_due(t, window.t0_s, window_end)) {
+        missed = std::none_of(r.pulses.begin(), r.pulses.end(),
+                              [&](const DetectedPulse& p) { return p.end_s > due->first && p.start_s < due->second; });
+      }
+      if (!missed) {
+        t.quiet.add_window(window.t0_s, window_end, *t.on_time_s + config_.on_time_tolerance_s, pulse_spans,
+                           config_.timing_gate_sigmas * config_.edge_sigma_s);
+        missed = t.quiet.every_phase_covered(t.timing.period_s(), config_.timing_gate_sigmas * t.timing.period_sigma_s());
+      }
+      if (!missed) continue;
+      t.quiet.reset();  // the next miss needs a pulse of its own
       SeparatedSample miss;
       miss.signal_id = t.id;
       miss.noise = floor;

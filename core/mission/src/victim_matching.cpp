@@ -1,6 +1,7 @@
 #include "sarloc/core/mission/victim_matching.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "sarloc/core/incident/assignment.hpp"
 
@@ -10,10 +11,15 @@ std::vector<int> match_to_truth(const std::vector<VictimSpec>& truth, const std:
                                 double radius_m) {
   if (fused.empty()) return std::vector<int>(truth.size(), -1);
   Eigen::MatrixXd cost(static_cast<Eigen::Index>(truth.size()), static_cast<Eigen::Index>(fused.size()));
-  for (std::size_t i = 0; i < truth.size(); ++i) {
-    for (std::size_t j = 0; j < fused.size(); ++j) {
+  for (std::size_t j = 0; j < fused.size(); ++j) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto& t : truth) nearest = std::min(nearest, (fused[j].position.position - t.position).norm());
+    for (std::size_t i = 0; i < truth.size(); ++i) {
       const double d = (fused[j].position.position - truth[i].position).norm();
-      cost(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = d <= radius_m ? d : incident::kInfeasible;
+      // Only its nearest buried victim: a second copy of one victim never stands in for
+      // another one nearby (seen: a duplicate of A, 3 m from B, ended a mission as "B found").
+      const bool feasible = d <= radius_m && d <= nearest;
+      cost(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = feasible ? d : incident::kInfeasible;
     }
   }
   return incident::solve_assignment(cost);

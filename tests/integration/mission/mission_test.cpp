@@ -54,12 +54,15 @@ std::string file_text(const fs::path& path) {
 
 // Every victim found, exactly as many victims in the picture as were buried, and the finder's
 // own estimate (what the diggers use) within 0.5 m. `max_incident_error_m` bounds the fused
-// incident-frame error, which includes the finder's GNSS error.
-void expect_complete(const MissionRun& run, double max_incident_error_m = 1.0) {
+// incident-frame error, which includes the finder's GNSS error. With `unconfirmed_contacts`
+// the picture may also hold unconfirmed contacts (a signal a device still tracks, not located):
+// only the confirmed victims must be exactly the buried ones.
+void expect_complete(const MissionRun& run, double max_incident_error_m = 1.0, bool unconfirmed_contacts = false) {
   ASSERT_FALSE(run.summary.is_null()) << "no summary; see " << run.run_dir;
   EXPECT_EQ(run.exit_code, 0) << file_text(run.run_dir / "mission.out");
   EXPECT_TRUE(run.summary["all_found"].get<bool>());
-  EXPECT_EQ(run.summary["fused_victim_count"], run.summary["true_victim_count"]) << "duplicates or misses";
+  const auto& count = unconfirmed_contacts ? run.summary["confirmed_fused_victim_count"] : run.summary["fused_victim_count"];
+  EXPECT_EQ(count, run.summary["true_victim_count"]) << "duplicates or misses: " << run.summary["fused_victims"].dump();
   for (const auto& v : run.summary["victims"]) {
     EXPECT_TRUE(v["found"].get<bool>()) << v.dump();
     ASSERT_FALSE(v["error_m"].is_null()) << v.dump();
@@ -78,9 +81,17 @@ TEST(Mission, SmallMissionFindsEveryVictimExactlyOnce) {
 
 TEST(Mission, FourVictimsWithinFiveMetresAreEachFoundOnceWithTheRealisticReceiver) {
   // config/missions/four-within-5m.yaml: pulses on nearly one period overlap for long stretches;
-  // every device separates them itself. No ghost, no victim twice, each found by a finder.
+  // every device separates them itself. No ghost, no victim twice, each found by a finder. The
+  // mission stops the moment the last victim is found: a device may then still track a second
+  // signal of a found transmitter (its pulses blended with a neighbour's), which the picture
+  // shows as an unconfirmed contact, never as a victim.
   const auto run = run_mission(std::string(SARLOC_SOURCE_DIR) + "/config/missions/four-within-5m.yaml", kDomainMissionFourWithin5m);
-  expect_complete(run);
+  expect_complete(run, 1.0, true);
+  for (const auto& v : run.summary["fused_victims"]) {
+    if (!v["confirmed"].get<bool>()) {
+      EXPECT_FALSE(v["found"].get<bool>()) << v.dump();
+    }
+  }
   ASSERT_FALSE(run.summary.is_null());
   EXPECT_EQ(run.summary["true_victim_count"], 4);
   EXPECT_EQ(run.summary["confirmed_fused_victim_count"], 4) << "a ghost or a victim twice: " << run.summary.dump();

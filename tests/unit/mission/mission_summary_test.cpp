@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "sarloc/core/mission/mission_summary.hpp"
+#include "sarloc/core/mission/victim_matching.hpp"
 
 namespace sarloc::mission {
 namespace {
@@ -68,6 +69,25 @@ TEST(MissionSummary, PictureOutcomesMatchTheTruth) {
   EXPECT_DOUBLE_EQ(*p[0].located_at_s, 40.0);
   EXPECT_FALSE(p[1].matches_a_buried_victim);
   EXPECT_FALSE(p[1].located_at_s.has_value());
+}
+
+// Four within 5 m (a live failure): a second copy of A, 3 m from B, ended the mission as if B
+// had been found, and B, never located, was missing from the final picture.
+TEST(VictimMatching, ACopyOfOneVictimNeverStandsInForAnotherNearby) {
+  MissionScenario s;
+  s.victims = {{"A", Vec3(-1.5, 39.0, -1.2), Vec3(0.01, 0, 0), {}, {}}, {"B", Vec3(1.5, 40.0, -1.8), Vec3(0.01, 0, 0), {}, {}}};
+  const std::vector<incident::FusedVictim> picture = {
+      victim(2, Vec3(-1.3, 39.5, -1.1), incident::VictimState::kFound, kEpoch + 37 * kSec),
+      victim(9, Vec3(-1.2, 39.0, -1.3), incident::VictimState::kFound, kEpoch + 45 * kSec)};
+  EXPECT_FALSE(every_victim_found(s.victims, picture));
+  const auto match = match_to_truth(s.victims, picture);
+  EXPECT_GE(match[0], 0);
+  EXPECT_EQ(match[1], -1) << "B matched by a copy of A";
+  // B's own estimate, even if A's copies are nearer to each other than to anything else.
+  auto with_b = picture;
+  with_b.push_back(victim(3, Vec3(1.4, 40.2, -1.8), incident::VictimState::kFound, kEpoch + 50 * kSec));
+  EXPECT_TRUE(every_victim_found(s.victims, with_b));
+  EXPECT_EQ(match_to_truth(s.victims, with_b)[1], 2);
 }
 
 }  // namespace

@@ -45,6 +45,7 @@
 #include "sarloc/core/avalanche/field_measurement.hpp"
 #include "sarloc/core/avalanche/pulse_detector.hpp"
 #include "sarloc/core/avalanche/pulse_timing.hpp"
+#include "sarloc/core/avalanche/quiet_span.hpp"
 
 namespace sarloc::avalanche {
 
@@ -72,8 +73,9 @@ struct SeparatorConfig {
   /// A shadow track (a second transmitter on a tracked carrier) is promoted to a signal after
   /// this many pulses of its own, interleaved with as many of a mate's.
   std::uint32_t shadow_confirm_pulses = 3;
-  /// Report a miss (SeparationReport::misses) when a confirmed track's whole pulse was due in the
-  /// window and nothing was detected on its carrier or over that pulse: negative information.
+  /// Report a miss (SeparationReport::misses) when a confirmed track's whole pulse was due and
+  /// nothing was detected on its carrier or over that pulse: negative information. Due in this
+  /// window by its timing, or for every phase in its carrier's silence since last heard.
   bool report_misses = true;
 
   /// Throws ConfigError "separator.<key> = value: rule".
@@ -102,10 +104,11 @@ struct SeparationReport {
   std::vector<DetectedPulse> pulses;                   ///< everything the detector found
   std::vector<std::optional<std::uint32_t>> attributed;///< per pulse: its signal, or none
   std::vector<SeparatedSample> samples;                ///< at most one per signal: its best pulse
-  /// Signals whose whole pulse was due in the window (their timing says so for every phase
-  /// within its gate, or the period is shorter than the window less the on-time), with nothing
-  /// detected on their carrier or over that pulse: field 0, valid_axes 0, noise the 70 ms
-  /// pulse floor of each axis. Never a signal that has a sample in this window.
+  /// Signals whose whole pulse was due (in the window, for every timing within its gate or for
+  /// any phase when the period is shorter than the window less the on-time; or, in the silence
+  /// of their carrier since last heard, for every phase: QuietSpan), with nothing detected on
+  /// their carrier or over that pulse: field 0, valid_axes 0, noise the 70 ms pulse floor of
+  /// each axis. Never a signal that has a sample in this window.
   std::vector<SeparatedSample> misses;
   std::uint32_t unattributed = 0;
   std::vector<TrackEvent> events;
@@ -144,6 +147,7 @@ class SignalSeparator {
     /// (id, mate's heard then). Publishes nothing until promoted (interleaved()).
     bool shadow = false;
     std::vector<std::pair<std::uint32_t, std::uint32_t>> mates_at_start;
+    QuietSpan quiet;                   ///< its carrier's silence since last heard (misses)
   };
 
   double edge_sigma(const DetectedPulse& p) const;

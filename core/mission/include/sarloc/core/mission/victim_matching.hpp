@@ -11,9 +11,9 @@ namespace sarloc::mission {
 /// Fused victims at most this far (m) from a buried one can be matched to it.
 inline constexpr double kMatchRadiusM = 5.0;
 
-/// One-to-one minimum-total-distance assignment of fused victims to buried ones (pairs more
-/// than radius_m apart are never matched): the index of the fused victim per buried victim, -1
-/// when none.
+/// One-to-one minimum-total-distance assignment of fused victims to buried ones: a fused victim
+/// is matched only to the buried victim nearest to it, and never further than radius_m. The
+/// index of the fused victim per buried victim, -1 when none.
 std::vector<int> match_to_truth(const std::vector<VictimSpec>& truth, const std::vector<incident::FusedVictim>& fused,
                                 double radius_m = kMatchRadiusM);
 
