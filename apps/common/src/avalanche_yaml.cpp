@@ -71,6 +71,7 @@ void read_sog(YamlReader r, avalanche::SogConfig& c) {
   r.read("idle_rotation_sigma_rad", c.idle_rotation_sigma_rad);
   r.read("use_orientation", c.use_orientation);
   r.read("surface_constraint", c.surface_constraint);
+  r.read("moment_constraint", c.moment_constraint);
   r.read("reinit_gate_probability", c.reinit_gate_probability);
   r.read("reinit_after", c.reinit_after);
   r.read("divergence_window", c.divergence_window);

@@ -15,6 +15,8 @@ SeparatorConfig separator_config(const SimulationConfig& c) {
   s.calibration_relative = c.receiver.calibration_relative;
   s.detector.search_band_hz = c.receiver.carrier_tolerance_hz + 20.0;
   s.detector.max_on_time_s = 1e-3 * c.receiver.on_time_max_ms * 1.1;
+  s.wavenumber_rad_per_m = wavenumber(c.receiver);
+  s.moment_max_A_m2 = c.standard.moment_max();
   return s;
 }
 

@@ -80,11 +80,14 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
   tr.min_carrier_gap_hz = min_gap;
   std::set<std::size_t> found_victims;
   std::set<std::uint32_t> reported, signals;
+  std::map<std::uint32_t, std::map<std::size_t, std::uint32_t>> pulses_of;  // truth: per signal, per beacon
   std::uint64_t odometry_sequence = 0;
   for (std::uint32_t step = 1; step <= setup.evaluation.step_budget; ++step) {
     const TimestampNs stamp = static_cast<TimestampNs>(step) * 1'000'000'000;
     const Listening heard = receiver.listen(pose, beacons, static_cast<double>(step), 1.0);
     tr.wrong_attributions += heard.wrong_attributions;
+    for (const auto& h : heard.samples)
+      if (h.transmitter) ++pulses_of[h.sample.signal_id][*h.transmitter];
     tr.unattributed_pulses += heard.report.unattributed;
     const OrientationObservation attitude = simulate_attitude(sim, pose, rng);
     std::optional<Guidance> guidance;
@@ -97,18 +100,23 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
       if (!update->estimate || update->estimate->status != EstimatorStatus::kFound || reported.count(m.signal_id) != 0)
         continue;
       reported.insert(m.signal_id);
-      // A FOUND: is it a victim, one not found before?
+      // A FOUND: is it a victim, one not found before? The signal's own transmitter (the one
+      // most of its samples came from) when it is within reach, else the nearest one that is:
+      // two victims 0.3 m apart, each found by its own signal, are two victims found.
       const Vec3 where = pose.position + update->estimate->relative.position;
-      const double r95 = radius95_3d(update->estimate->relative.covariance);
+      const double reach = radius95_3d(update->estimate->relative.covariance) + kFalseFoundMarginM;
       std::optional<std::size_t> victim;
       double best = 1e300;
       for (std::size_t v = 0; v < beacons.size(); ++v) {
         const double d = (beacons[v].position - where).norm();
-        if (d <= r95 + kFalseFoundMarginM && d < best) {
+        if (d <= reach && d < best) {
           best = d;
           victim = v;
         }
       }
+      const auto& own = pulses_of[m.signal_id];
+      const auto majority = std::max_element(own.begin(), own.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+      if (majority != own.end() && (beacons[majority->first].position - where).norm() <= reach) victim = majority->first;
       if (!victim) ++tr.ghosts;
       else if (!found_victims.insert(*victim).second) ++tr.duplicates;
     }

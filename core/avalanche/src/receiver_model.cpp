@@ -77,6 +77,12 @@ Vec3 principal_axis(const Vec3c& a) { return ellipse_aligned(a).real(); }
 
 Vec3 minor_axis(const Vec3c& a) { return ellipse_aligned(a).imag(); }
 
+double single_transmitter_ellipticity(double major_A_per_m, double k, double moment_max_A_m2) {
+  if (!(major_A_per_m > 0.0)) return 1.0;
+  const double kr = k * std::cbrt(2.0 * moment_max_A_m2 / (4.0 * kPi * major_A_per_m));
+  return std::min(1.0, 0.6 * kr * kr * kr);
+}
+
 ReceiverHardware ReceiverHardware::draw(const ReceiverModelConfig& config, std::mt19937_64& rng) {
   const double mis = config.misalignment_sigma_deg * kPi / 180.0;
   ReceiverHardware hw;

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <utility>
 
+#include "sarloc/core/avalanche/receiver_model.hpp"
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
 
@@ -48,7 +49,9 @@ void SeparatorConfig::validate() const {
   check("timing.clock_jitter_s", timing.clock_jitter_s, 0.0, 0.1);
   check("timing.reanchor_period_sigma_s", timing.reanchor_period_sigma_s, 0.0, 0.5);
   check("max_variance_inflation", max_variance_inflation, 1.0, 100.0);
-  check("max_ellipticity", max_ellipticity, 0.0, 1.0);
+  check("channel_ellipticity", channel_ellipticity, 0.0, 1.0);
+  check("wavenumber_rad_per_m", wavenumber_rad_per_m, 0.0, 1.0);
+  check("moment_max_A_m2", moment_max_A_m2, 1e-6, 10.0);
   check("lost_after_s", lost_after_s, 1.0, 600.0);
   check("forget_after_s", forget_after_s, lost_after_s, 86400.0);
   check("log_likelihood_margin", log_likelihood_margin, 0.0, 1000.0);
@@ -132,6 +135,17 @@ std::optional<std::pair<double, double>> SignalSeparator::whole_pulse_due(const 
   return std::nullopt;
 }
 
+SignalSeparator::Track& SignalSeparator::start_track(const DetectedPulse& p, const std::vector<Track*>& carrier_matches) {
+  Track t;
+  t.id = next_id_++;
+  t.carrier_hz = p.carrier_offset_hz;
+  t.timing = PulseTiming(config_.timing);
+  t.shadow = !carrier_matches.empty();
+  for (const Track* m : carrier_matches) t.mates_at_start.emplace_back(m->id, m->heard);
+  tracks_.push_back(t);  // capacity reserved: pointers into tracks_ stay valid
+  return tracks_.back();
+}
+
 void SignalSeparator::learn(Track& t, const DetectedPulse& p) {
   // Weighted by statistic, but no pulse counts for more than a tenth of the track's history: at
   // close range (statistic 1e9 and more) one burst measured off (a residual next to a strong
@@ -150,24 +164,41 @@ void SignalSeparator::learn(Track& t, const DetectedPulse& p) {
   if (const auto start = start_of(t, p)) t.timing.update(start->first, start->second);
 }
 
-bool SignalSeparator::another_transmitter(const std::vector<Track*>& mates, const DetectedPulse& p) const {
-  for (const Track* t : mates) {
-    // Only a mate that knows its timing and was heard on it within the last period and a half
-    // can say the pulse is not its own (one silent longer may have drifted off its timing).
-    if (!t->timing.has_period() || t->lost || !t->on_time_s) return false;
-    if (p.start_s - t->last_heard_s > 1.5 * t->timing.period_s()) return false;
-    const auto start = start_of(*t, p);
-    if (!start) return false;
-    const auto fit = t->timing.fit(start->first, start->second);
-    if (!fit) return false;
-    // The pulse must not touch the mate's predicted pulse (its learnt on-time, widened by the
-    // gate): a piece of the mate's own pulse repeats with it and would look interleaved.
-    const double margin = config_.timing_gate_sigmas * std::sqrt(fit->variance_s2) + config_.on_time_tolerance_s;
-    const bool after = fit->innovation_s > *t->on_time_s + margin;
-    const bool before = fit->innovation_s + (p.end_s - p.start_s) < -margin;
-    if (!after && !before) return false;
+bool SignalSeparator::clear_of_timing(const Track& t, const DetectedPulse& p) const {
+  // Only a mate that knows its timing and was heard on it within the last period and a half
+  // can say the pulse is not its own (one silent longer may have drifted off its timing).
+  if (!t.timing.has_period() || t.lost || !t.on_time_s) return false;
+  if (p.start_s - t.last_heard_s > 1.5 * t.timing.period_s()) return false;
+  const auto start = start_of(t, p);
+  if (!start) return false;
+  const auto fit = t.timing.fit(start->first, start->second);
+  if (!fit) return false;
+  // The pulse must not touch the mate's predicted pulse (its learnt on-time, widened by the
+  // gate): a piece of the mate's own pulse repeats with it and would look interleaved.
+  const double margin = config_.timing_gate_sigmas * std::sqrt(fit->variance_s2) + config_.on_time_tolerance_s;
+  const bool after = fit->innovation_s > *t.on_time_s + margin;
+  const bool before = fit->innovation_s + (p.end_s - p.start_s) < -margin;
+  return after || before;
+}
+
+bool SignalSeparator::heard_at_once(const Track& t, const DetectedPulse& p, const SeparationReport& r) const {
+  for (std::size_t j = 0; j < r.pulses.size(); ++j) {
+    if (r.attributed[j] != t.id) continue;
+    const DetectedPulse& q = r.pulses[j];
+    if (q.truncated() || q.end_s - q.start_s < config_.detector.min_on_time_s) continue;
+    const double overlap = std::min(p.end_s, q.end_s) - std::max(p.start_s, q.start_s);
+    if (overlap < 0.5 * config_.detector.min_on_time_s) continue;
+    // Distinct edges: two pieces of one burst would share at least one.
+    const double gate = config_.timing_gate_sigmas * std::hypot(edge_sigma(p), edge_sigma(q)) + config_.on_time_tolerance_s;
+    if (std::fabs(p.start_s - q.start_s) > gate && std::fabs(p.end_s - q.end_s) > gate) return true;
   }
-  return true;
+  return false;
+}
+
+bool SignalSeparator::another_transmitter(const std::vector<Track*>& mates, const DetectedPulse& p,
+                                          const SeparationReport& r) const {
+  return std::all_of(mates.begin(), mates.end(),
+                     [&](const Track* t) { return clear_of_timing(*t, p) || heard_at_once(*t, p, r); });
 }
 
 bool SignalSeparator::interleaved(const Track& shadow) const {
@@ -240,8 +271,10 @@ bool SignalSeparator::better_fit_elsewhere(const Track& chosen, const std::vecto
 }
 
 bool SignalSeparator::elliptical(const DetectedPulse& p) const {
-  return minor_axis(p.amplitude).norm() >
-         config_.max_ellipticity * principal_axis(p.amplitude).norm() + 3.0 * p.amplitude_noise.norm();
+  const double major = principal_axis(p.amplitude).norm();
+  const double bound = config_.channel_ellipticity +
+                       single_transmitter_ellipticity(major, config_.wavenumber_rad_per_m, config_.moment_max_A_m2);
+  return minor_axis(p.amplitude).norm() > bound * major + 3.0 * p.amplitude_noise.norm();
 }
 
 SeparatedSample SignalSeparator::sample_of(const DetectedPulse& p, std::uint32_t id, std::size_t index) const {
@@ -322,15 +355,8 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
       chosen = carrier_matches.front();  // unheard a while, its timing drifted: reanchor on this pulse
       chosen->timing.reanchor();
     } else if (!p.truncated() && tracks_.size() < config_.max_signals &&
-               (carrier_matches.empty() || another_transmitter(carrier_matches, p))) {
-      Track t;
-      t.id = next_id_++;
-      t.carrier_hz = p.carrier_offset_hz;
-      t.timing = PulseTiming(config_.timing);
-      t.shadow = !carrier_matches.empty();
-      for (const Track* m : carrier_matches) t.mates_at_start.emplace_back(m->id, m->heard);
-      tracks_.push_back(t);  // capacity reserved: carrier_matches stays valid
-      chosen = &tracks_.back();
+               (carrier_matches.empty() || another_transmitter(carrier_matches, p, r))) {
+      chosen = &start_track(p, carrier_matches);
     }
     if (chosen == nullptr) continue;  // on a known carrier at the wrong time, or no room
     if (carrier_matches.size() > 1 && better_fit_elsewhere(*chosen, carrier_matches, p, i)) continue;
@@ -355,6 +381,28 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
     const bool was_confirmed = chosen->timing.has_period();
     learn(*chosen, p);
     if (!was_confirmed && chosen->timing.has_period() && !chosen->shadow) r.events.push_back({chosen->id, TrackChange::kNew, p.start_s});
+  }
+  // A clean pulse on a tracked carrier, off its timing, heard at once with that track's own
+  // pulse (both resolved, their edges distinct) is another transmitter's: one cannot pulse twice
+  // at once. Strongest first above, the mate's pulse may have been attributed after this one.
+  // Seen: a weak transmitter 2.2 Hz from a strong one, on its period to 0.01 % and 50 ms ahead,
+  // resolved by the detector near the cluster and never tracked, so never searched.
+  for (std::size_t i : order) {
+    const DetectedPulse& p = r.pulses[i];
+    if (r.attributed[i] || p.truncated() || p.variance_inflation > config_.max_variance_inflation || p.blended ||
+        elliptical(p) || tracks_.size() >= config_.max_signals)
+      continue;
+    std::vector<Track*> carrier_matches;
+    bool timing_of_a_match = false;
+    for (auto& t : tracks_) {
+      if (!on_carrier(t, p)) continue;
+      carrier_matches.push_back(&t);
+      timing_of_a_match = timing_of_a_match || timing_fits(t, p);
+    }
+    if (carrier_matches.empty() || timing_of_a_match || !another_transmitter(carrier_matches, p, r)) continue;
+    Track& t = start_track(p, carrier_matches);
+    r.attributed[i] = t.id;
+    learn(t, p);
   }
   for (std::size_t i = 0; i < r.pulses.size(); ++i)
     if (!r.attributed[i]) ++r.unattributed;

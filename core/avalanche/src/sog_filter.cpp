@@ -277,7 +277,7 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
     ++steps_;
     return result;
   }
-  apply_surface_constraint();
+  apply_priors();
   normalise_and_prune();
   ++steps_;
   if (config_.merge_interval > 0 && steps_ % config_.merge_interval == 0) result.merged = merge();
@@ -528,7 +528,7 @@ void SogFilter::initialise(const FieldMeasurement& meas) {
                           : 0.0;
     components_.push_back(comp);
   }
-  apply_surface_constraint();
+  apply_priors();
   normalise_and_prune();
 }
 
@@ -762,18 +762,37 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, std::uint8_t axes
                      ": every hypothesis became numerically invalid");
 }
 
-double SogFilter::surface_log_support(const SogComponent& c) const {
-  if (!config_.surface_constraint) return 0.0;
-  // log P(p_z <= surface) = log Phi((surface - mu_z) / sigma_z), surface = -antenna height.
-  const double mu = c.x[idx::kPos + 2];
-  const double sd = std::sqrt(c.P(idx::kPos + 2, idx::kPos + 2));
-  return log_normal_cdf((-config_.antenna_height_m - mu) / sd);
+double SogFilter::prior_log_support(const SogComponent& c) const {
+  double support = 0.0;
+  if (config_.surface_constraint) {
+    // log P(p_z <= surface) = log Phi((surface - mu_z) / sigma_z), surface = -antenna height.
+    const double mu = c.x[idx::kPos + 2];
+    const double sd = std::sqrt(c.P(idx::kPos + 2, idx::kPos + 2));
+    support += log_normal_cdf((-config_.antenna_height_m - mu) / sd);
+  }
+  if (config_.moment_constraint) {
+    // log P(lo <= |m| <= hi), |m| ~ N(|m_hat|, u' P_mm u), u = m_hat / |m_hat|; computed from
+    // the nearer bound's tail so that it stays finite far outside.
+    const Vec3 m = c.x.segment<3>(idx::kMom);
+    const double mu = m.norm();
+    if (mu > 0.0) {
+      const Vec3 u = m / mu;
+      const double sd = std::sqrt(std::max(u.dot(c.P.block<3, 3>(idx::kMom, idx::kMom) * u), 1e-30));
+      const double a = (config_.standard.moment_min() * (1.0 - config_.moment_margin) - mu) / sd;
+      const double b = (config_.standard.moment_max() * (1.0 + config_.moment_margin) - mu) / sd;
+      // P = Phi(b) - Phi(a) = Phi(-a) - Phi(-b).
+      const double near = a > -b ? log_normal_cdf(-a) : log_normal_cdf(b);
+      const double far = a > -b ? log_normal_cdf(-b) : log_normal_cdf(a);
+      support += near + std::log1p(-std::min(std::exp(far - near), 1.0 - 1e-16));
+    }
+  }
+  return support;
 }
 
-void SogFilter::apply_surface_constraint() {
-  if (!config_.surface_constraint) return;
+void SogFilter::apply_priors() {
+  if (!config_.surface_constraint && !config_.moment_constraint) return;
   for (auto& c : components_) {
-    const double log_phi = surface_log_support(c);
+    const double log_phi = prior_log_support(c);
     c.log_weight += log_phi - c.log_support;
     c.log_support = log_phi;
   }
@@ -856,7 +875,7 @@ std::size_t SogFilter::merge() {
       ci.log_weight = base + std::log(merged_moments.weight_sum);
       // The members' weights already carry their surface factor: restart the bookkeeping from
       // the merged Gaussian so later steps apply only the change.
-      ci.log_support = surface_log_support(ci);
+      ci.log_support = prior_log_support(ci);
       for (std::size_t g = 0; g + 1 < group.size(); ++g) gone[group[g]] = 1;
       merged += group.size() - 1;
     }

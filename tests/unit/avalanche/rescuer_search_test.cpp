@@ -324,7 +324,7 @@ TEST(RescuerSearch, UnknownMotionStandsInForLateOdometry) {
 
 // Once found, a signal's filter takes no more measurement updates: whatever the rescuer then
 // measures, the published estimate is the found one and the displayed one is it moved by his
-// odometry (so it stays true).
+// odometry (so it stays true); the separation may still ask it how well a field fits.
 TEST(RescuerSearch, FoundEstimateOnlyMovesWithTheOdometry) {
   const auto s = scenario();
   mission::SimulatedRescuer sim(s, "r");
@@ -354,6 +354,12 @@ TEST(RescuerSearch, FoundEstimateOnlyMovesWithTheOdometry) {
   for (auto m : sim.measure(t + 2 * kSecond)) {
     if (m.signal_id != found->signal_id) continue;
     seen = true;
+    // It still answers the separation's question, moved by the odometry: its transmitter's field
+    // here is far likelier than one it could not explain (a carrier-mate's pulse).
+    const auto own = search.log_likelihood(m.signal_id, m.field, m.noise_stddev, m.valid_axes);
+    const auto foreign = search.log_likelihood(m.signal_id, -5.0 * m.field, m.noise_stddev, m.valid_axes);
+    ASSERT_TRUE(own && foreign);
+    EXPECT_GT(*own - *foreign, 9.2);
     m.field = -5.0 * m.field;
     auto outcome = search.process(m);
     ASSERT_TRUE(std::holds_alternative<SearchUpdate>(outcome));

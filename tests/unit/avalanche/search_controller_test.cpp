@@ -310,46 +310,49 @@ TEST(SearchControllerOpening, ParsesHeadingSourceAndNamesABadOne) {
 
 // The opening heading is the most probable bearing of the mixture, held until another bearing
 // is bearing_switch_ratio times as probable; checked step by step against an independent
-// BearingDensity over a weak-signal walk (where the ring stays wide for many steps).
+// BearingDensity over weak-signal walks (where the ring stays wide for many steps), several
+// seeds so that both branches are exercised whatever the filter's details.
 TEST(SearchControllerOpening, HeadsForTheMostProbableBearingWithHysteresis) {
   Scenario s;
   s.transmitter = Vec3(35.0, -30.0, -1.5);
   s.moment = Vec3(0.006, 0.0, 0.004);
   s.receiver = Vec3(0, 0, 1);
-  AvalancheSimulator sim(SimulationConfig{}, s, 5);  // a walk that both holds and turns
-  SogConfig cfg;
-  cfg.initial_components = 600;
-  SogFilter f(cfg);
-  SearchConfig sc;
-  sc.opening_heading = OpeningHeading::kPosteriorBearing;
-  sc.approach_mahalanobis = 0.5;  // the opening this walk was picked for
-  SearchController ctl(sc);
-  const double kernel = sc.bearing_kernel_deg * kPi / 180.0;
-  std::optional<double> held;
   int opening_steps = 0, turns = 0, holds = 0;
-  for (int k = 0; k < 40; ++k) {
-    const FieldMeasurement z = sim.measure();
-    f.process(z);
-    const BearingDensity density(f.components(), kernel);
-    const Guidance g = ctl.guide(f, z);
-    if (g.mode != GuidanceMode::kOpening) break;
-    ++opening_steps;
-    if (!held) {
-      EXPECT_NEAR(g.heading_rad, wrap_angle(density.peak()), 1e-12);
-    } else if (density.at(density.peak()) > sc.bearing_switch_ratio * density.at(*held)) {
-      EXPECT_NEAR(g.heading_rad, wrap_angle(density.peak()), 1e-12) << "step " << k;
-      ++turns;
-    } else {
-      EXPECT_NEAR(g.heading_rad, wrap_angle(*held), 1e-12) << "step " << k;
-      ++holds;
+  for (std::uint64_t seed = 1; seed <= 24; ++seed) {
+    AvalancheSimulator sim(SimulationConfig{}, s, seed);
+    SogConfig cfg;
+    cfg.initial_components = 600;
+    SogFilter f(cfg);
+    SearchConfig sc;
+    sc.opening_heading = OpeningHeading::kPosteriorBearing;
+    sc.approach_mahalanobis = 0.5;  // a long opening
+    SearchController ctl(sc);
+    const double kernel = sc.bearing_kernel_deg * kPi / 180.0;
+    std::optional<double> held;
+    for (int k = 0; k < 40; ++k) {
+      const FieldMeasurement z = sim.measure();
+      f.process(z);
+      const BearingDensity density(f.components(), kernel);
+      const Guidance g = ctl.guide(f, z);
+      if (g.mode != GuidanceMode::kOpening) break;
+      ++opening_steps;
+      if (!held) {
+        EXPECT_NEAR(g.heading_rad, wrap_angle(density.peak()), 1e-12);
+      } else if (density.at(density.peak()) > sc.bearing_switch_ratio * density.at(*held)) {
+        EXPECT_NEAR(g.heading_rad, wrap_angle(density.peak()), 1e-12) << "seed " << seed << " step " << k;
+        ++turns;
+      } else {
+        EXPECT_NEAR(g.heading_rad, wrap_angle(*held), 1e-12) << "seed " << seed << " step " << k;
+        ++holds;
+      }
+      held = g.heading_rad;
+      f.add_odometry(sim.walk(g.bearing_rad, g.step_m));
     }
-    held = g.heading_rad;
-    f.add_odometry(sim.walk(g.bearing_rad, g.step_m));
   }
-  // Both branches were exercised (the scenario and seed were picked for that).
-  EXPECT_GE(opening_steps, 5);
-  EXPECT_GE(turns, 1);
-  EXPECT_GE(holds, 3);
+  // Both branches were exercised.
+  EXPECT_GE(opening_steps, 60);
+  EXPECT_GE(turns, 2);  // 4 turns, 86 holds in 114 opening steps when written
+  EXPECT_GE(holds, 20);
 }
 
 }  // namespace

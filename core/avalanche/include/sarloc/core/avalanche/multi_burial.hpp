@@ -6,7 +6,8 @@
 // signal, the strongest unfound signal next).
 //
 // Per trial: victims found (a FOUND within its stated 95 % radius + kFalseFoundMarginM of a
-// victim not found before), ghosts (a FOUND near no victim), duplicates (a FOUND of a victim
+// victim not found before: the signal's own transmitter, the one most of its samples came from,
+// if it is within that reach, else the nearest victim that is), ghosts (a FOUND near no victim), duplicates (a FOUND of a victim
 // already found: reported twice), wrong attributions (pulses the separation gave to a signal
 // that was another transmitter's), steps (1 s each) and distance walked until all were found.
 //

@@ -86,6 +86,11 @@ Vec3 principal_axis(const Vec3c& a);
 /// 20 m. Two transmitters' pulses summed with different carrier phases are elliptical.
 Vec3 minor_axis(const Vec3c& a);
 
+/// Largest minor / major axis ratio of one transmitter's field whose major axis is `major_A_per_m`:
+/// it is within r_max = cbrt(2 m_max / (4 pi major)) (the strongest transmitter, on its axis),
+/// where the worst orientation reads (k r)^3 / 2; returned with a 20 % margin, 0.6 (k r_max)^3.
+double single_transmitter_ellipticity(double major_A_per_m, double k, double moment_max_A_m2);
+
 /// Per-axis gain and pointing errors of one device: a = G h.
 struct ReceiverHardware {
   Mat3 gain = Mat3::Identity();

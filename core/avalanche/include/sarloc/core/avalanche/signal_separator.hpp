@@ -17,8 +17,9 @@
 //     explains its field by that margin;
 //   - it matches nothing and cannot start a track (cut by the window's edges, or max_signals).
 // A second transmitter on a tracked carrier (carriers within a frequency cell): a clean pulse
-// clear of every carrier-mate's predicted pulse (its learnt on-time, widened by the gate) starts a
-// *shadow* track, which publishes nothing until the evidence says it is another transmitter: it
+// clear of every carrier-mate's predicted pulse (its learnt on-time, widened by the gate), or
+// heard at once with the mate's own pulse in the same window with neither edge shared (one
+// transmitter cannot pulse twice at once), starts a *shadow* track, which publishes nothing until the evidence says it is another transmitter: it
 // has its own period and shadow_confirm_pulses pulses, and a mate was heard on its own timing
 // shadow_confirm_pulses times meanwhile. One transmitter cannot pulse on two interleaved trains,
 // so one is never split into two signals (an earlier version confirmed such a track by its
@@ -46,6 +47,7 @@
 #include "sarloc/core/avalanche/pulse_detector.hpp"
 #include "sarloc/core/avalanche/pulse_timing.hpp"
 #include "sarloc/core/avalanche/quiet_span.hpp"
+#include "sarloc/core/avalanche/transmitter_standard.hpp"
 
 namespace sarloc::avalanche {
 
@@ -63,9 +65,14 @@ struct SeparatorConfig {
   double on_time_tolerance_s = 0.015;
   PulseTimingConfig timing;
   double max_variance_inflation = 2.0;   ///< overlap leaves a pulse this much noisier: unattributable
-  /// Minor / major axis of a pulse's polarisation ellipse above this (beyond 3 sigma of noise):
-  /// two transmitters' pulses summed (one is linear to within 0.1 at 50 m; minor_axis()).
-  double max_ellipticity = 0.15;
+  /// A pulse whose polarisation ellipse is fatter (minor / major axis, beyond 3 sigma of noise)
+  /// than one transmitter's can be is two transmitters' pulses summed. One is linear to within
+  /// single_transmitter_ellipticity() of its strength: 0.6 (k r_max)^3, r_max the range of the
+  /// strongest transmitter of the standard at that strength (0.1 at 50 m, 0.004 at 20 m); the
+  /// device's three channels add channel_ellipticity (their phases matched to about 1.7 deg).
+  double channel_ellipticity = 0.03;
+  double wavenumber_rad_per_m = 2.0 * 3.14159265358979323846 * 457000.0 / 299792458.0;
+  double moment_max_A_m2 = TransmitterStandard{}.moment_max();
   double lost_after_s = 5.0;             ///< declared lost after this silence
   double forget_after_s = 600.0;         ///< a track silent this long is dropped (its id retired)
   double log_likelihood_margin = 9.2;    ///< consistency hook must prefer a track by e^9.2 = 10^4
@@ -160,9 +167,16 @@ class SignalSeparator {
   /// window when the period is short enough for any phase), nullopt if none is sure to.
   std::optional<std::pair<double, double>> whole_pulse_due(const Track& t, double w0, double w1) const;
   bool elliptical(const DetectedPulse& p) const;
-  /// Every carrier-mate knows its timing, was heard within 1.5 periods and predicts its pulse
-  /// further than the standard's longest on-time (plus its gate) from this one.
-  bool another_transmitter(const std::vector<Track*>& mates, const DetectedPulse& p) const;
+  /// The mate knows its timing, was heard within 1.5 periods and predicts its pulse clear of
+  /// this one (its learnt on-time, widened by its gate and on_time_tolerance_s).
+  bool clear_of_timing(const Track& mate, const DetectedPulse& p) const;
+  /// A whole pulse attributed to the mate in this window overlaps this one in time, and neither
+  /// edge is shared: two transmitters pulsing at once.
+  bool heard_at_once(const Track& mate, const DetectedPulse& p, const SeparationReport& r) const;
+  /// Every carrier-mate is either clear_of_timing or heard_at_once: not its pulse.
+  bool another_transmitter(const std::vector<Track*>& mates, const DetectedPulse& p, const SeparationReport& r) const;
+  /// A new track for p; a shadow of its carrier-mates if it has any.
+  Track& start_track(const DetectedPulse& p, const std::vector<Track*>& carrier_matches);
   /// A shadow heard shadow_confirm_pulses times on its own period while a mate was too.
   bool interleaved(const Track& shadow) const;
   const Track* find(std::uint32_t id) const;
