@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <thread>
@@ -73,8 +74,39 @@ void print_map_error(const ff::MapErrorExperiment& m) {
     std::printf("%8.0f %12.2f %10.2f %10s %12s\n", s.t, s.variance_m2, s.error_m, s.converged ? "yes" : "no",
                 s.map_error_suspected ? "RAISED" : "-");
   }
-  std::printf("flag raised: %s; recovered (at the end: converged, flag cleared, within 2 m): %s\n", m.raised ? "yes" : "no",
-              m.recovered ? "yes" : "no");
+  std::printf("flag raised: %s; recovered (at the end: converged, flag cleared, within 2 m): %s; "
+              "cleared while converged more than 2 m off: %.1f s\n",
+              m.raised ? "yes" : "no", m.recovered ? "yes" : "no", m.cleared_while_off_s);
+}
+
+// `--rows`: names of standard_variants(), or "default" for the configured default's two rows.
+std::vector<ff::FilterVariant> chosen_rows(const std::string& rows, const ff::MapFilterConfig& filter) {
+  const auto all = ff::standard_variants();
+  if (rows.empty()) return all;
+  std::vector<std::string> names;
+  std::size_t start = 0;
+  while (start <= rows.size()) {
+    const std::size_t comma = std::min(rows.find(',', start), rows.size());
+    const std::string name = rows.substr(start, comma - start);
+    if (name == "default") {
+      names.push_back(ff::variant_name(true, filter.pseudo_observations, filter.resampling));
+      names.push_back(ff::variant_name(false, filter.pseudo_observations, filter.resampling));
+    } else {
+      names.push_back(name);
+    }
+    start = comma + 1;
+  }
+  std::vector<ff::FilterVariant> out;
+  for (const std::string& name : names) {
+    const auto it = std::find_if(all.begin(), all.end(), [&](const ff::FilterVariant& v) { return v.name == name; });
+    if (it == all.end()) {
+      std::string known;
+      for (const auto& v : all) known += (known.empty() ? "" : ", ") + v.name;
+      throw ConfigError("--rows: unknown row '" + name + "' (rows: default, " + known + ")");
+    }
+    if (std::none_of(out.begin(), out.end(), [&](const ff::FilterVariant& v) { return v.name == name; })) out.push_back(*it);
+  }
+  return out;
 }
 
 bool check_targets(const ff::FirefighterSummary& s, const ff::MapFilterConfig& filter, double every_s) {
@@ -133,6 +165,9 @@ CLI::App* add_firefighter_command(CLI::App& app, FirefighterOptions& o) {
   cmd->add_option("--plot", o.plot_path, "draw the RMSE curves to this SVG file");
   cmd->add_option("--map-error-door", o.map_error_door, "door moved in the map-error experiment (default: chosen)");
   cmd->add_option("--map-error-shift", o.map_error_shift_m, "how far it moves along its wall (m)")->capture_default_str();
+  cmd->add_option("--rows", o.rows,
+                  "comma-separated configurations to run (e.g. known/weights,unknown/no-pseudo), or 'default' for the "
+                  "configured default's two rows (default: all eight)");
   cmd->add_flag("--no-map-error", o.no_map_error, "skip the map-error experiment");
   cmd->add_flag("--no-target-check", o.no_target_check, "exit 0 even when a target is missed");
   return cmd;
@@ -141,6 +176,7 @@ CLI::App* add_firefighter_command(CLI::App& app, FirefighterOptions& o) {
 int run_firefighter_command(const FirefighterOptions& o) {
   ff::FloorPlan plan;
   ff::FirefighterEvalConfig config;
+  std::vector<ff::FilterVariant> rows;
   try {
     plan = app::load_floor_plan(o.building);
     if (!o.config_path.empty()) load_firefighter_config(o.config_path, config);
@@ -148,6 +184,7 @@ int run_firefighter_command(const FirefighterOptions& o) {
     if (o.seed) config.seed = *o.seed;
     if (o.threads) config.threads = *o.threads;
     config.validate();
+    rows = chosen_rows(o.rows, config.filter);
   } catch (const Error& e) {
     spdlog::error("configuration: {}", e.what());
     return to_int(ExitCode::kConfig);
@@ -158,7 +195,7 @@ int run_firefighter_command(const FirefighterOptions& o) {
   ff::FirefighterSummary summary;
   ff::MapErrorExperiment map_error;
   try {
-    ff::FirefighterEvaluation evaluation(plan, config);
+    ff::FirefighterEvaluation evaluation(plan, config, rows);
     app::ProgressBar bar("runs", config.runs);
     summary = evaluation.run([&bar] { bar.tick(); }, [] { return app::shutdown_requested(); });
     bar.finish();

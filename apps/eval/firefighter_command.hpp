@@ -19,6 +19,7 @@ struct FirefighterOptions {
   std::string plot_path;
   std::string map_error_door;
   double map_error_shift_m = 2.0;
+  std::string rows;  ///< comma-separated row names, "default", or empty: all eight
   bool no_map_error = false;
   bool no_target_check = false;
 };

@@ -318,7 +318,8 @@ nlohmann::json to_json(const firefighter::FirefighterSummary& s, double rmse_eve
                           {"converged", m.converged}, {"map_error_suspected", m.map_error_suspected}});
     }
     j["map_error"] = {{"door", map_error->door}, {"shift_m", map_error->shift_m}, {"raised", map_error->raised},
-                      {"recovered", map_error->recovered}, {"timeline", timeline}};
+                      {"recovered", map_error->recovered},
+                      {"cleared_while_off_s", map_error->cleared_while_off_s}, {"timeline", timeline}};
   }
   return j;
 }

@@ -52,11 +52,4 @@ Mat3 euler_rate_to_world(const Vec3& rpy) { return EulerTrig::from_rpy(rpy).rate
 
 Mat3 world_to_euler_rate(const Vec3& rpy) { return EulerTrig::from_rpy(rpy).world_to_rate(); }
 
-double wrap_angle(double a) {
-  constexpr double kPi = 3.14159265358979323846;
-  a = std::fmod(a + kPi, 2.0 * kPi);
-  if (a <= 0.0) a += 2.0 * kPi;
-  return a - kPi;
-}
-
 }  // namespace sarloc::avalanche

@@ -381,6 +381,9 @@ MapErrorExperiment FirefighterEvaluation::map_error_experiment(std::string door,
     const double error = (e.position - m.truth[k]).norm();
     out.timeline.push_back({m.t[k], e.variance_m2, error, e.converged, e.map_error_suspected});
     if (e.map_error_suspected) out.raised = true;
+    if (out.raised && e.converged && !e.map_error_suspected && error > 2.0) {
+      out.cleared_while_off_s += 1.0 / config_.odometry_rate_hz;
+    }
   }
   const MapErrorSample& end = out.timeline.back();
   out.recovered = out.raised && end.converged && !end.map_error_suspected && end.error_m <= 2.0;

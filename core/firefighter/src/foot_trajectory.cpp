@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/errors.hpp"
 
 namespace sarloc::firefighter {
@@ -35,7 +36,6 @@ Profile pitch_shape(double s) {
   return {kScale * l * b.f, kScale * (l * b.d1 - 2.0 * b.f), kScale * (l * b.d2 - 4.0 * b.d1)};
 }
 
-double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 
 struct GaitShape {
   double lift_m;
@@ -95,7 +95,7 @@ FootState FootTrajectory::at(double t) const {
   s.position = a.position + m.f * d + lift.f * up;
   s.velocity = (m.d1 * d + lift.d1 * up) / T;
   s.acceleration = (m.d2 * d + lift.d2 * up) / (T * T);
-  const double dyaw = wrap(b.yaw - a.yaw);
+  const double dyaw = wrap_angle(b.yaw - a.yaw);
   s.yaw = a.yaw + m.f * dyaw;
   s.yaw_rate = m.d1 * dyaw / T;
   s.pitch = g.pitch_rad * p.f;

@@ -1,11 +1,14 @@
 #include "sarloc/core/firefighter/map_particle_filter.hpp"
 
 #include <algorithm>
+#include <boost/random/normal_distribution.hpp>
 #include <cmath>
 #include <numeric>
 #include <string>
+#include <tuple>
 #include <unordered_set>
 
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/validate.hpp"
 #include "sarloc/core/firefighter/point_index.hpp"
@@ -20,7 +23,6 @@ constexpr double kHeightLeak = 0.05;
 // particles soon after the cloud concentrates, rarely enough not to deplete it by redrawing.
 constexpr std::uint32_t kAdaptEveryMovingSteps = 4;
 
-double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 Vec2 rotate(const Vec2& v, double a) {
   return {std::cos(a) * v.x() - std::sin(a) * v.y(), std::sin(a) * v.x() + std::cos(a) * v.y()};
 }
@@ -94,7 +96,7 @@ void MapParticleFilter::init_known(const Vec2& position, std::size_t floor, doub
   particles_.assign(config_.particles, Particle{});
   for (Particle& p : particles_) {
     p.position = position + config_.known_position_sigma_m * Vec2(n(rng), n(rng));
-    p.heading = wrap(heading + config_.known_heading_sigma_deg * kDeg * n(rng));
+    p.heading = wrap_angle(heading + config_.known_heading_sigma_deg * kDeg * n(rng));
     p.floor = floor;
     p.z = plan_.floors.at(floor).elevation_m;
   }
@@ -141,7 +143,9 @@ bool MapParticleFilter::on_stairs(Particle& p) const {
 void MapParticleFilter::predict(const Eigen::Vector3d& delta, std::mt19937_64& rng) {
   if (!delta.allFinite()) throw InputError("odometry delta: not finite");
   if (particles_.empty()) throw InputError("predict before init");
-  std::normal_distribution<double> n(0.0, 1.0);
+  // Ziggurat (Boost.Random): three normals per particle per step, where the standard library's
+  // polar method cost a quarter of an unknown start's time.
+  boost::random::normal_distribution<double> n(0.0, 1.0);
   const double walked = delta.head<2>().norm();
   const bool moving = walked > config_.moving_threshold_m;
   const double heading_sigma = config_.heading_noise_deg_per_m * kDeg * walked;
@@ -152,7 +156,7 @@ void MapParticleFilter::predict(const Eigen::Vector3d& delta, std::mt19937_64& r
     Particle& p = particles_[i];
     const Vec2 from = p.position;
     const std::size_t floor = p.floor;
-    p.heading = wrap(p.heading + heading_sigma * n(rng));
+    p.heading = wrap_angle(p.heading + heading_sigma * n(rng));
     p.position += rotate(delta.head<2>(), p.heading);
     if (moving) p.position += config_.position_noise_m * Vec2(n(rng), n(rng));
     p.z += delta.z();
@@ -261,34 +265,46 @@ void MapParticleFilter::update(const std::vector<PseudoObservation>& observation
   if (!config_.pseudo_observations || observations.empty() || particles_.empty()) return;
   if (!std::isfinite(walk_heading_ins)) throw InputError("walk heading: not finite");
   const double inv_sigma2 = 1.0 / (config_.likelihood_sigma * config_.likelihood_sigma);
-  // One k-d tree per floor over the observations' positions.
-  std::vector<std::vector<std::size_t>> ids(plan_.floors.size());
+  // One k-d tree per floor over the observations' distinct positions (a node carries one per
+  // column and more where sequences share it), each position with its observations: a particle
+  // then needs only its nearest position.
   std::vector<std::vector<Vec2>> points(plan_.floors.size());
-  for (std::size_t k = 0; k < observations.size(); ++k) {
-    ids[observations[k].floor].push_back(k);
-    points[observations[k].floor].push_back(observations[k].position);
+  std::vector<std::vector<std::vector<std::size_t>>> observations_at(plan_.floors.size());
+  {
+    std::vector<std::size_t> order(observations.size());
+    std::iota(order.begin(), order.end(), 0);
+    const auto key = [&](std::size_t k) {
+      const auto& o = observations[k];
+      return std::make_tuple(o.floor, o.position.x(), o.position.y());
+    };
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
+    for (std::size_t r = 0; r < order.size(); ++r) {
+      const PseudoObservation& o = observations[order[r]];
+      if (r == 0 || key(order[r - 1]) != key(order[r])) {
+        points[o.floor].push_back(o.position);
+        observations_at[o.floor].emplace_back();
+      }
+      observations_at[o.floor].back().push_back(order[r]);
+    }
   }
   std::vector<std::unique_ptr<PointIndex>> index(plan_.floors.size());
   for (std::size_t f = 0; f < plan_.floors.size(); ++f) {
     if (!points[f].empty()) index[f] = std::make_unique<PointIndex>(points[f]);
   }
   // eq. (2): per particle, the RMSE of the observation at the nearest position whose heading is
-  // closest to the particle's walking direction.
+  // closest to the particle's walking direction (of two as close, the better fit).
   std::vector<double> log_w(particles_.size(), -std::numeric_limits<double>::infinity());
-  constexpr std::size_t kK = 8;
-  std::uint32_t nn[kK];
-  double d2[kK];
   for (std::size_t i = 0; i < particles_.size(); ++i) {
     const Particle& p = particles_[i];
     if (!index[p.floor] || !(weights_[i] > 0.0)) continue;
-    const std::size_t found = index[p.floor]->nearest_k(p.position, kK, nn, d2);
-    const double walking = wrap(p.heading + walk_heading_ins);
+    double d2 = 0.0;
+    const std::uint32_t nearest = index[p.floor]->nearest(p.position, d2);
+    const double walking = wrap_angle(p.heading + walk_heading_ins);
     double best_turn = 1e300, e = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < found; ++k) {
-      if (d2[k] > d2[0] + 1e-9) break;  // only the positions identical to the nearest
-      const PseudoObservation& o = observations[ids[p.floor][nn[k]]];
-      const double turn = std::abs(wrap(o.heading - walking));
-      if (turn < best_turn) {
+    for (std::size_t k : observations_at[p.floor][nearest]) {
+      const PseudoObservation& o = observations[k];
+      const double turn = std::abs(wrap_angle(o.heading - walking));
+      if (turn < best_turn || (turn == best_turn && o.rmse < e)) {  // ties: the better fit
         best_turn = turn;
         e = o.rmse;
       }
@@ -346,7 +362,7 @@ void MapParticleFilter::update(const std::vector<PseudoObservation>& observation
     }
     p.floor = o.floor;
     p.z = plan_.floors[o.floor].elevation_m;
-    p.heading = wrap(o.frame_heading + config_.replace_heading_sigma_deg * kDeg * n(rng));
+    p.heading = wrap_angle(o.frame_heading + config_.replace_heading_sigma_deg * kDeg * n(rng));
     weights_[order[r]] = 1.0 / static_cast<double>(particles_.size());
   }
   total = std::accumulate(weights_.begin(), weights_.end(), 0.0);

@@ -36,11 +36,6 @@ std::uint32_t PointIndex::nearest(const Vec2& query, double& distance_sq) const 
   return index;
 }
 
-std::size_t PointIndex::nearest_k(const Vec2& query, std::size_t k, std::uint32_t* indices, double* distances_sq) const {
-  const double q[2] = {query.x(), query.y()};
-  return impl_->tree->knnSearch(q, k, indices, distances_sq);
-}
-
 const std::vector<Vec2>& PointIndex::points() const { return impl_->points; }
 
 }  // namespace sarloc::firefighter

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <memory>
 
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/validate.hpp"
 #include "sarloc/core/firefighter/wall_index.hpp"
@@ -19,7 +20,6 @@ constexpr double kMinClearanceM = 0.15;
 constexpr double kCrawlStanceFraction = 0.75;
 
 Vec2 dir(double heading) { return {std::cos(heading), std::sin(heading)}; }
-double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 
 class Walker {
  public:
@@ -133,12 +133,12 @@ class Walker {
       // Steer to hold the offset from the followed wall.
       turn = std::clamp(side_ * 20.0 * kDeg * (dside - offset_), -6.0 * kDeg, 6.0 * kDeg);
     }
-    heading_ = wrap(heading_ + turn);
+    heading_ = wrap_angle(heading_ + turn);
     turned_ += std::abs(turn);
     if (advance > 0.0) {
       const Vec2 next = pos_ + advance * dir(heading_);
       if (world().crosses(pos_, next) || world().clearance(next) < kMinClearanceM) {
-        heading_ = wrap(heading_ - side_ * 10.0 * kDeg);
+        heading_ = wrap_angle(heading_ - side_ * 10.0 * kDeg);
         turned_ += 10.0 * kDeg;
         advance = 0.0;
         if (mode_ != Mode::kFollow) mode_ = Mode::kLost;
@@ -247,10 +247,10 @@ class Walker {
       f.floor = floor;
       feet_.push_back(f);
     };
-    append(here.position, wrap(here.yaw + 0.5 * kPi), here.floor);  // pivot in two
-    append(here.position, wrap(here.yaw + kPi), here.floor);
-    for (const Footfall& b : back) append(b.position, wrap(b.yaw + kPi), b.floor);
-    append(back.back().position, wrap(back.back().yaw + 0.5 * kPi), back.back().floor);
+    append(here.position, wrap_angle(here.yaw + 0.5 * kPi), here.floor);  // pivot in two
+    append(here.position, wrap_angle(here.yaw + kPi), here.floor);
+    for (const Footfall& b : back) append(b.position, wrap_angle(b.yaw + kPi), b.floor);
+    append(back.back().position, wrap_angle(back.back().yaw + 0.5 * kPi), back.back().floor);
     append(back.back().position, back.back().yaw, back.back().floor);
     for (auto it = back.rbegin() + 1; it != back.rend(); ++it) append(it->position, it->yaw, it->floor);
     append(here.position, here.yaw, here.floor);

@@ -53,6 +53,11 @@ TEST(ExitCodes, MissingConfigFileIsAConfigurationErrorNotUsage) {
   EXPECT_EQ(exit_code_of(app("sarloc-core") + " -c /nonexistent/mission.yaml"), 3);
 }
 
+TEST(ExitCodes, AnUnknownEvaluationRowIsAConfigurationError) {
+  const std::string house = std::string(SARLOC_SOURCE_DIR) + "/config/buildings/house-125.yaml";
+  EXPECT_EQ(exit_code_of(app("sarloc-eval") + " firefighter --building " + house + " --rows known/weights,nosuch"), 3);
+}
+
 TEST(ExitCodes, AMisplacedProcessIsAConfigurationError) {
   const std::string mission = app("sarloc-mission") + " " + SARLOC_SOURCE_DIR + "/config/missions/default.yaml";
   EXPECT_EQ(exit_code_of(mission + " --launcher /bin/true --host core"), 3) << "no =HOST";

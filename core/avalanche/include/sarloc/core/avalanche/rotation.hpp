@@ -6,6 +6,7 @@
 //   dR = [omega]x R,  omega = euler_rate_to_world(Psi) * dPsi,
 // with euler_rate_to_world(Psi) = [[cy*cp, -sy, 0], [sy*cp, cy, 0], [-sp, 0, 1]].
 // Every orientation Jacobian in the avalanche models is built from these two matrices.
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/skew.hpp"
 #include "sarloc/core/common/types.hpp"
 
@@ -36,7 +37,6 @@ Mat3 euler_rate_to_world(const Vec3& rpy);
 Mat3 world_to_euler_rate(const Vec3& rpy);
 
 
-/// Angle wrapped to (-pi, pi].
-double wrap_angle(double a);
+using sarloc::wrap_angle;  // core/common/angle.hpp
 
 }  // namespace sarloc::avalanche

@@ -104,6 +104,9 @@ struct MapErrorExperiment {
   std::vector<MapErrorSample> timeline;
   bool raised = false;     ///< the flag was raised at some point
   bool recovered = false;  ///< raised, and at the end converged, cleared and within 2 m
+  /// After the first raise: time with the flag clear while converged and more than 2 m off
+  /// (a wrong position shown as trustworthy).
+  double cleared_while_off_s = 0.0;
 };
 
 class FirefighterEvaluation {

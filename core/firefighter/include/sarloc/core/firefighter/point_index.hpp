@@ -18,8 +18,6 @@ class PointIndex {
 
   /// Index of the nearest point and its squared distance. The index must not be empty.
   std::uint32_t nearest(const Vec2& query, double& distance_sq) const;
-  /// Up to k nearest, closest first; returns how many.
-  std::size_t nearest_k(const Vec2& query, std::size_t k, std::uint32_t* indices, double* distances_sq) const;
   const std::vector<Vec2>& points() const;
   std::size_t size() const { return points().size(); }
 
