@@ -80,21 +80,17 @@ void print_map_error(const ff::MapErrorExperiment& m) {
 }
 
 // `--rows`: names of standard_variants(), or "default" for the configured default's two rows.
-std::vector<ff::FilterVariant> chosen_rows(const std::string& rows, const ff::MapFilterConfig& filter) {
+std::vector<ff::FilterVariant> chosen_rows(const std::vector<std::string>& rows, const ff::MapFilterConfig& filter) {
   const auto all = ff::standard_variants();
   if (rows.empty()) return all;
   std::vector<std::string> names;
-  std::size_t start = 0;
-  while (start <= rows.size()) {
-    const std::size_t comma = std::min(rows.find(',', start), rows.size());
-    const std::string name = rows.substr(start, comma - start);
+  for (const std::string& name : rows) {
     if (name == "default") {
       names.push_back(ff::variant_name(true, filter.pseudo_observations, filter.resampling));
       names.push_back(ff::variant_name(false, filter.pseudo_observations, filter.resampling));
     } else {
       names.push_back(name);
     }
-    start = comma + 1;
   }
   std::vector<ff::FilterVariant> out;
   for (const std::string& name : names) {
@@ -167,7 +163,8 @@ CLI::App* add_firefighter_command(CLI::App& app, FirefighterOptions& o) {
   cmd->add_option("--map-error-shift", o.map_error_shift_m, "how far it moves along its wall (m)")->capture_default_str();
   cmd->add_option("--rows", o.rows,
                   "comma-separated configurations to run (e.g. known/weights,unknown/no-pseudo), or 'default' for the "
-                  "configured default's two rows (default: all eight)");
+                  "configured default's two rows (default: all eight)")
+      ->delimiter(',');
   cmd->add_flag("--no-map-error", o.no_map_error, "skip the map-error experiment");
   cmd->add_flag("--no-target-check", o.no_target_check, "exit 0 even when a target is missed");
   return cmd;

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace sarloc::eval {
 
@@ -19,7 +20,7 @@ struct FirefighterOptions {
   std::string plot_path;
   std::string map_error_door;
   double map_error_shift_m = 2.0;
-  std::string rows;  ///< comma-separated row names, "default", or empty: all eight
+  std::vector<std::string> rows;  ///< row names or "default"; empty: all eight
   bool no_map_error = false;
   bool no_target_check = false;
 };

@@ -277,6 +277,10 @@ bool SignalSeparator::elliptical(const DetectedPulse& p) const {
   return minor_axis(p.amplitude).norm() > bound * major + 3.0 * p.amplitude_noise.norm();
 }
 
+bool SignalSeparator::unseparable(const DetectedPulse& p) const {
+  return p.variance_inflation > config_.max_variance_inflation || p.blended || elliptical(p);
+}
+
 SeparatedSample SignalSeparator::sample_of(const DetectedPulse& p, std::uint32_t id, std::size_t index) const {
   SeparatedSample s;
   s.signal_id = id;
@@ -326,7 +330,7 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
       carrier_matches.push_back(&t);
       if (timing_fits(t, p)) (t.timing.has_period() ? confirmed : tentative).push_back(&t);
     }
-    if (p.variance_inflation > config_.max_variance_inflation || p.blended || elliptical(p)) {
+    if (unseparable(p)) {
       merge(carrier_matches, p.start_s);  // overlapping on the same carrier: not separable
       continue;
     }
@@ -389,9 +393,7 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
   // resolved by the detector near the cluster and never tracked, so never searched.
   for (std::size_t i : order) {
     const DetectedPulse& p = r.pulses[i];
-    if (r.attributed[i] || p.truncated() || p.variance_inflation > config_.max_variance_inflation || p.blended ||
-        elliptical(p) || tracks_.size() >= config_.max_signals)
-      continue;
+    if (r.attributed[i] || p.truncated() || unseparable(p) || tracks_.size() >= config_.max_signals) continue;
     std::vector<Track*> carrier_matches;
     bool timing_of_a_match = false;
     for (auto& t : tracks_) {

@@ -149,7 +149,7 @@ void MapParticleFilter::predict(const Eigen::Vector3d& delta, std::mt19937_64& r
   const double walked = delta.head<2>().norm();
   const bool moving = walked > config_.moving_threshold_m;
   const double heading_sigma = config_.heading_noise_deg_per_m * kDeg * walked;
-  std::vector<Particle> before = particles_;
+  before_ = particles_;  // a kept buffer: no fresh allocation of the cloud every step
   std::vector<char> dead(particles_.size(), 0);
   std::size_t alive = 0;
   for (std::size_t i = 0; i < particles_.size(); ++i) {
@@ -178,7 +178,7 @@ void MapParticleFilter::predict(const Eigen::Vector3d& delta, std::mt19937_64& r
   if (alive == 0) {
     // Every particle hit a wall or left its floor: the map and the odometry disagree. Keep the
     // moves without the map for this step and say so.
-    particles_ = std::move(before);
+    particles_ = before_;
     for (Particle& p : particles_) {
       p.position += rotate(delta.head<2>(), p.heading);
       p.z += delta.z();

@@ -60,7 +60,10 @@ TEST(FloorPlan, WallIndexCrossingsAgreeWithEveryWallTestedOneByOne) {
   const auto walls = plan.solid_walls(0, WallSet::kWorld);
   const WallIndex index(walls);
   Vec2 lo = walls.front().a, hi = lo;
-  for (const Segment& w : walls) lo = lo.cwiseMin(w.a).cwiseMin(w.b), hi = hi.cwiseMax(w.a).cwiseMax(w.b);
+  for (const Segment& w : walls) {
+    lo = lo.cwiseMin(w.a).cwiseMin(w.b);
+    hi = hi.cwiseMax(w.a).cwiseMax(w.b);
+  }
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> ux(lo.x() - 3.0, hi.x() + 3.0), uy(lo.y() - 3.0, hi.y() + 3.0);
   std::uniform_real_distribution<double> length(0.0, 3.0), angle(-3.14159265358979, 3.14159265358979), unit(0.0, 1.0);

@@ -167,6 +167,9 @@ class SignalSeparator {
   /// window when the period is short enough for any phase), nullopt if none is sure to.
   std::optional<std::pair<double, double>> whole_pulse_due(const Track& t, double w0, double w1) const;
   bool elliptical(const DetectedPulse& p) const;
+  /// Overlapping pulses on one carrier: noisier than max_variance_inflation allows, blended, or
+  /// elliptical. No track can take it.
+  bool unseparable(const DetectedPulse& p) const;
   /// The mate knows its timing, was heard within 1.5 periods and predicts its pulse clear of
   /// this one (its learnt on-time, widened by its gate and on_time_tolerance_s).
   bool clear_of_timing(const Track& mate, const DetectedPulse& p) const;

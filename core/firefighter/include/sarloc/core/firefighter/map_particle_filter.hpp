@@ -138,6 +138,7 @@ class MapParticleFilter {
   };
   std::vector<std::vector<Flight>> flights_;
   std::vector<Particle> particles_;
+  std::vector<Particle> before_;  ///< the cloud before this predict (used if every particle dies)
   std::vector<double> weights_;
   bool was_converged_ = false;
   bool map_error_ = false;
