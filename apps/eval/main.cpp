@@ -112,6 +112,9 @@ void print_multi_burial(const av::MultiBurialSummary& s, const av::EvaluationSum
               close_found, close, kCellHz, s.all_found - close_found, s.trials - close);
   std::printf("%-34s %u\n", "Ghosts (FOUND near no victim)", s.ghosts);
   std::printf("%-34s %u\n", "Victims reported twice", s.duplicates);
+  std::printf("%-34s %u   of another transmitter %u   suspected %u   trials with any %u\n",
+              "Repeats retired (same transmitter)", s.repeats_retired, s.repeats_wrong, s.repeats_suspected,
+              s.trials_with_repeats);
   std::printf("%-34s %llu   unattributed pulses %llu\n", "Wrong attributions (pulses)",
               static_cast<unsigned long long>(s.wrong_attributions),
               static_cast<unsigned long long>(s.unattributed_pulses));

@@ -259,7 +259,7 @@ void CommandNode::cycle() {
       auto pending = std::move(pending_estimates_.front());
       pending_estimates_.pop_front();
       const auto& e = pending.estimate;
-      log_separation_event(e);
+      log_separation_event(e, pending.from_device);
       if (e.status < responder::EstimatorStatus::kConverged) continue;  // a multimodal mean means nothing
       const auto fix = fix_for(e);
       if (!fix) {
@@ -391,7 +391,16 @@ void CommandNode::apply(const incident::RoleChange& change, std::size_t adopted_
   }
 }
 
-void CommandNode::log_separation_event(const responder::VictimEstimate& e) {
+void CommandNode::log_separation_event(const responder::VictimEstimate& e, bool from_device) {
+  // A repeat's state as the device says it (it saw every sample), once per change: the
+  // commander learns why a victim went back to unconfirmed or merged away.
+  auto& repeat = repeats_logged_[{e.rescuer_id, e.signal_id}];
+  if (from_device && e.repeat != repeat) {
+    repeat = e.repeat;
+    if (e.repeat != responder::RepeatState::kNone)
+      spdlog::warn("rescuer '{}' signal {}: {} repeat of its signal {} (one transmitter split in two; it confirms nothing)",
+                   e.rescuer_id, e.signal_id, responder::to_string(e.repeat), e.repeat_of_signal);
+  }
   if (e.signal_event != responder::SignalEvent::kReacquired && e.signal_event != responder::SignalEvent::kSeparated)
     return;
   auto& logged = separation_events_logged_[{e.rescuer_id, e.signal_id}];

@@ -175,6 +175,8 @@ responder::Odometry to_core(const ::sarloc::Odometry& o) {
   out.moment(to_idl(e.moment));
   out.signal_event(static_cast<::sarloc::SignalEvent>(e.signal_event));
   out.signal_event_stamp(e.signal_event_stamp);
+  out.repeat(static_cast<::sarloc::RepeatState>(e.repeat));
+  out.repeat_of_signal(e.repeat_of_signal);
   out.reporter_known(e.reporter.has_value());
   if (e.reporter) out.reporter(to_idl(*e.reporter));
   return out;
@@ -195,6 +197,12 @@ responder::VictimEstimate to_core(const ::sarloc::VictimEstimate& e) {
   out.signal_event = checked_enum<responder::SignalEvent>(e.signal_event(), ::sarloc::SIGNAL_SEPARATED,
                                                           "victim_estimate.signal_event");
   out.signal_event_stamp = e.signal_event_stamp();
+  out.repeat = checked_enum<responder::RepeatState>(e.repeat(), ::sarloc::REPEAT_CONFIRMED, "victim_estimate.repeat");
+  out.repeat_of_signal = e.repeat_of_signal();
+  if (out.repeat != responder::RepeatState::kNone && out.repeat_of_signal == out.signal_id) {
+    throw InputError("victim_estimate.repeat_of_signal = " + std::to_string(out.repeat_of_signal) +
+                     ": a signal cannot repeat itself");
+  }
   if (e.reporter_known()) {
     out.reporter = to_core(e.reporter());
     if (out.reporter->responder_id != out.rescuer_id) {
@@ -283,6 +291,7 @@ responder::ResponderPosition to_core(const ::sarloc::ResponderPosition& r) {
   out.located_at(v.located_at);
   out.found_at(v.found_at);
   out.evidence_conflict(v.evidence_conflict);
+  out.possibly_same_as(v.possibly_same_as);
   return out;
 }
 
@@ -303,6 +312,7 @@ incident::FusedVictim to_core(const ::sarloc::FusedVictim& v) {
   out.located_at = v.located_at();
   out.found_at = v.found_at();
   out.evidence_conflict = v.evidence_conflict();
+  out.possibly_same_as = v.possibly_same_as();
   return out;
 }
 

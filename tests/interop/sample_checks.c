@@ -147,6 +147,14 @@ void check_victim_estimate(const void* sample, CheckReport* r) {
   check_vector3(r, "moment", &e->moment, MAX_MOMENT_A_M2);
   check_enum(r, "signal_event", e->signal_event, sarloc_SIGNAL_SEPARATED);
   check_stamp_or_zero(r, "signal_event_stamp", e->signal_event_stamp);
+  check_enum(r, "repeat", e->repeat, sarloc_REPEAT_CONFIRMED);
+  if (e->repeat != sarloc_REPEAT_NONE && e->repeat_of_signal == e->signal_id) {
+    check_fail(r, "repeat_of_signal", "%u: a signal cannot repeat itself", e->repeat_of_signal);
+  }
+  /* A repeat confirms nothing (docs/topics.md). */
+  if (e->repeat != sarloc_REPEAT_NONE && e->status > sarloc_ESTIMATOR_CONVERGED) {
+    check_fail(r, "status", "%d: a repeat is at most CONVERGED", (int)e->status);
+  }
 }
 
 void check_guidance(const void* sample, CheckReport* r) {
@@ -222,6 +230,9 @@ void check_fused_victim(const void* sample, CheckReport* r) {
   }
   check_stamp_or_zero(r, "located_at", v->located_at);
   check_stamp_or_zero(r, "found_at", v->found_at);
+  if (v->possibly_same_as == v->victim_id) {
+    check_fail(r, "possibly_same_as", "%u: the victim's own id", v->possibly_same_as);
+  }
   if (v->state >= sarloc_VICTIM_LOCATED && v->state <= sarloc_VICTIM_RECOVERED && v->located_at == 0) {
     check_fail(r, "located_at", "0 while state is %u (located or later)", v->state);
   }

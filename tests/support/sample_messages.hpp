@@ -66,6 +66,8 @@ inline responder::VictimEstimate sample_victim_estimate() {
   e.moment = Vec3(0.01, -0.02, 0.005);
   e.signal_event = responder::SignalEvent::kReacquired;
   e.signal_event_stamp = 1763731250000000000LL;
+  e.repeat = responder::RepeatState::kSuspected;
+  e.repeat_of_signal = 1;
   return e;
 }
 
@@ -108,6 +110,8 @@ inline incident::FusedVictim sample_fused_victim() {
   v.last_update = 1763731291000000000LL;
   v.located_at = 1763731250000000000LL;
   v.found_at = 1763731290000000000LL;
+  v.evidence_conflict = true;
+  v.possibly_same_as = 7;
   return v;
 }
 

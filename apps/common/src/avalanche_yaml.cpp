@@ -133,6 +133,8 @@ void read_rescuer_search(YamlReader r, avalanche::RescuerSearchConfig& c) {
   r.read("unknown_motion_speed_m_per_s", c.unknown_motion_speed_m_per_s);
   r.read("unknown_motion_turn_rad_per_s", c.unknown_motion_turn_rad_per_s);
   r.read("target_silence_s", c.target_silence_s);
+  r.read("same_transmitter_gate_probability", c.same_transmitter_gate_probability);
+  r.read("same_transmitter_moment_spread", c.same_transmitter_moment_spread);
   r.read("measurement_lag_tolerance_s", c.measurement_lag_tolerance_s);
   r.expect_done();
 }

@@ -84,6 +84,10 @@ nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
   j["all_found"] = s.all_found;
   j["ghosts"] = s.ghosts;
   j["duplicates"] = s.duplicates;
+  j["repeats_retired"] = s.repeats_retired;
+  j["repeats_wrong"] = s.repeats_wrong;
+  j["repeats_suspected"] = s.repeats_suspected;
+  j["trials_with_repeats"] = s.trials_with_repeats;
   j["wrong_attributions"] = s.wrong_attributions;
   j["unattributed_pulses"] = s.unattributed_pulses;
   j["steps"] = stats_json(s.steps);
@@ -96,6 +100,9 @@ nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
                               {"all_found", t.all_found},
                               {"ghosts", t.ghosts},
                               {"duplicates", t.duplicates},
+                              {"repeats_retired", t.repeats_retired},
+                              {"repeats_wrong", t.repeats_wrong},
+                              {"repeats_suspected", t.repeats_suspected},
                               {"wrong_attributions", t.wrong_attributions},
                               {"unattributed_pulses", t.unattributed_pulses},
                               {"steps", t.steps},

@@ -79,7 +79,8 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
   tr.index = index;
   tr.min_carrier_gap_hz = min_gap;
   std::set<std::size_t> found_victims;
-  std::set<std::uint32_t> reported, signals;
+  std::set<std::uint32_t> reported, signals, retired, suspected;
+  std::map<std::uint32_t, std::size_t> victim_found_by;  // signal -> the victim its FOUND was scored as
   std::map<std::uint32_t, std::map<std::size_t, std::uint32_t>> pulses_of;  // truth: per signal, per beacon
   std::uint64_t odometry_sequence = 0;
   for (std::uint32_t step = 1; step <= setup.evaluation.step_budget; ++step) {
@@ -97,6 +98,17 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
       const auto* update = std::get_if<SearchUpdate>(&outcome);
       if (update == nullptr) continue;
       if (update->guidance) guidance = update->guidance;
+      if (update->estimate && update->estimate->repeat == responder::RepeatState::kSuspected &&
+          suspected.insert(m.signal_id).second)
+        ++tr.repeats_suspected;
+      if (update->estimate && update->estimate->repeat == responder::RepeatState::kConfirmed &&
+          retired.insert(m.signal_id).second) {
+        ++tr.repeats_retired;
+        const auto& own = pulses_of[m.signal_id];
+        const auto majority = std::max_element(own.begin(), own.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+        const auto first = victim_found_by.find(update->estimate->repeat_of_signal);
+        if (majority != own.end() && first != victim_found_by.end() && majority->first != first->second) ++tr.repeats_wrong;
+      }
       if (!update->estimate || update->estimate->status != EstimatorStatus::kFound || reported.count(m.signal_id) != 0)
         continue;
       reported.insert(m.signal_id);
@@ -117,6 +129,7 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
       const auto& own = pulses_of[m.signal_id];
       const auto majority = std::max_element(own.begin(), own.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
       if (majority != own.end() && (beacons[majority->first].position - where).norm() <= reach) victim = majority->first;
+      if (victim) victim_found_by[m.signal_id] = *victim;
       if (!victim) ++tr.ghosts;
       else if (!found_victims.insert(*victim).second) ++tr.duplicates;
     }
@@ -163,6 +176,10 @@ MultiBurialSummary run_multi_burial(const MultiBurialSetup& setup, const std::fu
     }
     s.ghosts += r.ghosts;
     s.duplicates += r.duplicates;
+    s.repeats_retired += r.repeats_retired;
+    s.repeats_wrong += r.repeats_wrong;
+    s.repeats_suspected += r.repeats_suspected;
+    if (r.repeats_suspected + r.repeats_retired > 0) ++s.trials_with_repeats;
     s.wrong_attributions += r.wrong_attributions;
     s.unattributed_pulses += r.unattributed_pulses;
     s.per_trial.push_back(r);

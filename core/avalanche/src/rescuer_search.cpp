@@ -6,6 +6,8 @@
 #include <utility>
 
 #include "sarloc/core/avalanche/rotation.hpp"
+#include "sarloc/core/avalanche/same_transmitter.hpp"
+#include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/gaussian.hpp"
 
@@ -32,10 +34,16 @@ void RescuerSearchConfig::validate() const {
     fail("unknown_motion_turn_rad_per_s", unknown_motion_turn_rad_per_s, "must be in (0, 3]");
   if (!(target_silence_s >= 1.0 && target_silence_s <= 600.0))
     fail("target_silence_s", target_silence_s, "must be in [1, 600]");
+  if (!(same_transmitter_gate_probability > 0.0 && same_transmitter_gate_probability < 1.0))
+    fail("same_transmitter_gate_probability", same_transmitter_gate_probability, "must be in (0, 1)");
+  if (!(same_transmitter_moment_spread > 0.0 && same_transmitter_moment_spread <= 1.0))
+    fail("same_transmitter_moment_spread", same_transmitter_moment_spread, "must be in (0, 1]");
 }
 
 RescuerSearch::RescuerSearch(std::string rescuer_id, RescuerSearchConfig config)
-    : rescuer_id_(std::move(rescuer_id)), config_((config.validate(), std::move(config))) {}
+    : rescuer_id_(std::move(rescuer_id)),
+      config_((config.validate(), std::move(config))),
+      same_transmitter_gate_(chi_square_quantile(config_.same_transmitter_gate_probability, 6.0)) {}
 
 std::optional<Rejection> RescuerSearch::add_odometry(const Odometry& o) {
   if (o.rescuer_id != rescuer_id_) {
@@ -110,8 +118,9 @@ std::optional<Rejection> RescuerSearch::add_odometry(const Odometry& o) {
 
 void RescuerSearch::restart_unfound_filters() {
   for (auto& [signal, state] : signals_) {
-    if (state.found) continue;  // found before the gap: the estimate of that moment stands
+    if (state.found || state.retired) continue;  // stood over before the gap: that moment's estimate stands
     state.filter = SogFilter(config_.sog, rescuer_id_, signal);
+    if (state.repeat == responder::RepeatState::kSuspected) state.repeat = responder::RepeatState::kNone;
     state.controller = SearchController(config_.search);
     state.estimate.reset();
   }
@@ -210,14 +219,14 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
     s.last_event = m.event;
     s.last_event_stamp = m.stamp;
   }
-  auto with_event = [&s](VictimEstimate e) { return with_last_event(s, std::move(e)); };
-  if (s.found) {
-    // Found here: the victim stays where the rescuer stood over it. The filter takes no more
-    // measurement updates (while the rescuer walks off to the next victim, a late or lost
-    // odometry sample could drag it away, and it would still claim kFound: seen under 20 %
-    // packet loss, a "found" victim published 6 m off).
+  auto with_event = [&s](VictimEstimate e) { return with_signal_state(s, std::move(e)); };
+  if (const std::optional<VictimEstimate>& stood_over = s.found ? s.found : s.retired) {
+    // Found here (or retired as a repeat where it was found): the victim stays where the rescuer
+    // stood over it. The filter takes no more measurement updates (while the rescuer walks off
+    // to the next victim, a late or lost odometry sample could drag it away, and it would still
+    // claim kFound: seen under 20 % packet loss, a "found" victim published 6 m off).
     const MixtureMoments mm = s.filter.predicted_moments();
-    VictimEstimate moved = *s.found;
+    VictimEstimate moved = *stood_over;
     moved.stamp = m.stamp;
     moved.relative.position = mm.mean.segment<3>(idx::kPos);
     moved.relative.covariance = mm.covariance.block<3, 3>(idx::kPos, idx::kPos);
@@ -226,14 +235,14 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
     s.last_stamp = m.stamp;
     s.estimate = with_event(moved);
     SearchUpdate unchanged;
-    unchanged.estimate = with_event(*s.found);
+    unchanged.estimate = with_event(*stood_over);
     return unchanged;
   }
   if (auto rejected = update_filter(s, m)) return *rejected;
   s.last_heard_stamp = m.stamp;
   s.last_field_norm = m.field.norm();
 
-  VictimEstimate estimate = with_event(s.filter.estimate(config_.summary_components));
+  VictimEstimate estimate = s.filter.estimate(config_.summary_components);
   estimate.stamp = m.stamp;
   SearchUpdate update;
   bool found_now = false;
@@ -255,17 +264,63 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
   estimate.status = found_now ? EstimatorStatus::kFound
                               : std::min(s.controller.assess(estimate, ConfirmationEvidence::of(s.filter)),
                                          EstimatorStatus::kLocated);
+  test_repeat(m.signal_id, s, estimate.status, found_now);
+  if (found_now && s.repeat != responder::RepeatState::kNone) {
+    // Stood over a victim this signal is (or cannot be told from) another's: no FOUND, and the
+    // next epoch guides to the next target. Done all the same: coming back would tell no more.
+    found_now = false;
+    update.guidance.reset();
+  }
+  estimate = with_event(estimate);
   s.estimate = estimate;
   if (found_now) s.found = estimate;
+  if (s.repeat == responder::RepeatState::kConfirmed && !s.retired) s.retired = estimate;
   update.estimate = estimate;
   choose_target();
   return update;
 }
 
-VictimEstimate RescuerSearch::with_last_event(const SignalState& s, VictimEstimate e) {
+VictimEstimate RescuerSearch::with_signal_state(const SignalState& s, VictimEstimate e) {
   e.signal_event = s.last_event;
   e.signal_event_stamp = s.last_event_stamp;
+  e.repeat = s.repeat;
+  e.repeat_of_signal = s.repeat_of;
+  if (s.repeat != responder::RepeatState::kNone) e.status = std::min(e.status, EstimatorStatus::kConverged);
   return e;
+}
+
+void RescuerSearch::test_repeat(std::uint32_t id, SignalState& s, EstimatorStatus status, bool found_now) {
+  using responder::RepeatState;
+  if (s.repeat == RepeatState::kConfirmed) return;  // retired for good
+  s.repeat = RepeatState::kNone;
+  s.repeat_of = 0;
+  if (status < EstimatorStatus::kConverged) return;  // claims nothing a repeat could double
+  const MixtureMoments mine = s.filter.moments();
+  double closest = same_transmitter_gate_;
+  const SignalState* other = nullptr;
+  for (const auto& [other_id, o] : signals_) {
+    // Stands as a victim here: found, or published kLocated and not itself a repeat. Once this
+    // signal is found, only found ones: the one stood over keeps FOUND and a located other
+    // becomes its suspected repeat on its next sample.
+    const bool stands = o.found || (!found_now && o.estimate && o.estimate->status >= EstimatorStatus::kLocated &&
+                                    o.repeat == RepeatState::kNone);
+    if (other_id == id || !stands) continue;
+    const double d2 = same_transmitter_distance2(mine, o.filter.predicted_moments());
+    if (d2 <= closest) {
+      closest = d2;
+      other = &o;
+      s.repeat_of = other_id;
+    }
+  }
+  if (other == nullptr) return;
+  const double spread = config_.same_transmitter_moment_spread;
+  if (found_now && other->found && moment_determined(mine, spread) &&
+      moment_determined(other->filter.predicted_moments(), spread)) {
+    s.repeat = RepeatState::kConfirmed;
+    ++confirmed_repeats_;
+    return;
+  }
+  s.repeat = RepeatState::kSuspected;
 }
 
 std::optional<Rejection> RescuerSearch::update_filter(SignalState& s, const FieldMeasurement& m) {
@@ -285,15 +340,18 @@ std::optional<Rejection> RescuerSearch::update_filter(SignalState& s, const Fiel
 std::variant<SearchUpdate, Rejection> RescuerSearch::process_miss(const FieldMeasurement& m) {
   const auto it = signals_.find(m.signal_id);
   // Nothing to learn for a signal never heard here (a daemon restarted mid-search) or found.
-  if (it == signals_.end() || it->second.found || !it->second.filter.initialised()) return SearchUpdate{};
+  if (it == signals_.end() || it->second.found || it->second.retired || !it->second.filter.initialised())
+    return SearchUpdate{};
   SignalState& s = it->second;
   if (auto rejected = update_filter(s, m)) return *rejected;
   SearchUpdate update;
-  VictimEstimate e = with_last_event(s, s.filter.estimate(config_.summary_components));
+  VictimEstimate e = s.filter.estimate(config_.summary_components);
   e.stamp = m.stamp;
   // Where the transmitter is not never confirms where it is: the status never rises on a miss.
   const EstimatorStatus before = s.estimate ? s.estimate->status : EstimatorStatus::kInitialising;
   e.status = std::min({s.controller.assess(e, ConfirmationEvidence::of(s.filter)), before, EstimatorStatus::kLocated});
+  test_repeat(m.signal_id, s, e.status, false);
+  e = with_signal_state(s, std::move(e));
   s.estimate = e;
   update.estimate = e;
   choose_target();

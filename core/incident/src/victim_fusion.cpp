@@ -365,28 +365,56 @@ void VictimFusion::merge_victims() {
         }
       }
     if (!std::isfinite(best)) return;
-    FusedVictim& keep = victims_[bi];  // lower id: victims_ is sorted by id
-    FusedVictim gone = victims_[bj];
-    for (const VictimSource& vs : gone.sources) {
-      Source& s = sources_.at({vs.rescuer_id, vs.signal_id});
-      s.victim_id = 0;
-      bind(s, keep);
-    }
-    if (keep.sources.empty())
-      keep.position = covariance_intersection({keep.position, gone.position}, config_.weighting).fused;
-    else
-      refuse(keep);
-    keep.state = std::max(keep.state, gone.state);
-    keep.first_seen = earliest_set(keep.first_seen, gone.first_seen);
-    keep.last_update = std::max(keep.last_update, gone.last_update);
-    keep.located_at = earliest_set(keep.located_at, gone.located_at);
-    keep.found_at = earliest_set(keep.found_at, gone.found_at);
-    removed_.push_back(gone.victim_id);
-    victims_.erase(victims_.begin() + static_cast<std::ptrdiff_t>(bj));
+    merge_into(victims_[bi].victim_id, victims_[bj].victim_id);  // the lower id survives
+  }
+}
+
+void VictimFusion::merge_into(std::uint32_t keep_id, std::uint32_t gone_id) {
+  const auto gone_it = std::find_if(victims_.begin(), victims_.end(),
+                                    [&](const FusedVictim& v) { return v.victim_id == gone_id; });
+  FusedVictim gone = *gone_it;
+  victims_.erase(gone_it);
+  FusedVictim& keep = *find_victim(keep_id);
+  for (const VictimSource& vs : gone.sources) {
+    Source& s = sources_.at({vs.rescuer_id, vs.signal_id});
+    s.victim_id = 0;
+    bind(s, keep);
+  }
+  if (keep.sources.empty())
+    keep.position = covariance_intersection({keep.position, gone.position}, config_.weighting).fused;
+  else
+    refuse(keep);
+  keep.state = std::max(keep.state, gone.state);
+  keep.first_seen = earliest_set(keep.first_seen, gone.first_seen);
+  keep.last_update = std::max(keep.last_update, gone.last_update);
+  keep.located_at = earliest_set(keep.located_at, gone.located_at);
+  keep.found_at = earliest_set(keep.found_at, gone.found_at);
+  removed_.push_back(gone_id);
+}
+
+std::pair<responder::RepeatState, std::uint32_t> VictimFusion::repeat_claim(const Source& s) {
+  std::pair<responder::RepeatState, std::uint32_t> claim{s.estimate.repeat, s.estimate.repeat_of_signal};
+  for (const auto& [name, e] : s.by_estimator)
+    if (e.repeat > claim.first) claim = {e.repeat, e.repeat_of_signal};
+  return claim;
+}
+
+void VictimFusion::merge_confirmed_repeats() {
+  for (auto& [key, s] : sources_) {
+    const auto [repeat, of] = repeat_claim(s);
+    if (repeat != responder::RepeatState::kConfirmed || s.last_victim_id == 0) continue;
+    const FusedVictim* left = find_victim(s.last_victim_id);
+    const auto original = sources_.find({key.first, of});
+    if (left == nullptr || !left->sources.empty() || original == sources_.end()) continue;
+    const std::uint32_t into = original->second.victim_id != 0 ? original->second.victim_id
+                                                               : original->second.last_victim_id;
+    if (into == 0 || into == left->victim_id || find_victim(into) == nullptr) continue;
+    merge_into(into, left->victim_id);
   }
 }
 
 std::optional<SourceState> VictimFusion::confirming_state(const Source& s) const {
+  if (repeat_claim(s).first != responder::RepeatState::kNone) return std::nullopt;  // may be another's
   if (!config_.confirm_requires_device) return s.estimate.state;
   const auto window = static_cast<TimestampNs>(config_.source_timeout_s * 1e9);
   const SourceEstimate* device = nullptr;
@@ -409,6 +437,27 @@ void VictimFusion::update_states(TimestampNs now) {
       v.found_at = 0;
     }
     if (v.sources.empty()) continue;
+    // A reporter cannot tell every source here from another signal of its own: possibly one
+    // transmitter seen twice, which the picture cannot stand by either.
+    v.possibly_same_as = 0;
+    bool all_repeats = true;
+    for (const VictimSource& vs : v.sources) {
+      const auto [repeat, of] = repeat_claim(sources_.at({vs.rescuer_id, vs.signal_id}));
+      if (repeat == responder::RepeatState::kNone) {
+        all_repeats = false;
+        continue;
+      }
+      const auto original = sources_.find({vs.rescuer_id, of});
+      if (original == sources_.end()) continue;
+      const std::uint32_t there = original->second.victim_id != 0 ? original->second.victim_id
+                                                                  : original->second.last_victim_id;
+      if (there != v.victim_id) v.possibly_same_as = there;
+    }
+    if (all_repeats && v.state != VictimState::kUnconfirmed) {
+      v.state = VictimState::kUnconfirmed;
+      v.located_at = 0;
+      v.found_at = 0;
+    }
     VictimState target = VictimState::kUnconfirmed;
     bool corroborated = false;
     for (const VictimSource& vs : v.sources) {
@@ -432,7 +481,8 @@ void VictimFusion::step(TimestampNs now) {
   for (auto& [key, s] : sources_) {
     const TimestampNs heard = std::max(s.estimate.stamp, s.estimate.received);
     s.active = s.estimate.state >= SourceState::kConverged && static_cast<double>(now - heard) <= timeout_ns &&
-               (now >= s.conflict_until || !s.trusted.empty());
+               (now >= s.conflict_until || !s.trusted.empty()) &&
+               repeat_claim(s).first != responder::RepeatState::kConfirmed;
     if (!s.active) unbind(s, Unbind::kInactive);
   }
   for (FusedVictim& v : victims_) refuse(v);
@@ -483,6 +533,7 @@ void VictimFusion::step(TimestampNs now) {
   orphaned_.clear();
 
   // 4./5. fusion is up to date; merge duplicates.
+  merge_confirmed_repeats();
   merge_victims();
   // 6. states.
   update_states(now);

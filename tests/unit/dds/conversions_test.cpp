@@ -81,6 +81,28 @@ TEST(Conversions, VictimEstimateRoundTrips) {
   EXPECT_EQ(out.moment, in.moment);
   EXPECT_EQ(out.signal_event, in.signal_event);
   EXPECT_EQ(out.signal_event_stamp, in.signal_event_stamp);
+  EXPECT_EQ(out.repeat, in.repeat);
+  EXPECT_EQ(out.repeat_of_signal, in.repeat_of_signal);
+}
+
+// A repeat names another signal of the same receiver, and a state the wire knows.
+TEST(Conversions, AVictimEstimateRepeatingItselfOrOfAnUnknownStateIsRefusedByName) {
+  auto in = test::sample_victim_estimate();
+  in.repeat_of_signal = in.signal_id;
+  try {
+    (void)to_core(to_idl(in));
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("victim_estimate.repeat_of_signal = 3"), std::string::npos) << e.what();
+  }
+  auto wire = to_idl(test::sample_victim_estimate());
+  wire.repeat(static_cast<::sarloc::RepeatState>(5));
+  try {
+    (void)to_core(wire);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("victim_estimate.repeat = 5"), std::string::npos) << e.what();
+  }
 }
 
 // A device's estimate carries its own fix of the estimate's epoch (incident command places it
@@ -158,6 +180,8 @@ TEST(Conversions, FusedVictimRoundTrips) {
   EXPECT_EQ(out.last_update, in.last_update);
   EXPECT_EQ(out.located_at, in.located_at);
   EXPECT_EQ(out.found_at, in.found_at);
+  EXPECT_EQ(out.evidence_conflict, in.evidence_conflict);
+  EXPECT_EQ(out.possibly_same_as, in.possibly_same_as);
 }
 
 TEST(Conversions, TeamStatusRoundTrips) {

@@ -361,6 +361,68 @@ TEST(VictimFusion, SameRescuerSignalsNeverShareAVictim) {
   EXPECT_TRUE(f.take_removed().empty());
 }
 
+SourceEstimate repeat_of(SourceEstimate s, responder::RepeatState state, std::uint32_t of) {
+  s.repeat = state;
+  s.repeat_of_signal = of;
+  return s;
+}
+
+// a's signal 1 found, its signal 2 located 0.4 m away: two victims, as far as incident command knows.
+void found_and_located_by_a(VictimFusion& f) {
+  f.update(src("a", 1, kSec, Vec3(0.0, 0.0, -1.0), 0.1, EstimatorStatus::kFound));
+  f.update(src("a", 2, kSec, Vec3(0.4, 0.0, -1.0), 0.15, EstimatorStatus::kLocated));
+  f.step(kSec);
+}
+
+// One transmitter split into two signals by a's separation: a's device cannot yet tell signal 2
+// from signal 1, found. Signal 2 still shows where a second victim may be, but confirms nothing:
+// its victim, located before, goes back to unconfirmed and names the victim it may be.
+TEST(VictimFusion, ASuspectedRepeatConfirmsNothingAndNamesTheVictimItMayBe) {
+  VictimFusion f;
+  found_and_located_by_a(f);
+  ASSERT_EQ(f.victims().size(), 2u);
+  EXPECT_EQ(f.victims()[1].state, VictimState::kLocated) << "before the device's word";
+  EXPECT_EQ(f.victims()[1].possibly_same_as, 0u);
+  f.update(repeat_of(src("a", 2, 2 * kSec, Vec3(0.4, 0.0, -1.0), 0.15, EstimatorStatus::kConverged),
+                     responder::RepeatState::kSuspected, 1));
+  f.update(src("a", 1, 2 * kSec, Vec3(0.0, 0.0, -1.0), 0.1, EstimatorStatus::kFound));
+  f.step(2 * kSec);
+  ASSERT_EQ(f.victims().size(), 2u) << "shown, as a possible second victim";
+  EXPECT_EQ(f.victims()[0].state, VictimState::kFound);
+  EXPECT_EQ(f.victims()[1].state, VictimState::kUnconfirmed);
+  EXPECT_EQ(f.victims()[1].located_at, 0);
+  EXPECT_EQ(f.victims()[1].possibly_same_as, f.victims()[0].victim_id);
+  // Another rescuer locating it there stands by it: the repeat's doubt is a's alone.
+  f.update(src("b", 1, 3 * kSec, Vec3(0.45, 0.0, -1.0), 0.15, EstimatorStatus::kLocated));
+  f.update(repeat_of(src("a", 2, 3 * kSec, Vec3(0.4, 0.0, -1.0), 0.15, EstimatorStatus::kConverged),
+                     responder::RepeatState::kSuspected, 1));
+  f.update(src("a", 1, 3 * kSec, Vec3(0.0, 0.0, -1.0), 0.1, EstimatorStatus::kFound));
+  f.step(3 * kSec);
+  ASSERT_EQ(f.victims().size(), 2u);
+  EXPECT_EQ(f.victims()[1].state, VictimState::kLocated);
+}
+
+// Stood over, signal 2 is signal 1 again: the victim it had opened merges into signal 1's.
+TEST(VictimFusion, AConfirmedRepeatMergesItsVictimIntoTheVictimOfTheSignalItRepeats) {
+  VictimFusion f;
+  found_and_located_by_a(f);
+  ASSERT_EQ(f.victims().size(), 2u);
+  ASSERT_EQ(f.victims()[1].state, VictimState::kLocated);
+  f.update(repeat_of(src("a", 2, 2 * kSec, Vec3(0.05, 0.0, -1.0), 0.1, EstimatorStatus::kConverged),
+                     responder::RepeatState::kConfirmed, 1));
+  f.update(src("a", 1, 2 * kSec, Vec3(0.0, 0.0, -1.0), 0.1, EstimatorStatus::kFound));
+  f.step(2 * kSec);
+  ASSERT_EQ(f.victims().size(), 1u);
+  EXPECT_EQ(f.victims()[0].victim_id, 1u);
+  EXPECT_EQ(f.victims()[0].state, VictimState::kFound);
+  EXPECT_EQ(f.take_removed(), (std::vector<std::uint32_t>{2}));
+  // Its later estimates open nothing.
+  f.update(repeat_of(src("a", 2, 3 * kSec, Vec3(0.05, 0.0, -1.0), 0.1, EstimatorStatus::kConverged),
+                     responder::RepeatState::kConfirmed, 1));
+  f.step(3 * kSec);
+  EXPECT_EQ(f.victims().size(), 1u);
+}
+
 TEST(VictimFusion, MergeKeepsLowerIdAndReportsTheOther) {
   VictimFusion f;
   f.update(src("a", 1, 0, Vec3(0, 0, 0), 0.5));

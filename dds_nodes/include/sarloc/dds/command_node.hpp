@@ -93,8 +93,10 @@ class CommandNode {
   /// The active one's picture (as received) into the fusion and the tracker; under mutex_.
   void adopt_picture();
   /// The event log's line for a signal that a rescuer's separation reacquired or separated
-  /// after a merge (its victim's contribution went through it); once per event. Under mutex_.
-  void log_separation_event(const responder::VictimEstimate& estimate);
+  /// after a merge (its victim's contribution went through it), once per event, and for a
+  /// signal's repeat state (one transmitter split in two) as its device says it, once per
+  /// change. Under mutex_.
+  void log_separation_event(const responder::VictimEstimate& estimate, bool from_device);
   /// Keeps the picture writers' MANUAL_BY_TOPIC liveliness (3 s lease) while active.
   void assert_picture_liveliness();
   std::optional<incident::ReporterFix> fix_at(const std::string& rescuer_id, TimestampNs stamp) const;
@@ -119,6 +121,7 @@ class CommandNode {
   std::deque<PendingEstimate> pending_estimates_;
   /// Per (rescuer, signal): the stamp of the last signal-separation event logged.
   std::map<std::pair<std::string, std::uint32_t>, TimestampNs> separation_events_logged_;
+  std::map<std::pair<std::string, std::uint32_t>, responder::RepeatState> repeats_logged_;
   std::map<std::string, incident::ResponderTrack> fixes_;  ///< per responder
   std::vector<std::pair<eprosima::fastrtps::rtps::InstanceHandle_t, std::string>> writer_owner_;
   std::vector<incident::TeamStatus> last_teams_;

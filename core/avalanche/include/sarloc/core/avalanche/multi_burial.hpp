@@ -40,6 +40,14 @@ struct MultiBurialTrial {
   bool all_found = false;
   std::uint32_t ghosts = 0;
   std::uint32_t duplicates = 0;
+  /// Signals retired as confirmed repeats of a found one (RescuerSearchConfig::same_transmitter_*),
+  /// and of those, how many carried mostly another transmitter than the victim found (a victim
+  /// the test hid).
+  std::uint32_t repeats_retired = 0;
+  std::uint32_t repeats_wrong = 0;
+  /// Signals ever published as a suspected repeat. A trial with none ran exactly as it would
+  /// without the test.
+  std::uint32_t repeats_suspected = 0;
   std::uint32_t wrong_attributions = 0;
   std::uint32_t unattributed_pulses = 0;
   std::uint32_t steps = 0;          ///< until the last victim was found (or the budget)
@@ -58,6 +66,10 @@ struct MultiBurialSummary {
   std::uint32_t all_found = 0;
   std::uint32_t ghosts = 0;
   std::uint32_t duplicates = 0;
+  std::uint32_t repeats_retired = 0;
+  std::uint32_t repeats_wrong = 0;
+  std::uint32_t repeats_suspected = 0;
+  std::uint32_t trials_with_repeats = 0;  ///< trials in which some signal was suspected or retired
   std::uint64_t wrong_attributions = 0;
   std::uint64_t unattributed_pulses = 0;
   Stats steps;                      ///< of the trials that found all

@@ -41,6 +41,15 @@ struct RescuerSearchConfig {
   /// another unfound signal is heard: then the strongest one heard is searched (a searcher
   /// follows the signal that can be heard, not one lost at the edge of range).
   double target_silence_s = 10.0;
+  /// One transmitter split into two signals (same_transmitter.hpp): a signal whose position and
+  /// moment are inside chi2_6(this) of another signal's that stands as a victim here (found, or
+  /// kLocated) is a suspected repeat of it and confirms nothing; found there, it is a confirmed
+  /// repeat and the search moves on. Measured at FOUND (docs/estimation/avalanche.md): repeats
+  /// 2.0 and 3.8, two transmitters 44.7 and more.
+  double same_transmitter_gate_probability = 0.999;
+  /// A repeat is confirmed only while both moments are known to this fraction of their
+  /// magnitude (1 sigma); otherwise the signal stays suspected: the device cannot tell.
+  double same_transmitter_moment_spread = 0.25;
 
   /// Throws ConfigError naming the key ("rescuer_search.max_signals = 0: must be in [1, 64]").
   void validate() const;
@@ -104,6 +113,8 @@ class RescuerSearch {
   std::size_t restarts() const { return restarts_; }
   /// Latest estimate of a signal (nullopt if never measured).
   std::optional<VictimEstimate> estimate(std::uint32_t signal_id) const;
+  /// Signals retired as confirmed repeats of another (the same transmitter, found twice).
+  std::size_t confirmed_repeats() const { return confirmed_repeats_; }
   /// How well a field sample would fit a signal's filter (SogFilter::predictive_log_likelihood):
   /// the receiver's separation (SignalSeparator::set_consistency) asks it when a pulse's carrier
   /// and timing fit several signals. nullopt for a signal without a filter yet, or found here.
@@ -122,16 +133,26 @@ class RescuerSearch {
     bool done = false;        ///< not to be guided to: found here or elsewhere
     /// Set when this rescuer stood over it (GuidanceMode::kFound): the estimate of that moment.
     std::optional<VictimEstimate> found;
+    /// Set when stood over as a confirmed repeat of another signal: the estimate of that moment
+    /// (status kConverged), kept and republished like a found one.
+    std::optional<VictimEstimate> retired = std::nullopt;
     SignalEvent last_event = SignalEvent::kNone;  ///< the separation's last word on this signal
     TimestampNs last_event_stamp = 0;
+    responder::RepeatState repeat = responder::RepeatState::kNone;  ///< of another signal here
+    std::uint32_t repeat_of = 0;
   };
 
   std::optional<Rejection> gate(const FieldMeasurement& m) const;
   std::variant<SearchUpdate, Rejection> process_miss(const FieldMeasurement& m);
   /// The sample into the signal's filter; on success the signal's and the search's clocks advance.
   std::optional<Rejection> update_filter(SignalState& s, const FieldMeasurement& m);
-  /// e carrying the separation's last word on the signal.
-  static VictimEstimate with_last_event(const SignalState& s, VictimEstimate e);
+  /// e carrying the separation's last word on the signal and its repeat state (a repeat
+  /// confirms nothing: its status is capped at kConverged).
+  static VictimEstimate with_signal_state(const SignalState& s, VictimEstimate e);
+  /// The same-transmitter test of signal `id` (status `status`, found just now or not) against
+  /// the other signals standing as victims here; sets its repeat state: confirmed when found
+  /// where another signal's victim was found and both moments are known, else suspected.
+  void test_repeat(std::uint32_t id, SignalState& s, EstimatorStatus status, bool found_now);
   void choose_target();
   void restart_unfound_filters();
 
@@ -145,6 +166,8 @@ class RescuerSearch {
   TimestampNs last_odometry_end_ = 0;
   TimestampNs superseded_until_ = 0;  ///< end of the last unknown-motion stand-in
   std::size_t restarts_ = 0;
+  std::size_t confirmed_repeats_ = 0;
+  double same_transmitter_gate_ = 0.0;  ///< chi2_6(same_transmitter_gate_probability)
 };
 
 }  // namespace sarloc::avalanche

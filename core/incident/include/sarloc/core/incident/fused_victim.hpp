@@ -33,6 +33,9 @@ struct FusedVictim {
   /// Two estimators of one of its sources disagree (VictimFusion): the picture cannot tell
   /// which is right, so that source confirms nothing and the dashboard shows the flag.
   bool evidence_conflict = false;
+  /// A reporter cannot tell one of its sources here from another of its signals, bound to this
+  /// victim id (VictimFusion, "Repeats"): possibly one transmitter seen twice. 0: none.
+  std::uint32_t possibly_same_as = 0;
 };
 
 /// Found by a rescuer (and possibly recovered since).

@@ -45,6 +45,10 @@ struct SourceEstimate {
   /// The reporter's signal separation's last event on this signal (VictimEstimate).
   responder::SignalEvent signal_event = responder::SignalEvent::kNone;
   TimestampNs signal_event_stamp = 0;
+  /// The reporter's word that this signal is (kConfirmed) or may be (kSuspected) its signal
+  /// repeat_of_signal again: one transmitter split in two (VictimEstimate::repeat).
+  responder::RepeatState repeat = responder::RepeatState::kNone;
+  std::uint32_t repeat_of_signal = 0;
 };
 
 /// Where the reporter's detector was at the estimate's stamp (ResponderTrack::at).

@@ -31,6 +31,12 @@
 //      rescuer are merged, closest pair first; the lower id survives, the other is reported by
 //      take_removed(). An unconfirmed victim that lost all its sources to re-association (never
 //      to a timeout) is a ghost of a wrong association and is removed the same way;
+//   Repeats (one transmitter split into two signals by a reporter's separation: the reporter
+//      says so, VictimEstimate::repeat, from the latest estimate of any of its estimators):
+//      a SUSPECTED repeat fuses as usual but confirms nothing; a victim whose every bound source
+//      is one goes back to kUnconfirmed and names the victim of the signal it may repeat
+//      (possibly_same_as). A CONFIRMED repeat is inactive; the victim it leaves without sources
+//      is merged into the victim of the signal it repeats (the reporter stood over both).
 //   Sources and victims on different floors never associate or merge (a victim's floor is
 //      that of its first source).
 //   Conflicts: a source is estimated by more than one estimator (a rescuer's device and the
@@ -171,6 +177,12 @@ class VictimFusion {
   void refuse(FusedVictim& v);
   void associate_rescuer(const std::string& rescuer_id, TimestampNs now);
   void merge_victims();
+  /// `gone`'s sources, states and times into `keep`; `gone` is erased and reported removed.
+  void merge_into(std::uint32_t keep_id, std::uint32_t gone_id);
+  /// Step 5 for confirmed repeats (see the overview).
+  void merge_confirmed_repeats();
+  /// The strongest repeat claim of the latest estimates of a source's estimators.
+  static std::pair<responder::RepeatState, std::uint32_t> repeat_claim(const Source& s);
   void update_states(TimestampNs now);
   /// The state a source confirms with (step 6): its device's, nullopt if not corroborated.
   std::optional<SourceState> confirming_state(const Source& s) const;

@@ -21,6 +21,16 @@ enum class EstimatorStatus : std::uint8_t {
   kFound = 4,         ///< rescuer stands over the estimate: probe here
 };
 
+/// Whether this signal is another signal of the same detector again: one transmitter split into
+/// two signals by the separation (avalanche/same_transmitter.hpp).
+enum class RepeatState : std::uint8_t {
+  kNone = 0,       ///< a transmitter of its own, as far as the detector can tell
+  kSuspected = 1,  ///< cannot yet be told apart from repeat_of_signal: confirms nothing
+  kConfirmed = 2,  ///< stood over: the same transmitter as repeat_of_signal, found there
+};
+/// "none", "suspected", "confirmed".
+const char* to_string(RepeatState state);
+
 struct MixtureComponentSummary {
   double weight = 0.0;
   Vec3 mean = Vec3::Zero();            ///< rescuer-relative frame G_k (m)
@@ -40,6 +50,10 @@ struct VictimEstimate {
   /// after loss, separated after a merge) and the stamp of the sample that carried it.
   SignalEvent signal_event = SignalEvent::kNone;
   TimestampNs signal_event_stamp = 0;
+  /// kSuspected / kConfirmed: possibly / surely the transmitter of repeat_of_signal (a signal
+  /// of the same detector that is found or located), so this estimate confirms no victim.
+  RepeatState repeat = RepeatState::kNone;
+  std::uint32_t repeat_of_signal = 0;  ///< 0 with kNone
   /// Where the responder was at `stamp`, when the estimate's writer knows it (the device's own
   /// estimates carry it): placed with this, the estimate needs no responder_position of its
   /// epoch, which a long radio fade can lose for good.
