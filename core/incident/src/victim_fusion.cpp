@@ -392,10 +392,13 @@ void VictimFusion::merge_into(std::uint32_t keep_id, std::uint32_t gone_id) {
   removed_.push_back(gone_id);
 }
 
-std::pair<responder::RepeatState, std::uint32_t> VictimFusion::repeat_claim(const Source& s) {
+std::pair<responder::RepeatState, std::uint32_t> VictimFusion::repeat_claim(const Source& s) const {
+  // Only estimators heard within the source timeout of the newest: a stopped one's last word
+  // (a daemon killed while it suspected a repeat) must not hold the source down for good.
+  const auto window = static_cast<TimestampNs>(config_.source_timeout_s * 1e9);
   std::pair<responder::RepeatState, std::uint32_t> claim{s.estimate.repeat, s.estimate.repeat_of_signal};
   for (const auto& [name, e] : s.by_estimator)
-    if (e.repeat > claim.first) claim = {e.repeat, e.repeat_of_signal};
+    if (e.repeat > claim.first && e.stamp >= s.estimate.stamp - window) claim = {e.repeat, e.repeat_of_signal};
   return claim;
 }
 

@@ -402,6 +402,28 @@ TEST(VictimFusion, ASuspectedRepeatConfirmsNothingAndNamesTheVictimItMayBe) {
   EXPECT_EQ(f.victims()[1].state, VictimState::kLocated);
 }
 
+// A repeat claim counts while its estimator is heard: the core daemon's copy suspected signal 2,
+// then stopped (killed); the device, which sees every sample, says none, and confirms it again.
+TEST(VictimFusion, AStoppedEstimatorsRepeatClaimLapses) {
+  VictimFusion f;
+  found_and_located_by_a(f);
+  SourceEstimate daemon = repeat_of(src("a", 2, 2 * kSec, Vec3(0.4, 0.0, -1.0), 0.15, EstimatorStatus::kConverged),
+                                    responder::RepeatState::kSuspected, 1);
+  daemon.from_device = false;
+  daemon.estimator = "core";
+  f.update(daemon);
+  f.step(2 * kSec);
+  ASSERT_EQ(f.victims().size(), 2u);
+  EXPECT_EQ(f.victims()[1].state, VictimState::kUnconfirmed) << "while the daemon suspects it";
+  const TimestampNs later = 2 * kSec + static_cast<TimestampNs>(f.config().source_timeout_s * 1e9) + kSec;
+  f.update(src("a", 1, later, Vec3(0.0, 0.0, -1.0), 0.1, EstimatorStatus::kFound));
+  f.update(src("a", 2, later, Vec3(0.4, 0.0, -1.0), 0.15, EstimatorStatus::kLocated));
+  f.step(later);
+  ASSERT_EQ(f.victims().size(), 2u);
+  EXPECT_EQ(f.victims()[1].state, VictimState::kLocated);
+  EXPECT_EQ(f.victims()[1].possibly_same_as, 0u);
+}
+
 // Stood over, signal 2 is signal 1 again: the victim it had opened merges into signal 1's.
 TEST(VictimFusion, AConfirmedRepeatMergesItsVictimIntoTheVictimOfTheSignalItRepeats) {
   VictimFusion f;

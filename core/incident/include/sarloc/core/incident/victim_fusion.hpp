@@ -181,8 +181,9 @@ class VictimFusion {
   void merge_into(std::uint32_t keep_id, std::uint32_t gone_id);
   /// Step 5 for confirmed repeats (see the overview).
   void merge_confirmed_repeats();
-  /// The strongest repeat claim of the latest estimates of a source's estimators.
-  static std::pair<responder::RepeatState, std::uint32_t> repeat_claim(const Source& s);
+  /// The strongest repeat claim of the latest estimates of a source's estimators, of those
+  /// within source_timeout_s of its newest.
+  std::pair<responder::RepeatState, std::uint32_t> repeat_claim(const Source& s) const;
   void update_states(TimestampNs now);
   /// The state a source confirms with (step 6): its device's, nullopt if not corroborated.
   std::optional<SourceState> confirming_state(const Source& s) const;
