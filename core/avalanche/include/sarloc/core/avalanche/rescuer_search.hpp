@@ -45,7 +45,8 @@ struct RescuerSearchConfig {
   /// moment are inside chi2_6(this) of another signal's that stands as a victim here (found, or
   /// kLocated) is a suspected repeat of it and confirms nothing; found there, it is a confirmed
   /// repeat and the search moves on. Measured at FOUND (docs/estimation/avalanche.md): repeats
-  /// 2.0 and 3.8, two transmitters 44.7 and more.
+  /// 2.0 and 3.8, two transmitters 44.7 and more, but 13-14 for one found hundreds of steps
+  /// earlier, whose position the odometry had blurred to metres (a victim lost: "Left").
   double same_transmitter_gate_probability = 0.999;
   /// A repeat is confirmed only while both moments are known to this fraction of their
   /// magnitude (1 sigma); otherwise the signal stays suspected: the device cannot tell.
