@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -31,6 +32,18 @@ void MultiBurialSetup::validate() const {
   if (!(spread_m >= 0.5 && spread_m <= 100.0)) fail("spread_m", spread_m, "must be in [0.5, 100]");
   if (!(period_spread >= 0.0 && period_spread <= 0.3)) fail("period_spread", period_spread, "must be in [0, 0.3]");
 }
+
+namespace {
+
+// The transmitter most of a signal's pulses came from (truth), nullopt before any.
+std::optional<std::size_t> majority_transmitter(const std::map<std::size_t, std::uint32_t>& pulses) {
+  const auto most = std::max_element(pulses.begin(), pulses.end(),
+                                     [](const auto& a, const auto& b) { return a.second < b.second; });
+  if (most == pulses.end()) return std::nullopt;
+  return most->first;
+}
+
+}  // namespace
 
 MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint32_t index) {
   const SimulationConfig& sim = setup.simulation;
@@ -104,10 +117,9 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
       if (update->estimate && update->estimate->repeat == responder::RepeatState::kConfirmed &&
           retired.insert(m.signal_id).second) {
         ++tr.repeats_retired;
-        const auto& own = pulses_of[m.signal_id];
-        const auto majority = std::max_element(own.begin(), own.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+        const auto majority = majority_transmitter(pulses_of[m.signal_id]);
         const auto first = victim_found_by.find(update->estimate->repeat_of_signal);
-        if (majority != own.end() && first != victim_found_by.end() && majority->first != first->second) ++tr.repeats_wrong;
+        if (majority && first != victim_found_by.end() && *majority != first->second) ++tr.repeats_wrong;
       }
       if (!update->estimate || update->estimate->status != EstimatorStatus::kFound || reported.count(m.signal_id) != 0)
         continue;
@@ -126,9 +138,8 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
           victim = v;
         }
       }
-      const auto& own = pulses_of[m.signal_id];
-      const auto majority = std::max_element(own.begin(), own.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
-      if (majority != own.end() && (beacons[majority->first].position - where).norm() <= reach) victim = majority->first;
+      const auto majority = majority_transmitter(pulses_of[m.signal_id]);
+      if (majority && (beacons[*majority].position - where).norm() <= reach) victim = majority;
       if (victim) victim_found_by[m.signal_id] = *victim;
       if (!victim) ++tr.ghosts;
       else if (!found_victims.insert(*victim).second) ++tr.duplicates;

@@ -298,6 +298,7 @@ void RescuerSearch::test_repeat(std::uint32_t id, SignalState& s, EstimatorStatu
   const MixtureMoments mine = s.filter.moments();
   double closest = same_transmitter_gate_;
   const SignalState* other = nullptr;
+  MixtureMoments theirs;  // the closest one's, moved to now
   for (const auto& [other_id, o] : signals_) {
     // Stands as a victim here: found, or published kLocated and not itself a repeat. Once this
     // signal is found, only found ones: the one stood over keeps FOUND and a located other
@@ -305,17 +306,19 @@ void RescuerSearch::test_repeat(std::uint32_t id, SignalState& s, EstimatorStatu
     const bool stands = o.found || (!found_now && o.estimate && o.estimate->status >= EstimatorStatus::kLocated &&
                                     o.repeat == RepeatState::kNone);
     if (other_id == id || !stands) continue;
-    const double d2 = same_transmitter_distance2(mine, o.filter.predicted_moments());
+    const MixtureMoments moved = o.filter.predicted_moments();
+    const double d2 = same_transmitter_distance2(mine, moved);
     if (d2 <= closest) {
       closest = d2;
       other = &o;
+      theirs = moved;
       s.repeat_of = other_id;
     }
   }
   if (other == nullptr) return;
   const double spread = config_.same_transmitter_moment_spread;
   if (found_now && other->found && moment_determined(mine, spread) &&
-      moment_determined(other->filter.predicted_moments(), spread)) {
+      moment_determined(theirs, spread)) {
     s.repeat = RepeatState::kConfirmed;
     ++confirmed_repeats_;
     return;
