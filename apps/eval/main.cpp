@@ -115,6 +115,7 @@ void print_multi_burial(const av::MultiBurialSummary& s, const av::EvaluationSum
   std::printf("%-34s %u   of another transmitter %u   suspected %u   trials with any %u\n",
               "Repeats retired (same transmitter)", s.repeats_retired, s.repeats_wrong, s.repeats_suspected,
               s.trials_with_repeats);
+  std::printf("%-34s %u   trials with any %u\n", "Filters rebuilt after a leap", s.leaps, s.trials_with_leaps);
   std::printf("%-34s %llu   unattributed pulses %llu\n", "Wrong attributions (pulses)",
               static_cast<unsigned long long>(s.wrong_attributions),
               static_cast<unsigned long long>(s.unattributed_pulses));

@@ -75,6 +75,8 @@ void read_sog(YamlReader r, avalanche::SogConfig& c) {
   r.read("reinit_gate_probability", c.reinit_gate_probability);
   r.read("reinit_after", c.reinit_after);
   r.read("divergence_window", c.divergence_window);
+  r.read("leap_gate_probability", c.leap_gate_probability);
+  r.read("leap_min_range_m", c.leap_min_range_m);
   r.read("iterated_update_max", c.iterated_update_max);
   r.read("relinearise_threshold_sigmas", c.relinearise_threshold_sigmas);
   r.read("negative_information", c.negative_information);

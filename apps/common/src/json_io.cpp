@@ -88,6 +88,8 @@ nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
   j["repeats_wrong"] = s.repeats_wrong;
   j["repeats_suspected"] = s.repeats_suspected;
   j["trials_with_repeats"] = s.trials_with_repeats;
+  j["leaps"] = s.leaps;
+  j["trials_with_leaps"] = s.trials_with_leaps;
   j["wrong_attributions"] = s.wrong_attributions;
   j["unattributed_pulses"] = s.unattributed_pulses;
   j["steps"] = stats_json(s.steps);
@@ -103,6 +105,7 @@ nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
                               {"repeats_retired", t.repeats_retired},
                               {"repeats_wrong", t.repeats_wrong},
                               {"repeats_suspected", t.repeats_suspected},
+                              {"leaps", t.leaps},
                               {"wrong_attributions", t.wrong_attributions},
                               {"unattributed_pulses", t.unattributed_pulses},
                               {"steps", t.steps},

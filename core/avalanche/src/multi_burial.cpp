@@ -163,6 +163,7 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
     search.add_odometry(o);
   }
   tr.signals = static_cast<std::uint32_t>(signals.size());
+  tr.leaps = static_cast<std::uint32_t>(search.leaps());
   return tr;
 }
 
@@ -191,6 +192,8 @@ MultiBurialSummary run_multi_burial(const MultiBurialSetup& setup, const std::fu
     s.repeats_wrong += r.repeats_wrong;
     s.repeats_suspected += r.repeats_suspected;
     if (r.repeats_suspected + r.repeats_retired > 0) ++s.trials_with_repeats;
+    s.leaps += r.leaps;
+    if (r.leaps > 0) ++s.trials_with_leaps;
     s.wrong_attributions += r.wrong_attributions;
     s.unattributed_pulses += r.unattributed_pulses;
     s.per_trial.push_back(r);

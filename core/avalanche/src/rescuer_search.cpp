@@ -330,7 +330,7 @@ std::optional<Rejection> RescuerSearch::update_filter(SignalState& s, const Fiel
   // The gate already checked everything the filter checks; a throw here is a numerical
   // refusal of this one sample, and the filter stays as it was.
   try {
-    s.filter.process(m);
+    if (s.filter.process(m).leapt) ++leaps_;
   } catch (const InputError& e) {
     return reject(RejectReason::kInvalidValue, rescuer_id_, "signal " + std::to_string(m.signal_id) + ": " + e.what());
   }

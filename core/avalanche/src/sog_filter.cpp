@@ -141,6 +141,10 @@ void SogConfig::validate() const {
     config_fail("iterated_update_max", iterated_update_max, "must be in [0, 20]");
   if (!finite_positive(relinearise_threshold_sigmas) || relinearise_threshold_sigmas > 100.0)
     config_fail("relinearise_threshold_sigmas", relinearise_threshold_sigmas, "must be in (0, 100]");
+  if (!(leap_gate_probability == 0.0 || (leap_gate_probability > 0.5 && leap_gate_probability < 1.0)))
+    config_fail("leap_gate_probability", leap_gate_probability, "must be 0 (off) or in (0.5, 1)");
+  if (!std::isfinite(leap_min_range_m) || leap_min_range_m < 0.0 || leap_min_range_m > 100.0)
+    config_fail("leap_min_range_m", leap_min_range_m, "must be in [0, 100]");
   if (divergence_window > 100)
     config_fail("divergence_window", divergence_window, "must be in [0, 100]");
   if (!finite_positive(converged_radius_m) || converged_radius_m > 1000.0)
@@ -187,7 +191,8 @@ SogFilter::SogFilter(SogConfig config, std::string rescuer_id, std::uint32_t sig
       window_gate_(config_.divergence_window > 0
                        ? chi_square_quantile(config_.reinit_gate_probability,
                                              3.0 * config_.divergence_window)
-                       : 0.0) {
+                       : 0.0),
+      leap_gate_(config_.leap_gate_probability > 0.0 ? chi_square_quantile(config_.leap_gate_probability, 3.0) : 0.0) {
   nis_window_.reserve(config_.divergence_window);
 }
 
@@ -239,6 +244,7 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   heard_at_ = Vec3::Zero();
   result.components_before = components_.size();
   const Displacement disp = odometry_.take();
+  move_anchor(disp);
   const OrientationObservation* orientation =
       measurement.orientation && config_.use_orientation ? &*measurement.orientation : nullptr;
   update_field(measurement.field, noise_floor(measurement), measurement.valid_axes, disp, orientation,
@@ -268,12 +274,7 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
     result.divergence_ignored = true;
   }
   if (diverged) {
-    initialise(measurement);
-    gate_failures_ = 0;
-    nis_window_.clear();
-    nis_next_ = 0;
-    result.reinitialised = true;
-    result.components_after = components_.size();
+    rebuild(measurement, result);
     ++steps_;
     return result;
   }
@@ -282,7 +283,46 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   ++steps_;
   if (config_.merge_interval > 0 && steps_ % config_.merge_interval == 0) result.merged = merge();
   result.components_after = components_.size();
+  result.leap_d2 = leap_from_anchor();
+  // Far out, a ring's moment-matched covariance is a poor summary of it and its mean may jump
+  // between modes (single burial: leaps up to 35 at radii of 12-97 m): only a converged mixture
+  // is held to its past.
+  if (leap_gate_ > 0.0 && result.leap_d2 > leap_gate_) {
+    const VictimEstimate now = estimate(0);
+    result.leapt = now.status >= EstimatorStatus::kConverged &&
+                   now.relative.position.norm() >= config_.leap_min_range_m;
+  }
+  if (result.leapt) rebuild(measurement, result);
   return result;
+}
+
+void SogFilter::rebuild(const FieldMeasurement& measurement, SogStepResult& result) {
+  initialise(measurement);  // a new ring, a new innovation history, no anchor
+  result.reinitialised = true;
+  result.components_after = components_.size();
+}
+
+void SogFilter::move_anchor(const Displacement& disp) {
+  if (!anchor_ || disp.samples == 0) return;
+  const Vec3 before = anchor_->position;
+  anchor_->position = moved_point(before, disp.mean);
+  // The step's translation noise, and its heading noise turning the anchor about the rescuer.
+  const double yaw_var = disp.covariance(idx::kRot + 2, idx::kRot + 2);
+  anchor_->covariance += disp.covariance.block<3, 3>(idx::kTrans, idx::kTrans);
+  anchor_->covariance.topLeftCorner<2, 2>() += yaw_var * before.head<2>().squaredNorm() * Eigen::Matrix2d::Identity();
+}
+
+double SogFilter::leap_from_anchor() {
+  const MixtureMoments mm = moments();
+  const Vec3 mean = mm.mean.segment<3>(idx::kPos);
+  const Mat3 cov = mm.covariance.block<3, 3>(idx::kPos, idx::kPos);
+  double d2 = 0.0;
+  if (anchor_) {
+    const Vec3 d = mean - anchor_->position;
+    d2 = d.dot((anchor_->covariance + cov).ldlt().solve(d));
+  }
+  if (!anchor_ || cov.trace() < 0.5 * anchor_->covariance.trace()) anchor_ = PositionAnchor{mean, cov};
+  return d2;
 }
 
 double SogFilter::apply_miss(const Vec3& floor) {
@@ -290,6 +330,7 @@ double SogFilter::apply_miss(const Vec3& floor) {
   // now (composition, no correction).
   const Displacement disp = odometry_.take();
   heard_at_ = moved_point(heard_at_, disp.mean);
+  move_anchor(disp);
   for (auto& c : components_) {
     CompositionJacobians f;
     const StateVec x = CompositionModel::f(c.x, disp.mean, &f);
@@ -389,6 +430,7 @@ void SogFilter::initialise(const FieldMeasurement& meas) {
   validate_field_measurement(meas);
   if (meas.valid_axes == 0) throw InputError("field_measurement.valid_axes = 0: a pulse not heard initialises nothing");
   heard_at_ = Vec3::Zero();
+  anchor_.reset();
   gate_failures_ = 0;  // a new mixture starts a new innovation history
   nis_window_.clear();
   nis_next_ = 0;

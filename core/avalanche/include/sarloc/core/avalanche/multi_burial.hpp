@@ -48,6 +48,8 @@ struct MultiBurialTrial {
   /// Signals ever published as a suspected repeat. A trial with none ran exactly as it would
   /// without the test.
   std::uint32_t repeats_suspected = 0;
+  /// Filters rebuilt by the leap test (SogConfig::leap_gate_probability).
+  std::uint32_t leaps = 0;
   std::uint32_t wrong_attributions = 0;
   std::uint32_t unattributed_pulses = 0;
   std::uint32_t steps = 0;          ///< until the last victim was found (or the budget)
@@ -70,6 +72,8 @@ struct MultiBurialSummary {
   std::uint32_t repeats_wrong = 0;
   std::uint32_t repeats_suspected = 0;
   std::uint32_t trials_with_repeats = 0;  ///< trials in which some signal was suspected or retired
+  std::uint32_t leaps = 0;
+  std::uint32_t trials_with_leaps = 0;
   std::uint64_t wrong_attributions = 0;
   std::uint64_t unattributed_pulses = 0;
   Stats steps;                      ///< of the trials that found all

@@ -112,6 +112,8 @@ class RescuerSearch {
   std::size_t signal_count() const { return signals_.size(); }
   /// Times the unfound filters restarted after a gap in the motion too long to stand in for.
   std::size_t restarts() const { return restarts_; }
+  /// Filters rebuilt because their estimate left its own earlier posterior (SogConfig leap test).
+  std::size_t leaps() const { return leaps_; }
   /// Latest estimate of a signal (nullopt if never measured).
   std::optional<VictimEstimate> estimate(std::uint32_t signal_id) const;
   /// Signals retired as confirmed repeats of another (the same transmitter, found twice).
@@ -167,6 +169,7 @@ class RescuerSearch {
   TimestampNs last_odometry_end_ = 0;
   TimestampNs superseded_until_ = 0;  ///< end of the last unknown-motion stand-in
   std::size_t restarts_ = 0;
+  std::size_t leaps_ = 0;
   std::size_t confirmed_repeats_ = 0;
   double same_transmitter_gate_ = 0.0;  ///< chi2_6(same_transmitter_gate_probability)
 };
