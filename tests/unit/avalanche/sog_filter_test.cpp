@@ -472,7 +472,7 @@ struct SwitchedRun {
   double radius95_m = 0.0;
 };
 
-SwitchedRun run_switched_signal(double leap_probability) {
+SwitchedRun run_switched_signal(double leap_probability, double leap_min_range_m = SogConfig{}.leap_min_range_m) {
   Scenario a = fixed_scenario();
   Scenario b = a;
   b.transmitter = a.transmitter + Vec3(-1.0, 1.5, -1.0);
@@ -481,6 +481,7 @@ SwitchedRun run_switched_signal(double leap_probability) {
   SogConfig cfg;
   cfg.initial_components = 600;
   cfg.leap_gate_probability = leap_probability;
+  cfg.leap_min_range_m = leap_min_range_m;
   SogFilter f(cfg);
   f.process(sim_a.measure());
   sim_b.measure();
@@ -510,9 +511,14 @@ TEST(SogFilterTest, LeapTestRebuildsAFilterThatTookAnotherTransmittersSamples) {
   const SwitchedRun off = run_switched_signal(0.0);
   EXPECT_EQ(off.leaps, 0);
   EXPECT_GT(off.error_m, off.radius95_m) << "without the test the estimate is a blend of the two";
+  // Nothing is rebuilt nearer than leap_min_range_m (the near field): here, nowhere.
+  EXPECT_EQ(run_switched_signal(0.999, 100.0).leaps, 0);
   SogConfig bad;
   bad.leap_gate_probability = 0.3;
   EXPECT_THROW(bad.validate(), ConfigError);
+  SogConfig bad_range;
+  bad_range.leap_min_range_m = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(bad_range.validate(), ConfigError);
 }
 
 TEST(SogFilterTest, WindowedInnovationTestIsQuietOnAConsistentRun) {
