@@ -1,5 +1,5 @@
-// config/dds/discovery-client.xml with a Fast DDS Discovery Server (fastdds discovery, as
-// deploy/systemd/sarloc-discovery-server.service runs it): clients find each other through
+// config/dds/discovery-client.xml with a Fast DDS Discovery Server (fast-discovery-server, which
+// `fastdds discovery` in deploy/systemd/sarloc-discovery-server.service runs): clients find each other through
 // the server, and only through it.
 #include <gtest/gtest.h>
 
@@ -31,8 +31,10 @@ TEST(DiscoveryServer, ClientsMatchThroughTheServerOnly) {
   Writer<::sarloc::IncidentSummary> writer(a);
   EXPECT_FALSE(writer.wait_for_readers(1, 2s)) << "clients matched without a server: multicast is not off";
 
+  // The server binary itself: `fastdds discovery` is a Python wrapper whose child outlives a
+  // SIGTERM to the wrapper (systemd stops the unit's whole cgroup; a test stops one pid).
   app::ChildProcess server("discovery-server",
-                           {"/usr/bin/fastdds", "discovery", "-i", "0", "-l", "127.0.0.1", "-p", "11811"},
+                           {"/usr/bin/fast-discovery-server", "-i", "0", "-l", "127.0.0.1", "-p", "11811"},
                            ::testing::TempDir() + "/discovery-server.log");
   ASSERT_TRUE(writer.wait_for_readers(1, 20s)) << "clients never matched through the discovery server";
   ::sarloc::IncidentSummary s;
