@@ -301,6 +301,7 @@ nlohmann::json to_json(const firefighter::FirefighterSummary& s, double rmse_eve
                        {"converged_fraction", v.converged_fraction},
                        {"wrong_floor_fraction", v.wrong_floor_fraction},
                        {"ms_per_update", v.ms_per_update_amortised},
+                       {"ms_per_comparison", v.ms_per_comparison_median},
                        {"ms_per_filter_step", v.ms_per_update_median},
                        {"ms_per_filter_step_mean", v.ms_per_update_mean},
                        {"particles_mean", v.particles_mean},

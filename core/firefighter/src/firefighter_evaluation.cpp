@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <set>
 
 #include "sarloc/core/common/chi_square.hpp"
@@ -28,14 +29,17 @@ Vec2 rotate(const Vec2& v, double a) {
   return {std::cos(a) * v.x() - std::sin(a) * v.y(), std::sin(a) * v.x() + std::cos(a) * v.y()};
 }
 
-// One member's odometry, truth and pattern comparisons: shared by every filter configuration.
+// One member's odometry, truth and full pattern comparisons: shared by every filter
+// configuration. A configuration whose cloud has concentrated compares only the windows its
+// particles can use (MapParticleFilter::observation_ends) and pays for that instead.
 struct MemberOdometry {
   std::vector<double> t;                  // s since the search started
   std::vector<Eigen::Vector3d> delta;     // INS displacement, navigation frame
   std::vector<Vec2> truth;
   std::vector<std::size_t> truth_floor;
   std::vector<int> comparison;            // index into observations, or -1
-  std::vector<std::vector<PseudoObservation>> observations;
+  std::vector<std::vector<PseudoObservation>> observations;  // against every window
+  std::vector<std::vector<Vec2>> trajectories;             // the compared odometry
   std::vector<double> walk_heading;
   std::vector<double> comparison_ms;
   Vec2 start = Vec2::Zero();
@@ -88,6 +92,7 @@ MemberOdometry simulate_member(const FirefighterEvalConfig& config, const std::v
       const auto t0 = Clock::now();
       m.observations.push_back(matcher.compare(track.recent()));
       m.comparison_ms.push_back(ms_since(t0));
+      m.trajectories.push_back(track.recent());
       m.walk_heading.push_back(track.walk_heading());
       track.compared();
       index = static_cast<int>(m.observations.size()) - 1;
@@ -101,6 +106,22 @@ MemberOdometry simulate_member(const FirefighterEvalConfig& config, const std::v
   return m;
 }
 
+// The observations the filter's next update gets, as the live system would compute them: the
+// comparison restricted to the ends its particles can use, or the shared full one. Returns the
+// comparison's cost (ms), choosing the ends included; 0 when the update uses none.
+double compare_for(const MapParticleFilter& pf, const PatternMatcher& matcher, const MemberOdometry& m, std::size_t c,
+                   std::vector<PseudoObservation>& restricted, const std::vector<PseudoObservation>*& observations) {
+  const auto t0 = Clock::now();
+  const std::optional<EndMask> ends = pf.observation_ends(matcher);
+  if (!ends) {
+    observations = &m.observations[c];
+    return ms_since(t0) + m.comparison_ms[c];
+  }
+  restricted = matcher.windows_touching(*ends) ? matcher.compare(m.trajectories[c], &*ends) : std::vector<PseudoObservation>{};
+  observations = &restricted;
+  return restricted.empty() ? 0.0 : ms_since(t0);
+}
+
 // chi2_2(0.99): outside a converged estimate's own 99 % ellipse.
 constexpr double kChi2TwoDof99 = 9.2103;
 
@@ -108,6 +129,7 @@ struct VariantTrace {
   std::vector<double> error;         // per update
   std::vector<char> wrong_floor;
   std::vector<double> step_ms;
+  std::vector<double> comparison_ms;   // per comparison made (none when the update uses none)
   std::vector<std::size_t> particles;  // per update
   std::size_t converged = 0, converged_wrong = 0;
   std::vector<double> nees_late;     // converged estimates after 150 s
@@ -115,8 +137,8 @@ struct VariantTrace {
   double nees_end = -1.0;            // -1: not converged at the end
 };
 
-VariantTrace run_filter(const FloorPlan& plan, const NavigableGrid& grid, const MapFilterConfig& base,
-                        const FilterVariant& v, const MemberOdometry& m, std::uint64_t seed) {
+VariantTrace run_filter(const FloorPlan& plan, const NavigableGrid& grid, const PatternMatcher& matcher,
+                        const MapFilterConfig& base, const FilterVariant& v, const MemberOdometry& m, std::uint64_t seed) {
   MapFilterConfig config = base;
   config.pseudo_observations = v.pseudo_observations;
   config.resampling = v.resampling;
@@ -128,14 +150,21 @@ VariantTrace run_filter(const FloorPlan& plan, const NavigableGrid& grid, const 
     pf.init_unknown(rng);
   }
   VariantTrace trace;
+  std::vector<PseudoObservation> restricted;
   for (std::size_t k = 0; k < m.delta.size(); ++k) {
-    const auto t0 = Clock::now();
+    auto t0 = Clock::now();
     pf.predict(m.delta[k], rng);
+    double step_ms = ms_since(t0);
     if (m.comparison[k] >= 0) {
       const auto c = static_cast<std::size_t>(m.comparison[k]);
-      pf.update(m.observations[c], m.walk_heading[c], rng);
+      const std::vector<PseudoObservation>* observations = nullptr;
+      const double ms = compare_for(pf, matcher, m, c, restricted, observations);
+      if (ms > 0.0) trace.comparison_ms.push_back(ms);
+      t0 = Clock::now();
+      pf.update(*observations, m.walk_heading[c], rng);
+      step_ms += ms_since(t0);
     }
-    trace.step_ms.push_back(ms_since(t0));
+    trace.step_ms.push_back(step_ms);
     const MapEstimate e = pf.estimate();
     const Vec2 err = e.position - m.truth[k];
     trace.error.push_back(err.norm());
@@ -227,7 +256,7 @@ FirefighterSummary FirefighterEvaluation::run(const std::function<void()>& on_ru
       result.members.push_back(simulate_member(config_, *feet, matcher, member_rng));
       std::vector<VariantTrace> traces;
       for (std::size_t v = 0; v < variants_.size(); ++v) {
-        traces.push_back(run_filter(plan_, grid, config_.filter, variants_[v], result.members.back(),
+        traces.push_back(run_filter(plan_, grid, matcher, config_.filter, variants_[v], result.members.back(),
                                     derive_seed(config_.seed, 100000 + 64 * r + 16 * (result.members.size() - 1) + v)));
       }
       result.traces.push_back(std::move(traces));
@@ -245,13 +274,11 @@ FirefighterSummary FirefighterEvaluation::run(const std::function<void()>& on_ru
   for (std::size_t f = 0; f < grid.nodes_per_floor.size(); ++f) s.area_m2 += grid.area_m2(f);
   s.pattern_windows = matcher.window_count();
   std::vector<double> distances, comparison_ms;
-  std::size_t updates = 0;
   for (const RunResult& r : run.results) {
     for (const MemberOdometry& m : r.members) {
       s.ins_drift_percent.push_back(m.drift_percent);
       distances.push_back(m.distance_m);
       comparison_ms.insert(comparison_ms.end(), m.comparison_ms.begin(), m.comparison_ms.end());
-      updates += m.delta.size();
       ++s.members;
     }
   }
@@ -259,7 +286,6 @@ FirefighterSummary FirefighterEvaluation::run(const std::function<void()>& on_ru
   s.ins_drift_p95 = percentile(s.ins_drift_percent, 0.95);
   s.distance_median_m = median(distances);
   s.ms_per_comparison_median = median(comparison_ms);
-  const double comparison_total = std::accumulate(comparison_ms.begin(), comparison_ms.end(), 0.0);
   const double period = 1.0 / config_.odometry_rate_hz;
   const auto marks = static_cast<std::size_t>(std::floor(config_.walk.duration_s / config_.rmse_every_s));
   for (std::size_t v = 0; v < variants_.size(); ++v) {
@@ -269,7 +295,7 @@ FirefighterSummary FirefighterEvaluation::run(const std::function<void()>& on_ru
     std::vector<std::size_t> count(marks, 0);
     double all_sq = 0.0, final_sq = 0.0;
     std::size_t all_n = 0, final_n = 0, converged = 0, wrong_floor = 0, late_inside = 0, late_n = 0;
-    std::vector<double> step_ms, nees_end;
+    std::vector<double> step_ms, nees_end, variant_comparison_ms;
     double particle_sum = 0.0;
     std::size_t converged_estimates = 0, converged_wrong = 0;
     for (const RunResult& r : run.results) {
@@ -298,6 +324,7 @@ FirefighterSummary FirefighterEvaluation::run(const std::function<void()>& on_ru
           if (n <= 5.991) ++late_inside;  // chi2_2(0.95)
         }
         step_ms.insert(step_ms.end(), tr.step_ms.begin(), tr.step_ms.end());
+        variant_comparison_ms.insert(variant_comparison_ms.end(), tr.comparison_ms.begin(), tr.comparison_ms.end());
         for (std::size_t n : tr.particles) particle_sum += static_cast<double>(n);
         converged_estimates += tr.converged;
         converged_wrong += tr.converged_wrong;
@@ -314,8 +341,10 @@ FirefighterSummary FirefighterEvaluation::run(const std::function<void()>& on_ru
     vs.particles_mean = all_n ? particle_sum / static_cast<double>(all_n) : 0.0;
     vs.converged_wrong_fraction =
         converged_estimates ? static_cast<double>(converged_wrong) / static_cast<double>(converged_estimates) : 0.0;
+    const double comparison_total = std::accumulate(variant_comparison_ms.begin(), variant_comparison_ms.end(), 0.0);
+    vs.ms_per_comparison_median = variant_comparison_ms.empty() ? 0.0 : median(variant_comparison_ms);
     vs.ms_per_update_amortised =
-        vs.ms_per_update_median + (updates ? comparison_total / static_cast<double>(updates) : 0.0);
+        vs.ms_per_update_median + (step_ms.empty() ? 0.0 : comparison_total / static_cast<double>(step_ms.size()));
     vs.nees_members = static_cast<std::uint32_t>(nees_end.size());
     if (!nees_end.empty()) {
       const double n = static_cast<double>(nees_end.size());
@@ -371,11 +400,14 @@ MapErrorExperiment FirefighterEvaluation::map_error_experiment(std::string door,
   MapParticleFilter pf(wrong, grid, config_.filter);
   std::mt19937_64 pf_rng(derive_seed(config_.seed, 100000));
   pf.init_known(m.start, m.start_floor, m.yaw0, pf_rng);
+  std::vector<PseudoObservation> restricted;
   for (std::size_t k = 0; k < m.delta.size(); ++k) {
     pf.predict(m.delta[k], pf_rng);
     if (m.comparison[k] >= 0) {
       const auto c = static_cast<std::size_t>(m.comparison[k]);
-      pf.update(m.observations[c], m.walk_heading[c], pf_rng);
+      const std::vector<PseudoObservation>* observations = nullptr;
+      (void)compare_for(pf, matcher, m, c, restricted, observations);
+      pf.update(*observations, m.walk_heading[c], pf_rng);
     }
     const MapEstimate e = pf.estimate();
     const double error = (e.position - m.truth[k]).norm();

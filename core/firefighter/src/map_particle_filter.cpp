@@ -260,6 +260,33 @@ void MapParticleFilter::replace_dead(const std::vector<char>& dead, std::mt19937
   for (double& w : weights_) w /= total;
 }
 
+std::optional<EndMask> MapParticleFilter::observation_ends(const PatternMatcher& matcher) const {
+  EndMask mask = matcher.empty_end_mask();
+  if (!config_.pseudo_observations || particles_.empty()) return mask;  // the update uses none
+  const bool replacing = config_.replace_fraction > 0.0 &&
+                         (config_.resampling == PseudoResampling::kAlways ||
+                          (config_.resampling == PseudoResampling::kUntilConverged && !was_converged_));
+  if (replacing) return std::nullopt;
+  // Particles grouped in cells: the ends that may be nearest to any point of a cell, which
+  // holds every particle's nearest end (update() looks up only that one).
+  constexpr double kCell = 0.5;
+  std::unordered_set<std::uint64_t> cells;
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    if (!(weights_[i] > 0.0)) continue;
+    const Particle& p = particles_[i];
+    const auto ix = static_cast<std::int64_t>(std::floor(p.position.x() / kCell));
+    const auto iy = static_cast<std::int64_t>(std::floor(p.position.y() / kCell));
+    const std::uint64_t key = (static_cast<std::uint64_t>(p.floor) << 48) ^
+                              (static_cast<std::uint64_t>(ix & 0xFFFFFF) << 24) ^ static_cast<std::uint64_t>(iy & 0xFFFFFF);
+    if (!cells.insert(key).second) continue;
+    const Vec2 centre((static_cast<double>(ix) + 0.5) * kCell, (static_cast<double>(iy) + 0.5) * kCell);
+    matcher.mark_ends_near(p.floor, centre, 0.5 * std::sqrt(2.0) * kCell, mask);
+  }
+  // Restricting pays only while it leaves most windows out.
+  if (2 * matcher.windows_touching(mask) > matcher.window_count()) return std::nullopt;
+  return mask;
+}
+
 void MapParticleFilter::update(const std::vector<PseudoObservation>& observations, double walk_heading_ins,
                                std::mt19937_64& rng) {
   if (!config_.pseudo_observations || observations.empty() || particles_.empty()) return;

@@ -3,7 +3,9 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <string>
+#include <tuple>
 
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/validate.hpp"
@@ -41,6 +43,16 @@ void PatternMatchConfig::validate() const {
 PatternMatcher::PatternMatcher(const std::vector<NodeSequence>& sequences, const PatternGridConfig& grid,
                                PatternMatchConfig config)
     : config_((config.validate(), config)) {
+  // Distinct window ends per floor: the positions of the observations.
+  std::size_t floors = 0;
+  for (const NodeSequence& seq : sequences) floors = std::max(floors, seq.floor + 1);
+  std::vector<std::vector<Vec2>> end_points(floors);
+  std::vector<std::map<std::tuple<double, double>, std::uint32_t>> end_id(floors);
+  auto end_of = [&](std::size_t floor, const Vec2& p) {
+    const auto [it, added] = end_id[floor].try_emplace({p.x(), p.y()}, static_cast<std::uint32_t>(end_points[floor].size()));
+    if (added) end_points[floor].push_back(p);
+    return it->second;
+  };
   const auto span = static_cast<std::size_t>(std::lround(config_.pattern_length_m / grid.spacing_m));
   for (const NodeSequence& seq : sequences) {
     const std::size_t n = seq.nodes.size();
@@ -57,11 +69,42 @@ PatternMatcher::PatternMatcher(const std::vector<NodeSequence>& sequences, const
       Vec2 centroid = Vec2::Zero();
       for (const Vec2& p : points) centroid += p;
       centroid /= static_cast<double>(points.size());
-      Window w{seq.floor, node(0), node(span), centroid, heading_of(node(0) - node(1)),
-               heading_of(node(span) - node(span - 1)), PointIndex(std::move(points))};
+      Window w{seq.floor, end_of(seq.floor, node(0)), end_of(seq.floor, node(span)), node(0), node(span), centroid,
+               heading_of(node(0) - node(1)), heading_of(node(span) - node(span - 1)), PointIndex(std::move(points))};
       windows_.push_back(std::move(w));
     }
   }
+  for (auto& points : end_points) {
+    ends_.push_back(points.empty() ? nullptr : std::make_unique<PointIndex>(std::move(points)));
+  }
+}
+
+const std::vector<Vec2>& PatternMatcher::ends(std::size_t floor) const {
+  static const std::vector<Vec2> none;
+  return floor < ends_.size() && ends_[floor] ? ends_[floor]->points() : none;
+}
+
+EndMask PatternMatcher::empty_end_mask() const {
+  EndMask mask(ends_.size());
+  for (std::size_t f = 0; f < ends_.size(); ++f) mask[f].assign(ends(f).size(), 0);
+  return mask;
+}
+
+void PatternMatcher::mark_ends_near(std::size_t floor, const Vec2& centre, double radius_m, EndMask& mask) const {
+  if (floor >= ends_.size() || !ends_[floor]) return;
+  // A point p within r of the centre has its nearest end within d + r of p (d: the centre's
+  // nearest), so within d + 2r of the centre.
+  double d2 = 0.0;
+  ends_[floor]->nearest(centre, d2);
+  std::vector<std::uint32_t> found;
+  ends_[floor]->within(centre, std::sqrt(d2) + 2.0 * radius_m + 1e-9, found);
+  for (std::uint32_t i : found) mask[floor][i] = 1;
+}
+
+std::size_t PatternMatcher::windows_touching(const EndMask& mask) const {
+  std::size_t n = 0;
+  for (const Window& w : windows_) n += (mask[w.floor][w.first_end] || mask[w.floor][w.last_end]) ? 1 : 0;
+  return n;
 }
 
 std::vector<Vec2> PatternMatcher::resample(const std::vector<Vec2>& trajectory, double spacing) {
@@ -150,11 +193,16 @@ PatternMatcher::Fit PatternMatcher::icp(const std::vector<Vec2>& source, const W
   return {std::sqrt(sum / static_cast<double>(source.size())), R * source.back() + t, std::atan2(R(1, 0), R(0, 0))};
 }
 
-std::vector<PseudoObservation> PatternMatcher::compare(const std::vector<Vec2>& trajectory) const {
+std::vector<PseudoObservation> PatternMatcher::compare(const std::vector<Vec2>& trajectory, const EndMask* wanted) const {
   std::vector<PseudoObservation> out;
   double length = 0.0;
   for (std::size_t k = 1; k < trajectory.size(); ++k) length += (trajectory[k] - trajectory[k - 1]).norm();
   if (length < 0.5 * config_.pattern_length_m || windows_.empty()) return out;
+  if (wanted) {
+    bool fits = wanted->size() == ends_.size();
+    for (std::size_t f = 0; fits && f < ends_.size(); ++f) fits = (*wanted)[f].size() == ends(f).size();
+    if (!fits) throw InputError("pattern comparison: the end mask is not this matcher's (use empty_end_mask)");
+  }
   std::vector<Vec2> source = resample(trajectory, config_.trajectory_spacing_m);
   // Algorithm 1, line 1: rotate by eq. (1), then centre.
   const Eigen::Matrix2d R0 = rotation(principal_rotation(source));
@@ -175,6 +223,9 @@ std::vector<PseudoObservation> PatternMatcher::compare(const std::vector<Vec2>& 
   const double phi = principal_rotation_of(R0);
   double best = 1e300;
   for (const Window& w : windows_) {
+    const bool first_wanted = !wanted || (*wanted)[w.floor][w.first_end];
+    const bool last_wanted = !wanted || (*wanted)[w.floor][w.last_end];
+    if (!first_wanted && !last_wanted) continue;
     PseudoObservation first{w.floor, w.first, w.heading_first}, last{w.floor, w.last, w.heading_last};
     for (int i = 0; i < 4; ++i) {
       const Fit fit = icp(rotated[static_cast<std::size_t>(i)], w, best + config_.prune_margin_m);
@@ -187,8 +238,8 @@ std::vector<PseudoObservation> PatternMatcher::compare(const std::vector<Vec2>& 
         o.frame_heading = std::remainder(fit.angle + i * 0.5 * kPi + phi, 2.0 * kPi);
       }
     }
-    out.push_back(first);
-    out.push_back(last);
+    if (first_wanted) out.push_back(first);
+    if (last_wanted) out.push_back(last);
   }
   return out;
 }

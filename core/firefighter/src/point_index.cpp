@@ -36,6 +36,14 @@ std::uint32_t PointIndex::nearest(const Vec2& query, double& distance_sq) const 
   return index;
 }
 
+void PointIndex::within(const Vec2& query, double radius, std::vector<std::uint32_t>& out) const {
+  if (impl_->points.empty()) return;
+  const double q[2] = {query.x(), query.y()};
+  std::vector<std::pair<std::uint32_t, double>> found;
+  impl_->tree->radiusSearch(q, radius * radius, found, nanoflann::SearchParams(32, 0.0F, false));  // squared (L2_Simple)
+  for (const auto& f : found) out.push_back(f.first);
+}
+
 const std::vector<Vec2>& PointIndex::points() const { return impl_->points; }
 
 }  // namespace sarloc::firefighter

@@ -5,9 +5,14 @@
 // (this test bounds it from above: the filter must not claim more than it knows).
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <memory>
+#include <optional>
+
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/firefighter/firefighter_evaluation.hpp"
+#include "sarloc/core/firefighter/pattern_matcher.hpp"
 #include "test_buildings.hpp"
 
 namespace sarloc::firefighter {
@@ -123,6 +128,55 @@ TEST(MapParticleFilter, UnknownStartConvergesOnTheOfficeAndItsClaimsAreHonest) {
   EXPECT_LT(v.final_rmse_m, 1.5);
   EXPECT_LE(v.converged_wrong_fraction, 0.02);
   EXPECT_LT(v.particles_mean, 0.75 * c.filter.particles_max) << "the count never came down";
+}
+
+// observation_ends: the update weights a concentrated cloud exactly as from the full comparison
+// (pruning off, see the matcher's test), from a comparison of a fraction of the windows; it asks
+// for every observation while the q % replacement is due, and for none without
+// pseudo-observations.
+TEST(MapParticleFilter, WeightsFromTheComparisonNearTheCloudEqualTheFullOnes) {
+  const FloorPlan plan = test::building("house-125");
+  const NavigableGrid grid = navigable_grid(plan, PatternGridConfig{});
+  const auto sequences = extract_node_sequences(plan, PatternGridConfig{});
+  PatternMatchConfig no_pruning;
+  no_pruning.prune_margin_m = 100.0;
+  const PatternMatcher matcher(sequences, PatternGridConfig{}, no_pruning);
+  const auto& nodes = sequences.front().nodes;
+  std::vector<Vec2> walked;
+  for (std::size_t k = 0; k <= 20; ++k) walked.push_back(nodes[(30 + k) % nodes.size()]);
+  const Vec2 last = walked.back() - walked[walked.size() - 2];
+  const double walk_heading = std::atan2(last.y(), last.x());
+  MapFilterConfig config;
+  config.known_position_sigma_m = 0.8;
+  config.known_heading_sigma_deg = 30.0;
+  auto filter_at_the_end = [&](const MapFilterConfig& c) {
+    auto pf = std::make_unique<MapParticleFilter>(plan, grid, c);
+    std::mt19937_64 rng(11);
+    pf->init_known(walked.back(), 0, 0.0, rng);
+    return pf;
+  };
+  auto full = filter_at_the_end(config), near = filter_at_the_end(config);
+  const std::optional<EndMask> ends = near->observation_ends(matcher);
+  ASSERT_TRUE(ends.has_value());
+  EXPECT_LT(matcher.windows_touching(*ends), matcher.window_count() / 2);
+  std::mt19937_64 rng_full(5), rng_near(5);
+  full->update(matcher.compare(walked), walk_heading, rng_full);
+  near->update(matcher.compare(walked, &*ends), walk_heading, rng_near);
+  ASSERT_EQ(full->weights().size(), near->weights().size());
+  for (std::size_t i = 0; i < full->weights().size(); ++i) {
+    ASSERT_EQ(full->weights()[i], near->weights()[i]) << i;
+    ASSERT_EQ(full->particles()[i].position, near->particles()[i].position) << i;
+  }
+  EXPECT_EQ(full->estimate().position, near->estimate().position);
+
+  MapFilterConfig replacing = config;
+  replacing.resampling = PseudoResampling::kAlways;
+  EXPECT_FALSE(filter_at_the_end(replacing)->observation_ends(matcher).has_value()) << "replacement draws from all";
+  MapFilterConfig none = config;
+  none.pseudo_observations = false;
+  const auto nothing = filter_at_the_end(none)->observation_ends(matcher);
+  ASSERT_TRUE(nothing.has_value());
+  EXPECT_EQ(matcher.windows_touching(*nothing), 0U);
 }
 
 TEST(MapParticleFilter, RefusesNonFiniteOdometry) {

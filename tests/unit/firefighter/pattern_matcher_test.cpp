@@ -3,8 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <random>
+#include <tuple>
 
+#include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/firefighter/pattern_matcher.hpp"
 #include "test_buildings.hpp"
 
@@ -59,6 +62,73 @@ TEST(PatternMatcher, FindsAWalkedStretchOfThePatternWhereverItWasMoved) {
     EXPECT_LT((best->fitted_position - now).norm(), 0.2) << "start " << start;
     EXPECT_NEAR(std::remainder(best->frame_heading + 0.9, 2 * kPi), 0.0, 0.05) << "the odometry frame's heading";
   }
+}
+
+// mark_ends_near marks the nearest end of every point within the radius (brute force here).
+TEST(PatternMatcher, MarksTheNearestEndOfEveryPointNearTheCentre) {
+  const FloorPlan plan = test::building("office-253");
+  const PatternGridConfig grid;
+  const PatternMatcher matcher(extract_node_sequences(plan, grid), grid, PatternMatchConfig{});
+  std::mt19937_64 rng(8);
+  std::uniform_real_distribution<double> x(-1.0, 12.5), y(-1.0, 12.0), offset(-0.35, 0.35);
+  for (int trial = 0; trial < 200; ++trial) {
+    const std::size_t floor = static_cast<std::size_t>(trial % 2);
+    const auto& ends = matcher.ends(floor);
+    ASSERT_FALSE(ends.empty());
+    const Vec2 centre(x(rng), y(rng));
+    EndMask mask = matcher.empty_end_mask();
+    matcher.mark_ends_near(floor, centre, 0.5, mask);
+    for (int k = 0; k < 20; ++k) {
+      const Vec2 p = centre + Vec2(offset(rng), offset(rng));  // within 0.5 m
+      std::size_t nearest = 0;
+      for (std::size_t i = 1; i < ends.size(); ++i) {
+        if ((ends[i] - p).squaredNorm() < (ends[nearest] - p).squaredNorm()) nearest = i;
+      }
+      ASSERT_TRUE(mask[floor][nearest]) << "centre " << centre.transpose() << ", point " << p.transpose();
+    }
+  }
+}
+
+// A comparison restricted to some ends gives exactly the full comparison's observations there
+// (with pruning off: a pruned ICP stops at a value that depends on the best fit found so far).
+TEST(PatternMatcher, ARestrictedComparisonGivesTheFullOnesObservationsAtTheWantedEnds) {
+  const FloorPlan plan = test::building("house-125");
+  const PatternGridConfig grid;
+  const auto sequences = extract_node_sequences(plan, grid);
+  PatternMatchConfig config;
+  config.prune_margin_m = 100.0;
+  const PatternMatcher matcher(sequences, grid, config);
+  const auto& nodes = sequences.front().nodes;
+  std::vector<Vec2> trajectory;
+  for (std::size_t k = 0; k <= 20; ++k) trajectory.push_back(nodes[(30 + k) % nodes.size()]);
+  EndMask wanted = matcher.empty_end_mask();
+  matcher.mark_ends_near(0, nodes[50 % nodes.size()], 1.0, wanted);
+  const std::size_t touching = matcher.windows_touching(wanted);
+  ASSERT_GT(touching, 0U);
+  ASSERT_LT(touching, matcher.window_count() / 2) << "the restriction leaves most windows out";
+
+  auto key = [](const PseudoObservation& o) { return std::make_tuple(o.position.x(), o.position.y(), o.heading, o.rmse); };
+  auto sorted = [&](std::vector<PseudoObservation> v) {
+    std::sort(v.begin(), v.end(), [&](const auto& a, const auto& b) { return key(a) < key(b); });
+    return v;
+  };
+  std::vector<PseudoObservation> expected;
+  for (const auto& o : matcher.compare(trajectory)) {
+    const auto& ends = matcher.ends(0);
+    const auto at = std::find(ends.begin(), ends.end(), o.position);
+    ASSERT_NE(at, ends.end()) << "every observation is at a window end";
+    if (wanted[0][static_cast<std::size_t>(at - ends.begin())]) expected.push_back(o);
+  }
+  const auto restricted = sorted(matcher.compare(trajectory, &wanted));
+  expected = sorted(expected);
+  ASSERT_FALSE(expected.empty());
+  ASSERT_EQ(restricted.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_EQ(key(restricted[i]), key(expected[i])) << i;
+    EXPECT_EQ(restricted[i].fitted_position, expected[i].fitted_position) << i;
+    EXPECT_EQ(restricted[i].frame_heading, expected[i].frame_heading) << i;
+  }
+  EXPECT_THROW(matcher.compare(trajectory, &(wanted = EndMask(3))), InputError) << "another matcher's mask";
 }
 
 }  // namespace

@@ -31,8 +31,14 @@
 //   pf.init_unknown(rng);
 //   pf.predict(ins_delta, rng);                 // 2 Hz
 //   pf.update(observations, walk_heading, rng); // after each pattern comparison
+//
+// The comparison can be restricted to what the next update uses: `observation_ends` marks the
+// window ends that are the nearest end to some particle; it asks for every observation while
+// the q % replacement is due (it draws from all of them) or when the restriction would still
+// compare most windows.
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -112,6 +118,9 @@ class MapParticleFilter {
   /// One pattern comparison. `walk_heading_ins`: the walking direction in the INS frame at the
   /// end of the compared trajectory.
   void update(const std::vector<PseudoObservation>& observations, double walk_heading_ins, std::mt19937_64& rng);
+
+  /// The window ends whose observations the next update can use (nullopt: all of them).
+  std::optional<EndMask> observation_ends(const PatternMatcher& matcher) const;
 
   MapEstimate estimate() const;
   const std::vector<Particle>& particles() const { return particles_; }

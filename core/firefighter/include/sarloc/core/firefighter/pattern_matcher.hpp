@@ -17,10 +17,18 @@
 // likelihood, eq. (2), is below e^-50 of the best's); Hea at p_eta+dN is the arriving
 // direction p_eta+dN - p_eta+dN-1 (seed 004 writes the leaving one).
 //
+// A comparison can be restricted to the window ends that are the nearest end to some particle
+// (`EndMask`, from MapParticleFilter::observation_ends): the particles take only those
+// observations (weights only), so the restricted comparison gives them the same weights at a
+// fraction of the cost once the cloud has concentrated. Every window touching a wanted end is
+// compared, so the observations at that end are all there; observations at the other ends are
+// left out (theirs would be incomplete).
+//
 //   PatternMatcher matcher(extract_node_sequences(plan, grid), grid, PatternMatchConfig{});
 //   std::vector<PseudoObservation> obs = matcher.compare(last_20_m_of_odometry);
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include "sarloc/core/firefighter/point_index.hpp"
@@ -52,6 +60,10 @@ struct PseudoObservation {
   double frame_heading = 0.0;
 };
 
+/// Per floor, one flag per distinct window end (PatternMatcher::ends): whether a comparison
+/// must produce the observations there.
+using EndMask = std::vector<std::vector<char>>;
+
 class PatternMatcher {
  public:
   PatternMatcher(const std::vector<NodeSequence>& sequences, const PatternGridConfig& grid,
@@ -60,7 +72,16 @@ class PatternMatcher {
   /// `trajectory`: horizontal odometry positions, oldest first, the last one now, about
   /// pattern_length_m long. Returns 2 observations per window (empty when the trajectory is
   /// shorter than half the pattern length).
-  std::vector<PseudoObservation> compare(const std::vector<Vec2>& trajectory) const;
+  /// With `wanted`: only the windows with a wanted end, and only the observations at wanted ends.
+  std::vector<PseudoObservation> compare(const std::vector<Vec2>& trajectory, const EndMask* wanted = nullptr) const;
+
+  /// The distinct window ends of a floor: the positions every observation is at.
+  const std::vector<Vec2>& ends(std::size_t floor) const;
+  EndMask empty_end_mask() const;
+  /// Marks every end that may be the nearest end to some point within `radius_m` of `centre`.
+  void mark_ends_near(std::size_t floor, const Vec2& centre, double radius_m, EndMask& mask) const;
+  /// How many windows a comparison restricted to `mask` compares.
+  std::size_t windows_touching(const EndMask& mask) const;
 
   std::size_t window_count() const { return windows_.size(); }
   const PatternMatchConfig& config() const { return config_; }
@@ -74,6 +95,7 @@ class PatternMatcher {
  private:
   struct Window {
     std::size_t floor = 0;
+    std::uint32_t first_end = 0, last_end = 0;  // into ends_[floor]
     Vec2 first, last, centroid;
     double heading_first = 0.0, heading_last = 0.0;
     PointIndex points;
@@ -87,6 +109,7 @@ class PatternMatcher {
 
   PatternMatchConfig config_;
   std::vector<Window> windows_;
+  std::vector<std::unique_ptr<PointIndex>> ends_;  // per floor; null: no window on it
 };
 
 }  // namespace sarloc::firefighter

@@ -18,6 +18,8 @@ class PointIndex {
 
   /// Index of the nearest point and its squared distance. The index must not be empty.
   std::uint32_t nearest(const Vec2& query, double& distance_sq) const;
+  /// Appends the indices of the points within `radius` of `query` to `out`.
+  void within(const Vec2& query, double radius, std::vector<std::uint32_t>& out) const;
   const std::vector<Vec2>& points() const;
   std::size_t size() const { return points().size(); }
 
