@@ -1,5 +1,7 @@
 #include "eval_config.hpp"
 
+#include <cmath>
+
 #include "sarloc/app/avalanche_yaml.hpp"
 #include "sarloc/app/yaml_reader.hpp"
 
@@ -28,11 +30,15 @@ void load(YamlReader root, avalanche::EvaluationSetup& setup) {
 
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
-// Reads `key` given in degrees (or deg/s, deg/s/sqrt(Hz), deg/h) into radians.
+// Reads `key` given in degrees (or deg/s, deg/s/sqrt(Hz), deg/h, mg, ug) into SI units. A value
+// equal to the default but for the conversion's rounding keeps the default bit for bit: the
+// shipped config must reproduce a run without it exactly (a last-bit difference changes a
+// simulated walk's random path).
 void read_scaled(YamlReader& r, const std::string& key, double& value, double unit) {
-  double v = value / unit;
+  const double shown = value / unit;
+  double v = shown;
   r.read(key, v);
-  value = v * unit;
+  if (std::abs(v - shown) > 1e-12 * std::abs(shown)) value = v * unit;
 }
 
 void load_firefighter(YamlReader root, firefighter::FirefighterEvalConfig& c) {
