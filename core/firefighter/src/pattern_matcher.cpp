@@ -90,7 +90,14 @@ EndMask PatternMatcher::empty_end_mask() const {
   return mask;
 }
 
+void PatternMatcher::check_mask(const EndMask& mask) const {
+  bool fits = mask.size() == ends_.size();
+  for (std::size_t f = 0; fits && f < ends_.size(); ++f) fits = mask[f].size() == ends(f).size();
+  if (!fits) throw InputError("pattern comparison: the end mask is not this matcher's (use empty_end_mask)");
+}
+
 void PatternMatcher::mark_ends_near(std::size_t floor, const Vec2& centre, double radius_m, EndMask& mask) const {
+  check_mask(mask);
   if (floor >= ends_.size() || !ends_[floor]) return;
   // A point p within r of the centre has its nearest end within d + r of p (d: the centre's
   // nearest), so within d + 2r of the centre.
@@ -102,6 +109,7 @@ void PatternMatcher::mark_ends_near(std::size_t floor, const Vec2& centre, doubl
 }
 
 std::size_t PatternMatcher::windows_touching(const EndMask& mask) const {
+  check_mask(mask);
   std::size_t n = 0;
   for (const Window& w : windows_) n += (mask[w.floor][w.first_end] || mask[w.floor][w.last_end]) ? 1 : 0;
   return n;
@@ -198,11 +206,7 @@ std::vector<PseudoObservation> PatternMatcher::compare(const std::vector<Vec2>& 
   double length = 0.0;
   for (std::size_t k = 1; k < trajectory.size(); ++k) length += (trajectory[k] - trajectory[k - 1]).norm();
   if (length < 0.5 * config_.pattern_length_m || windows_.empty()) return out;
-  if (wanted) {
-    bool fits = wanted->size() == ends_.size();
-    for (std::size_t f = 0; fits && f < ends_.size(); ++f) fits = (*wanted)[f].size() == ends(f).size();
-    if (!fits) throw InputError("pattern comparison: the end mask is not this matcher's (use empty_end_mask)");
-  }
+  if (wanted) check_mask(*wanted);
   std::vector<Vec2> source = resample(trajectory, config_.trajectory_spacing_m);
   // Algorithm 1, line 1: rotate by eq. (1), then centre.
   const Eigen::Matrix2d R0 = rotation(principal_rotation(source));

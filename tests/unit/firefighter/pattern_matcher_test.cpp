@@ -129,6 +129,8 @@ TEST(PatternMatcher, ARestrictedComparisonGivesTheFullOnesObservationsAtTheWante
     EXPECT_EQ(restricted[i].frame_heading, expected[i].frame_heading) << i;
   }
   EXPECT_THROW(matcher.compare(trajectory, &(wanted = EndMask(3))), InputError) << "another matcher's mask";
+  EXPECT_THROW(matcher.windows_touching(wanted), InputError);
+  EXPECT_THROW(matcher.mark_ends_near(0, nodes.front(), 1.0, wanted), InputError);
 }
 
 }  // namespace

@@ -106,6 +106,7 @@ class PatternMatcher {
     double angle;   // of the ICP rotation
   };
   Fit icp(const std::vector<Vec2>& source, const Window& window, double abandon_above) const;
+  void check_mask(const EndMask& mask) const;  ///< throws InputError unless shaped as empty_end_mask's
 
   PatternMatchConfig config_;
   std::vector<Window> windows_;
