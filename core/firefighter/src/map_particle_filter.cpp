@@ -101,7 +101,7 @@ void MapParticleFilter::init_known(const Vec2& position, std::size_t floor, doub
     p.z = plan_.floors.at(floor).elevation_m;
   }
   weights_.assign(config_.particles, 1.0 / config_.particles);
-  was_converged_ = map_error_ = false;
+  was_converged_ = map_error_ = map_error_since_start_ = false;
   converged_run_ = moving_steps_ = 0;
   refresh_flags();
 }
@@ -126,7 +126,7 @@ void MapParticleFilter::init_unknown(std::mt19937_64& rng) {
     p.heading = any_heading(rng);
   }
   weights_.assign(particles_.size(), 1.0 / static_cast<double>(particles_.size()));
-  was_converged_ = map_error_ = false;
+  was_converged_ = map_error_ = map_error_since_start_ = false;
   converged_run_ = moving_steps_ = 0;
   refresh_flags();
 }
@@ -421,6 +421,7 @@ MapEstimate MapParticleFilter::estimate() const {
   e.variance_m2 = cov.trace();
   e.converged = converged_;
   e.map_error_suspected = map_error_;
+  e.map_error_since_start = map_error_since_start_;
   return e;
 }
 
@@ -446,6 +447,7 @@ void MapParticleFilter::refresh_flags(double removed_weight) {
   } else if (converged_ && ++converged_run_ >= config_.map_error_clear_updates) {
     map_error_ = false;
   }
+  map_error_since_start_ = map_error_since_start_ || map_error_;
   if (converged_) was_converged_ = true;
 }
 

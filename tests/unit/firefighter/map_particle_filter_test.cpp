@@ -65,6 +65,12 @@ TEST(MapParticleFilter, ChangesFloorOnlyOnTheStairs) {
   for (int k = 0; k < 10; ++k) flat.predict(Eigen::Vector3d(0.0, 0.0, 0.2), rng);
   EXPECT_EQ(flat.estimate().floor, 0U);
   EXPECT_TRUE(flat.estimate().map_error_suspected);
+  // Standing there 40 s converged clears the flag; that it was raised stays said.
+  for (int k = 0; k < 80; ++k) flat.predict(Eigen::Vector3d::Zero(), rng);
+  EXPECT_FALSE(flat.estimate().map_error_suspected);
+  EXPECT_TRUE(flat.estimate().map_error_since_start);
+  flat.init_known({2.5, 2.5}, 0, 0.0, rng);
+  EXPECT_FALSE(flat.estimate().map_error_since_start) << "a new start";
 }
 
 TEST(MapParticleFilter, RemovesParticlesThatCrossAWall) {
