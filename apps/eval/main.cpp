@@ -116,6 +116,8 @@ void print_multi_burial(const av::MultiBurialSummary& s, const av::EvaluationSum
               "Repeats retired (same transmitter)", s.repeats_retired, s.repeats_wrong, s.repeats_suspected,
               s.trials_with_repeats);
   std::printf("%-34s %u   trials with any %u\n", "Filters rebuilt after a leap", s.leaps, s.trials_with_leaps);
+  std::printf("%-34s %u   trials with any %u\n", "... converged on no transmitter", s.implausible_rebuilds,
+              s.trials_with_implausible_rebuilds);
   std::printf("%-34s %llu   unattributed pulses %llu\n", "Wrong attributions (pulses)",
               static_cast<unsigned long long>(s.wrong_attributions),
               static_cast<unsigned long long>(s.unattributed_pulses));

@@ -75,8 +75,10 @@ void read_sog(YamlReader r, avalanche::SogConfig& c) {
   r.read("reinit_gate_probability", c.reinit_gate_probability);
   r.read("reinit_after", c.reinit_after);
   r.read("divergence_window", c.divergence_window);
+  r.read("converged_divergence_ratio", c.converged_divergence_ratio);
   r.read("leap_gate_probability", c.leap_gate_probability);
   r.read("leap_min_range_m", c.leap_min_range_m);
+  r.read("implausible_rebuild_steps", c.implausible_rebuild_steps);
   r.read("iterated_update_max", c.iterated_update_max);
   r.read("relinearise_threshold_sigmas", c.relinearise_threshold_sigmas);
   r.read("negative_information", c.negative_information);
@@ -102,6 +104,7 @@ void read_search(YamlReader r, avalanche::SearchConfig& c) {
   r.read("found_distance_m", c.found_distance_m);
   r.read("confirm_min_samples", c.confirm_min_samples);
   r.read("confirm_max_innovation_ratio", c.confirm_max_innovation_ratio);
+  r.read("confirm_innovation_window", c.confirm_innovation_window);
   r.read("confirm_max_last_nis", c.confirm_max_last_nis);
   r.read("found_confirmations", c.found_confirmations);
   r.read("probe_step_m", c.probe_step_m);

@@ -90,6 +90,8 @@ nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
   j["trials_with_repeats"] = s.trials_with_repeats;
   j["leaps"] = s.leaps;
   j["trials_with_leaps"] = s.trials_with_leaps;
+  j["implausible_rebuilds"] = s.implausible_rebuilds;
+  j["trials_with_implausible_rebuilds"] = s.trials_with_implausible_rebuilds;
   j["wrong_attributions"] = s.wrong_attributions;
   j["unattributed_pulses"] = s.unattributed_pulses;
   j["steps"] = stats_json(s.steps);
@@ -106,6 +108,7 @@ nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
                               {"repeats_wrong", t.repeats_wrong},
                               {"repeats_suspected", t.repeats_suspected},
                               {"leaps", t.leaps},
+                              {"implausible_rebuilds", t.implausible_rebuilds},
                               {"wrong_attributions", t.wrong_attributions},
                               {"unattributed_pulses", t.unattributed_pulses},
                               {"steps", t.steps},

@@ -164,6 +164,7 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
   }
   tr.signals = static_cast<std::uint32_t>(signals.size());
   tr.leaps = static_cast<std::uint32_t>(search.leaps());
+  tr.implausible_rebuilds = static_cast<std::uint32_t>(search.implausible_rebuilds());
   return tr;
 }
 
@@ -194,6 +195,8 @@ MultiBurialSummary run_multi_burial(const MultiBurialSetup& setup, const std::fu
     if (r.repeats_suspected + r.repeats_retired > 0) ++s.trials_with_repeats;
     s.leaps += r.leaps;
     if (r.leaps > 0) ++s.trials_with_leaps;
+    s.implausible_rebuilds += r.implausible_rebuilds;
+    if (r.implausible_rebuilds > 0) ++s.trials_with_implausible_rebuilds;
     s.wrong_attributions += r.wrong_attributions;
     s.unattributed_pulses += r.unattributed_pulses;
     s.per_trial.push_back(r);

@@ -75,6 +75,17 @@ Samples without_others(const Samples& original, const BasebandWindow& w, const s
   return residual_of(original, w, others);
 }
 
+// The most of pulse p's statistic that its cancellation may leave in burst [a, b) at carrier f
+// (PulseDetectorConfig::sidelobe_ratio): near its carrier a fraction of it, falling with the
+// sidelobes of a burst as long as their overlap, and an edge one sample off inside the burst.
+double residual_bound(const Found& p, double f, Eigen::Index a, Eigen::Index b, Eigen::Index overlap,
+                      const PulseDetectorConfig& c, double fs) {
+  const double cells = std::fabs(p.f - f) * static_cast<double>(overlap) / fs;
+  const double sidelobes = std::max(c.far_sidelobe_ratio, c.sidelobe_ratio * std::min(1.0, 1.0 / (kPi * kPi * cells * cells)));
+  const int edges = (p.a > a && p.a < b ? 1 : 0) + (p.b > a && p.b < b ? 1 : 0);
+  return p.t * (sidelobes + edges / (static_cast<double>(p.b - p.a) * static_cast<double>(b - a)));
+}
+
 bool same_cell(const Found& p, const Found& q, double fs) {
   const auto shorter = std::max<Eigen::Index>(1, std::min(p.b - p.a, q.b - q.a));
   return std::fabs(p.f - q.f) < std::max(3.0, fs / static_cast<double>(shorter));
@@ -217,8 +228,14 @@ std::vector<DetectedPulse> detect_pulses(const BasebandWindow& w, const PulseDet
     }
     // What remains of a pulse already found (its carrier or edges a fraction off) is not a new one.
     // Nor is a burst overlapping a pulse within one frequency cell of their overlap (not
-    // resolvable), nor a much weaker one: the sidelobes of a strong pulse whose carrier was
-    // estimated a fraction of a hertz off.
+    // resolvable), nor a much weaker one: what cancelling a strong pulse whose carrier or edges
+    // were estimated a fraction off leaves (residual_bound).
+    // Within a few cells of any pulse's carrier, the residual of a pair taken for one pulse
+    // (two carriers within a cell) may be there: only the flat bound holds.
+    const double cell_hz = fs / static_cast<double>(cand.b - cand.a);
+    const bool near_a_carrier = std::any_of(pulses.begin(), pulses.end(), [&](const Found& p) {
+      return std::fabs(p.f - cand.f) < c.near_carrier_cells * cell_hz;
+    });
     bool residual = false;
     for (Found& p : pulses) {
       const auto overlap = std::min(cand.b, p.b) - std::max(cand.a, p.a);
@@ -227,7 +244,8 @@ std::vector<DetectedPulse> detect_pulses(const BasebandWindow& w, const PulseDet
       const double df = std::fabs(p.f - cand.f);
       const bool unresolved = df < std::max(3.0, resolution_hz);
       if (unresolved && cand.t >= c.blend_ratio * p.t) p.blended = true;
-      if (unresolved || cand.t < c.sidelobe_ratio * p.t) residual = true;
+      const double bound = near_a_carrier ? c.sidelobe_ratio * p.t : residual_bound(p, cand.f, cand.a, cand.b, overlap, c, fs);
+      if (unresolved || cand.t < bound) residual = true;
     }
     std::vector<Found> fitted = pulses;
     fitted.push_back({cand.f, cand.a, cand.b, cand.t, false});

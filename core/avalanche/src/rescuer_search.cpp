@@ -261,9 +261,9 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
     update.guidance = g;
   }
   // FOUND only through the guidance's confirmation (found_confirmations samples in a row).
+  const ConfirmationEvidence evidence = ConfirmationEvidence::of(s.filter, config_.search.confirm_innovation_window);
   estimate.status = found_now ? EstimatorStatus::kFound
-                              : std::min(s.controller.assess(estimate, ConfirmationEvidence::of(s.filter)),
-                                         EstimatorStatus::kLocated);
+                              : std::min(s.controller.assess(estimate, evidence), EstimatorStatus::kLocated);
   test_repeat(m.signal_id, s, estimate.status, found_now);
   if (found_now && s.repeat != responder::RepeatState::kNone) {
     // Stood over a victim this signal is (or cannot be told from) another's: no FOUND, and the
@@ -330,7 +330,9 @@ std::optional<Rejection> RescuerSearch::update_filter(SignalState& s, const Fiel
   // The gate already checked everything the filter checks; a throw here is a numerical
   // refusal of this one sample, and the filter stays as it was.
   try {
-    if (s.filter.process(m).leapt) ++leaps_;
+    const SogStepResult step = s.filter.process(m);
+    if (step.leapt) ++leaps_;
+    if (step.rebuilt_implausible) ++implausible_rebuilds_;
   } catch (const InputError& e) {
     return reject(RejectReason::kInvalidValue, rescuer_id_, "signal " + std::to_string(m.signal_id) + ": " + e.what());
   }
@@ -352,7 +354,8 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process_miss(const FieldMea
   e.stamp = m.stamp;
   // Where the transmitter is not never confirms where it is: the status never rises on a miss.
   const EstimatorStatus before = s.estimate ? s.estimate->status : EstimatorStatus::kInitialising;
-  e.status = std::min({s.controller.assess(e, ConfirmationEvidence::of(s.filter)), before, EstimatorStatus::kLocated});
+  const ConfirmationEvidence evidence = ConfirmationEvidence::of(s.filter, config_.search.confirm_innovation_window);
+  e.status = std::min({s.controller.assess(e, evidence), before, EstimatorStatus::kLocated});
   test_repeat(m.signal_id, s, e.status, false);
   e = with_signal_state(s, std::move(e));
   s.estimate = e;

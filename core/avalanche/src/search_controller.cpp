@@ -28,6 +28,10 @@ void check(const char* key, double v, double lo, double hi, bool lo_open) {
 /// region and is dropped: the stall watch starts again and lays out a new one if needed.
 constexpr double kPatternRegrowth = 1.5;
 
+/// Epochs without a sample that a rescuer confirming a FOUND, or walking a probe pattern, waits
+/// on a probe point: a period is at most 1.3 s, so three say the signal is not heard there.
+constexpr std::uint32_t kConfirmWaits = 3;
+
 /// Within this distance (m) of a probe point the rescuer stands on it: no step is needed.
 constexpr double kOnProbePoint = 0.01;
 
@@ -50,6 +54,7 @@ void SearchConfig::validate() const {
   check("confirm_min_samples", confirm_min_samples, 1.0, 1000.0, false);
   check("confirm_max_innovation_ratio", confirm_max_innovation_ratio, 0.0, 100.0, true);
   check("confirm_max_last_nis", confirm_max_last_nis, 0.0, 1000.0, true);
+  check("confirm_innovation_window", confirm_innovation_window, 1.0, static_cast<double>(SogFilter::kNisHistory), false);
   check("found_confirmations", found_confirmations, 1.0, 20.0, false);
   check("probe_step_m", probe_step_m, 0.0, 10.0, true);
   check("approach_radius_fraction", approach_radius_fraction, 0.0, 1.0, true);
@@ -91,13 +96,15 @@ double SearchController::located_radius(const Vec3& relative_position) const {
   return std::max(config_.located_radius_m, config_.located_radius_per_range * relative_position.norm());
 }
 
-ConfirmationEvidence ConfirmationEvidence::of(const SogFilter& filter) {
-  return {filter.steps(), filter.recent_innovation_ratio(), filter.last_min_nis(), filter.moment_plausible()};
+ConfirmationEvidence ConfirmationEvidence::of(const SogFilter& filter, std::uint32_t sustained_window) {
+  return {filter.mixture_samples(), filter.recent_innovation_ratio(), filter.last_min_nis(), filter.moment_plausible(),
+          filter.innovation_ratio_over(sustained_window)};
 }
 
 bool SearchController::confirmable(const ConfirmationEvidence& evidence) const {
   return static_cast<double>(evidence.samples) >= config_.confirm_min_samples &&
          evidence.innovation_ratio <= config_.confirm_max_innovation_ratio &&
+         evidence.sustained_innovation_ratio <= config_.confirm_max_innovation_ratio &&
          evidence.last_nis <= config_.confirm_max_last_nis && evidence.moment_plausible;
 }
 
@@ -178,7 +185,7 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
   e.status = EstimatorStatus::kMultimodal;
   e.relative.position = mean;
   e.relative.covariance = cov;
-  const ConfirmationEvidence evidence = ConfirmationEvidence::of(filter);
+  const ConfirmationEvidence evidence = ConfirmationEvidence::of(filter, config_.confirm_innovation_window);
   const bool may_confirm = confirmable(evidence);
   const EstimatorStatus st = assess(e, evidence);
 
@@ -187,14 +194,22 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
   const double thr2 = config_.approach_mahalanobis * config_.approach_mahalanobis;
   const double r95 = radius95_3d(cov);
   const bool below = below_receiver(mean, cov);
-  if (!pattern_.empty() && !pattern_complete_ && (r95 > kPatternRegrowth * pattern_radius95_ || !below))
-    drop_pattern();
+  // Complete or not, a pattern stands only for the estimate it was laid out for (seen: a
+  // pattern completed around a mixture with an impossible moment said "found" for the ring
+  // rebuilt 47 m wide, once that ring's moment was plausible).
+  if (!pattern_.empty() && (r95 > kPatternRegrowth * pattern_radius95_ || !below)) drop_pattern();
   // Once a sample has said "found", the confirming samples are taken found_distance_m to either
-  // side of the estimate: they count while the estimate stays located within twice that.
-  const bool confirms_beside = found_streak_ > 0 && st == EstimatorStatus::kLocated &&
-                               dist <= 2.0 * config_.found_distance_m;
-  const bool says_found = st == EstimatorStatus::kFound || confirms_beside || (pattern_complete_ && may_confirm);
+  // side of the estimate: they count while the estimate stays located, and only where they were
+  // taken beside it. Seen: a signal heard every third epoch, the rescuer back on the estimate
+  // each time it was heard (coasting to it in between), confirmed 3.1 m from its victim by three
+  // samples from one spot, a ghost (4 victims, seed 1, trial 6).
+  const bool beside = dist >= 0.5 * config_.found_distance_m && dist <= 2.0 * config_.found_distance_m;
+  const bool located = st == EstimatorStatus::kLocated || st == EstimatorStatus::kFound;
+  const bool says_found = (found_streak_ == 0 ? st == EstimatorStatus::kFound : located && beside) ||
+                          (pattern_complete_ && may_confirm);
   found_streak_ = says_found ? found_streak_ + 1 : 0;
+  confirm_waits_ = 0;
+  probe_point_pending_ = false;  // this sample was taken where the last guidance led
   const bool confirming = says_found && found_streak_ < config_.found_confirmations;
   if (says_found && !confirming) {
     mode_ = GuidanceMode::kFound;
@@ -300,13 +315,18 @@ bool SearchController::adaptive_end(const Eigen::Vector2d& mean_h, const Mat3& c
   const Eigen::Vector2d target = mean_h + pattern_[pattern_next_];
   heading = std::atan2(target.y(), target.x());
   step = std::min(config_.step_length_m, target.norm());
-  if (target.norm() <= config_.step_length_m) ++pattern_next_;  // the next sample is taken there
+  if (target.norm() <= config_.step_length_m) {
+    ++pattern_next_;  // the next sample is taken there (coast() waits there for it)
+    probe_point_pending_ = true;
+  }
   return true;
 }
 
 void SearchController::drop_pattern() {
   pattern_.clear();
   pattern_next_ = 0;
+  pattern_complete_ = false;
+  probe_point_pending_ = false;
   pattern_radius95_ = 0.0;
   if (stall_) stall_->reset();
 }
@@ -319,6 +339,22 @@ Guidance SearchController::coast(const SogFilter& filter) {
   g.distance_m = p.head<2>().norm();
   g.uncertainty_radius_m = radius95_2d(mm.covariance.block<3, 3>(idx::kPos, idx::kPos));
   g.heading_rad = std::atan2(p.y(), p.x());
+  const bool waiting = mode_ == GuidanceMode::kFineSearch && (found_streak_ > 0 || probe_point_pending_);
+  if (waiting && confirm_waits_ == kConfirmWaits && probe_point_pending_) {
+    --pattern_next_;  // no sample was taken on that point of the pattern: it is walked again
+    probe_point_pending_ = false;
+  }
+  if (waiting && confirm_waits_ < kConfirmWaits) {
+    // Confirming, or walking a probe pattern: wait on the probe point for the signal's next
+    // sample (a point visited without one says nothing: seen, a signal heard every eighth epoch
+    // "completed" a pattern from one spot and was found 1.2 m off), but not for ever: a signal
+    // not heard there (seen: a weak pulse under a strong one's, 800 s standing still) sends the
+    // rescuer back to the estimate.
+    ++confirm_waits_;
+    g.bearing_rad = wrap_angle(g.heading_rad - mm.mean[idx::kAtt + 2]);
+    g.step_m = 0.0;
+    return g;
+  }
   const Vec3 heard = filter.predicted_last_measurement_position();
   const double back_m = heard.head<2>().norm();
   if (back_m > config_.coast_return_m) returning_ = true;

@@ -64,6 +64,9 @@ void SeparatorConfig::validate() const {
   check("detector.fine_step_hz", detector.fine_step_hz, 0.001, detector.coarse_step_hz);
   check("detector.false_alarms_per_window", detector.false_alarms_per_window, 1e-9, 0.5);
   check("detector.max_pulses", detector.max_pulses, 1, 32);
+  check("detector.sidelobe_ratio", detector.sidelobe_ratio, detector.far_sidelobe_ratio, 1.0);
+  check("detector.far_sidelobe_ratio", detector.far_sidelobe_ratio, 1e-9, 1.0);
+  check("detector.near_carrier_cells", detector.near_carrier_cells, 0.0, 100.0);
   check("detector.blend_ratio", detector.blend_ratio, detector.sidelobe_ratio, 1.0);
 }
 
@@ -199,6 +202,25 @@ bool SignalSeparator::another_transmitter(const std::vector<Track*>& mates, cons
                                           const SeparationReport& r) const {
   return std::all_of(mates.begin(), mates.end(),
                      [&](const Track* t) { return clear_of_timing(*t, p) || heard_at_once(*t, p, r); });
+}
+
+SignalSeparator::Track* SignalSeparator::lost_owner(const std::vector<Track*>& matches, const DetectedPulse& p,
+                                                    const SeparationReport& r) const {
+  // Seen: a deep transmitter 2.2 Hz from a found one lost its track while their pulses overlapped,
+  // then pulsed clear of the found one's timing, 70 dB above the noise, for 500 s; with two
+  // tracks on the carrier none was re-anchored, and the rescuer stood on it unable to find it.
+  Track* lost = nullptr;
+  std::vector<Track*> others;
+  for (Track* t : matches) {
+    if (!t->lost) {
+      others.push_back(t);
+    } else {
+      if (lost != nullptr) return nullptr;  // which of them: the timing cannot say
+      lost = t;
+    }
+  }
+  if (lost == nullptr || !another_transmitter(others, p, r)) return nullptr;
+  return lost;
 }
 
 bool SignalSeparator::interleaved(const Track& shadow) const {
@@ -355,8 +377,8 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
         merge(candidates, p.start_s);
         continue;
       }
-    } else if (carrier_matches.size() == 1 && carrier_matches.front()->lost && !p.truncated()) {
-      chosen = carrier_matches.front();  // unheard a while, its timing drifted: reanchor on this pulse
+    } else if (Track* lost = p.truncated() ? nullptr : lost_owner(carrier_matches, p, r)) {
+      chosen = lost;  // unheard a while, its timing drifted: reanchor on this pulse
       chosen->timing.reanchor();
     } else if (!p.truncated() && tracks_.size() < config_.max_signals &&
                (carrier_matches.empty() || another_transmitter(carrier_matches, p, r))) {

@@ -145,6 +145,10 @@ void SogConfig::validate() const {
     config_fail("leap_gate_probability", leap_gate_probability, "must be 0 (off) or in (0.5, 1)");
   if (!std::isfinite(leap_min_range_m) || leap_min_range_m < 0.0 || leap_min_range_m > 100.0)
     config_fail("leap_min_range_m", leap_min_range_m, "must be in [0, 100]");
+  if (implausible_rebuild_steps > 10000)
+    config_fail("implausible_rebuild_steps", implausible_rebuild_steps, "must be in [0, 10000]");
+  if (!(converged_divergence_ratio >= 1.0 && converged_divergence_ratio <= 1e6))
+    config_fail("converged_divergence_ratio", converged_divergence_ratio, "must be in [1, 1e6]");
   if (divergence_window > 100)
     config_fail("divergence_window", divergence_window, "must be in [0, 100]");
   if (!finite_positive(converged_radius_m) || converged_radius_m > 1000.0)
@@ -250,6 +254,8 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   update_field(measurement.field, noise_floor(measurement), measurement.valid_axes, disp, orientation,
                result);
   last_min_nis_ = result.min_nis;
+  nis_history_.push_back(result.min_nis);
+  if (nis_history_.size() > kNisHistory) nis_history_.pop_front();
   gate_failures_ = result.min_nis > nis_gate_ ? gate_failures_ + 1 : 0;
   bool diverged = config_.reinit_after > 0 && gate_failures_ >= config_.reinit_after;
   if (config_.divergence_window > 0) {
@@ -269,7 +275,13 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   // A converged mixture that pinned down nothing a transmitter could be (a moment outside the
   // standard, or above the receiver: the mirror H(r) = H(-r)) has no such excuse (seen: a
   // mirror 6 m up with |m| near 0, "converged" for 350 steps while the rescuer circled under it).
-  if (diverged && estimate(0).status == EstimatorStatus::kConverged && pinned_down_plausibly()) {
+  // Nor one whose innovations exceed the window's gate several times over: linearisation leaves
+  // NIS 20-25 on a sample or two, not 40-400 on every one (seen, multiple burials: a mixture
+  // rebuilt from another transmitter's pulse converged 2.6 m off, its NIS 57-67 three samples in a
+  // row, its covariance collapsing meanwhile; kept, it crept and was confirmed 0.7 m off with a
+  // 0.2 m radius).
+  if (diverged && estimate(0).status == EstimatorStatus::kConverged && pinned_down_plausibly() &&
+      recent_innovation_ratio() <= config_.converged_divergence_ratio) {
     diverged = false;
     result.divergence_ignored = true;
   }
@@ -281,6 +293,7 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   apply_priors();
   normalise_and_prune();
   ++steps_;
+  ++mixture_samples_;
   if (config_.merge_interval > 0 && steps_ % config_.merge_interval == 0) result.merged = merge();
   result.components_after = components_.size();
   result.leap_d2 = leap_from_anchor();
@@ -292,7 +305,17 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
     result.leapt = now.status >= EstimatorStatus::kConverged &&
                    now.relative.position.norm() >= config_.leap_min_range_m;
   }
-  if (result.leapt) rebuild(measurement, result);
+  if (result.leapt) {
+    rebuild(measurement, result);
+    return result;
+  }
+  implausible_steps_ = estimate(0).status >= EstimatorStatus::kConverged && !pinned_down_plausibly()
+                           ? implausible_steps_ + 1
+                           : 0;
+  if (config_.implausible_rebuild_steps > 0 && implausible_steps_ >= config_.implausible_rebuild_steps) {
+    result.rebuilt_implausible = true;
+    rebuild(measurement, result);
+  }
   return result;
 }
 
@@ -402,6 +425,13 @@ double SogFilter::recent_innovation_ratio() const {
   return sum / window_gate_;
 }
 
+double SogFilter::innovation_ratio_over(std::size_t samples) const {
+  const std::size_t n = std::min(samples, nis_history_.size());
+  if (n == 0) return 0.0;
+  const double sum = std::accumulate(nis_history_.end() - static_cast<std::ptrdiff_t>(n), nis_history_.end(), 0.0);
+  return sum / chi_square_quantile(config_.reinit_gate_probability, 3.0 * static_cast<double>(n));
+}
+
 MixtureMoments SogFilter::predicted_moments() const {
   MixtureMoments mm = moments();
   const Displacement& d = odometry_.peek();
@@ -432,7 +462,10 @@ void SogFilter::initialise(const FieldMeasurement& meas) {
   heard_at_ = Vec3::Zero();
   anchor_.reset();
   gate_failures_ = 0;  // a new mixture starts a new innovation history
+  implausible_steps_ = 0;
+  mixture_samples_ = 1;
   nis_window_.clear();
+  nis_history_.clear();
   nis_next_ = 0;
   last_min_nis_ = 0.0;
   // An invalid axis is below the receiver's detection threshold: the ring is built with it at

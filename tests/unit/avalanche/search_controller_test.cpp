@@ -42,6 +42,19 @@ TEST(SearchControllerTest, AssessAppliesLocatedAndFoundCriteria) {
   EXPECT_NEAR(radius95_3d(Mat3::Identity()), std::sqrt(7.814727903), 1e-6);
 }
 
+// A filter whose last six samples fit but whose longer history does not (it lost its transmitter
+// while converged, and crept off) confirms nothing.
+TEST(SearchControllerTest, AnInconsistentHistoryConfirmsNothing) {
+  SearchController ctl;
+  VictimEstimate e;
+  e.status = EstimatorStatus::kConverged;
+  e.relative.position = Vec3(0.2, 0.1, -2.0);
+  e.relative.covariance = Mat3::Identity() * 0.01;
+  const double gate = ctl.config().confirm_max_innovation_ratio;
+  EXPECT_EQ(ctl.assess(e, {100, 0.5 * gate, 1.0, true, 0.99 * gate}), EstimatorStatus::kFound);
+  EXPECT_EQ(ctl.assess(e, {100, 0.5 * gate, 1.0, true, 1.01 * gate}), EstimatorStatus::kConverged);
+}
+
 // A filter of a few samples is a guess, however tight it looks: never located, never found.
 // Nor is one whose newest sample does not fit, or whose moment the standard does not allow.
 TEST(SearchControllerTest, WeakEvidenceConfirmsNothing) {
@@ -162,6 +175,60 @@ TEST(SearchControllerTest, FoundNeedsConfirmationsInARowBesideTheEstimate) {
 
 // Precision scales with range, so "located" does too: a deep burial is located at a radius a
 // shallow one is not (a fixed radius left a 5.6 m burial unfound for 150 steps).
+// One victim 15 m away, 1.8 m deep: the scenario of the search-loop tests below.
+Scenario victim_15_m_away() {
+  Scenario s;
+  s.transmitter = Vec3(12.0, -9.0, -1.8);
+  s.moment = Vec3(0.01, 0.004, -0.006);
+  s.receiver = Vec3(0, 0, 1);
+  s.receiver_rpy = Vec3(0, 0, 0.4);
+  return s;
+}
+
+// A signal heard only every third epoch (its pulses lost under other transmitters' in between):
+// the rescuer coasts between samples. The samples that confirm a FOUND after the first one were
+// taken beside the estimate, not on it: coasting waits on the probe point. Before, coasting
+// walked back onto the estimate and three samples from one spot confirmed a ghost.
+TEST(SearchControllerTest, ConfirmingSamplesOfASparseSignalAreTakenBesideTheEstimate) {
+  const Scenario s = victim_15_m_away();
+  AvalancheSimulator sim(SimulationConfig{}, s, 6);
+  SogConfig cfg;
+  cfg.initial_components = 500;
+  SogFilter f(cfg);
+  SearchController ctl;
+  std::vector<double> guided_distance;  // rescuer to estimate at each guided sample
+  bool found = false;
+  int waits_seen = 0;
+  for (int step = 0; step < 400 && !found; ++step) {
+    Guidance g;
+    if (step % 3 == 0) {
+      const FieldMeasurement z = sim.measure();
+      f.process(z);
+      g = ctl.guide(f, z);
+      guided_distance.push_back(g.distance_m);
+      found = g.mode == GuidanceMode::kFound;
+      // Waiting on a probe point lasts three epochs at most: a signal not heard there must not
+      // hold the rescuer for ever.
+      SearchController waiting = ctl;
+      if (!found && waiting.coast(f).step_m == 0.0) {
+        ++waits_seen;
+        EXPECT_EQ(waiting.coast(f).step_m, 0.0);
+        EXPECT_EQ(waiting.coast(f).step_m, 0.0);
+        EXPECT_GT(waiting.coast(f).step_m, 0.0) << "still waiting after three epochs";
+      }
+    } else {
+      g = ctl.coast(f);
+    }
+    f.add_odometry(sim.walk(g.bearing_rad, g.step_m));
+  }
+  ASSERT_TRUE(found);
+  const auto n = static_cast<std::size_t>(ctl.config().found_confirmations);
+  ASSERT_GE(guided_distance.size(), n);
+  for (std::size_t i = guided_distance.size() - n + 1; i < guided_distance.size(); ++i)
+    EXPECT_GE(guided_distance[i], 0.5 * ctl.config().found_distance_m) << "confirming sample " << i;
+  EXPECT_GE(waits_seen, 1);
+}
+
 TEST(SearchControllerLocated, RadiusScalesWithRangeAboveTheNearRangeFloor) {
   SearchController controller;  // defaults: 0.4 m floor, 10 % of range
   VictimEstimate e;
@@ -201,12 +268,8 @@ struct SearchRun {
   std::vector<double> fine_radius95; ///< 95 % radius of each fine-search step before the layout
 };
 
-SearchRun run_search(const SearchConfig& sc, int budget) {
-  Scenario s;
-  s.transmitter = Vec3(12.0, -9.0, -1.8);
-  s.moment = Vec3(0.01, 0.004, -0.006);
-  s.receiver = Vec3(0, 0, 1);
-  s.receiver_rpy = Vec3(0, 0, 0.4);
+SearchRun run_search(const SearchConfig& sc, int budget, SearchController* end_state = nullptr) {
+  const Scenario s = victim_15_m_away();
   AvalancheSimulator sim(SimulationConfig{}, s, 4);
   SogConfig cfg;
   cfg.initial_components = 500;
@@ -240,6 +303,7 @@ SearchRun run_search(const SearchConfig& sc, int budget) {
   run.by_probe_pattern = ctl.found_by_probe_pattern();
   run.pattern_size = ctl.probe_pattern().size();
   run.pattern_visited = ctl.probe_points_visited();
+  if (end_state != nullptr) *end_state = ctl;
   return run;
 }
 
@@ -275,6 +339,74 @@ TEST(SearchControllerAdaptiveEnd, EndsAStalledSearchWithAProbePattern) {
   const double best_before = *std::min_element(r.begin(), r.end() - w);
   const double best_in_window = *std::min_element(r.end() - w, r.end());
   EXPECT_GE(best_in_window, (1.0 - unreachable.stall_min_improvement) * best_before);
+}
+
+// A complete pattern stands for the estimate it was laid out for only. The same controller then
+// guided by a mixture many metres wide (its filter rebuilt, confirmable all the same: enough
+// samples, innovations within their gates, a plausible moment) says nothing is found there.
+TEST(SearchControllerAdaptiveEnd, ACompletePatternSaysNothingOfAWiderEstimate) {
+  SearchConfig unreachable;
+  unreachable.located_radius_m = 0.02;
+  unreachable.located_radius_per_range = 0.0;
+  SearchController ctl(unreachable);
+  ASSERT_TRUE(run_search(unreachable, 120, &ctl).by_probe_pattern);
+  Scenario far;
+  far.transmitter = Vec3(30.0, 25.0, -1.5);
+  far.moment = Vec3(0.01, 0.004, -0.006);
+  far.receiver = Vec3(0, 0, 1);
+  AvalancheSimulator sim(SimulationConfig{}, far, 8);
+  SogConfig cfg;
+  cfg.initial_components = 500;
+  SogFilter wide(cfg);
+  for (int k = 0; k < 12; ++k) wide.process(sim.measure());
+  ASSERT_TRUE(ctl.confirmable(ConfirmationEvidence::of(wide, ctl.config().confirm_innovation_window)));
+  ASSERT_GT(radius95_3d(wide.moments().covariance.block<3, 3>(idx::kPos, idx::kPos)), 5.0);
+  for (int k = 0; k < 5; ++k) {
+    const FieldMeasurement z = sim.measure();
+    wide.process(z);
+    EXPECT_NE(ctl.guide(wide, z).mode, GuidanceMode::kFound) << "sample " << k;
+  }
+  EXPECT_FALSE(ctl.found_by_probe_pattern());
+}
+
+// A probe pattern walked for a signal heard every third epoch: each point counts only with a
+// sample taken on it (coast() waits there), so the samples of the pattern come from its points,
+// not all from the estimate the rescuer coasted back to between samples.
+TEST(SearchControllerAdaptiveEnd, APatternOfASparseSignalIsSampledOnItsPoints) {
+  SearchConfig unreachable;
+  unreachable.located_radius_m = 0.02;
+  unreachable.located_radius_per_range = 0.0;
+  unreachable.found_distance_m = 0.1;  // a pattern of several points over the 95 % region
+  const Scenario s = victim_15_m_away();
+  AvalancheSimulator sim(SimulationConfig{}, s, 4);
+  SogConfig cfg;
+  cfg.initial_components = 500;
+  SogFilter f(cfg);
+  SearchController ctl(unreachable);
+  std::vector<double> off_estimate;  // rescuer to estimate at each sample of the pattern walk
+  bool found = false;
+  for (int step = 0; step < 600 && !found; ++step) {
+    Guidance g;
+    if (step % 3 == 0) {
+      const FieldMeasurement z = sim.measure();
+      f.process(z);
+      const bool walking = !ctl.probe_pattern().empty();
+      g = ctl.guide(f, z);
+      found = g.mode == GuidanceMode::kFound;
+      if (walking && !found) off_estimate.push_back(g.distance_m);
+    } else {
+      g = ctl.coast(f);
+    }
+    f.add_odometry(sim.walk(g.bearing_rad, g.step_m));
+  }
+  ASSERT_TRUE(found);
+  ASSERT_TRUE(ctl.found_by_probe_pattern());
+  ASSERT_GE(ctl.probe_pattern().size(), 3U);
+  // Its points lie around the estimate: most samples are taken off it. Coasting back onto the
+  // estimate between samples took every one there.
+  const auto off = std::count_if(off_estimate.begin(), off_estimate.end(),
+                                 [&](double d) { return d >= 0.5 * unreachable.found_distance_m; });
+  EXPECT_GE(2 * off, static_cast<long>(off_estimate.size())) << off << " of " << off_estimate.size() << " samples off the estimate";
 }
 
 TEST(SearchControllerAdaptiveEnd, ConfigIsValidated) {

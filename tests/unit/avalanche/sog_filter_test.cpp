@@ -447,10 +447,12 @@ TEST(SogFilterTest, WindowedInnovationTestRecoversALostMixture) {
 // The walk of ConvergesOnTruthWhileWalkingTowardsIt (600 components, 33 straight steps at the
 // transmitter), counting re-initialisations on the way.
 SogFilter walk_to_fixed_transmitter(AvalancheSimulator& sim, int* reinitialisations,
-                                    double leap_gate_probability = SogConfig{}.leap_gate_probability) {
+                                    double leap_gate_probability = SogConfig{}.leap_gate_probability,
+                                    double converged_divergence_ratio = SogConfig{}.converged_divergence_ratio) {
   SogConfig cfg;
   cfg.initial_components = 600;
   cfg.leap_gate_probability = leap_gate_probability;
+  cfg.converged_divergence_ratio = converged_divergence_ratio;
   SogFilter f(cfg);
   f.process(sim.measure());
   *reinitialisations = 0;
@@ -468,11 +470,16 @@ SogFilter walk_to_fixed_transmitter(AvalancheSimulator& sim, int* reinitialisati
 // final error from that one and its stated 95 % radius.
 struct SwitchedRun {
   int leaps = 0;
+  std::uint64_t mixture_samples_at_leap = 0;  ///< of the last leap, right after it
+  std::uint64_t steps_at_leap = 0;
   double error_m = 0.0;
   double radius95_m = 0.0;
 };
 
-SwitchedRun run_switched_signal(double leap_probability, double leap_min_range_m = SogConfig{}.leap_min_range_m) {
+// converged_divergence_ratio 1e6: the divergence test spares every converged mixture, as it did
+// when the leap test was introduced (the leap test's own effect).
+SwitchedRun run_switched_signal(double leap_probability, double leap_min_range_m = SogConfig{}.leap_min_range_m,
+                                double converged_divergence_ratio = 1e6) {
   Scenario a = fixed_scenario();
   Scenario b = a;
   b.transmitter = a.transmitter + Vec3(-1.0, 1.5, -1.0);
@@ -482,6 +489,7 @@ SwitchedRun run_switched_signal(double leap_probability, double leap_min_range_m
   cfg.initial_components = 600;
   cfg.leap_gate_probability = leap_probability;
   cfg.leap_min_range_m = leap_min_range_m;
+  cfg.converged_divergence_ratio = converged_divergence_ratio;
   SogFilter f(cfg);
   f.process(sim_a.measure());
   sim_b.measure();
@@ -495,7 +503,11 @@ SwitchedRun run_switched_signal(double leap_probability, double leap_min_range_m
     f.add_odometry(sim_a.walk(bearing, step));
     sim_b.walk(bearing, step);
     const FieldMeasurement za = sim_a.measure(), zb = sim_b.measure();
-    if (f.process(heard_b ? zb : za).leapt) ++run.leaps;
+    if (f.process(heard_b ? zb : za).leapt) {
+      ++run.leaps;
+      run.mixture_samples_at_leap = f.mixture_samples();
+      run.steps_at_leap = f.steps();
+    }
   }
   EXPECT_LT((sim_a.scenario().receiver - sim_b.scenario().receiver).norm(), 1e-9) << "the two walks parted";
   const VictimEstimate e = f.estimate(0);
@@ -507,18 +519,75 @@ SwitchedRun run_switched_signal(double leap_probability, double leap_min_range_m
 TEST(SogFilterTest, LeapTestRebuildsAFilterThatTookAnotherTransmittersSamples) {
   const SwitchedRun on = run_switched_signal(0.999);
   EXPECT_GE(on.leaps, 1);
+  // The rebuilt mixture is a new guess: its samples are counted again (confirm_min_samples).
+  EXPECT_EQ(on.mixture_samples_at_leap, 1U);
+  EXPECT_GT(on.steps_at_leap, 10U);
   EXPECT_LT(on.error_m, on.radius95_m + 0.2) << "ends on the transmitter it hears";
   const SwitchedRun off = run_switched_signal(0.0);
   EXPECT_EQ(off.leaps, 0);
   EXPECT_GT(off.error_m, off.radius95_m) << "without the test the estimate is a blend of the two";
   // Nothing is rebuilt nearer than leap_min_range_m (the near field): here, nowhere.
   EXPECT_EQ(run_switched_signal(0.999, 100.0).leaps, 0);
+  // With the default converged_divergence_ratio the gross innovation excess of the other
+  // transmitter's samples rebuilds the filter first, leap test or not.
+  const SwitchedRun divergence_only = run_switched_signal(0.0, SogConfig{}.leap_min_range_m, SogConfig{}.converged_divergence_ratio);
+  EXPECT_LT(divergence_only.error_m, divergence_only.radius95_m + 0.2);
   SogConfig bad;
   bad.leap_gate_probability = 0.3;
   EXPECT_THROW(bad.validate(), ConfigError);
   SogConfig bad_range;
   bad_range.leap_min_range_m = std::numeric_limits<double>::quiet_NaN();
   EXPECT_THROW(bad_range.validate(), ConfigError);
+}
+
+// A mixture converged where no buried transmitter can be (here above the receiver, as on a
+// filter's mirror solution; or on a moment outside the standard) fits its data all the same:
+// neither the divergence nor the leap test undoes it. After implausible_rebuild_steps converged
+// updates it is rebuilt from the current sample; on the same walk to a buried transmitter it
+// never is.
+TEST(SogFilterTest, AMixtureConvergedWhereNoTransmitterCanBeIsRebuilt) {
+  auto rebuilds = [](double transmitter_z, std::uint32_t after) {
+    Scenario s = fixed_scenario();
+    s.transmitter.z() = transmitter_z;
+    AvalancheSimulator sim(SimulationConfig{}, s, 12);
+    SogConfig cfg;
+    cfg.initial_components = 600;
+    cfg.implausible_rebuild_steps = after;
+    SogFilter f(cfg);
+    f.process(sim.measure());
+    int n = 0;
+    for (int k = 0; k < 70; ++k) {
+      const double step = sim.true_horizontal_distance() > 1.0 ? 1.0 : 0.2;
+      f.add_odometry(sim.walk(bearing_to_truth(sim), step));
+      const SogStepResult r = f.process(sim.measure());
+      if (r.rebuilt_implausible) {
+        ++n;
+        EXPECT_EQ(f.mixture_samples(), 1U);
+      }
+    }
+    return n;
+  };
+  EXPECT_GE(rebuilds(2.5, 20), 1);
+  EXPECT_EQ(rebuilds(2.5, 0), 0) << "0 = off";
+  EXPECT_EQ(rebuilds(-1.5, 20), 0) << "a buried transmitter is never rebuilt";
+  SogConfig bad;
+  bad.implausible_rebuild_steps = 10001;
+  EXPECT_THROW(bad.validate(), ConfigError);
+}
+
+// The confirmation's longer window is the divergence window's statistic over more samples: over
+// exactly divergence_window samples the two agree; over more, the sum of the smallest NIS of
+// that many updates (fewer while the mixture is younger) over its chi-square gate.
+TEST(SogFilterTest, InnovationRatioOverAWindowIsTheDivergenceStatistic) {
+  AvalancheSimulator sim(SimulationConfig{}, fixed_scenario(), 11);
+  int reinitialisations = -1;
+  const SogFilter f = walk_to_fixed_transmitter(sim, &reinitialisations);
+  ASSERT_EQ(reinitialisations, 0);
+  const std::size_t window = f.config().divergence_window;
+  EXPECT_NEAR(f.innovation_ratio_over(window), f.recent_innovation_ratio(), 1e-12);
+  EXPECT_GT(f.innovation_ratio_over(18), 0.0);
+  EXPECT_NEAR(f.innovation_ratio_over(1000), f.innovation_ratio_over(f.mixture_samples()), 1e-12);
+  EXPECT_DOUBLE_EQ(SogFilter().innovation_ratio_over(18), 0.0);
 }
 
 TEST(SogFilterTest, WindowedInnovationTestIsQuietOnAConsistentRun) {
@@ -531,35 +600,51 @@ TEST(SogFilterTest, WindowedInnovationTestIsQuietOnAConsistentRun) {
   EXPECT_THROW(bad.validate(), ConfigError);
 }
 
-// A converged mixture is never rebuilt: there an innovation excess comes from linearising the
-// dipole model next to the transmitter, and a ring rebuilt from a near-field reading lost
-// victims already pinned down. After converging on the walk above, the filter is fed readings
-// of a transmitter 1.5 m away from the one it tracks: the test fails, is reported, and the
-// mixture is kept. (The leap test, off here, rebuilds such a filter from 3 m out, where its
-// estimate leaves its own posterior: LeapTestRebuildsAFilterThatTookAnotherTransmittersSamples.)
+// A converged mixture is spared by the divergence test while its excess is moderate: there an
+// innovation excess comes from linearising the dipole model next to the transmitter, and a ring
+// rebuilt from a near-field reading lost victims already pinned down. Not once the window sum
+// exceeds its gate converged_divergence_ratio times over: that is a lost transmitter. After
+// converging on the walk above, the filter is fed readings of a transmitter 1.5 m away from the
+// one it tracks. Sparing every converged mixture (the ratio 1e6), the test fails, is reported,
+// and the mixture is kept; with the default, each step it spares is within the ratio, and the
+// gross excess rebuilds it. (The leap test, off here, rebuilds such a filter from 3 m out, where
+// its estimate leaves its own posterior: LeapTestRebuildsAFilterThatTookAnotherTransmittersSamples.)
 TEST(SogFilterTest, DivergenceOfAConvergedMixtureIsReportedNotReinitialised) {
-  SimulationConfig sc;
-  AvalancheSimulator sim(sc, fixed_scenario(), 11);
-  int reinitialisations = -1;
-  SogFilter f = walk_to_fixed_transmitter(sim, &reinitialisations, 0.0);
-  ASSERT_EQ(f.estimate(0).status, EstimatorStatus::kConverged);
-  Scenario moved = sim.scenario();
-  moved.transmitter += Vec3(1.0, -1.0, -0.5);
-  AvalancheSimulator other(sc, moved, 12);
-  int ignored = 0;
-  for (int k = 0; k < 10; ++k) {
-    f.add_odometry(sim.walk(bearing_to_truth(sim), 0.5));
-    other.walk(bearing_to_truth(other), 0.5);
-    FieldMeasurement z = other.measure();
-    z.sequence = 1000 + k;
-    const SogStepResult r = f.process(z);
-    EXPECT_FALSE(r.reinitialised) << "step " << k;
-    if (r.divergence_ignored) ++ignored;
+  for (const double ratio : {1e6, SogConfig{}.converged_divergence_ratio}) {
+    SimulationConfig sc;
+    AvalancheSimulator sim(sc, fixed_scenario(), 11);
+    int reinitialisations = -1;
+    SogFilter f = walk_to_fixed_transmitter(sim, &reinitialisations, 0.0, ratio);
+    ASSERT_EQ(f.estimate(0).status, EstimatorStatus::kConverged);
+    Scenario moved = sim.scenario();
+    moved.transmitter += Vec3(1.0, -1.0, -0.5);
+    AvalancheSimulator other(sc, moved, 12);
+    int ignored = 0, rebuilt = 0;
+    for (int k = 0; k < 10; ++k) {
+      f.add_odometry(sim.walk(bearing_to_truth(sim), 0.5));
+      other.walk(bearing_to_truth(other), 0.5);
+      FieldMeasurement z = other.measure();
+      z.sequence = 1000 + k;
+      const SogStepResult r = f.process(z);
+      if (r.reinitialised) ++rebuilt;
+      if (r.divergence_ignored) {
+        ++ignored;
+        EXPECT_LE(f.recent_innovation_ratio(), ratio) << "step " << k;
+      }
+    }
+    if (ratio > 1e5) {
+      EXPECT_EQ(rebuilt, 0);
+      EXPECT_GE(ignored, 1) << "the innovation test should have failed on these readings";
+      EXPECT_EQ(f.estimate(0).status, EstimatorStatus::kConverged);
+      // What the search controller refuses to confirm: the recent samples do not fit the filter.
+      EXPECT_GT(f.recent_innovation_ratio(), 1.0);
+    } else {
+      EXPECT_GE(rebuilt, 1) << "a gross excess is a lost transmitter";
+    }
   }
-  EXPECT_GE(ignored, 1) << "the innovation test should have failed on these readings";
-  EXPECT_EQ(f.estimate(0).status, EstimatorStatus::kConverged);
-  // What the search controller refuses to confirm: the recent samples do not fit the filter.
-  EXPECT_GT(f.recent_innovation_ratio(), 1.0);
+  SogConfig bad;
+  bad.converged_divergence_ratio = 0.5;
+  EXPECT_THROW(bad.validate(), ConfigError);
 }
 
 TEST(SogFilterTest, RecentInnovationsOfAConsistentRunAreWithinTheGate) {

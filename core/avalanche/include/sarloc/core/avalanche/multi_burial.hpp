@@ -50,6 +50,8 @@ struct MultiBurialTrial {
   std::uint32_t repeats_suspected = 0;
   /// Filters rebuilt by the leap test (SogConfig::leap_gate_probability).
   std::uint32_t leaps = 0;
+  /// Filters rebuilt after converging on no plausible transmitter (SogConfig::implausible_rebuild_steps).
+  std::uint32_t implausible_rebuilds = 0;
   std::uint32_t wrong_attributions = 0;
   std::uint32_t unattributed_pulses = 0;
   std::uint32_t steps = 0;          ///< until the last victim was found (or the budget)
@@ -74,6 +76,8 @@ struct MultiBurialSummary {
   std::uint32_t trials_with_repeats = 0;  ///< trials in which some signal was suspected or retired
   std::uint32_t leaps = 0;
   std::uint32_t trials_with_leaps = 0;
+  std::uint32_t implausible_rebuilds = 0;
+  std::uint32_t trials_with_implausible_rebuilds = 0;
   std::uint64_t wrong_attributions = 0;
   std::uint64_t unattributed_pulses = 0;
   Stats steps;                      ///< of the trials that found all

@@ -114,6 +114,8 @@ class RescuerSearch {
   std::size_t restarts() const { return restarts_; }
   /// Filters rebuilt because their estimate left its own earlier posterior (SogConfig leap test).
   std::size_t leaps() const { return leaps_; }
+  /// Filters rebuilt after converging on no plausible transmitter (SogConfig::implausible_rebuild_steps).
+  std::size_t implausible_rebuilds() const { return implausible_rebuilds_; }
   /// Latest estimate of a signal (nullopt if never measured).
   std::optional<VictimEstimate> estimate(std::uint32_t signal_id) const;
   /// Signals retired as confirmed repeats of another (the same transmitter, found twice).
@@ -170,6 +172,7 @@ class RescuerSearch {
   TimestampNs superseded_until_ = 0;  ///< end of the last unknown-motion stand-in
   std::size_t restarts_ = 0;
   std::size_t leaps_ = 0;
+  std::size_t implausible_rebuilds_ = 0;
   std::size_t confirmed_repeats_ = 0;
   double same_transmitter_gate_ = 0.0;  ///< chi2_6(same_transmitter_gate_probability)
 };

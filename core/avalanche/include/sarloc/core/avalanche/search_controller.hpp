@@ -21,7 +21,9 @@
 //   kFound           located AND the rescuer stands within found_distance_m of the estimate,
 //                    or the adaptive end below; either way on found_confirmations guided samples
 //                    in a row (after the first, probes found_distance_m to alternate sides of
-//                    the estimate, counted while it stays located within twice that).
+//                    the estimate, counted while it stays located and each was taken between
+//                    half and twice that from it; between samples, coast() waits on the probe
+//                    point, for three epochs at most).
 // Adaptive end (docs/estimation/avalanche.md, "The search always ends"): with noisy sensors the
 // 95 % radius can level off above the located radius while the estimate is already as good as
 // the data make it, and the rescuer would probe on the spot forever. In fine search, once the
@@ -31,8 +33,8 @@
 // (probe_pattern.hpp): every point of the horizontal 95 % region of the estimate lies within
 // found_distance_m of one of its points, each visited in turn (the guidance stays
 // kFineSearch). At its end the search is kFound with the estimate of that moment, stated with
-// its own 95 % radius. The pattern is dropped (and the stall watch restarts) if the 95 %
-// radius grows by half over the one it was laid out for. The fixed criterion keeps priority:
+// its own 95 % radius. The pattern, complete or not, is dropped (and the stall watch restarts)
+// if the 95 % radius grows by half over the one it was laid out for. The fixed criterion keeps priority:
 // reached at any step, it ends the search as before, so runs that reach it are unchanged.
 // Criteria (applied identically in every trial):
 //   located: 95 % radius of the mixture position, sqrt(chi2_3(0.95) lambda_max(P_p)),
@@ -77,15 +79,22 @@ struct SearchConfig {
   /// scales with range, so deep burials are located at a proportionally larger radius.
   double located_radius_per_range = 0.10;
   double found_distance_m = 0.5;       ///< horizontal distance to the estimate for "found"
-  /// kLocated and kFound need at least this many samples of the signal: a filter started next
-  /// to a cluster of victims converged in 3-4 near-field samples on a place where no one was
-  /// buried (multiple burials, a ghost). Single searches take 40+ samples.
+  /// kLocated and kFound need at least this many samples of the signal's current mixture
+  /// (SogFilter::mixture_samples, counted again after a rebuild): a filter started next to a
+  /// cluster of victims converged in 3-4 near-field samples on a place where no one was buried
+  /// (multiple burials, a ghost). Single searches take 40+ samples.
   double confirm_min_samples = 10.0;
   /// ... and their filter's recent innovations within this fraction of its divergence gate
   /// (SogFilter::recent_innovation_ratio): a filter whose last samples do not fit it has taken
   /// another transmitter's pulses, or lost its own. 4 victims within 5 m, 100 trials: 6 of the 8
   /// FOUNDs near no victim were above 1, against 5 of 388 right ones.
   double confirm_max_innovation_ratio = 1.0;
+  /// ... and the same ratio over this many samples of the mixture (SogFilter::
+  /// innovation_ratio_over): a converged filter that lost its transmitter is kept (its
+  /// innovation excess is taken for near-field linearisation), and the six-sample window forgets
+  /// the excess while the filter creeps off. Seen: NIS 13-47 a sample for 30 samples, then 0.4-15
+  /// for six, and a FOUND 3 m from the victim with a 0.3 m radius (4 victims, seed 1, trial 6).
+  std::uint32_t confirm_innovation_window = 18;
   /// ... and the newest sample's smallest NIS within this (chi2_3(0.999) = 16.27): a FOUND was
   /// seen declared on the very sample that moved a near-field estimate 1.7 m off (NIS 24).
   double confirm_max_last_nis = 16.27;
@@ -133,11 +142,13 @@ struct SearchConfig {
 
 /// What a filter says about whether its estimate may be confirmed (LOCATED, FOUND).
 struct ConfirmationEvidence {
-  std::uint64_t samples = 0;
+  std::uint64_t samples = 0;      ///< SogFilter::mixture_samples
   double innovation_ratio = 0.0;  ///< SogFilter::recent_innovation_ratio
   double last_nis = 0.0;          ///< SogFilter::last_min_nis
   bool moment_plausible = true;   ///< SogFilter::moment_plausible
-  static ConfirmationEvidence of(const SogFilter& filter);
+  /// SogFilter::innovation_ratio_over(SearchConfig::confirm_innovation_window)
+  double sustained_innovation_ratio = 0.0;
+  static ConfirmationEvidence of(const SogFilter& filter, std::uint32_t sustained_window);
 };
 
 class SearchController {
@@ -184,6 +195,8 @@ class SearchController {
   double pattern_radius95_ = 0.0;          ///< 3-D 95 % radius the pattern was laid out for
   bool pattern_complete_ = false;
   std::uint32_t found_streak_ = 0;         ///< consecutive guided samples that said "found"
+  std::uint32_t confirm_waits_ = 0;        ///< coasts on the probe point since the last sample
+  bool probe_point_pending_ = false;       ///< counted a pattern point whose sample is yet to come
 
   /// Adaptive end, in fine search: feeds the stall watch, lays out, walks or drops the probe
   /// pattern. Sets `heading`/`step` while a pattern is walked; true once it is complete.

@@ -178,6 +178,9 @@ class SignalSeparator {
   bool heard_at_once(const Track& mate, const DetectedPulse& p, const SeparationReport& r) const;
   /// Every carrier-mate is either clear_of_timing or heard_at_once: not its pulse.
   bool another_transmitter(const std::vector<Track*>& mates, const DetectedPulse& p, const SeparationReport& r) const;
+  /// The one lost track among the carrier matches whose every other match says the pulse is
+  /// not its own (another_transmitter): it lost its timing, and this pulse re-anchors it.
+  Track* lost_owner(const std::vector<Track*>& matches, const DetectedPulse& p, const SeparationReport& r) const;
   /// A new track for p; a shadow of its carrier-mates if it has any.
   Track& start_track(const DetectedPulse& p, const std::vector<Track*>& carrier_matches);
   /// A shadow heard shadow_confirm_pulses times on its own period while a mate was too.

@@ -21,6 +21,7 @@
 //   SogStepResult r = filter.process(field);   // first call initialises
 //   VictimEstimate e = filter.estimate(5);     // reduced mixture, eq. (18)
 #include <cstdint>
+#include <deque>
 #include <optional>
 #include <string>
 #include <vector>
@@ -87,6 +88,10 @@ struct SogConfig {
   /// single-step gates miss half of the time. Neither test re-initialises a converged
   /// mixture (SogStepResult::divergence_ignored). 0 = off.
   std::uint32_t divergence_window = 6;
+  /// ... except a converged mixture whose window sum exceeds its gate more than this many times
+  /// over (recent_innovation_ratio): that is a lost transmitter, not linearisation, and it is
+  /// rebuilt like any other.
+  double converged_divergence_ratio = 3.0;
   /// Leap test (issue 12, multiple burials): a converged mixture whose position posterior
   /// leaves the tightest posterior it had (moved with the odometry) by more than
   /// chi2_3(leap_gate_probability), under both covariances, is re-initialised from the current
@@ -100,6 +105,12 @@ struct SogConfig {
   /// mixtures are exempt from the divergence test), and a ring rebuilt from a near-field
   /// sample converged 1.6 m off a victim (4 victims seed 2, trial 43: leaps at 1.4-2.4 m).
   double leap_min_range_m = 3.0;
+  /// A converged mixture that has pinned down nothing a transmitter could be (its moment outside
+  /// the standard's bounds, or above the receiver) for this many updates in a row is rebuilt
+  /// from z_k: it fits the data, so neither the divergence nor the leap test undoes it (seen: a
+  /// source 12 m deep with a fifth of the smallest moment, under a rescuer standing 47 m from
+  /// the cluster for 500 s; 3 victims, seed 1, trial 88). 0 = off.
+  std::uint32_t implausible_rebuild_steps = 20;
   /// Iterated EKF update (Gauss-Newton on each component): within a metre or two of the
   /// transmitter the 1/r^3 field is far from linear over a component's spread, and one EKF step
   /// can leave it off by a metre with a small covariance. After the ordinary step, a component
@@ -172,6 +183,8 @@ struct SogStepResult {
   /// leap_d2 failed the leap gate on a converged mixture at least leap_min_range_m away: the
   /// mixture was rebuilt from z_k.
   bool leapt = false;
+  /// Converged on no plausible transmitter for implausible_rebuild_steps updates: rebuilt from z_k.
+  bool rebuilt_implausible = false;
 };
 
 class SogFilter {
@@ -195,6 +208,10 @@ class SogFilter {
   /// (chi2_{3n}(divergence_probability)): above 1, the recent samples do not fit the filter.
   /// 0 until the window is full (or without a window).
   double recent_innovation_ratio() const;
+  /// The same over the last `samples` updates of the current mixture (fewer while it is
+  /// younger; at most kNisHistory): chi2_{3n}(reinit_gate_probability). 0 before any update.
+  double innovation_ratio_over(std::size_t samples) const;
+  static constexpr std::size_t kNisHistory = 64;
   /// Smallest NIS of the latest update (0 after initialisation): does the newest sample fit?
   double last_min_nis() const { return last_min_nis_; }
   /// The mixture's moment magnitude within the transmitter standard's bounds (moment_margin
@@ -205,6 +222,10 @@ class SogFilter {
   const std::vector<SogComponent>& components() const { return components_; }
   const SogConfig& config() const { return config_; }
   std::uint64_t steps() const { return steps_; }
+  /// Field samples the current mixture was built from and updated with (1 after a rebuild): a
+  /// rebuilt mixture is a new guess, and a guess converged in a few near-field samples next to a
+  /// cluster is no victim (SearchConfig::confirm_min_samples counts these).
+  std::uint64_t mixture_samples() const { return mixture_samples_; }
 
   /// Eq. (18) over the full state (angles averaged relative to the heaviest component).
   MixtureMoments moments() const;
@@ -270,9 +291,12 @@ class SogFilter {
   /// Squared Mahalanobis distance of the position posterior from the anchor; tightens it.
   double leap_from_anchor();
   std::uint64_t steps_ = 0;
+  std::uint64_t mixture_samples_ = 0;
   std::uint32_t gate_failures_ = 0;
+  std::uint32_t implausible_steps_ = 0;  ///< updates in a row converged on no plausible transmitter
   double nis_gate_ = 0.0;
   std::vector<double> nis_window_;  ///< last divergence_window smallest NIS (ring buffer)
+  std::deque<double> nis_history_;  ///< last kNisHistory smallest NIS of the current mixture
   std::size_t nis_next_ = 0;
   double last_min_nis_ = 0.0;
   double window_gate_ = 0.0;        ///< chi2_{3n}(reinit_gate_probability)
