@@ -198,6 +198,9 @@ SogFilter::SogFilter(SogConfig config, std::string rescuer_id, std::uint32_t sig
                        : 0.0),
       leap_gate_(config_.leap_gate_probability > 0.0 ? chi_square_quantile(config_.leap_gate_probability, 3.0) : 0.0) {
   nis_window_.reserve(config_.divergence_window);
+  // innovation_ratio_over is asked for on every sample: its gates are found once.
+  for (std::size_t n = 1; n <= kNisHistory; ++n)
+    history_gates_[n] = chi_square_quantile(config_.reinit_gate_probability, 3.0 * static_cast<double>(n));
 }
 
 void SogFilter::add_odometry(const Odometry& odometry) {
@@ -429,7 +432,7 @@ double SogFilter::innovation_ratio_over(std::size_t samples) const {
   const std::size_t n = std::min(samples, nis_history_.size());
   if (n == 0) return 0.0;
   const double sum = std::accumulate(nis_history_.end() - static_cast<std::ptrdiff_t>(n), nis_history_.end(), 0.0);
-  return sum / chi_square_quantile(config_.reinit_gate_probability, 3.0 * static_cast<double>(n));
+  return sum / history_gates_[n];
 }
 
 MixtureMoments SogFilter::predicted_moments() const {

@@ -42,14 +42,20 @@ TEST(SearchControllerTest, AssessAppliesLocatedAndFoundCriteria) {
   EXPECT_NEAR(radius95_3d(Mat3::Identity()), std::sqrt(7.814727903), 1e-6);
 }
 
-// A filter whose last six samples fit but whose longer history does not (it lost its transmitter
-// while converged, and crept off) confirms nothing.
-TEST(SearchControllerTest, AnInconsistentHistoryConfirmsNothing) {
-  SearchController ctl;
+// Converged 2 m under the rescuer with a 0.28 m 95 % radius: found, if the evidence allows.
+VictimEstimate tight_estimate_under_the_rescuer() {
   VictimEstimate e;
   e.status = EstimatorStatus::kConverged;
   e.relative.position = Vec3(0.2, 0.1, -2.0);
   e.relative.covariance = Mat3::Identity() * 0.01;
+  return e;
+}
+
+// A filter whose last six samples fit but whose longer history does not (it lost its transmitter
+// while converged, and crept off) confirms nothing.
+TEST(SearchControllerTest, AnInconsistentHistoryConfirmsNothing) {
+  SearchController ctl;
+  const VictimEstimate e = tight_estimate_under_the_rescuer();
   const double gate = ctl.config().confirm_max_innovation_ratio;
   EXPECT_EQ(ctl.assess(e, {100, 0.5 * gate, 1.0, true, 0.99 * gate}), EstimatorStatus::kFound);
   EXPECT_EQ(ctl.assess(e, {100, 0.5 * gate, 1.0, true, 1.01 * gate}), EstimatorStatus::kConverged);
@@ -59,10 +65,7 @@ TEST(SearchControllerTest, AnInconsistentHistoryConfirmsNothing) {
 // Nor is one whose newest sample does not fit, or whose moment the standard does not allow.
 TEST(SearchControllerTest, WeakEvidenceConfirmsNothing) {
   SearchController ctl;
-  VictimEstimate e;
-  e.status = EstimatorStatus::kConverged;
-  e.relative.position = Vec3(0.2, 0.1, -2.0);
-  e.relative.covariance = Mat3::Identity() * 0.01;
+  const VictimEstimate e = tight_estimate_under_the_rescuer();
   const auto enough = static_cast<std::uint64_t>(ctl.config().confirm_min_samples);
   EXPECT_EQ(ctl.assess(e, {enough - 1}), EstimatorStatus::kConverged);
   EXPECT_EQ(ctl.assess(e, {enough}), EstimatorStatus::kFound);

@@ -20,6 +20,7 @@
 //   filter.add_odometry(odo);                  // any number between measurements
 //   SogStepResult r = filter.process(field);   // first call initialises
 //   VictimEstimate e = filter.estimate(5);     // reduced mixture, eq. (18)
+#include <array>
 #include <cstdint>
 #include <deque>
 #include <optional>
@@ -297,6 +298,8 @@ class SogFilter {
   double nis_gate_ = 0.0;
   std::vector<double> nis_window_;  ///< last divergence_window smallest NIS (ring buffer)
   std::deque<double> nis_history_;  ///< last kNisHistory smallest NIS of the current mixture
+  /// chi2_{3n}(reinit_gate_probability) by n (innovation_ratio_over)
+  std::array<double, kNisHistory + 1> history_gates_{};
   std::size_t nis_next_ = 0;
   double last_min_nis_ = 0.0;
   double window_gate_ = 0.0;        ///< chi2_{3n}(reinit_gate_probability)
