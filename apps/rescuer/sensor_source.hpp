@@ -30,6 +30,9 @@ class SensorSource {
   /// previous epoch. nullopt when the source is exhausted.
   virtual std::optional<SensorEpoch> next(TimestampNs stamp, const std::optional<responder::Guidance>& followed) = 0;
   virtual double distance_walked_m() const = 0;
+  /// A source that separates beacon signals itself asks the device's filters through this
+  /// (avalanche::SignalSeparator::set_consistency); a recorded file was separated already.
+  virtual void set_consistency(avalanche::FieldConsistency) {}
   /// Truth for reports (simulation only): the victim index behind a signal id.
   virtual std::optional<std::size_t> victim_of_signal(std::uint32_t) const { return std::nullopt; }
   /// Truth for reports (simulation only): the victim behind a signal relative to the antenna now.
@@ -45,6 +48,7 @@ class SimulatedSource : public SensorSource {
   SimulatedSource(const mission::MissionScenario& scenario, const std::string& rescuer_id, double step_length_m);
   std::optional<SensorEpoch> next(TimestampNs stamp, const std::optional<responder::Guidance>& followed) override;
   double distance_walked_m() const override { return sim_.distance_walked_m(); }
+  void set_consistency(avalanche::FieldConsistency consistency) override { sim_.set_consistency(std::move(consistency)); }
   std::optional<std::size_t> victim_of_signal(std::uint32_t signal) const override {
     return sim_.victim_of_signal(signal);
   }

@@ -87,7 +87,7 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
   RescuerSearch search("sim", setup.rescuer);
   // The device's separation asks each signal's filter when carrier and timing cannot decide.
   receiver.separator().set_consistency([&search](std::uint32_t signal, const Vec3& field, const Vec3& noise,
-                                                 std::uint8_t axes) { return search.log_likelihood(signal, field, noise, axes); });
+                                                 std::uint8_t axes) { return search.field_fit(signal, field, noise, axes); });
   MultiBurialTrial tr;
   tr.index = index;
   tr.min_carrier_gap_hz = min_gap;

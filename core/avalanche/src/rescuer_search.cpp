@@ -389,15 +389,15 @@ std::optional<VictimEstimate> RescuerSearch::estimate(std::uint32_t signal_id) c
   return it->second.estimate;
 }
 
-std::optional<double> RescuerSearch::log_likelihood(std::uint32_t signal_id, const Vec3& field, const Vec3& noise,
-                                                    std::uint8_t axes) const {
+std::optional<FieldFit> RescuerSearch::field_fit(std::uint32_t signal_id, const Vec3& field, const Vec3& noise,
+                                                 std::uint8_t axes) const {
   const auto it = signals_.find(signal_id);
   // A found filter takes no more updates, but it still moves with the odometry: it knows its
   // transmitter best of all, so it can tell that transmitter's pulses from a carrier-mate's
   // (seen: a signal that lost its own transmitter took a found one's pulses 1 Hz away and
   // converged between the two, a ghost).
   if (it == signals_.end()) return std::nullopt;
-  return it->second.filter.predictive_log_likelihood(field, noise, axes);
+  return it->second.filter.predictive_fit(field, noise, axes);
 }
 
 void RescuerSearch::choose_target() {

@@ -1,6 +1,7 @@
 #include "sarloc/core/avalanche/signal_separator.hpp"
 
 #include <algorithm>
+#include <bitset>
 #include <cmath>
 #include <numeric>
 #include <sstream>
@@ -55,6 +56,7 @@ void SeparatorConfig::validate() const {
   check("lost_after_s", lost_after_s, 1.0, 600.0);
   check("forget_after_s", forget_after_s, lost_after_s, 86400.0);
   check("log_likelihood_margin", log_likelihood_margin, 0.0, 1000.0);
+  check("reanchor_gate_probability", reanchor_gate_probability, 0.5, 1.0 - 1e-12);
   check("max_signals", max_signals, 1, 64);
   check("shadow_confirm_pulses", shadow_confirm_pulses, 2, 20);
   check("detector.min_on_time_s", detector.min_on_time_s, 0.01, 1.0);
@@ -72,6 +74,7 @@ void SeparatorConfig::validate() const {
 
 SignalSeparator::SignalSeparator(SeparatorConfig config) : config_((config.validate(), std::move(config))) {
   tracks_.reserve(config_.max_signals);  // process() holds pointers into it while adding a track
+  for (int axes = 1; axes <= 3; ++axes) reanchor_gate_[axes] = chi_square_quantile(config_.reanchor_gate_probability, axes);
 }
 
 const SignalSeparator::Track* SignalSeparator::find(std::uint32_t id) const {
@@ -219,8 +222,21 @@ SignalSeparator::Track* SignalSeparator::lost_owner(const std::vector<Track*>& m
       lost = t;
     }
   }
-  if (lost == nullptr || !another_transmitter(others, p, r)) return nullptr;
+  if (lost == nullptr || !another_transmitter(others, p, r) || !explains(*lost, p)) return nullptr;
   return lost;
+}
+
+bool SignalSeparator::explains(const Track& t, const DetectedPulse& p) const {
+  // Seen: a found signal's track, lost for 5 s while the rescuer walked on, was re-anchored on
+  // the pulses of an unfound transmitter 2 Hz from it and 2.2 m away; that transmitter's pulses
+  // then went to a filter that takes no more samples, and the found one's, unclaimed, started a
+  // new signal that was found a second time.
+  if (!consistency_) return true;
+  const SeparatedSample probe = sample_of(p, 0, 0);
+  const auto axes = std::bitset<3>(probe.valid_axes).count();
+  if (axes == 0) return true;
+  const auto fit = consistency_(t.id, probe.field, probe.noise, probe.valid_axes);
+  return !fit || fit->nis <= reanchor_gate_[axes];
 }
 
 bool SignalSeparator::interleaved(const Track& shadow) const {
@@ -287,7 +303,7 @@ bool SignalSeparator::better_fit_elsewhere(const Track& chosen, const std::vecto
   for (const Track* t : mates) {
     if (t == &chosen) continue;
     const auto other = consistency_(t->id, probe.field, probe.noise, probe.valid_axes);
-    if (other && *other - *own > config_.log_likelihood_margin) return true;
+    if (other && other->log_likelihood - own->log_likelihood > config_.log_likelihood_margin) return true;
   }
   return false;
 }
@@ -368,7 +384,8 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
         const SeparatedSample probe = sample_of(p, 0, i);
         std::vector<std::pair<double, Track*>> scored;
         for (Track* t : candidates)
-          if (auto ll = consistency_(t->id, probe.field, probe.noise, probe.valid_axes)) scored.emplace_back(*ll, t);
+          if (auto fit = consistency_(t->id, probe.field, probe.noise, probe.valid_axes))
+            scored.emplace_back(fit->log_likelihood, t);
         std::sort(scored.begin(), scored.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
         if (scored.size() == candidates.size() && scored[0].first - scored[1].first > config_.log_likelihood_margin)
           chosen = scored[0].second;
@@ -380,9 +397,13 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
     } else if (Track* lost = p.truncated() ? nullptr : lost_owner(carrier_matches, p, r)) {
       chosen = lost;  // unheard a while, its timing drifted: reanchor on this pulse
       chosen->timing.reanchor();
-    } else if (!p.truncated() && tracks_.size() < config_.max_signals &&
-               (carrier_matches.empty() || another_transmitter(carrier_matches, p, r))) {
-      chosen = &start_track(p, carrier_matches);
+    } else if (!p.truncated() && tracks_.size() < config_.max_signals) {
+      // A lost track whose filter cannot explain the pulse is no mate of it: the filter says it
+      // is another transmitter, where the lost track's stale timing can say nothing.
+      std::vector<Track*> mates;
+      for (Track* t : carrier_matches)
+        if (!t->lost || explains(*t, p)) mates.push_back(t);
+      if (mates.empty() || another_transmitter(mates, p, r)) chosen = &start_track(p, mates);
     }
     if (chosen == nullptr) continue;  // on a known carrier at the wrong time, or no room
     if (carrier_matches.size() > 1 && better_fit_elsewhere(*chosen, carrier_matches, p, i)) continue;

@@ -746,8 +746,7 @@ Vec3 valid_part(const Vec3& z, std::uint8_t axes) {
 
 }  // namespace
 
-std::optional<double> SogFilter::predictive_log_likelihood(const Vec3& field, const Vec3& noise,
-                                                           std::uint8_t axes) const {
+std::optional<FieldFit> SogFilter::predictive_fit(const Vec3& field, const Vec3& noise, std::uint8_t axes) const {
   if (components_.empty() || axes == 0 || axes > kAllAxes || !field.allFinite() || !noise.allFinite())
     return std::nullopt;
   const Displacement disp = odometry_.pending_displacement();
@@ -758,10 +757,12 @@ std::optional<double> SogFilter::predictive_log_likelihood(const Vec3& field, co
   // ends in normalise_and_prune, merging keeps the sum).
   double max_term = -std::numeric_limits<double>::infinity();
   double sum = 0.0;
+  double min_nis = std::numeric_limits<double>::infinity();
   for (const SogComponent& c : components_) {
     const auto in = innovate(c, linearise(c.x, measurement, floor, axes, config_.noise_relative), z_valid, axes,
                              disp.covariance);
     if (!in) continue;
+    min_nis = std::min(min_nis, in->nis);
     const double term = c.log_weight + in->ll;
     if (term > max_term) {
       sum = sum * std::exp(max_term - term) + 1.0;
@@ -771,7 +772,7 @@ std::optional<double> SogFilter::predictive_log_likelihood(const Vec3& field, co
     }
   }
   if (sum == 0.0) return std::nullopt;
-  return max_term + std::log(sum);
+  return FieldFit{max_term + std::log(sum), min_nis};
 }
 
 void SogFilter::update_field(const Vec3& z, const Vec3& floor, std::uint8_t axes,

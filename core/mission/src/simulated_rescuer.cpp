@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace sarloc::mission {
 
@@ -106,6 +107,10 @@ responder::ResponderPosition SimulatedRescuer::gnss(TimestampNs stamp) {
   p.source = responder::PositionSource::kGnss;
   p.converged = true;
   return p;
+}
+
+void SimulatedRescuer::set_consistency(avalanche::FieldConsistency consistency) {
+  if (receiver_) receiver_->separator().set_consistency(std::move(consistency));
 }
 
 std::optional<std::size_t> SimulatedRescuer::victim_of_signal(std::uint32_t signal_id) const {

@@ -15,7 +15,10 @@ const sarloc::avalanche::FieldMeasurement& field(const sarloc::estimator::Sensor
 }
 
 std::string write_file(const std::string& text) {
-  const std::string path = ::testing::TempDir() + "/recorded.jsonl";
+  // One file per test: ctest runs this file's tests as parallel processes, and both wrote
+  // recorded.jsonl (one failed once under ctest -j2).
+  const std::string path = ::testing::TempDir() + "/recorded-" +
+                           ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".jsonl";
   std::ofstream(path) << text;
   return path;
 }

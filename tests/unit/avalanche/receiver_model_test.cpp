@@ -432,6 +432,66 @@ TEST(SignalSeparator, ALostTrackOnASharedCarrierIsReanchoredClearOfItsMate) {
   EXPECT_LE(wrong, 1U);
 }
 
+// A found victim's track is lost while the rescuer walks on; another transmitter on its
+// carrier, elsewhere, starts pulsing at another phase. Its field is not the one the lost track's
+// filter predicts: it becomes a signal of its own, and the lost track keeps its id for its own
+// transmitter, re-anchored when that one is heard again. Re-anchored on the stranger's pulses,
+// the lost track fed them to a filter that takes no more samples, and the found transmitter's,
+// unclaimed, started a new signal that was found a second time (4 victims, seed 2, trial 43).
+TEST(SignalSeparator, ALostTrackIsNotReanchoredOnAPulseItsFilterCannotExplain) {
+  SimulationConfig config;
+  BeaconReceiver receiver(config, 19);
+  const Beacon a_before = same_carrier_beacon(Vec3(12.0, 0.0, -1.0), Vec3(0.01, 0.0, 0.01), 0.1, -30.0);
+  const Beacon a_after = same_carrier_beacon(Vec3(12.0, 0.0, -1.0), Vec3(0.01, 0.0, 0.01), 0.35, -30.0);
+  const Beacon b = same_carrier_beacon(Vec3(-3.0, 11.0, -1.5), Vec3(0.0, 0.012, -0.004), 0.7, -29.6);
+  ReceiverPose pose;
+  pose.position = Vec3(0.0, 0.0, 1.0);
+  // A's filter, as the rescuer's search would answer for it: it explains fields along A's own
+  // (sign unknown) and nothing else. Every other signal has no filter yet.
+  std::optional<std::uint32_t> a_id;
+  Vec3 a_direction = Vec3::Zero();
+  receiver.separator().set_consistency(
+      [&](std::uint32_t signal, const Vec3& field, const Vec3&, std::uint8_t) -> std::optional<FieldFit> {
+        if (!a_id || signal != *a_id) return std::nullopt;
+        const double along = std::fabs(field.normalized().dot(a_direction));
+        return FieldFit{0.0, along > std::cos(10.0 * kPi / 180.0) ? 1.0 : 1e4};
+      });
+  std::set<std::uint32_t> b_ids;
+  std::uint32_t a_heard_after = 0, b_heard = 0;
+  bool a_reacquired = false;
+  for (int k = 0; k < 45; ++k) {
+    std::vector<Beacon> beacons;
+    if (k < 8) beacons.push_back(a_before);
+    if (k >= 16) beacons.push_back(b);
+    if (k >= 30) beacons.push_back(a_after);
+    const Listening heard = receiver.listen(pose, beacons, k, 1.0);
+    for (const auto& h : heard.samples) {
+      ASSERT_TRUE(h.transmitter.has_value());
+      const Beacon& truth = beacons[*h.transmitter];
+      if (truth.position == a_before.position) {
+        if (!a_id) {
+          a_id = h.sample.signal_id;
+          a_direction = h.sample.field.normalized();
+        }
+        EXPECT_EQ(h.sample.signal_id, *a_id) << "window " << k;
+        if (k >= 30) {
+          ++a_heard_after;
+          a_reacquired = a_reacquired || h.sample.event == SignalEvent::kReacquired;
+        }
+      } else {
+        ++b_heard;
+        b_ids.insert(h.sample.signal_id);
+      }
+    }
+  }
+  ASSERT_TRUE(a_id.has_value());
+  EXPECT_EQ(b_ids.count(*a_id), 0U) << "the stranger's pulses went to the lost track";
+  EXPECT_EQ(b_ids.size(), 1U);
+  EXPECT_GE(b_heard, 20U);
+  EXPECT_GE(a_heard_after, 10U);
+  EXPECT_TRUE(a_reacquired);
+}
+
 // Two transmitters 0.5 Hz apart, their pulses overlapping almost entirely: the detector cannot
 // resolve them; the pulse is flagged blended or elliptical and never becomes a field sample.
 TEST(SignalSeparator, UnresolvableBlendGivesNoSample) {

@@ -102,14 +102,16 @@ TEST(RescuerSearch, ASignalsFilterExplainsItsOwnSamplesFarBetterThanAnothers) {
   ASSERT_EQ(next.size(), 2U);
   for (const auto& m : next) {
     const std::uint32_t other = m.signal_id == next[0].signal_id ? next[1].signal_id : next[0].signal_id;
-    const auto own = search.log_likelihood(m.signal_id, m.field, m.noise_stddev, m.valid_axes);
-    const auto foreign = search.log_likelihood(other, m.field, m.noise_stddev, m.valid_axes);
+    const auto own = search.field_fit(m.signal_id, m.field, m.noise_stddev, m.valid_axes);
+    const auto foreign = search.field_fit(other, m.field, m.noise_stddev, m.valid_axes);
     ASSERT_TRUE(own && foreign);
-    EXPECT_GT(*own - *foreign, 9.2) << "signal " << m.signal_id;  // the separator's margin
+    EXPECT_GT(own->log_likelihood - foreign->log_likelihood, 9.2) << "signal " << m.signal_id;  // the separator's margin
     // Sign-invariant: the receiver does not know the field's sign.
-    EXPECT_NEAR(*search.log_likelihood(m.signal_id, -m.field, m.noise_stddev, m.valid_axes), *own, 1e-9);
+    const auto flipped = search.field_fit(m.signal_id, -m.field, m.noise_stddev, m.valid_axes);
+    EXPECT_NEAR(flipped->log_likelihood, own->log_likelihood, 1e-9);
+    EXPECT_NEAR(flipped->nis, own->nis, 1e-9);
   }
-  EXPECT_FALSE(search.log_likelihood(99, next[0].field, next[0].noise_stddev, 7).has_value());
+  EXPECT_FALSE(search.field_fit(99, next[0].field, next[0].noise_stddev, 7).has_value());
 }
 
 // The target gives way when it has been silent for target_silence_s while another is heard.
@@ -357,10 +359,13 @@ TEST(RescuerSearch, FoundEstimateOnlyMovesWithTheOdometry) {
     seen = true;
     // It still answers the separation's question, moved by the odometry: its transmitter's field
     // here is far likelier than one it could not explain (a carrier-mate's pulse).
-    const auto own = search.log_likelihood(m.signal_id, m.field, m.noise_stddev, m.valid_axes);
-    const auto foreign = search.log_likelihood(m.signal_id, -5.0 * m.field, m.noise_stddev, m.valid_axes);
+    const auto own = search.field_fit(m.signal_id, m.field, m.noise_stddev, m.valid_axes);
+    const auto foreign = search.field_fit(m.signal_id, -5.0 * m.field, m.noise_stddev, m.valid_axes);
     ASSERT_TRUE(own && foreign);
-    EXPECT_GT(*own - *foreign, 9.2);
+    EXPECT_GT(own->log_likelihood - foreign->log_likelihood, 9.2);
+    // In absolute terms too: its own transmitter's field is inside a 3-dof gate, the other is not.
+    EXPECT_LT(own->nis, 16.3);
+    EXPECT_GT(foreign->nis, 16.3);
     m.field = -5.0 * m.field;
     auto outcome = search.process(m);
     ASSERT_TRUE(std::holds_alternative<SearchUpdate>(outcome));

@@ -120,11 +120,11 @@ class RescuerSearch {
   std::optional<VictimEstimate> estimate(std::uint32_t signal_id) const;
   /// Signals retired as confirmed repeats of another (the same transmitter, found twice).
   std::size_t confirmed_repeats() const { return confirmed_repeats_; }
-  /// How well a field sample would fit a signal's filter (SogFilter::predictive_log_likelihood):
-  /// the receiver's separation (SignalSeparator::set_consistency) asks it when a pulse's carrier
-  /// and timing fit several signals. nullopt for a signal without a filter yet, or found here.
-  std::optional<double> log_likelihood(std::uint32_t signal_id, const Vec3& field, const Vec3& noise,
-                                       std::uint8_t axes) const;
+  /// How well a field sample would fit a signal's filter (SogFilter::predictive_fit): the
+  /// receiver's separation (SignalSeparator::set_consistency) asks it. nullopt for a signal
+  /// without a filter yet.
+  std::optional<FieldFit> field_fit(std::uint32_t signal_id, const Vec3& field, const Vec3& noise,
+                                    std::uint8_t axes) const;
 
  private:
   struct SignalState {

@@ -43,6 +43,7 @@
 #include <optional>
 #include <vector>
 
+#include "sarloc/core/avalanche/field_fit.hpp"
 #include "sarloc/core/avalanche/field_measurement.hpp"
 #include "sarloc/core/avalanche/pulse_detector.hpp"
 #include "sarloc/core/avalanche/pulse_timing.hpp"
@@ -76,6 +77,9 @@ struct SeparatorConfig {
   double lost_after_s = 5.0;             ///< declared lost after this silence
   double forget_after_s = 600.0;         ///< a track silent this long is dropped (its id retired)
   double log_likelihood_margin = 9.2;    ///< consistency hook must prefer a track by e^9.2 = 10^4
+  /// A lost track is re-anchored on a pulse off its timing only if its filter (the consistency
+  /// hook) explains the pulse's field: NIS inside chi2(this, one dof per valid axis).
+  double reanchor_gate_probability = 0.9999;
   std::uint32_t max_signals = 8;
   /// A shadow track (a second transmitter on a tracked carrier) is promoted to a signal after
   /// this many pulses of its own, interleaved with as many of a mate's.
@@ -121,9 +125,9 @@ struct SeparationReport {
   std::vector<TrackEvent> events;
 };
 
-/// Log-likelihood of a field sample under the filter of a signal (nullopt: no filter yet).
+/// How well a field sample fits the filter of a signal (nullopt: no filter yet).
 using FieldConsistency =
-    std::function<std::optional<double>(std::uint32_t signal_id, const Vec3& field, const Vec3& noise, std::uint8_t axes)>;
+    std::function<std::optional<FieldFit>(std::uint32_t signal_id, const Vec3& field, const Vec3& noise, std::uint8_t axes)>;
 
 class SignalSeparator {
  public:
@@ -179,9 +183,13 @@ class SignalSeparator {
   /// Every carrier-mate is either clear_of_timing or heard_at_once: not its pulse.
   bool another_transmitter(const std::vector<Track*>& mates, const DetectedPulse& p, const SeparationReport& r) const;
   /// The one lost track among the carrier matches whose every other match says the pulse is
-  /// not its own (another_transmitter): it lost its timing, and this pulse re-anchors it.
+  /// not its own (another_transmitter), and whose filter explains the pulse's field
+  /// (explains): it lost its timing, and this pulse re-anchors it.
   Track* lost_owner(const std::vector<Track*>& matches, const DetectedPulse& p, const SeparationReport& r) const;
   /// A new track for p; a shadow of its carrier-mates if it has any.
+  /// The track's filter (consistency hook) explains the pulse's field within
+  /// reanchor_gate_probability; true when there is no hook or no filter yet to ask.
+  bool explains(const Track& t, const DetectedPulse& p) const;
   Track& start_track(const DetectedPulse& p, const std::vector<Track*>& carrier_matches);
   /// A shadow heard shadow_confirm_pulses times on its own period while a mate was too.
   bool interleaved(const Track& shadow) const;
@@ -201,6 +209,7 @@ class SignalSeparator {
   std::vector<Track> tracks_;
   std::uint32_t next_id_ = 1;
   FieldConsistency consistency_;
+  double reanchor_gate_[4] = {};  ///< chi-square quantile per number of valid axes
 };
 
 }  // namespace sarloc::avalanche

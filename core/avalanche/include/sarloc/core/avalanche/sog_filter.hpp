@@ -29,6 +29,7 @@
 
 #include "sarloc/core/avalanche/detection_curve.hpp"
 #include "sarloc/core/avalanche/dipole_model.hpp"
+#include "sarloc/core/avalanche/field_fit.hpp"
 #include "sarloc/core/avalanche/field_measurement.hpp"
 #include "sarloc/core/avalanche/responder_types.hpp"
 #include "sarloc/core/avalanche/odometry_accumulator.hpp"
@@ -241,11 +242,11 @@ class SogFilter {
   /// status is kInitialising, kMultimodal or kConverged; SearchController::assess() refines it.
   VictimEstimate estimate(std::size_t top_k = 5) const;
 
-  /// log p(field | everything so far), the odometry received since the last measurement
-  /// applied, without updating: how well a sample would fit this signal's transmitter (the
-  /// receiver's separation asks it when a pulse's carrier and timing fit several signals).
-  /// Up to a constant common to every filter; nullopt before initialisation or for bad input.
-  std::optional<double> predictive_log_likelihood(const Vec3& field, const Vec3& noise, std::uint8_t axes) const;
+  /// How well a sample would fit this signal's transmitter, the odometry received since the
+  /// last measurement applied, without updating: log p(field | everything so far), up to a
+  /// constant common to every filter, and the best component's NIS (field_fit.hpp). The
+  /// receiver's separation asks it. nullopt before initialisation or for bad input.
+  std::optional<FieldFit> predictive_fit(const Vec3& field, const Vec3& noise, std::uint8_t axes) const;
 
   /// Per-axis noise floor the filter applies to `m`: max(config floor, m.noise_stddev).
   Vec3 noise_floor(const FieldMeasurement& m) const;

@@ -21,6 +21,10 @@ class AvalancheRescuerEstimator final : public ResponderEstimator {
   std::optional<responder::VictimEstimate> estimate_of(std::uint32_t signal_id) const override {
     return search_.estimate(signal_id);
   }
+  std::optional<avalanche::FieldFit> field_fit(std::uint32_t signal_id, const Vec3& field, const Vec3& noise,
+                                               std::uint8_t axes) const override {
+    return search_.field_fit(signal_id, field, noise, axes);
+  }
   std::size_t active_filters() const override { return search_.signal_count(); }
 
   const avalanche::RescuerSearch& search() const { return search_; }

@@ -16,6 +16,7 @@
 #include <variant>
 #include <vector>
 
+#include "sarloc/core/avalanche/field_fit.hpp"
 #include "sarloc/core/estimator/responder_role.hpp"
 #include "sarloc/core/estimator/sensor_sample.hpp"
 #include "sarloc/core/responder/guidance.hpp"
@@ -58,6 +59,14 @@ class ResponderEstimator {
   virtual void mark_done(std::uint32_t signal_id) = 0;
   /// Latest estimate of a victim signal, in the current frame (nullopt if never measured).
   virtual std::optional<responder::VictimEstimate> estimate_of(std::uint32_t signal_id) const = 0;
+  /// How well a beacon field sample would fit a signal's filter, without updating it: the
+  /// device's signal separation asks when carrier and timing cannot decide
+  /// (avalanche::SignalSeparator::set_consistency). nullopt for a signal without a filter or
+  /// a role that has none.
+  virtual std::optional<avalanche::FieldFit> field_fit(std::uint32_t /*signal_id*/, const Vec3& /*field*/,
+                                                       const Vec3& /*noise*/, std::uint8_t /*axes*/) const {
+    return std::nullopt;
+  }
   /// Filters alive (NodeStatus.active_filters).
   virtual std::size_t active_filters() const = 0;
 };

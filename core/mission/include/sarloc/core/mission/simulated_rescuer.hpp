@@ -33,6 +33,10 @@ class SimulatedRescuer {
   /// A noisy GNSS fix of the antenna in the incident frame.
   responder::ResponderPosition gnss(TimestampNs stamp);
 
+  /// The realistic receiver's separation asks the device's filters through this
+  /// (avalanche::SignalSeparator::set_consistency); the ideal receiver separates nothing.
+  void set_consistency(avalanche::FieldConsistency consistency);
+
   const avalanche::ReceiverPose& pose() const { return pose_; }
   double distance_walked_m() const { return walked_m_; }
   /// Truth for evaluation: which victim this receiver's signal id is (nullopt if unknown).

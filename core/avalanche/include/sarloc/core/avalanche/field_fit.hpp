@@ -1,0 +1,17 @@
+#pragma once
+// How well one field sample fits a signal's filter, asked without updating it: the receiver's
+// separation (signal_separator.hpp) compares tracks with it when carrier and timing cannot
+// decide, and refuses to re-anchor a lost track on a pulse its filter cannot explain.
+
+namespace sarloc::avalanche {
+
+struct FieldFit {
+  /// log p(field | the filter's belief), up to a constant common to every filter: compare
+  /// filters with it, never with a threshold.
+  double log_likelihood = 0.0;
+  /// Normalised innovation squared of the component that explains the field best, sign
+  /// included (chi-square with one degree of freedom per valid axis if the filter is right).
+  double nis = 0.0;
+};
+
+}  // namespace sarloc::avalanche
