@@ -100,10 +100,13 @@ int main(int argc, char** argv) {
 
     auto participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, "rescuer-" + rescuer_id));
     sarloc::dds::RescuerNode node(participant, node_config, clock);
-    // The device's separation asks its own filters when carrier and timing cannot decide.
-    sensors->set_consistency([&node](std::uint32_t signal, const Vec3& field, const Vec3& noise, std::uint8_t axes) {
-      return node.local_estimator().field_fit(signal, field, noise, axes);
-    });
+    // The device's separation asks its own filters when carrier and timing cannot decide, once
+    // they have moved with the step just walked.
+    sensors->set_consistency(
+        [&node](std::uint32_t signal, const Vec3& field, const Vec3& noise, std::uint8_t axes) {
+          return node.local_estimator().field_fit(signal, field, noise, axes);
+        },
+        [&node](const responder::Odometry& o) { node.move({o}); });
 
     // The first samples are worth delivering: give discovery a moment to match the daemon.
     if (!node.wait_for_daemon(std::chrono::seconds(5))) {

@@ -19,7 +19,9 @@ std::optional<SensorEpoch> SimulatedSource::next(TimestampNs stamp, const std::o
   if (previous_stamp_) {
     const double bearing = followed ? followed->bearing_rad : 0.0;
     const double step = followed ? followed->step_m : step_length_m_;
-    epoch.odometry.push_back(sim_.walk(bearing, step, *previous_stamp_, stamp));
+    responder::Odometry walked = sim_.walk(bearing, step, *previous_stamp_, stamp);
+    if (move_) move_(walked);  // the filters the separation asks move before it listens
+    else epoch.odometry.push_back(std::move(walked));
   }
   previous_stamp_ = stamp;
   epoch.position = sim_.gnss(stamp);

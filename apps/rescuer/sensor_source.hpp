@@ -2,6 +2,7 @@
 // Where sarloc-rescuer's samples come from: the mission simulator (default; it walks where the
 // guidance says) or a recorded sensor file from a real device (guidance is only shown).
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -32,7 +33,9 @@ class SensorSource {
   virtual double distance_walked_m() const = 0;
   /// A source that separates beacon signals itself asks the device's filters through this
   /// (avalanche::SignalSeparator::set_consistency); a recorded file was separated already.
-  virtual void set_consistency(avalanche::FieldConsistency) {}
+  /// `move` then receives each epoch's motion before the source listens (and the epoch carries
+  /// none), so that the filters asked are where the device is.
+  virtual void set_consistency(avalanche::FieldConsistency, std::function<void(const responder::Odometry&)> /*move*/) {}
   /// Truth for reports (simulation only): the victim index behind a signal id.
   virtual std::optional<std::size_t> victim_of_signal(std::uint32_t) const { return std::nullopt; }
   /// Truth for reports (simulation only): the victim behind a signal relative to the antenna now.
@@ -48,7 +51,10 @@ class SimulatedSource : public SensorSource {
   SimulatedSource(const mission::MissionScenario& scenario, const std::string& rescuer_id, double step_length_m);
   std::optional<SensorEpoch> next(TimestampNs stamp, const std::optional<responder::Guidance>& followed) override;
   double distance_walked_m() const override { return sim_.distance_walked_m(); }
-  void set_consistency(avalanche::FieldConsistency consistency) override { sim_.set_consistency(std::move(consistency)); }
+  void set_consistency(avalanche::FieldConsistency consistency, std::function<void(const responder::Odometry&)> move) override {
+    sim_.set_consistency(std::move(consistency));
+    move_ = std::move(move);
+  }
   std::optional<std::size_t> victim_of_signal(std::uint32_t signal) const override {
     return sim_.victim_of_signal(signal);
   }
@@ -64,6 +70,7 @@ class SimulatedSource : public SensorSource {
   std::vector<mission::VictimSpec> victims_;
   double step_length_m_;
   std::optional<TimestampNs> previous_stamp_;
+  std::function<void(const responder::Odometry&)> move_;
 };
 
 /// A recorded sensor file, JSON lines (docs/configuration.md, "Recorded sensor files"):

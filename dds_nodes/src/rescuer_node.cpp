@@ -127,14 +127,7 @@ RescuerNode::~RescuerNode() {
   core_status_reader_.reset();
 }
 
-EpochResult RescuerNode::epoch(const std::vector<responder::Odometry>& odometry,
-                               const std::optional<responder::ResponderPosition>& fix,
-                               const std::vector<estimator::SensorSample>& samples) {
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    for (const std::uint32_t signal : found_elsewhere_) local_->mark_done(signal);
-  }
-  // Motion first: the daemon must apply the step before this epoch's samples.
+void RescuerNode::move(const std::vector<responder::Odometry>& odometry) {
   for (const auto& o : odometry) {
     if (!odometry_writer_.write(to_idl(o))) spdlog::error("DDS refused odometry {}", o.sequence);
     const auto outcome = local_->add_odometry(o);
@@ -142,6 +135,16 @@ EpochResult RescuerNode::epoch(const std::vector<responder::Odometry>& odometry,
       spdlog::warn("local estimator refused odometry: {}", rejected->detail);
     }
   }
+}
+
+EpochResult RescuerNode::epoch(const std::vector<responder::Odometry>& odometry,
+                               const std::optional<responder::ResponderPosition>& fix,
+                               const std::vector<estimator::SensorSample>& samples) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const std::uint32_t signal : found_elsewhere_) local_->mark_done(signal);
+  }
+  move(odometry);  // motion first: the daemon must apply the step before this epoch's samples
   if (fix) {
     if (!position_writer_.write(to_idl(*fix))) spdlog::error("DDS refused the position fix");
     if (own_fixes_.empty() || fix->stamp > own_fixes_.back().stamp) own_fixes_.push_back(*fix);

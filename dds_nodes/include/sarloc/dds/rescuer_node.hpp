@@ -63,8 +63,11 @@ class RescuerNode {
   RescuerNode(const RescuerNode&) = delete;
   RescuerNode& operator=(const RescuerNode&) = delete;
 
-  /// One epoch: `odometry` is the motion since the previous epoch (none on the first),
-  /// `fix` the position fix (if any), `samples` this epoch's sensor samples.
+  /// Publishes motion and applies it to the device's own estimator at once: a device whose
+  /// separation asks its filters (SensorSource::set_consistency) moves them before it listens.
+  void move(const std::vector<responder::Odometry>& odometry);
+  /// One epoch: `odometry` is the motion since the previous epoch not yet given to move() (none
+  /// on the first), `fix` the position fix (if any), `samples` this epoch's sensor samples.
   EpochResult epoch(const std::vector<responder::Odometry>& odometry,
                     const std::optional<responder::ResponderPosition>& fix,
                     const std::vector<estimator::SensorSample>& samples);
