@@ -428,6 +428,22 @@ std::optional<SourceState> VictimFusion::confirming_state(const Source& s) const
   return device->state;
 }
 
+const FusedVictim* VictimFusion::indistinct_twin(const FusedVictim& v) const {
+  // merge_victims() ran first: any other victim still inside the merge gate was kept apart by
+  // a rescuer with a signal in each.
+  const FusedVictim* twin = nullptr;
+  double closest = merge_gate_;
+  for (const FusedVictim& u : victims_) {
+    if (u.victim_id == v.victim_id || u.floor != v.floor) continue;
+    const double d2 = mahalanobis2(v.position, u.position);
+    if (d2 <= closest) {
+      closest = d2;
+      twin = &u;
+    }
+  }
+  return twin;
+}
+
 void VictimFusion::update_states(TimestampNs now) {
   for (FusedVictim& v : victims_) {
     v.evidence_conflict = std::any_of(sources_.begin(), sources_.end(), [&](const auto& kv) {
@@ -470,8 +486,27 @@ void VictimFusion::update_states(TimestampNs now) {
       if (*st == SourceState::kFound) target = VictimState::kFound;
       else if (*st == SourceState::kLocated) target = std::max(target, VictimState::kLocated);
     }
-    if (corroborated && radius95_3d(v.position.covariance) < config_.located_radius_m)
-      target = std::max(target, VictimState::kLocated);
+    // A victim inside another's merge gate, kept apart only because one rescuer has a signal in
+    // each, may be one transmitter that every such rescuer's separation split in two: the
+    // picture cannot tell. Unless a device's own LOCATED or FOUND stands by it, it says so
+    // (possibly_same_as), the fused radius does not confirm it, and a confirmation that rested
+    // on the fused radius alone is withdrawn (never one a device gave: its finder may have
+    // walked on). Seen live (four within 5 m, clean seed 1): three devices each held two signals
+    // of one victim, and incident command confirmed it twice, 0.56 m apart.
+    const FusedVictim* twin = target == VictimState::kUnconfirmed ? indistinct_twin(v) : nullptr;
+    if (target != VictimState::kUnconfirmed) {
+      by_radius_only_.erase(v.victim_id);
+    } else if (twin != nullptr) {
+      if (v.possibly_same_as == 0) v.possibly_same_as = twin->victim_id;
+      if (by_radius_only_.erase(v.victim_id) > 0 && v.state != VictimState::kUnconfirmed) {
+        v.state = VictimState::kUnconfirmed;
+        v.located_at = 0;
+        v.found_at = 0;
+      }
+    } else if (corroborated && radius95_3d(v.position.covariance) < config_.located_radius_m) {
+      target = VictimState::kLocated;
+      if (v.state == VictimState::kUnconfirmed) by_radius_only_.insert(v.victim_id);
+    }
     v.state = std::max(v.state, target);  // never backwards
     if (v.state >= VictimState::kLocated && v.located_at == 0) v.located_at = now;
     if (v.state >= VictimState::kFound && v.found_at == 0) v.found_at = now;

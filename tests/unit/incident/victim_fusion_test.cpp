@@ -445,6 +445,77 @@ TEST(VictimFusion, AConfirmedRepeatMergesItsVictimIntoTheVictimOfTheSignalItRepe
   EXPECT_EQ(f.victims().size(), 1u);
 }
 
+// Every rescuer's separation split one transmitter into two signals: one rescuer's signals
+// never share a victim, so the picture holds two victims a few decimetres apart. It cannot tell
+// them from one: neither is confirmed by the fused radius, each names the other, and only a
+// device's own word confirms. Before, both were LOCATED (live, four within 5 m, clean seed 1:
+// one victim confirmed twice, 0.56 m apart).
+TEST(VictimFusion, ATransmitterEveryRescuerSplitIsNotConfirmedTwice) {
+  VictimFusionConfig c;
+  c.source_timeout_s = 5.0;
+  VictimFusion f(c);
+  const Vec3 a(-1.5, 39.0, -1.2);
+  auto report = [&](TimestampNs t, EstimatorStatus r2_first, bool with_r2) {
+    for (const char* r : {"r1", "r2", "r3"}) {
+      if (!with_r2 && std::string(r) == "r2") continue;
+      const bool first_of_r2 = std::string(r) == "r2";
+      f.update(src(r, 1, t, a + Vec3(0.1, 0.0, 0.0), 0.15, first_of_r2 ? r2_first : EstimatorStatus::kConverged));
+      f.update(src(r, 2, t, a + Vec3(-0.1, 0.1, 0.0), 0.15));
+    }
+    f.step(t);
+  };
+  report(0, EstimatorStatus::kConverged, true);
+  ASSERT_EQ(f.victims().size(), 2u);
+  for (const FusedVictim& v : f.victims()) {
+    EXPECT_EQ(v.sources.size(), 3u);
+    EXPECT_EQ(v.state, VictimState::kUnconfirmed) << "victim " << v.victim_id;
+    EXPECT_NE(v.possibly_same_as, 0u);
+    EXPECT_NE(v.possibly_same_as, v.victim_id);
+  }
+  // r2's device stands over its first signal: that victim is found, the other still names it.
+  report(kSec, EstimatorStatus::kFound, true);
+  ASSERT_EQ(f.victims().size(), 2u);
+  const auto found = std::find_if(f.victims().begin(), f.victims().end(),
+                                  [](const FusedVictim& v) { return v.state == VictimState::kFound; });
+  ASSERT_NE(found, f.victims().end());
+  const std::uint32_t found_id = found->victim_id;
+  EXPECT_EQ(found->possibly_same_as, 0u);
+  for (const FusedVictim& v : f.victims()) {
+    if (v.victim_id == found_id) continue;
+    EXPECT_EQ(v.state, VictimState::kUnconfirmed);
+    EXPECT_EQ(v.possibly_same_as, found_id);
+  }
+  // r2 walks on (its sources time out): what its device found stays found.
+  report(7 * kSec, EstimatorStatus::kConverged, false);
+  const auto still = std::find_if(f.victims().begin(), f.victims().end(),
+                                  [&](const FusedVictim& v) { return v.victim_id == found_id; });
+  ASSERT_NE(still, f.victims().end());
+  EXPECT_EQ(still->state, VictimState::kFound);
+}
+
+// A victim located by the fused radius alone, then a twin: the same rescuers' second signals
+// there. The confirmation rested on nothing a device said, and is withdrawn.
+TEST(VictimFusion, AConfirmationByTheFusedRadiusAloneIsWithdrawnForATwin) {
+  VictimFusion f;
+  const Vec3 a(-1.5, 39.0, -1.2);
+  f.update(src("r1", 1, 0, a, 0.15));
+  f.update(src("r3", 1, 0, a + Vec3(0.05, 0.0, 0.0), 0.15));
+  f.step(0);
+  ASSERT_EQ(f.victims().size(), 1u);
+  ASSERT_EQ(f.victims()[0].state, VictimState::kLocated) << "the fused radius";
+  f.update(src("r1", 2, kSec, a + Vec3(0.2, 0.1, 0.0), 0.15));
+  f.update(src("r3", 2, kSec, a + Vec3(0.25, 0.1, 0.0), 0.15));
+  f.update(src("r1", 1, kSec, a, 0.15));
+  f.update(src("r3", 1, kSec, a + Vec3(0.05, 0.0, 0.0), 0.15));
+  f.step(kSec);
+  ASSERT_EQ(f.victims().size(), 2u);
+  for (const FusedVictim& v : f.victims()) {
+    EXPECT_EQ(v.state, VictimState::kUnconfirmed) << "victim " << v.victim_id;
+    EXPECT_EQ(v.located_at, 0);
+    EXPECT_NE(v.possibly_same_as, 0u);
+  }
+}
+
 TEST(VictimFusion, MergeKeepsLowerIdAndReportsTheOther) {
   VictimFusion f;
   f.update(src("a", 1, 0, Vec3(0, 0, 0), 0.5));

@@ -57,6 +57,10 @@
 //   6. state: kLocated when a bound source is kLocated or kFound or the fused 95 % radius
 //      (worst axis) is below located_radius_m; kFound when a bound source is kFound; states
 //      never go back. located_at / found_at are set once (to `now`).
+//      Twins: a victim inside another's merge gate (kept apart by the same-rescuer rule: possibly
+//      one transmitter every such rescuer split into two signals) that no device's own LOCATED
+//      or FOUND stands by names it (possibly_same_as), is not confirmed by the fused radius, and
+//      loses a confirmation that rested on the fused radius alone.
 //      Only CORROBORATED sources confirm (confirm_requires_device, the default): a source
 //      whose reporter's own device (from_device: every sample, no network in between) sent an
 //      estimate of at least kConverged within source_timeout_s of the source's newest. Its
@@ -185,6 +189,9 @@ class VictimFusion {
   /// within source_timeout_s of its newest.
   std::pair<responder::RepeatState, std::uint32_t> repeat_claim(const Source& s) const;
   void update_states(TimestampNs now);
+  /// The closest other victim inside v's merge gate (one the same-rescuer rule keeps apart), or
+  /// nullptr.
+  const FusedVictim* indistinct_twin(const FusedVictim& v) const;
   /// The state a source confirms with (step 6): its device's, nullopt if not corroborated.
   std::optional<SourceState> confirming_state(const Source& s) const;
   /// Records the estimate as its estimator's latest; marks the source conflicted when it
@@ -199,6 +206,7 @@ class VictimFusion {
   std::vector<std::uint32_t> orphaned_;       ///< lost their last source to re-association
   std::map<SourceKey, std::uint32_t> adopted_bindings_;  ///< adopted, source not heard yet
   std::set<std::uint32_t> adopted_ids_;      ///< victims of the last adopted picture
+  std::set<std::uint32_t> by_radius_only_;   ///< confirmed by the fused radius, no device's word
   std::uint32_t next_id_ = 1;
 };
 
