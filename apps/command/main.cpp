@@ -4,6 +4,8 @@
 // An incident runs command.instances of it (--instance 1, 2, ...): one publishes, the others
 // stand by with the same picture and take over when it is lost (docs/operations.md).
 #include <CLI/CLI.hpp>
+#include <map>
+#include <string>
 #include <spdlog/spdlog.h>
 
 #include "sarloc/app/command_line.hpp"
@@ -49,11 +51,25 @@ int main(int argc, char** argv) {
     spdlog::info("{} running for incident '{}' (instance {} of {})", node_config.node_id, node_config.incident_id,
                  instance, node_config.standby.instances);
     std::size_t last_count = 0;
+    // A line per victim whose state or doubt changed, with the sources behind it: enough to
+    // trace afterwards which rescuers' signals confirmed what.
+    std::map<std::uint32_t, std::pair<incident::VictimState, std::uint32_t>> last_said;
     while (!app::wait_for_shutdown(std::chrono::seconds(1))) {
       const auto victims = node.victims();
       if (victims.size() != last_count) {
         spdlog::info("incident picture: {} victim(s)", victims.size());
         last_count = victims.size();
+      }
+      for (const auto& v : victims) {
+        const std::pair<incident::VictimState, std::uint32_t> now{v.state, v.possibly_same_as};
+        const auto said = last_said.find(v.victim_id);
+        if (said != last_said.end() && said->second == now) continue;
+        last_said[v.victim_id] = now;
+        std::string sources;
+        for (const auto& s : v.sources) sources += " " + s.rescuer_id + "/" + std::to_string(s.signal_id);
+        const std::string doubt = v.possibly_same_as != 0 ? ", possibly the same as victim " + std::to_string(v.possibly_same_as) : "";
+        spdlog::info("victim {}: {}{} at ({:.1f}, {:.1f}, {:.1f}), sources:{}", v.victim_id, incident::to_string(v.state), doubt,
+                     v.position.position.x(), v.position.position.y(), v.position.position.z(), sources.empty() ? " none" : sources);
       }
     }
     if (!summary_path.empty()) write_summary(node, summary_path);

@@ -38,6 +38,16 @@ struct FusedVictim {
   std::uint32_t possibly_same_as = 0;
 };
 
+inline const char* to_string(VictimState s) {
+  switch (s) {
+    case VictimState::kUnconfirmed: return "unconfirmed";
+    case VictimState::kLocated: return "LOCATED";
+    case VictimState::kFound: return "FOUND";
+    case VictimState::kRecovered: return "recovered";
+  }
+  return "unconfirmed";
+}
+
 /// Found by a rescuer (and possibly recovered since).
 inline bool is_found(VictimState s) { return s == VictimState::kFound || s == VictimState::kRecovered; }
 
