@@ -19,7 +19,10 @@ std::vector<int> match_to_truth(const std::vector<VictimSpec>& truth, const std:
       // Only its nearest buried victim: a second copy of one victim never stands in for
       // another one nearby (seen: a duplicate of A, 3 m from B, ended a mission as "B found").
       const bool feasible = d <= radius_m && d <= nearest;
-      cost(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = feasible ? d : incident::kInfeasible;
+      // Confirmed victims first: an unconfirmed twin that says it may be a confirmed one
+      // (possibly_same_as) must not take the buried victim from it and leave it a "ghost".
+      const double doubt = fused[j].state == incident::VictimState::kUnconfirmed ? 2.0 * radius_m : 0.0;
+      cost(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = feasible ? d + doubt : incident::kInfeasible;
     }
   }
   return incident::solve_assignment(cost);

@@ -90,5 +90,23 @@ TEST(VictimMatching, ACopyOfOneVictimNeverStandsInForAnotherNearby) {
   EXPECT_EQ(match_to_truth(s.victims, with_b)[1], 2);
 }
 
+// A transmitter split by every device: incident command holds C twice, the FOUND copy 0.8 m
+// from it and an unconfirmed twin 0.5 m from it that names the FOUND one. C is found; the FOUND
+// copy is no ghost. Matched by distance alone, the twin took C (live, four within 5 m, clean
+// seed 1: "C not found" and a "ghost" that was C's own FOUND).
+TEST(VictimMatching, AConfirmedVictimIsMatchedBeforeItsUnconfirmedTwin) {
+  MissionScenario s;
+  s.victims = {{"C", Vec3(0.0, 42.0, -1.0), Vec3(0.01, 0, 0), {}, {}}};
+  std::vector<incident::FusedVictim> picture = {
+      victim(2, Vec3(-0.53, 41.95, -1.25), incident::VictimState::kUnconfirmed, 0),
+      victim(10, Vec3(0.66, 42.45, -1.03), incident::VictimState::kFound, kEpoch + 60 * kSec)};
+  picture[0].possibly_same_as = 10;
+  EXPECT_EQ(match_to_truth(s.victims, picture)[0], 1);
+  EXPECT_TRUE(every_victim_found(s.victims, picture));
+  const auto p = picture_outcomes(s, picture, kEpoch);
+  EXPECT_FALSE(p[0].matches_a_buried_victim);
+  EXPECT_TRUE(p[1].matches_a_buried_victim);
+}
+
 }  // namespace
 }  // namespace sarloc::mission

@@ -12,7 +12,8 @@ namespace sarloc::mission {
 inline constexpr double kMatchRadiusM = 5.0;
 
 /// One-to-one minimum-total-distance assignment of fused victims to buried ones: a fused victim
-/// is matched only to the buried victim nearest to it, and never further than radius_m. The
+/// is matched only to the buried victim nearest to it, and never further than radius_m;
+/// confirmed ones first (as many as can be matched), unconfirmed ones to what is left. The
 /// index of the fused victim per buried victim, -1 when none.
 std::vector<int> match_to_truth(const std::vector<VictimSpec>& truth, const std::vector<incident::FusedVictim>& fused,
                                 double radius_m = kMatchRadiusM);
