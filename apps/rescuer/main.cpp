@@ -5,13 +5,14 @@
 #include <spdlog/spdlog.h>
 
 #include <cmath>
+#include <limits>
 #include <map>
 #include <thread>
 
 #include "sarloc/app/command_line.hpp"
 #include "sarloc/app/json_io.hpp"
 #include "sarloc/app/logging.hpp"
-#include "sarloc/core/avalanche/evaluation.hpp"
+#include "sarloc/core/avalanche/found_victim.hpp"
 #include "sarloc/core/common/gaussian.hpp"
 #include "sarloc/app/node_options.hpp"
 #include "sarloc/app/run_main.hpp"
@@ -118,6 +119,7 @@ int main(int argc, char** argv) {
     std::size_t daemon_after_fallback = 0;          // daemon-guided epochs after the first fallback
     std::map<std::uint32_t, double> error_when_found;  // simulation truth: the diggers' error
     std::map<std::uint32_t, double> radius_when_found;  // the 95 % radius the device stated then
+    std::map<std::uint32_t, std::size_t> victim_when_found;  // the victim that FOUND named (found_victim.hpp)
     // Every signal heard, with the furthest status it reached: a victim found and then left
     // behind (out of range) is still one this device found.
     std::map<std::uint32_t, responder::EstimatorStatus> furthest;
@@ -157,11 +159,17 @@ int main(int argc, char** argv) {
         best = std::max(best, status);
         if (status != responder::EstimatorStatus::kFound || error_when_found.count(signal) != 0) continue;
         const auto estimate = node.local_estimator().estimate_of(signal);
-        const auto truth = sensors->true_relative(signal);
-        if (estimate && truth) {
-          error_when_found[signal] = (estimate->relative.position - *truth).norm();
-          radius_when_found[signal] = radius95_3d(estimate->relative.covariance);
-        }
+        const std::vector<Vec3> victims = sensors->true_victims_relative();
+        if (!estimate || victims.empty()) continue;
+        const Vec3& where = estimate->relative.position;
+        // Near no victim (a false FOUND): scored against the victim the signal followed, or the nearest.
+        std::optional<std::size_t> victim = avalanche::victim_of_found(
+            where, avalanche::found_reach(estimate->relative.covariance), victims, sensors->victim_of_signal(signal));
+        if (!victim) victim = sensors->victim_of_signal(signal);
+        if (!victim) victim = avalanche::victim_of_found(where, std::numeric_limits<double>::infinity(), victims, std::nullopt);
+        victim_when_found[signal] = *victim;
+        error_when_found[signal] = (where - victims[*victim]).norm();
+        radius_when_found[signal] = radius95_3d(estimate->relative.covariance);
       }
       if (!quiet) spdlog::info("{}", display_line(rescuer_id, last));
     }
@@ -181,7 +189,11 @@ int main(int argc, char** argv) {
         d.latency_p99_ms = sarloc::percentile(latencies, 0.99);
       }
       for (const auto& [signal, status] : furthest) {
-        mission::DeviceSignal s{signal, status, sensors->victim_of_signal(signal), std::nullopt, std::nullopt};
+        const auto named = victim_when_found.find(signal);
+        mission::DeviceSignal s{signal, status,
+                                named != victim_when_found.end() ? std::optional<std::size_t>(named->second)
+                                                                 : sensors->victim_of_signal(signal),
+                                std::nullopt, std::nullopt};
         // The diggers' view: this device's own estimate against the truth when it was found.
         if (const auto it = error_when_found.find(signal); it != error_when_found.end()) s.relative_error_m = it->second;
         if (const auto it = radius_when_found.find(signal); it != radius_when_found.end()) s.radius95_m = it->second;

@@ -36,10 +36,10 @@ class SensorSource {
   /// `move` then receives each epoch's motion before the source listens (and the epoch carries
   /// none), so that the filters asked are where the device is.
   virtual void set_consistency(avalanche::FieldConsistency, std::function<void(const responder::Odometry&)> /*move*/) {}
-  /// Truth for reports (simulation only): the victim index behind a signal id.
+  /// Truth for reports (simulation only): the victim most of a signal's samples came from.
   virtual std::optional<std::size_t> victim_of_signal(std::uint32_t) const { return std::nullopt; }
-  /// Truth for reports (simulation only): the victim behind a signal relative to the antenna now.
-  virtual std::optional<Vec3> true_relative(std::uint32_t) const { return std::nullopt; }
+  /// Truth for reports (simulation only): every victim relative to the antenna now, by index.
+  virtual std::vector<Vec3> true_victims_relative() const { return {}; }
   /// Truth for reports (simulation only): the antenna's true position in the incident frame.
   virtual std::optional<Vec3> true_antenna() const { return std::nullopt; }
 };
@@ -58,10 +58,10 @@ class SimulatedSource : public SensorSource {
   std::optional<std::size_t> victim_of_signal(std::uint32_t signal) const override {
     return sim_.victim_of_signal(signal);
   }
-  std::optional<Vec3> true_relative(std::uint32_t signal) const override {
-    const auto victim = sim_.victim_of_signal(signal);
-    if (!victim) return std::nullopt;
-    return victims_[*victim].position - sim_.pose().position;
+  std::vector<Vec3> true_victims_relative() const override {
+    std::vector<Vec3> out;
+    for (const auto& v : victims_) out.push_back(v.position - sim_.pose().position);
+    return out;
   }
   std::optional<Vec3> true_antenna() const override { return sim_.pose().position; }
 

@@ -82,8 +82,19 @@ Listening BeaconReceiver::listen(const ReceiverPose& pose, const std::vector<Bea
     if (!known && truth) truth_.emplace_back(signal, *truth);
     else if (known && truth != known) ++out.wrong_attributions;
   }
-  for (const auto& s : out.report.samples) out.samples.push_back({s, dominant(out.report.pulses[s.pulse])});
+  for (const auto& s : out.report.samples) {
+    out.samples.push_back({s, dominant(out.report.pulses[s.pulse])});
+    if (out.samples.back().transmitter) ++samples_of_[s.signal_id][*out.samples.back().transmitter];
+  }
   return out;
+}
+
+std::optional<std::size_t> BeaconReceiver::majority_beacon_of_signal(std::uint32_t signal_id) const {
+  const auto it = samples_of_.find(signal_id);
+  if (it == samples_of_.end() || it->second.empty()) return std::nullopt;
+  const auto most = std::max_element(it->second.begin(), it->second.end(),
+                                     [](const auto& a, const auto& b) { return a.second < b.second; });
+  return most->first;
 }
 
 std::optional<std::size_t> BeaconReceiver::beacon_of_signal(std::uint32_t signal_id) const {

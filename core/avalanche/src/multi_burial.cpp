@@ -10,6 +10,7 @@
 
 #include "sarloc/core/avalanche/beacon_receiver.hpp"
 #include "sarloc/core/avalanche/dipole_model.hpp"
+#include "sarloc/core/avalanche/found_victim.hpp"
 #include "sarloc/core/common/parallel_trials.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
 #include "sarloc/core/common/errors.hpp"
@@ -32,18 +33,6 @@ void MultiBurialSetup::validate() const {
   if (!(spread_m >= 0.5 && spread_m <= 100.0)) fail("spread_m", spread_m, "must be in [0.5, 100]");
   if (!(period_spread >= 0.0 && period_spread <= 0.3)) fail("period_spread", period_spread, "must be in [0, 0.3]");
 }
-
-namespace {
-
-// The transmitter most of a signal's pulses came from (truth), nullopt before any.
-std::optional<std::size_t> majority_transmitter(const std::map<std::size_t, std::uint32_t>& pulses) {
-  const auto most = std::max_element(pulses.begin(), pulses.end(),
-                                     [](const auto& a, const auto& b) { return a.second < b.second; });
-  if (most == pulses.end()) return std::nullopt;
-  return most->first;
-}
-
-}  // namespace
 
 MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint32_t index) {
   const SimulationConfig& sim = setup.simulation;
@@ -73,6 +62,8 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
     }
     beacons.push_back(b);
   }
+  std::vector<Vec3> victim_positions;
+  for (const Beacon& b : beacons) victim_positions.push_back(b.position);
   // The rescuer walks a primary-search strip passing within its half width of the cluster.
   ReceiverPose pose;
   pose.position = Vec3(0.0, 0.0, sim.antenna_height_m);
@@ -94,14 +85,11 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
   std::set<std::size_t> found_victims;
   std::set<std::uint32_t> reported, signals, retired, suspected;
   std::map<std::uint32_t, std::size_t> victim_found_by;  // signal -> the victim its FOUND was scored as
-  std::map<std::uint32_t, std::map<std::size_t, std::uint32_t>> pulses_of;  // truth: per signal, per beacon
   std::uint64_t odometry_sequence = 0;
   for (std::uint32_t step = 1; step <= setup.evaluation.step_budget; ++step) {
     const TimestampNs stamp = static_cast<TimestampNs>(step) * 1'000'000'000;
     const Listening heard = receiver.listen(pose, beacons, static_cast<double>(step), 1.0);
     tr.wrong_attributions += heard.wrong_attributions;
-    for (const auto& h : heard.samples)
-      if (h.transmitter) ++pulses_of[h.sample.signal_id][*h.transmitter];
     tr.unattributed_pulses += heard.report.unattributed;
     const OrientationObservation attitude = simulate_attitude(sim, pose, rng);
     std::optional<Guidance> guidance;
@@ -117,29 +105,17 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
       if (update->estimate && update->estimate->repeat == responder::RepeatState::kConfirmed &&
           retired.insert(m.signal_id).second) {
         ++tr.repeats_retired;
-        const auto majority = majority_transmitter(pulses_of[m.signal_id]);
+        const auto majority = receiver.majority_beacon_of_signal(m.signal_id);
         const auto first = victim_found_by.find(update->estimate->repeat_of_signal);
         if (majority && first != victim_found_by.end() && *majority != first->second) ++tr.repeats_wrong;
       }
       if (!update->estimate || update->estimate->status != EstimatorStatus::kFound || reported.count(m.signal_id) != 0)
         continue;
       reported.insert(m.signal_id);
-      // A FOUND: is it a victim, one not found before? The signal's own transmitter (the one
-      // most of its samples came from) when it is within reach, else the nearest one that is:
-      // two victims 0.3 m apart, each found by its own signal, are two victims found.
+      // A FOUND: is it a victim, one not found before? (found_victim.hpp)
       const Vec3 where = pose.position + update->estimate->relative.position;
-      const double reach = radius95_3d(update->estimate->relative.covariance) + kFalseFoundMarginM;
-      std::optional<std::size_t> victim;
-      double best = 1e300;
-      for (std::size_t v = 0; v < beacons.size(); ++v) {
-        const double d = (beacons[v].position - where).norm();
-        if (d <= reach && d < best) {
-          best = d;
-          victim = v;
-        }
-      }
-      const auto majority = majority_transmitter(pulses_of[m.signal_id]);
-      if (majority && (beacons[*majority].position - where).norm() <= reach) victim = majority;
+      const auto victim = victim_of_found(where, found_reach(update->estimate->relative.covariance), victim_positions,
+                                          receiver.majority_beacon_of_signal(m.signal_id));
       if (victim) victim_found_by[m.signal_id] = *victim;
       if (!victim) ++tr.ghosts;
       else if (!found_victims.insert(*victim).second) ++tr.duplicates;

@@ -56,6 +56,7 @@ void SearchConfig::validate() const {
   check("confirm_max_last_nis", confirm_max_last_nis, 0.0, 1000.0, true);
   check("confirm_innovation_window", confirm_innovation_window, 1.0, static_cast<double>(SogFilter::kNisHistory), false);
   check("found_confirmations", found_confirmations, 1.0, 20.0, false);
+  check("confirm_probe_per_depth", confirm_probe_per_depth, 0.0, 2.0, false);
   check("probe_step_m", probe_step_m, 0.0, 10.0, true);
   check("approach_radius_fraction", approach_radius_fraction, 0.0, 1.0, true);
   check("flux_smoothing", flux_smoothing, 0.0, 0.99, false);
@@ -203,7 +204,8 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
   // taken beside it. Seen: a signal heard every third epoch, the rescuer back on the estimate
   // each time it was heard (coasting to it in between), confirmed 3.1 m from its victim by three
   // samples from one spot, a ghost (4 victims, seed 1, trial 6).
-  const bool beside = dist >= 0.5 * config_.found_distance_m && dist <= 2.0 * config_.found_distance_m;
+  const double probe_offset = std::max(config_.found_distance_m, config_.confirm_probe_per_depth * std::max(0.0, -mean.z()));
+  const bool beside = dist >= 0.5 * probe_offset && dist <= 2.0 * probe_offset;
   const bool located = st == EstimatorStatus::kLocated || st == EstimatorStatus::kFound;
   const bool says_found = (found_streak_ == 0 ? st == EstimatorStatus::kFound : located && beside) ||
                           (pattern_complete_ && may_confirm);
@@ -271,7 +273,7 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
         const Eigen::Vector2d along = dist > 1e-6 ? Eigen::Vector2d(mean_h / dist) : Eigen::Vector2d(1.0, 0.0);
         const Eigen::Vector2d across(-along.y(), along.x());
         const Eigen::Vector2d target =
-            mean_h + (probe_turn_++ % 2 == 0 ? 1.0 : -1.0) * config_.found_distance_m * across;
+            mean_h + (probe_turn_++ % 2 == 0 ? 1.0 : -1.0) * probe_offset * across;
         heading = std::atan2(target.y(), target.x());
         step = target.norm();
       } else if (config_.stall_window_steps > 0 &&

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "sarloc/core/avalanche/found_victim.hpp"
 #include "sarloc/core/mission/victim_matching.hpp"
 
 namespace sarloc::mission {
@@ -20,13 +21,15 @@ std::optional<double> relative_error_of(std::size_t victim, const std::map<std::
   return best;
 }
 
-// A finder's FOUND must hold within its own stated uncertainty (+ 0.5 m: the probe's reach).
+// A finder's FOUND must hold within its own stated uncertainty (+ kFalseFoundMarginM: the
+// probe's reach). A device's FOUND names the victim within that reach (found_victim.hpp), so a
+// FOUND counted here is near no victim at all.
 std::size_t false_found_of(std::size_t victim, const std::map<std::string, DeviceSummary>& devices) {
   std::size_t n = 0;
   for (const auto& [id, device] : devices) {
     for (const auto& s : device.signals) {
       if (s.victim_index != victim || s.status != responder::EstimatorStatus::kFound) continue;
-      if (s.relative_error_m && s.radius95_m && *s.relative_error_m > *s.radius95_m + 0.5) ++n;
+      if (s.relative_error_m && s.radius95_m && *s.relative_error_m > *s.radius95_m + avalanche::kFalseFoundMarginM) ++n;
     }
   }
   return n;

@@ -114,7 +114,7 @@ void SimulatedRescuer::set_consistency(avalanche::FieldConsistency consistency) 
 }
 
 std::optional<std::size_t> SimulatedRescuer::victim_of_signal(std::uint32_t signal_id) const {
-  if (receiver_) return receiver_->beacon_of_signal(signal_id);
+  if (receiver_) return receiver_->majority_beacon_of_signal(signal_id);
   for (const auto& [victim, signal] : signal_of_victim_) {
     if (signal == signal_id) return victim;
   }

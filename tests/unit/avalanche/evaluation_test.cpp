@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <mutex>
 #include <vector>
 
@@ -56,10 +57,12 @@ TEST(EvaluationTest, StepObserverSeesEveryStepWithoutChangingResults) {
   std::mutex mutex;
   std::vector<std::vector<std::uint32_t>> steps(3);
   std::vector<std::vector<double>> distances(3);
+  std::vector<double> depth_below_antenna(3);
   const auto observed = run_evaluation(setup, {}, {}, [&](const TrialStep& s) {
     std::lock_guard<std::mutex> lock(mutex);
     steps.at(s.trial).push_back(s.step);
     distances.at(s.trial).push_back(s.sim.true_horizontal_distance());
+    depth_below_antenna.at(s.trial) = -s.sim.true_relative_position().z();
     EXPECT_EQ(s.estimate.relative.position, s.filter.estimate(0).relative.position);
   });
   const auto plain = run_evaluation(setup);
@@ -68,7 +71,9 @@ TEST(EvaluationTest, StepObserverSeesEveryStepWithoutChangingResults) {
     ASSERT_EQ(steps[t].size(), r.steps) << "trial " << t;
     for (std::size_t i = 0; i < steps[t].size(); ++i) EXPECT_EQ(steps[t][i], i + 1);
     EXPECT_DOUBLE_EQ(distances[t].front(), r.initial_distance_m);
-    EXPECT_LT(distances[t].back(), 1.0);  // found: the last step is taken above the victim
+    // Found: the last sample is a confirming probe beside the victim (search_controller.hpp).
+    const double probe = std::max(setup.search.found_distance_m, setup.search.confirm_probe_per_depth * depth_below_antenna[t]);
+    EXPECT_LT(distances[t].back(), 2.0 * probe + 0.5) << "trial " << t;
     EXPECT_EQ(r.steps, plain.per_trial[t].steps);
     EXPECT_DOUBLE_EQ(r.error_m, plain.per_trial[t].error_m);
   }

@@ -262,6 +262,7 @@ TEST(SignalSeparator, OverlappingPulsesOnDistinctCarriersKeepTheirIds) {
       ++samples;
       ASSERT_TRUE(h.transmitter.has_value());
       EXPECT_EQ(receiver.beacon_of_signal(h.sample.signal_id), h.transmitter);
+      EXPECT_EQ(receiver.majority_beacon_of_signal(h.sample.signal_id), h.transmitter);
     }
   }
   EXPECT_EQ(wrong, 0U);

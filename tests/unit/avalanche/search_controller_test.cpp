@@ -232,6 +232,49 @@ TEST(SearchControllerTest, ConfirmingSamplesOfASparseSignalAreTakenBesideTheEsti
   EXPECT_GE(waits_seen, 1);
 }
 
+// A deep victim: the confirming samples are taken confirm_probe_per_depth times its depth below
+// the antenna beside the estimate, not found_distance_m. 0.5 m beside a victim 3.9 m down barely
+// changes the field (seen: a FOUND 0.99 m off with a 0.44 m radius).
+TEST(SearchControllerTest, ConfirmingSamplesOfADeepVictimAreTakenFurtherBeside) {
+  auto confirming_distances = [](double per_depth) {
+    Scenario s;
+    s.transmitter = Vec3(6.0, -4.0, -2.9);
+    s.moment = Vec3(0.006, -0.008, 0.004);
+    s.receiver = Vec3(0, 0, 1);
+    AvalancheSimulator sim(SimulationConfig{}, s, 11);
+    SogConfig cfg;
+    cfg.initial_components = 500;
+    SogFilter f(cfg);
+    SearchConfig sc;
+    sc.confirm_probe_per_depth = per_depth;
+    SearchController ctl(sc);
+    std::vector<double> guided;
+    for (int k = 0; k < 300; ++k) {
+      const FieldMeasurement z = sim.measure();
+      f.process(z);
+      const Guidance g = ctl.guide(f, z);
+      guided.push_back(g.distance_m);
+      if (g.mode == GuidanceMode::kFound) {
+        const Vec3 error = f.estimate(0).relative.position - sim.true_relative_position();
+        EXPECT_LT(error.norm(), 0.5) << "per_depth " << per_depth;
+        // The samples after the first that said "found" were taken beside the estimate.
+        return std::vector<double>(guided.end() - static_cast<std::ptrdiff_t>(sc.found_confirmations) + 1, guided.end());
+      }
+      f.add_odometry(sim.walk(g.bearing_rad, g.step_m));
+    }
+    ADD_FAILURE() << "not found, per_depth " << per_depth;
+    return std::vector<double>{};
+  };
+  const std::vector<double> near = confirming_distances(0.0);
+  const std::vector<double> far = confirming_distances(0.35);
+  ASSERT_FALSE(near.empty());
+  ASSERT_FALSE(far.empty());
+  const double depth_below_antenna = 3.9;
+  for (double d : near) EXPECT_LE(d, 2.0 * SearchConfig{}.found_distance_m);
+  for (double d : far) EXPECT_GE(d, 0.5 * 0.35 * depth_below_antenna * 0.8);  // the estimate's depth, not the truth's
+  EXPECT_GT(*std::min_element(far.begin(), far.end()), *std::max_element(near.begin(), near.end()));
+}
+
 TEST(SearchControllerLocated, RadiusScalesWithRangeAboveTheNearRangeFloor) {
   SearchController controller;  // defaults: 0.4 m floor, 10 % of range
   VictimEstimate e;

@@ -9,6 +9,7 @@
 //   BeaconReceiver receiver(simulation_config, seed);
 //   auto heard = receiver.listen(pose, beacons, t0, 1.0);
 //   for (const auto& m : to_measurements(heard, "r1", sequence, stamp, attitude)) filter_of(m.signal_id).process(m);
+#include <map>
 #include <optional>
 #include <random>
 #include <vector>
@@ -49,6 +50,9 @@ class BeaconReceiver {
   SignalSeparator& separator() { return separator_; }
   /// Truth: the beacon first attributed to a signal (nullopt if none yet).
   std::optional<std::size_t> beacon_of_signal(std::uint32_t signal_id) const;
+  /// Truth: the beacon most of a signal's samples came from (nullopt before any): the
+  /// transmitter the signal has followed, whichever it started on.
+  std::optional<std::size_t> majority_beacon_of_signal(std::uint32_t signal_id) const;
 
  private:
   SimulationConfig config_;
@@ -58,6 +62,7 @@ class BeaconReceiver {
   double k_;
   SignalSeparator separator_;
   std::vector<std::pair<std::uint32_t, std::size_t>> truth_;  ///< signal -> beacon
+  std::map<std::uint32_t, std::map<std::size_t, std::uint32_t>> samples_of_;  ///< signal -> beacon -> samples
 };
 
 /// The window's samples as measurements of one rescuer, all with the window's sequence, stamp,

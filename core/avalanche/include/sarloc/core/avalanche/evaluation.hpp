@@ -22,16 +22,13 @@
 #include <string>
 #include <vector>
 
+#include "sarloc/core/avalanche/found_victim.hpp"
 #include "sarloc/core/avalanche/search_controller.hpp"
 #include "sarloc/core/avalanche/simulator.hpp"
 #include "sarloc/core/avalanche/sog_filter.hpp"
 #include "sarloc/core/common/statistics.hpp"
 
 namespace sarloc::avalanche {
-
-/// A FOUND farther than its stated 95 % 3-D radius plus this margin (m) from the true victim is
-/// a false FOUND (the margin is the found distance: the rescuer stands within it).
-inline constexpr double kFalseFoundMarginM = 0.5;
 
 struct EvaluationConfig {
   std::uint32_t trials = 100;       ///< seed 000, section V

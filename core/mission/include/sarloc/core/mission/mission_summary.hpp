@@ -24,7 +24,9 @@ struct DeviceSignal {
   std::uint32_t signal_id = 0;
   /// The furthest its estimate got (FOUND stays FOUND after the rescuer walks out of range).
   responder::EstimatorStatus status = responder::EstimatorStatus::kInitialising;
-  std::optional<std::size_t> victim_index;     ///< simulation truth: which buried victim
+  /// Simulation truth: the buried victim a FOUND named (found_victim.hpp), else the one most of
+  /// the signal's samples came from.
+  std::optional<std::size_t> victim_index;
   std::optional<double> relative_error_m;      ///< the device's own error when it was found
   std::optional<double> radius95_m;            ///< the 95 % radius (3-D) it stated then
 };
