@@ -162,11 +162,10 @@ int main(int argc, char** argv) {
         const std::vector<Vec3> victims = sensors->true_victims_relative();
         if (!estimate || victims.empty()) continue;
         const Vec3& where = estimate->relative.position;
-        // Near no victim (a false FOUND): scored against the victim the signal followed, or the nearest.
-        std::optional<std::size_t> victim = avalanche::victim_of_found(
-            where, avalanche::found_reach(estimate->relative.covariance), victims, sensors->victim_of_signal(signal));
-        if (!victim) victim = sensors->victim_of_signal(signal);
-        if (!victim) victim = avalanche::victim_of_found(where, std::numeric_limits<double>::infinity(), victims, std::nullopt);
+        const auto own = sensors->victim_of_signal(signal);
+        // Near no victim (a false FOUND): scored against the victim the signal followed, else the nearest.
+        auto victim = avalanche::victim_of_found(where, avalanche::found_reach(estimate->relative.covariance), victims, own);
+        if (!victim) victim = avalanche::victim_of_found(where, std::numeric_limits<double>::infinity(), victims, own);
         victim_when_found[signal] = *victim;
         error_when_found[signal] = (where - victims[*victim]).norm();
         radius_when_found[signal] = radius95_3d(estimate->relative.covariance);

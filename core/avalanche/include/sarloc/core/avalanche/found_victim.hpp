@@ -22,7 +22,8 @@ double found_reach(const Mat3& covariance);
 /// FOUND near no victim (a ghost). `victims` are in the frame of `found`. Two victims 0.3 m apart,
 /// each found by its own signal, are two victims found; a signal whose pulses were another
 /// transmitter's at first, and which found the transmitter it followed, found that one (seen live:
-/// scored by its first pulse, a FOUND 0.08 m from victim A counted as 3.4 m off victim C).
+/// scored by its first pulse, a FOUND with a 0.30 m radius counted 3.39 m off victim C, about
+/// the distance from C to victim A, while the picture had all four victims right).
 std::optional<std::size_t> victim_of_found(const Vec3& found, double reach, const std::vector<Vec3>& victims,
                                            std::optional<std::size_t> own);
 
