@@ -11,6 +11,16 @@
 #include "sarloc/dds/process_stats.hpp"
 
 namespace sarloc::dds {
+namespace {
+
+// The arbiter learns how often an active peer publishes: its summary comes every cycle.
+incident::StandbyConfig standby_config_of(const CommandNodeConfig& config) {
+  incident::StandbyConfig standby = config.standby;
+  standby.peer_period_s = config.cycle_s;
+  return standby;
+}
+
+}  // namespace
 
 void CommandNodeConfig::validate() const {
   fusion.validate();
@@ -52,7 +62,7 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
       warnings_(std::chrono::seconds(5)),
       fusion_(config_.fusion),
       tracker_(config_.teams),
-      arbiter_(config_.standby, MissionClock::wall_now_ns()),
+      arbiter_(standby_config_of(config_), MissionClock::wall_now_ns()),
       victim_writer_(participant_),
       team_writer_(participant_),
       summary_writer_(participant_),

@@ -32,6 +32,8 @@ void StandbyConfig::validate() const {
     config_fail("command.claim_wait_s", claim_wait_s, "must be in [0, 600]");
   if (!std::isfinite(claim_stagger_s) || claim_stagger_s < 0.0 || claim_stagger_s > 60.0)
     config_fail("command.claim_stagger_s", claim_stagger_s, "must be in [0, 60]");
+  if (!std::isfinite(peer_period_s) || peer_period_s <= 0.0 || peer_period_s > 60.0)
+    config_fail("command.cycle_s", peer_period_s, "must be in (0, 60]");
 }
 
 StandbyArbiter::StandbyArbiter(StandbyConfig config, TimestampNs start_wall_ns)
@@ -57,6 +59,18 @@ void StandbyArbiter::on_peer_lost(const std::string& writer, TimestampNs now) {
 }
 
 std::optional<RoleChange> StandbyArbiter::decide(TimestampNs now) {
+  // A peer silent for longer than its lease allows is lost, notice or not.
+  const auto silence = static_cast<TimestampNs>((config_.claim_wait_s + 2.0 * config_.peer_period_s) * 1e9);
+  bool went_silent = false;
+  for (auto it = peers_.begin(); it != peers_.end();) {
+    if (now - it->second > silence) {
+      it = peers_.erase(it);
+      went_silent = true;
+    } else {
+      ++it;
+    }
+  }
+  if (went_silent && peers_.empty()) owner_lost_at_ = now;
   if (role_ == CommandRole::kActive) {
     if (peers_.empty()) return std::nullopt;
     role_ = CommandRole::kStandby;

@@ -317,15 +317,24 @@ void VictimFusion::associate_rescuer(const std::string& rescuer_id, TimestampNs 
   Eigen::MatrixXd cost = Eigen::MatrixXd::Constant(static_cast<Eigen::Index>(k),
                                                    static_cast<Eigen::Index>(nv + k), kInfeasible);
   for (std::size_t i = 0; i < k; ++i) {
+    // A signal its device located stays with its victim while inside the keep gate: the best
+    // evidence of where that victim is never gives its place to a newcomer of the same rescuer
+    // (seen live: r3's split of C took C's place, and r3's FOUND of C opened a second C).
+    const std::optional<SourceState> st = confirming_state(*rows[i]);
+    const bool located = st && *st >= SourceState::kLocated;
+    bool stays = false;
     for (std::size_t j = 0; j < nv; ++j) {
       if (rows[i]->estimate.floor != victims_[j].floor) continue;
       const double d2 = mahalanobis2(rows[i]->estimate.position, excl[j]);
-      if (previous[i] == victims_[j].victim_id && d2 <= keep_gate_)
-        cost(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = d2 * gate_ / keep_gate_;
-      else if (d2 <= gate_)
+      if (previous[i] == victims_[j].victim_id && d2 <= keep_gate_) {
+        cost(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = located ? 0.0 : d2 * gate_ / keep_gate_;
+        stays = located;
+      } else if (d2 <= gate_) {
         cost(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = d2;
+      }
     }
-    cost(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(nv + i)) = gate_;  // new victim
+    // Its private "new victim" column; a located signal that can stay has none.
+    cost(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(nv + i)) = stays ? kInfeasible : gate_;
   }
   const std::vector<int> col = solve_assignment(cost);
 
@@ -335,7 +344,7 @@ void VictimFusion::associate_rescuer(const std::string& rescuer_id, TimestampNs 
     if (c >= 0 && static_cast<std::size_t>(c) < nv) {
       bind(*rows[i], victims_[static_cast<std::size_t>(c)]);
       touched.insert(victims_[static_cast<std::size_t>(c)].victim_id);
-    } else {  // its private "new victim" column (always feasible)
+    } else {  // its private "new victim" column
       FusedVictim v;
       v.victim_id = next_id_++;
       v.position = rows[i]->estimate.position;
@@ -478,11 +487,11 @@ void VictimFusion::update_states(TimestampNs now) {
       v.found_at = 0;
     }
     VictimState target = VictimState::kUnconfirmed;
-    bool corroborated = false;
+    std::set<std::string> corroborating;  // rescuers whose device stands by a bound source
     for (const VictimSource& vs : v.sources) {
       const std::optional<SourceState> st = confirming_state(sources_.at({vs.rescuer_id, vs.signal_id}));
       if (!st) continue;
-      corroborated = true;
+      corroborating.insert(vs.rescuer_id);
       if (*st == SourceState::kFound) target = VictimState::kFound;
       else if (*st == SourceState::kLocated) target = std::max(target, VictimState::kLocated);
     }
@@ -503,7 +512,10 @@ void VictimFusion::update_states(TimestampNs now) {
         v.located_at = 0;
         v.found_at = 0;
       }
-    } else if (corroborated && radius95_3d(v.position.covariance) < config_.located_radius_m) {
+    } else if (corroborating.size() >= 2 && radius95_3d(v.position.covariance) < config_.located_radius_m) {
+      // Two rescuers' devices agreeing: one device's own estimate confirms with its own state,
+      // whose LOCATED also asks its samples to agree; its radius alone is overconfident near a
+      // victim (docs/estimation/avalanche.md, "Left"), a split signal's too.
       target = VictimState::kLocated;
       if (v.state == VictimState::kUnconfirmed) by_radius_only_.insert(v.victim_id);
     }

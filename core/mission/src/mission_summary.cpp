@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "sarloc/core/avalanche/found_victim.hpp"
+#include "sarloc/core/common/gaussian.hpp"
 #include "sarloc/core/mission/victim_matching.hpp"
 
 namespace sarloc::mission {
@@ -72,6 +73,9 @@ std::vector<PictureVictimOutcome> outcomes_of(const std::vector<incident::FusedV
     p.confirmed = f.state != incident::VictimState::kUnconfirmed;
     p.found = incident::is_found(f.state);
     p.sources = f.sources.size();
+    for (const auto& vs : f.sources) p.source_names.push_back(vs.rescuer_id + "/" + std::to_string(vs.signal_id));
+    p.possibly_same_as = f.possibly_same_as;
+    p.radius95_m = radius95_3d(f.position.covariance);
     p.evidence_conflict = f.evidence_conflict;
     p.matches_a_buried_victim = std::find(match.begin(), match.end(), static_cast<int>(j)) != match.end();
     p.located_at_s = mission_seconds(f.located_at, epoch);

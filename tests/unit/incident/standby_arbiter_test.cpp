@@ -37,6 +37,9 @@ TEST(StandbyArbiter, ConfigValidation) {
   c = two(1);
   c.claim_wait_s = -1.0;
   EXPECT_EQ(message_of(c), "command.claim_wait_s = -1: must be in [0, 600]");
+  c = two(1);
+  c.peer_period_s = 0.0;
+  EXPECT_EQ(message_of(c), "command.cycle_s = 0: must be in (0, 60]");
   EXPECT_THROW(StandbyArbiter(c, kStart), ConfigError);
 }
 
@@ -62,17 +65,20 @@ TEST(StandbyArbiter, AtStartTheFirstInstanceClaimsAndTheSecondStandsBy) {
   const auto change = one.decide(kStart + 4 * kSec);
   ASSERT_TRUE(change);
   EXPECT_EQ(change->role, CommandRole::kActive);
-  second.on_peer_sample("one", kStart + 4 * kSec + kSec / 10);
-  EXPECT_FALSE(second.decide(kStart + 5 * kSec));
-  EXPECT_FALSE(second.decide(kStart + 60 * kSec));
+  for (TimestampNs t = 4; t < 60; ++t) {  // one summary a cycle (1 s)
+    second.on_peer_sample("one", kStart + t * kSec + kSec / 10);
+    EXPECT_FALSE(second.decide(kStart + (t + 1) * kSec));
+  }
   EXPECT_EQ(second.role(), CommandRole::kStandby);
   EXPECT_TRUE(second.peer_active());
 }
 
 TEST(StandbyArbiter, TheStandbyTakesOverAtOnceWhenTheActiveIsLost) {
   StandbyArbiter s(two(2), kStart);
-  s.on_peer_sample("one", kStart + kSec);
-  EXPECT_FALSE(s.decide(kStart + 10 * kSec));
+  for (TimestampNs t = 1; t <= 44; ++t) {
+    s.on_peer_sample("one", kStart + t * kSec);
+    EXPECT_FALSE(s.decide(kStart + t * kSec));
+  }
   s.on_peer_lost("a standby that never wrote", kStart + 44 * kSec);
   EXPECT_FALSE(s.decide(kStart + 44 * kSec)) << "an unknown writer is not the active one";
   s.on_peer_lost("one", kStart + 45 * kSec);
@@ -83,12 +89,33 @@ TEST(StandbyArbiter, TheStandbyTakesOverAtOnceWhenTheActiveIsLost) {
   EXPECT_EQ(change->strength, StandbyArbiter::active_strength(kStart + 45 * kSec, 2));
 }
 
+// The liveliness notice of the dead active instance never came (or a late sample of it re-added
+// it): silent for claim_wait_s + 2 cycles, it is lost all the same. Before, the standby waited
+// for the notice for good (a test-suite mission once ended with no standby taking over).
+TEST(StandbyArbiter, TheStandbyTakesOverWhenTheActiveGoesSilentWithoutANotice) {
+  StandbyConfig c = two(2);
+  c.peer_period_s = 0.25;
+  StandbyArbiter s(c, kStart);
+  for (TimestampNs ms = 1000; ms <= 45000; ms += 250) {
+    s.on_peer_sample("one", kStart + ms * 1'000'000);
+    EXPECT_FALSE(s.decide(kStart + ms * 1'000'000 + 100'000'000));
+  }
+  // Last summary at 45 s: silent up to 4.5 s is still the lease's business.
+  EXPECT_FALSE(s.decide(kStart + 49 * kSec + kSec / 2));
+  const auto change = s.decide(kStart + 49 * kSec + kSec / 2 + kSec / 10);
+  ASSERT_TRUE(change);
+  EXPECT_EQ(change->role, CommandRole::kActive);
+  EXPECT_EQ(change->reason, "the active instance was lost");
+}
+
 // A restarted instance hears the active one's TRANSIENT_LOCAL summary at discovery and never
 // claims, whatever its instance number.
 TEST(StandbyArbiter, ARestartedInstanceRejoinsAsStandby) {
   StandbyArbiter restarted(two(1), kStart + 100 * kSec);
-  restarted.on_peer_sample("two", kStart + 100 * kSec + kSec / 2);
-  for (TimestampNs t = 100; t < 200; ++t) EXPECT_FALSE(restarted.decide(kStart + t * kSec));
+  for (TimestampNs t = 100; t < 200; ++t) {
+    restarted.on_peer_sample("two", kStart + t * kSec + kSec / 2);
+    EXPECT_FALSE(restarted.decide(kStart + t * kSec + kSec / 2));
+  }
   EXPECT_EQ(restarted.role(), CommandRole::kStandby);
   EXPECT_EQ(restarted.strength(), 0U);
 }
@@ -103,7 +130,10 @@ TEST(StandbyArbiter, TheLaterOfTwoActiveInstancesStepsDown) {
   ASSERT_TRUE(down);
   EXPECT_EQ(down->role, CommandRole::kStandby);
   EXPECT_EQ(down->strength, 0U);
-  EXPECT_FALSE(late.decide(kStart + 30 * kSec));
+  for (TimestampNs t = 6; t <= 30; ++t) {
+    late.on_peer_sample("incumbent", kStart + t * kSec);
+    EXPECT_FALSE(late.decide(kStart + t * kSec));
+  }
   late.on_peer_lost("incumbent", kStart + 31 * kSec);
   const auto up = late.decide(kStart + 31 * kSec);
   ASSERT_TRUE(up);

@@ -229,7 +229,8 @@ TEST(VictimFusion, OnlyTheReportersOwnDeviceConfirms) {
   f.update(device);
   f.step(11 * kSec);
   ASSERT_EQ(f.victims().size(), 1U);
-  EXPECT_EQ(f.victims()[0].state, VictimState::kLocated) << "corroborated: the radius rule applies";
+  EXPECT_EQ(f.victims()[0].state, VictimState::kUnconfirmed)
+      << "corroborated, but one device's CONVERGED: the radius rule needs two rescuers";
   SourceEstimate found = device;
   found.stamp = 12 * kSec;
   found.state = SourceState::kFound;
@@ -493,6 +494,34 @@ TEST(VictimFusion, ATransmitterEveryRescuerSplitIsNotConfirmedTwice) {
   EXPECT_EQ(still->state, VictimState::kFound);
 }
 
+// r3's FOUND signal shares victim 1 with r2's estimate; r3's split of that transmitter appears
+// next to r2's, outside the FOUND one's merge gate. Joint association would give the newcomer
+// victim 1 (it fits r2's estimate better) and open a second victim for the FOUND signal: the
+// device's FOUND keeps its victim. Before: victim 1 went on with the converged split, and C was
+// FOUND twice (live, four within 5 m).
+TEST(VictimFusion, ASignalItsDeviceLocatedKeepsItsVictimAgainstANewcomerOfTheSameRescuer) {
+  VictimFusion f;
+  const Vec3 c(0.0, 42.0, -1.0);
+  auto report = [&](TimestampNs t, bool with_split) {
+    f.update(src("r2", 3, t, c + Vec3(0.7, 0.9, 0.0), 0.4));
+    f.update(src("r3", 3, t, c, 0.1, EstimatorStatus::kFound));
+    if (with_split) f.update(src("r3", 5, t, c + Vec3(0.72, 0.96, 0.0), 0.3));
+    f.step(t);
+  };
+  report(0, false);
+  ASSERT_EQ(f.victims().size(), 1u);
+  ASSERT_EQ(f.victims()[0].state, VictimState::kFound);
+  report(kSec, true);
+  report(2 * kSec, true);
+  ASSERT_EQ(f.victims().size(), 2u);
+  const FusedVictim& first = f.victims()[0];
+  EXPECT_EQ(first.state, VictimState::kFound);
+  ASSERT_EQ(first.sources.size(), 2u);
+  EXPECT_TRUE(std::any_of(first.sources.begin(), first.sources.end(),
+                          [](const VictimSource& s) { return s.rescuer_id == "r3" && s.signal_id == 3; }));
+  EXPECT_EQ(f.victims()[1].state, VictimState::kUnconfirmed) << "the split confirms nothing";
+}
+
 // A victim located by the fused radius alone, then a twin: the same rescuers' second signals
 // there. The confirmation rested on nothing a device said, and is withdrawn.
 TEST(VictimFusion, AConfirmationByTheFusedRadiusAloneIsWithdrawnForATwin) {
@@ -561,14 +590,23 @@ TEST(VictimFusion, StatesAreMonotonicAndTimesSetOnce) {
   EXPECT_EQ(f.victims()[0].last_update, 3 * kSec);
 }
 
-TEST(VictimFusion, LocatedByFusedRadius) {
+// The fused radius confirms what two rescuers' devices agree on; one device's estimate confirms
+// only with that device's own state, however small its radius.
+TEST(VictimFusion, LocatedByFusedRadiusOfTwoRescuers) {
   VictimFusion f;  // located_radius_m = 1: 95 % radius sqrt(7.81) * sigma < 1 -> sigma < 0.357
   f.update(src("a", 1, 0, Vec3::Zero(), 0.3));
   f.step(0);
+  EXPECT_EQ(f.victims()[0].state, VictimState::kUnconfirmed) << "one device, converged";
+  f.update(src("c", 1, kSec, Vec3(0.1, 0.0, 0.0), 0.3));
+  f.update(src("a", 1, kSec, Vec3::Zero(), 0.3));
+  f.step(kSec);
+  ASSERT_EQ(f.victims().size(), 1u);
   EXPECT_EQ(f.victims()[0].state, VictimState::kLocated);
-  f.update(src("b", 1, 0, Vec3(20, 0, 0), 0.4));
-  f.step(0);
-  EXPECT_EQ(f.victims()[1].state, VictimState::kUnconfirmed);
+  f.update(src("b", 1, kSec, Vec3(20, 0, 0), 0.4));
+  f.update(src("d", 1, kSec, Vec3(20, 0, 0), 0.4));
+  f.step(kSec);
+  ASSERT_EQ(f.victims().size(), 2u);
+  EXPECT_EQ(f.victims()[1].state, VictimState::kUnconfirmed) << "fused radius 1.1 m";
 }
 
 TEST(VictimFusion, TimedOutSourcesLeaveButTheVictimStays) {

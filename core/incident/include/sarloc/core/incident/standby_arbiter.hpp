@@ -11,7 +11,9 @@
 //
 //   standby -> active   no other instance's summary is being received, and
 //                       - the instance that was active was lost (its writer's liveliness lease
-//                         ran out, or it left): at once;
+//                         ran out, or it left): at once; or it went silent: no summary for
+//                         claim_wait_s + 2 x peer_period_s (it publishes one every cycle), in
+//                         case the liveliness notice was missed or a late sample re-added it;
 //                       - or none was ever heard: claim_wait_s + (instance - 1) x
 //                         claim_stagger_s after start (at once when the incident runs a single
 //                         instance). claim_wait_s is longer than the 3 s lease, so an instance
@@ -52,6 +54,8 @@ struct StandbyConfig {
   unsigned instances = 1;        ///< instances the incident runs (command.instances)
   double claim_wait_s = 4.0;     ///< wall s without an active instance before claiming (> the 3 s lease)
   double claim_stagger_s = 1.0;  ///< wall s added per instance number above 1
+  /// Wall s between the active instance's summaries (command.cycle_s; set by the node).
+  double peer_period_s = 1.0;
 
   /// Throws ConfigError naming the key ("command.instances = 0: must be in [1, 4]").
   void validate() const;

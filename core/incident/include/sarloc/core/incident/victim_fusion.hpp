@@ -19,7 +19,11 @@
 //      fused without that rescuer: cost d^2 (summed covariances) if inside the gate
 //      (chi2_3(gate_probability); the keep gate, scaled down to the gate, for the pair that
 //      was bound before: hysteresis), forbidden otherwise; one private "new victim" column per
-//      source at cost = gate; minimum-cost assignment (assignment.hpp). Solving one rescuer's
+//      source at cost = gate; minimum-cost assignment (assignment.hpp). A source its device
+//      LOCATED or FOUND that was bound to a victim and is still inside its keep gate stays
+//      there (cost 0, no "new victim" column): a newcomer of the same rescuer that fits the
+//      other rescuers' estimates better never takes its place (seen live: r3's split of C took
+//      victim 2 from r3's FOUND of C, which opened a second FOUND C). Solving one rescuer's
 //      signals jointly is what separates close victims: the rescuer's common GNSS bias moves
 //      all its signals together, and swapping two signals always costs 2 s^2 / S more than the
 //      right assignment (s = separation). Same-rescuer different-signal sources can never share
@@ -55,7 +59,9 @@
 //      fades: the daemon's filter LOCATED 7 m from the device's, which was 0.07 m from the
 //      victim, and incident command confirmed ghosts from the daemon's copy.
 //   6. state: kLocated when a bound source is kLocated or kFound or the fused 95 % radius
-//      (worst axis) is below located_radius_m; kFound when a bound source is kFound; states
+//      (worst axis) is below located_radius_m with corroborated sources of two rescuers (one
+//      device's estimate confirms with its own state only: its radius alone is overconfident
+//      near a victim); kFound when a bound source is kFound; states
 //      never go back. located_at / found_at are set once (to `now`).
 //      Twins: a victim inside another's merge gate (kept apart by the same-rescuer rule: possibly
 //      one transmitter every such rescuer split into two signals) that no device's own LOCATED

@@ -71,6 +71,9 @@ struct PictureVictimOutcome {
   bool confirmed = false;                        ///< LOCATED or FOUND
   bool found = false;
   std::size_t sources = 0;
+  std::vector<std::string> source_names;         ///< "rescuer/signal", for tracing a twin or a ghost
+  std::uint32_t possibly_same_as = 0;            ///< FusedVictim::possibly_same_as
+  double radius95_m = 0.0;                       ///< the fused position's 95 % radius (worst axis)
   bool matches_a_buried_victim = false;
   bool evidence_conflict = false;                ///< incident command flagged conflicting estimates
   std::optional<double> located_at_s;            ///< mission seconds, as the picture says
