@@ -29,7 +29,7 @@ nlohmann::json picture_json(const std::vector<mission::PictureVictimOutcome>& pi
                    {"position", to_json(f.position)},
                    {"confirmed", f.confirmed},
                    {"found", f.found},
-                   {"sources", f.sources},
+                   {"sources", f.source_names.size()},
                    {"source_names", f.source_names},
                    {"possibly_same_as", f.possibly_same_as},
                    {"radius95_m", f.radius95_m},

@@ -487,11 +487,11 @@ void VictimFusion::update_states(TimestampNs now) {
       v.found_at = 0;
     }
     VictimState target = VictimState::kUnconfirmed;
-    std::set<std::string> corroborating;  // rescuers whose device stands by a bound source
+    std::size_t corroborating = 0;  // rescuers whose device stands by a bound source (one source each)
     for (const VictimSource& vs : v.sources) {
       const std::optional<SourceState> st = confirming_state(sources_.at({vs.rescuer_id, vs.signal_id}));
       if (!st) continue;
-      corroborating.insert(vs.rescuer_id);
+      ++corroborating;
       if (*st == SourceState::kFound) target = VictimState::kFound;
       else if (*st == SourceState::kLocated) target = std::max(target, VictimState::kLocated);
     }
@@ -512,7 +512,7 @@ void VictimFusion::update_states(TimestampNs now) {
         v.located_at = 0;
         v.found_at = 0;
       }
-    } else if (corroborating.size() >= 2 && radius95_3d(v.position.covariance) < config_.located_radius_m) {
+    } else if (corroborating >= 2 && radius95_3d(v.position.covariance) < config_.located_radius_m) {
       // Two rescuers' devices agreeing: one device's own estimate confirms with its own state,
       // whose LOCATED also asks its samples to agree; its radius alone is overconfident near a
       // victim (docs/estimation/avalanche.md, "Left"), a split signal's too.
