@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <set>
 
 #include "sarloc/core/incident/source_estimate.hpp"
 #include "sarloc/dds/conversions.hpp"
@@ -226,6 +227,14 @@ CommandNode::~CommandNode() {
   picture_frame_reader_.reset();
   stopping_.store(true);
   thread_.join();
+  if (arbiter_.role() != incident::CommandRole::kActive) return;
+  // A clean stop: every reader gets the last picture and disposals before the writers go. (Seen
+  // with Fast DDS 2.9: a reader takes no other writer's disposal of a deleted writer's instance.)
+  const auto wait = std::chrono::milliseconds(500);
+  if (!victim_writer_.wait_for_acknowledgments(wait) || !team_writer_.wait_for_acknowledgments(wait) ||
+      !summary_writer_.wait_for_acknowledgments(wait) || !frame_writer_.wait_for_acknowledgments(wait)) {
+    spdlog::warn("{}: stopping before every reader acknowledged the last picture", config_.node_id);
+  }
 }
 
 std::optional<incident::ReporterFix> CommandNode::fix_at(const std::string& rescuer_id, TimestampNs stamp) const {
@@ -249,6 +258,7 @@ void CommandNode::cycle() {
   static thread_local ProcessStats stats;
   std::vector<incident::FusedVictim> victims;
   std::vector<std::uint32_t> removed;
+  std::vector<std::uint32_t> retired;
   std::vector<incident::TeamStatus> teams;
   const TimestampNs now = clock_.now();
   std::size_t responders = 0;
@@ -326,6 +336,19 @@ void CommandNode::cycle() {
       }
     }
     removed = fusion_.take_removed();
+    if (change && change->role == incident::CommandRole::kActive) {
+      redispose_until_ = MissionClock::wall_now_ns() + kRedisposeWindowNs;
+      retired = retired_ids(victims, removed);
+      if (!retired.empty()) {
+        std::string list;
+        for (const auto id : retired) list += " " + std::to_string(id);
+        spdlog::info("{}: disposing again, for {} s, the victim id(s){} no longer in the picture (a reader may "
+                     "have missed a predecessor's disposal)",
+                     config_.node_id, kRedisposeWindowNs / 1'000'000'000, list);
+      }
+    } else if (active && MissionClock::wall_now_ns() < redispose_until_) {
+      retired = retired_ids(victims, removed);
+    }
     teams = tracker_.evaluate(now);
     last_teams_ = teams;
     responders = tracker_.responders_total();
@@ -344,10 +367,11 @@ void CommandNode::cycle() {
   status_writer_.write(status);
   if (!active) return;  // a standby publishes no picture
 
+  removed.insert(removed.end(), retired.begin(), retired.end());
   for (const auto id : removed) {
     ::sarloc::FusedVictim key;
     key.victim_id(id);
-    victim_writer_.dispose(key);
+    if (!victim_writer_.dispose(key)) spdlog::error("{}: cannot dispose of victim {}", config_.node_id, id);
   }
   std::uint32_t located = 0;
   std::uint32_t found = 0;
@@ -418,6 +442,19 @@ void CommandNode::log_separation_event(const responder::VictimEstimate& e, bool 
   logged = e.signal_event_stamp;
   spdlog::info("signal separation: rescuer '{}' signal {} {} at stamp {} (its victim estimate continues from it)",
                e.rescuer_id, e.signal_id, responder::to_string(e.signal_event), e.signal_event_stamp);
+}
+
+std::vector<std::uint32_t> CommandNode::retired_ids(const std::vector<incident::FusedVictim>& victims,
+                                                    const std::vector<std::uint32_t>& removed) const {
+  // Ids are handed out in sequence, so every id up to the largest one seen that is neither in
+  // the picture nor being removed now was merged away by this instance or a predecessor.
+  std::set<std::uint32_t> kept(removed.begin(), removed.end());
+  for (const auto& v : victims) kept.insert(v.victim_id);
+  std::vector<std::uint32_t> retired;
+  for (std::uint32_t id = 1; id <= largest_id_seen_; ++id) {
+    if (kept.count(id) == 0) retired.push_back(id);
+  }
+  return retired;
 }
 
 void CommandNode::adopt_picture() {

@@ -208,7 +208,7 @@ TEST(QosBehaviour, PictureOwnershipFollowsTheStrongestLiveWriter) {
   const auto v = to_idl(test::sample_fused_victim());
   ASSERT_TRUE(strong.write(v));
   ASSERT_EQ(victims.wait_for(1, 10s).size(), 1U);
-  ASSERT_TRUE(weak.write(v));  // a writer disposes only what it registered
+  ASSERT_TRUE(weak.write(v));  // ignored too
   EXPECT_TRUE(weak.dispose(v));
   std::this_thread::sleep_for(500ms);
   EXPECT_EQ(disposed.load(), 0) << "a weaker writer disposed of the stronger one's victim";

@@ -92,6 +92,10 @@ class CommandNode {
   void apply(const incident::RoleChange& change, std::size_t adopted_victims);
   /// The active one's picture (as received) into the fusion and the tracker; under mutex_.
   void adopt_picture();
+  /// On taking over: the ids up to the largest seen that the picture no longer holds, disposed
+  /// again, since a reader may have missed a predecessor's disposal during a fade.
+  std::vector<std::uint32_t> retired_ids(const std::vector<incident::FusedVictim>& victims,
+                                         const std::vector<std::uint32_t>& removed) const;
   /// The event log's line for a signal that a rescuer's separation reacquired or separated
   /// after a merge (its victim's contribution went through it), once per event, and for a
   /// signal's repeat state (one transmitter split in two) as its device says it, once per
@@ -131,6 +135,11 @@ class CommandNode {
   std::map<std::string, incident::TeamStatus> adopted_teams_;
   std::optional<::sarloc::IncidentFrame> adopted_frame_;
   bool fresh_picture_ = false;         ///< a summary of the active one arrived since the last adoption
+  /// A reader takes a new active instance's disposal only once it counts the predecessor lost:
+  /// up to the picture writers' 3 s lease after this instance took over on its silence. So the
+  /// retired ids are disposed again every cycle for a while longer than that.
+  static constexpr TimestampNs kRedisposeWindowNs = 10'000'000'000;
+  TimestampNs redispose_until_ = 0;  ///< wall clock
   std::uint32_t largest_id_seen_ = 0;  ///< victim ids published so far, disposed ones included
   ::sarloc::IncidentFrame frame_;      ///< what this instance publishes while active
 

@@ -68,10 +68,14 @@ class Writer {
   /// False when DDS refused the sample (history full past max_blocking_time, ...).
   bool write(const T& sample) { return writer_->write(const_cast<T*>(&sample)); }
 
-  /// Disposes the instance whose key fields `key_holder` carries.
+  /// Disposes the instance whose key fields `key_holder` carries. Fast DDS disposes only an
+  /// instance its writer registered, so it is registered first: a writer that took over may
+  /// dispose of what its predecessor wrote (a no-op when it wrote the instance itself).
   bool dispose(const T& key_holder) {
-    return writer_->dispose(const_cast<T*>(&key_holder), eprosima::fastrtps::rtps::InstanceHandle_t()) ==
-           eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+    auto* data = const_cast<T*>(&key_holder);
+    const auto handle = writer_->register_instance(data);
+    if (handle == eprosima::fastrtps::rtps::InstanceHandle_t()) return false;
+    return writer_->dispose(data, handle) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
   }
 
   /// Ownership strength on an EXCLUSIVE topic, changed at run time (the DDS policy is
@@ -95,6 +99,12 @@ class Writer {
   int matched_readers() const { return listener_->matched.load(); }
 
   /// Waits until at least `count` readers matched; false on timeout.
+  /// Waits until every matched reader acknowledged what was written; false on timeout.
+  bool wait_for_acknowledgments(std::chrono::milliseconds timeout) {
+    return writer_->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(static_cast<double>(timeout.count()) / 1e3)) ==
+           eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+  }
+
   bool wait_for_readers(int count, std::chrono::milliseconds timeout) const {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     while (matched_readers() < count) {
