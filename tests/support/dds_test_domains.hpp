@@ -27,6 +27,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainAdmissionEviction = 147,
   kDomainMissionFourWithin5m = 148,
   kDomainCommandPlacement = 149,
+  kDomainCommandRedispose = 152,
   kDomainMissionSmall = 130,  // mission_test: 130..139, and:
   kDomainMissionCommandKill = 134,
   kDomainMissionCommandRestart = 136,

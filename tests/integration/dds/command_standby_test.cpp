@@ -108,7 +108,7 @@ TEST(CommandStandby, TheStandbyAdoptsThePictureAndTakesOverWithTheSameIds) {
 // standby knows its id from victim 3.
 TEST(CommandStandby, TheNewActiveDisposesOfEveryVictimItsPictureNoLongerHolds) {
   const MissionClock clock;
-  auto dashboard = test::make_participant(test::kDomainCommandStandby, "dashboard");
+  auto dashboard = test::make_participant(test::kDomainCommandRedispose, "dashboard");
   std::mutex mutex;
   std::map<eprosima::fastrtps::rtps::InstanceHandle_t, std::uint32_t> ids;
   std::vector<std::uint32_t> disposed;
@@ -129,13 +129,13 @@ TEST(CommandStandby, TheNewActiveDisposesOfEveryVictimItsPictureNoLongerHolds) {
 
   // The predecessor: an active instance's picture writers, stronger than any standby. It stops
   // asserting liveliness without leaving, as a killed or faded instance does.
-  auto predecessor = test::make_participant(test::kDomainCommandStandby, "command-1");
+  auto predecessor = test::make_participant(test::kDomainCommandRedispose, "command-1");
   Writer<::sarloc::IncidentSummary> summaries(predecessor);
   Writer<::sarloc::FusedVictim> victims(predecessor);
   const auto strength = incident::StandbyArbiter::active_strength(MissionClock::wall_now_ns(), 1);
   summaries.set_ownership_strength(strength);
   victims.set_ownership_strength(strength);
-  CommandNode standby(test::make_participant(test::kDomainCommandStandby, "command-2"), instance(2), clock);
+  CommandNode standby(test::make_participant(test::kDomainCommandRedispose, "command-2"), instance(2), clock);
   ASSERT_TRUE(victims.wait_for_readers(2, 10s));
   ASSERT_TRUE(summaries.wait_for_readers(1, 10s));
   auto victim = [](std::uint32_t id, bool adoptable) {
