@@ -98,13 +98,13 @@ class Writer {
 
   int matched_readers() const { return listener_->matched.load(); }
 
-  /// Waits until at least `count` readers matched; false on timeout.
   /// Waits until every matched reader acknowledged what was written; false on timeout.
   bool wait_for_acknowledgments(std::chrono::milliseconds timeout) {
     return writer_->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(static_cast<double>(timeout.count()) / 1e3)) ==
            eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
   }
 
+  /// Waits until at least `count` readers matched; false on timeout.
   bool wait_for_readers(int count, std::chrono::milliseconds timeout) const {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     while (matched_readers() < count) {
