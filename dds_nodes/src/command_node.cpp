@@ -336,18 +336,16 @@ void CommandNode::cycle() {
       }
     }
     removed = fusion_.take_removed();
-    if (change && change->role == incident::CommandRole::kActive) {
-      redispose_until_ = MissionClock::wall_now_ns() + kRedisposeWindowNs;
-      retired = retired_ids(victims, removed);
-      if (!retired.empty()) {
-        std::string list;
-        for (const auto id : retired) list += " " + std::to_string(id);
-        spdlog::info("{}: disposing again, for {} s, the victim id(s){} no longer in the picture (a reader may "
-                     "have missed a predecessor's disposal)",
-                     config_.node_id, kRedisposeWindowNs / 1'000'000'000, list);
-      }
-    } else if (active && MissionClock::wall_now_ns() < redispose_until_) {
-      retired = retired_ids(victims, removed);
+    const bool took_over = change && change->role == incident::CommandRole::kActive;
+    const TimestampNs wall = MissionClock::wall_now_ns();
+    if (took_over) redispose_until_ = wall + kRedisposeWindowNs;
+    if (active && wall < redispose_until_) retired = retired_ids(victims, removed);
+    if (took_over && !retired.empty()) {
+      std::string list;
+      for (const auto id : retired) list += " " + std::to_string(id);
+      spdlog::info("{}: disposing again, for {} s, the victim id(s){} no longer in the picture (a reader may "
+                   "have missed a predecessor's disposal)",
+                   config_.node_id, kRedisposeWindowNs / 1'000'000'000, list);
     }
     teams = tracker_.evaluate(now);
     last_teams_ = teams;
