@@ -117,6 +117,7 @@ void load_firefighter(YamlReader root, firefighter::FirefighterEvalConfig& c) {
     r.read("heading_noise_deg_per_m", f.heading_noise_deg_per_m);
     r.read("moving_threshold_m", f.moving_threshold_m);
     r.read("likelihood_sigma", f.likelihood_sigma);
+    r.read("likelihood_sigma_converged", f.likelihood_sigma_converged);
     r.read("weight_floor_factor", f.weight_floor_factor);
     r.read("replace_fraction", f.replace_fraction);
     r.read("replace_position_sigma_m", f.replace_position_sigma_m);

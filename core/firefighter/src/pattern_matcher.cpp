@@ -170,9 +170,9 @@ PatternMatcher::Fit PatternMatcher::icp(const std::vector<Vec2>& source, const W
     }
     const double current = std::sqrt(sum / static_cast<double>(source.size()));
     if (it >= 3 && current > abandon_above) return {current, R * source.back() + t, std::atan2(R(1, 0), R(0, 0))};
+    // Converged: `current` is already the fit of this R and t (no second pass of queries).
     if (std::abs(rmse - current) < config_.icp_tolerance_m) {
-      rmse = current;
-      break;
+      return {current, R * source.back() + t, std::atan2(R(1, 0), R(0, 0))};
     }
     rmse = current;
     // Closed-form 2-D rigid fit of source -> matched (least squares).
@@ -192,6 +192,7 @@ PatternMatcher::Fit PatternMatcher::icp(const std::vector<Vec2>& source, const W
     R = rotation(std::atan2(cross, dot));
     t = cm - R * cs;
   }
+  // Out of iterations: R and t moved after the last RMSE was taken.
   double sum = 0.0;
   for (const Vec2& s : source) {
     double d2 = 0.0;

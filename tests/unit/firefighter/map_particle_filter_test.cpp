@@ -206,5 +206,55 @@ TEST(MapParticleFilter, RaisesTheMapErrorFlagWhenADoorHasMoved) {
   EXPECT_TRUE(m.raised) << "door " << m.door;
 }
 
+// Tracking, a comparison weighs with likelihood_sigma_converged; finding the place, and for good
+// once a map error was suspected, with likelihood_sigma. Two observations 1 m apart, the far one
+// a better fit by 0.2 m: the weight on its side grows by exactly exp(0.2 / sigma^2).
+TEST(MapParticleFilter, AConvergedCloudWeighsTheComparisonsWithItsOwnSigmaUntilAMapError) {
+  const FloorPlan plan = test::building("house-125");
+  const NavigableGrid grid = navigable_grid(plan, PatternGridConfig{});
+  const Vec2 at = grid.nodes_per_floor[0][grid.nodes_per_floor[0].size() / 2];
+  std::vector<PseudoObservation> observations(2);
+  observations[0].position = at;
+  observations[0].rmse = 0.3;
+  observations[1].position = at + Vec2(1.0, 0.0);
+  observations[1].rmse = 0.1;
+  MapFilterConfig config;
+  config.known_position_sigma_m = 0.6;  // converged (variance 0.72 m2), over both observations
+  config.position_noise_m = 0.0;        // the moves below bring every particle back exactly
+  config.heading_noise_deg_per_m = 0.0;
+  // Share of the weight nearer the better fit, before and after one update; and the flags.
+  auto shares = [&](bool map_error) {
+    MapParticleFilter pf(plan, grid, config);
+    std::mt19937_64 rng(7);
+    pf.init_known(at, 0, 0.0, rng);
+    if (map_error) {  // through the outer walls and back: every particle dies twice
+      pf.predict(Eigen::Vector3d(200.0, 0.0, 0.0), rng);
+      pf.predict(Eigen::Vector3d(-200.0, 0.0, 0.0), rng);
+    }
+    EXPECT_TRUE(pf.estimate().converged);
+    EXPECT_EQ(pf.estimate().map_error_since_start, map_error);
+    auto far_share = [&] {
+      double w = 0.0;
+      for (std::size_t i = 0; i < pf.particles().size(); ++i) {
+        if (pf.particles()[i].position.x() > at.x() + 0.5) w += pf.weights()[i];
+      }
+      return w;
+    };
+    const double before = far_share();
+    pf.update(observations, 0.0, rng);
+    return std::make_pair(before, far_share());
+  };
+  auto expected = [](double before, double sigma) {
+    const double r = std::exp(0.2 / (sigma * sigma));
+    return before * r / (before * r + 1.0 - before);
+  };
+  const auto [tracking_before, tracking_after] = shares(false);
+  ASSERT_GT(tracking_before, 0.1);
+  EXPECT_NEAR(tracking_after, expected(tracking_before, config.likelihood_sigma_converged), 1e-9);
+  const auto [error_before, error_after] = shares(true);
+  EXPECT_NEAR(error_after, expected(error_before, config.likelihood_sigma), 1e-9);
+  EXPECT_GT(error_after - error_before, tracking_after - tracking_before);
+}
+
 }  // namespace
 }  // namespace sarloc::firefighter

@@ -68,6 +68,10 @@ struct MapFilterConfig {
   /// sqrt(m), eq. (2). Seed 004 used 0.1; here that lets a 0.1 m better ICP fit elsewhere
   /// (e^-10) pull a converged cloud onto the wrong grid node (docs/estimation/firefighter.md).
   double likelihood_sigma = 0.5;
+  /// sigma of eq. (2) while converged and no map error is suspected: the comparisons weigh a
+  /// quarter as much when tracking (the 1040 m2 floor's known start: 1.09-1.18 m at worst with
+  /// 0.5, 0.83-0.99 m with 1.0; docs/estimation/firefighter.md). = likelihood_sigma: one sigma.
+  double likelihood_sigma_converged = 1.0;
   double weight_floor_factor = 0.01;    ///< epsilon = factor / particles
   double replace_fraction = 0.10;       ///< q
   double replace_position_sigma_m = 0.5;
