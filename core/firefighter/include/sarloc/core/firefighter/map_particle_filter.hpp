@@ -4,8 +4,9 @@
 // displacement rotated by each particle's heading, plus the noise of section V-B (0.12 m per
 // axis per moving update, 2 deg per metre walked). A particle that crosses a wall of the
 // navigation map is removed (R-tree, wall_index.hpp). Pseudo-observations from the pattern
-// comparison weight the particles by eq. (2)-(3), with the epsilon floor; optionally the q %
-// lowest-weighted particles are drawn anew from the pseudo-observations.
+// comparison weight the particles by eq. (2)-(3), with the epsilon floor, at a quarter of the
+// weight once converged (until a map error is suspected); optionally the q % lowest-weighted
+// particles are drawn anew from the pseudo-observations.
 //
 // Particle count: KLD-sampling (core/common/kld_sampling.hpp). An unknown start begins with
 // `particles_max` particles spread over the whole plan; every few moving steps the cloud is
@@ -68,9 +69,10 @@ struct MapFilterConfig {
   /// sqrt(m), eq. (2). Seed 004 used 0.1; here that lets a 0.1 m better ICP fit elsewhere
   /// (e^-10) pull a converged cloud onto the wrong grid node (docs/estimation/firefighter.md).
   double likelihood_sigma = 0.5;
-  /// sigma of eq. (2) while converged and no map error is suspected: the comparisons weigh a
-  /// quarter as much when tracking (the 1040 m2 floor's known start: 1.09-1.18 m at worst with
-  /// 0.5, 0.83-0.99 m with 1.0; docs/estimation/firefighter.md). = likelihood_sigma: one sigma.
+  /// sigma of eq. (2) while converged, unless a map error has been suspected since the start:
+  /// the comparisons weigh a quarter as much when tracking (the 1040 m2 floor's known start:
+  /// 1.09-1.18 m at worst with 0.5, 0.83-0.99 m with 1.0; docs/estimation/firefighter.md).
+  /// = likelihood_sigma: one sigma throughout.
   double likelihood_sigma_converged = 1.0;
   double weight_floor_factor = 0.01;    ///< epsilon = factor / particles
   double replace_fraction = 0.10;       ///< q
