@@ -46,8 +46,11 @@ struct MemberOdometry {
   std::vector<int> comparison;            // index into trajectories, or -1
   std::vector<std::vector<Vec2>> trajectories;             // the compared odometry
   std::vector<double> walk_heading;
-  std::vector<std::optional<std::vector<PseudoObservation>>> observations;  // against every window, once made
-  std::vector<double> comparison_ms;      // the full comparison's time, once made
+  struct FullComparison {
+    std::vector<PseudoObservation> observations;  // against every window
+    double ms = 0.0;
+  };
+  std::vector<std::optional<FullComparison>> full;  // per comparison, once made
   std::vector<double> timed_ms;           // every kTimedEvery-th full comparison's time
   Vec2 start = Vec2::Zero();
   std::size_t start_floor = 0;
@@ -57,13 +60,13 @@ struct MemberOdometry {
 };
 
 // Comparison c against every window, made on first use.
-const std::vector<PseudoObservation>& full_comparison(MemberOdometry& m, const PatternMatcher& matcher, std::size_t c) {
-  if (!m.observations[c]) {
+const MemberOdometry::FullComparison& full_comparison(MemberOdometry& m, const PatternMatcher& matcher, std::size_t c) {
+  if (!m.full[c]) {
     const auto t0 = Clock::now();
-    m.observations[c] = matcher.compare(m.trajectories[c]);
-    m.comparison_ms[c] = ms_since(t0);
+    std::vector<PseudoObservation> observations = matcher.compare(m.trajectories[c]);
+    m.full[c] = MemberOdometry::FullComparison{std::move(observations), ms_since(t0)};
   }
-  return *m.observations[c];
+  return *m.full[c];
 }
 
 MemberOdometry simulate_member(const FirefighterEvalConfig& config, const std::vector<Footfall>& footfalls,
@@ -108,13 +111,11 @@ MemberOdometry simulate_member(const FirefighterEvalConfig& config, const std::v
     if (track.comparison_due()) {
       m.trajectories.push_back(track.recent());
       m.walk_heading.push_back(track.walk_heading());
-      m.observations.emplace_back();
-      m.comparison_ms.push_back(0.0);
+      m.full.emplace_back();
       track.compared();
       index = static_cast<int>(m.trajectories.size()) - 1;
       if (static_cast<std::size_t>(index) % kTimedEvery == 0) {
-        (void)full_comparison(m, matcher, static_cast<std::size_t>(index));
-        m.timed_ms.push_back(m.comparison_ms.back());
+        m.timed_ms.push_back(full_comparison(m, matcher, static_cast<std::size_t>(index)).ms);
       }
     }
     m.comparison.push_back(index);
@@ -135,8 +136,9 @@ double compare_for(const MapParticleFilter& pf, const PatternMatcher& matcher, M
   const std::optional<EndMask> ends = pf.observation_ends(matcher);
   if (!ends) {
     const double choosing_ms = ms_since(t0);
-    observations = &full_comparison(m, matcher, c);
-    return choosing_ms + m.comparison_ms[c];
+    const MemberOdometry::FullComparison& full = full_comparison(m, matcher, c);
+    observations = &full.observations;
+    return choosing_ms + full.ms;
   }
   restricted = matcher.windows_touching(*ends) ? matcher.compare(m.trajectories[c], &*ends) : std::vector<PseudoObservation>{};
   observations = &restricted;

@@ -160,7 +160,8 @@ PatternMatcher::Fit PatternMatcher::icp(const std::vector<Vec2>& source, const W
   Vec2 t = window.centroid;
   const auto& target = window.points.points();
   std::vector<Vec2> matched(source.size());
-  double rmse = 1e300;
+  auto fit = [&](double rmse) { return Fit{rmse, R * source.back() + t, std::atan2(R(1, 0), R(0, 0))}; };
+  double previous = 1e300;
   for (std::uint32_t it = 0; it < config_.icp_iterations; ++it) {
     double sum = 0.0;
     for (std::size_t k = 0; k < source.size(); ++k) {
@@ -169,12 +170,10 @@ PatternMatcher::Fit PatternMatcher::icp(const std::vector<Vec2>& source, const W
       sum += d2;
     }
     const double current = std::sqrt(sum / static_cast<double>(source.size()));
-    if (it >= 3 && current > abandon_above) return {current, R * source.back() + t, std::atan2(R(1, 0), R(0, 0))};
+    if (it >= 3 && current > abandon_above) return fit(current);
     // Converged: `current` is already the fit of this R and t (no second pass of queries).
-    if (std::abs(rmse - current) < config_.icp_tolerance_m) {
-      return {current, R * source.back() + t, std::atan2(R(1, 0), R(0, 0))};
-    }
-    rmse = current;
+    if (std::abs(previous - current) < config_.icp_tolerance_m) return fit(current);
+    previous = current;
     // Closed-form 2-D rigid fit of source -> matched (least squares).
     Vec2 cs = Vec2::Zero(), cm = Vec2::Zero();
     for (std::size_t k = 0; k < source.size(); ++k) {
@@ -199,7 +198,7 @@ PatternMatcher::Fit PatternMatcher::icp(const std::vector<Vec2>& source, const W
     window.points.nearest(R * s + t, d2);
     sum += d2;
   }
-  return {std::sqrt(sum / static_cast<double>(source.size())), R * source.back() + t, std::atan2(R(1, 0), R(0, 0))};
+  return fit(std::sqrt(sum / static_cast<double>(source.size())));
 }
 
 std::vector<PseudoObservation> PatternMatcher::compare(const std::vector<Vec2>& trajectory, const EndMask* wanted) const {
