@@ -192,6 +192,20 @@ bool beside(const Vec2& p, const Segment& s, double distance) {
   return t > 0.0 && t < 1.0 && (s.a + t * d - p).norm() < distance;
 }
 
+// True when `b` walks the same closed loop as `a` from another start: a second entry on the
+// same loop, whose windows would all be the first one's again.
+bool same_loop(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
+  if (a.size() != b.size() || a.empty()) return false;
+  const std::size_t n = a.size();
+  for (std::size_t shift = 0; shift < n; ++shift) {
+    if (a[shift] != b[0]) continue;
+    std::size_t k = 1;
+    while (k < n && a[(shift + k) % n] == b[k]) ++k;
+    if (k == n) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 void PatternGridConfig::validate() const {
@@ -233,14 +247,18 @@ std::vector<NodeSequence> extract_node_sequences(const FloorPlan& plan, const Pa
       int i = 0, j = 0;
       if (grid.nearest(p, i, j)) grid.mark_reachable(i, j);
     }
+    const std::size_t first_of_floor = out.size();
     auto emit = [&](const std::vector<std::pair<int, int>>& cells, bool inner) {
       NodeSequence seq;
       seq.floor = f;
       seq.around_inner_walls = inner;
       for (const auto& [a, b] : cells) seq.nodes.push_back(grid.position(a, b));
-      if (seq.nodes.size() >= 4) out.push_back(std::move(seq));
+      if (seq.nodes.size() < 4) return;
+      for (std::size_t m = first_of_floor; m < out.size(); ++m) {
+        if (same_loop(out[m].nodes, seq.nodes)) return;
+      }
+      out.push_back(std::move(seq));
     };
-    const std::size_t first_of_floor = out.size();
     for (const auto& [p, heading] : starts) {
       int i = 0, j = 0;
       if (!grid.nearest(p, i, j)) continue;

@@ -1,6 +1,11 @@
 // Pattern extraction (seed 004 section IV-C) on the shipped buildings.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <set>
+#include <tuple>
+#include <vector>
+
 #include "sarloc/core/firefighter/search_pattern.hpp"
 #include "sarloc/core/firefighter/wall_index.hpp"
 #include "test_buildings.hpp"
@@ -37,6 +42,38 @@ TEST(SearchPattern, InnerWallsGetTheirOwnSequencesAndTheMainOneVisitsEveryRoom) 
     bool visited = false;
     for (const Vec2& n : sequences.front().nodes) visited = visited || (n - room).cwiseAbs().maxCoeff() < 2.0;
     EXPECT_TRUE(visited) << room.transpose();
+  }
+}
+
+TEST(SearchPattern, TwoEntriesOnOneLoopGiveItOnceSoNoWindowIsComparedTwice) {
+  // The warehouse's south and west entries open on the same outer loop: one sequence, which
+  // passes both entries.
+  const FloorPlan warehouse = test::building("warehouse-1040");
+  ASSERT_EQ(warehouse.entries.size(), 2U);
+  const auto sequences = extract_node_sequences(warehouse, PatternGridConfig{});
+  std::size_t from_entries = 0;
+  for (const auto& s : sequences) from_entries += s.around_inner_walls ? 0 : 1;
+  EXPECT_EQ(from_entries, 1U);
+  for (const auto& entry : warehouse.entries) {
+    double nearest = 1e9;
+    for (const Vec2& n : sequences.front().nodes) nearest = std::min(nearest, (n - entry.position).norm());
+    EXPECT_LT(nearest, 1.0) << entry.id;
+  }
+  // On every building, no 20 m window (21 nodes) of one floor appears twice.
+  for (const char* name : {"house-125", "office-253", "warehouse-1040"}) {
+    std::set<std::tuple<std::size_t, std::vector<std::pair<double, double>>>> windows;
+    std::size_t total = 0;
+    for (const auto& s : extract_node_sequences(test::building(name), PatternGridConfig{})) {
+      const std::size_t n = s.nodes.size();
+      if (n <= 20) continue;
+      for (std::size_t eta = 0; eta < n; ++eta) {
+        std::vector<std::pair<double, double>> w;
+        for (std::size_t k = 0; k <= 20; ++k) w.emplace_back(s.nodes[(eta + k) % n].x(), s.nodes[(eta + k) % n].y());
+        windows.emplace(s.floor, std::move(w));
+        ++total;
+      }
+    }
+    EXPECT_EQ(windows.size(), total) << name;
   }
 }
 

@@ -2,10 +2,10 @@
 // Pattern extraction (seed 004 section IV-C, Fig. 3): a square grid over each floor of the map;
 // from the node nearest each entry, the node sequence of a right-hand directional search along
 // the grid (turn right where the grid lets you, else straight, else left, else back) until it
-// returns to the first node; then, for every group of inner walls that no sequence has gone
-// around (walls not connected to the outer walls), a sequence started next to it. Grid edges
-// that cross a wall of the navigation map are blocked; nodes closer than `min_clearance_m` to a
-// wall are dropped.
+// returns to the first node (a loop already walked from another start is kept once); then, for
+// every group of inner walls that no sequence has gone around (walls not connected to the outer
+// walls), a sequence started next to it. Grid edges that cross a wall of the navigation map are
+// blocked; nodes closer than `min_clearance_m` to a wall are dropped.
 //
 //   auto sequences = extract_node_sequences(plan, PatternGridConfig{});
 //   // sequences[m].nodes: p_1 ... p_N (p_N adjacent to p_1)
