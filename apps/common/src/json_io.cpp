@@ -312,6 +312,8 @@ nlohmann::json to_json(const firefighter::FirefighterSummary& s, double rmse_eve
                        {"ms_per_filter_step_mean", v.ms_per_update_mean},
                        {"particles_mean", v.particles_mean},
                        {"converged_wrong_fraction", v.converged_wrong_fraction},
+                       {"confirmed_share", v.confirmed_share},
+                       {"confirmed_wrong_fraction", v.confirmed_wrong_fraction},
                        {"nees", {{"mean", v.nees_mean}, {"lower", v.nees_lower}, {"upper", v.nees_upper},
                                  {"members", v.nees_members}, {"fraction_inside_95", v.nees_fraction_inside_95}}}});
   }

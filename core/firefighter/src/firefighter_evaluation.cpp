@@ -9,6 +9,8 @@
 
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include <cstdio>
+#include <cstdlib>
 #include "sarloc/core/common/parallel_trials.hpp"
 #include "sarloc/core/common/seeds.hpp"
 #include "sarloc/core/common/statistics.hpp"
@@ -155,6 +157,7 @@ struct VariantTrace {
   std::vector<double> comparison_ms;   // per comparison made (none when the update uses none)
   std::vector<std::size_t> particles;  // per update
   std::size_t converged = 0, converged_wrong = 0;
+  std::size_t confirmed = 0, confirmed_wrong = 0;
   std::vector<double> nees_late;     // converged estimates after 150 s
   bool converged_at_end = false;
   double nees_end = -1.0;            // -1: not converged at the end
@@ -196,7 +199,11 @@ VariantTrace run_filter(const FloorPlan& plan, const NavigableGrid& grid, const 
     if (e.converged) {
       ++trace.converged;
       const Eigen::Matrix2d P = e.covariance + 1e-9 * Eigen::Matrix2d::Identity();
-      if (err.dot(P.ldlt().solve(err)) > kChi2TwoDof99) ++trace.converged_wrong;
+      const bool outside = err.dot(P.ldlt().solve(err)) > kChi2TwoDof99;
+      trace.converged_wrong += outside ? 1 : 0;
+      trace.confirmed += e.confirmed ? 1 : 0;
+      trace.confirmed_wrong += e.confirmed && outside ? 1 : 0;
+      if (outside && std::getenv("FF_WRONG")) std::fprintf(stderr, "WRONG %s seed %llu t %.1f err %.2f var %.2f lineage %.3f confirmed %d truth %.1f %.1f est %.1f %.1f\n", v.name.c_str(), (unsigned long long)seed, m.t[k], err.norm(), e.variance_m2, e.entry_lineage, (int)e.confirmed, m.truth[k].x(), m.truth[k].y(), e.position.x(), e.position.y());
     }
     if (e.converged && m.t[k] >= 150.0) {
       const Eigen::Matrix2d P = e.covariance + 1e-9 * Eigen::Matrix2d::Identity();
@@ -320,7 +327,7 @@ FirefighterSummary FirefighterEvaluation::run(const std::function<void()>& on_ru
     std::size_t all_n = 0, final_n = 0, converged = 0, wrong_floor = 0, late_inside = 0, late_n = 0;
     std::vector<double> step_ms, nees_end, variant_comparison_ms;
     double particle_sum = 0.0;
-    std::size_t converged_estimates = 0, converged_wrong = 0;
+    std::size_t converged_estimates = 0, converged_wrong = 0, confirmed_estimates = 0, confirmed_wrong = 0;
     for (const RunResult& r : run.results) {
       for (std::size_t mi = 0; mi < r.members.size(); ++mi) {
         const MemberOdometry& m = r.members[mi];
@@ -351,6 +358,8 @@ FirefighterSummary FirefighterEvaluation::run(const std::function<void()>& on_ru
         for (std::size_t n : tr.particles) particle_sum += static_cast<double>(n);
         converged_estimates += tr.converged;
         converged_wrong += tr.converged_wrong;
+        confirmed_estimates += tr.confirmed;
+        confirmed_wrong += tr.confirmed_wrong;
       }
     }
     for (std::size_t j = 0; j < marks; ++j) vs.rmse_at_s.push_back(count[j] ? std::sqrt(sum_sq[j] / count[j]) : 0.0);
@@ -364,6 +373,10 @@ FirefighterSummary FirefighterEvaluation::run(const std::function<void()>& on_ru
     vs.particles_mean = all_n ? particle_sum / static_cast<double>(all_n) : 0.0;
     vs.converged_wrong_fraction =
         converged_estimates ? static_cast<double>(converged_wrong) / static_cast<double>(converged_estimates) : 0.0;
+    vs.confirmed_share =
+        converged_estimates ? static_cast<double>(confirmed_estimates) / static_cast<double>(converged_estimates) : 0.0;
+    vs.confirmed_wrong_fraction =
+        confirmed_estimates ? static_cast<double>(confirmed_wrong) / static_cast<double>(confirmed_estimates) : 0.0;
     const double comparison_total = std::accumulate(variant_comparison_ms.begin(), variant_comparison_ms.end(), 0.0);
     vs.ms_per_comparison_median = variant_comparison_ms.empty() ? 0.0 : median(variant_comparison_ms);
     vs.ms_per_update_amortised =

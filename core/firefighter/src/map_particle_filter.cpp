@@ -69,6 +69,8 @@ void MapFilterConfig::validate() const {
   check("replace_position_sigma_m", replace_position_sigma_m, 0.0, 10.0);
   check("replace_heading_sigma_deg", replace_heading_sigma_deg, 0.0, 180.0);
   check("converged_variance_m2", converged_variance_m2, 1e-3, 1e4);
+  check("entry_radius_m", entry_radius_m, 0.1, 50.0);
+  check("confirm_entry_share", confirm_entry_share, 0.5, 1.0);
   check("known_position_sigma_m", known_position_sigma_m, 0.0, 100.0);
   check("known_heading_sigma_deg", known_heading_sigma_deg, 0.0, 180.0);
   check("floor_tolerance_m", floor_tolerance_m, 0.1, 10.0);
@@ -100,6 +102,7 @@ void MapParticleFilter::init_known(const Vec2& position, std::size_t floor, doub
     p.heading = wrap_angle(heading + config_.known_heading_sigma_deg * kDeg * n(rng));
     p.floor = floor;
     p.z = plan_.floors.at(floor).elevation_m;
+    p.from_entry = true;
   }
   weights_.assign(config_.particles, 1.0 / config_.particles);
   was_converged_ = map_error_ = map_error_since_start_ = false;
@@ -116,6 +119,8 @@ void MapParticleFilter::init_unknown(std::mt19937_64& rng) {
   std::uniform_int_distribution<std::size_t> pick(0, nodes.size() - 1);
   std::uniform_real_distribution<double> cell(-0.5 * grid_.spacing_m, 0.5 * grid_.spacing_m);
   std::uniform_real_distribution<double> any_heading(-kPi, kPi);
+  std::vector<std::pair<std::size_t, Vec2>> entries;
+  for (const Entry& entry : plan_.entries) entries.emplace_back(plan_.floor_index(entry.floor), entry.position);
   particles_.assign(config_.particles_max, Particle{});
   for (Particle& p : particles_) {
     const auto& [floor, node] = nodes[pick(rng)];
@@ -125,6 +130,9 @@ void MapParticleFilter::init_unknown(std::mt19937_64& rng) {
     p.floor = floor;
     p.z = plan_.floors[floor].elevation_m;
     p.heading = any_heading(rng);
+    for (const auto& [entry_floor, entry_at] : entries) {
+      p.from_entry = p.from_entry || (entry_floor == floor && (entry_at - at).norm() <= config_.entry_radius_m);
+    }
   }
   weights_.assign(particles_.size(), 1.0 / static_cast<double>(particles_.size()));
   was_converged_ = map_error_ = map_error_since_start_ = false;
@@ -398,6 +406,7 @@ void MapParticleFilter::update(const std::vector<PseudoObservation>& observation
     p.floor = o.floor;
     p.z = plan_.floors[o.floor].elevation_m;
     p.heading = wrap_angle(o.frame_heading + config_.replace_heading_sigma_deg * kDeg * n(rng));
+    p.from_entry = false;  // drawn from a pattern: where its walk began is unknown
     weights_[order[r]] = 1.0 / static_cast<double>(particles_.size());
   }
   total = std::accumulate(weights_.begin(), weights_.end(), 0.0);
@@ -430,6 +439,8 @@ MapEstimate MapParticleFilter::estimate() const {
   e.converged = converged_;
   e.map_error_suspected = map_error_;
   e.map_error_since_start = map_error_since_start_;
+  for (std::size_t i = 0; i < particles_.size(); ++i) e.entry_lineage += particles_[i].from_entry ? weights_[i] : 0.0;
+  e.confirmed = e.converged && !e.map_error_since_start && e.entry_lineage >= config_.confirm_entry_share;
   return e;
 }
 

@@ -256,5 +256,60 @@ TEST(MapParticleFilter, AConvergedCloudWeighsTheComparisonsWithItsOwnSigmaUntilA
   EXPECT_GT(error_after - error_before, tracking_after - tracking_before);
 }
 
+// Confirmed = converged, no map error since the start, and the weight descending from particles
+// drawn near an entry (map_particle_filter.hpp). The bookkeeping: an unknown start marks exactly
+// the particles within entry_radius_m of an entry; a known start marks all; a map error since the
+// start withholds the confirmation for good.
+TEST(MapParticleFilter, ConfirmsOnlyAConvergedCloudThatBeganAtAnEntryAndNeverMetAMapError) {
+  const FloorPlan plan = test::building("house-125");
+  const NavigableGrid grid = navigable_grid(plan, PatternGridConfig{});
+  MapFilterConfig config;
+  std::mt19937_64 rng(11);
+  MapParticleFilter pf(plan, grid, config);
+  pf.init_unknown(rng);
+  ASSERT_EQ(plan.entries.size(), 1U);
+  double near_entry = 0.0;
+  for (std::size_t i = 0; i < pf.particles().size(); ++i) {
+    const bool near = (pf.particles()[i].position - plan.entries[0].position).norm() <= config.entry_radius_m;
+    EXPECT_EQ(pf.particles()[i].from_entry, near) << i;
+    near_entry += near ? pf.weights()[i] : 0.0;
+  }
+  EXPECT_GT(near_entry, 0.01);
+  EXPECT_NEAR(pf.estimate().entry_lineage, near_entry, 1e-12);
+  EXPECT_FALSE(pf.estimate().confirmed) << "spread over the house";
+
+  pf.init_known({3.5, 5.0}, 0, 0.0, rng);  // in the corridor, walking east along it
+  for (int k = 0; k < 8; ++k) pf.predict(Eigen::Vector3d(0.25, 0.0, 0.0), rng);
+  EXPECT_NEAR(pf.estimate().entry_lineage, 1.0, 1e-9);
+  EXPECT_TRUE(pf.estimate().converged);
+  EXPECT_TRUE(pf.estimate().confirmed);
+
+  config.position_noise_m = 0.0;  // the moves below bring every particle back exactly
+  config.heading_noise_deg_per_m = 0.0;
+  MapParticleFilter disturbed(plan, grid, config);
+  disturbed.init_known({3.5, 5.0}, 0, 0.0, rng);
+  disturbed.predict(Eigen::Vector3d(200.0, 0.0, 0.0), rng);  // through the outer walls and back
+  disturbed.predict(Eigen::Vector3d(-200.0, 0.0, 0.0), rng);
+  ASSERT_TRUE(disturbed.estimate().map_error_since_start);
+  EXPECT_TRUE(disturbed.estimate().converged);
+  EXPECT_FALSE(disturbed.estimate().confirmed);
+}
+
+// House-125 is nearly its own image under a half turn (room C and room D). On this seed one
+// firefighter's cloud converges in the image of its room, and the variance test alone claims it
+// (6 % of the converged estimates outside their own 99 % ellipse); traced back, that cloud began
+// where no door is, and no confirmed estimate is wrong. If the filter changes so that this seed
+// no longer converges wrongly, the first assertion says so: pick a seed that does.
+TEST(MapParticleFilter, ConfirmedClaimsFromAnUnknownStartAreHonestWhereConvergedOnesAreNot) {
+  const FloorPlan plan = test::building("house-125");
+  FirefighterEvalConfig c = short_config(2);
+  c.seed = 6;
+  const FirefighterEvaluation eval(plan, c, {{"unknown/weights", false, true, PseudoResampling::kNever}});
+  const VariantSummary& v = variant(eval.run(), "unknown/weights");
+  ASSERT_GT(v.converged_wrong_fraction, 0.02) << "this seed no longer shows a wrong convergence";
+  EXPECT_LE(v.confirmed_wrong_fraction, 0.01);
+  EXPECT_GT(v.confirmed_share, 0.5) << "the right claims are confirmed";
+}
+
 }  // namespace
 }  // namespace sarloc::firefighter

@@ -72,6 +72,10 @@ struct VariantSummary {
   /// Of the estimates flagged converged, the share whose truth lies outside their own 99 %
   /// ellipse: a position claimed that is not there (about 1 % if the covariance is honest).
   double converged_wrong_fraction = 0.0;
+  /// Of the estimates flagged converged, the share also confirmed (MapEstimate::confirmed), and
+  /// of those confirmed, the share whose truth lies outside their own 99 % ellipse.
+  double confirmed_share = 0.0;
+  double confirmed_wrong_fraction = 0.0;
   double nees_mean = 0.0;              ///< at the end, members converged there (2 dof)
   double nees_lower = 0.0, nees_upper = 0.0;
   std::uint32_t nees_members = 0;

@@ -28,6 +28,13 @@
 // converge again, confidently and wrongly. It clears after `map_error_clear_updates` converged
 // updates in a row without such a step.
 //
+// Confirmed (what incident command may show as a position, not a guess): converged, no map
+// error suspected since the start, and at least `confirm_entry_share` of the weight descending
+// from particles drawn at the start within `entry_radius_m` of an entry of the plan (or from a
+// known start). A search
+// walk begins at an entry; a cloud that converged on an image of the walk elsewhere in the
+// building (a room that looks the same turned round) traces back to a start where no door is.
+//
 //   MapParticleFilter pf(plan, grid, MapFilterConfig{});
 //   pf.init_unknown(rng);
 //   pf.predict(ins_delta, rng);                 // 2 Hz
@@ -85,6 +92,8 @@ struct MapFilterConfig {
   /// from ambiguous patterns only pulls the cloud apart (docs/estimation/firefighter.md).
   PseudoResampling resampling = PseudoResampling::kNever;
   double converged_variance_m2 = 3.0;   ///< section V-E
+  double entry_radius_m = 4.0;          ///< a particle drawn this near an entry began at it
+  double confirm_entry_share = 0.9;     ///< confirmed: at least this share of the weight from an entry
   double known_position_sigma_m = 0.1;
   double known_heading_sigma_deg = 2.0;
   double floor_tolerance_m = 0.5;
@@ -98,6 +107,9 @@ struct Particle {
   double heading = 0.0;  ///< rotation of the INS navigation frame into the map (rad)
   double z = 0.0;        ///< m, follows the INS on stairs
   std::size_t floor = 0;
+  /// Descends from a particle drawn at the start within `entry_radius_m` of an entry, or from
+  /// a known start (copies keep it; a particle drawn from a pattern does not have it).
+  bool from_entry = false;
 };
 
 struct MapEstimate {
@@ -113,6 +125,10 @@ struct MapEstimate {
   /// later (docs/estimation/firefighter.md): a position after a raise should not count as
   /// confirmed until a person confirms it.
   bool map_error_since_start = false;
+  /// Share of the weight whose lineage began at an entry (Particle::from_entry).
+  double entry_lineage = 0.0;
+  /// Converged, no map error since the start, and the weight from an entry (above).
+  bool confirmed = false;
 };
 
 class MapParticleFilter {
