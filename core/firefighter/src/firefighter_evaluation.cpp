@@ -9,8 +9,6 @@
 
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
-#include <cstdio>
-#include <cstdlib>
 #include "sarloc/core/common/parallel_trials.hpp"
 #include "sarloc/core/common/seeds.hpp"
 #include "sarloc/core/common/statistics.hpp"
@@ -203,7 +201,6 @@ VariantTrace run_filter(const FloorPlan& plan, const NavigableGrid& grid, const 
       trace.converged_wrong += outside ? 1 : 0;
       trace.confirmed += e.confirmed ? 1 : 0;
       trace.confirmed_wrong += e.confirmed && outside ? 1 : 0;
-      if (outside && std::getenv("FF_WRONG")) std::fprintf(stderr, "WRONG %s seed %llu t %.1f err %.2f var %.2f lineage %.3f confirmed %d truth %.1f %.1f est %.1f %.1f\n", v.name.c_str(), (unsigned long long)seed, m.t[k], err.norm(), e.variance_m2, e.entry_lineage, (int)e.confirmed, m.truth[k].x(), m.truth[k].y(), e.position.x(), e.position.y());
     }
     if (e.converged && m.t[k] >= 150.0) {
       const Eigen::Matrix2d P = e.covariance + 1e-9 * Eigen::Matrix2d::Identity();
