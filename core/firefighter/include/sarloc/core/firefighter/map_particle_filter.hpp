@@ -31,9 +31,9 @@
 // Confirmed (what incident command may show as a position, not a guess): converged, no map
 // error suspected since the start, and at least `confirm_entry_share` of the weight descending
 // from particles drawn at the start within `entry_radius_m` of an entry of the plan (or from a
-// known start). A search
-// walk begins at an entry; a cloud that converged on an image of the walk elsewhere in the
-// building (a room that looks the same turned round) traces back to a start where no door is.
+// known start). A search walk begins at an entry; a cloud that converged on an image of the walk
+// elsewhere in the building (a room that looks the same turned round) traces back to a start
+// where no door is.
 //
 //   MapParticleFilter pf(plan, grid, MapFilterConfig{});
 //   pf.init_unknown(rng);
