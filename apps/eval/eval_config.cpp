@@ -128,6 +128,7 @@ void load_firefighter(YamlReader root, firefighter::FirefighterEvalConfig& c) {
     r.read("converged_variance_m2", f.converged_variance_m2);
     r.read("entry_radius_m", f.entry_radius_m);
     r.read("confirm_entry_share", f.confirm_entry_share);
+    r.read("confirm_after_steps", f.confirm_after_steps);
     r.read("known_position_sigma_m", f.known_position_sigma_m);
     r.read("known_heading_sigma_deg", f.known_heading_sigma_deg);
     r.read("floor_tolerance_m", f.floor_tolerance_m);

@@ -71,6 +71,7 @@ void MapFilterConfig::validate() const {
   check("converged_variance_m2", converged_variance_m2, 1e-3, 1e4);
   check("entry_radius_m", entry_radius_m, 0.1, 50.0);
   check("confirm_entry_share", confirm_entry_share, 0.5, 1.0);
+  check("confirm_after_steps", confirm_after_steps, 0.0, 1e6);
   check("known_position_sigma_m", known_position_sigma_m, 0.0, 100.0);
   check("known_heading_sigma_deg", known_heading_sigma_deg, 0.0, 180.0);
   check("floor_tolerance_m", floor_tolerance_m, 0.1, 10.0);
@@ -106,7 +107,7 @@ void MapParticleFilter::init_known(const Vec2& position, std::size_t floor, doub
   }
   weights_.assign(config_.particles, 1.0 / config_.particles);
   was_converged_ = map_error_ = map_error_since_start_ = false;
-  converged_run_ = moving_steps_ = 0;
+  converged_run_ = moving_steps_ = converged_steps_ = 0;
   refresh_flags();
 }
 
@@ -136,7 +137,7 @@ void MapParticleFilter::init_unknown(std::mt19937_64& rng) {
   }
   weights_.assign(particles_.size(), 1.0 / static_cast<double>(particles_.size()));
   was_converged_ = map_error_ = map_error_since_start_ = false;
-  converged_run_ = moving_steps_ = 0;
+  converged_run_ = moving_steps_ = converged_steps_ = 0;
   refresh_flags();
 }
 
@@ -194,12 +195,14 @@ void MapParticleFilter::predict(const Eigen::Vector3d& delta, std::mt19937_64& r
       if (!on_stairs(p)) p.z = plan_.floors[p.floor].elevation_m;  // the map is off: start afresh
     }
     refresh_flags(1.0);
+    converged_steps_ = 0;
     return;
   }
   double removed = 0.0;
   for (std::size_t i = 0; i < particles_.size(); ++i) removed += dead[i] ? weights_[i] : 0.0;
   replace_dead(dead, rng);
   refresh_flags(removed);
+  converged_steps_ = converged_ ? converged_steps_ + 1 : 0;
   if (moving && ++moving_steps_ % kAdaptEveryMovingSteps == 0) adapt_count(rng);
 }
 
@@ -440,7 +443,8 @@ MapEstimate MapParticleFilter::estimate() const {
   e.map_error_suspected = map_error_;
   e.map_error_since_start = map_error_since_start_;
   for (std::size_t i = 0; i < particles_.size(); ++i) e.entry_lineage += particles_[i].from_entry ? weights_[i] : 0.0;
-  e.confirmed = e.converged && !e.map_error_since_start && e.entry_lineage >= config_.confirm_entry_share;
+  e.confirmed = e.converged && !e.map_error_since_start && e.entry_lineage >= config_.confirm_entry_share &&
+                converged_steps_ >= config_.confirm_after_steps;
   return e;
 }
 

@@ -256,10 +256,10 @@ TEST(MapParticleFilter, AConvergedCloudWeighsTheComparisonsWithItsOwnSigmaUntilA
   EXPECT_GT(error_after - error_before, tracking_after - tracking_before);
 }
 
-// Confirmed = converged, no map error since the start, and the weight descending from particles
-// drawn near an entry (map_particle_filter.hpp). The bookkeeping: an unknown start marks exactly
-// the particles within entry_radius_m of an entry; a known start marks all; a map error since the
-// start withholds the confirmation for good.
+// Confirmed = converged for confirm_after_steps in a row, no map error since the start, and the
+// weight descending from particles drawn near an entry (map_particle_filter.hpp). The
+// bookkeeping: an unknown start marks exactly the particles within entry_radius_m of an entry; a
+// known start marks all; a map error since the start withholds the confirmation for good.
 TEST(MapParticleFilter, ConfirmsOnlyAConvergedCloudThatBeganAtAnEntryAndNeverMetAMapError) {
   const FloorPlan plan = test::building("house-125");
   const NavigableGrid grid = navigable_grid(plan, PatternGridConfig{});
@@ -278,11 +278,13 @@ TEST(MapParticleFilter, ConfirmsOnlyAConvergedCloudThatBeganAtAnEntryAndNeverMet
   EXPECT_NEAR(pf.estimate().entry_lineage, near_entry, 1e-12);
   EXPECT_FALSE(pf.estimate().confirmed) << "spread over the house";
 
-  pf.init_known({3.5, 5.0}, 0, 0.0, rng);  // in the corridor, walking east along it
-  for (int k = 0; k < 8; ++k) pf.predict(Eigen::Vector3d(0.25, 0.0, 0.0), rng);
+  pf.init_known({2.5, 5.0}, 0, 0.0, rng);  // in the corridor, walking east along it
+  for (std::uint32_t k = 1; k <= config.confirm_after_steps; ++k) {
+    pf.predict(Eigen::Vector3d(0.25, 0.0, 0.0), rng);
+    EXPECT_TRUE(pf.estimate().converged);
+    EXPECT_EQ(pf.estimate().confirmed, k == config.confirm_after_steps) << "after " << k << " steps converged";
+  }
   EXPECT_NEAR(pf.estimate().entry_lineage, 1.0, 1e-9);
-  EXPECT_TRUE(pf.estimate().converged);
-  EXPECT_TRUE(pf.estimate().confirmed);
 
   config.position_noise_m = 0.0;  // the moves below bring every particle back exactly
   config.heading_noise_deg_per_m = 0.0;

@@ -28,12 +28,13 @@
 // converge again, confidently and wrongly. It clears after `map_error_clear_updates` converged
 // updates in a row without such a step.
 //
-// Confirmed (what incident command may show as a position, not a guess): converged, no map
-// error suspected since the start, and at least `confirm_entry_share` of the weight descending
-// from particles drawn at the start within `entry_radius_m` of an entry of the plan (or from a
-// known start). A search walk begins at an entry; a cloud that converged on an image of the walk
-// elsewhere in the building (a room that looks the same turned round) traces back to a start
-// where no door is.
+// Confirmed (what incident command may show as a position, not a guess): converged for
+// `confirm_after_steps` odometry steps in a row (a cloud at its first convergence may still be
+// split between two places), no map error suspected since the start, and at least
+// `confirm_entry_share` of the weight descending from particles drawn at the start within
+// `entry_radius_m` of an entry of the plan (or from a known start). A search walk begins at an
+// entry; a cloud that converged on an image of the walk elsewhere in the building (a room that
+// looks the same turned round) traces back to a start where no door is.
 //
 //   MapParticleFilter pf(plan, grid, MapFilterConfig{});
 //   pf.init_unknown(rng);
@@ -94,6 +95,7 @@ struct MapFilterConfig {
   double converged_variance_m2 = 3.0;   ///< section V-E
   double entry_radius_m = 4.0;          ///< a particle drawn this near an entry began at it
   double confirm_entry_share = 0.9;     ///< confirmed: at least this share of the weight from an entry
+  std::uint32_t confirm_after_steps = 20;  ///< ... and converged for this many odometry steps in a row (10 s at 2 Hz)
   double known_position_sigma_m = 0.1;
   double known_heading_sigma_deg = 2.0;
   double floor_tolerance_m = 0.5;
@@ -127,7 +129,7 @@ struct MapEstimate {
   bool map_error_since_start = false;
   /// Share of the weight whose lineage began at an entry (Particle::from_entry).
   double entry_lineage = 0.0;
-  /// Converged, no map error since the start, and the weight from an entry (above).
+  /// Converged for a while, no map error since the start, and the weight from an entry (above).
   bool confirmed = false;
 };
 
@@ -181,6 +183,7 @@ class MapParticleFilter {
   bool map_error_since_start_ = false;
   bool converged_ = false;
   std::uint32_t converged_run_ = 0;
+  std::uint32_t converged_steps_ = 0;  ///< odometry steps in a row that ended converged
   std::uint32_t moving_steps_ = 0;
   KldSampleCount kld_needed_;
 };
