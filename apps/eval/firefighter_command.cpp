@@ -59,7 +59,7 @@ void print_summary(const ff::FirefighterSummary& s, double every_s, unsigned thr
     }
   }
   std::printf("(conv.: fraction converged within 2 m at the end; wrong: of the estimates flagged converged, the share "
-              "whose truth is outside their own 99 %% ellipse; conf.: of those, the share also confirmed (the weight from an entry, no map error since the start); c.wrong: of the confirmed, the share outside their 99 %% ellipse; ms/upd: median filter step + this row's pattern comparisons spread over the 2 Hz updates; "
+              "whose truth is outside their own 99 %% ellipse; conf.: of those, the share also confirmed (converged 10 s, the weight from an entry, no map error since the start); c.wrong: of the confirmed, the share outside their 99 %% ellipse; ms/upd: median filter step + this row's pattern comparisons spread over the 2 Hz updates; "
               "cmp: median comparison of this row, restricted to the windows its particles can use once concentrated; mean: "
               "mean filter step; particles: mean count)\n");
   std::printf("Wall clock %.1f s\n", s.wall_s);
