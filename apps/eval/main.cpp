@@ -3,6 +3,7 @@
 //   sarloc-eval avalanche --filter sog --trials 100 --seed 1 [--config FILE] [--json FILE]
 //                         [--trace-csv FILE] [--trace-trial N]
 //   sarloc-eval multi-burial --victims 3 --spread 5 [--trials N] [--seed S] [--json FILE]
+//                            [--trace-trial N]
 //   sarloc-eval firefighter --building FILE --runs N --seed S [--json FILE] [--plot FILE.svg]
 //
 // Prints a table in the layout of seed 000, Table I, plus timing and NEES consistency, and the
@@ -184,6 +185,8 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   std::string multi_json;
   multi->add_option("--json", multi_json, "write the summary and every trial as JSON to this file");
+  std::optional<std::uint32_t> multi_trace;
+  multi->add_option("--trace-trial", multi_trace, "print one trial step by step and exit");
   sarloc::eval::FirefighterOptions firefighter_options;
   auto* firefighter = sarloc::eval::add_firefighter_command(app, firefighter_options);
   if (auto code = sarloc::app::parse_command_line(app, argc, argv)) return *code;
@@ -212,6 +215,13 @@ int main(int argc, char** argv) {
     } catch (const sarloc::Error& e) {
       spdlog::error("configuration: {}", e.what());
       return to_int(ExitCode::kConfig);
+    }
+    if (multi_trace) {
+      const av::MultiBurialTraceObserver printer = sarloc::eval::multi_burial_trace_printer();
+      const av::MultiBurialTrial t = av::run_multi_burial_trial(multi_setup, *multi_trace, &printer);
+      std::printf("trial %u: found %u of %u in %u steps, %.1f m; ghosts %u, reported twice %u\n", t.index, t.found,
+                  multi_setup.victims, t.steps, t.distance_m, t.ghosts, t.duplicates);
+      return to_int(ExitCode::kOk);
     }
     av::MultiBurialSummary ms;
     av::EvaluationSummary single;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "sarloc/core/avalanche/bearing_density.hpp"
 #include "sarloc/core/common/gaussian.hpp"
@@ -36,6 +37,38 @@ void print_trace_step(const av::TrialStep& s) {
               s.filter_result.min_nis, w0, nees,
               av::bearing_agreement(s.filter.components(), bearing_of(truth)).mass_within_45deg,
               s.filter_result.reinitialised ? " REINIT" : "");
+}
+
+av::MultiBurialTraceObserver multi_burial_trace_printer() {
+  av::MultiBurialTraceObserver o;
+  o.victims = [](const std::vector<av::MultiBurialTraceVictim>& victims) {
+    for (std::size_t v = 0; v < victims.size(); ++v) {
+      const av::MultiBurialTraceVictim& t = victims[v];
+      std::printf("victim %zu at [%.2f %.2f %.2f] |m| %.4f period %.4f s on %.3f s carrier %+.2f Hz\n", v,
+                  t.position.x(), t.position.y(), t.position.z(), t.moment_am2, t.timing.period_s,
+                  t.timing.on_time_s, t.timing.carrier_offset_hz);
+    }
+  };
+  o.step = [](const av::MultiBurialTraceStep& s) {
+    for (const av::MultiBurialTraceSample& t : s.samples) {
+      std::printf("    signal %u axes %u of victim %s", t.signal_id, static_cast<unsigned>(t.valid_axes),
+                  t.majority_victim ? std::to_string(*t.majority_victim).c_str() : "-");
+      if (t.estimate) {
+        std::printf(" status %d at [%.2f %.2f %.2f] r95 %.2f repeat %d", static_cast<int>(t.estimate->status),
+                    t.estimate_at.x(), t.estimate_at.y(), t.estimate_at.z(),
+                    sarloc::radius95_3d(t.estimate->relative.covariance), static_cast<int>(t.estimate->repeat));
+      }
+      if (t.guidance) std::printf(" guides mode %d", static_cast<int>(t.guidance->mode));
+      std::printf("\n");
+    }
+    std::printf("%4u rescuer [%.2f %.2f] target %s found %u unattributed %u", s.step, s.rescuer.x(), s.rescuer.y(),
+                s.target ? std::to_string(*s.target).c_str() : "-", s.found, s.unattributed_pulses);
+    if (s.guidance)
+      std::printf(" walks mode %d %.2f m bearing %+.2f", static_cast<int>(s.guidance->mode), s.guidance->step_m,
+                  s.guidance->bearing_rad);
+    std::printf("\n");
+  };
+  return o;
 }
 
 const char* TraceCsv::header() {

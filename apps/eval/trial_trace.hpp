@@ -1,5 +1,6 @@
 #pragma once
-// Step-by-step traces of evaluation trials (sarloc-eval --trace-trial / --trace-csv).
+// Step-by-step traces of evaluation trials (sarloc-eval avalanche --trace-trial / --trace-csv,
+// sarloc-eval multi-burial --trace-trial).
 //
 // The CSV has one row per step of every trial, in trial order, with the truth beside what the
 // filter believed: enough to replay the measurements offline (scripts/ideal-bearing-check
@@ -10,11 +11,16 @@
 #include <vector>
 
 #include "sarloc/core/avalanche/evaluation.hpp"
+#include "sarloc/core/avalanche/multi_burial.hpp"
 
 namespace sarloc::eval {
 
 /// One human-readable line per step (stdout).
 void print_trace_step(const avalanche::TrialStep& s);
+
+/// One multiple-burial trial (sarloc-eval multi-burial --trace-trial): the victims, then per
+/// step a line for the rescuer and one per sample processed (stdout).
+avalanche::MultiBurialTraceObserver multi_burial_trace_printer();
 
 /// Collects CSV rows from worker threads and writes them in trial order.
 class TraceCsv {

@@ -34,7 +34,8 @@ void MultiBurialSetup::validate() const {
   if (!(period_spread >= 0.0 && period_spread <= 0.3)) fail("period_spread", period_spread, "must be in [0, 0.3]");
 }
 
-MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint32_t index) {
+MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint32_t index,
+                                        const MultiBurialTraceObserver* trace) {
   const SimulationConfig& sim = setup.simulation;
   std::mt19937_64 rng(derive_seed(setup.evaluation.seed, index));
   std::uniform_real_distribution<double> u01(0.0, 1.0);
@@ -86,6 +87,11 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
   std::set<std::uint32_t> reported, signals, retired, suspected;
   std::map<std::uint32_t, std::size_t> victim_found_by;  // signal -> the victim its FOUND was scored as
   std::uint64_t odometry_sequence = 0;
+  if (trace && trace->victims) {
+    std::vector<MultiBurialTraceVictim> truth;
+    for (const Beacon& b : beacons) truth.push_back({b.position, b.moment.norm(), b.timing});
+    trace->victims(truth);
+  }
   for (std::uint32_t step = 1; step <= setup.evaluation.step_budget; ++step) {
     const TimestampNs stamp = static_cast<TimestampNs>(step) * 1'000'000'000;
     const Listening heard = receiver.listen(pose, beacons, static_cast<double>(step), 1.0);
@@ -93,10 +99,22 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
     tr.unattributed_pulses += heard.report.unattributed;
     const OrientationObservation attitude = simulate_attitude(sim, pose, rng);
     std::optional<Guidance> guidance;
+    MultiBurialTraceStep traced;
     for (const FieldMeasurement& m : to_measurements(heard, "sim", step, stamp, attitude)) {
       signals.insert(m.signal_id);
       const auto outcome = search.process(m);
       const auto* update = std::get_if<SearchUpdate>(&outcome);
+      if (trace) {
+        MultiBurialTraceSample& t = traced.samples.emplace_back();
+        t.signal_id = m.signal_id;
+        t.valid_axes = m.valid_axes;
+        t.majority_victim = receiver.majority_beacon_of_signal(m.signal_id);
+        if (update) {
+          t.estimate = update->estimate;
+          t.guidance = update->guidance;
+          if (t.estimate) t.estimate_at = pose.position + t.estimate->relative.position;
+        }
+      }
       if (update == nullptr) continue;
       if (update->guidance) guidance = update->guidance;
       if (update->estimate && update->estimate->repeat == responder::RepeatState::kSuspected &&
@@ -122,11 +140,23 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
     }
     tr.found = static_cast<std::uint32_t>(found_victims.size());
     tr.steps = step;
+    auto emit_trace = [&](const std::optional<Guidance>& walked) {
+      if (!trace || !trace->step) return;
+      traced.step = step;
+      traced.rescuer = pose.position;
+      traced.target = search.target_signal();
+      traced.guidance = walked;
+      traced.unattributed_pulses = heard.report.unattributed;
+      traced.found = tr.found;
+      trace->step(traced);
+    };
     if (tr.found == setup.victims) {
+      emit_trace(std::nullopt);
       tr.all_found = true;
       break;
     }
     if (!guidance) guidance = search.coast(stamp);
+    emit_trace(guidance);
     const double bearing = guidance ? guidance->bearing_rad : 0.0;  // no target: the primary line
     const double step_m = guidance ? guidance->step_m : setup.rescuer.search.step_length_m;
     const Vec3 before = pose.position;

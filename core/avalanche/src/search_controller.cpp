@@ -29,8 +29,14 @@ void check(const char* key, double v, double lo, double hi, bool lo_open) {
 constexpr double kPatternRegrowth = 1.5;
 
 /// Epochs without a sample that a rescuer confirming a FOUND, or walking a probe pattern, waits
-/// on a probe point: a period is at most 1.3 s, so three say the signal is not heard there.
+/// on a probe point: a period is at most 1.3 s, so three say the signal is not heard there ...
 constexpr std::uint32_t kConfirmWaits = 3;
+/// ... unless its samples have lately come further apart (pulses lost under other victims'),
+/// then as long as the longest recent gap, up to this many epochs. Seen: a victim 0.2 m deep
+/// heard every 6-8 epochs under a carrier-mate's pulses; the rescuer left each probe point
+/// after 3, was back on the estimate when the next sample came, and never completed the
+/// confirmation in 750 s (4 victims, seed 1, trial 48).
+constexpr std::uint32_t kMaxConfirmWaits = 10;
 
 /// Within this distance (m) of a probe point the rescuer stands on it: no step is needed.
 constexpr double kOnProbePoint = 0.01;
@@ -166,6 +172,8 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
   g.signal_id = meas.signal_id;
   g.stamp = meas.stamp;
   returning_ = false;
+  recent_gaps_[gap_slot_++ % recent_gaps_.size()] = coasts_since_sample_;
+  coasts_since_sample_ = 0;
   if (!filter.initialised()) {
     g.mode = mode_;
     g.step_m = 0.0;
@@ -341,12 +349,15 @@ Guidance SearchController::coast(const SogFilter& filter) {
   g.distance_m = p.head<2>().norm();
   g.uncertainty_radius_m = radius95_2d(mm.covariance.block<3, 3>(idx::kPos, idx::kPos));
   g.heading_rad = std::atan2(p.y(), p.x());
+  ++coasts_since_sample_;
+  const std::uint32_t patience =
+      std::clamp(*std::max_element(recent_gaps_.begin(), recent_gaps_.end()), kConfirmWaits, kMaxConfirmWaits);
   const bool waiting = mode_ == GuidanceMode::kFineSearch && (found_streak_ > 0 || probe_point_pending_);
-  if (waiting && confirm_waits_ == kConfirmWaits && probe_point_pending_) {
+  if (waiting && confirm_waits_ == patience && probe_point_pending_) {
     --pattern_next_;  // no sample was taken on that point of the pattern: it is walked again
     probe_point_pending_ = false;
   }
-  if (waiting && confirm_waits_ < kConfirmWaits) {
+  if (waiting && confirm_waits_ < patience) {
     // Confirming, or walking a probe pattern: wait on the probe point for the signal's next
     // sample (a point visited without one says nothing: seen, a signal heard every eighth epoch
     // "completed" a pattern from one spot and was found 1.2 m off), but not for ever: a signal

@@ -188,48 +188,62 @@ Scenario victim_15_m_away() {
   return s;
 }
 
-// A signal heard only every third epoch (its pulses lost under other transmitters' in between):
-// the rescuer coasts between samples. The samples that confirm a FOUND after the first one were
-// taken beside the estimate, not on it: coasting waits on the probe point. Before, coasting
-// walked back onto the estimate and three samples from one spot confirmed a ghost.
-TEST(SearchControllerTest, ConfirmingSamplesOfASparseSignalAreTakenBesideTheEstimate) {
+// A signal heard only every `every`-th epoch (its pulses lost under other transmitters' in
+// between): the rescuer coasts between samples. Found within `max_epochs`, 0.5 m of the truth;
+// the samples that confirm the FOUND after the first one were taken beside the estimate, not on
+// it, because coasting waits on the probe point: as long as the signal's gaps have been (3 to 10
+// epochs), then no longer (a signal not heard there must not hold the rescuer for ever).
+void expect_a_sparse_signal_confirmed_beside_the_estimate(int every, int max_epochs) {
   const Scenario s = victim_15_m_away();
   AvalancheSimulator sim(SimulationConfig{}, s, 6);
   SogConfig cfg;
   cfg.initial_components = 500;
   SogFilter f(cfg);
   SearchController ctl;
-  std::vector<double> guided_distance;  // rescuer to estimate at each guided sample
+  const int patience = std::max(3, every - 1);  // epochs coasted between two samples
+  std::vector<double> guided_distance;          // rescuer to estimate at each guided sample
   bool found = false;
   int waits_seen = 0;
-  for (int step = 0; step < 400 && !found; ++step) {
+  for (int step = 0; step < max_epochs && !found; ++step) {
     Guidance g;
-    if (step % 3 == 0) {
+    if (step % every == 0) {
       const FieldMeasurement z = sim.measure();
       f.process(z);
       g = ctl.guide(f, z);
       guided_distance.push_back(g.distance_m);
       found = g.mode == GuidanceMode::kFound;
-      // Waiting on a probe point lasts three epochs at most: a signal not heard there must not
-      // hold the rescuer for ever.
       SearchController waiting = ctl;
-      if (!found && waiting.coast(f).step_m == 0.0) {
+      if (!found && step > 0 && waiting.coast(f).step_m == 0.0) {
         ++waits_seen;
-        EXPECT_EQ(waiting.coast(f).step_m, 0.0);
-        EXPECT_EQ(waiting.coast(f).step_m, 0.0);
-        EXPECT_GT(waiting.coast(f).step_m, 0.0) << "still waiting after three epochs";
+        for (int k = 2; k <= patience; ++k) EXPECT_EQ(waiting.coast(f).step_m, 0.0) << "left the probe point after " << k;
+        EXPECT_GT(waiting.coast(f).step_m, 0.0) << "still waiting after " << patience << " epochs";
       }
     } else {
       g = ctl.coast(f);
     }
     f.add_odometry(sim.walk(g.bearing_rad, g.step_m));
   }
-  ASSERT_TRUE(found);
+  ASSERT_TRUE(found) << "heard every " << every << " epochs: never confirmed in " << max_epochs;
   const auto n = static_cast<std::size_t>(ctl.config().found_confirmations);
   ASSERT_GE(guided_distance.size(), n);
   for (std::size_t i = guided_distance.size() - n + 1; i < guided_distance.size(); ++i)
     EXPECT_GE(guided_distance[i], 0.5 * ctl.config().found_distance_m) << "confirming sample " << i;
   EXPECT_GE(waits_seen, 1);
+  EXPECT_LT((f.estimate(0).relative.position - sim.true_relative_position()).norm(), 0.5);
+}
+
+// Every third epoch. Before, coasting walked back onto the estimate and three samples from one
+// spot confirmed a ghost.
+TEST(SearchControllerTest, ConfirmingSamplesOfASparseSignalAreTakenBesideTheEstimate) {
+  expect_a_sparse_signal_confirmed_beside_the_estimate(3, 400);
+}
+
+// Every seventh epoch (seen: a victim 0.2 m deep whose pulses were lost under a carrier-mate's six
+// times in seven). Waiting three epochs on a probe point, the rescuer was back on the estimate
+// whenever the next sample came, and never confirmed the FOUND (750 s, 4 victims seed 1 trial 48;
+// here: never in 600 epochs).
+TEST(SearchControllerTest, ARarelyHeardSignalIsWaitedForOnTheProbePoint) {
+  expect_a_sparse_signal_confirmed_beside_the_estimate(7, 600);
 }
 
 // A deep victim: the confirming samples are taken confirm_probe_per_depth times its depth below

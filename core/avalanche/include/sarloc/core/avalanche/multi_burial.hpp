@@ -15,9 +15,11 @@
 //   MultiBurialSummary s = run_multi_burial(setup, [&] { bar.tick(); });
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "sarloc/core/avalanche/evaluation.hpp"
+#include "sarloc/core/avalanche/pulse_train.hpp"
 #include "sarloc/core/avalanche/rescuer_search.hpp"
 
 namespace sarloc::avalanche {
@@ -86,7 +88,38 @@ struct MultiBurialSummary {
   std::vector<MultiBurialTrial> per_trial;
 };
 
-MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint32_t index);
+/// What one trial did, for a step-by-step trace (sarloc-eval multi-burial --trace-trial N).
+struct MultiBurialTraceVictim {
+  Vec3 position = Vec3::Zero();  ///< truth, in the search frame (the rescuer starts at the origin)
+  double moment_am2 = 0.0;
+  TransmitterTiming timing;
+};
+/// One processed sample of one signal.
+struct MultiBurialTraceSample {
+  std::uint32_t signal_id = 0;
+  std::uint8_t valid_axes = 0;
+  std::optional<std::size_t> majority_victim;  ///< the transmitter most of its pulses came from
+  std::optional<VictimEstimate> estimate;      ///< as updated by this sample
+  Vec3 estimate_at = Vec3::Zero();             ///< the estimate placed in the search frame
+  std::optional<Guidance> guidance;            ///< when the sample is the target's
+};
+/// One step (1 s): the samples, then where the rescuer was sent.
+struct MultiBurialTraceStep {
+  std::uint32_t step = 0;
+  std::vector<MultiBurialTraceSample> samples;
+  Vec3 rescuer = Vec3::Zero();                 ///< before the step walked
+  std::optional<std::uint32_t> target;
+  std::optional<Guidance> guidance;            ///< what the rescuer walked (none: the primary line)
+  std::uint32_t unattributed_pulses = 0;
+  std::uint32_t found = 0;                     ///< victims found so far
+};
+struct MultiBurialTraceObserver {
+  std::function<void(const std::vector<MultiBurialTraceVictim>&)> victims;
+  std::function<void(const MultiBurialTraceStep&)> step;
+};
+
+MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint32_t index,
+                                        const MultiBurialTraceObserver* trace = nullptr);
 MultiBurialSummary run_multi_burial(const MultiBurialSetup& setup, const std::function<void()>& on_trial_done = {},
                                     const std::function<bool()>& cancelled = {});
 

@@ -48,6 +48,7 @@
 //
 //   SearchController ctl(SearchConfig{});
 //   Guidance g = ctl.guide(filter, measurement);   // after filter.process(measurement)
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -203,6 +204,9 @@ class SearchController {
   std::uint32_t found_streak_ = 0;         ///< consecutive guided samples that said "found"
   std::uint32_t confirm_waits_ = 0;        ///< coasts on the probe point since the last sample
   bool probe_point_pending_ = false;       ///< counted a pattern point whose sample is yet to come
+  std::uint32_t coasts_since_sample_ = 0;  ///< epochs coasted since the last guided sample
+  std::array<std::uint32_t, 8> recent_gaps_{};  ///< epochs coasted between the last 8 guided samples
+  std::size_t gap_slot_ = 0;
 
   /// Adaptive end, in fine search: feeds the stall watch, lays out, walks or drops the probe
   /// pattern. Sets `heading`/`step` while a pattern is walked; true once it is complete.
