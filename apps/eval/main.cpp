@@ -129,6 +129,15 @@ void print_multi_burial(const av::MultiBurialSummary& s, const av::EvaluationSum
   std::printf("%-34s %10s %10.1f %10.1f   (single burial, same seed and trials, x %u)\n", "N x single-burial steps", "",
               s.victims * single.steps.mean, s.victims * single.steps.median, s.victims);
   std::printf("%-34s %.2f s\n", "Wall clock", s.wall_s);
+  // The trials to look at, each traceable with --trace-trial N.
+  bool any = false;
+  for (const auto& t : s.per_trial) {
+    if (t.all_found && t.ghosts == 0 && t.duplicates == 0) continue;
+    if (!any) std::printf("Trials to trace (--trace-trial N):\n");
+    any = true;
+    std::printf("  trial %3u: found %u of %u, ghosts %u, twice %u, %u signals, carriers %.2f Hz apart at least\n",
+                t.index, t.found, s.victims, t.ghosts, t.duplicates, t.signals, t.min_carrier_gap_hz);
+  }
 }
 
 }  // namespace

@@ -103,17 +103,25 @@ TEST(Mission, FourVictimsWithinFiveMetresNeverGiveAGhostOrAVictimTwice) {
     EXPECT_TRUE(v["matches_a_buried_victim"].get<bool>()) << "a ghost or a victim twice: " << v.dump();
   }
   EXPECT_LE(confirmed, 4) << "a victim twice: " << run.summary["fused_victims"].dump();
-  int found = 0;
+  int found_by_finder = 0;
   for (const auto& v : run.summary["victims"]) {
     EXPECT_EQ(v.value("false_found", 0), 0) << v.dump();
+    if (v["found_by_finder"].get<bool>()) {
+      ++found_by_finder;
+      ASSERT_FALSE(v["relative_error_m"].is_null()) << v.dump();
+      EXPECT_LE(v["relative_error_m"].get<double>(), 0.5) << v.dump();
+    }
     if (!v["found"].get<bool>()) continue;
-    ++found;
     ASSERT_FALSE(v["error_m"].is_null()) << v.dump();
     EXPECT_LE(v["error_m"].get<double>(), 1.0) << v.dump();
-    ASSERT_FALSE(v["relative_error_m"].is_null()) << v.dump();
-    EXPECT_LE(v["relative_error_m"].get<double>(), 0.5) << v.dump();
   }
-  EXPECT_GE(found, 3) << file_text(run.run_dir / "mission.out");
+  // The separation's regression check: at least three victims found on the devices and
+  // confirmed in the picture. Not "FOUND in the picture": a device's FOUND can stay out of the
+  // picture, which then shows the victim LOCATED (docs/estimation/avalanche.md, "Left"; seen in
+  // the fresh-clone CI of 2026-11-27 under load: C FOUND by r1 and confirmed from two other
+  // devices' sources, LOCATED in the picture).
+  EXPECT_GE(found_by_finder, 3) << file_text(run.run_dir / "mission.out");
+  EXPECT_GE(confirmed, 3) << file_text(run.run_dir / "mission.out");
 }
 
 TEST(Mission, KilledRescuerIsReportedLinkLostWithinTheLease) {
