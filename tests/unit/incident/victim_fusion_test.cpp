@@ -630,6 +630,37 @@ TEST(VictimFusion, TimedOutSourcesLeaveButTheVictimStays) {
   EXPECT_TRUE(f.victims()[0].sources.empty());
 }
 
+// Two victims FOUND 1.5 m apart, each by a rescuer holding a signal in both (so kept apart),
+// inside each other's merge gate. Once the rescuers walk off and every source times out, nothing
+// new says they are one: both stay, where they were found (seen live: merged into one confirmed
+// victim far from both, four within 5 m).
+TEST(VictimFusion, TwoConfirmedVictimsThatLostEverySourceStayApart) {
+  VictimFusionConfig c;
+  c.source_timeout_s = 5.0;
+  VictimFusion f(c);
+  const Vec3 a(0, 0, -1.2), d(1.0, 0.5, -2.2);
+  for (int k = 0; k < 3; ++k) {
+    const TimestampNs t = k * kSec;
+    f.update(src("r1", 1, t, a, 0.35, EstimatorStatus::kFound));
+    f.update(src("r1", 2, t, d, 0.35, EstimatorStatus::kFound));
+    f.update(src("r2", 1, t, a, 0.35, EstimatorStatus::kFound));
+    f.update(src("r2", 2, t, d, 0.35, EstimatorStatus::kFound));
+    f.step(t);
+  }
+  ASSERT_EQ(f.victims().size(), 2u);
+  for (const auto& v : f.victims()) EXPECT_EQ(v.state, VictimState::kFound);
+  f.step(20 * kSec);  // every source timed out
+  ASSERT_EQ(f.victims().size(), 2u) << "two found victims merged without new evidence";
+  for (const auto& v : f.victims()) {
+    EXPECT_TRUE(v.sources.empty());
+    EXPECT_LT(std::min((v.position.position - a).norm(), (v.position.position - d).norm()), 0.2);
+  }
+  // An unconfirmed source arriving near one of them still joins it: no duplicate.
+  f.update(src("r3", 7, 21 * kSec, a + Vec3(0.1, 0, 0), 0.3));
+  f.step(21 * kSec);
+  EXPECT_EQ(f.victims().size(), 2u);
+}
+
 // ---------------------------------------------------------------------------------------------
 // The hard case: two victims 8 m apart, three rescuers each seeing both, GNSS error per
 // rescuer (bias common to all its signals, slowly varying), estimate noise 0.2 m, signals

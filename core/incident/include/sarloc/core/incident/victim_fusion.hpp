@@ -33,7 +33,9 @@
 //   5. merge: two victims whose fused estimates are inside each other's gate (d^2 with summed
 //      covariances <= chi2_3(merge_gate_probability)) and that hold no two sources of the same
 //      rescuer are merged, closest pair first; the lower id survives, the other is reported by
-//      take_removed(). An unconfirmed victim that lost all its sources to re-association (never
+//      take_removed(). Two confirmed victims never merge once one of them has lost every
+//      source (nothing new says they are one).
+//      An unconfirmed victim that lost all its sources to re-association (never
 //      to a timeout) is a ghost of a wrong association and is removed the same way;
 //   Repeats (one transmitter split into two signals by a reporter's separation: the reporter
 //      says so, VictimEstimate::repeat, from the latest estimate of any of its estimators):
