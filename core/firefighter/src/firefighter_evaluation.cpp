@@ -194,25 +194,19 @@ VariantTrace run_filter(const FloorPlan& plan, const NavigableGrid& grid, const 
     trace.error.push_back(err.norm());
     trace.wrong_floor.push_back(e.floor != m.truth_floor[k] ? 1 : 0);
     trace.particles.push_back(pf.particles().size());
+    const bool last = k + 1 == m.delta.size();
     if (e.converged) {
-      ++trace.converged;
       const Eigen::Matrix2d P = e.covariance + 1e-9 * Eigen::Matrix2d::Identity();
-      const bool outside = err.dot(P.ldlt().solve(err)) > kChi2TwoDof99;
+      const double nees = err.dot(P.ldlt().solve(err));
+      const bool outside = nees > kChi2TwoDof99;
+      ++trace.converged;
       trace.converged_wrong += outside ? 1 : 0;
       trace.confirmed += e.confirmed ? 1 : 0;
       trace.confirmed_wrong += e.confirmed && outside ? 1 : 0;
+      if (m.t[k] >= 150.0) trace.nees_late.push_back(nees);
+      if (last) trace.nees_end = nees;
     }
-    if (e.converged && m.t[k] >= 150.0) {
-      const Eigen::Matrix2d P = e.covariance + 1e-9 * Eigen::Matrix2d::Identity();
-      trace.nees_late.push_back(err.dot(P.ldlt().solve(err)));
-    }
-    if (k + 1 == m.delta.size()) {
-      trace.converged_at_end = e.converged && err.norm() <= 2.0;
-      if (e.converged) {
-        const Eigen::Matrix2d P = e.covariance + 1e-9 * Eigen::Matrix2d::Identity();
-        trace.nees_end = err.dot(P.ldlt().solve(err));
-      }
-    }
+    if (last) trace.converged_at_end = e.converged && err.norm() <= 2.0;
   }
   return trace;
 }
