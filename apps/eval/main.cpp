@@ -101,16 +101,23 @@ void print_multi_burial(const av::MultiBurialSummary& s, const av::EvaluationSum
               s.spread_m, s.trials, static_cast<unsigned long long>(s.seed));
   std::printf("%-34s %u of %u (%.1f %%)\n", "All victims found", s.all_found, s.trials,
               s.trials > 0 ? 100.0 * s.all_found / s.trials : 0.0);
-  // Two carriers within one frequency cell can only be told apart by timing and field.
-  constexpr double kCellHz = 10.0;
-  unsigned close = 0, close_found = 0;
+  // Two carriers within one frequency cell can only be told apart by timing and field; a pair in
+  // lockstep (pulses overlapping at every pulse for the first kLockstepS) by the field alone.
+  constexpr double kLockstepS = 300.0;
+  unsigned close = 0, close_found = 0, lockstep = 0, lockstep_found = 0;
   for (const auto& t : s.per_trial) {
-    if (t.min_carrier_gap_hz >= kCellHz) continue;
+    if (t.lockstep_s >= kLockstepS) {
+      ++lockstep;
+      if (t.all_found) ++lockstep_found;
+    }
+    if (t.min_carrier_gap_hz >= av::kCarrierCellHz) continue;
     ++close;
     if (t.all_found) ++close_found;
   }
   std::printf("%-34s %u of %u with two carriers < %.0f Hz apart; %u of %u with all further apart\n", "  of which",
-              close_found, close, kCellHz, s.all_found - close_found, s.trials - close);
+              close_found, close, av::kCarrierCellHz, s.all_found - close_found, s.trials - close);
+  std::printf("%-34s %u of %u with a pair in lockstep (one carrier cell, every pulse overlapping for %.0f s or more)\n",
+              "  of which", lockstep_found, lockstep, kLockstepS);
   std::printf("%-34s %u\n", "Ghosts (FOUND near no victim)", s.ghosts);
   std::printf("%-34s %u\n", "Victims reported twice", s.duplicates);
   std::printf("%-34s %u   of another transmitter %u   suspected %u   trials with any %u\n",
@@ -135,8 +142,8 @@ void print_multi_burial(const av::MultiBurialSummary& s, const av::EvaluationSum
     if (t.all_found && t.ghosts == 0 && t.duplicates == 0) continue;
     if (!any) std::printf("Trials to trace (--trace-trial N):\n");
     any = true;
-    std::printf("  trial %3u: found %u of %u, ghosts %u, twice %u, %u signals, carriers %.2f Hz apart at least\n",
-                t.index, t.found, s.victims, t.ghosts, t.duplicates, t.signals, t.min_carrier_gap_hz);
+    std::printf("  trial %3u: found %u of %u, ghosts %u, twice %u, %u signals, carriers %.2f Hz apart at least, in lockstep %.0f s\n",
+                t.index, t.found, s.victims, t.ghosts, t.duplicates, t.signals, t.min_carrier_gap_hz, t.lockstep_s);
   }
 }
 

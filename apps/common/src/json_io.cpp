@@ -117,7 +117,8 @@ nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
                               {"steps", t.steps},
                               {"distance_m", t.distance_m},
                               {"signals", t.signals},
-                              {"min_carrier_gap_hz", t.min_carrier_gap_hz}});
+                              {"min_carrier_gap_hz", t.min_carrier_gap_hz},
+                              {"lockstep_s", std::isfinite(t.lockstep_s) ? t.lockstep_s : -1.0}});
   }
   return j;
 }

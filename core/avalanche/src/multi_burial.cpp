@@ -73,9 +73,14 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
 
   BeaconReceiver receiver(sim, derive_seed(setup.evaluation.seed, 0x5EED0000ULL + index));
   double min_gap = 2.0 * sim.receiver.carrier_tolerance_hz;
+  double lockstep_s = 0.0;
   for (std::size_t a = 0; a < beacons.size(); ++a)
-    for (std::size_t b = a + 1; b < beacons.size(); ++b)
-      min_gap = std::min(min_gap, std::fabs(beacons[a].timing.carrier_offset_hz - beacons[b].timing.carrier_offset_hz));
+    for (std::size_t b = a + 1; b < beacons.size(); ++b) {
+      const double gap = std::fabs(beacons[a].timing.carrier_offset_hz - beacons[b].timing.carrier_offset_hz);
+      min_gap = std::min(min_gap, gap);
+      if (gap < kCarrierCellHz)
+        lockstep_s = std::max(lockstep_s, pulses_overlap_for_s(beacons[a].timing, beacons[b].timing));
+    }
   RescuerSearch search("sim", setup.rescuer);
   // The device's separation asks each signal's filter when carrier and timing cannot decide.
   receiver.separator().set_consistency([&search](std::uint32_t signal, const Vec3& field, const Vec3& noise,
@@ -83,7 +88,8 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
   MultiBurialTrial tr;
   tr.index = index;
   tr.min_carrier_gap_hz = min_gap;
-  std::set<std::size_t> found_victims;
+  tr.lockstep_s = lockstep_s;
+  std::vector<FoundClaim> founds;
   std::set<std::uint32_t> reported, signals, retired, suspected;
   std::map<std::uint32_t, std::size_t> victim_found_by;  // signal -> the victim its FOUND was scored as
   std::uint64_t odometry_sequence = 0;
@@ -130,15 +136,17 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
       if (!update->estimate || update->estimate->status != EstimatorStatus::kFound || reported.count(m.signal_id) != 0)
         continue;
       reported.insert(m.signal_id);
-      // A FOUND: is it a victim, one not found before? (found_victim.hpp)
+      // A FOUND: which victim it names, the FOUNDs so far matched to distinct victims (found_victim.hpp).
       const Vec3 where = pose.position + update->estimate->relative.position;
-      const auto victim = victim_of_found(where, found_reach(update->estimate->relative.covariance), victim_positions,
-                                          receiver.majority_beacon_of_signal(m.signal_id));
-      if (victim) victim_found_by[m.signal_id] = *victim;
-      if (!victim) ++tr.ghosts;
-      else if (!found_victims.insert(*victim).second) ++tr.duplicates;
+      const FoundClaim claim{where, update->estimate->relative.covariance, receiver.majority_beacon_of_signal(m.signal_id)};
+      if (const auto victim = victim_of_found(where, found_reach(claim.covariance), victim_positions, claim.own))
+        victim_found_by[m.signal_id] = *victim;
+      founds.push_back(claim);
+      const FoundMatching matched = match_founds(founds, victim_positions);
+      tr.found = static_cast<std::uint32_t>(matched.found);
+      tr.ghosts = static_cast<std::uint32_t>(matched.ghosts);
+      tr.duplicates = static_cast<std::uint32_t>(matched.duplicates);
     }
-    tr.found = static_cast<std::uint32_t>(found_victims.size());
     tr.steps = step;
     auto emit_trace = [&](const std::optional<Guidance>& walked) {
       if (!trace || !trace->step) return;

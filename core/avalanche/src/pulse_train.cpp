@@ -1,6 +1,7 @@
 #include "sarloc/core/avalanche/pulse_train.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include "sarloc/core/avalanche/dipole_model.hpp"
 
@@ -24,6 +25,20 @@ std::vector<double> TransmitterTiming::starts_in(double t0, double t1) const {
   for (double start = first_start_s + k * period_s; start < t1; start = first_start_s + (++k) * period_s)
     if (start + on_time_s > t0) starts.push_back(start);
   return starts;
+}
+
+double pulses_overlap_for_s(const TransmitterTiming& a, const TransmitterTiming& b) {
+  // b's start relative to the nearest start of a drifts by (Tb - Ta) per period of a, linearly:
+  // the overlap holds until the gap leaves (-on_b, on_a). (That window is narrower than half a
+  // period, so the gap cannot wrap back into it.)
+  const double first_gap = b.first_start_s - a.first_start_s;
+  const double offset = first_gap - a.period_s * std::round(first_gap / a.period_s);
+  if (!(offset > -b.on_time_s && offset < a.on_time_s)) return 0.0;
+  const double drift = b.period_s - a.period_s;
+  if (drift == 0.0) return std::numeric_limits<double>::infinity();
+  const double room = drift > 0.0 ? a.on_time_s - offset : offset + b.on_time_s;
+  // Pulses k = 0 .. K overlap, K the last whole period before the gap leaves.
+  return std::ceil(room / std::fabs(drift)) * a.period_s;
 }
 
 namespace {

@@ -36,6 +36,9 @@ struct MultiBurialSetup {
   void validate() const;
 };
 
+/// About 1 / on-time: two carriers this close fall in one frequency cell of the detector.
+inline constexpr double kCarrierCellHz = 10.0;
+
 struct MultiBurialTrial {
   std::uint32_t index = 0;
   std::uint32_t found = 0;          ///< distinct victims found correctly
@@ -62,6 +65,11 @@ struct MultiBurialTrial {
   /// Truth: the smallest carrier-offset difference between two of its transmitters (Hz). Under
   /// about 1 / on-time (5-14 Hz) two carriers fall in one frequency cell of the detector.
   double min_carrier_gap_hz = 0.0;
+  /// Truth: of the pairs of transmitters whose carriers lie within one frequency cell
+  /// (kCarrierCellHz), the longest time from the start that their pulses overlap at every pulse
+  /// (s; pulses_overlap_for_s). All that time carrier and timing cannot tell them apart, only the
+  /// field can.
+  double lockstep_s = 0.0;
 };
 
 struct MultiBurialSummary {

@@ -29,6 +29,12 @@ struct TransmitterTiming {
   std::vector<double> starts_in(double t0, double t1) const;
 };
 
+/// How long (s, from a's first pulse) every pulse of `a` overlaps a pulse of `b` in time: 0 if
+/// their first pulses do not overlap, infinity for equal periods that do. Two trains whose periods
+/// differ by 0.2 ms and that start overlapped stay so for about on-time / 0.2 ms periods (10 min
+/// at 130 ms): all that time the receiver hears every pulse of one summed with the other's.
+double pulses_overlap_for_s(const TransmitterTiming& a, const TransmitterTiming& b);
+
 /// One pulse as it reaches the antennas: s_i(t) = amplitude_i e^{j 2 pi f t} (t absolute, s)
 /// for t in [start, end), zero otherwise.
 struct IncomingPulse {
