@@ -120,6 +120,9 @@ void print_multi_burial(const av::MultiBurialSummary& s, const av::EvaluationSum
               "  of which", lockstep_found, lockstep, kLockstepS);
   std::printf("%-34s %u\n", "Ghosts (FOUND near no victim)", s.ghosts);
   std::printf("%-34s %u\n", "Victims reported twice", s.duplicates);
+  std::printf("%-34s %u of %u (%.1f %%, an honest radius leaves 5 %%)   worst error / radius %.2f\n",
+              "FOUNDs outside their 95 % radius", s.founds_outside_radius, s.founds,
+              s.founds > 0 ? 100.0 * s.founds_outside_radius / s.founds : 0.0, s.worst_found_error_to_radius);
   std::printf("%-34s %u   of another transmitter %u   suspected %u   trials with any %u\n",
               "Repeats retired (same transmitter)", s.repeats_retired, s.repeats_wrong, s.repeats_suspected,
               s.trials_with_repeats);

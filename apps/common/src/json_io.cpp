@@ -87,6 +87,9 @@ nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
   j["all_found"] = s.all_found;
   j["ghosts"] = s.ghosts;
   j["duplicates"] = s.duplicates;
+  j["founds"] = s.founds;
+  j["founds_outside_radius"] = s.founds_outside_radius;
+  j["worst_found_error_to_radius"] = s.worst_found_error_to_radius;
   j["repeats_retired"] = s.repeats_retired;
   j["repeats_wrong"] = s.repeats_wrong;
   j["repeats_suspected"] = s.repeats_suspected;
@@ -107,6 +110,9 @@ nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
                               {"all_found", t.all_found},
                               {"ghosts", t.ghosts},
                               {"duplicates", t.duplicates},
+                              {"founds", t.founds},
+                              {"founds_outside_radius", t.founds_outside_radius},
+                              {"worst_found_error_to_radius", t.worst_found_error_to_radius},
                               {"repeats_retired", t.repeats_retired},
                               {"repeats_wrong", t.repeats_wrong},
                               {"repeats_suspected", t.repeats_suspected},

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -176,6 +177,20 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
     o.interval_end = stamp + 1'000'000'000;
     search.add_odometry(o);
   }
+  // Each FOUND against the victim it was matched to (else the nearest): inside its stated radius?
+  const FoundMatching matched = match_founds(founds, victim_positions);
+  for (std::size_t f = 0; f < founds.size(); ++f) {
+    double error = std::numeric_limits<double>::infinity();
+    if (matched.victim[f]) {
+      error = (victim_positions[*matched.victim[f]] - founds[f].position).norm();
+    } else {
+      for (const Vec3& v : victim_positions) error = std::min(error, (v - founds[f].position).norm());
+    }
+    const double ratio = error / std::max(radius95_3d(founds[f].covariance), 1e-9);
+    ++tr.founds;
+    if (ratio > 1.0) ++tr.founds_outside_radius;
+    tr.worst_found_error_to_radius = std::max(tr.worst_found_error_to_radius, ratio);
+  }
   tr.signals = static_cast<std::uint32_t>(signals.size());
   tr.leaps = static_cast<std::uint32_t>(search.leaps());
   tr.implausible_rebuilds = static_cast<std::uint32_t>(search.implausible_rebuilds());
@@ -203,6 +218,9 @@ MultiBurialSummary run_multi_burial(const MultiBurialSetup& setup, const std::fu
     }
     s.ghosts += r.ghosts;
     s.duplicates += r.duplicates;
+    s.founds += r.founds;
+    s.founds_outside_radius += r.founds_outside_radius;
+    s.worst_found_error_to_radius = std::max(s.worst_found_error_to_radius, r.worst_found_error_to_radius);
     s.repeats_retired += r.repeats_retired;
     s.repeats_wrong += r.repeats_wrong;
     s.repeats_suspected += r.repeats_suspected;

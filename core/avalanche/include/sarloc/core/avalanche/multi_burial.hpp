@@ -45,6 +45,12 @@ struct MultiBurialTrial {
   bool all_found = false;
   std::uint32_t ghosts = 0;
   std::uint32_t duplicates = 0;
+  /// FOUNDs made, and of those, the ones whose victim (the one matched to it, else the nearest)
+  /// lies outside the 95 % radius the FOUND stated: an honest radius leaves about 5 %.
+  std::uint32_t founds = 0;
+  std::uint32_t founds_outside_radius = 0;
+  /// The largest distance to that victim over the stated 95 % radius (1: on the radius).
+  double worst_found_error_to_radius = 0.0;
   /// Signals retired as confirmed repeats of a found one (RescuerSearchConfig::same_transmitter_*),
   /// and of those, how many carried mostly another transmitter than the victim found (a victim
   /// the test hid).
@@ -80,6 +86,9 @@ struct MultiBurialSummary {
   std::uint32_t all_found = 0;
   std::uint32_t ghosts = 0;
   std::uint32_t duplicates = 0;
+  std::uint32_t founds = 0;
+  std::uint32_t founds_outside_radius = 0;
+  double worst_found_error_to_radius = 0.0;
   std::uint32_t repeats_retired = 0;
   std::uint32_t repeats_wrong = 0;
   std::uint32_t repeats_suspected = 0;
