@@ -5,6 +5,7 @@
 //   sarloc-eval multi-burial --victims 3 --spread 5 [--trials N] [--seed S] [--json FILE]
 //                            [--trace-trial N]
 //   sarloc-eval firefighter --building FILE --runs N --seed S [--json FILE] [--plot FILE.svg]
+//   sarloc-eval detector [--scenario single|nested-pair|together|all] [--draws N] [--seed S] [--json FILE]
 //
 // Prints a table in the layout of seed 000, Table I, plus timing and NEES consistency, and the
 // same figures as JSON. Exit codes (sarloc::app::ExitCode): 0 all accuracy/consistency targets
@@ -21,6 +22,7 @@
 #include <string>
 
 #include "eval_config.hpp"
+#include "detector_command.hpp"
 #include "firefighter_command.hpp"
 #include "trial_trace.hpp"
 #include "sarloc/app/command_line.hpp"
@@ -208,6 +210,8 @@ int main(int argc, char** argv) {
   multi->add_option("--trace-trial", multi_trace, "print one trial step by step and exit");
   sarloc::eval::FirefighterOptions firefighter_options;
   auto* firefighter = sarloc::eval::add_firefighter_command(app, firefighter_options);
+  sarloc::eval::DetectorOptions detector_options;
+  auto* detector = sarloc::eval::add_detector_command(app, detector_options);
   if (auto code = sarloc::app::parse_command_line(app, argc, argv)) return *code;
   try {
     sarloc::app::setup_logging(log_level, "sarloc-eval");
@@ -218,6 +222,7 @@ int main(int argc, char** argv) {
   sarloc::app::install_shutdown_handlers();
 
   if (firefighter->parsed()) return sarloc::eval::run_firefighter_command(firefighter_options);
+  if (detector->parsed()) return sarloc::eval::run_detector_command(detector_options);
   if (multi->parsed()) {
     av::EvaluationSetup base;
     try {

@@ -140,6 +140,9 @@ class SignalSeparator {
   std::size_t tracks() const { return tracks_.size(); }
   /// Carrier offset of a tracked signal (Hz), nullopt if unknown.
   std::optional<double> carrier_of(std::uint32_t signal_id) const;
+  /// Overlapping pulses on one carrier: noisier than max_variance_inflation allows, blended, or
+  /// elliptical. No track can take it (the others are let through to the tracks).
+  bool unseparable(const DetectedPulse& p) const;
 
  private:
   struct Track {
@@ -171,9 +174,6 @@ class SignalSeparator {
   /// window when the period is short enough for any phase), nullopt if none is sure to.
   std::optional<std::pair<double, double>> whole_pulse_due(const Track& t, double w0, double w1) const;
   bool elliptical(const DetectedPulse& p) const;
-  /// Overlapping pulses on one carrier: noisier than max_variance_inflation allows, blended, or
-  /// elliptical. No track can take it.
-  bool unseparable(const DetectedPulse& p) const;
   /// The mate knows its timing, was heard within 1.5 periods and predicts its pulse clear of
   /// this one (its learnt on-time, widened by its gate and on_time_tolerance_s).
   bool clear_of_timing(const Track& mate, const DetectedPulse& p) const;
