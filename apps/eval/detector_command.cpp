@@ -10,18 +10,15 @@
 #include "sarloc/app/exit_codes.hpp"
 #include "sarloc/core/avalanche/detector_bench.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/statistics.hpp"
 
 namespace sarloc::eval {
 namespace {
 
 namespace av = sarloc::avalanche;
 using app::ExitCode;
+using sarloc::percentile;
 using app::to_int;
-
-double quantile(const std::vector<double>& sorted, double q) {
-  if (sorted.empty()) return 0.0;
-  return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1) + 0.5)];
-}
 
 }  // namespace
 
@@ -64,8 +61,8 @@ int run_detector_command(const DetectorOptions& options) {
     const auto& rel = r.error_relative;
     std::printf("%-12s %7u %8u %7u (%3u) %8zu | %7.2f / %6.2f / %7.1f %5u %5u | %8.3f / %8.3f %5u | %5.3f Hz %4.0f %%\n",
                 av::to_string(scenario), r.pulses, r.spurious, r.let_through, r.let_through_spurious, e.size(),
-                quantile(e, 0.5), quantile(e, 0.9), e.empty() ? 0.0 : e.back(), r.beyond_10_sigma, r.beyond_50_sigma,
-                quantile(rel, 0.5), quantile(rel, 0.9), r.beyond_5_percent, r.carrier_error_median_hz,
+                percentile(e, 0.5), percentile(e, 0.9), e.empty() ? 0.0 : e.back(), r.beyond_10_sigma, r.beyond_50_sigma,
+                percentile(rel, 0.5), percentile(rel, 0.9), r.beyond_5_percent, r.carrier_error_median_hz,
                 100.0 * r.edges_exact_share);
     out.push_back({{"scenario", av::to_string(scenario)},
                    {"draws", r.draws},
@@ -75,10 +72,10 @@ int run_detector_command(const DetectorOptions& options) {
                    {"let_through", r.let_through},
                    {"let_through_spurious", r.let_through_spurious},
                    {"matched", e.size()},
-                   {"error_sigma", {{"median", quantile(e, 0.5)}, {"p90", quantile(e, 0.9)}, {"max", e.empty() ? 0.0 : e.back()}}},
+                   {"error_sigma", {{"median", percentile(e, 0.5)}, {"p90", percentile(e, 0.9)}, {"max", e.empty() ? 0.0 : e.back()}}},
                    {"beyond_10_sigma", r.beyond_10_sigma},
                    {"beyond_50_sigma", r.beyond_50_sigma},
-                   {"error_relative", {{"median", quantile(rel, 0.5)}, {"p90", quantile(rel, 0.9)}, {"max", rel.empty() ? 0.0 : rel.back()}}},
+                   {"error_relative", {{"median", percentile(rel, 0.5)}, {"p90", percentile(rel, 0.9)}, {"max", rel.empty() ? 0.0 : rel.back()}}},
                    {"beyond_5_percent", r.beyond_5_percent},
                    {"carrier_error_median_hz", r.carrier_error_median_hz},
                    {"edges_exact_share", r.edges_exact_share}});

@@ -8,6 +8,7 @@
 #include "sarloc/core/avalanche/dipole_model.hpp"
 #include "sarloc/core/avalanche/pulse_train.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/statistics.hpp"
 
 namespace sarloc::avalanche {
 namespace {
@@ -134,8 +135,7 @@ DetectorBenchResult run_detector_bench(const DetectorBenchSetup& setup) {
     if (e > 50.0) ++r.beyond_50_sigma;
   }
   if (!carrier_errors.empty()) {
-    std::nth_element(carrier_errors.begin(), carrier_errors.begin() + carrier_errors.size() / 2, carrier_errors.end());
-    r.carrier_error_median_hz = carrier_errors[carrier_errors.size() / 2];
+    r.carrier_error_median_hz = percentile(carrier_errors, 0.5);
     r.edges_exact_share = static_cast<double>(exact) / static_cast<double>(r.error_sigma.size());
   }
   return r;
