@@ -8,6 +8,8 @@
 #include <vector>
 
 #include "sarloc/app/exit_codes.hpp"
+#include "sarloc/app/progress_bar.hpp"
+#include "sarloc/app/shutdown_signal.hpp"
 #include "sarloc/core/avalanche/detector_bench.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/statistics.hpp"
@@ -52,11 +54,14 @@ int run_detector_command(const DetectorOptions& options) {
     setup.seed = options.seed;
     av::DetectorBenchResult r;
     try {
-      r = av::run_detector_bench(setup);
+      app::ProgressBar bar(av::to_string(scenario), setup.draws);
+      r = av::run_detector_bench(setup, [&bar] { bar.tick(); }, [] { return app::shutdown_requested(); });
+      bar.finish();
     } catch (const ConfigError& e) {
       spdlog::error("configuration: {}", e.what());
       return to_int(ExitCode::kConfig);
     }
+    if (app::shutdown_requested()) return to_int(ExitCode::kInterrupted);
     const auto& e = r.error_sigma;
     const auto& rel = r.error_relative;
     std::printf("%-12s %7u %8u %7u (%3u) %8zu | %7.2f / %6.2f / %7.1f %5u %5u | %8.3f / %8.3f %5u | %5.3f Hz %4.0f %%\n",

@@ -16,7 +16,8 @@ struct DetectorOptions {
 };
 
 CLI::App* add_detector_command(CLI::App& app, DetectorOptions& options);
-/// Returns a sarloc::app::ExitCode value (0: ran; the figures are reported, not judged).
+/// Returns a sarloc::app::ExitCode value (0: ran, the figures are reported, not judged; 3: bad
+/// setup; 4: --json not writable; 130: interrupted).
 int run_detector_command(const DetectorOptions& options);
 
 }  // namespace sarloc::eval

@@ -90,18 +90,20 @@ void DetectorBenchSetup::validate() const {
   separator.validate();
 }
 
-DetectorBenchResult run_detector_bench(const DetectorBenchSetup& setup) {
+DetectorBenchResult run_detector_bench(const DetectorBenchSetup& setup, const std::function<void()>& on_draw,
+                                       const std::function<bool()>& cancelled) {
   setup.validate();
   const SignalSeparator separator(setup.separator);
   std::mt19937_64 rng(setup.seed);
   DetectorBenchResult r;
   std::vector<double> carrier_errors;
   std::uint32_t exact = 0;
-  for (std::uint32_t i = 0; i < setup.draws; ++i) {
+  for (std::uint32_t i = 0; i < setup.draws && !(cancelled && cancelled()); ++i) {
     const std::vector<IncomingPulse> truth = draw(setup.scenario, rng);
     const BasebandWindow window = synthesize(truth, 0.0, kWindowS, kSampleRateHz, kPulseNoise, rng);
     const std::vector<DetectedPulse> detected = detect_pulses(window, setup.separator.detector);
     ++r.draws;
+    if (on_draw) on_draw();
     r.transmitters += static_cast<std::uint32_t>(truth.size());
     for (const DetectedPulse& d : detected) {
       ++r.pulses;

@@ -13,6 +13,7 @@
 //
 //   DetectorBenchResult r = run_detector_bench(DetectorBenchSetup{});
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "sarloc/core/avalanche/pulse_detector.hpp"
@@ -54,6 +55,9 @@ struct DetectorBenchResult {
   double edges_exact_share = 0.0;
 };
 
-DetectorBenchResult run_detector_bench(const DetectorBenchSetup& setup);
+/// `on_draw` (optional) after every window, e.g. a progress bar; `cancelled` (optional) is asked
+/// before every window, and the result holds the windows run until it said yes.
+DetectorBenchResult run_detector_bench(const DetectorBenchSetup& setup, const std::function<void()>& on_draw = {},
+                                       const std::function<bool()>& cancelled = {});
 
 }  // namespace sarloc::avalanche
