@@ -95,6 +95,8 @@ void load_firefighter(YamlReader root, firefighter::FirefighterEvalConfig& c) {
     auto r = root.child("pattern");
     r.read("grid_spacing_m", c.grid.spacing_m);
     r.read("min_clearance_m", c.grid.min_clearance_m);
+    r.read("room_skips", c.grid.room_skips);
+    r.read("room_skip_min_nodes", c.grid.room_skip_min_nodes);
     r.read("pattern_length_m", c.pattern.pattern_length_m);
     r.read("compare_every_m", c.pattern.compare_every_m);
     r.read("trajectory_spacing_m", c.pattern.trajectory_spacing_m);

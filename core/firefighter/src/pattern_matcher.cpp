@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <string>
 #include <tuple>
@@ -54,24 +55,34 @@ PatternMatcher::PatternMatcher(const std::vector<NodeSequence>& sequences, const
     return it->second;
   };
   const auto span = static_cast<std::size_t>(std::lround(config_.pattern_length_m / grid.spacing_m));
+  // The window of span + 1 nodes starting at node(0) of a walk.
+  auto add_window = [&](std::size_t floor, const std::function<Vec2(std::size_t)>& node) {
+    std::vector<Vec2> points;
+    for (std::size_t k = 0; k < span; ++k) {
+      const Vec2 a = node(k), b = node(k + 1);
+      const int pieces = std::max(1, static_cast<int>(std::lround((b - a).norm() / config_.pattern_point_spacing_m)));
+      for (int s = 0; s < pieces; ++s) points.push_back(a + (b - a) * (static_cast<double>(s) / pieces));
+    }
+    points.push_back(node(span));
+    Vec2 centroid = Vec2::Zero();
+    for (const Vec2& p : points) centroid += p;
+    centroid /= static_cast<double>(points.size());
+    Window w{floor, end_of(floor, node(0)), end_of(floor, node(span)), node(0), node(span), centroid,
+             heading_of(node(0) - node(1)), heading_of(node(span) - node(span - 1)), PointIndex(std::move(points))};
+    windows_.push_back(std::move(w));
+  };
   for (const NodeSequence& seq : sequences) {
     const std::size_t n = seq.nodes.size();
     if (n <= span) continue;  // a loop shorter than a pattern cannot hold d metres of walking
-    for (std::size_t eta = 0; eta < n; ++eta) {
-      auto node = [&](std::size_t k) { return seq.nodes[(eta + k) % n]; };
-      std::vector<Vec2> points;
-      for (std::size_t k = 0; k < span; ++k) {
-        const Vec2 a = node(k), b = node(k + 1);
-        const int pieces = std::max(1, static_cast<int>(std::lround((b - a).norm() / config_.pattern_point_spacing_m)));
-        for (int s = 0; s < pieces; ++s) points.push_back(a + (b - a) * (static_cast<double>(s) / pieces));
-      }
-      points.push_back(node(span));
-      Vec2 centroid = Vec2::Zero();
-      for (const Vec2& p : points) centroid += p;
-      centroid /= static_cast<double>(points.size());
-      Window w{seq.floor, end_of(seq.floor, node(0)), end_of(seq.floor, node(span)), node(0), node(span), centroid,
-               heading_of(node(0) - node(1)), heading_of(node(span) - node(span - 1)), PointIndex(std::move(points))};
-      windows_.push_back(std::move(w));
+    for (std::size_t eta = 0; eta < n; ++eta) add_window(seq.floor, [&](std::size_t k) { return seq.nodes[(eta + k) % n]; });
+    // A room passed by: the windows that span the step from `from` to `to` (the others are the
+    // loop's own). The loop without the room must still hold two patterns.
+    for (const RoomSkip& skip : seq.room_skips) {
+      if (n - (skip.to - skip.from - 1) < 2 * span) continue;
+      std::vector<Vec2> walk;  // span nodes up to `from`, then span nodes from `to`
+      for (std::size_t k = 0; k < span; ++k) walk.push_back(seq.nodes[(skip.from + n - span + 1 + k) % n]);
+      for (std::size_t k = 0; k < span; ++k) walk.push_back(seq.nodes[(skip.to + k) % n]);
+      for (std::size_t eta = 0; eta < span; ++eta) add_window(seq.floor, [&](std::size_t k) { return walk[eta + k]; });
     }
   }
   for (auto& points : end_points) {

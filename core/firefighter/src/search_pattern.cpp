@@ -206,6 +206,33 @@ bool same_loop(const std::vector<Vec2>& a, const std::vector<Vec2>& b) {
   return false;
 }
 
+// The outermost excursions of a closed walk: it leaves cell `from` and comes back to it
+// `min_nodes` or more nodes later (within half the loop: a room entered and left by one door).
+// Passing such a room by, the walk goes from `from` straight on to where it left the room.
+std::vector<RoomSkip> room_skips(const std::vector<std::pair<int, int>>& cells, std::size_t min_nodes) {
+  const std::size_t n = cells.size();
+  std::vector<RoomSkip> found;
+  for (std::size_t i = 0; i < n; ++i) {
+    // The latest return to cell i within half the loop: the whole room.
+    for (std::size_t j = std::min(n - 1, i + n / 2); j >= i + min_nodes; --j) {
+      if (cells[j] != cells[i]) continue;
+      if (j + 1 < n) found.push_back({i, j + 1});
+      break;
+    }
+  }
+  // Keep the outermost: an excursion inside another is part of the same room.
+  std::sort(found.begin(), found.end(), [](const RoomSkip& x, const RoomSkip& y) {
+    return x.to - x.from > y.to - y.from || (x.to - x.from == y.to - y.from && x.from < y.from);
+  });
+  std::vector<RoomSkip> kept;
+  for (const RoomSkip& s : found) {
+    const bool inside = std::any_of(kept.begin(), kept.end(), [&](const RoomSkip& k) { return k.from <= s.from && s.to <= k.to; });
+    if (!inside) kept.push_back(s);
+  }
+  std::sort(kept.begin(), kept.end(), [](const RoomSkip& x, const RoomSkip& y) { return x.from < y.from; });
+  return kept;
+}
+
 }  // namespace
 
 void PatternGridConfig::validate() const {
@@ -215,6 +242,9 @@ void PatternGridConfig::validate() const {
   if (!std::isfinite(min_clearance_m) || min_clearance_m < 0.0 || min_clearance_m >= 0.5 * spacing_m) {
     throw ConfigError("pattern.min_clearance_m = " + std::to_string(min_clearance_m) +
                       ": must be within [0, grid_spacing_m / 2)");
+  }
+  if (room_skip_min_nodes < 2 || room_skip_min_nodes > 1000) {
+    throw ConfigError("pattern.room_skip_min_nodes = " + std::to_string(room_skip_min_nodes) + ": must be within [2, 1000]");
   }
 }
 
@@ -253,6 +283,7 @@ std::vector<NodeSequence> extract_node_sequences(const FloorPlan& plan, const Pa
       seq.floor = f;
       seq.around_inner_walls = inner;
       for (const auto& [a, b] : cells) seq.nodes.push_back(grid.position(a, b));
+      if (config.room_skips) seq.room_skips = room_skips(cells, config.room_skip_min_nodes);
       if (seq.nodes.size() < 4) return;
       for (std::size_t m = first_of_floor; m < out.size(); ++m) {
         if (same_loop(out[m].nodes, seq.nodes)) return;

@@ -64,6 +64,41 @@ TEST(PatternMatcher, FindsAWalkedStretchOfThePatternWhereverItWasMoved) {
   }
 }
 
+// A crew that passed a room by walked the pattern without that room: with the room skips the
+// comparison finds where it is now as well as for a crew that searched every room; without
+// them, the best fit there is poor.
+TEST(PatternMatcher, AWalkThatPassedARoomByStillFitsThePattern) {
+  const FloorPlan plan = test::building("house-125");
+  PatternGridConfig grid;
+  const auto sequences = extract_node_sequences(plan, grid);
+  const auto& nodes = sequences.front().nodes;
+  ASSERT_FALSE(sequences.front().room_skips.empty());
+  grid.room_skips = false;
+  const PatternMatcher with(sequences, grid, PatternMatchConfig{});
+  const PatternMatcher without(extract_node_sequences(plan, grid), grid, PatternMatchConfig{});
+  ASSERT_GT(with.window_count(), without.window_count());
+  std::mt19937_64 rng(6);
+  std::normal_distribution<double> noise(0.0, 0.05);
+  for (const RoomSkip& skip : sequences.front().room_skips) {
+    // 10 m up to the room, 10 m on after it, in a rotated and moved odometry frame.
+    const Eigen::Rotation2Dd R(-0.4);
+    std::vector<Vec2> trajectory;
+    for (std::size_t k = 0; k < 10; ++k) trajectory.push_back(nodes[(skip.from + nodes.size() - 9 + k) % nodes.size()]);
+    for (std::size_t k = 0; k <= 10; ++k) trajectory.push_back(nodes[(skip.to + k) % nodes.size()]);
+    const Vec2 now = trajectory.back();
+    for (Vec2& p : trajectory) p = R * p + Vec2(-7, 3) + Vec2(noise(rng), noise(rng));
+    auto best_at_now = [&](const PatternMatcher& m) {
+      double best = 1e9;
+      for (const auto& o : m.compare(trajectory)) {
+        if ((o.position - now).norm() < 1e-9) best = std::min(best, o.rmse);
+      }
+      return best;
+    };
+    EXPECT_LT(best_at_now(with), 0.15) << "room left at node " << skip.from;
+    EXPECT_GT(best_at_now(without), 0.4) << "room left at node " << skip.from;
+  }
+}
+
 // mark_ends_near marks the nearest end of every point within the radius (brute force here).
 TEST(PatternMatcher, MarksTheNearestEndOfEveryPointNearTheCentre) {
   const FloorPlan plan = test::building("office-253");

@@ -45,6 +45,41 @@ TEST(SearchPattern, InnerWallsGetTheirOwnSequencesAndTheMainOneVisitsEveryRoom) 
   }
 }
 
+// Each room of the house is entered and left by one door: the search may pass it by, going
+// from the node before the room straight on to the node after it.
+TEST(SearchPattern, EveryRoomOfTheHouseCanBePassedBy) {
+  const FloorPlan plan = test::building("house-125");
+  const auto sequences = extract_node_sequences(plan, PatternGridConfig{});
+  const NodeSequence& main = sequences.front();
+  ASSERT_FALSE(main.around_inner_walls);
+  const WallIndex walls(plan.solid_walls(0, WallSet::kNavigation));
+  const std::vector<Vec2> rooms = {{2.5, 2.5}, {7.0, 2.0}, {10.75, 2.0}, {3.0, 8.0}, {9.25, 8.0}};
+  ASSERT_EQ(main.room_skips.size(), rooms.size());
+  std::vector<bool> passed_by(rooms.size(), false);
+  for (const RoomSkip& skip : main.room_skips) {
+    ASSERT_LT(skip.from + 4, skip.to);
+    ASSERT_LT(skip.to, main.nodes.size());
+    const Vec2& a = main.nodes[skip.from];
+    const Vec2& b = main.nodes[skip.to];
+    EXPECT_NEAR((b - a).norm(), 1.0, 1e-9) << "a grid step";
+    EXPECT_FALSE(walls.crosses(a, b));
+    // The nodes left out are one room's: the corridor is y in [4, 6].
+    for (std::size_t r = 0; r < rooms.size(); ++r) {
+      bool all_in = true;
+      for (std::size_t k = skip.from + 2; k + 1 < skip.to; ++k) {
+        const Vec2& n = main.nodes[k];
+        all_in = all_in && (n.y() < 4.0) == (rooms[r].y() < 4.0) && (n.y() < 4.0 || n.y() > 6.0) &&
+                 std::abs(n.x() - rooms[r].x()) < 3.6;
+      }
+      passed_by[r] = passed_by[r] || all_in;
+    }
+  }
+  for (std::size_t r = 0; r < rooms.size(); ++r) EXPECT_TRUE(passed_by[r]) << "room at " << rooms[r].transpose();
+  PatternGridConfig none;
+  none.room_skips = false;
+  for (const auto& s : extract_node_sequences(plan, none)) EXPECT_TRUE(s.room_skips.empty());
+}
+
 TEST(SearchPattern, TwoEntriesOnOneLoopGiveItOnceSoNoWindowIsComparedTwice) {
   // The warehouse's south and west entries open on the same outer loop: one sequence, which
   // passes both entries.

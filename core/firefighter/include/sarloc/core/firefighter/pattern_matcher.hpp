@@ -15,7 +15,10 @@
 // of a perfect fit is not the grid's quantisation; an ICP whose RMSE after three iterations
 // already exceeds the best so far by `prune_margin_m` stops there and keeps that RMSE (its
 // likelihood, eq. (2), is below e^-50 of the best's); Hea at p_eta+dN is the arriving
-// direction p_eta+dN - p_eta+dN-1 (seed 004 writes the leaving one).
+// direction p_eta+dN - p_eta+dN-1 (seed 004 writes the leaving one). A sequence's room skips
+// (search_pattern.hpp) add the windows that span each skip: the same d metres of directional
+// search with that room passed by; their observations sit at the same window ends as the
+// loop's own, so a particle takes whichever fits better.
 //
 // A comparison can be restricted to the window ends that are the nearest end to some particle
 // (`EndMask`, from MapParticleFilter::observation_ends): the particles take only those
@@ -39,10 +42,10 @@ namespace sarloc::firefighter {
 struct PatternMatchConfig {
   double pattern_length_m = 20.0;          ///< d, seed 004 section V-B
   double compare_every_m = 2.0;            ///< a new comparison after this much walking
-  double trajectory_spacing_m = 0.5;       ///< the odometry trajectory is resampled to this
+  double trajectory_spacing_m = 1.0;       ///< the odometry trajectory is resampled to this
   double pattern_point_spacing_m = 0.25;
   std::uint32_t icp_iterations = 20;
-  double icp_tolerance_m = 1e-3;
+  double icp_tolerance_m = 0.01;  ///< an RMSE change this small is nothing at eq. (2)'s sigma
   double prune_margin_m = 0.5;
   void validate() const;
 };
