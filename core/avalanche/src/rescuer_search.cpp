@@ -397,7 +397,9 @@ std::optional<FieldFit> RescuerSearch::field_fit(std::uint32_t signal_id, const 
   // (seen: a signal that lost its own transmitter took a found one's pulses 1 Hz away and
   // converged between the two, a ghost).
   if (it == signals_.end()) return std::nullopt;
-  return it->second.filter.predictive_fit(field, noise, axes);
+  auto fit = it->second.filter.predictive_fit(field, noise, axes);
+  if (fit && it->second.repeat != responder::RepeatState::kNone) fit->repeat_of = it->second.repeat_of;
+  return fit;
 }
 
 void RescuerSearch::choose_target() {

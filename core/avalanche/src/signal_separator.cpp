@@ -212,18 +212,14 @@ SignalSeparator::Track* SignalSeparator::lost_owner(const std::vector<Track*>& m
   // Seen: a deep transmitter 2.2 Hz from a found one lost its track while their pulses overlapped,
   // then pulsed clear of the found one's timing, 70 dB above the noise, for 500 s; with two
   // tracks on the carrier none was re-anchored, and the rescuer stood on it unable to find it.
-  Track* lost = nullptr;
-  std::vector<Track*> others;
-  for (Track* t : matches) {
-    if (!t->lost) {
-      others.push_back(t);
-    } else {
-      if (lost != nullptr) return nullptr;  // which of them: the timing cannot say
-      lost = t;
-    }
-  }
-  if (lost == nullptr || !another_transmitter(others, p, r) || !explains(*lost, p)) return nullptr;
-  return lost;
+  std::vector<Track*> lost, others;
+  for (Track* t : matches) (t->lost ? lost : others).push_back(t);
+  if (lost.empty()) return nullptr;
+  // Several lost on the carrier: the timing cannot say which; if all but one are repeats of it,
+  // they are one transmitter (original_of_repeats).
+  Track* owner = lost.size() == 1 ? lost.front() : original_of_repeats(lost, p);
+  if (owner == nullptr || !another_transmitter(others, p, r) || !explains(*owner, p)) return nullptr;
+  return owner;
 }
 
 bool SignalSeparator::explains(const Track& t, const DetectedPulse& p) const {
@@ -237,6 +233,44 @@ bool SignalSeparator::explains(const Track& t, const DetectedPulse& p) const {
   if (axes == 0) return true;
   const auto fit = consistency_(t.id, probe.field, probe.noise, probe.valid_axes);
   return !fit || fit->nis <= reanchor_gate_[axes];
+}
+
+SignalSeparator::Track* SignalSeparator::chosen_by_filters(const std::vector<Track*>& candidates,
+                                                            const DetectedPulse& p) const {
+  if (!consistency_) return nullptr;
+  const SeparatedSample probe = sample_of(p, 0, 0);
+  std::vector<std::pair<double, Track*>> scored;
+  for (Track* t : candidates)
+    if (auto fit = consistency_(t->id, probe.field, probe.noise, probe.valid_axes)) scored.emplace_back(fit->log_likelihood, t);
+  if (scored.size() != candidates.size()) return nullptr;  // a track without a filter yet
+  std::sort(scored.begin(), scored.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  return scored[0].first - scored[1].first > config_.log_likelihood_margin ? scored[0].second : nullptr;
+}
+
+SignalSeparator::Track* SignalSeparator::original_of_repeats(const std::vector<Track*>& lost, const DetectedPulse& p) const {
+  // One transmitter split into two signals (a track started again on it) leaves two tracks on
+  // its carrier whose filters both explain its pulses. Both lost while another transmitter's
+  // pulses overlapped its own, neither was re-anchored when it was heard clear again, and the
+  // rescuer stood over the victim with one sample every 20-50 s (4 victims, seed 9, trial 15).
+  // The rescuer's filters, which compare position and moment, name the repeat
+  // (FieldFit::repeat_of): the pulse goes to the one track that is no repeat of another.
+  // Only for lost tracks, and not by the likelihood margin: tracks of two transmitters in
+  // lockstep, whose filters both mixed their pulses, are lost together too, and choosing
+  // between them by the margin fed one filter both transmitters (4 victims, seed 11, trial 51:
+  // two ghosts, each FOUND between the two victims 1.2 Hz apart).
+  if (!consistency_) return nullptr;
+  const SeparatedSample probe = sample_of(p, 0, 0);
+  Track* original = nullptr;
+  for (Track* t : lost) {
+    const auto fit = consistency_(t->id, probe.field, probe.noise, probe.valid_axes);
+    if (!fit) return nullptr;  // a track without a filter: nothing to compare
+    const bool repeat_of_another =
+        std::any_of(lost.begin(), lost.end(), [&](const Track* o) { return o != t && o->id == fit->repeat_of; });
+    if (repeat_of_another) continue;
+    if (original != nullptr) return nullptr;  // two that are no repeat of each other: cannot tell
+    original = t;
+  }
+  return original;
 }
 
 bool SignalSeparator::interleaved(const Track& shadow) const {
@@ -380,16 +414,7 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
       chosen = candidates.front();
     } else if (candidates.size() > 1) {
       // Carrier and timing both fit several tracks: only each track's filter can tell.
-      if (consistency_) {
-        const SeparatedSample probe = sample_of(p, 0, i);
-        std::vector<std::pair<double, Track*>> scored;
-        for (Track* t : candidates)
-          if (auto fit = consistency_(t->id, probe.field, probe.noise, probe.valid_axes))
-            scored.emplace_back(fit->log_likelihood, t);
-        std::sort(scored.begin(), scored.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-        if (scored.size() == candidates.size() && scored[0].first - scored[1].first > config_.log_likelihood_margin)
-          chosen = scored[0].second;
-      }
+      chosen = chosen_by_filters(candidates, p);
       if (chosen == nullptr) {
         merge(candidates, p.start_s);
         continue;

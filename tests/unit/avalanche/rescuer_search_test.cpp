@@ -580,6 +580,7 @@ TEST(RescuerSearch, OneTransmitterSplitIntoTwoSignalsIsFoundOnce) {
   std::optional<int> a_found_at;
   EstimatorStatus copy_highest = EstimatorStatus::kInitialising;
   std::optional<VictimEstimate> copy_last;
+  std::optional<FieldMeasurement> a_last;
   int k_now = 0;
   guided_search(
       search, sim, 200,
@@ -588,6 +589,7 @@ TEST(RescuerSearch, OneTransmitterSplitIntoTwoSignalsIsFoundOnce) {
         std::vector<FieldMeasurement> out{m};
         if (sim.victim_of_signal(m.signal_id) == 0U) {
           a_signal = m.signal_id;
+          a_last = m;
           if (a_found_at && k > *a_found_at) {
             FieldMeasurement copy = m;
             copy.signal_id = kCopy;
@@ -613,6 +615,13 @@ TEST(RescuerSearch, OneTransmitterSplitIntoTwoSignalsIsFoundOnce) {
   EXPECT_LE(copy_highest, EstimatorStatus::kConverged) << "a repeat never claims a victim";
   EXPECT_NE(search.target_signal(), std::optional<std::uint32_t>(kCopy)) << "the search moved on";
   EXPECT_NE(search.target_signal(), std::optional<std::uint32_t>(*a_signal));
+  // The receiver's separation is told which signal the copy repeats (SignalSeparator
+  // original_of_repeats), and that A repeats none.
+  const auto copy_fit = search.field_fit(kCopy, a_last->field, a_last->noise_stddev, a_last->valid_axes);
+  const auto a_fit = search.field_fit(*a_signal, a_last->field, a_last->noise_stddev, a_last->valid_axes);
+  ASSERT_TRUE(copy_fit && a_fit);
+  EXPECT_EQ(copy_fit->repeat_of, *a_signal);
+  EXPECT_EQ(a_fit->repeat_of, 0U);
 }
 
 // Two transmitters half a metre apart are two victims: their moments differ, and each is found.

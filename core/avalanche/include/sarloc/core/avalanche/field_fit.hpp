@@ -3,6 +3,8 @@
 // separation (signal_separator.hpp) compares tracks with it when carrier and timing cannot
 // decide, and refuses to re-anchor a lost track on a pulse its filter cannot explain.
 
+#include <cstdint>
+
 namespace sarloc::avalanche {
 
 struct FieldFit {
@@ -12,6 +14,10 @@ struct FieldFit {
   /// Normalised innovation squared of the component that explains the field best, sign
   /// included (chi-square with one degree of freedom per valid axis if the filter is right).
   double nis = 0.0;
+  /// Non-zero: this signal's filter is a suspected repeat of that signal's, the same transmitter
+  /// by position and moment (same_transmitter.hpp). Where carrier, timing and field fit both
+  /// alike, the separation then gives the pulse to that signal rather than to neither.
+  std::uint32_t repeat_of = 0;
 };
 
 }  // namespace sarloc::avalanche

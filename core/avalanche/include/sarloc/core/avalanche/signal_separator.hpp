@@ -28,7 +28,9 @@
 // over (kReacquired on the mate's id).
 // Events: a track not heard for lost_after_s is declared lost; heard again, its next sample
 // carries kReacquired (a lost track whose carrier alone matches a pulse that misses its timing
-// is reanchored on that pulse: its timing estimate drifted while it was unheard). Tracks that shared an unattributable pulse are merged; the next
+// is reanchored on that pulse: its timing estimate drifted while it was unheard; of several lost
+// tracks on the carrier, the one that the rescuer's filters do not name a repeat of another:
+// one transmitter split into two signals, FieldFit::repeat_of). Tracks that shared an unattributable pulse are merged; the next
 // sample attributed to each carries kSeparated. Each sample's field is the major axis of its
 // pulse's polarisation ellipse (principal_axis), sign unknown; axes below detect_snr are
 // reported invalid. A pulse cut by the window's edge to less than the detector's matched window
@@ -182,13 +184,20 @@ class SignalSeparator {
   bool heard_at_once(const Track& mate, const DetectedPulse& p, const SeparationReport& r) const;
   /// Every carrier-mate is either clear_of_timing or heard_at_once: not its pulse.
   bool another_transmitter(const std::vector<Track*>& mates, const DetectedPulse& p, const SeparationReport& r) const;
-  /// The one lost track among the carrier matches whose every other match says the pulse is
-  /// not its own (another_transmitter), and whose filter explains the pulse's field
-  /// (explains): it lost its timing, and this pulse re-anchors it.
+  /// The lost track among the carrier matches (the one, or of several the one that is no repeat
+  /// of another: original_of_repeats) whose every other match says the pulse is not its own
+  /// (another_transmitter), and whose filter explains the pulse's field (explains): it lost its
+  /// timing, and this pulse re-anchors it.
   Track* lost_owner(const std::vector<Track*>& matches, const DetectedPulse& p, const SeparationReport& r) const;
   /// A new track for p; a shadow of its carrier-mates if it has any.
   /// The track's filter (consistency hook) explains the pulse's field within
   /// reanchor_gate_probability; true when there is no hook or no filter yet to ask.
+  /// Of several tracks that carrier and timing fit, the one whose filter explains the pulse
+  /// better than every other's by log_likelihood_margin; nullptr: the filters cannot tell.
+  Track* chosen_by_filters(const std::vector<Track*>& candidates, const DetectedPulse& p) const;
+  /// Of several lost tracks on the pulse's carrier, the one whose filter is no suspected repeat
+  /// of another's (FieldFit::repeat_of), if exactly one is; else nullptr.
+  Track* original_of_repeats(const std::vector<Track*>& lost, const DetectedPulse& p) const;
   bool explains(const Track& t, const DetectedPulse& p) const;
   Track& start_track(const DetectedPulse& p, const std::vector<Track*>& carrier_matches);
   /// A shadow heard shadow_confirm_pulses times on its own period while a mate was too.
