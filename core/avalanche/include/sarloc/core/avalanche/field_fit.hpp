@@ -15,8 +15,9 @@ struct FieldFit {
   /// included (chi-square with one degree of freedom per valid axis if the filter is right).
   double nis = 0.0;
   /// Non-zero: this signal's filter is a suspected repeat of that signal's, the same transmitter
-  /// by position and moment (same_transmitter.hpp). Where carrier, timing and field fit both
-  /// alike, the separation then gives the pulse to that signal rather than to neither.
+  /// by position and moment (same_transmitter.hpp). Of several lost tracks on a pulse's
+  /// carrier, the separation re-anchors the one that is no repeat of another, rather than none
+  /// (SignalSeparator::original_of_repeats).
   std::uint32_t repeat_of = 0;
 };
 

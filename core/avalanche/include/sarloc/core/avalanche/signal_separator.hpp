@@ -189,16 +189,16 @@ class SignalSeparator {
   /// (another_transmitter), and whose filter explains the pulse's field (explains): it lost its
   /// timing, and this pulse re-anchors it.
   Track* lost_owner(const std::vector<Track*>& matches, const DetectedPulse& p, const SeparationReport& r) const;
-  /// A new track for p; a shadow of its carrier-mates if it has any.
-  /// The track's filter (consistency hook) explains the pulse's field within
-  /// reanchor_gate_probability; true when there is no hook or no filter yet to ask.
   /// Of several tracks that carrier and timing fit, the one whose filter explains the pulse
   /// better than every other's by log_likelihood_margin; nullptr: the filters cannot tell.
   Track* chosen_by_filters(const std::vector<Track*>& candidates, const DetectedPulse& p) const;
   /// Of several lost tracks on the pulse's carrier, the one whose filter is no suspected repeat
   /// of another's (FieldFit::repeat_of), if exactly one is; else nullptr.
   Track* original_of_repeats(const std::vector<Track*>& lost, const DetectedPulse& p) const;
+  /// The track's filter (consistency hook) explains the pulse's field within
+  /// reanchor_gate_probability; true when there is no hook or no filter yet to ask.
   bool explains(const Track& t, const DetectedPulse& p) const;
+  /// A new track for p; a shadow of its carrier-mates if it has any.
   Track& start_track(const DetectedPulse& p, const std::vector<Track*>& carrier_matches);
   /// A shadow heard shadow_confirm_pulses times on its own period while a mate was too.
   bool interleaved(const Track& shadow) const;
