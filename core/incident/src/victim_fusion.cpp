@@ -45,6 +45,9 @@ void check_covariance(const std::string& where, const Mat3& p) {
 }
 
 bool kept_apart(const FusedVictim& a, const FusedVictim& b) {
+  // Two FOUND victims are two dig sites, each stood over by a device: a merge would send the
+  // diggers to neither (seen live under load, four within 5 m: a FOUND victim left the picture).
+  if (a.state == VictimState::kFound && b.state == VictimState::kFound) return true;
   // Two confirmed victims, one of which has lost every source: nothing new says they are one,
   // and the evidence that may have kept them apart (a rescuer with a signal in each) left with
   // the sources. Seen: A and D, FOUND 1.5 m apart with 0.9 m radii (inside each other's merge
@@ -291,9 +294,25 @@ void VictimFusion::unbind(Source& s, Unbind reason) {
   if (vs.empty() && reason == Unbind::kReassociated) orphaned_.push_back(v->victim_id);
 }
 
+std::vector<GaussianPosition> VictimFusion::finder_positions(const FusedVictim& v,
+                                                             const std::string& except_rescuer) const {
+  std::vector<GaussianPosition> out;
+  for (const VictimSource& vs : v.sources) {
+    if (vs.rescuer_id == except_rescuer) continue;
+    const Source& s = sources_.at({vs.rescuer_id, vs.signal_id});
+    if (confirming_state(s) == SourceState::kFound) out.push_back(s.estimate.position);
+  }
+  return out;
+}
+
 void VictimFusion::refuse(FusedVictim& v) {
   if (v.sources.empty()) return;  // keeps its last fused position
-  v.position = covariance_intersection(bound_positions(v, std::string()), config_.weighting).fused;
+  // A FOUND victim is where the devices standing over it say, and stays there when they walk
+  // on: another rescuer's source (a split or mixed signal) must not drag the dig site (seen
+  // live under load: a FOUND victim moved 2.4 m, 2.1 m too deep, by later sources).
+  const std::vector<GaussianPosition> from =
+      v.state == VictimState::kFound ? finder_positions(v, std::string()) : bound_positions(v, std::string());
+  if (!from.empty()) v.position = covariance_intersection(from, config_.weighting).fused;
   for (VictimSource& vs : v.sources) {
     const SourceEstimate& e = sources_.at({vs.rescuer_id, vs.signal_id}).estimate;
     vs.last_update = e.stamp;
@@ -316,11 +335,15 @@ void VictimFusion::associate_rescuer(const std::string& rescuer_id, TimestampNs 
   }
   if (rows.empty()) return;
 
-  // Each victim without this rescuer: CI of the other rescuers' sources, else its last fused.
+  // Each victim without this rescuer: CI of the other rescuers' sources (a FOUND victim: their
+  // finders'), else its last fused position (a FOUND victim's dig site: its finder coming back
+  // rejoins it however far another source has drifted).
   const std::size_t nv = victims_.size(), k = rows.size();
   std::vector<GaussianPosition> excl(nv);
   for (std::size_t j = 0; j < nv; ++j) {
-    const std::vector<GaussianPosition> others = bound_positions(victims_[j], rescuer_id);
+    const std::vector<GaussianPosition> others = victims_[j].state == VictimState::kFound
+                                                     ? finder_positions(victims_[j], rescuer_id)
+                                                     : bound_positions(victims_[j], rescuer_id);
     excl[j] = others.empty() ? victims_[j].position
                              : covariance_intersection(others, config_.weighting).fused;
   }
@@ -400,11 +423,14 @@ void VictimFusion::merge_into(std::uint32_t keep_id, std::uint32_t gone_id) {
     s.victim_id = 0;
     bind(s, keep);
   }
-  if (keep.sources.empty())
+  // A FOUND victim's position is its dig site (see refuse()): it is what the merged one keeps.
+  const bool keep_found = keep.state == VictimState::kFound, gone_found = gone.state == VictimState::kFound;
+  if (gone_found && !keep_found)
+    keep.position = gone.position;
+  else if (keep_found == gone_found && keep.sources.empty())
     keep.position = covariance_intersection({keep.position, gone.position}, config_.weighting).fused;
-  else
-    refuse(keep);
   keep.state = std::max(keep.state, gone.state);
+  refuse(keep);
   keep.first_seen = earliest_set(keep.first_seen, gone.first_seen);
   keep.last_update = std::max(keep.last_update, gone.last_update);
   keep.located_at = earliest_set(keep.located_at, gone.located_at);
@@ -533,6 +559,7 @@ void VictimFusion::update_states(TimestampNs now) {
     v.state = std::max(v.state, target);  // never backwards
     if (v.state >= VictimState::kLocated && v.located_at == 0) v.located_at = now;
     if (v.state >= VictimState::kFound && v.found_at == 0) v.found_at = now;
+    if (v.state == VictimState::kFound) refuse(v);  // from the step it is found: its finders' word
   }
 }
 

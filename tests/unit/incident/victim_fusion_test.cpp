@@ -661,6 +661,81 @@ TEST(VictimFusion, TwoConfirmedVictimsThatLostEverySourceStayApart) {
   EXPECT_EQ(f.victims().size(), 2u);
 }
 
+// r1's device stands over a victim; r2's source of it (a mixed signal, say) sits 0.9 m deeper
+// with a wider radius, inside the keep gate. The dig site is r1's, and it stays there once r1
+// walks on while r2's source drifts further. Before, every update re-fused it from all bound
+// sources (live, four within 5 m under load: a FOUND victim moved 2.4 m, 2.1 m too deep).
+TEST(VictimFusion, AFoundVictimStaysWhereItsFinderFoundIt) {
+  VictimFusionConfig c;
+  c.source_timeout_s = 5.0;
+  VictimFusion f(c);
+  const Vec3 a(2.0, 40.0, -1.0);
+  for (int k = 0; k < 3; ++k) {
+    const TimestampNs t = k * kSec;
+    f.update(src("r1", 1, t, a, 0.15, k == 0 ? EstimatorStatus::kConverged : EstimatorStatus::kFound));
+    f.update(src("r2", 4, t, a + Vec3(0.2, 0.0, -0.9), 0.5));
+    f.step(t);
+  }
+  ASSERT_EQ(f.victims().size(), 1u);
+  const FusedVictim& v = f.victims()[0];
+  ASSERT_EQ(v.state, VictimState::kFound);
+  ASSERT_EQ(v.sources.size(), 2u) << "r2's source is bound: it could move the victim";
+  EXPECT_LT((v.position.position - a).norm(), 1e-9);
+  EXPECT_NEAR(v.position.covariance(2, 2), 0.15 * 0.15, 1e-12) << "the finder's own radius";
+  // r1 walks on; r2's source drifts another 1.5 m down.
+  for (int k = 4; k < 12; ++k) {
+    const TimestampNs t = k * kSec;
+    f.update(src("r2", 4, t, a + Vec3(0.2, 0.0, -0.9 - 0.2 * (k - 4)), 0.5));
+    f.step(t);
+  }
+  ASSERT_EQ(f.victims().size(), 1u);
+  EXPECT_EQ(f.victims()[0].state, VictimState::kFound);
+  EXPECT_EQ(f.victims()[0].sources.size(), 1u);
+  EXPECT_LT((f.victims()[0].position.position - a).norm(), 1e-9) << "the dig site moved";
+  // r1 comes back and finds it again 0.3 m over: the dig site follows its finder.
+  f.update(src("r1", 1, 13 * kSec, a + Vec3(0.3, 0.0, 0.0), 0.15, EstimatorStatus::kFound));
+  f.step(13 * kSec);
+  ASSERT_EQ(f.victims().size(), 1u);
+  EXPECT_LT((f.victims()[0].position.position - (a + Vec3(0.3, 0.0, 0.0))).norm(), 1e-9);
+}
+
+// Two victims 1.2 m apart, each found by a different rescuer's device: two dig sites, inside
+// each other's merge gate with no rescuer holding a signal in both. They never merge: before, the
+// second left the picture and the first moved to a point between them (live, four within 5 m).
+TEST(VictimFusion, TwoFoundVictimsNeverMerge) {
+  VictimFusion f;
+  const Vec3 a(0.0, 0.0, -1.2), d_far(3.0, 0.0, -1.2), d(1.2, 0.0, -1.2);
+  for (int k = 0; k < 3; ++k) {
+    const TimestampNs t = k * kSec;
+    f.update(src("r1", 1, t, a, 0.35, EstimatorStatus::kFound));
+    f.update(src("r2", 1, t, d_far, 0.35, EstimatorStatus::kFound));
+    f.step(t);
+  }
+  ASSERT_EQ(f.victims().size(), 2u);
+  // r2's estimate comes to 1.2 m from a: d^2 = 1.44 / (2 * 0.35^2) = 5.9, inside the merge gate.
+  for (int k = 3; k < 6; ++k) {
+    const TimestampNs t = k * kSec;
+    f.update(src("r1", 1, t, a, 0.35, EstimatorStatus::kFound));
+    f.update(src("r2", 1, t, d, 0.35, EstimatorStatus::kFound));
+    f.step(t);
+  }
+  ASSERT_EQ(f.victims().size(), 2u) << "two found victims merged";
+  EXPECT_TRUE(f.take_removed().empty());
+  EXPECT_LT((f.victims()[0].position.position - a).norm(), 1e-9);
+  EXPECT_LT((f.victims()[1].position.position - d).norm(), 1e-9);
+  // An unconfirmed victim there still merges into a found one, which keeps its dig site.
+  f.update(src("r3", 2, 6 * kSec, a + Vec3(-4.0, 0.0, 0.0), 0.35));
+  f.step(6 * kSec);
+  ASSERT_EQ(f.victims().size(), 3u);
+  f.update(src("r3", 2, 7 * kSec, a + Vec3(-0.5, 0.0, 0.0), 0.35));
+  f.update(src("r1", 1, 7 * kSec, a, 0.35, EstimatorStatus::kFound));
+  f.update(src("r2", 1, 7 * kSec, d, 0.35, EstimatorStatus::kFound));
+  f.step(7 * kSec);
+  ASSERT_EQ(f.victims().size(), 2u);
+  EXPECT_EQ(f.victims()[0].sources.size(), 2u);
+  EXPECT_LT((f.victims()[0].position.position - a).norm(), 1e-9);
+}
+
 // ---------------------------------------------------------------------------------------------
 // The hard case: two victims 8 m apart, three rescuers each seeing both, GNSS error per
 // rescuer (bias common to all its signals, slowly varying), estimate noise 0.2 m, signals

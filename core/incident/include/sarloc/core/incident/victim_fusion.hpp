@@ -29,12 +29,16 @@
 //      right assignment (s = separation). Same-rescuer different-signal sources can never share
 //      a victim: distinct columns inside one assignment, and victims holding another signal of
 //      that rescuer are not candidates;
-//   4. fuse: a victim's position = covariance intersection of its bound sources;
+//   4. fuse: a victim's position = covariance intersection of its bound sources; a FOUND
+//      victim's = that of its bound sources whose device stands over it (confirming state
+//      kFound), and where it was last so fused once none is bound: later sources never move a
+//      dig site (step 3 gates against the same: its finders', else that dig site);
 //   5. merge: two victims whose fused estimates are inside each other's gate (d^2 with summed
 //      covariances <= chi2_3(merge_gate_probability)) and that hold no two sources of the same
 //      rescuer are merged, closest pair first; the lower id survives, the other is reported by
-//      take_removed(). Two confirmed victims never merge once one of them has lost every
-//      source (nothing new says they are one).
+//      take_removed(). Two FOUND victims never merge (two dig sites), and two confirmed
+//      victims never merge once one of them has lost every source (nothing new says they are
+//      one).
 //      An unconfirmed victim that lost all its sources to re-association (never
 //      to a timeout) is a ghost of a wrong association and is removed the same way;
 //   Repeats (one transmitter split into two signals by a reporter's separation: the reporter
@@ -186,6 +190,11 @@ class VictimFusion {
                                                 const std::string& except_rescuer) const;
   void bind(Source& s, FusedVictim& v);
   void unbind(Source& s, Unbind reason);
+  /// Bound sources of other rescuers whose device stands over the victim (confirming state
+  /// kFound).
+  std::vector<GaussianPosition> finder_positions(const FusedVictim& v, const std::string& except_rescuer) const;
+  /// Step 4 for one victim: its position from its bound sources (a FOUND victim: its finders'
+  /// only, unchanged without them) and its sources' last updates.
   void refuse(FusedVictim& v);
   void associate_rescuer(const std::string& rescuer_id, TimestampNs now);
   void merge_victims();
