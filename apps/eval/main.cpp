@@ -131,6 +131,8 @@ void print_multi_burial(const av::MultiBurialSummary& s, const av::EvaluationSum
   std::printf("%-34s %u   trials with any %u\n", "Filters rebuilt after a leap", s.leaps, s.trials_with_leaps);
   std::printf("%-34s %u   trials with any %u\n", "... converged on no transmitter", s.implausible_rebuilds,
               s.trials_with_implausible_rebuilds);
+  std::printf("%-34s %u   trials with any %u\n", "FOUNDs withdrawn by their witness", s.withdrawn_founds,
+              s.trials_with_withdrawn_founds);
   std::printf("%-34s %llu   unattributed pulses %llu\n", "Wrong attributions (pulses)",
               static_cast<unsigned long long>(s.wrong_attributions),
               static_cast<unsigned long long>(s.unattributed_pulses));
@@ -202,6 +204,10 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   multi->add_option("--trials", multi_trials, "Monte Carlo trials (default 100)");
   multi->add_option("--seed", multi_seed, "evaluation seed (default: config)");
+  double found_witness_window_s = multi_setup.rescuer.found_witness_window_s;
+  multi->add_option("--found-witness-window", found_witness_window_s,
+                    "seconds of latest samples a FOUND's witness filter is built from (0: no witness)")
+      ->capture_default_str();
   multi->add_option("-c,--config", multi_config, "YAML config (simulation:, sog:, search:, evaluation:)")
       ->check(CLI::ExistingFile);
   std::string multi_json;
@@ -231,6 +237,7 @@ int main(int argc, char** argv) {
       multi_setup.simulation.receiver.kind = av::ReceiverKind::kRealistic;
       multi_setup.rescuer.sog = base.sog;
       multi_setup.rescuer.search = base.search;
+      multi_setup.rescuer.found_witness_window_s = found_witness_window_s;
       multi_setup.evaluation = base.evaluation;
       multi_setup.evaluation.trials = multi_trials.value_or(100);
       multi_setup.evaluation.step_budget = std::max<std::uint32_t>(base.evaluation.step_budget, 200 * multi_setup.victims);

@@ -53,6 +53,8 @@ av::MultiBurialTraceObserver multi_burial_trace_printer() {
     for (const av::MultiBurialTraceSample& t : s.samples) {
       std::printf("    signal %u axes %u of victim %s", t.signal_id, static_cast<unsigned>(t.valid_axes),
                   t.majority_victim ? std::to_string(*t.majority_victim).c_str() : "-");
+      if (t.pulse_victim) std::printf(" pulse %zu", *t.pulse_victim);
+      if (t.mixed_victim) std::printf("+%zu(%.2f)", *t.mixed_victim, t.mixed_energy_ratio);
       if (t.estimate) {
         std::printf(" status %d at [%.2f %.2f %.2f] r95 %.2f repeat %d", static_cast<int>(t.estimate->status),
                     t.estimate_at.x(), t.estimate_at.y(), t.estimate_at.z(),

@@ -142,6 +142,8 @@ void read_rescuer_search(YamlReader r, avalanche::RescuerSearchConfig& c) {
   r.read("same_transmitter_gate_probability", c.same_transmitter_gate_probability);
   r.read("same_transmitter_moment_spread", c.same_transmitter_moment_spread);
   r.read("measurement_lag_tolerance_s", c.measurement_lag_tolerance_s);
+  r.read("found_witness_window_s", c.found_witness_window_s);
+  r.read("found_witness_gate_probability", c.found_witness_gate_probability);
   r.expect_done();
 }
 

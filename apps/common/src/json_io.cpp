@@ -98,6 +98,8 @@ nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
   j["trials_with_leaps"] = s.trials_with_leaps;
   j["implausible_rebuilds"] = s.implausible_rebuilds;
   j["trials_with_implausible_rebuilds"] = s.trials_with_implausible_rebuilds;
+  j["withdrawn_founds"] = s.withdrawn_founds;
+  j["trials_with_withdrawn_founds"] = s.trials_with_withdrawn_founds;
   j["wrong_attributions"] = s.wrong_attributions;
   j["unattributed_pulses"] = s.unattributed_pulses;
   j["steps"] = stats_json(s.steps);
@@ -118,6 +120,7 @@ nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
                               {"repeats_suspected", t.repeats_suspected},
                               {"leaps", t.leaps},
                               {"implausible_rebuilds", t.implausible_rebuilds},
+                              {"withdrawn_founds", t.withdrawn_founds},
                               {"wrong_attributions", t.wrong_attributions},
                               {"unattributed_pulses", t.unattributed_pulses},
                               {"steps", t.steps},

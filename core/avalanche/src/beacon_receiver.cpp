@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <utility>
+#include <vector>
 
 #include "sarloc/core/avalanche/dipole_model.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
@@ -59,20 +62,22 @@ Listening BeaconReceiver::listen(const ReceiverPose& pose, const std::vector<Bea
       synthesize(pulses, t0_s, duration_s, config_.receiver.sample_rate_hz, pulse_noise_, rng_);
   Listening out;
   out.report = separator_.process(window);
-  // Truth of each detected pulse: the incoming pulse on its carrier that overlaps it with the most energy.
-  auto dominant = [&](const DetectedPulse& d) -> std::optional<std::size_t> {
-    std::optional<std::size_t> best;
-    double best_energy = 0.0;
+  // Truth of each detected pulse: the incoming pulses on its carrier that overlap it, by energy
+  // (the first dominates it; a second one is summed into it).
+  auto on_carrier = [&](const DetectedPulse& d) {
+    std::vector<std::pair<double, std::size_t>> by_energy;
     for (const auto& p : pulses) {
       const double overlap = std::min(p.end_s, d.end_s) - std::max(p.start_s, d.start_s);
       if (overlap <= 0.0 || std::fabs(p.carrier_offset_hz - d.carrier_offset_hz) > std::max(5.0, 1.0 / overlap)) continue;
-      const double energy = overlap * p.amplitude.squaredNorm();
-      if (overlap > 0.0 && energy > best_energy) {
-        best_energy = energy;
-        best = p.transmitter;
-      }
+      by_energy.emplace_back(overlap * p.amplitude.squaredNorm(), p.transmitter);
     }
-    return best;
+    std::sort(by_energy.begin(), by_energy.end(), std::greater<>());
+    return by_energy;
+  };
+  auto dominant = [&](const DetectedPulse& d) -> std::optional<std::size_t> {
+    const auto by_energy = on_carrier(d);
+    if (by_energy.empty()) return std::nullopt;
+    return by_energy.front().second;
   };
   for (std::size_t i = 0; i < out.report.pulses.size(); ++i) {
     if (!out.report.attributed[i]) continue;
@@ -83,7 +88,16 @@ Listening BeaconReceiver::listen(const ReceiverPose& pose, const std::vector<Bea
     else if (known && truth != known) ++out.wrong_attributions;
   }
   for (const auto& s : out.report.samples) {
-    out.samples.push_back({s, dominant(out.report.pulses[s.pulse])});
+    const auto by_energy = on_carrier(out.report.pulses[s.pulse]);
+    HeardSample& h = out.samples.emplace_back();
+    h.sample = s;
+    if (!by_energy.empty()) h.transmitter = by_energy.front().second;
+    for (std::size_t i = 1; i < by_energy.size(); ++i)
+      if (by_energy[i].second != by_energy.front().second) {
+        h.mixed_with = by_energy[i].second;
+        h.mixed_energy_ratio = by_energy[i].first / by_energy.front().first;
+        break;
+      }
     if (out.samples.back().transmitter) ++samples_of_[s.signal_id][*out.samples.back().transmitter];
   }
   return out;

@@ -107,7 +107,9 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
     const OrientationObservation attitude = simulate_attitude(sim, pose, rng);
     std::optional<Guidance> guidance;
     MultiBurialTraceStep traced;
-    for (const FieldMeasurement& m : to_measurements(heard, "sim", step, stamp, attitude)) {
+    const std::vector<FieldMeasurement> measurements = to_measurements(heard, "sim", step, stamp, attitude);
+    for (std::size_t i = 0; i < measurements.size(); ++i) {
+      const FieldMeasurement& m = measurements[i];
       signals.insert(m.signal_id);
       const auto outcome = search.process(m);
       const auto* update = std::get_if<SearchUpdate>(&outcome);
@@ -116,6 +118,11 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
         t.signal_id = m.signal_id;
         t.valid_axes = m.valid_axes;
         t.majority_victim = receiver.majority_beacon_of_signal(m.signal_id);
+        if (i < heard.samples.size()) {  // to_measurements: the samples, then the misses
+          t.pulse_victim = heard.samples[i].transmitter;
+          t.mixed_victim = heard.samples[i].mixed_with;
+          t.mixed_energy_ratio = heard.samples[i].mixed_energy_ratio;
+        }
         if (update) {
           t.estimate = update->estimate;
           t.guidance = update->guidance;
@@ -194,6 +201,7 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
   tr.signals = static_cast<std::uint32_t>(signals.size());
   tr.leaps = static_cast<std::uint32_t>(search.leaps());
   tr.implausible_rebuilds = static_cast<std::uint32_t>(search.implausible_rebuilds());
+  tr.withdrawn_founds = static_cast<std::uint32_t>(search.withdrawn_founds());
   return tr;
 }
 
@@ -229,6 +237,8 @@ MultiBurialSummary run_multi_burial(const MultiBurialSetup& setup, const std::fu
     if (r.leaps > 0) ++s.trials_with_leaps;
     s.implausible_rebuilds += r.implausible_rebuilds;
     if (r.implausible_rebuilds > 0) ++s.trials_with_implausible_rebuilds;
+    s.withdrawn_founds += r.withdrawn_founds;
+    if (r.withdrawn_founds > 0) ++s.trials_with_withdrawn_founds;
     s.wrong_attributions += r.wrong_attributions;
     s.unattributed_pulses += r.unattributed_pulses;
     s.per_trial.push_back(r);

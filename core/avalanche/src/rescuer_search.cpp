@@ -38,12 +38,25 @@ void RescuerSearchConfig::validate() const {
     fail("same_transmitter_gate_probability", same_transmitter_gate_probability, "must be in (0, 1)");
   if (!(same_transmitter_moment_spread > 0.0 && same_transmitter_moment_spread <= 1.0))
     fail("same_transmitter_moment_spread", same_transmitter_moment_spread, "must be in (0, 1]");
+  if (!(found_witness_window_s >= 0.0 && found_witness_window_s <= 600.0))
+    fail("found_witness_window_s", found_witness_window_s, "must be in [0, 600]");
+  if (!(found_witness_gate_probability > 0.0 && found_witness_gate_probability < 1.0))
+    fail("found_witness_gate_probability", found_witness_gate_probability, "must be in (0, 1)");
 }
 
 RescuerSearch::RescuerSearch(std::string rescuer_id, RescuerSearchConfig config)
     : rescuer_id_(std::move(rescuer_id)),
       config_((config.validate(), std::move(config))),
-      same_transmitter_gate_(chi_square_quantile(config_.same_transmitter_gate_probability, 6.0)) {}
+      same_transmitter_gate_(chi_square_quantile(config_.same_transmitter_gate_probability, 6.0)),
+      witness_gate_(chi_square_quantile(config_.found_witness_gate_probability, 3.0)) {}
+
+void RescuerSearch::log_input(TimestampNs stamp, RecentInput input) {
+  if (config_.found_witness_window_s <= 0.0) return;
+  recent_.emplace_back(stamp, std::move(input));
+  // Kept a little longer than the window: a witness starts at its first sample inside it.
+  const auto keep = static_cast<TimestampNs>((config_.found_witness_window_s + 5.0) * 1e9);
+  while (!recent_.empty() && recent_.back().first - recent_.front().first > keep) recent_.pop_front();
+}
 
 std::optional<Rejection> RescuerSearch::add_odometry(const Odometry& o) {
   if (o.rescuer_id != rescuer_id_) {
@@ -111,6 +124,7 @@ std::optional<Rejection> RescuerSearch::add_odometry(const Odometry& o) {
     if (gap > static_cast<std::uint64_t>(kMaxUnknownMotionNs)) restart_unfound_filters();
   }
   for (auto& [signal, state] : signals_) state.filter.add_odometry(o);
+  log_input(o.interval_end, o);
   last_odometry_sequence_ = o.sequence;
   last_odometry_end_ = o.interval_end;
   return std::nullopt;
@@ -124,6 +138,7 @@ void RescuerSearch::restart_unfound_filters() {
     state.controller = SearchController(config_.search);
     state.estimate.reset();
   }
+  recent_.clear();  // the frame they were given in is lost
   ++restarts_;
   choose_target();
 }
@@ -149,6 +164,7 @@ bool RescuerSearch::add_unknown_motion(TimestampNs from, TimestampNs until) {
   DispCov q = DispCov::Zero();
   q.diagonal() << std::min(vt, 100.0), std::min(vt, 100.0), std::min(vz, 100.0), vtilt, vtilt, vyaw;
   for (auto& [signal, state] : signals_) state.filter.add_unknown_motion(q);
+  log_input(until, q);
   last_odometry_end_ = until;
   superseded_until_ = until;
   return true;
@@ -253,6 +269,18 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
     g.rescuer_id = rescuer_id_;
     g.signal_id = m.signal_id;
     g.stamp = m.stamp;
+    const bool withdrawn = g.mode == GuidanceMode::kFound && !witnessed(m.signal_id, s, m.stamp);
+    if (withdrawn) {
+      // The latest samples alone say elsewhere: no FOUND; the search goes on from both. A FOUND
+      // this sample still gave is witnessed again with the next.
+      estimate = s.filter.estimate(config_.summary_components);
+      estimate.stamp = m.stamp;
+      g = s.controller.guide(s.filter, m);
+      g.rescuer_id = rescuer_id_;
+      g.signal_id = m.signal_id;
+      g.stamp = m.stamp;
+      if (g.mode == GuidanceMode::kFound) g.mode = GuidanceMode::kFineSearch;
+    }
     if (g.mode == GuidanceMode::kFound) {
       found_now = true;
       s.done = true;
@@ -326,6 +354,45 @@ void RescuerSearch::test_repeat(std::uint32_t id, SignalState& s, EstimatorStatu
   s.repeat = RepeatState::kSuspected;
 }
 
+std::optional<SogFilter> RescuerSearch::found_witness(std::uint32_t id, TimestampNs since) const {
+  SogFilter witness(config_.sog, rescuer_id_, id);
+  try {
+    for (const auto& [stamp, input] : recent_) {
+      if (const auto* m = std::get_if<FieldMeasurement>(&input)) {
+        if (m->signal_id == id && stamp >= since) witness.process(*m);  // the first heard one initialises it
+      } else if (const auto* o = std::get_if<Odometry>(&input)) {
+        witness.add_odometry(*o);  // ignored until it is initialised
+      } else {
+        witness.add_unknown_motion(std::get<DispCov>(input));
+      }
+    }
+  } catch (const InputError&) {
+    return std::nullopt;  // the main filter took each of these: a numerical refusal
+  }
+  return witness;
+}
+
+bool RescuerSearch::witnessed(std::uint32_t id, SignalState& s, TimestampNs now) {
+  if (config_.found_witness_window_s <= 0.0) return true;
+  const auto window = static_cast<TimestampNs>(config_.found_witness_window_s * 1e9);
+  std::optional<SogFilter> witness = found_witness(id, now - window);
+  if (!witness || !witness->initialised()) return true;
+  const VictimEstimate theirs = witness->estimate(config_.summary_components);
+  // Unconverged: the latest samples alone cannot say where it is, so they say nothing against.
+  if (theirs.status < EstimatorStatus::kConverged) return true;
+  const VictimEstimate mine = s.filter.estimate(config_.summary_components);
+  const Vec3 d = mine.relative.position - theirs.relative.position;
+  const Mat3 sum = mine.relative.covariance + theirs.relative.covariance;
+  const double d2 = d.dot(sum.ldlt().solve(d));
+  if (d2 <= witness_gate_) return true;
+  // Neither is taken on trust: the witness may be the one wrong (a deep victim's estimate from 30 s
+  // of samples near it, seen 1.5 m off where the filter was right); the samples to come decide.
+  s.filter.add_hypotheses(*witness);
+  s.controller.withdraw_found();
+  ++withdrawn_founds_;
+  return false;
+}
+
 std::optional<Rejection> RescuerSearch::update_filter(SignalState& s, const FieldMeasurement& m) {
   // The gate already checked everything the filter checks; a throw here is a numerical
   // refusal of this one sample, and the filter stays as it was.
@@ -336,6 +403,7 @@ std::optional<Rejection> RescuerSearch::update_filter(SignalState& s, const Fiel
   } catch (const InputError& e) {
     return reject(RejectReason::kInvalidValue, rescuer_id_, "signal " + std::to_string(m.signal_id) + ": " + e.what());
   }
+  log_input(m.stamp, m);
   s.last_sequence = m.sequence;
   s.last_stamp = m.stamp;
   newest_stamp_ = std::max(newest_stamp_, m.stamp);

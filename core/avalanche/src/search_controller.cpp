@@ -332,6 +332,13 @@ bool SearchController::adaptive_end(const Eigen::Vector2d& mean_h, const Mat3& c
   return true;
 }
 
+void SearchController::withdraw_found() {
+  mode_ = GuidanceMode::kFineSearch;
+  found_streak_ = 0;
+  confirm_waits_ = 0;
+  drop_pattern();
+}
+
 void SearchController::drop_pattern() {
   pattern_.clear();
   pattern_next_ = 0;

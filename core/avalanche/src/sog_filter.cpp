@@ -322,6 +322,18 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   return result;
 }
 
+bool SogFilter::add_hypotheses(const SogFilter& other) {
+  if (!initialised() || !other.initialised() || other.last_stamp_ != last_stamp_) return false;
+  const double half = std::log(0.5);  // both mixtures are normalised: each keeps half the mass
+  for (SogComponent& c : components_) c.log_weight += half;
+  for (SogComponent c : other.components_) {
+    c.log_weight += half;
+    components_.push_back(c);
+  }
+  anchor_.reset();  // a new posterior: the leap test starts from it
+  return true;
+}
+
 void SogFilter::rebuild(const FieldMeasurement& measurement, SogStepResult& result) {
   initialise(measurement);  // a new ring, a new innovation history, no anchor
   result.reinitialised = true;

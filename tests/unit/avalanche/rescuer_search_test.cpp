@@ -644,3 +644,27 @@ TEST(RescuerSearch, TwoTransmittersHalfAMetreApartAreBothFound) {
 
 }  // namespace
 }  // namespace sarloc::avalanche
+
+namespace sarloc::avalanche {
+namespace {
+
+TEST(RescuerSearch, FoundWitnessSettingsAreValidatedByName) {
+  RescuerSearchConfig c;
+  EXPECT_NO_THROW(c.validate());
+  c.found_witness_window_s = -1.0;
+  try {
+    c.validate();
+    FAIL() << "a negative window accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("rescuer_search.found_witness_window_s = -1"), std::string::npos) << e.what();
+  }
+  c = RescuerSearchConfig{};
+  c.found_witness_gate_probability = 1.0;
+  EXPECT_THROW(c.validate(), ConfigError);
+  c = RescuerSearchConfig{};
+  c.found_witness_window_s = 0.0;  // off
+  EXPECT_NO_THROW(c.validate());
+}
+
+}  // namespace
+}  // namespace sarloc::avalanche

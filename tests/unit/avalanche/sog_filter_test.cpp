@@ -26,6 +26,14 @@ Scenario fixed_scenario() {
   return s;
 }
 
+// fixed_scenario()'s walk with another transmitter 2 m from its one, with another moment.
+Scenario second_transmitter() {
+  Scenario b = fixed_scenario();
+  b.transmitter += Vec3(-1.0, 1.5, -1.0);
+  b.moment = Vec3(-0.004, 0.012, 0.006);
+  return b;
+}
+
 // Receiver-frame bearing that walks the simulated rescuer straight at the transmitter.
 double bearing_to_truth(const AvalancheSimulator& sim) {
   const Vec3 rel = sim.true_relative_position();
@@ -480,11 +488,8 @@ struct SwitchedRun {
 // when the leap test was introduced (the leap test's own effect).
 SwitchedRun run_switched_signal(double leap_probability, double leap_min_range_m = SogConfig{}.leap_min_range_m,
                                 double converged_divergence_ratio = 1e6) {
-  Scenario a = fixed_scenario();
-  Scenario b = a;
-  b.transmitter = a.transmitter + Vec3(-1.0, 1.5, -1.0);
-  b.moment = Vec3(-0.004, 0.012, 0.006);
-  AvalancheSimulator sim_a(SimulationConfig{}, a, 21), sim_b(SimulationConfig{}, b, 21);  // one walk, two fields
+  AvalancheSimulator sim_a(SimulationConfig{}, fixed_scenario(), 21);
+  AvalancheSimulator sim_b(SimulationConfig{}, second_transmitter(), 21);  // one walk, two fields
   SogConfig cfg;
   cfg.initial_components = 600;
   cfg.leap_gate_probability = leap_probability;
@@ -712,6 +717,71 @@ TEST(SogFilterTest, InvalidAxisIsIgnored) {
   FieldMeasurement beyond = sim.measure();
   beyond.valid_axes = 8;  // 0 is a pulse due and not heard (negative_information_test.cpp)
   EXPECT_THROW(a.process(beyond), InputError);
+}
+
+}  // namespace
+}  // namespace sarloc::avalanche
+
+namespace sarloc::avalanche {
+namespace {
+
+// Evidence that conflicts (RescuerSearch's found witness): two filters of one signal, given the
+// same odometry, converged 2 m apart, one on the transmitter heard (A), one on another (B). Each
+// takes half of the joined mixture, and A's samples that follow decide for A, whichever filter
+// the other's hypotheses were added to.
+TEST(SogFilterTest, AddedHypothesesKeepHalfTheMassAndTheSamplesToComeDecide) {
+  for (const bool into_right : {true, false}) {
+    AvalancheSimulator sim_a(SimulationConfig{}, fixed_scenario(), 21);
+    AvalancheSimulator sim_b(SimulationConfig{}, second_transmitter(), 21);  // one walk, two fields
+    SogConfig cfg;
+    cfg.initial_components = 600;
+    SogFilter right(cfg), wrong(cfg);
+    right.process(sim_a.measure());
+    wrong.process(sim_b.measure());
+    for (int k = 0; k < 40; ++k) {
+      const double step = sim_a.true_horizontal_distance() > 2.0 ? 1.0 : 0.3;
+      const Odometry o = sim_a.walk(bearing_to_truth(sim_a), step);
+      sim_b.walk(bearing_to_truth(sim_a), step);
+      right.add_odometry(o);
+      wrong.add_odometry(o);
+      right.process(sim_a.measure());
+      wrong.process(sim_b.measure());
+    }
+    const Vec3 truth = sim_a.true_relative_position();
+    ASSERT_LT((right.estimate(0).relative.position - truth).norm(), 0.5);
+    ASSERT_GT((wrong.estimate(0).relative.position - truth).norm(), 1.0) << "the other filter converged elsewhere";
+    SogFilter joined = into_right ? right : wrong;
+    const SogFilter& added = into_right ? wrong : right;
+    ASSERT_TRUE(joined.add_hypotheses(added));
+    EXPECT_EQ(joined.size(), right.size() + wrong.size());
+    double mass = 0.0, of_added = 0.0;
+    for (std::size_t i = 0; i < joined.size(); ++i) {
+      const double w = std::exp(joined.components()[i].log_weight);
+      mass += w;
+      if (i >= joined.size() - added.size()) of_added += w;
+    }
+    EXPECT_NEAR(mass, 1.0, 1e-9);
+    EXPECT_NEAR(of_added, 0.5, 1e-9);
+    EXPECT_GT(radius95_3d(joined.estimate(0).relative.covariance), 1.0) << "two places, not one";
+    // A's samples from around it decide.
+    for (int k = 0; k < 12; ++k) {
+      const Odometry o = sim_a.walk(bearing_to_truth(sim_a) + 2.0 * k, 0.5);
+      joined.add_odometry(o);
+      joined.process(sim_a.measure());
+    }
+    const VictimEstimate e = joined.estimate(0);
+    EXPECT_LT((e.relative.position - sim_a.true_relative_position()).norm(), 0.5) << "joined into the right one: " << into_right;
+    EXPECT_LT(radius95_3d(e.relative.covariance), 1.0);
+  }
+  // Only filters of one frame join: another stamp is refused, and so is an empty filter.
+  SogFilter one, other, empty;
+  AvalancheSimulator sim(SimulationConfig{}, fixed_scenario(), 3);
+  one.process(sim.measure());
+  sim.walk(0.0, 1.0);
+  other.process(sim.measure());
+  EXPECT_FALSE(one.add_hypotheses(other));
+  EXPECT_FALSE(one.add_hypotheses(empty));
+  EXPECT_FALSE(empty.add_hypotheses(one));
 }
 
 }  // namespace

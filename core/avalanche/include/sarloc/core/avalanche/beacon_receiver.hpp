@@ -31,6 +31,11 @@ struct Beacon {
 struct HeardSample {
   SeparatedSample sample;
   std::optional<std::size_t> transmitter;  ///< truth: the beacon whose pulse dominated it
+  /// Truth: the strongest other beacon whose pulse overlapped it on its carrier (in the window,
+  /// summed into the sample unless the detector cancelled it), and that overlap's energy over
+  /// the dominant one's.
+  std::optional<std::size_t> mixed_with;
+  double mixed_energy_ratio = 0.0;
 };
 
 struct Listening {

@@ -63,6 +63,9 @@ struct MultiBurialTrial {
   std::uint32_t leaps = 0;
   /// Filters rebuilt after converging on no plausible transmitter (SogConfig::implausible_rebuild_steps).
   std::uint32_t implausible_rebuilds = 0;
+  /// FOUNDs withdrawn because their witness filter converged elsewhere
+  /// (RescuerSearchConfig::found_witness_window_s).
+  std::uint32_t withdrawn_founds = 0;
   std::uint32_t wrong_attributions = 0;
   std::uint32_t unattributed_pulses = 0;
   std::uint32_t steps = 0;          ///< until the last victim was found (or the budget)
@@ -97,6 +100,8 @@ struct MultiBurialSummary {
   std::uint32_t trials_with_leaps = 0;
   std::uint32_t implausible_rebuilds = 0;
   std::uint32_t trials_with_implausible_rebuilds = 0;
+  std::uint32_t withdrawn_founds = 0;
+  std::uint32_t trials_with_withdrawn_founds = 0;
   std::uint64_t wrong_attributions = 0;
   std::uint64_t unattributed_pulses = 0;
   Stats steps;                      ///< of the trials that found all
@@ -116,6 +121,11 @@ struct MultiBurialTraceSample {
   std::uint32_t signal_id = 0;
   std::uint8_t valid_axes = 0;
   std::optional<std::size_t> majority_victim;  ///< the transmitter most of its pulses came from
+  std::optional<std::size_t> pulse_victim;     ///< the transmitter this sample's pulse came from
+  /// Another transmitter whose pulse overlapped it on its carrier, and its energy over the
+  /// dominant one's (HeardSample::mixed_with).
+  std::optional<std::size_t> mixed_victim;
+  double mixed_energy_ratio = 0.0;
   std::optional<VictimEstimate> estimate;      ///< as updated by this sample
   Vec3 estimate_at = Vec3::Zero();             ///< the estimate placed in the search frame
   std::optional<Guidance> guidance;            ///< when the sample is the target's

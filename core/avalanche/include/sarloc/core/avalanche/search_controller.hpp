@@ -178,6 +178,9 @@ class SearchController {
   /// allows: an estimate that may be confirmed.
   bool confirmable(const ConfirmationEvidence& evidence) const;
   GuidanceMode mode() const { return mode_; }
+  /// A FOUND this controller gave was withdrawn (RescuerSearch's found witness disagreed): back
+  /// to the fine search, nothing confirmed, no probe pattern.
+  void withdraw_found();
   const SearchConfig& config() const { return config_; }
   /// Probe points (offsets from the estimate, G_k axes) of the adaptive end; empty when none
   /// is being walked or was walked.

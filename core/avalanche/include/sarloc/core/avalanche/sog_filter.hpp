@@ -206,6 +206,11 @@ class SogFilter {
   SogStepResult process(const FieldMeasurement& measurement);
 
   bool initialised() const { return !components_.empty(); }
+  /// Evidence that conflicts: `other`, a filter of the same signal given the same odometry up to
+  /// the same latest sample (so in the same frame), holds the other half of the mixture from now
+  /// on; the samples to come decide between them. Returns false (nothing changed) unless both are
+  /// initialised at the same stamp.
+  bool add_hypotheses(const SogFilter& other);
   /// Sum of the smallest NIS of the last divergence_window updates over its gate
   /// (chi2_{3n}(divergence_probability)): above 1, the recent samples do not fit the filter.
   /// 0 until the window is full (or without a window).

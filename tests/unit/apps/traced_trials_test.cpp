@@ -1,0 +1,67 @@
+// Trials of the multiple-burial evaluation that once confirmed a victim where none is, run as
+// sarloc-eval runs them (config/eval/avalanche.yaml): each must give no ghost, and each still
+// gives one without the rule that fixed it, so the trial keeps testing what it was kept for.
+// The rule here is the found witness (rescuer_search.found_witness_window_s), off by default:
+// docs/estimation/avalanche.md, "Found witness", gives why.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <string>
+
+#include "eval_config.hpp"
+#include "sarloc/core/avalanche/multi_burial.hpp"
+
+namespace sarloc::avalanche {
+namespace {
+
+// What `sarloc-eval multi-burial -c config/eval/avalanche.yaml --victims 4 --spread 5` sets up.
+MultiBurialSetup four_within_five_metres(std::uint64_t seed) {
+  EvaluationSetup base;
+  eval::load_avalanche_config(std::string(SARLOC_SOURCE_DIR) + "/config/eval/avalanche.yaml", base);
+  MultiBurialSetup setup;
+  setup.victims = 4;
+  setup.spread_m = 5.0;
+  setup.simulation = base.simulation;
+  setup.simulation.receiver.kind = ReceiverKind::kRealistic;
+  setup.rescuer.sog = base.sog;
+  setup.rescuer.search = base.search;
+  setup.evaluation = base.evaluation;
+  setup.evaluation.step_budget = std::max<std::uint32_t>(base.evaluation.step_budget, 200 * setup.victims);
+  setup.evaluation.seed = seed;
+  setup.validate();
+  return setup;
+}
+
+// Seed 14, trial 97 (docs/estimation/avalanche.md, "Found witness"): a signal followed victim 2's
+// pulses, then, carriers 0.03 Hz apart and periods in lockstep, victim 3's, clean; its filter kept
+// victim 2's moment and was FOUND 1.5 m from victim 3 with a 0.48 m radius. The witness, built
+// from the last 30 s only, converged 99 (d^2) away: the FOUND was withdrawn, and the samples that
+// followed decided between the two.
+TEST(TracedTrials, AFilterThatFollowedACarrierMateFirstIsNotFoundWhereNoVictimIs) {
+  MultiBurialSetup setup = four_within_five_metres(14);
+  setup.rescuer.found_witness_window_s = 30.0;
+  const MultiBurialTrial with = run_multi_burial_trial(setup, 97);
+  EXPECT_EQ(with.ghosts, 0u);
+  EXPECT_GE(with.withdrawn_founds, 1u);
+  EXPECT_TRUE(with.all_found);
+  setup.rescuer.found_witness_window_s = 0.0;
+  const MultiBurialTrial without = run_multi_burial_trial(setup, 97);
+  EXPECT_EQ(without.ghosts, 1u) << "the trial no longer exercises the failure it was kept for";
+}
+
+// Seed 13, trial 2: a signal whose filter took a pulse of victims 0 and 3 summed (periods 3 ms
+// apart, carriers 0.72 Hz, fields nearly parallel at the receiver: not flagged elliptical) was
+// FOUND 0.86 m from victim 3 with a 0.17 m radius after victim 3's own clean pulses.
+TEST(TracedTrials, AFilterFedASumOfTwoTransmittersIsNotFoundWhereNoVictimIs) {
+  MultiBurialSetup setup = four_within_five_metres(13);
+  setup.rescuer.found_witness_window_s = 30.0;
+  const MultiBurialTrial with = run_multi_burial_trial(setup, 2);
+  EXPECT_EQ(with.ghosts, 0u);
+  EXPECT_GE(with.withdrawn_founds, 1u);
+  setup.rescuer.found_witness_window_s = 0.0;
+  const MultiBurialTrial without = run_multi_burial_trial(setup, 2);
+  EXPECT_EQ(without.ghosts, 1u) << "the trial no longer exercises the failure it was kept for";
+}
+
+}  // namespace
+}  // namespace sarloc::avalanche
