@@ -556,10 +556,11 @@ void VictimFusion::update_states(TimestampNs now) {
       target = VictimState::kLocated;
       if (v.state == VictimState::kUnconfirmed) by_radius_only_.insert(v.victim_id);
     }
+    const bool found_before = v.state == VictimState::kFound;
     v.state = std::max(v.state, target);  // never backwards
     if (v.state >= VictimState::kLocated && v.located_at == 0) v.located_at = now;
     if (v.state >= VictimState::kFound && v.found_at == 0) v.found_at = now;
-    if (v.state == VictimState::kFound) refuse(v);  // from the step it is found: its finders' word
+    if (!found_before && v.state == VictimState::kFound) refuse(v);  // found now: its finders' word from here on
   }
 }
 

@@ -32,20 +32,31 @@ MultiBurialSetup four_within_five_metres(std::uint64_t seed) {
   return setup;
 }
 
+struct WithAndWithout {
+  MultiBurialTrial with;     ///< the found witness on (30 s)
+  MultiBurialTrial without;  ///< off
+};
+
+WithAndWithout run_with_and_without_witness(std::uint64_t seed, std::uint32_t trial) {
+  MultiBurialSetup setup = four_within_five_metres(seed);
+  setup.rescuer.found_witness_window_s = 30.0;
+  WithAndWithout out;
+  out.with = run_multi_burial_trial(setup, trial);
+  setup.rescuer.found_witness_window_s = 0.0;
+  out.without = run_multi_burial_trial(setup, trial);
+  return out;
+}
+
 // Seed 14, trial 97 (docs/estimation/avalanche.md, "Found witness"): a signal followed victim 2's
 // pulses, then, carriers 0.03 Hz apart and periods in lockstep, victim 3's, clean; its filter kept
 // victim 2's moment and was FOUND 1.5 m from victim 3 with a 0.48 m radius. The witness, built
 // from the last 30 s only, converged 99 (d^2) away: the FOUND was withdrawn, and the samples that
 // followed decided between the two.
 TEST(TracedTrials, AFilterThatFollowedACarrierMateFirstIsNotFoundWhereNoVictimIs) {
-  MultiBurialSetup setup = four_within_five_metres(14);
-  setup.rescuer.found_witness_window_s = 30.0;
-  const MultiBurialTrial with = run_multi_burial_trial(setup, 97);
+  const auto [with, without] = run_with_and_without_witness(14, 97);
   EXPECT_EQ(with.ghosts, 0u);
   EXPECT_GE(with.withdrawn_founds, 1u);
   EXPECT_TRUE(with.all_found);
-  setup.rescuer.found_witness_window_s = 0.0;
-  const MultiBurialTrial without = run_multi_burial_trial(setup, 97);
   EXPECT_EQ(without.ghosts, 1u) << "the trial no longer exercises the failure it was kept for";
 }
 
@@ -53,13 +64,9 @@ TEST(TracedTrials, AFilterThatFollowedACarrierMateFirstIsNotFoundWhereNoVictimIs
 // apart, carriers 0.72 Hz, fields nearly parallel at the receiver: not flagged elliptical) was
 // FOUND 0.86 m from victim 3 with a 0.17 m radius after victim 3's own clean pulses.
 TEST(TracedTrials, AFilterFedASumOfTwoTransmittersIsNotFoundWhereNoVictimIs) {
-  MultiBurialSetup setup = four_within_five_metres(13);
-  setup.rescuer.found_witness_window_s = 30.0;
-  const MultiBurialTrial with = run_multi_burial_trial(setup, 2);
+  const auto [with, without] = run_with_and_without_witness(13, 2);
   EXPECT_EQ(with.ghosts, 0u);
   EXPECT_GE(with.withdrawn_founds, 1u);
-  setup.rescuer.found_witness_window_s = 0.0;
-  const MultiBurialTrial without = run_multi_burial_trial(setup, 2);
   EXPECT_EQ(without.ghosts, 1u) << "the trial no longer exercises the failure it was kept for";
 }
 
