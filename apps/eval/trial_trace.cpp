@@ -55,10 +55,12 @@ av::MultiBurialTraceObserver multi_burial_trace_printer() {
                   t.majority_victim ? std::to_string(*t.majority_victim).c_str() : "-");
       if (t.pulse_victim) std::printf(" pulse %zu", *t.pulse_victim);
       if (t.mixed_victim) std::printf("+%zu(%.2f)", *t.mixed_victim, t.mixed_energy_ratio);
+      if (t.truth_nis) std::printf(" truth-nis %.1f", *t.truth_nis);
       if (t.estimate) {
         std::printf(" status %d at [%.2f %.2f %.2f] r95 %.2f repeat %d", static_cast<int>(t.estimate->status),
                     t.estimate_at.x(), t.estimate_at.y(), t.estimate_at.z(),
                     sarloc::radius95_3d(t.estimate->relative.covariance), static_cast<int>(t.estimate->repeat));
+        if (t.error_m) std::printf(" err %.2f nees %.1f", *t.error_m, *t.nees);
       }
       if (t.guidance) std::printf(" guides mode %d", static_cast<int>(t.guidance->mode));
       std::printf("\n");

@@ -58,6 +58,8 @@ void read_sog(YamlReader r, avalanche::SogConfig& c) {
   r.read("max_burial_depth_m", c.max_burial_depth_m);
   r.read("depth_layers", c.depth_layers);
   r.read("depth_sigma_factor", c.depth_sigma_factor);
+  r.read("near_field_depth_sigma_per_range", c.near_field_depth_sigma_per_range);
+  r.read("near_field_burial_depth_m", c.near_field_burial_depth_m);
   r.read("horizontal_overlap", c.horizontal_overlap);
   r.read("max_range_m", c.max_range_m);
   r.read("range_noise_sigmas", c.range_noise_sigmas);
@@ -144,6 +146,7 @@ void read_rescuer_search(YamlReader r, avalanche::RescuerSearchConfig& c) {
   r.read("measurement_lag_tolerance_s", c.measurement_lag_tolerance_s);
   r.read("found_witness_window_s", c.found_witness_window_s);
   r.read("found_witness_gate_probability", c.found_witness_gate_probability);
+  r.read("found_witness_radius_factor", c.found_witness_radius_factor);
   r.expect_done();
 }
 

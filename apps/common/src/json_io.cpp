@@ -100,6 +100,8 @@ nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
   j["trials_with_implausible_rebuilds"] = s.trials_with_implausible_rebuilds;
   j["withdrawn_founds"] = s.withdrawn_founds;
   j["trials_with_withdrawn_founds"] = s.trials_with_withdrawn_founds;
+  j["deferred_founds"] = s.deferred_founds;
+  j["trials_with_deferred_founds"] = s.trials_with_deferred_founds;
   j["wrong_attributions"] = s.wrong_attributions;
   j["unattributed_pulses"] = s.unattributed_pulses;
   j["steps"] = stats_json(s.steps);
@@ -107,7 +109,12 @@ nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
   j["wall_s"] = s.wall_s;
   j["per_trial"] = nlohmann::json::array();
   for (const auto& t : s.per_trial) {
+    nlohmann::json records = nlohmann::json::array();
+    for (const auto& r : t.found_records)
+      records.push_back({{"step", r.step}, {"depth_m", r.depth_m}, {"range_m", r.range_m}, {"error_m", r.error_m},
+                         {"radius95_m", r.radius95_m}, {"nees", r.nees}, {"ghost", r.ghost}});
     j["per_trial"].push_back({{"index", t.index},
+                              {"found_records", records},
                               {"found", t.found},
                               {"all_found", t.all_found},
                               {"ghosts", t.ghosts},
@@ -121,6 +128,7 @@ nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
                               {"leaps", t.leaps},
                               {"implausible_rebuilds", t.implausible_rebuilds},
                               {"withdrawn_founds", t.withdrawn_founds},
+                              {"deferred_founds", t.deferred_founds},
                               {"wrong_attributions", t.wrong_attributions},
                               {"unattributed_pulses", t.unattributed_pulses},
                               {"steps", t.steps},

@@ -38,10 +38,12 @@ Listening BeaconReceiver::listen(const ReceiverPose& pose, const std::vector<Bea
   const Mat3 r_world = rotation_from_rpy(pose.rpy);
   std::uniform_real_distribution<double> phase(0.0, 2.0 * kPi);
   std::vector<IncomingPulse> pulses;
+  std::vector<Vec3> ideal(beacons.size());  // truth for HeardSample::truth_nis
   for (std::size_t b = 0; b < beacons.size(); ++b) {
     const Beacon& beacon = beacons[b];
     const Vec3c h_world = full_dipole_field(pose.position - beacon.position, beacon.moment, k_);
     Vec3c h_device = r_world.transpose().cast<std::complex<double>>() * h_world;
+    ideal[b] = h_device.real();
     const double magnitude = h_device.norm();
     for (double start : beacon.timing.starts_in(t0_s, t0_s + duration_s)) {
       // Pulse-to-pulse fluctuation in phase with the pulse (5 % of |H| per axis, as the ideal
@@ -91,7 +93,18 @@ Listening BeaconReceiver::listen(const ReceiverPose& pose, const std::vector<Bea
     const auto by_energy = on_carrier(out.report.pulses[s.pulse]);
     HeardSample& h = out.samples.emplace_back();
     h.sample = s;
-    if (!by_energy.empty()) h.transmitter = by_energy.front().second;
+    if (!by_energy.empty()) {
+      h.transmitter = by_energy.front().second;
+      const Vec3& truth = ideal[*h.transmitter];
+      double plus = 0.0, minus = 0.0;
+      for (int a = 0; a < 3; ++a) {
+        if ((s.valid_axes & (1U << a)) == 0) continue;
+        const double sigma = s.noise[a] + config_.field_noise_relative * truth.norm();
+        plus += std::pow((s.field[a] - truth[a]) / sigma, 2);
+        minus += std::pow((s.field[a] + truth[a]) / sigma, 2);
+      }
+      h.truth_nis = std::min(plus, minus);
+    }
     for (std::size_t i = 1; i < by_energy.size(); ++i)
       if (by_energy[i].second != by_energy.front().second) {
         h.mixed_with = by_energy[i].second;

@@ -91,6 +91,7 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
   tr.min_carrier_gap_hz = min_gap;
   tr.lockstep_s = lockstep_s;
   std::vector<FoundClaim> founds;
+  std::vector<std::pair<std::uint32_t, Vec3>> found_at;  // step and antenna position of each FOUND
   std::set<std::uint32_t> reported, signals, retired, suspected;
   std::map<std::uint32_t, std::size_t> victim_found_by;  // signal -> the victim its FOUND was scored as
   std::uint64_t odometry_sequence = 0;
@@ -122,11 +123,19 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
           t.pulse_victim = heard.samples[i].transmitter;
           t.mixed_victim = heard.samples[i].mixed_with;
           t.mixed_energy_ratio = heard.samples[i].mixed_energy_ratio;
+          t.truth_nis = heard.samples[i].truth_nis;
         }
         if (update) {
           t.estimate = update->estimate;
           t.guidance = update->guidance;
-          if (t.estimate) t.estimate_at = pose.position + t.estimate->relative.position;
+          if (t.estimate) {
+            t.estimate_at = pose.position + t.estimate->relative.position;
+            if (t.majority_victim) {
+              const Vec3 err = t.estimate_at - victim_positions[*t.majority_victim];
+              t.error_m = err.norm();
+              t.nees = err.dot(t.estimate->relative.covariance.ldlt().solve(err));
+            }
+          }
         }
       }
       if (update == nullptr) continue;
@@ -150,6 +159,7 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
       if (const auto victim = victim_of_found(where, found_reach(claim.covariance), victim_positions, claim.own))
         victim_found_by[m.signal_id] = *victim;
       founds.push_back(claim);
+      found_at.emplace_back(step, pose.position);
       const FoundMatching matched = match_founds(founds, victim_positions);
       tr.found = static_cast<std::uint32_t>(matched.found);
       tr.ghosts = static_cast<std::uint32_t>(matched.ghosts);
@@ -187,13 +197,25 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
   // Each FOUND against the victim it was matched to (else the nearest): inside its stated radius?
   const FoundMatching matched = match_founds(founds, victim_positions);
   for (std::size_t f = 0; f < founds.size(); ++f) {
-    double error = std::numeric_limits<double>::infinity();
+    std::size_t victim = 0;
     if (matched.victim[f]) {
-      error = (victim_positions[*matched.victim[f]] - founds[f].position).norm();
+      victim = *matched.victim[f];
     } else {
-      for (const Vec3& v : victim_positions) error = std::min(error, (v - founds[f].position).norm());
+      for (std::size_t v = 1; v < victim_positions.size(); ++v)
+        if ((victim_positions[v] - founds[f].position).norm() < (victim_positions[victim] - founds[f].position).norm())
+          victim = v;
     }
+    const Vec3 err = founds[f].position - victim_positions[victim];
+    const double error = err.norm();
     const double ratio = error / std::max(radius95_3d(founds[f].covariance), 1e-9);
+    FoundRecord& rec = tr.found_records.emplace_back();
+    rec.step = found_at[f].first;
+    rec.depth_m = -victim_positions[victim].z();
+    rec.range_m = (found_at[f].second - victim_positions[victim]).norm();
+    rec.error_m = error;
+    rec.radius95_m = radius95_3d(founds[f].covariance);
+    rec.nees = err.dot(founds[f].covariance.ldlt().solve(err));
+    rec.ghost = !matched.victim[f] && error > found_reach(founds[f].covariance);
     ++tr.founds;
     if (ratio > 1.0) ++tr.founds_outside_radius;
     tr.worst_found_error_to_radius = std::max(tr.worst_found_error_to_radius, ratio);
@@ -202,6 +224,7 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
   tr.leaps = static_cast<std::uint32_t>(search.leaps());
   tr.implausible_rebuilds = static_cast<std::uint32_t>(search.implausible_rebuilds());
   tr.withdrawn_founds = static_cast<std::uint32_t>(search.withdrawn_founds());
+  tr.deferred_founds = static_cast<std::uint32_t>(search.deferred_founds());
   return tr;
 }
 
@@ -239,6 +262,8 @@ MultiBurialSummary run_multi_burial(const MultiBurialSetup& setup, const std::fu
     if (r.implausible_rebuilds > 0) ++s.trials_with_implausible_rebuilds;
     s.withdrawn_founds += r.withdrawn_founds;
     if (r.withdrawn_founds > 0) ++s.trials_with_withdrawn_founds;
+    s.deferred_founds += r.deferred_founds;
+    if (r.deferred_founds > 0) ++s.trials_with_deferred_founds;
     s.wrong_attributions += r.wrong_attributions;
     s.unattributed_pulses += r.unattributed_pulses;
     s.per_trial.push_back(r);

@@ -42,6 +42,8 @@ void RescuerSearchConfig::validate() const {
     fail("found_witness_window_s", found_witness_window_s, "must be in [0, 600]");
   if (!(found_witness_gate_probability > 0.0 && found_witness_gate_probability < 1.0))
     fail("found_witness_gate_probability", found_witness_gate_probability, "must be in (0, 1)");
+  if (!(found_witness_radius_factor >= 1.0 && found_witness_radius_factor <= 100.0))
+    fail("found_witness_radius_factor", found_witness_radius_factor, "must be in [1, 100]");
 }
 
 RescuerSearch::RescuerSearch(std::string rescuer_id, RescuerSearchConfig config)
@@ -378,9 +380,20 @@ bool RescuerSearch::witnessed(std::uint32_t id, SignalState& s, TimestampNs now)
   std::optional<SogFilter> witness = found_witness(id, now - window);
   if (!witness || !witness->initialised()) return true;
   const VictimEstimate theirs = witness->estimate(config_.summary_components);
-  // Unconverged: the latest samples alone cannot say where it is, so they say nothing against.
-  if (theirs.status < EstimatorStatus::kConverged) return true;
+  // The latest samples alone must (nearly) locate the victim too. A filter that learnt a moment
+  // from a carrier-mate's pulses fits the right transmitter's clean pulses from the wrong place
+  // with a small radius; a fresh filter on those pulses is consistent, and wide until they pin
+  // the victim down: the FOUND waits for it (the probes go on) rather than trust the narrow one.
+  // Nearly: 30 s of samples leave a victim 4 m deep 1.5-2 times the located radius. A FOUND the
+  // adaptive end gives unlocated (a stalled search) states its wider radius: that one counts.
   const VictimEstimate mine = s.filter.estimate(config_.summary_components);
+  const double claimed = std::max(s.controller.located_radius(mine.relative.position),
+                                  radius95_3d(mine.relative.covariance));
+  if (radius95_3d(theirs.relative.covariance) > config_.found_witness_radius_factor * claimed) {
+    s.controller.withdraw_found();
+    ++deferred_founds_;
+    return false;
+  }
   const Vec3 d = mine.relative.position - theirs.relative.position;
   const Mat3 sum = mine.relative.covariance + theirs.relative.covariance;
   const double d2 = d.dot(sum.ldlt().solve(d));

@@ -36,6 +36,9 @@ std::string fmt(const Vec3& v) {
 
 bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
 
+// A ring heard from a few metres needs no thinner layers than this (0.25 m over 5 m).
+constexpr double kMaxNearFieldLayers = 20.0;
+
 // x with its angles re-expressed next to ref's, so that averaging never crosses +-pi.
 StateVec near_angles(StateVec x, const StateVec& ref) {
   for (int k = 0; k < 3; ++k)
@@ -106,6 +109,11 @@ void SogConfig::validate() const {
     config_fail("depth_layers", depth_layers, "must be in [1, 20]");
   if (!finite_positive(depth_sigma_factor) || depth_sigma_factor > 5.0)
     config_fail("depth_sigma_factor", depth_sigma_factor, "must be in (0, 5]");
+  if (!std::isfinite(near_field_depth_sigma_per_range) || near_field_depth_sigma_per_range < 0.0 ||
+      near_field_depth_sigma_per_range > 1.0)
+    config_fail("near_field_depth_sigma_per_range", near_field_depth_sigma_per_range, "must be in [0, 1]");
+  if (!finite_positive(near_field_burial_depth_m) || near_field_burial_depth_m > 20.0)
+    config_fail("near_field_burial_depth_m", near_field_burial_depth_m, "must be in (0, 20]");
   if (!finite_positive(horizontal_overlap) || horizontal_overlap > 5.0)
     config_fail("horizontal_overlap", horizontal_overlap, "must be in (0, 5]");
   if (!finite_positive(max_range_m) || max_range_m > 500.0)
@@ -520,11 +528,18 @@ void SogFilter::initialise(const FieldMeasurement& meas) {
       z_lo > 0.0 ? std::min(config_.max_range_m, std::cbrt(2.0 * m_hi / (4.0 * kPi * z_lo)))
                  : config_.max_range_m;
   const double h = config_.antenna_height_m;
-  const double deepest = h + config_.max_burial_depth_m;
+  double depth = config_.max_burial_depth_m;
+  std::uint32_t layers = config_.depth_layers;
+  const double sigma_z_cap = config_.near_field_depth_sigma_per_range * r_min;
+  if (config_.depth_sigma_factor * depth / layers > sigma_z_cap && sigma_z_cap > 0.0) {
+    depth = std::max(depth, config_.near_field_burial_depth_m);
+    layers = std::max(layers, static_cast<std::uint32_t>(std::min(
+                                  kMaxNearFieldLayers, std::ceil(config_.depth_sigma_factor * depth / sigma_z_cap))));
+  }
+  const double deepest = h + depth;
   const double rho_min = std::sqrt(std::max(0.0, r_min * r_min - deepest * deepest));
   const double rho_max = std::max(r_max, rho_min + 0.5);
-  const std::uint32_t layers = config_.depth_layers;
-  const double thickness = config_.max_burial_depth_m / layers;
+  const double thickness = depth / layers;
   const double sigma_z = config_.depth_sigma_factor * thickness;
 
   struct Candidate {

@@ -662,6 +662,15 @@ TEST(RescuerSearch, FoundWitnessSettingsAreValidatedByName) {
   c.found_witness_gate_probability = 1.0;
   EXPECT_THROW(c.validate(), ConfigError);
   c = RescuerSearchConfig{};
+  c.found_witness_radius_factor = 0.5;  // a witness tighter than the FOUND itself: never
+  try {
+    c.validate();
+    FAIL() << "a radius factor below 1 accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("rescuer_search.found_witness_radius_factor = 0.5"), std::string::npos)
+        << e.what();
+  }
+  c = RescuerSearchConfig{};
   c.found_witness_window_s = 0.0;  // off
   EXPECT_NO_THROW(c.validate());
 }

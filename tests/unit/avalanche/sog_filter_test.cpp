@@ -9,6 +9,7 @@
 
 #include "sarloc/core/avalanche/odometry_accumulator.hpp"
 #include "sarloc/core/avalanche/simulator.hpp"
+#include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/gaussian.hpp"
 
@@ -110,6 +111,52 @@ TEST(SogFilterTest, ConvergesOnTruthWhileWalkingTowardsIt) {
   EXPECT_GE(e.top_components.front().weight, e.top_components.back().weight);
   // The error is consistent with the reported covariance (generous: one trial, 3 dof).
   EXPECT_LT(err.dot(e.relative.covariance.ldlt().solve(err)), 16.0);
+}
+
+// The NEES of a filter first heard a few metres from a victim 4 m deep, after the walk a
+// rescuer makes there (onto it, then around it 1.5 m out), over runs with random azimuths,
+// moments and noise: the filter's mixture of depth layers must cover that victim with
+// Gaussians narrow enough for 1/r^3 to be near linear over each.
+double mean_nees_near_a_deep_victim(const SogConfig& cfg, int runs) {
+  double sum = 0.0;
+  for (int run = 0; run < runs; ++run) {
+    std::mt19937_64 rng(700 + run);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const double az = 2.0 * kPi * u(rng);
+    Scenario s;
+    s.transmitter = Vec3(4.5 * std::cos(az), 4.5 * std::sin(az), -4.0);
+    const Vec3 dir = Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized();
+    s.moment = dir * (cfg.standard.moment_min() + u(rng) * (cfg.standard.moment_max() - cfg.standard.moment_min()));
+    s.receiver = Vec3(0.0, 0.0, 1.0);
+    s.receiver_rpy = Vec3(0.0, 0.0, 2.0 * kPi * u(rng));
+    AvalancheSimulator sim(SimulationConfig{}, s, 900 + run);
+    SogFilter f(cfg);
+    f.process(sim.measure());
+    auto walk_to = [&](const Vec3& point) {
+      const Vec3 rel = point - sim.scenario().receiver;
+      const double step = std::min(1.0, rel.head<2>().norm());
+      f.add_odometry(sim.walk(std::atan2(rel.y(), rel.x()) - sim.scenario().receiver_rpy.z(), step));
+      f.process(sim.measure());
+    };
+    for (int k = 0; k < 6; ++k) walk_to(s.transmitter);
+    for (int k = 0; k < 12; ++k)
+      walk_to(s.transmitter + 1.5 * Vec3(std::cos(k * kPi / 3.0), std::sin(k * kPi / 3.0), 0.0));
+    const VictimEstimate e = f.estimate();
+    const Vec3 err = e.relative.position - sim.true_relative_position();
+    sum += err.dot(e.relative.covariance.ldlt().solve(err));
+  }
+  return sum / runs;
+}
+
+TEST(SogFilterTest, FirstHeardNearADeepVictimTheCovarianceHoldsTheTruth) {
+  constexpr int kRuns = 12;
+  const double upper = chi_square_quantile(0.975, 3 * kRuns) / kRuns;
+  SogConfig cfg;
+  cfg.initial_components = 900;  // keep the unit test fast
+  EXPECT_LT(mean_nees_near_a_deep_victim(cfg, kRuns), upper);
+  // One 0-3 m layer at every range, as before the near-field layers: overconfident there.
+  cfg.near_field_depth_sigma_per_range = 0.0;
+  EXPECT_GT(mean_nees_near_a_deep_victim(cfg, kRuns), upper);
 }
 
 TEST(SogFilterTest, ZeroDisplacementWithoutOdometryKeepsBelief) {

@@ -36,6 +36,10 @@ struct HeardSample {
   /// the dominant one's.
   std::optional<std::size_t> mixed_with;
   double mixed_energy_ratio = 0.0;
+  /// Truth: how far the sample is from its dominant transmitter's field as an ideal receiver in
+  /// this pose would read it (no gains, no fluctuation), the better sign, over the sample's noise
+  /// plus the filter's relative term: sum over valid axes of (z -+ h)^2 / (noise + rel |h|)^2.
+  std::optional<double> truth_nis;
 };
 
 struct Listening {

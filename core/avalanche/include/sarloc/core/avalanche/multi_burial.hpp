@@ -39,6 +39,17 @@ struct MultiBurialSetup {
 /// About 1 / on-time: two carriers this close fall in one frequency cell of the detector.
 inline constexpr double kCarrierCellHz = 10.0;
 
+/// One FOUND against the victim it was matched to (else the nearest), for consistency by depth.
+struct FoundRecord {
+  std::uint32_t step = 0;
+  double depth_m = 0.0;      ///< that victim's depth below the snow surface
+  double range_m = 0.0;      ///< antenna to that victim when FOUND was declared
+  double error_m = 0.0;      ///< FOUND position to that victim (3-D)
+  double radius95_m = 0.0;   ///< the FOUND's stated 95 % 3-D radius
+  double nees = 0.0;         ///< error' P^-1 error (3 degrees of freedom)
+  bool ghost = false;        ///< matched to no victim
+};
+
 struct MultiBurialTrial {
   std::uint32_t index = 0;
   std::uint32_t found = 0;          ///< distinct victims found correctly
@@ -51,6 +62,7 @@ struct MultiBurialTrial {
   std::uint32_t founds_outside_radius = 0;
   /// The largest distance to that victim over the stated 95 % radius (1: on the radius).
   double worst_found_error_to_radius = 0.0;
+  std::vector<FoundRecord> found_records;
   /// Signals retired as confirmed repeats of a found one (RescuerSearchConfig::same_transmitter_*),
   /// and of those, how many carried mostly another transmitter than the victim found (a victim
   /// the test hid).
@@ -66,6 +78,8 @@ struct MultiBurialTrial {
   /// FOUNDs withdrawn because their witness filter converged elsewhere
   /// (RescuerSearchConfig::found_witness_window_s).
   std::uint32_t withdrawn_founds = 0;
+  /// FOUND claims that waited for the witness to locate the victim too.
+  std::uint32_t deferred_founds = 0;
   std::uint32_t wrong_attributions = 0;
   std::uint32_t unattributed_pulses = 0;
   std::uint32_t steps = 0;          ///< until the last victim was found (or the budget)
@@ -102,6 +116,8 @@ struct MultiBurialSummary {
   std::uint32_t trials_with_implausible_rebuilds = 0;
   std::uint32_t withdrawn_founds = 0;
   std::uint32_t trials_with_withdrawn_founds = 0;
+  std::uint32_t deferred_founds = 0;
+  std::uint32_t trials_with_deferred_founds = 0;
   std::uint64_t wrong_attributions = 0;
   std::uint64_t unattributed_pulses = 0;
   Stats steps;                      ///< of the trials that found all
@@ -126,7 +142,10 @@ struct MultiBurialTraceSample {
   /// dominant one's (HeardSample::mixed_with).
   std::optional<std::size_t> mixed_victim;
   double mixed_energy_ratio = 0.0;
+  std::optional<double> truth_nis;             ///< HeardSample::truth_nis
   std::optional<VictimEstimate> estimate;      ///< as updated by this sample
+  /// The estimate's 3-D error against its majority victim and its NEES (diagnostics).
+  std::optional<double> error_m, nees;
   Vec3 estimate_at = Vec3::Zero();             ///< the estimate placed in the search frame
   std::optional<Guidance> guidance;            ///< when the sample is the target's
 };

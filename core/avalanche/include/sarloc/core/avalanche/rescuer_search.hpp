@@ -54,15 +54,19 @@ struct RescuerSearchConfig {
   /// magnitude (1 sigma); otherwise the signal stays suspected: the device cannot tell.
   double same_transmitter_moment_spread = 0.25;
   /// Found witness (multiple burials): before a FOUND is given, a second filter is built from
-  /// this many seconds of the signal's latest samples only, replayed with the odometry; when it
-  /// has converged elsewhere (d^2 with summed covariances beyond
-  /// chi2_3(found_witness_gate_probability)) the FOUND is withdrawn and the signal's filter
-  /// becomes the witness. A filter fed another transmitter's pulses earlier (a carrier-mate in
-  /// lockstep, a sum the separation let through) keeps what it learnt of that one's moment and
-  /// fits the right transmitter's clean pulses from the wrong place. 0 = off, the default: over
-  /// 2000 trials it traded the two ghosts it cures for two at deep victims (avalanche.md).
-  double found_witness_window_s = 0.0;
+  /// this many seconds of the signal's latest samples only, replayed with the odometry. While it
+  /// cannot nearly locate the victim (found_witness_radius_factor) the FOUND waits; when it
+  /// locates it elsewhere (d^2 with summed covariances beyond
+  /// chi2_3(found_witness_gate_probability)) the FOUND is withdrawn and the signal's filter takes
+  /// the witness's hypotheses beside its own. A filter fed another transmitter's pulses earlier
+  /// (a carrier-mate in lockstep, a sum the separation let through) keeps what it learnt of that
+  /// one's moment and fits the right transmitter's clean pulses from the wrong place with a small
+  /// radius (avalanche.md, "Found witness"). 0 = off.
+  double found_witness_window_s = 30.0;
   double found_witness_gate_probability = 0.999;
+  /// ... and the FOUND waits while the witness's 95 % radius exceeds this many times the located
+  /// radius (the latest samples alone must nearly locate the victim too).
+  double found_witness_radius_factor = 2.0;
 
   /// Throws ConfigError naming the key ("rescuer_search.max_signals = 0: must be in [1, 64]").
   void validate() const;
@@ -134,6 +138,8 @@ class RescuerSearch {
   std::size_t confirmed_repeats() const { return confirmed_repeats_; }
   /// FOUNDs withdrawn because the found witness converged elsewhere.
   std::size_t withdrawn_founds() const { return withdrawn_founds_; }
+  /// FOUND claims that waited because the found witness could not yet locate the victim.
+  std::size_t deferred_founds() const { return deferred_founds_; }
   /// How well a field sample would fit a signal's filter (SogFilter::predictive_fit): the
   /// receiver's separation (SignalSeparator::set_consistency) asks it. nullopt for a signal
   /// without a filter yet.
@@ -197,6 +203,7 @@ class RescuerSearch {
   std::size_t implausible_rebuilds_ = 0;
   std::size_t confirmed_repeats_ = 0;
   std::size_t withdrawn_founds_ = 0;
+  std::size_t deferred_founds_ = 0;
   double same_transmitter_gate_ = 0.0;  ///< chi2_6(same_transmitter_gate_probability)
   double witness_gate_ = 0.0;           ///< chi2_3(found_witness_gate_probability)
   /// What the filters were given, in order, over the last found_witness_window_s: replayed

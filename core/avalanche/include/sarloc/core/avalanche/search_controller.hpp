@@ -181,6 +181,8 @@ class SearchController {
   /// A FOUND this controller gave was withdrawn (RescuerSearch's found witness disagreed): back
   /// to the fine search, nothing confirmed, no probe pattern.
   void withdraw_found();
+  /// The 95 % radius below which an estimate at `relative_position` counts as located.
+  double located_radius(const Vec3& relative_position) const;
   const SearchConfig& config() const { return config_; }
   /// Probe points (offsets from the estimate, G_k axes) of the adaptive end; empty when none
   /// is being walked or was walked.
@@ -220,8 +222,6 @@ class SearchController {
   double flux_line_heading(const SogFilter& filter, const FieldMeasurement& meas,
                            const Eigen::Vector2d& mean_h, const Vec3& psi);
   double posterior_bearing_heading(const SogFilter& filter);
-  /// The 95 % radius below which an estimate at `relative_position` counts as located.
-  double located_radius(const Vec3& relative_position) const;
 };
 
 }  // namespace sarloc::avalanche

@@ -47,6 +47,14 @@ struct SogConfig {
   double max_burial_depth_m = 3.0; ///< 95 % of burials are shallower (seed 000, ref. [9])
   std::uint32_t depth_layers = 1;  ///< Gaussians stacked over the depth range
   double depth_sigma_factor = 0.6; ///< sigma_z = factor * layer thickness
+  /// Near field: a ring first heard this close is cut into thinner layers, each with sigma_z at
+  /// most this fraction of r_min, so that 1/r^3 stays near linear over one Gaussian (a 1.8 m
+  /// layer 5 m from the antenna is not: seen converging 1 m off a 3.9 m deep victim with a
+  /// NEES of 60). 0 = the configured layers at every range.
+  double near_field_depth_sigma_per_range = 0.15;
+  /// ... and those layers reach this deep: the depths one layer over max_burial_depth_m covered
+  /// to 2 sigma, which thin layers alone would no longer cover.
+  double near_field_burial_depth_m = 5.0;
   double horizontal_overlap = 0.55;///< sigma_xy = overlap * grid spacing (hexagonal grid)
   double max_range_m = 90.0;       ///< receivers do not detect beyond this (NOTES: 40-70 m)
   double range_noise_sigmas = 3.0; ///< widen r_min/r_max by this many sigma of |z_1| noise
