@@ -64,8 +64,9 @@ struct RescuerSearchConfig {
   /// radius (avalanche.md, "Found witness"). 0 = off.
   double found_witness_window_s = 30.0;
   double found_witness_gate_probability = 0.999;
-  /// ... and the FOUND waits while the witness's 95 % radius exceeds this many times the located
-  /// radius (the latest samples alone must nearly locate the victim too).
+  /// ... and the FOUND waits while the witness's 95 % radius exceeds this many times the radius
+  /// the FOUND claims: the located radius, or the filter's own when larger (a FOUND the adaptive
+  /// end gives). The latest samples alone must nearly locate the victim too.
   double found_witness_radius_factor = 2.0;
 
   /// Throws ConfigError naming the key ("rescuer_search.max_signals = 0: must be in [1, 64]").
