@@ -294,11 +294,13 @@ void CommandNode::cycle() {
         source.estimator = pending.writer;
         source.from_device = pending.from_device;
         source.received = pending.arrived;
-        spdlog::trace("source {}/{} stamp {} status {} at ({:.2f}, {:.2f}, {:.2f}) sd ({:.2f}, {:.2f}, {:.2f})",
+        spdlog::trace("source {}/{} stamp {} status {} at ({:.2f}, {:.2f}, {:.2f}) sd ({:.2f}, {:.2f}, {:.2f}) "
+                      "carrier {:.2f} +- {:.2f} Hz period {:.5f} +- {:.5f} s",
                       source.rescuer_id, source.signal_id, source.stamp, static_cast<int>(source.state),
                       source.position.position.x(), source.position.position.y(), source.position.position.z(),
                       std::sqrt(source.position.covariance(0, 0)), std::sqrt(source.position.covariance(1, 1)),
-                      std::sqrt(source.position.covariance(2, 2)));
+                      std::sqrt(source.position.covariance(2, 2)), source.transmitter.carrier_offset_hz,
+                      source.transmitter.carrier_sigma_hz, source.transmitter.period_s, source.transmitter.period_sigma_s);
         fusion_.update(source);
         counters_.accepted();
       } catch (const InputError& error) {

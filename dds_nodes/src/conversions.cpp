@@ -90,6 +90,21 @@ GaussianPose to_core(const ::sarloc::PoseWithCovariance& p) {
   return GaussianPose{to_core(p.position()), to_core(p.orientation()), array_to_matrix<6>(p.covariance())};
 }
 
+::sarloc::TransmitterSignature to_idl(const responder::TransmitterSignature& s) {
+  ::sarloc::TransmitterSignature out;
+  out.carrier_offset_hz(s.carrier_offset_hz);
+  out.carrier_sigma_hz(s.carrier_sigma_hz);
+  out.period_s(s.period_s);
+  out.period_sigma_s(s.period_sigma_s);
+  return out;
+}
+
+responder::TransmitterSignature to_core(const ::sarloc::TransmitterSignature& s, const std::string& where) {
+  const responder::TransmitterSignature out{s.carrier_offset_hz(), s.carrier_sigma_hz(), s.period_s(), s.period_sigma_s()};
+  responder::check_signature(out, where);
+  return out;
+}
+
 ::sarloc::FieldMeasurement to_idl(const avalanche::FieldMeasurement& m) {
   ::sarloc::FieldMeasurement out;
   out.rescuer_id(to_identifier(m.rescuer_id, "field_measurement.rescuer_id"));
@@ -101,6 +116,7 @@ GaussianPose to_core(const ::sarloc::PoseWithCovariance& p) {
   out.valid_axes(m.valid_axes);
   out.signal_event(static_cast<::sarloc::SignalEvent>(m.event));
   out.unattributed_pulses(m.unattributed_pulses);
+  out.transmitter(to_idl(m.transmitter));
   out.has_orientation(m.orientation.has_value());
   if (m.orientation) {
     out.orientation_rpy(to_idl(m.orientation->rpy));
@@ -121,6 +137,7 @@ avalanche::FieldMeasurement to_core(const ::sarloc::FieldMeasurement& m) {
   out.event = checked_enum<responder::SignalEvent>(m.signal_event(), ::sarloc::SIGNAL_SEPARATED,
                                                    "field_measurement.signal_event");
   out.unattributed_pulses = m.unattributed_pulses();
+  out.transmitter = to_core(m.transmitter(), "field_measurement.transmitter");
   if (m.has_orientation()) {
     out.orientation = avalanche::OrientationObservation{to_core(m.orientation_rpy()),
                                                         array_to_matrix<3>(m.orientation_covariance())};
@@ -177,6 +194,7 @@ responder::Odometry to_core(const ::sarloc::Odometry& o) {
   out.signal_event_stamp(e.signal_event_stamp);
   out.repeat(static_cast<::sarloc::RepeatState>(e.repeat));
   out.repeat_of_signal(e.repeat_of_signal);
+  out.transmitter(to_idl(e.transmitter));
   out.reporter_known(e.reporter.has_value());
   if (e.reporter) out.reporter(to_idl(*e.reporter));
   return out;
@@ -199,6 +217,7 @@ responder::VictimEstimate to_core(const ::sarloc::VictimEstimate& e) {
   out.signal_event_stamp = e.signal_event_stamp();
   out.repeat = checked_enum<responder::RepeatState>(e.repeat(), ::sarloc::REPEAT_CONFIRMED, "victim_estimate.repeat");
   out.repeat_of_signal = e.repeat_of_signal();
+  out.transmitter = to_core(e.transmitter(), "victim_estimate.transmitter");
   if (out.repeat != responder::RepeatState::kNone && out.repeat_of_signal == out.signal_id) {
     throw InputError("victim_estimate.repeat_of_signal = " + std::to_string(out.repeat_of_signal) +
                      ": a signal cannot repeat itself");

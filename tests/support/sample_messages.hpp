@@ -35,6 +35,7 @@ inline avalanche::FieldMeasurement sample_field_measurement() {
   m.valid_axes = 0b101;
   m.event = avalanche::SignalEvent::kSeparated;
   m.unattributed_pulses = 3;
+  m.transmitter = {-12.5, 4.6, 1.0002, 0.0002};
   m.orientation = avalanche::OrientationObservation{Vec3(0.1, -0.2, 1.3), distinct_matrix<3>(0.001)};
   return m;
 }
@@ -68,6 +69,7 @@ inline responder::VictimEstimate sample_victim_estimate() {
   e.signal_event_stamp = 1763731250000000000LL;
   e.repeat = responder::RepeatState::kSuspected;
   e.repeat_of_signal = 1;
+  e.transmitter = {25.25, 4.57, 0.99999, 0.00015};
   return e;
 }
 

@@ -25,6 +25,7 @@ void read_receiver(YamlReader r, avalanche::ReceiverModelConfig& c) {
   r.read("on_time_min_ms", c.on_time_min_ms);
   r.read("on_time_max_ms", c.on_time_max_ms);
   r.read("carrier_tolerance_hz", c.carrier_tolerance_hz);
+  r.read("oscillator_sigma_ppm", c.oscillator_sigma_ppm);
   r.read("sample_rate_hz", c.sample_rate_hz);
   r.expect_done();
 }

@@ -8,6 +8,7 @@
 
 #include "sarloc/core/avalanche/dipole_model.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
+#include "sarloc/core/common/seeds.hpp"
 
 namespace sarloc::avalanche {
 namespace {
@@ -23,6 +24,13 @@ SeparatorConfig separator_config(const SimulationConfig& c) {
   return s;
 }
 
+// Drawn from its own stream, so that the device's other hardware draws stay those of a device
+// without it (the carriers it hears, hence what it detects, do change).
+double draw_oscillator_offset_hz(const ReceiverModelConfig& c, std::uint64_t seed) {
+  std::mt19937_64 rng(derive_seed(seed, 0x05C11A7011ULL));
+  return std::normal_distribution<double>(0.0, c.oscillator_sigma_ppm * 1e-6 * c.carrier_hz)(rng);
+}
+
 }  // namespace
 
 BeaconReceiver::BeaconReceiver(SimulationConfig config, std::uint64_t seed)
@@ -30,6 +38,7 @@ BeaconReceiver::BeaconReceiver(SimulationConfig config, std::uint64_t seed)
       rng_(seed),
       hardware_(ReceiverHardware::draw(config_.receiver, rng_)),
       pulse_noise_(axis_noise_floor(config_.receiver, config_.field_noise_floor_A_per_m)),
+      oscillator_offset_hz_(draw_oscillator_offset_hz(config_.receiver, seed)),
       k_(wavenumber(config_.receiver)),
       separator_(separator_config(config_)) {}
 
@@ -55,7 +64,7 @@ Listening BeaconReceiver::listen(const ReceiverPose& pose, const std::vector<Bea
       p.transmitter = b;
       p.start_s = start;
       p.end_s = start + beacon.timing.on_time_s;
-      p.carrier_offset_hz = beacon.timing.carrier_offset_hz;
+      p.carrier_offset_hz = beacon.timing.carrier_offset_hz - oscillator_offset_hz_;  // as this device hears it
       p.amplitude = a * std::polar(1.0, phi);
       pulses.push_back(p);
     }
@@ -113,6 +122,18 @@ Listening BeaconReceiver::listen(const ReceiverPose& pose, const std::vector<Bea
       }
     if (out.samples.back().transmitter) ++samples_of_[s.signal_id][*out.samples.back().transmitter];
   }
+  // What the device says of each transmitter, its own oscillator's tolerance added: the
+  // carrier's in Hz, the period's relative (the clock runs on the same crystal).
+  const double ppm = config_.receiver.oscillator_sigma_ppm * 1e-6;
+  auto stated = [&](std::uint32_t signal) {
+    auto s = separator_.signature_of(signal);
+    if (!s) return;
+    if (s->carrier_known()) s->carrier_sigma_hz = std::hypot(s->carrier_sigma_hz, ppm * config_.receiver.carrier_hz);
+    if (s->period_known()) s->period_sigma_s = std::hypot(s->period_sigma_s, ppm * s->period_s);
+    out.transmitters[signal] = *s;
+  };
+  for (const auto& s : out.report.samples) stated(s.signal_id);
+  for (const auto& s : out.report.misses) stated(s.signal_id);
   return out;
 }
 
@@ -144,6 +165,7 @@ std::vector<FieldMeasurement> to_measurements(const Listening& heard, const std:
     m.noise_stddev = h.sample.noise;
     m.valid_axes = h.sample.valid_axes;
     m.event = h.sample.event;
+    if (const auto t = heard.transmitters.find(m.signal_id); t != heard.transmitters.end()) m.transmitter = t->second;
     m.unattributed_pulses = heard.report.unattributed;
     m.orientation = attitude;
     out.push_back(m);

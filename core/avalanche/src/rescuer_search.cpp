@@ -233,6 +233,7 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
              .first;
   }
   SignalState& s = it->second;
+  if (m.transmitter.known()) s.transmitter = m.transmitter;
   if (m.event != SignalEvent::kNone) {
     s.last_event = m.event;
     s.last_event_stamp = m.stamp;
@@ -315,6 +316,7 @@ VictimEstimate RescuerSearch::with_signal_state(const SignalState& s, VictimEsti
   e.signal_event_stamp = s.last_event_stamp;
   e.repeat = s.repeat;
   e.repeat_of_signal = s.repeat_of;
+  e.transmitter = s.transmitter;
   if (s.repeat != responder::RepeatState::kNone) e.status = std::min(e.status, EstimatorStatus::kConverged);
   return e;
 }

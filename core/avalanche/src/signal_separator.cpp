@@ -93,6 +93,23 @@ std::optional<double> SignalSeparator::carrier_of(std::uint32_t signal_id) const
   return std::nullopt;
 }
 
+std::optional<responder::TransmitterSignature> SignalSeparator::signature_of(std::uint32_t signal_id) const {
+  const Track* t = find(signal_id);
+  if (t == nullptr) return std::nullopt;
+  responder::TransmitterSignature s;
+  s.carrier_offset_hz = t->carrier_hz;
+  if (t->carrier_pulses >= 2) {
+    // The fine grid's step is the floor: pulses that agree exactly still say no more than it.
+    const double spread = std::sqrt(t->carrier_pulse_m2 / (t->carrier_pulses - 1));
+    s.carrier_sigma_hz = std::max(spread, config_.detector.fine_step_hz) / std::sqrt(static_cast<double>(t->carrier_pulses));
+  }
+  if (t->timing.has_period()) {
+    s.period_s = t->timing.period_s();
+    s.period_sigma_s = t->timing.period_sigma_s();
+  }
+  return s;
+}
+
 double SignalSeparator::edge_sigma(const DetectedPulse& p) const {
   return config_.edge_sigma_s + config_.edge_sigma_weak_s / std::max(p.statistic, 1.0);
 }
@@ -160,6 +177,10 @@ void SignalSeparator::learn(Track& t, const DetectedPulse& p) {
   const double w = std::clamp(p.statistic, 1.0, 1e3);
   t.carrier_hz = (t.carrier_hz * t.carrier_weight + p.carrier_offset_hz * w) / (t.carrier_weight + w);
   t.carrier_weight = std::min(t.carrier_weight + w, 1e4);  // keeps following a slow drift
+  ++t.carrier_pulses;
+  const double delta = p.carrier_offset_hz - t.carrier_pulse_mean;
+  t.carrier_pulse_mean += delta / t.carrier_pulses;
+  t.carrier_pulse_m2 += delta * (p.carrier_offset_hz - t.carrier_pulse_mean);
   t.last_heard_s = p.end_s;
   ++t.heard;
   if (!p.truncated()) {

@@ -40,6 +40,7 @@ SourceEstimate make_source_estimate(const responder::VictimEstimate& estimate, c
   s.signal_event_stamp = estimate.signal_event_stamp;
   s.repeat = estimate.repeat;
   s.repeat_of_signal = estimate.repeat_of_signal;
+  s.transmitter = estimate.transmitter;
   s.state = source_state_of(estimate.status);
   s.position = to_incident_frame(estimate.relative, fix.antenna);
   s.floor = fix.floor;

@@ -16,6 +16,8 @@
 namespace sarloc::incident {
 namespace {
 
+using responder::compare_signatures;
+using responder::SignatureMatch;
 
 [[noreturn]] void config_fail(const char* key, double value, const char* rule) {
   std::ostringstream os;
@@ -45,9 +47,6 @@ void check_covariance(const std::string& where, const Mat3& p) {
 }
 
 bool kept_apart(const FusedVictim& a, const FusedVictim& b) {
-  // Two FOUND victims are two dig sites, each stood over by a device: a merge would send the
-  // diggers to neither (seen live under load, four within 5 m: a FOUND victim left the picture).
-  if (a.state == VictimState::kFound && b.state == VictimState::kFound) return true;
   // Two confirmed victims, one of which has lost every source: nothing new says they are one,
   // and the evidence that may have kept them apart (a rescuer with a signal in each) left with
   // the sources. Seen: A and D, FOUND 1.5 m apart with 0.9 m radii (inside each other's merge
@@ -330,7 +329,10 @@ void VictimFusion::associate_rescuer(const std::string& rescuer_id, TimestampNs 
        it != sources_.end() && it->first.first == rescuer_id; ++it) {
     if (!it->second.active) continue;
     rows.push_back(&it->second);
-    previous.push_back(it->second.victim_id);
+    // Unbound (silent for a while, or out of its keep gate a moment): the victim it was last
+    // bound to. Seen live: a FOUND signal silent for 12 s came back to find a suspected repeat of
+    // it in its place, opened a second FOUND victim, and the picture held one victim twice.
+    previous.push_back(it->second.victim_id != 0 ? it->second.victim_id : it->second.last_victim_id);
     unbind(it->second, Unbind::kReassociated);
   }
   if (rows.empty()) return;
@@ -400,6 +402,12 @@ void VictimFusion::merge_victims() {
       for (std::size_t j = i + 1; j < victims_.size(); ++j) {
         if (victims_[i].floor != victims_[j].floor) continue;
         if (kept_apart(victims_[i], victims_[j])) continue;
+        // Two FOUND victims are two dig sites, each stood over by a device: merged only when
+        // every pair of their sources names one transmitter (a merge by position alone sent the
+        // diggers to neither of two victims 1.5 m apart: seen live under load, four within 5 m).
+        if (victims_[i].state == VictimState::kFound && victims_[j].state == VictimState::kFound &&
+            !one_transmitter(victims_[i], victims_[j]))
+          continue;
         const double d2 = mahalanobis2(victims_[i].position, victims_[j].position);
         if (d2 <= merge_gate_ && d2 < best && !same_rescuer_conflict(victims_[i], victims_[j])) {
           best = d2;
@@ -436,6 +444,18 @@ void VictimFusion::merge_into(std::uint32_t keep_id, std::uint32_t gone_id) {
   keep.located_at = earliest_set(keep.located_at, gone.located_at);
   keep.found_at = earliest_set(keep.found_at, gone.found_at);
   removed_.push_back(gone_id);
+}
+
+bool VictimFusion::one_transmitter(const FusedVictim& a, const FusedVictim& b) const {
+  if (a.sources.empty() || b.sources.empty()) return false;
+  for (const VictimSource& x : a.sources)
+    for (const VictimSource& y : b.sources) {
+      if (x.rescuer_id == y.rescuer_id) return false;  // one receiver's two signals: its repeat test decides
+      const auto& sx = sources_.at({x.rescuer_id, x.signal_id}).estimate.transmitter;
+      const auto& sy = sources_.at({y.rescuer_id, y.signal_id}).estimate.transmitter;
+      if (compare_signatures(sx, sy, config_.gate_probability, true) != SignatureMatch::kAlike) return false;
+    }
+  return true;
 }
 
 std::pair<responder::RepeatState, std::uint32_t> VictimFusion::repeat_claim(const Source& s) const {

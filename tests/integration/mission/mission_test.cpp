@@ -112,6 +112,7 @@ TEST(Mission, FourVictimsWithinFiveMetresNeverGiveAGhostOrAVictimTwice) {
   ASSERT_FALSE(run.summary.is_null()) << "no summary; see " << run.run_dir;
   ASSERT_EQ(run.summary["true_victim_count"], 4);
   int confirmed = 0;
+  bool one_to_one = true;
   for (const auto& v : run.summary["fused_victims"]) {
     if (!v["confirmed"].get<bool>()) {
       EXPECT_FALSE(v["found"].get<bool>()) << v.dump();
@@ -120,8 +121,11 @@ TEST(Mission, FourVictimsWithinFiveMetresNeverGiveAGhostOrAVictimTwice) {
     ++confirmed;
     // One-to-one with the buried victims: a second copy of one matches none.
     EXPECT_TRUE(v["matches_a_buried_victim"].get<bool>()) << "a ghost or a victim twice: " << v.dump();
+    one_to_one = one_to_one && v["matches_a_buried_victim"].get<bool>();
   }
   EXPECT_LE(confirmed, 4) << "a victim twice: " << run.summary["fused_victims"].dump();
+  // Incident command's log of every victim's state change, for a failure seen only in CI.
+  if (!one_to_one || confirmed > 4) ADD_FAILURE() << run_report(run);
   int found_by_finder = 0;
   for (const auto& v : run.summary["victims"]) {
     EXPECT_EQ(v.value("false_found", 0), 0) << v.dump();

@@ -6,6 +6,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
 #include "support/sample_messages.hpp"
 
 namespace sarloc::dds {
@@ -28,6 +35,10 @@ TEST(Conversions, FieldMeasurementRoundTrips) {
   EXPECT_EQ(out.valid_axes, in.valid_axes);
   EXPECT_EQ(out.event, in.event);
   EXPECT_EQ(out.unattributed_pulses, in.unattributed_pulses);
+  EXPECT_EQ(out.transmitter.carrier_offset_hz, in.transmitter.carrier_offset_hz);
+  EXPECT_EQ(out.transmitter.carrier_sigma_hz, in.transmitter.carrier_sigma_hz);
+  EXPECT_EQ(out.transmitter.period_s, in.transmitter.period_s);
+  EXPECT_EQ(out.transmitter.period_sigma_s, in.transmitter.period_sigma_s);
   ASSERT_TRUE(out.orientation.has_value());
   EXPECT_EQ(out.orientation->rpy, in.orientation->rpy);
   EXPECT_EQ(out.orientation->covariance, in.orientation->covariance);
@@ -83,6 +94,34 @@ TEST(Conversions, VictimEstimateRoundTrips) {
   EXPECT_EQ(out.signal_event_stamp, in.signal_event_stamp);
   EXPECT_EQ(out.repeat, in.repeat);
   EXPECT_EQ(out.repeat_of_signal, in.repeat_of_signal);
+  EXPECT_EQ(out.transmitter.carrier_offset_hz, in.transmitter.carrier_offset_hz);
+  EXPECT_EQ(out.transmitter.carrier_sigma_hz, in.transmitter.carrier_sigma_hz);
+  EXPECT_EQ(out.transmitter.period_s, in.transmitter.period_s);
+  EXPECT_EQ(out.transmitter.period_sigma_s, in.transmitter.period_sigma_s);
+}
+
+// A signature no receiver can have measured is refused by name: incident command would
+// otherwise compare it with every other rescuer's.
+TEST(Conversions, ATransmitterSignatureOutOfRangeIsRefusedByName) {
+  const std::vector<std::pair<std::function<void(::sarloc::TransmitterSignature&)>, std::string>> bad{
+      {[](auto& s) { s.carrier_offset_hz(std::nan("")); }, "victim_estimate.transmitter.carrier_offset_hz = nan"},
+      {[](auto& s) { s.carrier_sigma_hz(-1.0); }, "victim_estimate.transmitter.carrier_sigma_hz = -1"},
+      {[](auto& s) { s.period_s(40.0); }, "victim_estimate.transmitter.period_s = 40"},
+      {[](auto& s) { s.period_sigma_s(std::numeric_limits<double>::infinity()); },
+       "victim_estimate.transmitter.period_sigma_s = inf"}};
+  for (const auto& [spoil, message] : bad) {
+    auto wire = to_idl(test::sample_victim_estimate());
+    spoil(wire.transmitter());
+    try {
+      (void)to_core(wire);
+      ADD_FAILURE() << "expected InputError: " << message;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+    }
+  }
+  auto wire = to_idl(test::sample_field_measurement());
+  wire.transmitter().carrier_offset_hz(5000.0);
+  EXPECT_THROW((void)to_core(wire), InputError);
 }
 
 // A repeat names another signal of the same receiver, and a state the wire knows.

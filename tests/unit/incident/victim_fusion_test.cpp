@@ -736,6 +736,81 @@ TEST(VictimFusion, TwoFoundVictimsNeverMerge) {
   EXPECT_LT((f.victims()[0].position.position - a).norm(), 1e-9);
 }
 
+SourceEstimate signed_by(SourceEstimate s, double carrier_hz, double period_s) {
+  // As a device states it: its oscillator's 4.6 Hz in the carrier, the timing filter's period.
+  s.transmitter = responder::TransmitterSignature{carrier_hz, 4.6, period_s, 0.0002};
+  return s;
+}
+
+// The four-within-5m failure of the fresh-clone CI of a127f40: C FOUND by r1 and r2 in one
+// victim, by r3 in a second one that r3's estimate had opened 1 m away; both then FOUND 0.56 m
+// apart, and kept apart as two dig sites. Their signatures (one carrier within the devices'
+// oscillators, one period) say one transmitter: one victim. Victims of distinct signatures, or
+// of signatures not known, stay two (TwoFoundVictimsNeverMerge).
+TEST(VictimFusion, TwoFoundVictimsOfOneTransmitterAreOne) {
+  const Vec3 c(0.0, 42.0, -1.0), far = c + Vec3(3.0, 0.0, 0.0), near = c + Vec3(0.45, 0.3, 0.0);
+  for (const double r3_carrier : {7.0, 45.0}) {  // r1's 3 Hz: the same transmitter, then another
+    VictimFusion f;
+    for (int k = 0; k < 6; ++k) {
+      const TimestampNs t = k * kSec;
+      f.update(signed_by(src("r1", 2, t, c, 0.35, EstimatorStatus::kFound), 3.0, 1.005));
+      f.update(signed_by(src("r3", 4, t, k < 3 ? far : near, 0.35, EstimatorStatus::kFound), r3_carrier, 1.005));
+      f.step(t);
+      if (k == 2) {
+        ASSERT_EQ(f.victims().size(), 2u) << "3 m apart: two victims";
+      }
+    }
+    if (r3_carrier == 7.0) {
+      ASSERT_EQ(f.victims().size(), 1u) << "one transmitter FOUND twice";
+      EXPECT_EQ(f.victims()[0].state, VictimState::kFound);
+      EXPECT_EQ(f.victims()[0].sources.size(), 2u);
+      EXPECT_EQ(f.take_removed().size(), 1u);
+    } else {
+      ASSERT_EQ(f.victims().size(), 2u) << "two transmitters 0.54 m apart merged";
+    }
+  }
+}
+
+// Seen live (four-within-5m under load): r2's FOUND signal of A fell silent for 12 s (its pulses
+// went to a new signal, a suspected repeat of it), the repeat took A's place beside r1's FOUND,
+// and the FOUND signal, heard again, opened a second FOUND victim: A twice. A signal its device
+// found comes back to the victim it was last bound to.
+TEST(VictimFusion, AFoundSignalBackFromSilenceTakesItsVictimBackFromARepeat) {
+  const Vec3 a(-1.5, 39.0, -1.2);
+  VictimFusion f;
+  TimestampNs t = 0;
+  for (int k = 0; k < 3; ++k, t += kSec) {
+    f.update(src("r1", 3, t, a, 0.35, EstimatorStatus::kFound));
+    f.update(src("r2", 3, t, a + Vec3(0.4, 0.0, 0.0), 0.35, EstimatorStatus::kFound));
+    f.step(t);
+  }
+  ASSERT_EQ(f.victims().size(), 1u);
+  const TimestampNs silent_from = t;
+  for (; t < silent_from + 12 * kSec; t += kSec) {  // r2/3 silent; r2/9 follows A, a suspected repeat
+    f.update(src("r1", 3, t, a, 0.35, EstimatorStatus::kFound));
+    f.update(repeat_of(src("r2", 9, t, a, 0.35, EstimatorStatus::kConverged), responder::RepeatState::kSuspected, 3));
+    f.step(t);
+  }
+  ASSERT_EQ(f.victims().size(), 1u);
+  ASSERT_EQ(f.victims()[0].sources.size(), 2u);
+  EXPECT_EQ(f.victims()[0].sources[1].signal_id, 9u) << "the repeat in the silent signal's place";
+  for (int k = 0; k < 3; ++k, t += kSec) {
+    f.update(src("r1", 3, t, a, 0.35, EstimatorStatus::kFound));
+    f.update(src("r2", 3, t, a + Vec3(0.4, 0.0, 0.0), 0.35, EstimatorStatus::kFound));
+    f.update(repeat_of(src("r2", 9, t, a, 0.35, EstimatorStatus::kConverged), responder::RepeatState::kSuspected, 3));
+    f.step(t);
+  }
+  std::size_t confirmed = 0;
+  for (const FusedVictim& v : f.victims()) {
+    if (v.state == VictimState::kUnconfirmed) continue;
+    ++confirmed;
+    ASSERT_EQ(v.sources.size(), 2u);
+    EXPECT_EQ(v.sources[1].rescuer_id, "r2");
+    EXPECT_EQ(v.sources[1].signal_id, 3u) << "the FOUND signal back in its victim";
+  }
+  EXPECT_EQ(confirmed, 1u) << "A twice";
+}
+
 // ---------------------------------------------------------------------------------------------
 // The hard case: two victims 8 m apart, three rescuers each seeing both, GNSS error per
 // rescuer (bias common to all its signals, slowly varying), estimate noise 0.2 m, signals

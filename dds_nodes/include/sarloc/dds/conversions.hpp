@@ -35,6 +35,9 @@ GaussianPosition to_core(const ::sarloc::PositionWithCovariance& p);
 GaussianPose to_core(const ::sarloc::PoseWithCovariance& p);
 
 // Avalanche search.
+::sarloc::TransmitterSignature to_idl(const responder::TransmitterSignature& s);
+/// Throws InputError naming `where`.<field> (responder::check_signature).
+responder::TransmitterSignature to_core(const ::sarloc::TransmitterSignature& s, const std::string& where);
 ::sarloc::FieldMeasurement to_idl(const avalanche::FieldMeasurement& m);
 avalanche::FieldMeasurement to_core(const ::sarloc::FieldMeasurement& m);
 ::sarloc::Odometry to_idl(const responder::Odometry& o);

@@ -46,6 +46,9 @@ struct Listening {
   std::vector<HeardSample> samples;
   SeparationReport report;
   std::uint32_t wrong_attributions = 0;  ///< attributed pulses of another beacon than the signal's
+  /// Per signal sampled or missed: its transmitter as this device measured it, this device's
+  /// oscillator tolerance included (responder/transmitter_signature.hpp).
+  std::map<std::uint32_t, responder::TransmitterSignature> transmitters;
 };
 
 class BeaconReceiver {
@@ -57,6 +60,8 @@ class BeaconReceiver {
   Listening listen(const ReceiverPose& pose, const std::vector<Beacon>& beacons, double t0_s, double duration_s);
 
   SignalSeparator& separator() { return separator_; }
+  /// Truth: how far this device's oscillator puts every carrier it measures (Hz).
+  double oscillator_offset_hz() const { return oscillator_offset_hz_; }
   /// Truth: the beacon first attributed to a signal (nullopt if none yet).
   std::optional<std::size_t> beacon_of_signal(std::uint32_t signal_id) const;
   /// Truth: the beacon most of a signal's samples came from (nullopt before any): the
@@ -68,6 +73,7 @@ class BeaconReceiver {
   std::mt19937_64 rng_;
   ReceiverHardware hardware_;
   Vec3 pulse_noise_;
+  double oscillator_offset_hz_;  ///< truth: this device's oscillator error at the carrier
   double k_;
   SignalSeparator separator_;
   std::vector<std::pair<std::uint32_t, std::size_t>> truth_;  ///< signal -> beacon

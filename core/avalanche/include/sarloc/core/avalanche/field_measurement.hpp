@@ -6,6 +6,7 @@
 
 #include "sarloc/core/common/types.hpp"
 #include "sarloc/core/responder/signal_event.hpp"
+#include "sarloc/core/responder/transmitter_signature.hpp"
 
 namespace sarloc::avalanche {
 
@@ -35,6 +36,9 @@ struct FieldMeasurement {
   SignalEvent event = SignalEvent::kNone;
   /// Pulses of the receiver's last listening window it could not attribute to any signal.
   std::uint32_t unattributed_pulses = 0;
+  /// The signal's transmitter as the receiver's separation has measured it so far (unknown from
+  /// an ideal receiver).
+  responder::TransmitterSignature transmitter;
   std::optional<OrientationObservation> orientation;
 };
 

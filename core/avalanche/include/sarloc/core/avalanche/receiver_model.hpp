@@ -63,6 +63,11 @@ struct ReceiverModelConfig {
   double on_time_min_ms = 70.0;
   double on_time_max_ms = 200.0;
   double carrier_tolerance_hz = 80.0;   ///< carrier offset drawn in +- this
+  /// The device's own oscillator error (1 sigma, fixed per device): it measures every carrier
+  /// offset against it, so two receivers see one transmitter's carrier this far apart (10 ppm:
+  /// 4.6 Hz at 457 kHz, a crystal's +-30 ppm over temperature at 3 sigma). It states it in every
+  /// signal's transmitter signature. Its clock's effect on a period (10 us) is stated, not simulated.
+  double oscillator_sigma_ppm = 10.0;
   double sample_rate_hz = 500.0;        ///< complex baseband sampling of each axis
 
   /// Throws ConfigError "simulation.receiver.<key> = value: rule".

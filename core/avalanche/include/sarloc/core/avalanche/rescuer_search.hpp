@@ -168,6 +168,7 @@ class RescuerSearch {
     TimestampNs last_event_stamp = 0;
     responder::RepeatState repeat = responder::RepeatState::kNone;  ///< of another signal here
     std::uint32_t repeat_of = 0;
+    responder::TransmitterSignature transmitter = {};  ///< the separation's latest word on it
   };
 
   std::optional<Rejection> gate(const FieldMeasurement& m) const;

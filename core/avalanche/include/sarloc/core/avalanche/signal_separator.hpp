@@ -142,6 +142,11 @@ class SignalSeparator {
   std::size_t tracks() const { return tracks_.size(); }
   /// Carrier offset of a tracked signal (Hz), nullopt if unknown.
   std::optional<double> carrier_of(std::uint32_t signal_id) const;
+  /// What the separation has measured of a tracked signal's transmitter: its carrier (the
+  /// weighted mean, sigma the spread of its pulses' carriers over sqrt(pulses), from two pulses)
+  /// and its period (once its timing knows it). Against this receiver's oscillator: the caller
+  /// adds that tolerance (BeaconReceiver). nullopt for an unknown signal.
+  std::optional<responder::TransmitterSignature> signature_of(std::uint32_t signal_id) const;
   /// Overlapping pulses on one carrier: noisier than max_variance_inflation allows, blended, or
   /// elliptical. No track can take it (the others are let through to the tracks).
   bool unseparable(const DetectedPulse& p) const;
@@ -151,6 +156,10 @@ class SignalSeparator {
     std::uint32_t id = 0;
     double carrier_hz = 0.0;
     double carrier_weight = 0.0;       ///< sum of the statistics averaged into carrier_hz
+    // Its pulses' carriers, unweighted (Welford), for signature_of's sigma.
+    std::uint32_t carrier_pulses = 0;
+    double carrier_pulse_mean = 0.0;
+    double carrier_pulse_m2 = 0.0;
     std::optional<double> on_time_s;   ///< from clean (untruncated) pulses, weighted by statistic
     double on_time_weight = 0.0;
     PulseTiming timing;                ///< confirmed once it knows the period

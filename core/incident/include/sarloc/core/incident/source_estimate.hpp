@@ -49,6 +49,8 @@ struct SourceEstimate {
   /// repeat_of_signal again: one transmitter split in two (VictimEstimate::repeat).
   responder::RepeatState repeat = responder::RepeatState::kNone;
   std::uint32_t repeat_of_signal = 0;
+  /// The transmitter as the reporter's receiver measured it (VictimEstimate::transmitter).
+  responder::TransmitterSignature transmitter;
 };
 
 /// Where the reporter's detector was at the estimate's stamp (ResponderTrack::at).

@@ -20,8 +20,9 @@
 //      (chi2_3(gate_probability); the keep gate, scaled down to the gate, for the pair that
 //      was bound before: hysteresis), forbidden otherwise; one private "new victim" column per
 //      source at cost = gate; minimum-cost assignment (assignment.hpp). A source its device
-//      LOCATED or FOUND that was bound to a victim and is still inside its keep gate stays
-//      there (cost 0, no "new victim" column): a newcomer of the same rescuer that fits the
+//      LOCATED or FOUND that was last bound to a victim (also when unbound since: silent a
+//      while) and is inside its keep gate stays or returns there (cost 0, no "new victim"
+//      column): a newcomer of the same rescuer that fits the
 //      other rescuers' estimates better never takes its place (seen live: r3's split of C took
 //      victim 2 from r3's FOUND of C, which opened a second FOUND C). Solving one rescuer's
 //      signals jointly is what separates close victims: the rescuer's common GNSS bias moves
@@ -36,7 +37,9 @@
 //   5. merge: two victims whose fused estimates are inside each other's gate (d^2 with summed
 //      covariances <= chi2_3(merge_gate_probability)) and that hold no two sources of the same
 //      rescuer are merged, closest pair first; the lower id survives, the other is reported by
-//      take_removed(). Two FOUND victims never merge (two dig sites), and two confirmed
+//      take_removed(). Two FOUND victims (two dig sites) merge only when every pair of their
+//      sources (different rescuers) has alike transmitter signatures, carrier and period
+//      (responder/transmitter_signature.hpp): one transmitter stood over twice. Two confirmed
 //      victims never merge once one of them has lost every source (nothing new says they are
 //      one).
 //      An unconfirmed victim that lost all its sources to re-association (never
@@ -197,6 +200,9 @@ class VictimFusion {
   /// only, unchanged without them) and its sources' last updates.
   void refuse(FusedVictim& v);
   void associate_rescuer(const std::string& rescuer_id, TimestampNs now);
+  /// Every pair of sources, one in each (no rescuer in both), has alike transmitter signatures,
+  /// carrier and period: one transmitter, as far as the receivers can tell.
+  bool one_transmitter(const FusedVictim& a, const FusedVictim& b) const;
   void merge_victims();
   /// `gone`'s sources, states and times into `keep`; `gone` is erased and reported removed.
   void merge_into(std::uint32_t keep_id, std::uint32_t gone_id);

@@ -10,6 +10,7 @@
 #include "sarloc/core/common/types.hpp"
 #include "sarloc/core/responder/responder_position.hpp"
 #include "sarloc/core/responder/signal_event.hpp"
+#include "sarloc/core/responder/transmitter_signature.hpp"
 
 namespace sarloc::responder {
 
@@ -54,6 +55,9 @@ struct VictimEstimate {
   /// of the same detector that is found or located), so this estimate confirms no victim.
   RepeatState repeat = RepeatState::kNone;
   std::uint32_t repeat_of_signal = 0;  ///< 0 with kNone
+  /// The transmitter this signal follows, as the detector's receiver measured it (unknown from
+  /// an ideal receiver, or before its separation knows it).
+  TransmitterSignature transmitter;
   /// Where the responder was at `stamp`, when the estimate's writer knows it (the device's own
   /// estimates carry it): placed with this, the estimate needs no responder_position of its
   /// epoch, which a long radio fade can lose for good.
