@@ -103,7 +103,7 @@ std::optional<responder::TransmitterSignature> SignalSeparator::signature_of(std
     const double spread = std::sqrt(t->carrier_pulse_m2 / (t->carrier_pulses - 1));
     s.carrier_sigma_hz = std::max(spread, config_.detector.fine_step_hz) / std::sqrt(static_cast<double>(t->carrier_pulses));
   }
-  if (t->timing.has_period()) {
+  if (t->timing.has_period() && !t->retimed) {
     s.period_s = t->timing.period_s();
     s.period_sigma_s = t->timing.period_sigma_s();
   }
@@ -189,6 +189,18 @@ void SignalSeparator::learn(Track& t, const DetectedPulse& p) {
     t.on_time_weight = std::min(t.on_time_weight + w, 1e4);
   }
   if (const auto start = start_of(t, p)) t.timing.update(start->first, start->second);
+  if (t.period_before_reanchor && t.timing.has_period()) {
+    // Seen live (four within 5 m): a signal of C reanchored on another transmitter's pulses,
+    // its period 1.00495 -> 1.00002 s with a sigma of 0.3 ms, stated as C's.
+    const auto [before, before_sigma] = *t.period_before_reanchor;
+    const double sigma = t.timing.period_sigma_s();
+    if (std::fabs(t.timing.period_s() - before) > 4.0 * std::hypot(before_sigma, sigma)) {
+      t.retimed = true;
+      t.period_before_reanchor.reset();
+    } else if (sigma <= before_sigma) {
+      t.period_before_reanchor.reset();  // its own timing again, as well known as before
+    }
+  }
 }
 
 bool SignalSeparator::clear_of_timing(const Track& t, const DetectedPulse& p) const {
@@ -442,6 +454,8 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
       }
     } else if (Track* lost = p.truncated() ? nullptr : lost_owner(carrier_matches, p, r)) {
       chosen = lost;  // unheard a while, its timing drifted: reanchor on this pulse
+      if (chosen->timing.has_period() && !chosen->period_before_reanchor)
+        chosen->period_before_reanchor = std::make_pair(chosen->timing.period_s(), chosen->timing.period_sigma_s());
       chosen->timing.reanchor();
     } else if (!p.truncated() && tracks_.size() < config_.max_signals) {
       // A lost track whose filter cannot explain the pulse is no mate of it: the filter says it

@@ -627,5 +627,46 @@ TEST(SignalSeparator, TwoDevicesSignaturesTellTheSameTransmitterFromAnother) {
   }
 }
 
+// A track lost and reanchored on another transmitter's pulses (its carrier, another period) has
+// followed two timings: its signature states no period. Reanchored on its own transmitter's
+// pulses, it states its period again.
+TEST(SignalSeparator, ATrackReanchoredOnAnotherTimingStatesNoPeriod) {
+  for (const bool other : {true, false}) {
+    SimulationConfig config;
+    config.receiver.kind = ReceiverKind::kRealistic;
+    BeaconReceiver receiver(config, 31);
+    Beacon first = same_carrier_beacon(Vec3(12.0, 0.0, -1.0), Vec3(0.01, 0.0, 0.01), 0.1, 10.0);
+    Beacon second = same_carrier_beacon(Vec3(14.0, -3.0, -1.2), Vec3(0.0, 0.012, 0.004), 0.45, 10.1);
+    second.timing.period_s = 1.006;
+    const Beacon& later = other ? second : first;
+    ReceiverPose pose;
+    pose.position = Vec3(0.0, 0.0, 1.0);
+    std::set<std::uint32_t> signals;
+    for (int k = 0; k < 40; ++k) {
+      // First heard alone for 10 s, then silence (lost after 5 s), then `later` alone.
+      std::vector<Beacon> on;
+      if (k < 10) on.push_back(first);
+      if (k >= 18) on.push_back(later);
+      for (const auto& h : receiver.listen(pose, on, k, 1.0).samples) signals.insert(h.sample.signal_id);
+      if (k == 9) {
+        ASSERT_EQ(signals.size(), 1U);
+        const auto s = receiver.separator().signature_of(*signals.begin());
+        ASSERT_TRUE(s && s->period_known());
+        EXPECT_NEAR(s->period_s, 1.0, 3.0 * s->period_sigma_s);
+      }
+    }
+    ASSERT_EQ(signals.size(), 1U) << "reanchored, not a new signal";
+    const auto s = receiver.separator().signature_of(*signals.begin());
+    ASSERT_TRUE(s.has_value());
+    EXPECT_TRUE(s->carrier_known());
+    if (other) {
+      EXPECT_FALSE(s->period_known()) << "stated " << s->period_s << " +- " << s->period_sigma_s;
+    } else {
+      ASSERT_TRUE(s->period_known());
+      EXPECT_NEAR(s->period_s, 1.0, 3.0 * s->period_sigma_s);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace sarloc::avalanche

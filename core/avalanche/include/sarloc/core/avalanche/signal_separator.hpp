@@ -144,8 +144,10 @@ class SignalSeparator {
   std::optional<double> carrier_of(std::uint32_t signal_id) const;
   /// What the separation has measured of a tracked signal's transmitter: its carrier (the
   /// weighted mean, sigma the spread of its pulses' carriers over sqrt(pulses), from two pulses)
-  /// and its period (once its timing knows it). Against this receiver's oscillator: the caller
-  /// adds that tolerance (BeaconReceiver). nullopt for an unknown signal.
+  /// and its period (once its timing knows it; never for a track reanchored onto a period that
+  /// disagrees with its own before: it followed another transmitter's pulses). Against this
+  /// receiver's oscillator: the caller adds that tolerance (BeaconReceiver). nullopt for an
+  /// unknown signal.
   std::optional<responder::TransmitterSignature> signature_of(std::uint32_t signal_id) const;
   /// Overlapping pulses on one carrier: noisier than max_variance_inflation allows, blended, or
   /// elliptical. No track can take it (the others are let through to the tracks).
@@ -160,6 +162,11 @@ class SignalSeparator {
     std::uint32_t carrier_pulses = 0;
     double carrier_pulse_mean = 0.0;
     double carrier_pulse_m2 = 0.0;
+    /// Its period and sigma when last reanchored, until its timing says whose it follows now.
+    std::optional<std::pair<double, double>> period_before_reanchor;
+    /// Its period after a reanchor disagreed with the one before: it has followed two
+    /// transmitters' timings, and its signature states no period (signature_of).
+    bool retimed = false;
     std::optional<double> on_time_s;   ///< from clean (untruncated) pulses, weighted by statistic
     double on_time_weight = 0.0;
     PulseTiming timing;                ///< confirmed once it knows the period
