@@ -132,8 +132,7 @@ Listening BeaconReceiver::listen(const ReceiverPose& pose, const std::vector<Bea
     if (s->period_known()) s->period_sigma_s = std::hypot(s->period_sigma_s, ppm * s->period_s);
     out.transmitters[signal] = *s;
   };
-  for (const auto& s : out.report.samples) stated(s.signal_id);
-  for (const auto& s : out.report.misses) stated(s.signal_id);
+  for (const auto& s : out.report.samples) stated(s.signal_id);  // a miss carries no signature
   return out;
 }
 

@@ -46,7 +46,7 @@ struct Listening {
   std::vector<HeardSample> samples;
   SeparationReport report;
   std::uint32_t wrong_attributions = 0;  ///< attributed pulses of another beacon than the signal's
-  /// Per signal sampled or missed: its transmitter as this device measured it, this device's
+  /// Per signal sampled: its transmitter as this device measured it, this device's
   /// oscillator tolerance included (responder/transmitter_signature.hpp).
   std::map<std::uint32_t, responder::TransmitterSignature> transmitters;
 };
