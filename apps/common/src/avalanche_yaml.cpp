@@ -110,6 +110,7 @@ void read_search(YamlReader r, avalanche::SearchConfig& c) {
   r.read("confirm_innovation_window", c.confirm_innovation_window);
   r.read("confirm_max_last_nis", c.confirm_max_last_nis);
   r.read("found_confirmations", c.found_confirmations);
+  r.read("confirm_max_waits", c.confirm_max_waits);
   r.read("confirm_probe_per_depth", c.confirm_probe_per_depth);
   r.read("probe_step_m", c.probe_step_m);
   r.read("flux_smoothing", c.flux_smoothing);

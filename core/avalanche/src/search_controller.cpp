@@ -31,12 +31,8 @@ constexpr double kPatternRegrowth = 1.5;
 /// Epochs without a sample that a rescuer confirming a FOUND, or walking a probe pattern, waits
 /// on a probe point: a period is at most 1.3 s, so three say the signal is not heard there ...
 constexpr std::uint32_t kConfirmWaits = 3;
-/// ... unless its samples have lately come further apart (pulses lost under other victims'),
-/// then as long as the longest recent gap, up to this many epochs. Seen: a victim 0.2 m deep
-/// heard every 6-8 epochs under a carrier-mate's pulses; the rescuer left each probe point
-/// after 3, was back on the estimate when the next sample came, and never completed the
-/// confirmation in 750 s (4 victims, seed 1, trial 48).
-constexpr std::uint32_t kMaxConfirmWaits = 10;
+/// ... unless its samples have lately come further apart (pulses lost under other victims'):
+/// then as long as the longest recent gap, up to SearchConfig::confirm_max_waits epochs.
 
 /// Within this distance (m) of a probe point the rescuer stands on it: no step is needed.
 constexpr double kOnProbePoint = 0.01;
@@ -63,6 +59,7 @@ void SearchConfig::validate() const {
   check("confirm_innovation_window", confirm_innovation_window, 1.0, static_cast<double>(SogFilter::kNisHistory), false);
   check("found_confirmations", found_confirmations, 1.0, 20.0, false);
   check("confirm_probe_per_depth", confirm_probe_per_depth, 0.0, 2.0, false);
+  check("confirm_max_waits", confirm_max_waits, static_cast<double>(kConfirmWaits), 600.0, false);
   check("probe_step_m", probe_step_m, 0.0, 10.0, true);
   check("approach_radius_fraction", approach_radius_fraction, 0.0, 1.0, true);
   check("flux_smoothing", flux_smoothing, 0.0, 0.99, false);
@@ -358,7 +355,7 @@ Guidance SearchController::coast(const SogFilter& filter) {
   g.heading_rad = std::atan2(p.y(), p.x());
   ++coasts_since_sample_;
   const std::uint32_t patience =
-      std::clamp(*std::max_element(recent_gaps_.begin(), recent_gaps_.end()), kConfirmWaits, kMaxConfirmWaits);
+      std::clamp(*std::max_element(recent_gaps_.begin(), recent_gaps_.end()), kConfirmWaits, config_.confirm_max_waits);
   const bool waiting = mode_ == GuidanceMode::kFineSearch && (found_streak_ > 0 || probe_point_pending_);
   if (waiting && confirm_waits_ == patience && probe_point_pending_) {
     --pattern_next_;  // no sample was taken on that point of the pattern: it is walked again
