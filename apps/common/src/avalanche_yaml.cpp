@@ -27,6 +27,7 @@ void read_receiver(YamlReader r, avalanche::ReceiverModelConfig& c) {
   r.read("carrier_tolerance_hz", c.carrier_tolerance_hz);
   r.read("oscillator_sigma_ppm", c.oscillator_sigma_ppm);
   r.read("sample_rate_hz", c.sample_rate_hz);
+  r.read("two_tone_span_hz", c.two_tone_span_hz);
   r.expect_done();
 }
 

@@ -21,6 +21,7 @@ SeparatorConfig separator_config(const SimulationConfig& c) {
   s.detector.max_on_time_s = 1e-3 * c.receiver.on_time_max_ms * 1.1;
   s.wavenumber_rad_per_m = wavenumber(c.receiver);
   s.moment_max_A_m2 = c.standard.moment_max();
+  s.detector.two_tone_span_hz = c.receiver.two_tone_span_hz;
   return s;
 }
 

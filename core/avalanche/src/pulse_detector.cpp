@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <tuple>
 
 #include "sarloc/core/avalanche/dipole_model.hpp"
 #include "sarloc/core/avalanche/pulse_pair_fit.hpp"
@@ -91,6 +92,17 @@ bool same_cell(const Found& p, const Found& q, double fs) {
   return std::fabs(p.f - q.f) < std::max(3.0, fs / static_cast<double>(shorter));
 }
 
+// A burst's length between the shortest fragment and the longest on-time; its carrier refined
+// within +- span_hz on the fine grid.
+BurstLimits burst_limits(const PulseDetectorConfig& c, double fs, double span_hz) {
+  BurstLimits limits;
+  limits.min_length = std::max<Eigen::Index>(4, std::lround(c.min_fragment_s * fs));
+  limits.max_length = static_cast<Eigen::Index>(std::lround(c.max_on_time_s * fs));
+  limits.carrier_span_hz = span_hz;
+  limits.carrier_step_hz = c.fine_step_hz;
+  return limits;
+}
+
 // Two transmitters on one carrier, overlapping (pulse_pair_fit.hpp). Candidates: a blended pulse
 // (its partner searched for), or two pieces within one frequency cell that abut (successive
 // cancellation carves an overlapping pair at the other's edge). The pair is refitted jointly and
@@ -103,11 +115,7 @@ void resolve_same_carrier_pairs(std::vector<Found>& pulses, const Samples& origi
   const double fs = w.sample_rate_hz;
   const Eigen::Index n = w.size();
   const auto matched = static_cast<Eigen::Index>(std::lround(c.min_on_time_s * fs));
-  BurstLimits limits;
-  limits.min_length = std::max<Eigen::Index>(4, std::lround(c.min_fragment_s * fs));
-  limits.max_length = static_cast<Eigen::Index>(std::lround(c.max_on_time_s * fs));
-  limits.carrier_span_hz = 1.0;
-  limits.carrier_step_hz = c.fine_step_hz;
+  const BurstLimits limits = burst_limits(c, fs, 1.0);
   BurstLimits partner_search = limits;
   partner_search.carrier_span_hz = 4.0;  // a partner up to a cell away
   constexpr double kModelFloor = 1e-3;   // 30 dB: what a one-burst model of a real pulse may miss
@@ -154,6 +162,141 @@ void resolve_same_carrier_pairs(std::vector<Found>& pulses, const Samples& origi
     pulses[i] = {rx.carrier_hz, rx.begin, rx.end, pulses[i].t, false, true};
     if (mate) pulses[*mate] = {ry.carrier_hz, ry.begin, ry.end, pulses[*mate].t, false, true};
     else pulses.push_back({ry.carrier_hz, ry.begin, ry.end, 0.0, false, true});
+  }
+}
+
+struct OneTone {
+  double captured = 0.0;  ///< energy one tone at the pulse's carrier captures on its interval
+  double left = 0.0;      ///< what it leaves there beyond the noise's 6 per sample (whitened)
+};
+
+OneTone one_tone_fit(const Samples& z, const BasebandWindow& w, const Found& p) {
+  const Samples prefix = demodulated_prefix(z, w, p.f);
+  const auto length = static_cast<double>(p.b - p.a);
+  const double captured = statistic(prefix, p.a, p.b);
+  return {captured, z.middleCols(p.a, p.b - p.a).squaredNorm() - captured - 6.0 * (length - 1.0)};
+}
+
+// The single bursts' spectrum around f (a 2 Hz grid, each its best interval in [lo, hi)): two
+// tones show as peaks at their own carriers next to their blend's at the mean. Returns the
+// strongest peaks and the best single burst's energy.
+std::pair<std::vector<ToneBurst>, double> single_burst_peaks(const PulsePairFit& fit, double f, double span_hz,
+                                                             Eigen::Index lo, Eigen::Index hi, BurstLimits at_f) {
+  constexpr double kGridHz = 2.0;    // a fifth of a 100 ms pulse's cell
+  constexpr std::size_t kPeaks = 3;  // the two tones' and their blend's
+  at_f.carrier_span_hz = 0.0;
+  std::vector<ToneBurst> spectrum;
+  for (double g = f - span_hz; g <= f + span_hz + 1e-9; g += kGridHz) spectrum.push_back(fit.best_single(lo, hi, g, at_f));
+  std::vector<ToneBurst> peaks;
+  double single = 0.0;
+  for (std::size_t k = 0; k < spectrum.size(); ++k) {
+    single = std::max(single, spectrum[k].energy);
+    const bool peak = (k == 0 || spectrum[k].energy > spectrum[k - 1].energy) &&
+                      (k + 1 == spectrum.size() || spectrum[k].energy >= spectrum[k + 1].energy);
+    if (peak) peaks.push_back(spectrum[k]);
+  }
+  std::sort(peaks.begin(), peaks.end(), [](const ToneBurst& u, const ToneBurst& v) { return u.energy > v.energy; });
+  if (peaks.size() > kPeaks) peaks.resize(kPeaks);
+  return {peaks, single};
+}
+
+// Where a two-tone fit starts: each anchor (the pulse, each peak) with its partner searched
+// around it (centres 6 Hz apart, interval anywhere), and every two of the peaks.
+std::vector<std::pair<ToneBurst, ToneBurst>> two_tone_starts(const PulsePairFit& fit, const ToneBurst& pulse,
+                                                             const std::vector<ToneBurst>& peaks, double span_hz,
+                                                             Eigen::Index lo, Eigen::Index hi, BurstLimits around) {
+  constexpr double kCentreStepHz = 6.0;
+  around.carrier_span_hz = 4.0;  // best_partner's coarse grid: 2 Hz steps, so every 2 Hz is tried
+  std::vector<std::pair<ToneBurst, ToneBurst>> starts;
+  std::vector<ToneBurst> anchors{pulse};
+  anchors.insert(anchors.end(), peaks.begin(), peaks.end());
+  for (const ToneBurst& anchor : anchors) {
+    ToneBurst partner = anchor;
+    partner.energy = 0.0;
+    for (double offset = -span_hz; offset <= span_hz + 1e-9; offset += kCentreStepHz) {
+      ToneBurst from = anchor;
+      from.carrier_hz += offset;
+      const ToneBurst candidate = fit.best_partner(anchor, from, lo, hi, around, -1);
+      if (candidate.energy > partner.energy) partner = candidate;
+    }
+    if (partner.energy > 0.0) starts.emplace_back(anchor, partner);
+  }
+  for (std::size_t u = 0; u < peaks.size(); ++u)
+    for (std::size_t v = u + 1; v < peaks.size(); ++v) starts.emplace_back(peaks[u], peaks[v]);
+  return starts;
+}
+
+// A start refined, then its four edges polished jointly with the carriers refitted at them
+// (alternating refinement stalls where one burst's edge covers the other's tail).
+std::pair<ToneBurst, ToneBurst> refined_two_tones(const PulsePairFit& fit, const std::pair<ToneBurst, ToneBurst>& start,
+                                                  Eigen::Index lo, Eigen::Index hi, const BurstLimits& limits) {
+  constexpr int kRounds = 5;
+  constexpr Eigen::Index kPolishSlack = 6;
+  constexpr int kPolishRounds = 4;
+  auto [x, y] = fit.refine(start.first, start.second, lo, hi, limits, kRounds);
+  for (int round = 0; round < kPolishRounds && x.energy > 0.0; ++round) {
+    const double before = x.energy;
+    std::tie(x, y) = fit.polish_edges(x, y, lo, hi, limits, kPolishSlack);
+    std::tie(x, y) = fit.refine(x, y, lo, hi, limits, 1, 0);
+    if (x.energy <= before * (1.0 + 1e-9)) break;
+  }
+  return {x, y};
+}
+
+// Two transmitters a cell or two apart whose pulses start together are found as one burst at
+// their mean carrier: the matched window cannot resolve them and every refinement after it is
+// local (docs/estimation/avalanche.md, "Two tones that start together"). A pulse that one tone
+// leaves energy in (beyond the threshold, 30 dB of it and 5 sigma of the noise) is refitted as
+// two tones from several starts (two_tone_starts), and the best is split off when it captures
+// more than the best single burst by the detection threshold plus the same 30 dB model floor as
+// a same-carrier pair. Tones under 5 Hz apart are that pair's case; a tone within a cell of
+// another pulse it overlaps is that pulse's leakage, not a new tone.
+void split_two_tone_pulses(std::vector<Found>& pulses, const Samples& original, const BasebandWindow& w,
+                           const PulseDetectorConfig& c, double threshold) {
+  if (c.two_tone_span_hz <= 0.0) return;
+  constexpr double kModelFloor = 1e-3;
+  constexpr double kMinSeparationHz = 5.0;
+  const double fs = w.sample_rate_hz;
+  const Eigen::Index n = w.size();
+  const auto matched = static_cast<Eigen::Index>(std::lround(c.min_on_time_s * fs));
+  const BurstLimits limits = burst_limits(c, fs, 2.0);  // refinement around each start: the 2 Hz grid's gaps
+  const Eigen::Index margin = limits.max_length / 2;
+  auto whole = [&](const ToneBurst& b) { return b.end - b.begin >= matched || b.begin == 0 || b.end == n; };
+  const std::size_t found = pulses.size();
+  for (std::size_t i = 0; i < found; ++i) {
+    const Found p = pulses[i];
+    if (p.split) continue;
+    const Samples z = without_others(original, w, pulses, {i});
+    const double length = static_cast<double>(p.b - p.a);
+    const OneTone one = one_tone_fit(z, w, p);
+    if (one.left <= threshold + kModelFloor * one.captured + 5.0 * std::sqrt(12.0 * length)) continue;
+    const PulsePairFit fit(z, w);
+    const Eigen::Index lo = std::max<Eigen::Index>(0, p.a - margin), hi = std::min(n, p.b + margin);
+    auto [peaks, single] = single_burst_peaks(fit, p.f, c.two_tone_span_hz, lo, hi, limits);
+    auto leaks = [&](const ToneBurst& b) {
+      const Found f{b.carrier_hz, b.begin, b.end, 0.0};
+      return std::any_of(pulses.begin(), pulses.end(), [&](const Found& q) {
+        return &q != &pulses[i] && std::min(q.b, f.b) > std::max(q.a, f.a) && same_cell(q, f, fs);
+      });
+    };
+    ToneBurst x, y;
+    for (const auto& start : two_tone_starts(fit, {p.f, p.a, p.b, 0.0}, peaks, c.two_tone_span_hz, lo, hi, limits)) {
+      const auto [cx, cy] = refined_two_tones(fit, start, lo, hi, limits);
+      if (cx.energy <= x.energy || !whole(cx) || !whole(cy) || std::fabs(cx.carrier_hz - cy.carrier_hz) < kMinSeparationHz ||
+          leaks(cx) || leaks(cy))
+        continue;
+      x = cx;
+      y = cy;
+    }
+    if (x.energy <= 0.0) continue;
+    for (double f : {x.carrier_hz, y.carrier_hz}) {
+      BurstLimits at_f = limits;
+      at_f.carrier_span_hz = 0.0;
+      single = std::max(single, fit.best_single(lo, hi, f, at_f).energy);
+    }
+    if (x.energy - single <= threshold + kModelFloor * single) continue;
+    pulses[i] = {x.carrier_hz, x.begin, x.end, p.t, false, true};
+    pulses.push_back({y.carrier_hz, y.begin, y.end, 0.0, false, true});
   }
 }
 
@@ -256,6 +399,7 @@ std::vector<DetectedPulse> detect_pulses(const BasebandWindow& w, const PulseDet
   }
   if (pulses.empty()) return found;
   resolve_same_carrier_pairs(pulses, original, w, c, bands.front().threshold);
+  split_two_tone_pulses(pulses, original, w, c, bands.front().threshold);
 
   // Joint least squares on the original samples: columns = each pulse's carrier on its interval.
   const auto m = static_cast<Eigen::Index>(pulses.size());

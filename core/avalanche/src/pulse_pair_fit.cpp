@@ -132,6 +132,37 @@ ToneBurst PulsePairFit::best_partner(const ToneBurst& x, ToneBurst y, Eigen::Ind
   return fine;
 }
 
+std::pair<ToneBurst, ToneBurst> PulsePairFit::polish_edges(ToneBurst x, ToneBurst y, Eigen::Index lo, Eigen::Index hi,
+                                                           const BurstLimits& limits, Eigen::Index slack) const {
+  const WhitenedSamples px = demodulated_prefix(z_, w_, x.carrier_hz), py = demodulated_prefix(z_, w_, y.carrier_hz);
+  const Eigen::VectorXcd q = cross_prefix(w_, y.carrier_hz - x.carrier_hz);
+  auto range = [&](Eigen::Index at) { return std::make_pair(std::max(lo, at - slack), std::min(hi, at + slack)); };
+  const auto [xa_lo, xa_hi] = range(x.begin);
+  const auto [xb_lo, xb_hi] = range(x.end);
+  const auto [ya_lo, ya_hi] = range(y.begin);
+  const auto [yb_lo, yb_hi] = range(y.end);
+  std::pair<ToneBurst, ToneBurst> best{x, y};
+  best.first.energy = best.second.energy = energy(x, y);
+  auto length_ok = [&](Eigen::Index a, Eigen::Index b) { return b - a >= limits.min_length && b - a <= limits.max_length; };
+  for (Eigen::Index xa = xa_lo; xa <= xa_hi; ++xa)
+    for (Eigen::Index xb = xb_lo; xb <= xb_hi; ++xb) {
+      if (!length_ok(xa, xb)) continue;
+      const Eigen::Vector3cd cx = px.col(xb) - px.col(xa);
+      for (Eigen::Index ya = ya_lo; ya <= ya_hi; ++ya)
+        for (Eigen::Index yb = yb_lo; yb <= yb_hi; ++yb) {
+          if (!length_ok(ya, yb)) continue;
+          const Eigen::Index o_lo = std::max(xa, ya), o_hi = std::min(xb, yb);
+          const Complex gxy = o_hi > o_lo ? q(o_hi) - q(o_lo) : Complex(0.0);
+          const double e = pair_energy(cx, py.col(yb) - py.col(ya), static_cast<double>(xb - xa),
+                                       static_cast<double>(yb - ya), gxy);
+          if (e > best.first.energy) {
+            best = {{x.carrier_hz, xa, xb, e}, {y.carrier_hz, ya, yb, e}};
+          }
+        }
+    }
+  return best;
+}
+
 std::pair<ToneBurst, ToneBurst> PulsePairFit::refine(ToneBurst x, ToneBurst y, Eigen::Index lo, Eigen::Index hi,
                                                      const BurstLimits& limits, int rounds, Eigen::Index slack) const {
   for (int r = 0; r < rounds; ++r) {

@@ -45,6 +45,7 @@ void ReceiverModelConfig::validate() const {
   if (on_time_max_ms >= period_min_ms) check("on_time_max_ms", on_time_max_ms, 70.0, period_min_ms - 1.0);
   check("carrier_tolerance_hz", carrier_tolerance_hz, 0.0, 80.0);
   check("oscillator_sigma_ppm", oscillator_sigma_ppm, 0.0, 30.0);
+  check("two_tone_span_hz", two_tone_span_hz, 0.0, 100.0);
   // Nyquist for two carriers +-tolerance apart, with margin for the detector's search band.
   check("sample_rate_hz", sample_rate_hz, 2.5 * carrier_tolerance_hz + 50.0, 10000.0);
 }

@@ -70,6 +70,7 @@ void SeparatorConfig::validate() const {
   check("detector.far_sidelobe_ratio", detector.far_sidelobe_ratio, 1e-9, 1.0);
   check("detector.near_carrier_cells", detector.near_carrier_cells, 0.0, 100.0);
   check("detector.blend_ratio", detector.blend_ratio, detector.sidelobe_ratio, 1.0);
+  check("detector.two_tone_span_hz", detector.two_tone_span_hz, 0.0, 100.0);
 }
 
 SignalSeparator::SignalSeparator(SeparatorConfig config) : config_((config.validate(), std::move(config))) {

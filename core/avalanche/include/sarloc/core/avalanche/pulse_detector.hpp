@@ -13,7 +13,10 @@
 // other pulses' overlap (same carrier, same time) degrades it. Overlapping pulses whose
 // carriers are closer than about 1 / overlap cannot be told apart: their inflation is large.
 // Two such pulses on one carrier whose edges differ are refitted as a pair (pulse_pair_fit.hpp)
-// before that final fit; a pair that does not beat one burst stays flagged blended.
+// before that final fit; a pair that does not beat one burst stays flagged blended. And a pulse
+// that one tone leaves energy in is refitted as two tones up to two_tone_span_hz apart: two
+// transmitters a cell or two apart that start together are otherwise one burst at their mean
+// carrier, whose field is neither's.
 //
 //   std::vector<DetectedPulse> pulses = detect_pulses(window, PulseDetectorConfig{});
 #include <vector>
@@ -52,6 +55,12 @@ struct PulseDetectorConfig {
   double blend_ratio = 0.05;
   std::uint32_t max_pulses = 8;
   double tracked_band_hz = 3.0;        ///< search band around a tracked carrier
+  /// Two tones a cell or two apart that start together are found as one burst at their mean
+  /// carrier (the 70 ms matched window cannot resolve them). A pulse that one tone leaves
+  /// energy in is refitted as two tones, searched within +- this (Hz) of its carrier, and split
+  /// when the pair captures more than one burst by the detection threshold plus a 30 dB model
+  /// floor. 0: never split.
+  double two_tone_span_hz = 20.0;
 };
 
 struct DetectedPulse {

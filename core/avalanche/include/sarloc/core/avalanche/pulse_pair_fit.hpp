@@ -61,6 +61,10 @@ class PulsePairFit {
   /// Alternating refinement of both (rounds of best_partner each way); energies set.
   std::pair<ToneBurst, ToneBurst> refine(ToneBurst x, ToneBurst y, Eigen::Index lo, Eigen::Index hi,
                                          const BurstLimits& limits, int rounds = 3, Eigen::Index slack = 12) const;
+  /// All four edges moved together, each within `slack` samples, carriers held: alternating
+  /// refinement stalls where one burst's edge covers the other's tail; energies set.
+  std::pair<ToneBurst, ToneBurst> polish_edges(ToneBurst x, ToneBurst y, Eigen::Index lo, Eigen::Index hi,
+                                               const BurstLimits& limits, Eigen::Index slack) const;
 
  private:
   /// Projection of the samples on a burst: sum over its interval of z e^{-j2pi f t}.

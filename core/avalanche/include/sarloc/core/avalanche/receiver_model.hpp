@@ -69,6 +69,10 @@ struct ReceiverModelConfig {
   /// signal's transmitter signature. Its clock's effect on a period (10 us) is stated, not simulated.
   double oscillator_sigma_ppm = 10.0;
   double sample_rate_hz = 500.0;        ///< complex baseband sampling of each axis
+  /// The device's detector refits each pulse as two tones up to this far apart (Hz) when one
+  /// tone leaves energy unexplained: two transmitters a cell or two apart that start together
+  /// are found as one burst at their mean carrier otherwise (PulseDetectorConfig). 0: never.
+  double two_tone_span_hz = 20.0;
 
   /// Throws ConfigError "simulation.receiver.<key> = value: rule".
   void validate() const;
