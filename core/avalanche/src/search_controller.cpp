@@ -29,10 +29,10 @@ void check(const char* key, double v, double lo, double hi, bool lo_open) {
 constexpr double kPatternRegrowth = 1.5;
 
 /// Epochs without a sample that a rescuer confirming a FOUND, or walking a probe pattern, waits
-/// on a probe point: a period is at most 1.3 s, so three say the signal is not heard there ...
+/// on a probe point: a period is at most 1.3 s, so three say the signal is not heard there,
+/// unless its samples have lately come further apart (pulses lost under other victims'): then
+/// as long as the longest recent gap, up to SearchConfig::confirm_max_waits epochs.
 constexpr std::uint32_t kConfirmWaits = 3;
-/// ... unless its samples have lately come further apart (pulses lost under other victims'):
-/// then as long as the longest recent gap, up to SearchConfig::confirm_max_waits epochs.
 
 /// Within this distance (m) of a probe point the rescuer stands on it: no step is needed.
 constexpr double kOnProbePoint = 0.01;
