@@ -26,8 +26,8 @@ using app::to_int;
 
 CLI::App* add_detector_command(CLI::App& app, DetectorOptions& options) {
   auto* cmd = app.add_subcommand("detector", "the pulse detector alone on overlapping pulses of known truth");
-  cmd->add_option("--scenario", options.scenario, "single (the control), nested-pair, together or all")
-      ->check(CLI::IsMember({"single", "nested-pair", "together", "all"}))
+  cmd->add_option("--scenario", options.scenario, "single (the control), nested-pair, together, lockstep-pair or all")
+      ->check(CLI::IsMember({"single", "nested-pair", "together", "lockstep-pair", "all"}))
       ->capture_default_str();
   cmd->add_option("--draws", options.draws, "windows per scenario")->capture_default_str();
   cmd->add_option("--seed", options.seed, "random seed")->capture_default_str();
@@ -37,7 +37,8 @@ CLI::App* add_detector_command(CLI::App& app, DetectorOptions& options) {
 
 int run_detector_command(const DetectorOptions& options) {
   std::vector<av::DetectorScenario> scenarios;
-  for (av::DetectorScenario s : {av::DetectorScenario::kSingle, av::DetectorScenario::kNestedPair, av::DetectorScenario::kTogether})
+  for (av::DetectorScenario s : {av::DetectorScenario::kSingle, av::DetectorScenario::kNestedPair, av::DetectorScenario::kTogether,
+                                   av::DetectorScenario::kLockstepPair})
     if (options.scenario == "all" || options.scenario == av::to_string(s)) scenarios.push_back(s);
   nlohmann::json out = nlohmann::json::array();
   std::printf("Pulse detector alone, %u windows per scenario, seed %llu (docs/estimation/avalanche.md, \"Detector bench\")\n", options.draws,

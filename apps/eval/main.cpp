@@ -5,7 +5,7 @@
 //   sarloc-eval multi-burial --victims 3 --spread 5 [--trials N] [--seed S] [--json FILE]
 //                            [--trace-trial N]
 //   sarloc-eval firefighter --building FILE --runs N --seed S [--json FILE] [--plot FILE.svg]
-//   sarloc-eval detector [--scenario single|nested-pair|together|all] [--draws N] [--seed S] [--json FILE]
+//   sarloc-eval detector [--scenario single|nested-pair|together|lockstep-pair|all] [--draws N] [--seed S] [--json FILE]
 //
 // Prints a table in the layout of seed 000, Table I, plus timing and NEES consistency, and the
 // same figures as JSON. Exit codes (sarloc::app::ExitCode): 0 all accuracy/consistency targets

@@ -44,9 +44,9 @@ av::MultiBurialTraceObserver multi_burial_trace_printer() {
   o.victims = [](const std::vector<av::MultiBurialTraceVictim>& victims) {
     for (std::size_t v = 0; v < victims.size(); ++v) {
       const av::MultiBurialTraceVictim& t = victims[v];
-      std::printf("victim %zu at [%.2f %.2f %.2f] |m| %.4f period %.4f s on %.3f s carrier %+.2f Hz\n", v,
-                  t.position.x(), t.position.y(), t.position.z(), t.moment_am2, t.timing.period_s,
-                  t.timing.on_time_s, t.timing.carrier_offset_hz);
+      std::printf("victim %zu at [%.2f %.2f %.2f] |m| %.4f period %.4f s on %.3f s first %.4f s carrier %+.2f Hz\n",
+                  v, t.position.x(), t.position.y(), t.position.z(), t.moment_am2, t.timing.period_s,
+                  t.timing.on_time_s, t.timing.first_start_s, t.timing.carrier_offset_hz);
     }
   };
   o.step = [](const av::MultiBurialTraceStep& s) {

@@ -28,6 +28,7 @@ void read_receiver(YamlReader r, avalanche::ReceiverModelConfig& c) {
   r.read("oscillator_sigma_ppm", c.oscillator_sigma_ppm);
   r.read("sample_rate_hz", c.sample_rate_hz);
   r.read("two_tone_span_hz", c.two_tone_span_hz);
+  r.read("same_carrier_pairs", c.same_carrier_pairs);
   r.expect_done();
 }
 

@@ -22,6 +22,7 @@ SeparatorConfig separator_config(const SimulationConfig& c) {
   s.wavenumber_rad_per_m = wavenumber(c.receiver);
   s.moment_max_A_m2 = c.standard.moment_max();
   s.detector.two_tone_span_hz = c.receiver.two_tone_span_hz;
+  s.detector.same_carrier_pairs = c.receiver.same_carrier_pairs;
   return s;
 }
 

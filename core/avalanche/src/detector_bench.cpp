@@ -41,6 +41,15 @@ std::vector<IncomingPulse> draw(DetectorScenario scenario, std::mt19937_64& rng)
     const double a = db(40.0, 70.0);
     pulses.push_back({0, start, start + outer, carrier, field(rng, a)});
     pulses.push_back({1, inner_start, inner_start + inner, carrier + gap, field(rng, a * std::pow(10.0, -0.75 * u(rng)))});
+  } else if (scenario == DetectorScenario::kLockstepPair) {
+    // As the multiple-burial evaluation draws a pair (multi_burial.cpp): on-times 70-200 ms,
+    // starts within +-0.3 on-times, carriers within a tenth of a cell.
+    const double carrier = -60.0 + 120.0 * u(rng), gap = 1.5 * u(rng);
+    const double first_on = 0.07 + 0.13 * u(rng), second_on = 0.07 + 0.13 * u(rng);
+    const double start = 0.1 + 0.1 * u(rng), second_start = start + 0.3 * first_on * (2.0 * u(rng) - 1.0);
+    const double a = db(40.0, 70.0);
+    pulses.push_back({0, start, start + first_on, carrier, field(rng, a)});
+    pulses.push_back({1, second_start, second_start + second_on, carrier + gap, field(rng, a * std::pow(10.0, -0.75 * u(rng)))});
   } else {
     const double carriers[4] = {-6.0, 50.0, 65.0, 78.0};  // 12-84 Hz apart: cells of their overlap
     const double start = 0.1 + 0.2 * u(rng);
@@ -78,6 +87,7 @@ const char* to_string(DetectorScenario scenario) {
     case DetectorScenario::kSingle: return "single";
     case DetectorScenario::kNestedPair: return "nested-pair";
     case DetectorScenario::kTogether: return "together";
+    case DetectorScenario::kLockstepPair: return "lockstep-pair";
   }
   return "?";
 }

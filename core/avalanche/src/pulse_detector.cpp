@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <tuple>
 
@@ -15,6 +16,14 @@ namespace {
 
 using Complex = std::complex<double>;
 using Samples = WhitenedSamples;
+
+// 30 dB: what a one-burst model of a real pulse may miss. A two-burst refit is kept when it beats
+// one burst by the detection threshold plus this share of it.
+constexpr double kModelFloor = 1e-3;
+// Two bursts on one carrier that overlap by more than this noise inflation are one pulse with a
+// neighbour's leakage fitted twice (the bench's `together`: a lone transmitter's pulse split into
+// two nearly equal bursts), not a pair.
+constexpr double kMaxPairInflation = 4.0;
 
 // |sum over [a, b)|^2 / length, summed over the axes: chi-square with 6 dof under noise
 // (each whitened real component has unit variance).
@@ -118,7 +127,6 @@ void resolve_same_carrier_pairs(std::vector<Found>& pulses, const Samples& origi
   const BurstLimits limits = burst_limits(c, fs, 1.0);
   BurstLimits partner_search = limits;
   partner_search.carrier_span_hz = 4.0;  // a partner up to a cell away
-  constexpr double kModelFloor = 1e-3;   // 30 dB: what a one-burst model of a real pulse may miss
   constexpr Eigen::Index kAbut = 2;      // samples
   const Eigen::Index margin = limits.max_length / 2;
 
@@ -175,6 +183,55 @@ OneTone one_tone_fit(const Samples& z, const BasebandWindow& w, const Found& p) 
   const auto length = static_cast<double>(p.b - p.a);
   const double captured = statistic(prefix, p.a, p.b);
   return {captured, z.middleCols(p.a, p.b - p.a).squaredNorm() - captured - 6.0 * (length - 1.0)};
+}
+
+// One tone leaves energy on the pulse beyond the threshold, 30 dB of the tone and 5 sigma of the
+// noise (12 real components per sample): something else is in it.
+bool leaves_energy(const OneTone& one, const Found& p, double threshold) {
+  const auto length = static_cast<double>(p.b - p.a);
+  return one.left > threshold + kModelFloor * one.captured + 5.0 * std::sqrt(12.0 * length);
+}
+
+// A pulse on the same carrier that overlaps this one and outlasts it shows as energy at its
+// carrier running out from one of its edges. The union of the pulse and the strongest such burst
+// (from its start backwards or from its end onwards, within [lo, hi)) whose statistic exceeds
+// the threshold, 30 dB of the pulse and what an edge a sample off leaves (that sample's share of
+// the pulse, twice); nullopt if none.
+std::optional<std::pair<Eigen::Index, Eigen::Index>> outlasting_span(const Samples& z, const BasebandWindow& w,
+                                                                     const Found& p, Eigen::Index lo, Eigen::Index hi,
+                                                                     double captured, double threshold) {
+  constexpr Eigen::Index kShortest = 2;  // samples
+  constexpr double kCarrierSearchHz = 40.0, kCarrierStepHz = 0.5, kCarrierMatchHz = 3.0;
+  const Samples prefix = demodulated_prefix(z, w, p.f);
+  const auto length = static_cast<double>(p.b - p.a);
+  std::optional<std::pair<Eigen::Index, Eigen::Index>> span;
+  double best = 0.0;
+  auto consider = [&](Eigen::Index a, Eigen::Index b) {
+    const double edge = 2.0 * captured / (length * static_cast<double>(b - a));
+    const double excess = statistic(prefix, a, b) - (threshold + kModelFloor * captured + edge);
+    if (excess > best) {
+      best = excess;
+      span = std::make_pair(std::min(a, p.a), std::max(b, p.b));
+    }
+  };
+  for (Eigen::Index a = p.a - kShortest; a >= lo; --a) consider(a, p.a);
+  for (Eigen::Index b = p.b + kShortest; b <= hi; ++b) consider(p.b, b);
+  if (!span) return span;
+  // Its energy must peak at the pulse's carrier: what the others' cancellation leaves (transmitters
+  // a cell or more away) peaks at theirs (bench `together`: 10-40 Hz off, where a pair in lockstep
+  // peaks within 1 Hz).
+  const Eigen::Index u = span->first < p.a ? span->first : p.b, v = span->first < p.a ? p.a : span->second;
+  double peak_hz = p.f, peak = 0.0;
+  for (double f = p.f - kCarrierSearchHz; f <= p.f + kCarrierSearchHz + 1e-9; f += kCarrierStepHz) {
+    Eigen::Vector3cd sum = Eigen::Vector3cd::Zero();
+    for (Eigen::Index k = u; k < v; ++k) sum += z.col(k) * std::conj(carrier(f, w.time(k)));
+    if (sum.squaredNorm() > peak) {
+      peak = sum.squaredNorm();
+      peak_hz = f;
+    }
+  }
+  if (std::fabs(peak_hz - p.f) > kCarrierMatchHz) return std::nullopt;
+  return span;
 }
 
 // The single bursts' spectrum around f (a 2 Hz grid, each its best interval in [lo, hi)): two
@@ -243,18 +300,46 @@ std::pair<ToneBurst, ToneBurst> refined_two_tones(const PulsePairFit& fit, const
   return {x, y};
 }
 
-// Two transmitters a cell or two apart whose pulses start together are found as one burst at
-// their mean carrier: the matched window cannot resolve them and every refinement after it is
-// local (docs/estimation/avalanche.md, "Two tones that start together"). A pulse that one tone
-// leaves energy in (beyond the threshold, 30 dB of it and 5 sigma of the noise) is refitted as
-// two tones from several starts (two_tone_starts), and the best is split off when it captures
-// more than the best single burst by the detection threshold plus the same 30 dB model floor as
-// a same-carrier pair. Tones under 5 Hz apart are that pair's case; a tone within a cell of
-// another pulse it overlaps is that pulse's leakage, not a new tone.
-void split_two_tone_pulses(std::vector<Found>& pulses, const Samples& original, const BasebandWindow& w,
+// How much noisier two bursts on one carrier are fitted together than each alone: 1 / (1 - the
+// share of their lengths they overlap by).
+double pair_inflation(const ToneBurst& x, const ToneBurst& y) {
+  const auto overlap = static_cast<double>(std::max<Eigen::Index>(0, std::min(x.end, y.end) - std::max(x.begin, y.begin)));
+  const double shared = overlap * overlap / (static_cast<double>(x.end - x.begin) * static_cast<double>(y.end - y.begin));
+  return shared < 1.0 ? 1.0 / (1.0 - shared) : std::numeric_limits<double>::infinity();
+}
+
+// Unsplit pulses in pulse i's frequency cell that overlap it or abut it: what successive
+// cancellation carves a pair on one carrier into.
+std::vector<std::size_t> cell_mates(const std::vector<Found>& pulses, std::size_t i, double fs) {
+  constexpr Eigen::Index kAbut = 2;  // samples
+  std::vector<std::size_t> mates;
+  for (std::size_t j = 0; j < pulses.size(); ++j) {
+    const Found& q = pulses[j];
+    if (j == i || q.split || !same_cell(pulses[i], q, fs)) continue;
+    if (std::min(q.b, pulses[i].b) + kAbut >= std::max(q.a, pulses[i].a)) mates.push_back(j);
+  }
+  return mates;
+}
+
+// A pulse that one tone leaves energy in holds two transmitters' pulses (docs/estimation/
+// avalanche.md, "Two tones that start together" and "Pairs in lockstep"):
+//  - two tones a cell or two apart that start together, found as one burst at their mean
+//    carrier: the matched window cannot resolve them and every refinement after it is local.
+//    Starts: two_tone_starts; tones under 5 Hz apart are the next case's;
+//  - two pulses on one carrier with different edges, as a pair in lockstep gives at every pulse:
+//    one burst on their union or the pieces successive cancellation carved it into. Start: the
+//    best split of the union over every interior edge (PulsePairFit::best_spanning_pair).
+// The screens: one tone at the pulse's carrier leaves energy on its interval and its same-cell
+// mates' (leaves_energy); or, for a same-carrier pair only, a pulse on its carrier outlasts it
+// (outlasting_span: the union is then the span searched). Every start is refined and polished;
+// the best is kept when it captures more than the best single burst by the detection threshold
+// plus kModelFloor, each of its bursts is a whole pulse (the matched window long, unless the
+// window cuts it), and a same-carrier pair overlaps by less than kMaxPairInflation. A tone within
+// a cell of another pulse it overlaps is that pulse's leakage, not a new tone. A pulse outlasted
+// by another on its carrier and not split is flagged blended: its field is a mixture.
+void split_two_burst_pulses(std::vector<Found>& pulses, const Samples& original, const BasebandWindow& w,
                            const PulseDetectorConfig& c, double threshold) {
-  if (c.two_tone_span_hz <= 0.0) return;
-  constexpr double kModelFloor = 1e-3;
+  if (c.two_tone_span_hz <= 0.0 && !c.same_carrier_pairs) return;
   constexpr double kMinSeparationHz = 5.0;
   const double fs = w.sample_rate_hz;
   const Eigen::Index n = w.size();
@@ -266,38 +351,133 @@ void split_two_tone_pulses(std::vector<Found>& pulses, const Samples& original, 
   for (std::size_t i = 0; i < found; ++i) {
     const Found p = pulses[i];
     if (p.split) continue;
-    const Samples z = without_others(original, w, pulses, {i});
-    const double length = static_cast<double>(p.b - p.a);
-    const OneTone one = one_tone_fit(z, w, p);
-    if (one.left <= threshold + kModelFloor * one.captured + 5.0 * std::sqrt(12.0 * length)) continue;
+    const std::vector<std::size_t> mates = cell_mates(pulses, i, fs);
+    std::vector<std::size_t> members{i};
+    members.insert(members.end(), mates.begin(), mates.end());
+    Found span = p;
+    for (std::size_t m : mates) {
+      span.a = std::min(span.a, pulses[m].a);
+      span.b = std::max(span.b, pulses[m].b);
+    }
+    const Samples z = without_others(original, w, pulses, members);
+    const OneTone one = one_tone_fit(z, w, span);
+    const Eigen::Index lo = std::max<Eigen::Index>(0, span.a - margin), hi = std::min(n, span.b + margin);
+    const auto outlasting =
+        c.same_carrier_pairs ? outlasting_span(z, w, span, lo, hi, one.captured, threshold) : std::nullopt;
+    const bool interior = leaves_energy(one, span, threshold);
+    if (!interior && !outlasting) continue;
+    if (outlasting) std::tie(span.a, span.b) = *outlasting;
     const PulsePairFit fit(z, w);
-    const Eigen::Index lo = std::max<Eigen::Index>(0, p.a - margin), hi = std::min(n, p.b + margin);
     auto [peaks, single] = single_burst_peaks(fit, p.f, c.two_tone_span_hz, lo, hi, limits);
     auto leaks = [&](const ToneBurst& b) {
       const Found f{b.carrier_hz, b.begin, b.end, 0.0};
-      return std::any_of(pulses.begin(), pulses.end(), [&](const Found& q) {
-        return &q != &pulses[i] && std::min(q.b, f.b) > std::max(q.a, f.a) && same_cell(q, f, fs);
-      });
+      for (std::size_t j = 0; j < pulses.size(); ++j) {
+        const Found& q = pulses[j];
+        if (std::find(members.begin(), members.end(), j) == members.end() && std::min(q.b, f.b) > std::max(q.a, f.a) &&
+            same_cell(q, f, fs))
+          return true;
+      }
+      return false;
     };
     ToneBurst x, y;
-    for (const auto& start : two_tone_starts(fit, {p.f, p.a, p.b, 0.0}, peaks, c.two_tone_span_hz, lo, hi, limits)) {
+    auto consider = [&](const std::pair<ToneBurst, ToneBurst>& start, bool same_carrier) {
       const auto [cx, cy] = refined_two_tones(fit, start, lo, hi, limits);
-      if (cx.energy <= x.energy || !whole(cx) || !whole(cy) || std::fabs(cx.carrier_hz - cy.carrier_hz) < kMinSeparationHz ||
-          leaks(cx) || leaks(cy))
-        continue;
+      if (cx.energy <= x.energy || !whole(cx) || !whole(cy) || leaks(cx) || leaks(cy)) return;
+      if (!same_carrier && std::fabs(cx.carrier_hz - cy.carrier_hz) < kMinSeparationHz) return;
+      if (same_carrier && pair_inflation(cx, cy) > kMaxPairInflation) return;
       x = cx;
       y = cy;
+    };
+    if (interior && c.two_tone_span_hz > 0.0)  // two tones leave energy inside; a pulse outlasting it is a pair's
+      for (const auto& start : two_tone_starts(fit, {p.f, p.a, p.b, 0.0}, peaks, c.two_tone_span_hz, lo, hi, limits))
+        consider(start, false);
+    if (c.same_carrier_pairs) {
+      const auto start = fit.best_spanning_pair(span.a, span.b, p.f, limits);
+      if (start.first.energy > 0.0) consider(start, true);
     }
-    if (x.energy <= 0.0) continue;
     for (double f : {x.carrier_hz, y.carrier_hz}) {
+      if (x.energy <= 0.0) break;
+      BurstLimits at_f = limits;
+      at_f.carrier_span_hz = 0.0;
+      single = std::max(single, fit.best_single(lo, hi, f, at_f).energy);
+    }
+    if (x.energy <= 0.0 || x.energy - single <= threshold + kModelFloor * single) {
+      // Outlasted by a pulse on its carrier that no pair separates: its field is a mixture.
+      if (outlasting)
+        for (std::size_t m : members) pulses[m].blended = true;
+      continue;
+    }
+    pulses[i] = {x.carrier_hz, x.begin, x.end, p.t, false, true};
+    if (mates.empty()) {
+      pulses.push_back({y.carrier_hz, y.begin, y.end, 0.0, false, true});
+      continue;
+    }
+    pulses[mates.front()] = {y.carrier_hz, y.begin, y.end, pulses[mates.front()].t, false, true};
+    for (std::size_t k = 1; k < mates.size(); ++k) pulses[mates[k]].blended = true;  // the pair explains it
+  }
+}
+
+// Successive cancellation of a same-carrier pair leaves, where the pair's sum changes amplitude
+// at an edge, energy a cell or two off their carrier; found first, that energy becomes pulses of
+// its own, and with them cancelled the pulse looks like one tone (bench `lockstep-pair`: a pair
+// 1.2 Hz apart found as one burst plus bursts 10 and 14 Hz off, all mixtures). A pulse with weaker
+// pulses overlapping it within near_carrier_cells of its carrier is screened again with those
+// left in: if one tone leaves energy, it is refitted as a same-carrier pair
+// (PulsePairFit::best_spanning_pair), and kept only when the pair beats one burst as above AND
+// explains every one of those neighbours (none above the threshold in what the pair leaves): a
+// real transmitter there is never traded for the pair.
+void absorb_pair_sidebands(std::vector<Found>& pulses, const Samples& original, const BasebandWindow& w,
+                           const PulseDetectorConfig& c, double threshold) {
+  if (!c.same_carrier_pairs) return;
+  const double fs = w.sample_rate_hz;
+  const Eigen::Index n = w.size();
+  const auto matched = static_cast<Eigen::Index>(std::lround(c.min_on_time_s * fs));
+  const BurstLimits limits = burst_limits(c, fs, 2.0);
+  const Eigen::Index margin = limits.max_length / 2;
+  auto whole = [&](const ToneBurst& b) { return b.end - b.begin >= matched || b.begin == 0 || b.end == n; };
+  std::vector<bool> absorbed(pulses.size(), false);
+  const std::size_t found = pulses.size();
+  for (std::size_t i = 0; i < found; ++i) {
+    const Found p = pulses[i];
+    if (p.split || absorbed[i]) continue;
+    std::vector<std::size_t> near;
+    for (std::size_t j = 0; j < found; ++j) {
+      const Found& q = pulses[j];
+      const Eigen::Index overlap = std::min(q.b, p.b) - std::max(q.a, p.a);
+      if (j == i || q.split || absorbed[j] || overlap <= 0 || q.t >= p.t) continue;
+      if (std::fabs(q.f - p.f) < c.near_carrier_cells * fs / static_cast<double>(overlap)) near.push_back(j);
+    }
+    if (near.empty()) continue;
+    std::vector<std::size_t> members{i};
+    members.insert(members.end(), near.begin(), near.end());
+    const Samples z = without_others(original, w, pulses, members);
+    if (!leaves_energy(one_tone_fit(z, w, p), p, threshold)) continue;
+    const PulsePairFit fit(z, w);
+    const Eigen::Index lo = std::max<Eigen::Index>(0, p.a - margin), hi = std::min(n, p.b + margin);
+    const auto start = fit.best_spanning_pair(p.a, p.b, p.f, limits);
+    if (start.first.energy <= 0.0) continue;
+    const auto [x, y] = refined_two_tones(fit, start, lo, hi, limits);
+    if (x.energy <= 0.0 || !whole(x) || !whole(y) || pair_inflation(x, y) > kMaxPairInflation) continue;
+    double single = 0.0;
+    for (double f : {p.f, x.carrier_hz, y.carrier_hz}) {
       BurstLimits at_f = limits;
       at_f.carrier_span_hz = 0.0;
       single = std::max(single, fit.best_single(lo, hi, f, at_f).energy);
     }
     if (x.energy - single <= threshold + kModelFloor * single) continue;
+    const Samples left = residual_of(z, w, {{x.carrier_hz, x.begin, x.end, 0.0}, {y.carrier_hz, y.begin, y.end, 0.0}});
+    const bool explained = std::all_of(near.begin(), near.end(), [&](std::size_t j) {
+      return statistic(demodulated_prefix(left, w, pulses[j].f), pulses[j].a, pulses[j].b) < threshold;
+    });
+    if (!explained) continue;
     pulses[i] = {x.carrier_hz, x.begin, x.end, p.t, false, true};
     pulses.push_back({y.carrier_hz, y.begin, y.end, 0.0, false, true});
+    for (std::size_t j : near) absorbed[j] = true;
   }
+  std::vector<Found> kept;
+  for (std::size_t j = 0; j < pulses.size(); ++j)
+    if (j >= absorbed.size() || !absorbed[j]) kept.push_back(pulses[j]);
+  pulses = std::move(kept);
 }
 
 }  // namespace
@@ -398,8 +578,11 @@ std::vector<DetectedPulse> detect_pulses(const BasebandWindow& w, const PulseDet
     whitened = residual_of(original, w, fitted);
   }
   if (pulses.empty()) return found;
+  // The two-burst refit first: it searches a same-carrier pair's every edge, where the pair
+  // resolution that follows (for what is still blended) refines locally from the pieces.
+  split_two_burst_pulses(pulses, original, w, c, bands.front().threshold);
+  absorb_pair_sidebands(pulses, original, w, c, bands.front().threshold);
   resolve_same_carrier_pairs(pulses, original, w, c, bands.front().threshold);
-  split_two_tone_pulses(pulses, original, w, c, bands.front().threshold);
 
   // Joint least squares on the original samples: columns = each pulse's carrier on its interval.
   const auto m = static_cast<Eigen::Index>(pulses.size());

@@ -132,6 +132,26 @@ ToneBurst PulsePairFit::best_partner(const ToneBurst& x, ToneBurst y, Eigen::Ind
   return fine;
 }
 
+std::pair<ToneBurst, ToneBurst> PulsePairFit::best_spanning_pair(Eigen::Index begin, Eigen::Index end, double f,
+                                                                 const BurstLimits& limits) const {
+  const WhitenedSamples p = demodulated_prefix(z_, w_, f);
+  auto length_ok = [&](Eigen::Index a, Eigen::Index b) { return b - a >= limits.min_length && b - a <= limits.max_length; };
+  std::pair<ToneBurst, ToneBurst> best{{f, begin, begin, 0.0}, {f, end, end, 0.0}};
+  auto consider = [&](Eigen::Index xa, Eigen::Index xb, Eigen::Index ya, Eigen::Index yb) {
+    if (!length_ok(xa, xb) || !length_ok(ya, yb)) return;
+    const Eigen::Index overlap = std::max<Eigen::Index>(0, std::min(xb, yb) - std::max(xa, ya));
+    const double e = pair_energy(p.col(xb) - p.col(xa), p.col(yb) - p.col(ya), static_cast<double>(xb - xa),
+                                 static_cast<double>(yb - ya), Complex(static_cast<double>(overlap), 0.0));
+    if (e > best.first.energy) best = {{f, xa, xb, e}, {f, ya, yb, e}};
+  };
+  for (Eigen::Index u = begin + 1; u < end; ++u)
+    for (Eigen::Index v = begin + 1; v < end; ++v) consider(begin, u, v, end);  // staggered, or apart
+  for (Eigen::Index u = begin; u < end; ++u)
+    for (Eigen::Index v = u + 1; v <= end; ++v)
+      if (v - u < end - begin) consider(begin, end, u, v);  // nested
+  return best;
+}
+
 std::pair<ToneBurst, ToneBurst> PulsePairFit::polish_edges(ToneBurst x, ToneBurst y, Eigen::Index lo, Eigen::Index hi,
                                                            const BurstLimits& limits, Eigen::Index slack) const {
   const WhitenedSamples px = demodulated_prefix(z_, w_, x.carrier_hz), py = demodulated_prefix(z_, w_, y.carrier_hz);

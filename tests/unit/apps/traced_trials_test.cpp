@@ -15,8 +15,8 @@ namespace sarloc::avalanche {
 namespace {
 
 // What `sarloc-eval multi-burial -c config/eval/avalanche.yaml --victims 4 --spread 5` sets up,
-// with `simulation.receiver.oscillator_sigma_ppm: 0`, `search.confirm_max_waits: 10` and
-// `simulation.receiver.two_tone_span_hz: 0`.
+// with `simulation.receiver.oscillator_sigma_ppm: 0`, `search.confirm_max_waits: 10`,
+// `simulation.receiver.two_tone_span_hz: 0` and `simulation.receiver.same_carrier_pairs: false`.
 MultiBurialSetup four_within_five_metres(std::uint64_t seed) {
   EvaluationSetup base;
   eval::load_avalanche_config(std::string(SARLOC_SOURCE_DIR) + "/config/eval/avalanche.yaml", base);
@@ -33,9 +33,11 @@ MultiBurialSetup four_within_five_metres(std::uint64_t seed) {
   // ... and while a probe point was waited on 10 epochs at most (search.confirm_max_waits): the
   // longer waits change the walk, and without the witness seed 13 trial 2 then finds no ghost.
   setup.rescuer.search.confirm_max_waits = 10;
-  // ... and before the detector split two tones starting together (two_tone_span_hz): it changes
-  // which pulses the tracks hear, and both trials then find no ghost even without the witness.
+  // ... and before the detector split two tones starting together (two_tone_span_hz) or a pair in
+  // lockstep (same_carrier_pairs): each changes which pulses the tracks hear, and with the first
+  // both trials find no ghost even without the witness.
   setup.simulation.receiver.two_tone_span_hz = 0.0;
+  setup.simulation.receiver.same_carrier_pairs = false;
   setup.evaluation = base.evaluation;
   setup.evaluation.step_budget = std::max<std::uint32_t>(base.evaluation.step_budget, 200 * setup.victims);
   setup.evaluation.seed = seed;

@@ -7,7 +7,9 @@
 //  - kNestedPair: two transmitters 0.5-3 Hz apart (one carrier cell), one pulse inside the
 //    other or sharing its end, as a pair in lockstep gives at every pulse;
 //  - kTogether: four transmitters on carriers 12-84 Hz apart pulsing together (one period,
-//    starts within +-4 ms).
+//    starts within +-4 ms);
+//  - kLockstepPair: two transmitters within 1.5 Hz whose pulses overlap as the evaluation's
+//    lockstep pairs do: on-times 70-200 ms each, starts within +-0.3 on-times of each other.
 // Amplitudes 40-70 dB above the long axis's noise, the second transmitter of a nested pair 0 to
 // -15 dB of the first. `sarloc-eval detector` prints it (docs/estimation/avalanche.md).
 //
@@ -21,7 +23,7 @@
 
 namespace sarloc::avalanche {
 
-enum class DetectorScenario : std::uint8_t { kSingle, kNestedPair, kTogether };
+enum class DetectorScenario : std::uint8_t { kSingle, kNestedPair, kTogether, kLockstepPair };
 const char* to_string(DetectorScenario scenario);
 
 struct DetectorBenchSetup {

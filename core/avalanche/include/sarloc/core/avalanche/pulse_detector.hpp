@@ -12,11 +12,13 @@
 // mutual leakage, and each pulse gets its amplitude noise and variance inflation: how much the
 // other pulses' overlap (same carrier, same time) degrades it. Overlapping pulses whose
 // carriers are closer than about 1 / overlap cannot be told apart: their inflation is large.
-// Two such pulses on one carrier whose edges differ are refitted as a pair (pulse_pair_fit.hpp)
-// before that final fit; a pair that does not beat one burst stays flagged blended. And a pulse
-// that one tone leaves energy in is refitted as two tones up to two_tone_span_hz apart: two
-// transmitters a cell or two apart that start together are otherwise one burst at their mean
-// carrier, whose field is neither's.
+// Before that final fit, a pulse that one tone leaves energy in is refitted as two bursts
+// (pulse_pair_fit.hpp): two tones up to two_tone_span_hz apart (two transmitters a cell or two
+// apart that start together are otherwise one burst at their mean carrier, whose field is
+// neither's), or, with same_carrier_pairs, two pulses on one carrier with their own edges,
+// searched over every interior edge (a pair in lockstep: otherwise one pulse whose field is a
+// mixture). A pulse that another on its carrier outlasts and that no pair separates is flagged
+// blended, and so is a same-carrier pair that the local pair refit does not separate.
 //
 //   std::vector<DetectedPulse> pulses = detect_pulses(window, PulseDetectorConfig{});
 #include <vector>
@@ -61,6 +63,9 @@ struct PulseDetectorConfig {
   /// when the pair captures more than one burst by the detection threshold plus a 30 dB model
   /// floor. 0: never split.
   double two_tone_span_hz = 20.0;
+  /// The same screen also refits a pulse as two pulses on one carrier with different edges (a pair
+  /// in lockstep), searched over every interior edge of the pulse and its same-cell mates.
+  bool same_carrier_pairs = true;
 };
 
 struct DetectedPulse {

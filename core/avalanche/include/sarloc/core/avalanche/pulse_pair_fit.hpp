@@ -61,6 +61,13 @@ class PulsePairFit {
   /// Alternating refinement of both (rounds of best_partner each way); energies set.
   std::pair<ToneBurst, ToneBurst> refine(ToneBurst x, ToneBurst y, Eigen::Index lo, Eigen::Index hi,
                                          const BurstLimits& limits, int rounds = 3, Eigen::Index slack = 12) const;
+  /// Two bursts on carrier f whose union is [begin, end), searched over every interior edge:
+  /// one from begin and the other to end (overlapping or apart), or one spanning [begin, end)
+  /// and the other inside it. A pair in lockstep overlaps like this at every pulse, and local
+  /// refinement from one burst does not find the partner's edges. Energies set; both 0 when no
+  /// split fits the limits.
+  std::pair<ToneBurst, ToneBurst> best_spanning_pair(Eigen::Index begin, Eigen::Index end, double f,
+                                                     const BurstLimits& limits) const;
   /// All four edges moved together, each within `slack` samples, carriers held: alternating
   /// refinement stalls where one burst's edge covers the other's tail; energies set.
   std::pair<ToneBurst, ToneBurst> polish_edges(ToneBurst x, ToneBurst y, Eigen::Index lo, Eigen::Index hi,

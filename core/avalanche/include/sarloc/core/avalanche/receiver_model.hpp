@@ -73,6 +73,10 @@ struct ReceiverModelConfig {
   /// tone leaves energy unexplained: two transmitters a cell or two apart that start together
   /// are found as one burst at their mean carrier otherwise (PulseDetectorConfig). 0: never.
   double two_tone_span_hz = 20.0;
+  /// The device's detector refits a pulse that one tone does not explain, or that a pulse on its
+  /// carrier outlasts, as two pulses on one carrier with their own edges: a pair in lockstep
+  /// (PulseDetectorConfig::same_carrier_pairs).
+  bool same_carrier_pairs = true;
 
   /// Throws ConfigError "simulation.receiver.<key> = value: rule".
   void validate() const;
