@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <optional>
 #include <tuple>
@@ -112,6 +113,25 @@ BurstLimits burst_limits(const PulseDetectorConfig& c, double fs, double span_hz
   return limits;
 }
 
+// A real pulse is at least the matched window long unless the window's edge cuts it.
+bool whole_pulse(const ToneBurst& b, Eigen::Index matched, Eigen::Index n) {
+  return b.end - b.begin >= matched || b.begin == 0 || b.end == n;
+}
+
+// The most energy one burst in [lo, hi) captures at any of these carriers (each held).
+double best_single_at(const PulsePairFit& fit, std::initializer_list<double> carriers, Eigen::Index lo, Eigen::Index hi,
+                      BurstLimits limits) {
+  limits.carrier_span_hz = 0.0;
+  double best = 0.0;
+  for (double f : carriers) best = std::max(best, fit.best_single(lo, hi, f, limits).energy);
+  return best;
+}
+
+// Two bursts are kept over one when they capture more by the detection threshold plus kModelFloor.
+bool beats_one_burst(double pair_energy, double single, double threshold) {
+  return pair_energy - single > threshold + kModelFloor * single;
+}
+
 // Two transmitters on one carrier, overlapping (pulse_pair_fit.hpp). Candidates: a blended pulse
 // (its partner searched for), or two pieces within one frequency cell that abut (successive
 // cancellation carves an overlapping pair at the other's edge). The pair is refitted jointly and
@@ -154,15 +174,8 @@ void resolve_same_carrier_pairs(std::vector<Found>& pulses, const Samples& origi
     hi = std::min(n, hi + margin);
     if (!mate) y = fit.best_partner(x, x, lo, hi, partner_search, -1);
     const auto [rx, ry] = fit.refine(x, y, lo, hi, limits);
-    double single = 0.0;
-    for (double f : {rx.carrier_hz, ry.carrier_hz, pulses[i].f}) {
-      BurstLimits at_f = limits;
-      at_f.carrier_span_hz = 0.0;
-      single = std::max(single, fit.best_single(lo, hi, f, at_f).energy);
-    }
-    // A real pulse is at least the matched window long unless the window's edge cuts it.
-    auto whole = [&](const ToneBurst& b) { return b.end - b.begin >= matched || b.begin == 0 || b.end == n; };
-    const bool kept = rx.energy - single > threshold + kModelFloor * single && whole(rx) && whole(ry);
+    const double single = best_single_at(fit, {rx.carrier_hz, ry.carrier_hz, pulses[i].f}, lo, hi, limits);
+    const bool kept = beats_one_burst(rx.energy, single, threshold) && whole_pulse(rx, matched, n) && whole_pulse(ry, matched, n);
     if (!kept) {
       for (std::size_t m : members) pulses[m].blended = true;
       continue;
@@ -346,7 +359,7 @@ void split_two_burst_pulses(std::vector<Found>& pulses, const Samples& original,
   const auto matched = static_cast<Eigen::Index>(std::lround(c.min_on_time_s * fs));
   const BurstLimits limits = burst_limits(c, fs, 2.0);  // refinement around each start: the 2 Hz grid's gaps
   const Eigen::Index margin = limits.max_length / 2;
-  auto whole = [&](const ToneBurst& b) { return b.end - b.begin >= matched || b.begin == 0 || b.end == n; };
+  auto whole = [&](const ToneBurst& b) { return whole_pulse(b, matched, n); };
   const std::size_t found = pulses.size();
   for (std::size_t i = 0; i < found; ++i) {
     const Found p = pulses[i];
@@ -395,13 +408,8 @@ void split_two_burst_pulses(std::vector<Found>& pulses, const Samples& original,
       const auto start = fit.best_spanning_pair(span.a, span.b, p.f, limits);
       if (start.first.energy > 0.0) consider(start, true);
     }
-    for (double f : {x.carrier_hz, y.carrier_hz}) {
-      if (x.energy <= 0.0) break;
-      BurstLimits at_f = limits;
-      at_f.carrier_span_hz = 0.0;
-      single = std::max(single, fit.best_single(lo, hi, f, at_f).energy);
-    }
-    if (x.energy <= 0.0 || x.energy - single <= threshold + kModelFloor * single) {
+    if (x.energy > 0.0) single = std::max(single, best_single_at(fit, {x.carrier_hz, y.carrier_hz}, lo, hi, limits));
+    if (x.energy <= 0.0 || !beats_one_burst(x.energy, single, threshold)) {
       // Outlasted by a pulse on its carrier that no pair separates: its field is a mixture.
       if (outlasting)
         for (std::size_t m : members) pulses[m].blended = true;
@@ -434,7 +442,7 @@ void absorb_pair_sidebands(std::vector<Found>& pulses, const Samples& original, 
   const auto matched = static_cast<Eigen::Index>(std::lround(c.min_on_time_s * fs));
   const BurstLimits limits = burst_limits(c, fs, 2.0);
   const Eigen::Index margin = limits.max_length / 2;
-  auto whole = [&](const ToneBurst& b) { return b.end - b.begin >= matched || b.begin == 0 || b.end == n; };
+  auto whole = [&](const ToneBurst& b) { return whole_pulse(b, matched, n); };
   std::vector<bool> absorbed(pulses.size(), false);
   const std::size_t found = pulses.size();
   for (std::size_t i = 0; i < found; ++i) {
@@ -458,13 +466,8 @@ void absorb_pair_sidebands(std::vector<Found>& pulses, const Samples& original, 
     if (start.first.energy <= 0.0) continue;
     const auto [x, y] = refined_two_tones(fit, start, lo, hi, limits);
     if (x.energy <= 0.0 || !whole(x) || !whole(y) || pair_inflation(x, y) > kMaxPairInflation) continue;
-    double single = 0.0;
-    for (double f : {p.f, x.carrier_hz, y.carrier_hz}) {
-      BurstLimits at_f = limits;
-      at_f.carrier_span_hz = 0.0;
-      single = std::max(single, fit.best_single(lo, hi, f, at_f).energy);
-    }
-    if (x.energy - single <= threshold + kModelFloor * single) continue;
+    if (!beats_one_burst(x.energy, best_single_at(fit, {p.f, x.carrier_hz, y.carrier_hz}, lo, hi, limits), threshold))
+      continue;
     const Samples left = residual_of(z, w, {{x.carrier_hz, x.begin, x.end, 0.0}, {y.carrier_hz, y.begin, y.end, 0.0}});
     const bool explained = std::all_of(near.begin(), near.end(), [&](std::size_t j) {
       return statistic(demodulated_prefix(left, w, pulses[j].f), pulses[j].a, pulses[j].b) < threshold;

@@ -135,10 +135,9 @@ ToneBurst PulsePairFit::best_partner(const ToneBurst& x, ToneBurst y, Eigen::Ind
 std::pair<ToneBurst, ToneBurst> PulsePairFit::best_spanning_pair(Eigen::Index begin, Eigen::Index end, double f,
                                                                  const BurstLimits& limits) const {
   const WhitenedSamples p = demodulated_prefix(z_, w_, f);
-  auto length_ok = [&](Eigen::Index a, Eigen::Index b) { return b - a >= limits.min_length && b - a <= limits.max_length; };
   std::pair<ToneBurst, ToneBurst> best{{f, begin, begin, 0.0}, {f, end, end, 0.0}};
   auto consider = [&](Eigen::Index xa, Eigen::Index xb, Eigen::Index ya, Eigen::Index yb) {
-    if (!length_ok(xa, xb) || !length_ok(ya, yb)) return;
+    if (!limits.fits(xa, xb) || !limits.fits(ya, yb)) return;
     const Eigen::Index overlap = std::max<Eigen::Index>(0, std::min(xb, yb) - std::max(xa, ya));
     const double e = pair_energy(p.col(xb) - p.col(xa), p.col(yb) - p.col(ya), static_cast<double>(xb - xa),
                                  static_cast<double>(yb - ya), Complex(static_cast<double>(overlap), 0.0));
@@ -163,14 +162,13 @@ std::pair<ToneBurst, ToneBurst> PulsePairFit::polish_edges(ToneBurst x, ToneBurs
   const auto [yb_lo, yb_hi] = range(y.end);
   std::pair<ToneBurst, ToneBurst> best{x, y};
   best.first.energy = best.second.energy = energy(x, y);
-  auto length_ok = [&](Eigen::Index a, Eigen::Index b) { return b - a >= limits.min_length && b - a <= limits.max_length; };
   for (Eigen::Index xa = xa_lo; xa <= xa_hi; ++xa)
     for (Eigen::Index xb = xb_lo; xb <= xb_hi; ++xb) {
-      if (!length_ok(xa, xb)) continue;
+      if (!limits.fits(xa, xb)) continue;
       const Eigen::Vector3cd cx = px.col(xb) - px.col(xa);
       for (Eigen::Index ya = ya_lo; ya <= ya_hi; ++ya)
         for (Eigen::Index yb = yb_lo; yb <= yb_hi; ++yb) {
-          if (!length_ok(ya, yb)) continue;
+          if (!limits.fits(ya, yb)) continue;
           const Eigen::Index o_lo = std::max(xa, ya), o_hi = std::min(xb, yb);
           const Complex gxy = o_hi > o_lo ? q(o_hi) - q(o_lo) : Complex(0.0);
           const double e = pair_energy(cx, py.col(yb) - py.col(ya), static_cast<double>(xb - xa),

@@ -41,6 +41,8 @@ struct BurstLimits {
   Eigen::Index max_length = 110;
   double carrier_span_hz = 1.0;  ///< carrier refinement: +- this around the current
   double carrier_step_hz = 0.05;
+  /// A burst [a, b) is between the shortest and the longest length.
+  bool fits(Eigen::Index a, Eigen::Index b) const { return b - a >= min_length && b - a <= max_length; }
 };
 
 class PulsePairFit {
