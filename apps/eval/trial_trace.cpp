@@ -56,6 +56,7 @@ av::MultiBurialTraceObserver multi_burial_trace_printer() {
       if (t.pulse_victim) std::printf(" pulse %zu", *t.pulse_victim);
       if (t.mixed_victim) std::printf("+%zu(%.2f)", *t.mixed_victim, t.mixed_energy_ratio);
       if (t.truth_nis) std::printf(" truth-nis %.1f", *t.truth_nis);
+      if (t.filter_nis) std::printf(" filter-nis %.1f", *t.filter_nis);
       if (t.estimate) {
         std::printf(" status %d at [%.2f %.2f %.2f] r95 %.2f repeat %d", static_cast<int>(t.estimate->status),
                     t.estimate_at.x(), t.estimate_at.y(), t.estimate_at.z(),

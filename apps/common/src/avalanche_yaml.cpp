@@ -111,6 +111,8 @@ void read_search(YamlReader r, avalanche::SearchConfig& c) {
   r.read("confirm_max_innovation_ratio", c.confirm_max_innovation_ratio);
   r.read("confirm_innovation_window", c.confirm_innovation_window);
   r.read("confirm_max_last_nis", c.confirm_max_last_nis);
+  r.read("confirm_probe_window", c.confirm_probe_window);
+  r.read("confirm_probe_gate_probability", c.confirm_probe_gate_probability);
   r.read("found_confirmations", c.found_confirmations);
   r.read("confirm_max_waits", c.confirm_max_waits);
   r.read("confirm_probe_per_depth", c.confirm_probe_per_depth);

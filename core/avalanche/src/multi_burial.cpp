@@ -112,6 +112,8 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
     for (std::size_t i = 0; i < measurements.size(); ++i) {
       const FieldMeasurement& m = measurements[i];
       signals.insert(m.signal_id);
+      std::optional<FieldFit> fit_before;
+      if (trace && m.valid_axes != 0) fit_before = search.field_fit(m.signal_id, m.field, m.noise_stddev, m.valid_axes);
       const auto outcome = search.process(m);
       const auto* update = std::get_if<SearchUpdate>(&outcome);
       if (trace) {
@@ -125,6 +127,7 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
           t.mixed_energy_ratio = heard.samples[i].mixed_energy_ratio;
           t.truth_nis = heard.samples[i].truth_nis;
         }
+        if (fit_before) t.filter_nis = fit_before->nis;
         if (update) {
           t.estimate = update->estimate;
           t.guidance = update->guidance;

@@ -292,7 +292,7 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
     update.guidance = g;
   }
   // FOUND only through the guidance's confirmation (found_confirmations samples in a row).
-  const ConfirmationEvidence evidence = ConfirmationEvidence::of(s.filter, config_.search.confirm_innovation_window);
+  const ConfirmationEvidence evidence = s.controller.evidence(s.filter, estimate.relative.position);
   estimate.status = found_now ? EstimatorStatus::kFound
                               : std::min(s.controller.assess(estimate, evidence), EstimatorStatus::kLocated);
   test_repeat(m.signal_id, s, estimate.status, found_now);
@@ -437,7 +437,7 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process_miss(const FieldMea
   e.stamp = m.stamp;
   // Where the transmitter is not never confirms where it is: the status never rises on a miss.
   const EstimatorStatus before = s.estimate ? s.estimate->status : EstimatorStatus::kInitialising;
-  const ConfirmationEvidence evidence = ConfirmationEvidence::of(s.filter, config_.search.confirm_innovation_window);
+  const ConfirmationEvidence evidence = s.controller.evidence(s.filter, e.relative.position);
   e.status = std::min({s.controller.assess(e, evidence), before, EstimatorStatus::kLocated});
   test_repeat(m.signal_id, s, e.status, false);
   e = with_signal_state(s, std::move(e));

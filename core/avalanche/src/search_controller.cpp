@@ -7,6 +7,7 @@
 #include "sarloc/core/avalanche/bearing_density.hpp"
 #include "sarloc/core/avalanche/probe_pattern.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
+#include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/gaussian.hpp"
 
@@ -57,6 +58,8 @@ void SearchConfig::validate() const {
   check("confirm_max_innovation_ratio", confirm_max_innovation_ratio, 0.0, 100.0, true);
   check("confirm_max_last_nis", confirm_max_last_nis, 0.0, 1000.0, true);
   check("confirm_innovation_window", confirm_innovation_window, 1.0, static_cast<double>(SogFilter::kNisHistory), false);
+  check("confirm_probe_window", confirm_probe_window, 1.0, static_cast<double>(SogFilter::kNisHistory), false);
+  check("confirm_probe_gate_probability", confirm_probe_gate_probability, 0.5, 1.0, true);
   check("found_confirmations", found_confirmations, 1.0, 20.0, false);
   check("confirm_probe_per_depth", confirm_probe_per_depth, 0.0, 2.0, false);
   check("confirm_max_waits", confirm_max_waits, static_cast<double>(kConfirmWaits), 600.0, false);
@@ -100,15 +103,20 @@ double SearchController::located_radius(const Vec3& relative_position) const {
   return std::max(config_.located_radius_m, config_.located_radius_per_range * relative_position.norm());
 }
 
-ConfirmationEvidence ConfirmationEvidence::of(const SogFilter& filter, std::uint32_t sustained_window) {
-  return {filter.mixture_samples(), filter.recent_innovation_ratio(), filter.last_min_nis(), filter.moment_plausible(),
-          filter.innovation_ratio_over(sustained_window)};
+ConfirmationEvidence SearchController::evidence(const SogFilter& filter, const Vec3& relative_position) const {
+  ConfirmationEvidence e{filter.mixture_samples(), filter.recent_innovation_ratio(), filter.last_min_nis(),
+                         filter.moment_plausible(), filter.innovation_ratio_over(config_.confirm_innovation_window)};
+  const SogFilter::InnovationSum probe =
+      filter.innovations_within(located_radius(relative_position), config_.confirm_probe_window);
+  if (probe.dof > 0.0) e.probe_nis_probability = chi_square_cdf(probe.nis, probe.dof);
+  return e;
 }
 
 bool SearchController::confirmable(const ConfirmationEvidence& evidence) const {
   return static_cast<double>(evidence.samples) >= config_.confirm_min_samples &&
          evidence.innovation_ratio <= config_.confirm_max_innovation_ratio &&
          evidence.sustained_innovation_ratio <= config_.confirm_max_innovation_ratio &&
+         evidence.probe_nis_probability <= config_.confirm_probe_gate_probability &&
          evidence.last_nis <= config_.confirm_max_last_nis && evidence.moment_plausible;
 }
 
@@ -191,7 +199,7 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
   e.status = EstimatorStatus::kMultimodal;
   e.relative.position = mean;
   e.relative.covariance = cov;
-  const ConfirmationEvidence evidence = ConfirmationEvidence::of(filter, config_.confirm_innovation_window);
+  const ConfirmationEvidence evidence = this->evidence(filter, mean);
   const bool may_confirm = confirmable(evidence);
   const EstimatorStatus st = assess(e, evidence);
 

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <sstream>
 #include <unordered_map>
 
@@ -258,6 +257,7 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   last_stamp_ = measurement.stamp;
   heard_at_ = Vec3::Zero();
   result.components_before = components_.size();
+  const double radius95_before = radius95_3d(moments().covariance.block<3, 3>(idx::kPos, idx::kPos));
   const Displacement disp = odometry_.take();
   move_anchor(disp);
   const OrientationObservation* orientation =
@@ -265,7 +265,7 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   update_field(measurement.field, noise_floor(measurement), measurement.valid_axes, disp, orientation,
                result);
   last_min_nis_ = result.min_nis;
-  nis_history_.push_back(result.min_nis);
+  nis_history_.push_back({result.min_nis, measurement.valid_axis_count(), radius95_before});
   if (nis_history_.size() > kNisHistory) nis_history_.pop_front();
   gate_failures_ = result.min_nis > nis_gate_ ? gate_failures_ + 1 : 0;
   bool diverged = config_.reinit_after > 0 && gate_failures_ >= config_.reinit_after;
@@ -451,8 +451,21 @@ double SogFilter::recent_innovation_ratio() const {
 double SogFilter::innovation_ratio_over(std::size_t samples) const {
   const std::size_t n = std::min(samples, nis_history_.size());
   if (n == 0) return 0.0;
-  const double sum = std::accumulate(nis_history_.end() - static_cast<std::ptrdiff_t>(n), nis_history_.end(), 0.0);
+  double sum = 0.0;
+  for (auto it = nis_history_.end() - static_cast<std::ptrdiff_t>(n); it != nis_history_.end(); ++it) sum += it->min_nis;
   return sum / history_gates_[n];
+}
+
+SogFilter::InnovationSum SogFilter::innovations_within(double max_radius95, std::size_t samples) const {
+  InnovationSum out;
+  std::size_t taken = 0;
+  for (auto it = nis_history_.rbegin(); it != nis_history_.rend() && taken < samples; ++it) {
+    if (it->radius95_before > max_radius95) continue;
+    out.nis += it->min_nis;
+    out.dof += it->dof;
+    ++taken;
+  }
+  return out;
 }
 
 MixtureMoments SogFilter::predicted_moments() const {

@@ -116,6 +116,7 @@ TEST(EvaluationTest, CountsFalseFoundsOfAnOverconfidentFilter) {
   const auto guarded = run_evaluation(overconfident);
   overconfident.search.confirm_max_innovation_ratio = 100.0;
   overconfident.search.confirm_max_last_nis = 1000.0;
+  overconfident.search.confirm_probe_gate_probability = 1.0;
   overconfident.search.found_confirmations = 1;
   overconfident.sog.iterated_update_max = 0;
   const auto s = run_evaluation(overconfident);

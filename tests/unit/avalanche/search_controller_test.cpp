@@ -59,6 +59,50 @@ TEST(SearchControllerTest, AnInconsistentHistoryConfirmsNothing) {
   const double gate = ctl.config().confirm_max_innovation_ratio;
   EXPECT_EQ(ctl.assess(e, {100, 0.5 * gate, 1.0, true, 0.99 * gate}), EstimatorStatus::kFound);
   EXPECT_EQ(ctl.assess(e, {100, 0.5 * gate, 1.0, true, 1.01 * gate}), EstimatorStatus::kConverged);
+  // Nor one whose probe samples, taken where it claimed to be precise, do not fit it.
+  const double probe_gate = ctl.config().confirm_probe_gate_probability;
+  EXPECT_EQ(ctl.assess(e, {100, 0.5 * gate, 1.0, true, 0.5 * gate, probe_gate - 1e-4}), EstimatorStatus::kFound);
+  EXPECT_EQ(ctl.assess(e, {100, 0.5 * gate, 1.0, true, 0.5 * gate, probe_gate + 1e-4}), EstimatorStatus::kConverged);
+}
+
+// The probe samples are those taken while the estimate was within its located radius (there):
+// a filter walked onto a transmitter and then fed a transmitter 1.5 m away has probe samples
+// that do not fit it, and its evidence says so; its own transmitter's do fit.
+TEST(SearchControllerTest, ProbeSamplesOfAnotherTransmitterAreEvidenceAgainstConfirming) {
+  SearchController ctl;
+  double own = 0.0, other = 0.0;
+  for (const bool switched : {false, true}) {
+    Scenario s;
+    s.transmitter = Vec3(4.0, 3.0, -1.5);
+    s.moment = Vec3(0.01, -0.005, 0.012);
+    s.receiver = Vec3(0.0, 0.0, 1.0);
+    AvalancheSimulator sim(SimulationConfig{}, s, 5);
+    Scenario moved = s;
+    moved.transmitter += Vec3(1.0, -1.0, -0.5);
+    AvalancheSimulator elsewhere(SimulationConfig{}, moved, 6);
+    SogConfig cfg;
+    cfg.initial_components = 500;
+    cfg.divergence_window = 0;  // no rebuild: what would the confirmation see?
+    cfg.reinit_after = 0;
+    cfg.leap_gate_probability = 0.0;
+    SogFilter f(cfg);
+    f.process(sim.measure());
+    for (int k = 0; k < 40; ++k) {
+      const Vec3 rel = sim.true_relative_position();
+      const double bearing = std::atan2(rel.y(), rel.x()) - sim.scenario().receiver_rpy.z();
+      const double step = std::min(0.5, rel.head<2>().norm());
+      f.add_odometry(sim.walk(bearing + (k % 2 == 0 ? 0.8 : -0.8), step));
+      elsewhere.walk(bearing + (k % 2 == 0 ? 0.8 : -0.8), step);
+      FieldMeasurement z = switched && k >= 25 ? elsewhere.measure() : sim.measure();
+      z.sequence = 100 + k;
+      f.process(z);
+    }
+    const Vec3 at = f.moments().mean.segment<3>(idx::kPos);
+    (switched ? other : own) = ctl.evidence(f, at).probe_nis_probability;
+  }
+  EXPECT_GT(own, 0.0) << "the walk took probe samples";
+  EXPECT_LE(own, ctl.config().confirm_probe_gate_probability);
+  EXPECT_GT(other, ctl.config().confirm_probe_gate_probability) << "own " << own;
 }
 
 // A filter of a few samples is a guess, however tight it looks: never located, never found.
@@ -426,7 +470,7 @@ TEST(SearchControllerAdaptiveEnd, ACompletePatternSaysNothingOfAWiderEstimate) {
   cfg.initial_components = 500;
   SogFilter wide(cfg);
   for (int k = 0; k < 12; ++k) wide.process(sim.measure());
-  ASSERT_TRUE(ctl.confirmable(ConfirmationEvidence::of(wide, ctl.config().confirm_innovation_window)));
+  ASSERT_TRUE(ctl.confirmable(ctl.evidence(wide, wide.moments().mean.segment<3>(idx::kPos))));
   ASSERT_GT(radius95_3d(wide.moments().covariance.block<3, 3>(idx::kPos, idx::kPos)), 5.0);
   for (int k = 0; k < 5; ++k) {
     const FieldMeasurement z = sim.measure();

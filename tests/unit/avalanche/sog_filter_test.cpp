@@ -642,6 +642,54 @@ TEST(SogFilterTest, InnovationRatioOverAWindowIsTheDivergenceStatistic) {
   EXPECT_DOUBLE_EQ(SogFilter().innovation_ratio_over(18), 0.0);
 }
 
+// The confirmation's probe window: of the updates made while the 95 % radius was within a bound,
+// the latest n, their smallest NIS summed with one degree of freedom per valid axis. Checked
+// against the updates' own results while walking on, one sample in three with a single axis.
+TEST(SogFilterTest, InnovationsWithinARadiusSumTheNisOfTheSamplesItPredictedClosely) {
+  AvalancheSimulator sim(SimulationConfig{}, fixed_scenario(), 11);
+  int reinitialisations = -1;
+  SogFilter f = walk_to_fixed_transmitter(sim, &reinitialisations);
+  ASSERT_EQ(reinitialisations, 0);
+  struct Update {
+    double nis, dof, radius95_before;
+  };
+  std::vector<Update> updates;
+  for (int k = 0; k < 12; ++k) {
+    f.add_odometry(sim.walk(bearing_to_truth(sim) + 1.5, 0.5));
+    FieldMeasurement z = sim.measure();
+    z.sequence = 1000 + k;
+    if (k % 3 == 0) z.valid_axes = 0b001;
+    const double before = radius95_3d(f.estimate(0).relative.covariance);
+    const SogStepResult r = f.process(z);
+    ASSERT_FALSE(r.reinitialised);
+    updates.push_back({r.min_nis, k % 3 == 0 ? 1.0 : 3.0, before});
+  }
+  const auto sum_of = [&](double max_radius, std::size_t n) {
+    SogFilter::InnovationSum s;
+    for (auto it = updates.rbegin(); it != updates.rend() && n > 0; ++it) {
+      if (it->radius95_before > max_radius) continue;
+      s.nis += it->nis;
+      s.dof += it->dof;
+      --n;
+    }
+    return s;
+  };
+  for (const std::size_t n : {1u, 5u, 12u}) {
+    const auto got = f.innovations_within(1e9, n);
+    EXPECT_NEAR(got.nis, sum_of(1e9, n).nis, 1e-9) << n;
+    EXPECT_DOUBLE_EQ(got.dof, sum_of(1e9, n).dof) << n;
+  }
+  std::vector<double> radii;
+  for (const Update& u : updates) radii.push_back(u.radius95_before);
+  std::sort(radii.begin(), radii.end());
+  const double median = radii[radii.size() / 2];
+  const auto some = f.innovations_within(median, 4);
+  EXPECT_NEAR(some.nis, sum_of(median, 4).nis, 1e-9);
+  EXPECT_DOUBLE_EQ(some.dof, sum_of(median, 4).dof);
+  EXPECT_DOUBLE_EQ(f.innovations_within(0.0, 10).dof, 0.0) << "none was predicted that closely";
+  EXPECT_DOUBLE_EQ(SogFilter().innovations_within(1e9, 10).dof, 0.0);
+}
+
 TEST(SogFilterTest, WindowedInnovationTestIsQuietOnAConsistentRun) {
   AvalancheSimulator sim(SimulationConfig{}, fixed_scenario(), 11);
   int reinitialisations = -1;

@@ -143,6 +143,8 @@ struct MultiBurialTraceSample {
   std::optional<std::size_t> mixed_victim;
   double mixed_energy_ratio = 0.0;
   std::optional<double> truth_nis;             ///< HeardSample::truth_nis
+  /// The sample's NIS against its signal's filter before the update (RescuerSearch::field_fit).
+  std::optional<double> filter_nis;
   std::optional<VictimEstimate> estimate;      ///< as updated by this sample
   /// The estimate's 3-D error against its majority victim and its NEES (diagnostics).
   std::optional<double> error_m, nees;

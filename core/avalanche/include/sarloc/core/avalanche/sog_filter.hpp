@@ -226,6 +226,14 @@ class SogFilter {
   /// The same over the last `samples` updates of the current mixture (fewer while it is
   /// younger; at most kNisHistory): chi2_{3n}(reinit_gate_probability). 0 before any update.
   double innovation_ratio_over(std::size_t samples) const;
+  /// NIS summed over the last `samples` updates of the current mixture that were made while its
+  /// 95 % radius was within `max_radius95` (the samples it claimed to predict closely), with
+  /// their degrees of freedom (one per valid axis): chi-square with `dof` if the filter is right.
+  struct InnovationSum {
+    double nis = 0.0;
+    double dof = 0.0;
+  };
+  InnovationSum innovations_within(double max_radius95, std::size_t samples) const;
   static constexpr std::size_t kNisHistory = 64;
   /// Smallest NIS of the latest update (0 after initialisation): does the newest sample fit?
   double last_min_nis() const { return last_min_nis_; }
@@ -311,7 +319,12 @@ class SogFilter {
   std::uint32_t implausible_steps_ = 0;  ///< updates in a row converged on no plausible transmitter
   double nis_gate_ = 0.0;
   std::vector<double> nis_window_;  ///< last divergence_window smallest NIS (ring buffer)
-  std::deque<double> nis_history_;  ///< last kNisHistory smallest NIS of the current mixture
+  struct PastInnovation {
+    double min_nis = 0.0;
+    int dof = 0;                 ///< valid axes of the sample
+    double radius95_before = 0.0;  ///< of the position posterior the sample was predicted from
+  };
+  std::deque<PastInnovation> nis_history_;  ///< last kNisHistory updates of the current mixture
   /// chi2_{3n}(reinit_gate_probability) by n (innovation_ratio_over)
   std::array<double, kNisHistory + 1> history_gates_{};
   std::size_t nis_next_ = 0;
