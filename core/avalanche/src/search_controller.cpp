@@ -108,7 +108,8 @@ ConfirmationEvidence SearchController::evidence(const SogFilter& filter, const V
                          filter.moment_plausible(), filter.innovation_ratio_over(config_.confirm_innovation_window)};
   const SogFilter::InnovationSum probe =
       filter.innovations_within(located_radius(relative_position), config_.confirm_probe_window);
-  if (probe.dof > 0.0) e.probe_nis_probability = chi_square_cdf(probe.nis, probe.dof);
+  // A NaN sum (a numerically failed update) is no evidence of fit: probability 1, not a throw.
+  if (probe.dof > 0.0) e.probe_nis_probability = probe.nis >= 0.0 ? chi_square_cdf(probe.nis, probe.dof) : 1.0;
   return e;
 }
 
