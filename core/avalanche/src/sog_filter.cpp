@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <bitset>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -265,7 +266,7 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   update_field(measurement.field, noise_floor(measurement), measurement.valid_axes, disp, orientation,
                result);
   last_min_nis_ = result.min_nis;
-  nis_history_.push_back({result.min_nis, measurement.valid_axis_count(), radius95_before});
+  nis_history_.push_back({result.min_nis, static_cast<int>(std::bitset<3>(measurement.valid_axes).count()), radius95_before});
   if (nis_history_.size() > kNisHistory) nis_history_.pop_front();
   gate_failures_ = result.min_nis > nis_gate_ ? gate_failures_ + 1 : 0;
   bool diverged = config_.reinit_after > 0 && gate_failures_ >= config_.reinit_after;

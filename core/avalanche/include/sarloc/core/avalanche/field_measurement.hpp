@@ -33,7 +33,6 @@ struct FieldMeasurement {
   /// Bit i set: axis i carries signal. A clear bit: the axis was below the receiver's
   /// detection threshold (its value is near zero and its sign unknown); field[i] is ignored.
   std::uint8_t valid_axes = 0b111;
-  int valid_axis_count() const { return (valid_axes & 1) + ((valid_axes >> 1) & 1) + ((valid_axes >> 2) & 1); }
   SignalEvent event = SignalEvent::kNone;
   /// Pulses of the receiver's last listening window it could not attribute to any signal.
   std::uint32_t unattributed_pulses = 0;
