@@ -16,6 +16,30 @@ void load(YamlReader root, avalanche::EvaluationSetup& setup) {
   app::read_sog(root.child("sog"), setup.sog);
   app::read_search(root.child("search"), setup.search);
   {
+    // The particle-filter baselines (docs/estimation/baselines.md, "Parameters").
+    auto r = root.child("particle");
+    auto& c = setup.particle;
+    r.read("particles", c.particles);
+    r.read("resample_ess_fraction", c.resample_ess_fraction);
+    r.read("moment_noise_relative", c.moment_noise_relative);
+    r.read("improved_particles", c.improved_particles);
+    r.read("regularisation_scale", c.regularisation_scale);
+    r.read("regularise_below_radius_m", c.regularise_below_radius_m);
+    r.read("rebuild_on_divergence", c.rebuild_on_divergence);
+    r.expect_done();
+  }
+  {
+    // The grid filter (docs/estimation/baselines.md, "Parameters").
+    auto r = root.child("grid");
+    auto& c = setup.grid;
+    r.read("cell_m", c.cell_m);
+    r.read("finest_cell_m", c.finest_cell_m);
+    r.read("refine_cells", c.refine_cells);
+    r.read("prune_log_weight", c.prune_log_weight);
+    r.read("max_cells", c.max_cells);
+    r.expect_done();
+  }
+  {
     auto r = root.child("evaluation");
     auto& c = setup.evaluation;
     r.read("trials", c.trials);

@@ -1,7 +1,8 @@
 // sarloc-eval: Monte Carlo evaluation of sarloc's core estimators.
 //
-//   sarloc-eval avalanche --filter sog --trials 100 --seed 1 [--config FILE] [--json FILE]
-//                         [--trace-csv FILE] [--trace-trial N]
+//   sarloc-eval avalanche --filter sog|pf|rbpf|rbpf-improved|grid --trials 100 --seed 1 [--config FILE]
+//                         [--json FILE] [--trace-csv FILE] [--trace-trial N]
+//   sarloc-eval avalanche --compare [--filters sog,rbpf,...] ...: every filter on the same trials
 //   sarloc-eval multi-burial --victims 3 --spread 5 [--trials N] [--seed S] [--json FILE]
 //                            [--trace-trial N]
 //   sarloc-eval firefighter --building FILE --runs N --seed S [--json FILE] [--plot FILE.svg]
@@ -20,8 +21,12 @@
 #include <thread>
 #include <algorithm>
 #include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "eval_config.hpp"
+#include "error_histogram.hpp"
 #include "detector_command.hpp"
 #include "firefighter_command.hpp"
 #include "trial_trace.hpp"
@@ -56,9 +61,9 @@ void print_table(const av::EvaluationSummary& s, unsigned threads) {
   auto row = [](const char* name, const av::Stats& st) {
     std::printf("%-28s %10.2f %10.2f %10.2f\n", name, st.max, st.mean, st.median);
   };
-  row("SOGs error (m)", s.error_m);
+  row("Error (m)", s.error_m);
   row("Initial receiver distance (m)", s.initial_distance_m);
-  row("Steps SOGs", s.steps);
+  row("Steps", s.steps);
   if (s.receiver == "realistic") {
     row("Primary-search steps", s.primary_steps);
     row("Samples used", s.measurements);
@@ -66,6 +71,7 @@ void print_table(const av::EvaluationSummary& s, unsigned threads) {
                 s.spurious_signals);
   }
   std::printf("%-28s %10u\n", "Not found within budget", s.not_found);
+  std::printf("%-28s %10u   (seed 000, Fig. 5: 25 of 100 for its RBPF)\n", "Error > 1 m", s.errors_over_1m);
   std::printf("%-28s %10u   (error > stated 95 %% radius + %.1f m)\n", "False FOUND", s.false_found,
               av::kFalseFoundMarginM);
   std::printf("%-28s %10u\n", "Ended by probe pattern", s.found_by_probe_pattern);
@@ -96,6 +102,49 @@ bool check_targets(const av::EvaluationSummary& s) {
   check(s.nees_mean >= s.nees_lower && s.nees_mean <= s.nees_upper,
         "mean NEES inside the 95 % chi-square bounds");
   return ok;
+}
+
+// One row group per filter, the same trials: seed 000's Table I plus the failures, the cost
+// and the consistency of each.
+void print_comparison(const std::vector<av::EvaluationSummary>& all) {
+  if (all.empty()) return;
+  std::printf("\nFilter comparison, %s receiver: %u trials, seed %llu, the same scenarios and sensor noise for "
+              "every filter\n",
+              all.front().receiver.c_str(), all.front().trials, static_cast<unsigned long long>(all.front().seed));
+  std::printf("%-14s %21s %21s %6s %6s %6s %15s %31s\n", "", "error (m)", "steps", "> 1 m", "not", "false",
+              "ms per update", "NEES mean, share inside");
+  std::printf("%-14s %6s %6s %7s %6s %6s %7s %6s %6s %6s %7s %7s %31s\n", "filter", "MAX", "MEAN", "MEDIAN", "MAX",
+              "MEAN", "MEDIAN", "", "found", "FOUND", "median", "p95", "[95 % bounds of the mean]");
+  for (const auto& s : all) {
+    std::printf("%-14s %6.2f %6.2f %7.2f %6.0f %6.1f %7.1f %6u %6u %6u %7.3f %7.3f %8.3g %4.2f [%.2f, %.2f] %s\n",
+                s.filter.c_str(), s.error_m.max, s.error_m.mean, s.error_m.median, s.steps.max, s.steps.mean,
+                s.steps.median, s.errors_over_1m, s.not_found, s.false_found, s.ms_per_step_median,
+                s.ms_per_step_p95, s.nees_mean, s.nees_fraction_inside_95, s.nees_lower, s.nees_upper,
+                (s.nees_mean >= s.nees_lower && s.nees_mean <= s.nees_upper) ? "inside" : "OUTSIDE");
+  }
+}
+
+// Issue 17: the improved RBPF has under a quarter of the plain RBPF's failures > 1 m at no
+// more cost per update. Speed against the 2 ms of the issue is machine-dependent: reported.
+bool check_comparison(const std::vector<av::EvaluationSummary>& all) {
+  const av::EvaluationSummary* plain = nullptr;
+  const av::EvaluationSummary* improved = nullptr;
+  for (const auto& s : all) {
+    if (s.filter == "rbpf") plain = &s;
+    if (s.filter == "rbpf-improved") improved = &s;
+  }
+  if (plain == nullptr || improved == nullptr) return true;
+  const bool fewer = 4 * improved->errors_over_1m < plain->errors_over_1m ||
+                     (plain->errors_over_1m == 0 && improved->errors_over_1m == 0);
+  const bool cheaper = improved->ms_per_step_median <= plain->ms_per_step_median * 1.05;
+  std::printf("Targets (issue 17):\n  [%s] rbpf-improved errors > 1 m (%u) under a quarter of rbpf's (%u)\n",
+              fewer ? "ok" : "MISSED", improved->errors_over_1m, plain->errors_over_1m);
+  std::printf("  [%s] rbpf-improved median update %.3f ms <= rbpf's %.3f ms (5 %% timing noise allowed)\n",
+              cheaper ? "ok" : "MISSED", improved->ms_per_step_median, plain->ms_per_step_median);
+  std::printf("  [%s] rbpf median update %.3f ms <= 2 ms (this machine, %u threads sharing it)\n",
+              plain->ms_per_step_median <= 2.0 ? "ok" : "MISSED", plain->ms_per_step_median,
+              std::max(1U, std::thread::hardware_concurrency()));
+  return fewer && cheaper;
 }
 
 void print_multi_burial(const av::MultiBurialSummary& s, const av::EvaluationSummary& single) {
@@ -174,9 +223,17 @@ int main(int argc, char** argv) {
   bool no_target_check = false;
   std::optional<std::uint32_t> trace;
   std::optional<std::string> receiver;
-  avalanche->add_option("--filter", filter, "estimator to evaluate")
-      ->check(CLI::IsMember({"sog"}))
+  avalanche->add_option("--filter", filter, "estimator to evaluate (docs/estimation/baselines.md)")
+      ->check(CLI::IsMember({"sog", "pf", "rbpf", "rbpf-improved", "grid"}))
       ->capture_default_str();
+  bool compare = false;
+  std::vector<std::string> compare_filters;
+  avalanche->add_flag("--compare", compare, "run every filter (or --filters) on the very same trials, one table");
+  avalanche->add_option("--filters", compare_filters, "with --compare: the filters to run, in order (default all)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"sog", "pf", "rbpf", "rbpf-improved", "grid"}));
+  std::string plot_path;
+  avalanche->add_option("--plot", plot_path, "with --compare: the error histograms (seed 000 Figs. 4-5) as SVG");
   avalanche->add_option("--receiver", receiver,
                         "receiver model: realistic (pulses, sign unknown, unequal antennas; default) or ideal "
                         "(seed 000)")
@@ -293,6 +350,7 @@ int main(int argc, char** argv) {
   try {
     if (!config_path.empty()) sarloc::eval::load_avalanche_config(config_path, setup);
     if (receiver) setup.simulation.receiver.kind = av::parse_receiver_kind(*receiver, "--receiver");
+    setup.filter = av::parse_filter_kind(filter, "--filter");
     if (trials) setup.evaluation.trials = *trials;
     if (seed) setup.evaluation.seed = *seed;
     if (threads) setup.evaluation.threads = *threads;
@@ -308,6 +366,53 @@ int main(int argc, char** argv) {
   if (trace) {
     av::run_trial(setup, *trace, sarloc::eval::print_trace_step);
     return to_int(ExitCode::kOk);
+  }
+  if (compare) {
+    std::vector<av::FilterKind> kinds;
+    for (const auto& name : compare_filters) kinds.push_back(av::parse_filter_kind(name, "--filters"));
+    if (kinds.empty()) kinds.assign(std::begin(av::kAllFilterKinds), std::end(av::kAllFilterKinds));
+    std::vector<av::EvaluationSummary> all;
+    for (av::FilterKind k : kinds) {
+      setup.filter = k;
+      spdlog::info("comparison: filter {}, {} trials, seed {}", av::to_string(k), setup.evaluation.trials,
+                   setup.evaluation.seed);
+      try {
+        sarloc::app::ProgressBar bar(av::to_string(k), setup.evaluation.trials);
+        all.push_back(av::run_evaluation(setup, [&bar] { bar.tick(); },
+                                         [] { return sarloc::app::shutdown_requested(); }));
+        bar.finish();
+      } catch (const std::exception& e) {
+        spdlog::error("evaluation of {} failed: {}", av::to_string(k), e.what());
+        return to_int(ExitCode::kRuntime);
+      }
+      if (all.back().cancelled) return to_int(ExitCode::kInterrupted);
+    }
+    print_comparison(all);
+    if (!plot_path.empty()) {
+      std::ofstream out(plot_path);
+      out << sarloc::eval::error_histogram_svg(all);
+      if (!out.flush()) {
+        spdlog::error("--plot {}: cannot write", plot_path);
+        return to_int(ExitCode::kRuntime);
+      }
+    }
+    if (!json_path.empty()) {
+      nlohmann::json j;
+      j["receiver"] = all.front().receiver;
+      j["trials"] = all.front().trials;
+      j["seed"] = all.front().seed;
+      j["hardware_threads"] = std::thread::hardware_concurrency();
+      j["filters"] = nlohmann::json::array();
+      for (const auto& s : all) j["filters"].push_back(sarloc::app::to_json(s));
+      try {
+        sarloc::app::write_json_file(json_path, j);
+      } catch (const std::exception& e) {
+        spdlog::error("--json: {}", e.what());
+        return to_int(ExitCode::kRuntime);
+      }
+    }
+    const bool ok = check_comparison(all);
+    return (ok || no_target_check) ? to_int(ExitCode::kOk) : to_int(ExitCode::kFailure);
   }
   std::optional<sarloc::eval::TraceCsv> trace_csv;
   std::ofstream trace_out;

@@ -26,8 +26,9 @@ void print_trace_step(const av::TrialStep& s) {
   const Vec3 truth = s.sim.true_relative_position();
   const Vec3 err = s.estimate.relative.position - truth;
   const double nees = err.dot(s.estimate.relative.covariance.ldlt().solve(err));
+  const std::vector<av::TransmitterHypothesis> hypotheses = s.filter.hypotheses();
   double w0 = 0.0;
-  for (const av::SogComponent& c : s.filter.components()) w0 = std::max(w0, std::exp(c.log_weight));
+  for (const av::TransmitterHypothesis& h : hypotheses) w0 = std::max(w0, h.weight);
   std::printf("%3u mode %d |z| %.2e true [%6.2f %6.2f %5.2f] est [%6.2f %6.2f %5.2f] err %.2f "
               "r95 %.2f n %5zu nis %.1f w0 %.2f nees %.1f P45 %.2f%s\n",
               s.step, static_cast<int>(s.guidance.mode), s.measurement.field.norm(), truth.x(),
@@ -35,7 +36,7 @@ void print_trace_step(const av::TrialStep& s) {
               s.estimate.relative.position.y(), s.estimate.relative.position.z(), err.norm(),
               sarloc::radius95_3d(s.estimate.relative.covariance), s.filter.size(),
               s.filter_result.min_nis, w0, nees,
-              av::bearing_agreement(s.filter.components(), bearing_of(truth)).mass_within_45deg,
+              av::bearing_agreement(hypotheses, bearing_of(truth)).mass_within_45deg,
               s.filter_result.reinitialised ? " REINIT" : "");
 }
 
@@ -84,7 +85,7 @@ const char* TraceCsv::header() {
 void TraceCsv::add(const av::TrialStep& s) {
   const auto& sc = s.sim.scenario();
   const double tb = bearing_of(s.sim.true_relative_position());
-  const av::BearingAgreement a = av::bearing_agreement(s.filter.components(), tb);
+  const av::BearingAgreement a = av::bearing_agreement(s.filter.hypotheses(), tb);
   const Vec3& est = s.estimate.relative.position;
   const double heading_cos = s.guidance.step_m > 0.0 ? std::cos(s.guidance.heading_rad - tb) : 0.0;
   char line[640];

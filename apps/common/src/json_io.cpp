@@ -149,6 +149,8 @@ nlohmann::json to_json(const avalanche::EvaluationSummary& s) {
   j["initial_distance_m"] = stats_json(s.initial_distance_m);
   j["steps"] = stats_json(s.steps);
   j["not_found"] = s.not_found;
+  j["errors_over_1m"] = s.errors_over_1m;
+  j["receiver"] = s.receiver;
   j["false_found"] = s.false_found;
   j["found_by_probe_pattern"] = s.found_by_probe_pattern;
   j["ms_per_step"] = {{"median", s.ms_per_step_median}, {"p95", s.ms_per_step_p95}};

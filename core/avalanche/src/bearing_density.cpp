@@ -11,10 +11,10 @@ namespace sarloc::avalanche {
 namespace {
 constexpr double kBinWidth = 2.0 * kPi / BearingDensity::kBins;
 
-// Bearing of a component's mean from the receiver; none for a mean on the receiver's vertical.
-std::optional<double> bearing_of(const SogComponent& c) {
-  const double x = c.x(idx::kPos);
-  const double y = c.x(idx::kPos + 1);
+// Bearing of a hypothesis's mean from the receiver; none for a mean on the receiver's vertical.
+std::optional<double> bearing_of(const TransmitterHypothesis& c) {
+  const double x = c.position.x();
+  const double y = c.position.y();
   if (x == 0.0 && y == 0.0) return std::nullopt;
   return std::atan2(y, x);
 }
@@ -25,11 +25,11 @@ int BearingDensity::bin_of(double bearing_rad) {
   return std::clamp(b, 0, kBins - 1);
 }
 
-BearingDensity::BearingDensity(const std::vector<SogComponent>& components,
+BearingDensity::BearingDensity(const std::vector<TransmitterHypothesis>& hypotheses,
                                double kernel_sigma_rad) {
   std::array<double, kBins> mass{};
-  for (const SogComponent& c : components) {
-    if (const auto bearing = bearing_of(c)) mass[bin_of(*bearing)] += std::exp(c.log_weight);
+  for (const TransmitterHypothesis& c : hypotheses) {
+    if (const auto bearing = bearing_of(c)) mass[bin_of(*bearing)] += c.weight;
   }
   // Von Mises kernel exp(kappa (cos d - 1)), kappa = 1 / sigma^2, tabulated by bin offset.
   const double kappa = 1.0 / (kernel_sigma_rad * kernel_sigma_rad);
@@ -43,14 +43,14 @@ BearingDensity::BearingDensity(const std::vector<SogComponent>& components,
   peak_bin_ = static_cast<int>(std::max_element(smoothed_.begin(), smoothed_.end()) - smoothed_.begin());
 }
 
-BearingAgreement bearing_agreement(const std::vector<SogComponent>& components,
+BearingAgreement bearing_agreement(const std::vector<TransmitterHypothesis>& hypotheses,
                                    double true_bearing_rad) {
   BearingAgreement a;
   double total = 0.0;
-  for (const SogComponent& c : components) {
+  for (const TransmitterHypothesis& c : hypotheses) {
     const auto bearing = bearing_of(c);
     if (!bearing) continue;
-    const double w = std::exp(c.log_weight);
+    const double w = c.weight;
     const double cosine = std::cos(*bearing - true_bearing_rad);
     total += w;
     a.mean_cosine += w * cosine;

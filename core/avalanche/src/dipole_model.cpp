@@ -130,6 +130,11 @@ StateVec CompositionModel::f(const StateVec& x, const DispVec& d, CompositionJac
   return out;
 }
 
+void CompositionModel::compose_pose(Mat3& rotation, Vec3& p, const DispVec& d) {
+  p -= rotation * d.segment<3>(idx::kTrans);                                  // eq. (7)
+  rotation = rotation * EulerTrig::from_rpy(d.segment<3>(idx::kRot)).rotation();  // eq. (6)
+}
+
 StateVec CompositionModel::f(const StateVec& x, const DispVec& d, StateCov* F_x,
                              Jacobian<idx::kStateDim, idx::kDispDim>* F_d) {
   if (F_x == nullptr && F_d == nullptr) return f(x, d, static_cast<CompositionJacobians*>(nullptr));

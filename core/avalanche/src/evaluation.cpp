@@ -8,6 +8,7 @@
 #include <sstream>
 #include <mutex>
 #include <optional>
+#include <limits>
 #include <map>
 #include <set>
 #include <thread>
@@ -16,6 +17,8 @@
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/gaussian.hpp"
+#include "sarloc/core/avalanche/grid_filter.hpp"
+#include "sarloc/core/avalanche/particle_filter.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
 
 namespace sarloc::avalanche {
@@ -36,6 +39,8 @@ void EvaluationConfig::validate() const {
 void EvaluationSetup::validate() const {
   simulation.validate();
   sog.validate();
+  particle.validate();
+  grid.validate();
   search.validate();
   evaluation.validate();
 }
@@ -51,7 +56,22 @@ Stats compute_stats(std::vector<double> v) {
 
 namespace {
 constexpr std::uint32_t kSwitchAfterSilentSteps = 5;
+constexpr std::uint64_t kFilterStream = 0x66696c746572ULL;  // "filter"
 }  // namespace
+
+std::unique_ptr<TransmitterFilter> make_transmitter_filter(const EvaluationSetup& setup, std::uint64_t seed) {
+  switch (setup.filter) {
+    case FilterKind::kSog:
+      return std::make_unique<SogFilter>(setup.sog, "sim", 1);
+    case FilterKind::kPf:
+    case FilterKind::kRbpf:
+    case FilterKind::kRbpfImproved:
+      return std::make_unique<ParticleFilter>(setup.filter, setup.sog, setup.particle, seed, "sim", 1);
+    case FilterKind::kGrid:
+      return std::make_unique<GridFilter>(setup.sog, setup.grid, "sim", 1);
+  }
+  throw ConfigError(std::string("filter = ") + to_string(setup.filter) + ": unknown");
+}
 
 TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index,
                       const StepObserver& observer) {
@@ -60,7 +80,11 @@ TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index,
   tr.index = index;
   AvalancheSimulator sim(setup.simulation, derive_seed(setup.evaluation.seed, index));
   const bool realistic = setup.simulation.receiver.kind == ReceiverKind::kRealistic;
-  SogFilter filter(setup.sog, "sim", 1);
+  // The filter's own random stream: the scenario and the sensor noise stay those of trial i
+  // whichever filter runs (derive_seed(seed, i) drives the simulator alone).
+  const std::uint64_t filter_seed = derive_seed(derive_seed(setup.evaluation.seed, index), kFilterStream);
+  std::unique_ptr<TransmitterFilter> owned = make_transmitter_filter(setup, filter_seed);
+  TransmitterFilter* filter = owned.get();
   SearchController ctl(setup.search);
   tr.initial_distance_m = sim.true_horizontal_distance();
   // The first signal heard is searched. If it falls silent while another is heard more (the
@@ -90,7 +114,8 @@ TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index,
           signal = m.signal_id;
           z = m;
           miss.reset();
-          filter = SogFilter(setup.sog, "sim", 1);
+          owned = make_transmitter_filter(setup, derive_seed(filter_seed, m.signal_id));
+          filter = owned.get();
           ctl = SearchController(setup.search);
           silent = 0;
           break;
@@ -102,28 +127,33 @@ TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index,
     if (!z) {
       // Not heard: before the first sample the primary search walks its strip; after it, the
       // rescuer keeps heading for the estimate.
-      if (!filter.initialised()) {
+      if (!filter->initialised()) {
         ++tr.primary_steps;
         tr.initial_distance_m = sim.true_horizontal_distance();
         sim.walk(0.0, setup.search.step_length_m);
         continue;
       }
       tr.steps = step - tr.primary_steps;
-      if (miss) filter.process(*miss);
-      const Guidance g = ctl.coast(filter);
-      filter.add_odometry(sim.walk(g.bearing_rad, g.step_m));
+      if (miss) filter->update(*miss);
+      const Guidance g = ctl.coast(*filter);
+      filter->add_odometry(sim.walk(g.bearing_rad, g.step_m));
       continue;
     }
     ++tr.measurements;
     const auto t0 = Clock::now();
-    const SogStepResult sr = filter.process(*z);
+    const FilterStepResult sr = filter->update(*z);
     if (sr.reinitialised) ++tr.reinitialisations;
     const auto t1 = Clock::now();
     tr.step_ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
-    const Guidance g = ctl.guide(filter, *z);
-    const VictimEstimate e = filter.estimate(0);
+    const Guidance g = ctl.guide(*filter, *z);
+    const VictimEstimate e = filter->estimate(0);
     const Vec3 err = e.relative.position - sim.true_relative_position();
-    const double nees = err.dot(e.relative.covariance.ldlt().solve(err));
+    // A covariance that is not positive definite (a particle cloud collapsed onto one point)
+    // claims certainty: infinitely inconsistent with any error, never a negative number.
+    const Eigen::LDLT<Mat3> ldlt(e.relative.covariance);
+    double nees = ldlt.info() == Eigen::Success && ldlt.isPositive() ? err.dot(ldlt.solve(err)) : 0.0;
+    if (!(nees >= 0.0) || !std::isfinite(nees) || (nees == 0.0 && err.squaredNorm() > 0.0))
+      nees = std::numeric_limits<double>::infinity();
     tr.final_nees = nees;
     if (e.status == EstimatorStatus::kConverged) {
       tr.nees.push_back(nees);
@@ -133,17 +163,17 @@ TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index,
     tr.steps = step - tr.primary_steps;
     tr.error_m = err.norm();
     tr.horizontal_error_m = err.head<2>().norm();
-    tr.final_components = static_cast<std::uint32_t>(filter.size());
+    tr.final_components = static_cast<std::uint32_t>(filter->size());
     tr.radius95_m = radius95_3d(e.relative.covariance);
     tr.probe_points = static_cast<std::uint32_t>(ctl.probe_pattern().size());
-    if (observer) observer(TrialStep{index, step, sim, *z, sr, filter, g, e});
+    if (observer) observer(TrialStep{index, step, sim, *z, sr, *filter, g, e});
     if (g.mode == GuidanceMode::kFound) {
       tr.found = true;
       tr.found_by_probe_pattern = ctl.found_by_probe_pattern();
       tr.false_found = tr.error_m > tr.radius95_m + kFalseFoundMarginM;
       break;
     }
-    filter.add_odometry(sim.walk(g.bearing_rad, g.step_m));
+    filter->add_odometry(sim.walk(g.bearing_rad, g.step_m));
   }
   tr.wrong_attributions = sim.wrong_attributions();
   tr.spurious_signals = signals.empty() ? 0 : static_cast<std::uint32_t>(signals.size() - 1);
@@ -162,6 +192,7 @@ EvaluationSummary run_evaluation(const EvaluationSetup& setup,
   std::vector<TrialResult> results = std::move(run.results);
 
   EvaluationSummary s;
+  s.filter = to_string(setup.filter);
   s.cancelled = run.cancelled;
   s.trials = static_cast<std::uint32_t>(results.size());
   s.seed = setup.evaluation.seed;
@@ -178,6 +209,7 @@ EvaluationSummary run_evaluation(const EvaluationSetup& setup,
     s.wrong_attributions += r.wrong_attributions;
     s.spurious_signals += r.spurious_signals;
     if (!r.found) ++s.not_found;
+    if (r.error_m > 1.0) ++s.errors_over_1m;
     if (r.false_found) ++s.false_found;
     if (r.found_by_probe_pattern) ++s.found_by_probe_pattern;
     ms.insert(ms.end(), r.step_ms.begin(), r.step_ms.end());

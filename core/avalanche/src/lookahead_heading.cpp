@@ -7,26 +7,21 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "sarloc/core/avalanche/dipole_model.hpp"
 #include "sarloc/core/common/errors.hpp"
 
 namespace sarloc::avalanche {
 namespace {
 
-struct Hypothesis {
-  Vec3 position;
-  Vec3 moment;
-  double weight;
-};
+using Hypothesis = TransmitterHypothesis;
 
 // Systematic draw by weight: an even sample of the ring (the heaviest components alone would
 // be an arbitrary arc of a near-uniform ring). Repeated draws of a component add up its weight.
-std::vector<Hypothesis> draw_hypotheses(const std::vector<SogComponent>& components, int count) {
-  double max_log = -std::numeric_limits<double>::infinity();
-  for (const SogComponent& c : components) max_log = std::max(max_log, c.log_weight);
+std::vector<Hypothesis> draw_hypotheses(const std::vector<TransmitterHypothesis>& components, int count) {
   std::vector<double> cumulative(components.size());
   double total = 0.0;
   for (std::size_t k = 0; k < components.size(); ++k) {
-    total += std::exp(components[k].log_weight - max_log);
+    total += components[k].weight;
     cumulative[k] = total;
   }
   std::vector<Hypothesis> out;
@@ -34,12 +29,11 @@ std::vector<Hypothesis> draw_hypotheses(const std::vector<SogComponent>& compone
   for (int n = 0; n < count; ++n) {
     const double u = (n + 0.5) / count * total;
     while (k + 1 < components.size() && cumulative[k] < u) ++k;
-    if (!out.empty() && out.back().position == components[k].x.segment<3>(idx::kPos)) {
+    if (!out.empty() && out.back().position == components[k].position) {
       out.back().weight += 1.0 / count;
       continue;
     }
-    out.push_back({components[k].x.segment<3>(idx::kPos), components[k].x.segment<3>(idx::kMom),
-                   1.0 / count});
+    out.push_back({components[k].position, components[k].moment, 1.0 / count});
   }
   return out;
 }
@@ -64,10 +58,10 @@ void LookaheadConfig::validate() const {
     fail("information_scale", information_scale, "must be in (0, 10]");
 }
 
-double lookahead_heading(const std::vector<SogComponent>& components, const LookaheadConfig& cfg,
+double lookahead_heading(const std::vector<TransmitterHypothesis>& hypotheses, const LookaheadConfig& cfg,
                          double step_length_m, double noise_relative, double noise_floor_A_per_m) {
-  if (components.empty()) throw std::invalid_argument("lookahead_heading: empty mixture");
-  const std::vector<Hypothesis> hyp = draw_hypotheses(components, cfg.hypotheses);
+  if (hypotheses.empty()) throw std::invalid_argument("lookahead_heading: empty mixture");
+  const std::vector<Hypothesis> hyp = draw_hypotheses(hypotheses, cfg.hypotheses);
   const Eigen::Index n = static_cast<Eigen::Index>(hyp.size());
   const int steps = cfg.horizon_steps;
   // Fields in units of the noise floor (keeps the squares near 1). Row i of `field` holds

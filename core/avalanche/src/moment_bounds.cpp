@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -15,6 +16,16 @@ double TransmitterStandard::moment_max() const {
 }
 double TransmitterStandard::strongest_on_axis_field(double r) const {
   return 2.0 * moment_max() / (4.0 * kPi * r * r * r);
+}
+
+bool TransmitterStandard::allows(const Vec3& m, const Mat3& covariance, double margin) const {
+  const double magnitude = m.norm();
+  if (!(magnitude > 0.0)) return false;
+  const Vec3 u = m / magnitude;
+  const double sd = std::sqrt(std::max(0.0, u.dot(covariance * u)));
+  const double lo = moment_min() * (1.0 - margin);
+  const double hi = moment_max() * (1.0 + margin);
+  return magnitude + 2.0 * sd >= lo && magnitude - 2.0 * sd <= hi;
 }
 
 void TransmitterStandard::validate(const std::string& prefix) const {

@@ -57,8 +57,8 @@ void SearchConfig::validate() const {
   check("confirm_min_samples", confirm_min_samples, 1.0, 1000.0, false);
   check("confirm_max_innovation_ratio", confirm_max_innovation_ratio, 0.0, 100.0, true);
   check("confirm_max_last_nis", confirm_max_last_nis, 0.0, 1000.0, true);
-  check("confirm_innovation_window", confirm_innovation_window, 1.0, static_cast<double>(SogFilter::kNisHistory), false);
-  check("confirm_probe_window", confirm_probe_window, 1.0, static_cast<double>(SogFilter::kNisHistory), false);
+  check("confirm_innovation_window", confirm_innovation_window, 1.0, static_cast<double>(InnovationRecord::kHistory), false);
+  check("confirm_probe_window", confirm_probe_window, 1.0, static_cast<double>(InnovationRecord::kHistory), false);
   check("confirm_probe_gate_probability", confirm_probe_gate_probability, 0.5, 1.0, true);
   check("found_confirmations", found_confirmations, 1.0, 20.0, false);
   check("confirm_probe_per_depth", confirm_probe_per_depth, 0.0, 2.0, false);
@@ -103,11 +103,11 @@ double SearchController::located_radius(const Vec3& relative_position) const {
   return std::max(config_.located_radius_m, config_.located_radius_per_range * relative_position.norm());
 }
 
-ConfirmationEvidence SearchController::evidence(const SogFilter& filter, const Vec3& relative_position) const {
-  ConfirmationEvidence e{filter.mixture_samples(), filter.recent_innovation_ratio(), filter.last_min_nis(),
-                         filter.moment_plausible(), filter.innovation_ratio_over(config_.confirm_innovation_window)};
-  const SogFilter::InnovationSum probe =
-      filter.innovations_within(located_radius(relative_position), config_.confirm_probe_window);
+ConfirmationEvidence SearchController::evidence(const TransmitterFilter& filter, const Vec3& relative_position) const {
+  const InnovationRecord& record = filter.innovations();
+  ConfirmationEvidence e{filter.mixture_samples(), record.recent_ratio(), record.last_min_nis(),
+                         filter.moment_plausible(), record.ratio_over(config_.confirm_innovation_window)};
+  const InnovationRecord::Sum probe = record.within(located_radius(relative_position), config_.confirm_probe_window);
   // A NaN sum (a numerically failed update) is no evidence of fit: probability 1, not a throw.
   if (probe.dof > 0.0) e.probe_nis_probability = probe.nis >= 0.0 ? chi_square_cdf(probe.nis, probe.dof) : 1.0;
   return e;
@@ -132,7 +132,7 @@ EstimatorStatus SearchController::assess(const VictimEstimate& e, const Confirma
   return EstimatorStatus::kLocated;
 }
 
-double SearchController::flux_line_heading(const SogFilter& filter, const FieldMeasurement& meas,
+double SearchController::flux_line_heading(const TransmitterFilter& filter, const FieldMeasurement& meas,
                                            const Eigen::Vector2d& mean_h, const Vec3& psi) {
   // Horizontal flux-line direction in G, weighted by its signal-to-noise ratio and
   // low-pass filtered: with a weak signal the measured direction is mostly noise and the
@@ -141,7 +141,7 @@ double SearchController::flux_line_heading(const SogFilter& filter, const FieldM
   // sense of the running direction, the first one towards the mixture mean.
   const Vec3 h_g = rotation_from_rpy(psi) * meas.field;
   Eigen::Vector2d dir = h_g.head<2>();
-  const double sigma = filter.config().noise_relative * meas.field.norm() +
+  const double sigma = filter.noise_relative() * meas.field.norm() +
                        filter.noise_floor(meas).maxCoeff();
   const double snr = dir.norm() / (std::sqrt(2.0) * sigma);
   if (flux_dir_.squaredNorm() == 0.0) {
@@ -164,15 +164,15 @@ double SearchController::flux_line_heading(const SogFilter& filter, const FieldM
   return std::atan2(flux_dir_.y(), flux_dir_.x());
 }
 
-double SearchController::posterior_bearing_heading(const SogFilter& filter) {
-  const BearingDensity density(filter.components(), config_.bearing_kernel_deg * kPi / 180.0);
+double SearchController::posterior_bearing_heading(const TransmitterFilter& filter) {
+  const BearingDensity density(filter.hypotheses(), config_.bearing_kernel_deg * kPi / 180.0);
   const double peak = density.peak();
   if (!opening_heading_ || density.at(peak) > config_.bearing_switch_ratio * density.at(*opening_heading_))
     opening_heading_ = peak;
   return *opening_heading_;
 }
 
-Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement& meas) {
+Guidance SearchController::guide(const TransmitterFilter& filter, const FieldMeasurement& meas) {
   Guidance g;
   g.rescuer_id = meas.rescuer_id;
   g.signal_id = meas.signal_id;
@@ -267,8 +267,8 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
           break;
         case OpeningHeading::kLookahead:
           heading = lookahead_heading(
-              filter.components(), config_.lookahead, config_.step_length_m,
-              filter.config().noise_relative,
+              filter.hypotheses(), config_.lookahead, config_.step_length_m,
+              filter.noise_relative(),
               filter.noise_floor(meas).maxCoeff());
           break;
         case OpeningHeading::kPosteriorBearing:
@@ -291,7 +291,7 @@ Guidance SearchController::guide(const SogFilter& filter, const FieldMeasurement
         heading = std::atan2(target.y(), target.x());
         step = target.norm();
       } else if (config_.stall_window_steps > 0 &&
-                 adaptive_end(mean_h, cov, r95, filter.config().converged_radius_m, below, heading, step)) {
+                 adaptive_end(mean_h, cov, r95, filter.converged_radius_m(), below, heading, step)) {
         // A complete pattern says "found" from the next sample on (found_confirmations in a row).
       } else if (dist > config_.found_distance_m) {
         step = std::min(step, dist);
@@ -354,7 +354,7 @@ void SearchController::drop_pattern() {
   if (stall_) stall_->reset();
 }
 
-Guidance SearchController::coast(const SogFilter& filter) {
+Guidance SearchController::coast(const TransmitterFilter& filter) {
   const MixtureMoments mm = filter.predicted_moments();
   const Vec3 p = mm.mean.segment<3>(idx::kPos);
   Guidance g;

@@ -199,17 +199,9 @@ SogFilter::SogFilter(SogConfig config, std::string rescuer_id, std::uint32_t sig
       odometry_((config_.validate(), config_.idle_translation_sigma_m),
                 config_.idle_rotation_sigma_rad),
       detection_(config_.miss_detection_statistic),
+      record_(config_.divergence_window, config_.reinit_gate_probability),
       nis_gate_(chi_square_quantile(config_.reinit_gate_probability, 3.0)),
-      window_gate_(config_.divergence_window > 0
-                       ? chi_square_quantile(config_.reinit_gate_probability,
-                                             3.0 * config_.divergence_window)
-                       : 0.0),
-      leap_gate_(config_.leap_gate_probability > 0.0 ? chi_square_quantile(config_.leap_gate_probability, 3.0) : 0.0) {
-  nis_window_.reserve(config_.divergence_window);
-  // innovation_ratio_over is asked for on every sample: its gates are found once.
-  for (std::size_t n = 1; n <= kNisHistory; ++n)
-    history_gates_[n] = chi_square_quantile(config_.reinit_gate_probability, 3.0 * static_cast<double>(n));
-}
+      leap_gate_(config_.leap_gate_probability > 0.0 ? chi_square_quantile(config_.leap_gate_probability, 3.0) : 0.0) {}
 
 void SogFilter::add_odometry(const Odometry& odometry) {
   if (!rescuer_id_.empty() && !odometry.rescuer_id.empty() && odometry.rescuer_id != rescuer_id_)
@@ -223,14 +215,7 @@ Vec3 SogFilter::noise_floor(const FieldMeasurement& m) const {
 }
 
 SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
-  validate_field_measurement(measurement);
-  if (!rescuer_id_.empty() && !measurement.rescuer_id.empty() &&
-      measurement.rescuer_id != rescuer_id_)
-    throw InputError("field_measurement.rescuer_id = " + measurement.rescuer_id +
-                     ": filter belongs to " + rescuer_id_);
-  if (last_sequence_ && measurement.sequence <= *last_sequence_)
-    input_fail("sequence", std::to_string(measurement.sequence),
-               "must be > previous " + std::to_string(*last_sequence_));
+  check_sample(measurement, rescuer_id_, last_sequence_);
   SogStepResult result;
   if (measurement.valid_axes == 0) {
     // A pulse of this signal was due and not heard: nothing to initialise from or update with,
@@ -265,21 +250,10 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
       measurement.orientation && config_.use_orientation ? &*measurement.orientation : nullptr;
   update_field(measurement.field, noise_floor(measurement), measurement.valid_axes, disp, orientation,
                result);
-  last_min_nis_ = result.min_nis;
-  nis_history_.push_back({result.min_nis, static_cast<int>(std::bitset<3>(measurement.valid_axes).count()), radius95_before});
-  if (nis_history_.size() > kNisHistory) nis_history_.pop_front();
+  record_.add(result.min_nis, static_cast<int>(std::bitset<3>(measurement.valid_axes).count()), radius95_before);
   gate_failures_ = result.min_nis > nis_gate_ ? gate_failures_ + 1 : 0;
   bool diverged = config_.reinit_after > 0 && gate_failures_ >= config_.reinit_after;
-  if (config_.divergence_window > 0) {
-    if (nis_window_.size() < config_.divergence_window) nis_window_.push_back(result.min_nis);
-    else nis_window_[nis_next_] = result.min_nis;
-    nis_next_ = (nis_next_ + 1) % config_.divergence_window;
-    if (nis_window_.size() == config_.divergence_window) {
-      double sum = 0.0;
-      for (double v : nis_window_) sum += v;
-      diverged = diverged || sum > window_gate_;
-    }
-  }
+  diverged = diverged || record_.window_exceeded();
   // A converged mixture is not at the noise floor: an innovation excess there comes from
   // linearising the dipole model within a metre or two of the transmitter, and rebuilding the
   // ring from such a near-field measurement lost a victim already pinned down (measured: found
@@ -293,7 +267,7 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   // row, its covariance collapsing meanwhile; kept, it crept and was confirmed 0.7 m off with a
   // 0.2 m radius).
   if (diverged && estimate(0).status == EstimatorStatus::kConverged && pinned_down_plausibly() &&
-      recent_innovation_ratio() <= config_.converged_divergence_ratio) {
+      record_.recent_ratio() <= config_.converged_divergence_ratio) {
     diverged = false;
     result.divergence_ignored = true;
   }
@@ -352,7 +326,7 @@ void SogFilter::rebuild(const FieldMeasurement& measurement, SogStepResult& resu
 void SogFilter::move_anchor(const Displacement& disp) {
   if (!anchor_ || disp.samples == 0) return;
   const Vec3 before = anchor_->position;
-  anchor_->position = moved_point(before, disp.mean);
+  anchor_->position = moved_point(moments(), before, disp.mean);
   // The step's translation noise, and its heading noise turning the anchor about the rescuer.
   const double yaw_var = disp.covariance(idx::kRot + 2, idx::kRot + 2);
   anchor_->covariance += disp.covariance.block<3, 3>(idx::kTrans, idx::kTrans);
@@ -376,7 +350,7 @@ double SogFilter::apply_miss(const Vec3& floor) {
   // Move every Gaussian, and the place the signal was last heard, to where the rescuer stands
   // now (composition, no correction).
   const Displacement disp = odometry_.take();
-  heard_at_ = moved_point(heard_at_, disp.mean);
+  heard_at_ = moved_point(moments(), heard_at_, disp.mean);
   move_anchor(disp);
   for (auto& c : components_) {
     CompositionJacobians f;
@@ -432,79 +406,43 @@ bool SogFilter::pinned_down_plausibly() const {
 bool SogFilter::moment_plausible() const {
   if (components_.empty()) return false;
   const MixtureMoments mm = moments();
-  const Vec3 m = mm.mean.segment<3>(idx::kMom);
-  const double magnitude = m.norm();
-  if (!(magnitude > 0.0)) return false;
-  const Vec3 u = m / magnitude;
-  const double sd = std::sqrt(std::max(0.0, u.dot(mm.covariance.block<3, 3>(idx::kMom, idx::kMom) * u)));
-  const double lo = config_.standard.moment_min() * (1.0 - config_.moment_margin);
-  const double hi = config_.standard.moment_max() * (1.0 + config_.moment_margin);
-  return magnitude + 2.0 * sd >= lo && magnitude - 2.0 * sd <= hi;
+  return config_.standard.allows(mm.mean.segment<3>(idx::kMom),
+                                 mm.covariance.block<3, 3>(idx::kMom, idx::kMom), config_.moment_margin);
 }
 
-double SogFilter::recent_innovation_ratio() const {
-  if (config_.divergence_window == 0 || nis_window_.size() < config_.divergence_window) return 0.0;
-  double sum = 0.0;
-  for (double v : nis_window_) sum += v;
-  return sum / window_gate_;
+std::vector<TransmitterHypothesis> SogFilter::hypotheses() const {
+  std::vector<TransmitterHypothesis> out;
+  out.reserve(components_.size());
+  for (const SogComponent& c : components_)
+    out.push_back({c.x.segment<3>(idx::kPos), c.x.segment<3>(idx::kMom), std::exp(c.log_weight)});
+  return out;
 }
 
-double SogFilter::innovation_ratio_over(std::size_t samples) const {
-  const std::size_t n = std::min(samples, nis_history_.size());
-  if (n == 0) return 0.0;
-  double sum = 0.0;
-  for (auto it = nis_history_.end() - static_cast<std::ptrdiff_t>(n); it != nis_history_.end(); ++it) sum += it->min_nis;
-  return sum / history_gates_[n];
-}
-
-SogFilter::InnovationSum SogFilter::innovations_within(double max_radius95, std::size_t samples) const {
-  InnovationSum out;
-  std::size_t taken = 0;
-  for (auto it = nis_history_.rbegin(); it != nis_history_.rend() && taken < samples; ++it) {
-    if (it->radius95_before > max_radius95) continue;
-    out.nis += it->min_nis;
-    out.dof += it->dof;
-    ++taken;
-  }
+FilterStepResult SogFilter::update(const FieldMeasurement& measurement) {
+  const SogStepResult r = process(measurement);
+  FilterStepResult out;
+  out.initialised_now = r.initialised_now;
+  out.reinitialised = r.reinitialised;
+  out.miss = r.miss;
+  out.hypotheses_after = r.components_after;
+  out.min_nis = r.min_nis;
   return out;
 }
 
 MixtureMoments SogFilter::predicted_moments() const {
-  MixtureMoments mm = moments();
-  const Displacement& d = odometry_.peek();
-  if (d.samples == 0) return mm;
-  CompositionJacobians f;
-  mm.mean = CompositionModel::f(mm.mean, d.mean, &f);  // eq. (9) on the mixture mean
-  // Position covariance grows by the step's translation: T Q_tt T^T, T = -R(Psi).
-  mm.covariance.block<3, 3>(idx::kPos, idx::kPos) +=
-      f.pos_trans * d.covariance.block<3, 3>(idx::kTrans, idx::kTrans) * f.pos_trans.transpose();
-  return mm;
+  return moved_moments(moments(), odometry_.peek());
 }
 
 Vec3 SogFilter::predicted_last_measurement_position() const {
   const Displacement& d = odometry_.peek();
   if (d.samples == 0) return heard_at_;
-  return moved_point(heard_at_, d.mean);
+  return moved_point(moments(), heard_at_, d.mean);
 }
 
-Vec3 SogFilter::moved_point(const Vec3& point, const DispVec& d) const {
-  StateVec origin = moments().mean;  // the rescuer's attitude turns the step into G
-  origin.segment<3>(idx::kPos) = point;
-  return CompositionModel::f(origin, d, static_cast<CompositionJacobians*>(nullptr)).segment<3>(idx::kPos);
-}
-
-void SogFilter::initialise(const FieldMeasurement& meas) {
+SogFilter::InitialRing SogFilter::initial_ring(const FieldMeasurement& meas) const {
   validate_field_measurement(meas);
   if (meas.valid_axes == 0) throw InputError("field_measurement.valid_axes = 0: a pulse not heard initialises nothing");
-  heard_at_ = Vec3::Zero();
-  anchor_.reset();
-  gate_failures_ = 0;  // a new mixture starts a new innovation history
-  implausible_steps_ = 0;
-  mixture_samples_ = 1;
-  nis_window_.clear();
-  nis_history_.clear();
-  nis_next_ = 0;
-  last_min_nis_ = 0.0;
+  InitialRing ring;
   // An invalid axis is below the receiver's detection threshold: the ring is built with it at
   // 0 +- censored_axis_sigmas times its noise (what "not detected" says), never dropped, since
   // the moment of each hypothesis needs all three components.
@@ -524,9 +462,6 @@ void SogFilter::initialise(const FieldMeasurement& meas) {
     psi0 = meas.orientation->rpy;
     p_psi = meas.orientation->covariance;
   }
-  const Mat3 r_g = rotation_from_rpy(psi0);
-  const Vec3 h_g = r_g * z;  // G_1 z_1
-
   Vec3 sigma_axis = Vec3::Constant(config_.noise_relative * zn) + floor;
   for (int a = 0; a < 3; ++a)
     if (censored[a] > 0.0) sigma_axis[a] = censored[a];
@@ -551,8 +486,45 @@ void SogFilter::initialise(const FieldMeasurement& meas) {
                                   kMaxNearFieldLayers, std::ceil(config_.depth_sigma_factor * depth / sigma_z_cap))));
   }
   const double deepest = h + depth;
-  const double rho_min = std::sqrt(std::max(0.0, r_min * r_min - deepest * deepest));
-  const double rho_max = std::max(r_max, rho_min + 0.5);
+  ring.field = z;
+  ring.attitude = psi0;
+  ring.attitude_covariance = p_psi;
+  ring.field_g = rotation_from_rpy(psi0) * z;
+  ring.sigma_axis = sigma_axis;
+  ring.moment_min = m_lo;
+  ring.moment_max = m_hi;
+  ring.r_min_m = r_min;
+  ring.r_max_m = r_max;
+  ring.depth_m = depth;
+  ring.layers = layers;
+  ring.rho_min_m = std::sqrt(std::max(0.0, r_min * r_min - deepest * deepest));
+  ring.rho_max_m = std::max(r_max, ring.rho_min_m + 0.5);
+  return ring;
+}
+
+void SogFilter::initialise(const FieldMeasurement& meas) {
+  validate_field_measurement(meas);
+  if (meas.valid_axes == 0) throw InputError("field_measurement.valid_axes = 0: a pulse not heard initialises nothing");
+  heard_at_ = Vec3::Zero();
+  anchor_.reset();
+  gate_failures_ = 0;  // a new mixture starts a new innovation history
+  implausible_steps_ = 0;
+  mixture_samples_ = 1;
+  record_.clear();
+  const InitialRing ring = initial_ring(meas);
+  const Vec3& z = ring.field;
+  const Vec3& psi0 = ring.attitude;
+  const Mat3& p_psi = ring.attitude_covariance;
+  const Mat3 r_g = rotation_from_rpy(psi0);
+  const Vec3& h_g = ring.field_g;
+  const Vec3& sigma_axis = ring.sigma_axis;
+  const double m_lo = ring.moment_min;
+  const double m_hi = ring.moment_max;
+  const double h = config_.antenna_height_m;
+  const double depth = ring.depth_m;
+  const std::uint32_t layers = ring.layers;
+  const double rho_min = ring.rho_min_m;
+  const double rho_max = ring.rho_max_m;
   const double thickness = depth / layers;
   const double sigma_z = config_.depth_sigma_factor * thickness;
 
@@ -1023,37 +995,16 @@ MixtureMoments SogFilter::moments() const {
 }
 
 VictimEstimate SogFilter::estimate(std::size_t top_k) const {
-  VictimEstimate e;
+  VictimEstimate e = estimate_from(
+      components_.empty() ? MixtureMoments{} : moments(), components_.size(), config_.converged_radius_m, top_k,
+      [&](std::size_t i) { return components_[i].log_weight; },
+      [&](std::size_t i) {
+        return MixtureComponentSummary{std::exp(components_[i].log_weight), components_[i].x.segment<3>(idx::kPos),
+                                       components_[i].P.block<3, 3>(idx::kPos, idx::kPos)};
+      });
   e.rescuer_id = rescuer_id_;
   e.signal_id = signal_id_;
   e.stamp = last_stamp_;
-  e.live_components = static_cast<std::uint32_t>(components_.size());
-  if (components_.empty()) {
-    e.status = EstimatorStatus::kInitialising;
-    return e;
-  }
-  const MixtureMoments mm = moments();
-  e.relative.position = mm.mean.segment<3>(idx::kPos);
-  e.relative.covariance = mm.covariance.block<3, 3>(idx::kPos, idx::kPos);
-  e.moment = mm.mean.segment<3>(idx::kMom);
-  e.status = radius95_3d(e.relative.covariance) <= config_.converged_radius_m
-                 ? EstimatorStatus::kConverged
-                 : EstimatorStatus::kMultimodal;
-  std::vector<std::size_t> order(components_.size());
-  std::iota(order.begin(), order.end(), 0);
-  const std::size_t k = std::min(top_k, order.size());
-  std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k), order.end(),
-                    [&](std::size_t a, std::size_t b) {
-                      return components_[a].log_weight > components_[b].log_weight;
-                    });
-  for (std::size_t i = 0; i < k; ++i) {
-    const auto& c = components_[order[i]];
-    MixtureComponentSummary s;
-    s.weight = std::exp(c.log_weight);
-    s.mean = c.x.segment<3>(idx::kPos);
-    s.covariance = c.P.block<3, 3>(idx::kPos, idx::kPos);
-    e.top_components.push_back(s);
-  }
   return e;
 }
 

@@ -10,6 +10,7 @@
 
 #include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/particle_weights.hpp"
 #include "sarloc/core/common/validate.hpp"
 #include "sarloc/core/firefighter/point_index.hpp"
 
@@ -25,12 +26,6 @@ constexpr std::uint32_t kAdaptEveryMovingSteps = 4;
 
 Vec2 rotate(const Vec2& v, double a) {
   return {std::cos(a) * v.x() - std::sin(a) * v.y(), std::sin(a) * v.x() + std::cos(a) * v.y()};
-}
-
-// Draws an index with probability proportional to `weights` (which need not sum to 1).
-std::size_t draw(const std::vector<double>& cumulative, std::mt19937_64& rng) {
-  const double u = std::uniform_real_distribution<double>(0.0, cumulative.back())(rng);
-  return static_cast<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), u) - cumulative.begin());
 }
 
 }  // namespace
@@ -231,7 +226,7 @@ void MapParticleFilter::adapt_count(std::mt19937_64& rng) {
   double needed = 0.0;
   while (drawn.size() < config_.particles_max &&
          (drawn.size() < config_.particles || static_cast<double>(drawn.size()) < needed)) {
-    drawn.push_back(particles_[draw(cumulative, rng)]);
+    drawn.push_back(particles_[draw_index(cumulative, rng)]);
     if (bins.insert(bin_of(drawn.back())).second) needed = kld_needed_(bins.size());
   }
   particles_ = std::move(drawn);
@@ -255,7 +250,7 @@ void MapParticleFilter::replace_dead(const std::vector<char>& dead, std::mt19937
   std::vector<std::uint32_t> copies(particles_.size(), 1);
   for (std::size_t i = 0; i < particles_.size(); ++i) {
     if (!dead[i]) continue;
-    source[i] = draw(cumulative, rng);
+    source[i] = draw_index(cumulative, rng);
     ++copies[source[i]];
   }
   std::vector<double> shared(particles_.size());
@@ -395,7 +390,7 @@ void MapParticleFilter::update(const std::vector<PseudoObservation>& observation
   for (std::size_t r = 0; r < count; ++r) {
     // From the observation's best ICP fit (pattern_matcher.hpp): its current position, and the
     // frame heading it implies.
-    const PseudoObservation& o = observations[usable[draw(cumulative, rng)]];
+    const PseudoObservation& o = observations[usable[draw_index(cumulative, rng)]];
     Particle& p = particles_[order[r]];
     const Vec2 centre = walls_[o.floor]->crosses(o.position, o.fitted_position) ? o.position : o.fitted_position;
     p.position = centre;

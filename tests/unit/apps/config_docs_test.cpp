@@ -144,8 +144,12 @@ TEST(ConfigDocs, MissionKeysDocumentedAreExactlyThoseTheLoaderReads) {
 }
 
 TEST(ConfigDocs, EvaluationKeysDocumentedAreExactlyThoseTheLoaderReads) {
-  const std::set<std::string> documented = documented_model_keys();
+  std::set<std::string> documented = documented_model_keys();
   ASSERT_GT(documented.size(), 40U) << "docs/estimation/avalanche.md: parameter table not found";
+  // The baselines' sections (particle:, grid:) are the evaluation's alone.
+  const auto baselines = documented_table_keys(kSource / "docs/estimation/baselines.md", "## Parameters");
+  ASSERT_GT(baselines.size(), 8U) << "docs/estimation/baselines.md: parameter table not found";
+  documented.insert(baselines.begin(), baselines.end());
   YamlReader::KeyRecorder recorder;
   avalanche::EvaluationSetup setup;
   eval::load_avalanche_config((kSource / "config/eval/avalanche.yaml").string(), setup);

@@ -237,6 +237,25 @@ TEST(CompositionModelTest, MovesTransmitterAgainstTheStep) {
   EXPECT_LT((x.segment<3>(idx::kPos) - Vec3(0, 9, -2)).norm(), 1e-12);
 }
 
+TEST(CompositionModelTest, ComposePoseOnARotationMatrixIsF) {
+  // The particle filters' entry point must be the very composition the SOG filter runs.
+  std::mt19937_64 rng{7};
+  auto u = [&](double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); };
+  for (int trial = 0; trial < 50; ++trial) {
+    StateVec x;
+    x << u(-0.3, 0.3), u(-0.3, 0.3), u(-3.0, 3.0), u(-40, 40), u(-40, 40), u(-5, 0), u(-0.02, 0.02),
+        u(-0.02, 0.02), u(-0.02, 0.02);
+    DispVec d;
+    d << u(-1.5, 1.5), u(-1.5, 1.5), u(-0.2, 0.2), u(-0.1, 0.1), u(-0.1, 0.1), u(-1.0, 1.0);
+    const StateVec expected = CompositionModel::f(x, d, static_cast<CompositionJacobians*>(nullptr));
+    Mat3 rotation = rotation_from_rpy(x.segment<3>(idx::kAtt));
+    Vec3 p = x.segment<3>(idx::kPos);
+    CompositionModel::compose_pose(rotation, p, d);
+    EXPECT_LT((p - expected.segment<3>(idx::kPos)).norm(), 1e-12);
+    EXPECT_LT((rotation - rotation_from_rpy(expected.segment<3>(idx::kAtt))).norm(), 1e-12);
+  }
+}
+
 TEST(DisplacementTest, ComposeJacobiansMatchNumeric) {
   Sampler s;
   for (Point k : kPoints) {

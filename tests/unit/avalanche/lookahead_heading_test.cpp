@@ -1,4 +1,5 @@
 #include "sarloc/core/avalanche/lookahead_heading.hpp"
+#include "sarloc/core/avalanche/dipole_model.hpp"
 
 #include <gtest/gtest.h>
 
@@ -16,12 +17,8 @@ constexpr double kRelative = 0.05;
 
 // A hypothesis at `position` (receiver at the origin of G) whose moment explains the field
 // `field_at_receiver` exactly: every hypothesis agrees with the reading just taken.
-SogComponent hypothesis(const Vec3& position, const Vec3& field_at_receiver, double log_weight) {
-  SogComponent c;
-  c.x.segment<3>(idx::kPos) = position;
-  c.x.segment<3>(idx::kMom) = DipoleField::moment(-position, field_at_receiver);
-  c.log_weight = log_weight;
-  return c;
+TransmitterHypothesis hypothesis(const Vec3& position, const Vec3& field_at_receiver, double log_weight) {
+  return {position, DipoleField::moment(-position, field_at_receiver), std::exp(log_weight)};
 }
 
 double angle_between(double a, double b) { return std::abs(wrap_angle(a - b)); }
@@ -30,7 +27,7 @@ TEST(LookaheadHeadingTest, WalksTowardsAConcentratedBearing) {
   // An arc of hypotheses 45 m away around 40 degrees: nothing left to learn about the bearing.
   const double bearing = 40.0 * kPi / 180.0;
   const Vec3 field(8e-9, -3e-9, 5e-9);
-  std::vector<SogComponent> arc;
+  std::vector<TransmitterHypothesis> arc;
   for (int k = -5; k <= 5; ++k) {
     const double b = bearing + k * 0.01;
     arc.push_back(hypothesis(Vec3(45.0 * std::cos(b), 45.0 * std::sin(b), -2.5), field,
@@ -49,7 +46,7 @@ TEST(LookaheadHeadingTest, WalksTowardsAConcentratedBearing) {
 TEST(LookaheadHeadingTest, PrefersTheWalkThatTellsHypothesesApart) {
   const Vec3 field(3.6e-9, 1.2e-9, -2.7e-9);  // |h| about 2 noise floors
   const double b = 30.0 * kPi / 180.0;
-  const std::vector<SogComponent> pair = {
+  const std::vector<TransmitterHypothesis> pair = {
       hypothesis(Vec3(50.0 * std::cos(b), 50.0 * std::sin(b), -2.0), field, std::log(0.5)),
       hypothesis(Vec3(50.0 * std::cos(b), -50.0 * std::sin(b), -2.0), field, std::log(0.5))};
   LookaheadConfig distance_only;

@@ -1,4 +1,5 @@
 #include "sarloc/core/avalanche/search_controller.hpp"
+#include "sarloc/core/avalanche/sog_filter.hpp"
 
 #include <gtest/gtest.h>
 
@@ -575,7 +576,7 @@ TEST(SearchControllerOpening, HeadsForTheMostProbableBearingWithHysteresis) {
     for (int k = 0; k < 40; ++k) {
       const FieldMeasurement z = sim.measure();
       f.process(z);
-      const BearingDensity density(f.components(), kernel);
+      const BearingDensity density(f.hypotheses(), kernel);
       const Guidance g = ctl.guide(f, z);
       if (g.mode != GuidanceMode::kOpening) break;
       ++opening_steps;

@@ -636,10 +636,10 @@ TEST(SogFilterTest, InnovationRatioOverAWindowIsTheDivergenceStatistic) {
   const SogFilter f = walk_to_fixed_transmitter(sim, &reinitialisations);
   ASSERT_EQ(reinitialisations, 0);
   const std::size_t window = f.config().divergence_window;
-  EXPECT_NEAR(f.innovation_ratio_over(window), f.recent_innovation_ratio(), 1e-12);
-  EXPECT_GT(f.innovation_ratio_over(18), 0.0);
-  EXPECT_NEAR(f.innovation_ratio_over(1000), f.innovation_ratio_over(f.mixture_samples()), 1e-12);
-  EXPECT_DOUBLE_EQ(SogFilter().innovation_ratio_over(18), 0.0);
+  EXPECT_NEAR(f.innovations().ratio_over(window), f.innovations().recent_ratio(), 1e-12);
+  EXPECT_GT(f.innovations().ratio_over(18), 0.0);
+  EXPECT_NEAR(f.innovations().ratio_over(1000), f.innovations().ratio_over(f.mixture_samples()), 1e-12);
+  EXPECT_DOUBLE_EQ(SogFilter().innovations().ratio_over(18), 0.0);
 }
 
 // The confirmation's probe window: of the updates made while the 95 % radius was within a bound,
@@ -665,7 +665,7 @@ TEST(SogFilterTest, InnovationsWithinARadiusSumTheNisOfTheSamplesItPredictedClos
     updates.push_back({r.min_nis, k % 3 == 0 ? 1.0 : 3.0, before});
   }
   const auto sum_of = [&](double max_radius, std::size_t n) {
-    SogFilter::InnovationSum s;
+    InnovationRecord::Sum s;
     for (auto it = updates.rbegin(); it != updates.rend() && n > 0; ++it) {
       if (it->radius95_before > max_radius) continue;
       s.nis += it->nis;
@@ -675,7 +675,7 @@ TEST(SogFilterTest, InnovationsWithinARadiusSumTheNisOfTheSamplesItPredictedClos
     return s;
   };
   for (const std::size_t n : {1u, 5u, 12u}) {
-    const auto got = f.innovations_within(1e9, n);
+    const auto got = f.innovations().within(1e9, n);
     EXPECT_NEAR(got.nis, sum_of(1e9, n).nis, 1e-9) << n;
     EXPECT_DOUBLE_EQ(got.dof, sum_of(1e9, n).dof) << n;
   }
@@ -683,11 +683,11 @@ TEST(SogFilterTest, InnovationsWithinARadiusSumTheNisOfTheSamplesItPredictedClos
   for (const Update& u : updates) radii.push_back(u.radius95_before);
   std::sort(radii.begin(), radii.end());
   const double median = radii[radii.size() / 2];
-  const auto some = f.innovations_within(median, 4);
+  const auto some = f.innovations().within(median, 4);
   EXPECT_NEAR(some.nis, sum_of(median, 4).nis, 1e-9);
   EXPECT_DOUBLE_EQ(some.dof, sum_of(median, 4).dof);
-  EXPECT_DOUBLE_EQ(f.innovations_within(0.0, 10).dof, 0.0) << "none was predicted that closely";
-  EXPECT_DOUBLE_EQ(SogFilter().innovations_within(1e9, 10).dof, 0.0);
+  EXPECT_DOUBLE_EQ(f.innovations().within(0.0, 10).dof, 0.0) << "none was predicted that closely";
+  EXPECT_DOUBLE_EQ(SogFilter().innovations().within(1e9, 10).dof, 0.0);
 }
 
 TEST(SogFilterTest, WindowedInnovationTestIsQuietOnAConsistentRun) {
@@ -729,7 +729,7 @@ TEST(SogFilterTest, DivergenceOfAConvergedMixtureIsReportedNotReinitialised) {
       if (r.reinitialised) ++rebuilt;
       if (r.divergence_ignored) {
         ++ignored;
-        EXPECT_LE(f.recent_innovation_ratio(), ratio) << "step " << k;
+        EXPECT_LE(f.innovations().recent_ratio(), ratio) << "step " << k;
       }
     }
     if (ratio > 1e5) {
@@ -737,7 +737,7 @@ TEST(SogFilterTest, DivergenceOfAConvergedMixtureIsReportedNotReinitialised) {
       EXPECT_GE(ignored, 1) << "the innovation test should have failed on these readings";
       EXPECT_EQ(f.estimate(0).status, EstimatorStatus::kConverged);
       // What the search controller refuses to confirm: the recent samples do not fit the filter.
-      EXPECT_GT(f.recent_innovation_ratio(), 1.0);
+      EXPECT_GT(f.innovations().recent_ratio(), 1.0);
     } else {
       EXPECT_GE(rebuilt, 1) << "a gross excess is a lost transmitter";
     }
@@ -751,8 +751,8 @@ TEST(SogFilterTest, RecentInnovationsOfAConsistentRunAreWithinTheGate) {
   AvalancheSimulator sim(SimulationConfig{}, fixed_scenario(), 11);
   int reinitialisations = -1;
   const SogFilter f = walk_to_fixed_transmitter(sim, &reinitialisations);
-  EXPECT_GT(f.recent_innovation_ratio(), 0.0) << "the window is full after a walk";
-  EXPECT_LE(f.recent_innovation_ratio(), 1.0);
+  EXPECT_GT(f.innovations().recent_ratio(), 0.0) << "the window is full after a walk";
+  EXPECT_LE(f.innovations().recent_ratio(), 1.0);
 }
 
 

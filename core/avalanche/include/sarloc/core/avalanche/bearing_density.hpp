@@ -4,13 +4,13 @@
 // smoothed with a von Mises kernel. Used by the opening phase of the search, where the mixture
 // is a ring or several arcs and its mean (eq. 18) sits between them, pointing nowhere useful.
 //
-//   BearingDensity d(filter.components(), 35.0 * kPi / 180.0);
+//   BearingDensity d(filter.hypotheses(), 35.0 * kPi / 180.0);
 //   double heading = d.peak();            // most probable bearing in G
 //   if (d.at(current) * 2.0 >= d.at(heading)) heading = current;   // hysteresis
 #include <array>
 #include <vector>
 
-#include "sarloc/core/avalanche/sog_filter.hpp"
+#include "sarloc/core/avalanche/transmitter_hypothesis.hpp"
 
 namespace sarloc::avalanche {
 
@@ -19,7 +19,7 @@ class BearingDensity {
   static constexpr int kBins = 72;
 
   /// `kernel_sigma_rad` > 0: angular width of the smoothing kernel.
-  BearingDensity(const std::vector<SogComponent>& components, double kernel_sigma_rad);
+  BearingDensity(const std::vector<TransmitterHypothesis>& hypotheses, double kernel_sigma_rad);
 
   /// Smoothed probability mass around `bearing_rad` (any angle; wrapped).
   double at(double bearing_rad) const;
@@ -38,7 +38,7 @@ struct BearingAgreement {
   double mass_within_45deg = 0.0;  ///< weight of components whose bearing is within 45 deg
   double mean_cosine = 0.0;        ///< weighted mean of cos(component bearing - true bearing)
 };
-BearingAgreement bearing_agreement(const std::vector<SogComponent>& components,
+BearingAgreement bearing_agreement(const std::vector<TransmitterHypothesis>& hypotheses,
                                    double true_bearing_rad);
 
 }  // namespace sarloc::avalanche

@@ -113,6 +113,10 @@ struct CompositionModel {
                     Jacobian<idx::kStateDim, idx::kDispDim>* F_d = nullptr);
   /// Same on x* = [x; d] with one 9x15 Jacobian F = [F_x F_d].
   static StateVec f(const AugVec& xa, Jacobian<idx::kStateDim, idx::kAugDim>* F = nullptr);
+  /// The pose part of f on a rotation matrix the caller keeps (the particle filters, which
+  /// compose thousands of poses a step): R(Psi) <- R(Psi) R(dPsi), p <- p - R(Psi) t. The Euler
+  /// angles of the result are rpy_from_rotation(rotation).
+  static void compose_pose(Mat3& rotation, Vec3& p, const DispVec& d);
 };
 
 /// Composition of two displacements d1 (R_{a} -> R_{b}) then d2 (R_{b} -> R_{c}) into

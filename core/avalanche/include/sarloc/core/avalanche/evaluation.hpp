@@ -1,15 +1,15 @@
 #pragma once
-// Monte Carlo evaluation of the SOG filter + search controller against the simulator, the
-// reproduction of seed 000, Table I. Trials run in parallel; trial i uses
+// Monte Carlo evaluation of a transmitter filter (EvaluationSetup::filter: the SOG filter or a
+// baseline) + search controller against the simulator, the reproduction of seed 000, Table I. Trials run in parallel; trial i uses
 // derive_seed(seed, i) only, so the figures do not depend on the thread count.
 //
-// Per trial: measure -> filter.process -> controller.guide -> (stop if found) -> walk -> odometry.
+// Per trial: measure -> filter.update -> controller.guide -> (stop if found) -> walk -> odometry.
 //   error_m            |p_est - p_true| (3-D, G_k) when "found" is declared (or at the budget)
 //   initial_distance_m horizontal rescuer -> transmitter distance when first heard
 //   steps              steps walked from the first sample heard (the first one included); with
 //                      the ideal receiver every step has a sample, with the realistic one a
 //                      step hears 0-2 pulses of the transmitter (period 0.7-1.3 s)
-//   ms per step        wall time of SogFilter::process for every step of every trial
+//   ms per step        wall time of the filter update for every sample of every trial
 //   NEES               position part of the mixture (eq. (18)) against the truth, 3 dof, over the
 //                      converged phase (steps whose mixture 95 % radius <= sog.converged_radius_m)
 //   false FOUND        found, but farther from the victim than the 95 % radius stated with the
@@ -19,12 +19,15 @@
 //   EvaluationSummary s = run_evaluation(setup, [&] { bar.tick(); });
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "sarloc/core/avalanche/found_victim.hpp"
 #include "sarloc/core/avalanche/search_controller.hpp"
 #include "sarloc/core/avalanche/simulator.hpp"
+#include "sarloc/core/avalanche/grid_filter.hpp"
+#include "sarloc/core/avalanche/particle_filter.hpp"
 #include "sarloc/core/avalanche/sog_filter.hpp"
 #include "sarloc/core/common/statistics.hpp"
 
@@ -42,7 +45,10 @@ struct EvaluationConfig {
 
 struct EvaluationSetup {
   SimulationConfig simulation;
-  SogConfig sog;
+  FilterKind filter = FilterKind::kSog;  ///< the filter the trials run (docs/estimation/baselines.md)
+  SogConfig sog;                         ///< the SOG filter, and the ring and noise model every filter shares
+  ParticleFilterConfig particle;         ///< pf, rbpf, rbpf-improved
+  GridFilterConfig grid;                 ///< grid
   SearchConfig search;
   EvaluationConfig evaluation;
   void validate() const;
@@ -87,6 +93,7 @@ struct EvaluationSummary {
   Stats initial_distance_m;
   Stats steps;
   std::uint32_t not_found = 0;
+  std::uint32_t errors_over_1m = 0;      ///< trials ending more than 1 m off (seed 000, Fig. 5's last bin)
   std::uint32_t false_found = 0;         ///< found farther than radius95 + kFalseFoundMarginM
   std::uint32_t found_by_probe_pattern = 0;  ///< trials ended by the adaptive end
   std::string receiver = "realistic";
@@ -114,12 +121,15 @@ struct TrialStep {
   std::uint32_t step = 0;
   const AvalancheSimulator& sim;
   const FieldMeasurement& measurement;
-  const SogStepResult& filter_result;
-  const SogFilter& filter;
+  const FilterStepResult& filter_result;
+  const TransmitterFilter& filter;
   const Guidance& guidance;
   const VictimEstimate& estimate;
 };
 using StepObserver = std::function<void(const TrialStep&)>;
+
+/// The filter setup.filter names, its random stream seeded with `seed` (particle filters).
+std::unique_ptr<TransmitterFilter> make_transmitter_filter(const EvaluationSetup& setup, std::uint64_t seed);
 
 /// One trial, deterministic for (setup, index). `observer`, if set, sees every step.
 TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index,

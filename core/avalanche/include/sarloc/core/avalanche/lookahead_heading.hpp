@@ -17,10 +17,10 @@
 // docs/estimation/avalanche.md ("Opening heading").
 //
 //   LookaheadConfig cfg;  // defaults documented per field
-//   double heading = lookahead_heading(filter.components(), cfg, 1.0, noise_relative, floor);
+//   double heading = lookahead_heading(filter.hypotheses(), cfg, 1.0, noise_relative, floor);
 #include <vector>
 
-#include "sarloc/core/avalanche/sog_filter.hpp"
+#include "sarloc/core/avalanche/transmitter_hypothesis.hpp"
 
 namespace sarloc::avalanche {
 
@@ -37,7 +37,7 @@ struct LookaheadConfig {
 
 /// Heading (rad, in G) of the candidate with the lowest expected cost. Deterministic for a
 /// given mixture. Throws std::invalid_argument for an empty mixture (call after initialising).
-double lookahead_heading(const std::vector<SogComponent>& components, const LookaheadConfig& config,
+double lookahead_heading(const std::vector<TransmitterHypothesis>& hypotheses, const LookaheadConfig& config,
                          double step_length_m, double noise_relative, double noise_floor_A_per_m);
 
 }  // namespace sarloc::avalanche

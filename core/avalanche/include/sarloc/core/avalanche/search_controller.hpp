@@ -57,7 +57,7 @@
 #include "sarloc/core/avalanche/field_measurement.hpp"
 #include "sarloc/core/avalanche/responder_types.hpp"
 #include "sarloc/core/avalanche/lookahead_heading.hpp"
-#include "sarloc/core/avalanche/sog_filter.hpp"
+#include "sarloc/core/avalanche/transmitter_filter.hpp"
 #include "sarloc/core/avalanche/stall_detector.hpp"
 
 namespace sarloc::avalanche {
@@ -81,12 +81,12 @@ struct SearchConfig {
   double located_radius_per_range = 0.10;
   double found_distance_m = 0.5;       ///< horizontal distance to the estimate for "found"
   /// kLocated and kFound need at least this many samples of the signal's current mixture
-  /// (SogFilter::mixture_samples, counted again after a rebuild): a filter started next to a
+  /// (TransmitterFilter::mixture_samples, counted again after a rebuild): a filter started next to a
   /// cluster of victims converged in 3-4 near-field samples on a place where no one was buried
   /// (multiple burials, a ghost). Single searches take 40+ samples.
   double confirm_min_samples = 10.0;
   /// ... and their filter's recent innovations within this fraction of its divergence gate
-  /// (SogFilter::recent_innovation_ratio): a filter whose last samples do not fit it has taken
+  /// (InnovationRecord::recent_ratio): a filter whose last samples do not fit it has taken
   /// another transmitter's pulses, or lost its own. 4 victims within 5 m, 100 trials: 6 of the 8
   /// FOUNDs near no victim were above 1, against 5 of 388 right ones.
   double confirm_max_innovation_ratio = 1.0;
@@ -102,7 +102,7 @@ struct SearchConfig {
   /// ... and the samples taken while the estimate was already within its located radius (the
   /// probe samples, those it claimed to predict closely) fitting it: the NIS sum of the latest
   /// confirm_probe_window of them within chi2(their valid axes, confirm_probe_gate_probability)
-  /// (SogFilter::innovations_within). The six- and 18-sample windows are diluted by the far
+  /// (InnovationRecord::within). The six- and 18-sample windows are diluted by the far
   /// samples of a wide ring. Seen: a filter fed another transmitter's pulses converged 0.9 m off
   /// with a 0.18 m radius, its probe samples' NIS 8 on average (3 axes), and was FOUND (4
   /// victims, seed 17 trial 45; tail 1e-5, against none of 1190 right FOUNDs below 1e-3).
@@ -166,11 +166,11 @@ struct SearchConfig {
 
 /// What a filter says about whether its estimate may be confirmed (LOCATED, FOUND).
 struct ConfirmationEvidence {
-  std::uint64_t samples = 0;      ///< SogFilter::mixture_samples
-  double innovation_ratio = 0.0;  ///< SogFilter::recent_innovation_ratio
-  double last_nis = 0.0;          ///< SogFilter::last_min_nis
-  bool moment_plausible = true;   ///< SogFilter::moment_plausible
-  /// SogFilter::innovation_ratio_over(SearchConfig::confirm_innovation_window)
+  std::uint64_t samples = 0;      ///< TransmitterFilter::mixture_samples
+  double innovation_ratio = 0.0;  ///< InnovationRecord::recent_ratio
+  double last_nis = 0.0;          ///< InnovationRecord::last_min_nis
+  bool moment_plausible = true;   ///< TransmitterFilter::moment_plausible
+  /// InnovationRecord::ratio_over(SearchConfig::confirm_innovation_window)
   double sustained_innovation_ratio = 0.0;
   /// Chi-square probability of the probe samples' NIS sum (SearchConfig::confirm_probe_window;
   /// 0 without any): near 1, they do not fit the estimate.
@@ -182,20 +182,20 @@ class SearchController {
   explicit SearchController(SearchConfig config = {});
 
   /// Guidance after the filter processed `measurement` (the same signal).
-  Guidance guide(const SogFilter& filter, const FieldMeasurement& measurement);
+  Guidance guide(const TransmitterFilter& filter, const FieldMeasurement& measurement);
   /// Guidance for a step in which the signal was not heard (a pulse period up to 1.3 s, a pulse
   /// below the detection threshold, a lost sample). Farther than coast_return_m from where the
   /// last sample was taken, head back there, all the way (until a step from it or a sample
   /// arrives). Otherwise, in the opening search, keep walking straight on (the ring's mean says little
   /// yet); after it, head for the mixture moved by the odometry since
-  /// (SogFilter::predicted_moments). Ids and stamp are left for the caller.
-  Guidance coast(const SogFilter& filter);
+  /// (TransmitterFilter::predicted_moments). Ids and stamp are left for the caller.
+  Guidance coast(const TransmitterFilter& filter);
   /// kLocated / kFound refinement of a filter estimate, given what its filter says (same
   /// criteria as guide(), except that guide() also needs found_confirmations in a row for kFound).
   EstimatorStatus assess(const VictimEstimate& estimate, const ConfirmationEvidence& evidence) const;
   /// What `filter` says about confirming its estimate at `relative_position` (the located
   /// radius there picks its probe samples).
-  ConfirmationEvidence evidence(const SogFilter& filter, const Vec3& relative_position) const;
+  ConfirmationEvidence evidence(const TransmitterFilter& filter, const Vec3& relative_position) const;
   /// Enough samples, recent, probe and newest innovations within their gates, a moment the
   /// standard allows: an estimate that may be confirmed.
   bool confirmable(const ConfirmationEvidence& evidence) const;
@@ -241,9 +241,9 @@ class SearchController {
                     bool below, double& heading, double& step);
   void drop_pattern();
 
-  double flux_line_heading(const SogFilter& filter, const FieldMeasurement& meas,
+  double flux_line_heading(const TransmitterFilter& filter, const FieldMeasurement& meas,
                            const Eigen::Vector2d& mean_h, const Vec3& psi);
-  double posterior_bearing_heading(const SogFilter& filter);
+  double posterior_bearing_heading(const TransmitterFilter& filter);
 };
 
 }  // namespace sarloc::avalanche

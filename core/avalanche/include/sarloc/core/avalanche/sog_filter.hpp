@@ -34,6 +34,7 @@
 #include "sarloc/core/avalanche/responder_types.hpp"
 #include "sarloc/core/avalanche/odometry_accumulator.hpp"
 #include "sarloc/core/avalanche/receiver_model.hpp"
+#include "sarloc/core/avalanche/transmitter_filter.hpp"
 #include "sarloc/core/avalanche/transmitter_standard.hpp"
 
 namespace sarloc::avalanche {
@@ -165,12 +166,6 @@ struct SogComponent {
   double log_support = 0.0;
 };
 
-/// Moments of the mixture (eq. (18)) for the full state.
-struct MixtureMoments {
-  StateVec mean = StateVec::Zero();
-  StateCov covariance = StateCov::Zero();
-};
-
 struct SogStepResult {
   bool initialised_now = false;        ///< this measurement initialised the mixture
   std::size_t components_before = 0;
@@ -197,13 +192,14 @@ struct SogStepResult {
   bool rebuilt_implausible = false;
 };
 
-class SogFilter {
+class SogFilter : public TransmitterFilter {
  public:
   explicit SogFilter(SogConfig config = {}, std::string rescuer_id = {},
                      std::uint32_t signal_id = 0);
 
+  std::string kind() const override { return "sog"; }
   /// Odometry of this rescuer; accumulated until the next field measurement.
-  void add_odometry(const Odometry& odometry);
+  void add_odometry(const Odometry& odometry) override;
   /// Unmeasured motion since the last measurement (OdometryAccumulator::add_unknown).
   void add_unknown_motion(const DispCov& covariance) { odometry_.add_unknown(covariance); }
   /// One field measurement: initialises on the first call, then Algorithm 1. One with no valid
@@ -212,56 +208,47 @@ class SogFilter {
   /// measurement it only advances the sequence.
   /// Throws InputError for unusable input (non-finite, absurd, non-PD, out of order).
   SogStepResult process(const FieldMeasurement& measurement);
+  /// process() as the filter interface reports it.
+  FilterStepResult update(const FieldMeasurement& measurement) override;
 
-  bool initialised() const { return !components_.empty(); }
+  bool initialised() const override { return !components_.empty(); }
   /// Evidence that conflicts: `other`, a filter of the same signal given the same odometry up to
   /// the same latest sample (so in the same frame), holds the other half of the mixture from now
   /// on; the samples to come decide between them. Returns false (nothing changed) unless both are
   /// initialised at the same stamp.
   bool add_hypotheses(const SogFilter& other);
-  /// Sum of the smallest NIS of the last divergence_window updates over its gate
-  /// (chi2_{3n}(divergence_probability)): above 1, the recent samples do not fit the filter.
-  /// 0 until the window is full (or without a window).
-  double recent_innovation_ratio() const;
-  /// The same over the last `samples` updates of the current mixture (fewer while it is
-  /// younger; at most kNisHistory): chi2_{3n}(reinit_gate_probability). 0 before any update.
-  double innovation_ratio_over(std::size_t samples) const;
-  /// NIS summed over the last `samples` updates of the current mixture that were made while its
-  /// 95 % radius was within `max_radius95` (the samples it claimed to predict closely), with
-  /// their degrees of freedom (one per valid axis): chi-square with `dof` if the filter is right.
-  struct InnovationSum {
-    double nis = 0.0;
-    double dof = 0.0;
-  };
-  InnovationSum innovations_within(double max_radius95, std::size_t samples) const;
-  static constexpr std::size_t kNisHistory = 64;
-  /// Smallest NIS of the latest update (0 after initialisation): does the newest sample fit?
-  double last_min_nis() const { return last_min_nis_; }
+  /// The innovation record of the current mixture: its window is divergence_window, its gates
+  /// chi2_{3n}(reinit_gate_probability).
+  const InnovationRecord& innovations() const override { return record_; }
   /// The mixture's moment magnitude within the transmitter standard's bounds (moment_margin
   /// wider, 2 sigma): an estimate needing a transmitter the standard does not allow is wrong
   /// (seen: a FOUND 1.8 m off with |m| 8x the largest allowed, and one at the antenna with 1.4x).
-  bool moment_plausible() const;
-  std::size_t size() const { return components_.size(); }
+  bool moment_plausible() const override;
+  std::size_t size() const override { return components_.size(); }
+  double noise_relative() const override { return config_.noise_relative; }
+  double converged_radius_m() const override { return config_.converged_radius_m; }
   const std::vector<SogComponent>& components() const { return components_; }
   const SogConfig& config() const { return config_; }
   std::uint64_t steps() const { return steps_; }
   /// Field samples the current mixture was built from and updated with (1 after a rebuild): a
   /// rebuilt mixture is a new guess, and a guess converged in a few near-field samples next to a
   /// cluster is no victim (SearchConfig::confirm_min_samples counts these).
-  std::uint64_t mixture_samples() const { return mixture_samples_; }
+  std::uint64_t mixture_samples() const override { return mixture_samples_; }
 
   /// Eq. (18) over the full state (angles averaged relative to the heaviest component).
-  MixtureMoments moments() const;
+  MixtureMoments moments() const override;
   /// moments() moved by the odometry received since the last measurement (composition of
   /// eq. (9) on the mixture mean, no update): where the transmitter is relative to the receiver
   /// now, for guidance when this signal was not heard. Position covariance grows by the step's.
-  MixtureMoments predicted_moments() const;
+  MixtureMoments predicted_moments() const override;
   /// Where the antenna was at the last measurement with a pulse heard, relative to the receiver
   /// now (same composition on the mixture's attitude): the place the signal was last heard.
-  Vec3 predicted_last_measurement_position() const;
+  Vec3 predicted_last_measurement_position() const override;
   /// Reduced mixture: position moments (eq. (18)), the top_k components, the mean moment.
   /// status is kInitialising, kMultimodal or kConverged; SearchController::assess() refines it.
-  VictimEstimate estimate(std::size_t top_k = 5) const;
+  VictimEstimate estimate(std::size_t top_k = 5) const override;
+  /// The components' means with their weights.
+  std::vector<TransmitterHypothesis> hypotheses() const override;
 
   /// How well a sample would fit this signal's transmitter, the odometry received since the
   /// last measurement applied, without updating: log p(field | everything so far), up to a
@@ -270,10 +257,31 @@ class SogFilter {
   std::optional<FieldFit> predictive_fit(const Vec3& field, const Vec3& noise, std::uint8_t axes) const;
 
   /// Per-axis noise floor the filter applies to `m`: max(config floor, m.noise_stddev).
-  Vec3 noise_floor(const FieldMeasurement& m) const;
+  Vec3 noise_floor(const FieldMeasurement& m) const override;
 
   /// Initialise directly from a measurement (normally done by the first process()).
   void initialise(const FieldMeasurement& measurement);
+
+  /// Where the first sample puts the transmitter (seed 000, section III-B): a cylinder ring
+  /// around the receiver, r_min..r_max from |z_1| and the standard's moments, down to the burial
+  /// depth the near field asks for. The ring initialise() covers with Gaussians, and the grid
+  /// filter with cells. Throws InputError as process() does.
+  struct InitialRing {
+    Vec3 field = Vec3::Zero();       ///< z_1, invalid axes zeroed (receiver frame)
+    Vec3 field_g = Vec3::Zero();     ///< R(Psi_1) z_1
+    Vec3 attitude = Vec3::Zero();    ///< Psi_1: the attitude reading, or 0
+    Mat3 attitude_covariance = Mat3::Identity();
+    Vec3 sigma_axis = Vec3::Zero();  ///< noise of z_1 per axis (censored axes: their bound)
+    double moment_min = 0.0;         ///< the standard's bounds widened by moment_margin
+    double moment_max = 0.0;
+    double r_min_m = 0.0;
+    double r_max_m = 0.0;
+    double depth_m = 0.0;            ///< below the antenna height
+    std::uint32_t layers = 1;
+    double rho_min_m = 0.0;          ///< horizontal radii of the ring
+    double rho_max_m = 0.0;
+  };
+  InitialRing initial_ring(const FieldMeasurement& measurement) const;
 
  private:
   void update_field(const Vec3& z, const Vec3& floor, std::uint8_t axes, const Displacement& disp,
@@ -288,8 +296,6 @@ class SogFilter {
   void normalise_and_prune();
   /// The miss update (see process()); returns its log-likelihood.
   double apply_miss(const Vec3& floor);
-  /// A point of the current frame moved by displacement d (on the mixture's attitude).
-  Vec3 moved_point(const Vec3& point, const DispVec& d) const;
   std::size_t merge();
 
   SogConfig config_;
@@ -317,19 +323,8 @@ class SogFilter {
   std::uint64_t mixture_samples_ = 0;
   std::uint32_t gate_failures_ = 0;
   std::uint32_t implausible_steps_ = 0;  ///< updates in a row converged on no plausible transmitter
+  InnovationRecord record_;
   double nis_gate_ = 0.0;
-  std::vector<double> nis_window_;  ///< last divergence_window smallest NIS (ring buffer)
-  struct PastInnovation {
-    double min_nis = 0.0;
-    int dof = 0;                 ///< valid axes of the sample
-    double radius95_before = 0.0;  ///< of the position posterior the sample was predicted from
-  };
-  std::deque<PastInnovation> nis_history_;  ///< last kNisHistory updates of the current mixture
-  /// chi2_{3n}(reinit_gate_probability) by n (innovation_ratio_over)
-  std::array<double, kNisHistory + 1> history_gates_{};
-  std::size_t nis_next_ = 0;
-  double last_min_nis_ = 0.0;
-  double window_gate_ = 0.0;        ///< chi2_{3n}(reinit_gate_probability)
   double leap_gate_ = 0.0;          ///< chi2_3(leap_gate_probability); 0 = off
 };
 
