@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <unordered_map>
 
 #include "sarloc/core/avalanche/moment_kalman.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
@@ -45,7 +46,9 @@ void GridFilter::initialise(const FieldMeasurement& measurement) {
   receiver_ = Vec3::Zero();
   heard_at_ = Vec3::Zero();
   attitude_ = ring.attitude;
-  attitude_covariance_ = ring.attitude_covariance;
+  error_covariance_.setZero();
+  error_covariance_.topLeftCorner<3, 3>() = ring.attitude_covariance;
+  diffused_ = Vec3::Zero();
   last_field_g_ = ring.field_g;
   const Mat3 r_g = rotation_from_rpy(ring.attitude);
   const Mat3 dhg_dpsi = -skew(ring.field_g) * euler_rate_to_world(ring.attitude);
@@ -64,17 +67,23 @@ void GridFilter::initialise(const FieldMeasurement& measurement) {
           const Vec3 p(i * cell, j * cell, -(h + (k + 0.5) * cell));
           Mat3 j_m_r, j_m_h;
           const Vec3 m = DipoleField::moment(-p, ring.field_g, &j_m_r, &j_m_h);
-          if (check_moment && (m.norm() < ring.moment_min || m.norm() > ring.moment_max)) continue;
-          ++count;
-          if (out == nullptr) continue;
           // m = g(Psi, p, z) linearised, as the SOG filter's components (section III-B).
           const Mat3 g_psi = j_m_h * dhg_dpsi;
           const Mat3 g_z = j_m_h * r_g;
+          const Mat3 m_cov = j_m_r * within * j_m_r.transpose() + g_psi * ring.attitude_covariance * g_psi.transpose() +
+                             g_z * r_z * g_z.transpose();
+          // The standard's bounds on |m|, softened by the moment's own spread (3 sigma): a cell
+          // that only a noisy first sample puts outside them is kept.
+          const double norm_sigma = m.norm() > 0.0 ? std::sqrt(std::max(0.0, m.dot(m_cov * m)) / m.squaredNorm()) : 0.0;
+          if (check_moment && (m.norm() + 3.0 * norm_sigma < ring.moment_min ||
+                               m.norm() - 3.0 * norm_sigma > ring.moment_max))
+            continue;
+          ++count;
+          if (out == nullptr) continue;
           Cell c;
           c.centre = p;
           c.m = m;
-          c.M = j_m_r * within * j_m_r.transpose() + g_psi * ring.attitude_covariance * g_psi.transpose() +
-                g_z * r_z * g_z.transpose();
+          c.M = m_cov;
           c.log_w = sog_.jacobian_initial_weights ? 9.0 * std::log(p.norm()) - 2.0 * std::log(m.norm()) : 0.0;
           out->push_back(c);
         }
@@ -87,6 +96,7 @@ void GridFilter::initialise(const FieldMeasurement& measurement) {
   while (generate(cell, check, nullptr) > config_.max_cells) cell *= 1.26;
   cells_.clear();
   generate(cell, check, &cells_);
+  origin_ = Vec3(0.0, 0.0, -(h + 0.5 * cell));
   if (cells_.empty()) throw InputError("field_measurement.field: no cell of the ring fits this field");
   cell_m_ = cell;
   record_.clear();
@@ -95,10 +105,109 @@ void GridFilter::initialise(const FieldMeasurement& measurement) {
 }
 
 void GridFilter::move_receiver(const Displacement& disp) {
-  const Mat3 r = rotation_from_rpy(attitude_);
-  receiver_ += r * disp.mean.segment<3>(idx::kTrans);
-  attitude_ = rpy_from_rotation(r * rotation_from_rpy(disp.mean.segment<3>(idx::kRot)));
-  attitude_covariance_ += disp.covariance.block<3, 3>(idx::kRot, idx::kRot);
+  // Eq. (6)-(7) on the mean path, and their Jacobians (the SOG filter's, CompositionModel) on the
+  // error: Psi_k = A Psi + D dPsi, s_k = s + C Psi + T t.
+  StateVec x = StateVec::Zero();
+  x.segment<3>(idx::kAtt) = attitude_;
+  CompositionJacobians j;
+  const StateVec moved = CompositionModel::f(x, disp.mean, &j);
+  receiver_ -= moved.segment<3>(idx::kPos);
+  attitude_ = moved.segment<3>(idx::kAtt);
+  Eigen::Matrix<double, 6, 6> f = Eigen::Matrix<double, 6, 6>::Identity();
+  f.topLeftCorner<3, 3>() = j.att_att;
+  f.bottomLeftCorner<3, 3>() = j.pos_att;
+  Eigen::Matrix<double, 6, 6> g = Eigen::Matrix<double, 6, 6>::Zero();  // columns: t, dPsi
+  g.block<3, 3>(0, idx::kRot) = j.att_rot;
+  g.block<3, 3>(3, idx::kTrans) = j.pos_trans;
+  error_covariance_ = f * error_covariance_ * f.transpose() + g * disp.covariance * g.transpose();
+  error_covariance_ = 0.5 * (error_covariance_ + error_covariance_.transpose()).eval();
+}
+
+void GridFilter::read_attitude(const OrientationObservation& o) {
+  Vec3 nu = o.rpy - attitude_;
+  for (int a = 0; a < 3; ++a) nu[a] = wrap_angle(nu[a]);
+  const Mat3 s = error_covariance_.topLeftCorner<3, 3>() + o.covariance;
+  const Eigen::Matrix<double, 6, 3> k = error_covariance_.leftCols<3>() * s.inverse();
+  const Eigen::Matrix<double, 6, 1> correction = k * nu;
+  attitude_ += correction.head<3>();
+  for (int a = 0; a < 3; ++a) attitude_[a] = wrap_angle(attitude_[a]);
+  // The path was off by s: every relative position p = centre - receiver moves by it.
+  receiver_ -= correction.tail<3>();
+  error_covariance_ -= k * error_covariance_.topRows<3>();
+  error_covariance_ = 0.5 * (error_covariance_ + error_covariance_.transpose()).eval();
+}
+
+void GridFilter::diffuse() {
+  // Applied once a tenth of a cell's variance has gathered: a coarse grid is not blurred at
+  // every step by millimetres, and the delay is a fraction of a cell.
+  const double threshold = 0.1 * cell_m_ * cell_m_;
+  const double max_pass = 0.5 * cell_m_ * cell_m_;  // the kernel [a, 1 - 2a, a] with a <= 1/4
+  for (int axis = 0; axis < 3; ++axis) {
+    double pending = error_covariance_(3 + axis, 3 + axis) - diffused_[axis];
+    while (pending >= threshold) {
+      const double pass = std::min(pending, max_pass);
+      diffuse_axis(axis, pass);
+      diffused_[axis] += pass;
+      pending -= pass;
+    }
+  }
+}
+
+void GridFilter::diffuse_axis(int axis, double variance) {
+  // One pass of the kernel [a, 1 - 2a, a] along the axis (variance 2 a cell^2): each cell sends
+  // a of its weight to each neighbour, creating the neighbour if it was pruned. Cells that
+  // meet are moment-matched (weight, moment mean and covariance), the moment's sign aligned
+  // with the receiving cell's first (z is heard without sign, so m and -m are one hypothesis).
+  const double a = variance / (2.0 * cell_m_ * cell_m_);
+  auto key = [&](const Vec3& centre) {
+    const Vec3 i = ((centre - origin_) / cell_m_).array().round();
+    auto part = [](double v) { return static_cast<std::uint64_t>(static_cast<std::int64_t>(v) + (1 << 20)) & 0x1fffff; };
+    return part(i.x()) | (part(i.y()) << 21) | (part(i.z()) << 42);
+  };
+  struct Sum {
+    Vec3 centre;
+    double w = 0.0;
+    Vec3 m = Vec3::Zero();
+    Mat3 second = Mat3::Zero();  // sum of w (M + m m^T)
+    Vec3 sign_ref = Vec3::Zero();
+  };
+  std::vector<Sum> sums;
+  sums.reserve(cells_.size() + cells_.size() / 2);
+  std::unordered_map<std::uint64_t, std::size_t> index;
+  index.reserve(2 * cells_.size());
+  double max_log = -std::numeric_limits<double>::infinity();
+  for (const Cell& c : cells_) max_log = std::max(max_log, c.log_w);
+  auto add = [&](const Vec3& centre, double w, const Cell& from) {
+    const auto [it, inserted] = index.try_emplace(key(centre), sums.size());
+    if (inserted) {
+      sums.push_back(Sum{centre, 0.0, Vec3::Zero(), Mat3::Zero(), from.m});
+    }
+    Sum& s = sums[it->second];
+    const Vec3 m = from.m.dot(s.sign_ref) >= 0.0 ? from.m : Vec3(-from.m);
+    s.w += w;
+    s.m += w * m;
+    s.second.noalias() += w * (from.M + m * m.transpose());
+  };
+  Vec3 step = Vec3::Zero();
+  step[axis] = cell_m_;
+  for (const Cell& c : cells_) {
+    const double w = std::exp(c.log_w - max_log);
+    add(c.centre, (1.0 - 2.0 * a) * w, c);
+    add(c.centre - step, a * w, c);
+    add(c.centre + step, a * w, c);
+  }
+  cells_.clear();
+  cells_.reserve(sums.size());
+  for (const Sum& s : sums) {
+    Cell c;
+    c.centre = s.centre;
+    c.m = s.m / s.w;
+    c.M = s.second / s.w - c.m * c.m.transpose();
+    c.M = 0.5 * (c.M + c.M.transpose()).eval();
+    c.log_w = std::log(s.w) + max_log;
+    cells_.push_back(c);
+  }
+  normalise_and_prune();
 }
 
 FilterStepResult GridFilter::update(const FieldMeasurement& measurement) {
@@ -109,6 +218,7 @@ FilterStepResult GridFilter::update(const FieldMeasurement& measurement) {
     if (!initialised() || !sog_.negative_information) return result;
     last_stamp_ = measurement.stamp;
     move_receiver(odometry_.take());
+    diffuse();
     moments_.reset();
     // P(not detected | cell) at its moment's mean (DetectionCurve), as the particle filters.
     const Vec3 weight = noise_floor(measurement).cwiseAbs2().cwiseInverse() * sog_.miss_power_margin;
@@ -134,24 +244,15 @@ FilterStepResult GridFilter::update(const FieldMeasurement& measurement) {
   }
   const double radius95_before = radius95_3d(position_covariance());
   move_receiver(odometry_.take());
+  if (measurement.orientation && sog_.use_orientation) read_attitude(*measurement.orientation);
   heard_at_ = receiver_;
-  if (measurement.orientation && sog_.use_orientation) {
-    // The attitude reading: a linear Kalman update of the receiver's attitude.
-    const OrientationObservation& o = *measurement.orientation;
-    Vec3 nu = o.rpy - attitude_;
-    for (int a = 0; a < 3; ++a) nu[a] = wrap_angle(nu[a]);
-    const Mat3 k = attitude_covariance_ * (attitude_covariance_ + o.covariance).inverse();
-    attitude_ += k * nu;
-    for (int a = 0; a < 3; ++a) attitude_[a] = wrap_angle(attitude_[a]);
-    attitude_covariance_ = (Mat3::Identity() - k) * attitude_covariance_;
-    attitude_covariance_ = 0.5 * (attitude_covariance_ + attitude_covariance_.transpose()).eval();
-  }
+  diffuse();
   moments_.reset();
   const Mat3 r = rotation_from_rpy(attitude_);
   last_field_g_ = r * valid_axes_only(measurement.field, measurement.valid_axes);
   // The attitude's spread turns the field: a small rotation delta moves z by delta x z, about
   // |h| sigma_att sqrt(2/3) per axis, independent of the relative noise (added in quadrature).
-  const double attitude_variance = std::max(0.0, attitude_covariance_.trace() / 3.0);
+  const double attitude_variance = std::max(0.0, error_covariance_.topLeftCorner<3, 3>().trace() / 3.0);
   const double relative = std::sqrt(sog_.noise_relative * sog_.noise_relative + 2.0 / 3.0 * attitude_variance);
   const Vec3 floor = noise_floor(measurement);
   const Vec3 z_valid = valid_axes_only(measurement.field, measurement.valid_axes);
@@ -221,6 +322,7 @@ void GridFilter::refine() {
     }
   }
   cells_ = std::move(children);
+  origin_ -= Vec3::Constant(q);  // the children's lattice: origin - q + (cell / 2) integers
   cell_m_ /= 2.0;
   moments_.reset();
 }
@@ -259,7 +361,7 @@ MixtureMoments GridFilter::moments() const {
   cov.topLeftCorner<3, 3>() += Mat3::Identity() * cell_m_ * cell_m_ / 12.0;
   mm.mean << attitude_, p_mean, m_mean;
   mm.covariance.setZero();
-  mm.covariance.block<3, 3>(idx::kAtt, idx::kAtt) = attitude_covariance_;
+  mm.covariance.block<3, 3>(idx::kAtt, idx::kAtt) = error_covariance_.topLeftCorner<3, 3>();
   mm.covariance.block<6, 6>(idx::kPos, idx::kPos) = 0.5 * (cov + cov.transpose());
   moments_ = mm;
   return mm;

@@ -11,12 +11,16 @@
 // finest_cell_m.
 //
 // The grid is fixed in G_1 (ENU axes, origin at the first antenna position); the receiver's pose
-// in it is dead-reckoned from the odometry means and its attitude kept by a small Kalman filter
-// on the attitude readings, whose spread widens the field noise (in quadrature with the relative
-// noise). The filter therefore
-// conditions on the mean path: exact given that path, it leaves out the odometry's
-// translation noise (about 3 % of the distance walked), and it is a near-exact reference only
-// where that is small against the posterior (docs/estimation/baselines.md).
+// in it is dead-reckoned from the odometry means. A Kalman filter on the dead-reckoning error
+// [Psi, s] (attitude, and s the offset the path's error adds to every relative position p) keeps
+// what the mean path leaves out: the attitude readings correct Psi and, through their
+// correlation, s (a shift of the whole grid), and the growth of s's variance is applied to the
+// cells as a diffusion (a blur of weights and moments between neighbouring cells, axis by axis).
+// That is the robocentric model's motion noise: the odometry's translation noise and the
+// attitude error that turns each step (about 2 deg of heading at 1 m per step: metres over a
+// search). The attitude's spread also widens the field noise (in quadrature with the relative
+// noise). Left out: what the field samples say about Psi and s, and the cross-axis terms of the
+// diffusion (docs/estimation/baselines.md).
 //
 //   GridFilter f(SogConfig{}, GridFilterConfig{});
 //   f.add_odometry(odo);
@@ -66,6 +70,11 @@ class GridFilter : public TransmitterFilter {
   double converged_radius_m() const override { return sog_.converged_radius_m; }
 
   double cell_m() const { return cell_m_; }
+  /// Covariance of s, the error the dead-reckoned path adds to every relative position.
+  Mat3 drift_covariance() const { return error_covariance_.bottomRightCorner<3, 3>(); }
+  /// The part of diag(drift_covariance()) applied to the cells so far: it trails by less than a
+  /// tenth of a cell's variance per axis.
+  const Vec3& diffused_variance() const { return diffused_; }
 
  private:
   struct Cell {
@@ -76,8 +85,13 @@ class GridFilter : public TransmitterFilter {
   };
 
   void initialise(const FieldMeasurement& measurement);
-  /// The receiver's dead-reckoned pose moved by the odometry mean; attitude variance grows.
+  /// The receiver's dead-reckoned pose moved by the odometry mean; the error covariance grows.
   void move_receiver(const Displacement& disp);
+  /// The attitude reading: a Kalman update of [Psi, s]; s's correction shifts the grid.
+  void read_attitude(const OrientationObservation& observation);
+  /// Diffuses the cells by the growth of s's variance not yet applied (per axis).
+  void diffuse();
+  void diffuse_axis(int axis, double variance);
   void normalise_and_prune();
   void refine();
   Mat3 position_covariance() const;
@@ -90,7 +104,10 @@ class GridFilter : public TransmitterFilter {
   double cell_m_ = 1.0;
   Vec3 receiver_ = Vec3::Zero();       ///< antenna in G_1
   Vec3 attitude_ = Vec3::Zero();       ///< rpy of R_k
-  Mat3 attitude_covariance_ = Mat3::Identity();
+  /// Covariance of the dead-reckoning error [Psi (rpy), s (m)].
+  Eigen::Matrix<double, 6, 6> error_covariance_ = Eigen::Matrix<double, 6, 6>::Identity();
+  Vec3 diffused_ = Vec3::Zero();       ///< the part of diag(s's variance) already applied as diffusion
+  Vec3 origin_ = Vec3::Zero();         ///< a lattice point: every centre is origin_ + cell_m_ * integers
   Vec3 heard_at_ = Vec3::Zero();       ///< antenna in G_1 at the last sample heard
   Vec3 last_field_g_ = Vec3::Zero();   ///< R_k z of the last sample heard (refinement's moment gradient)
   OdometryAccumulator odometry_;
