@@ -65,22 +65,35 @@ WithAndWithout run_with_and_without_witness(std::uint64_t seed, std::uint32_t tr
 // victim 2's moment and was FOUND 1.5 m from victim 3 with a 0.48 m radius. The witness, built
 // from the last 30 s only, was 1.2 m away with a 1.16 m radius, more than twice the located
 // radius: the FOUND waited, and the samples that followed decided.
-TEST(TracedTrials, AFilterThatFollowedACarrierMateFirstIsNotFoundWhereNoVictimIs) {
-  const auto [with, without] = run_with_and_without_witness(14, 97);
-  EXPECT_EQ(with.ghosts, 0u);
-  EXPECT_GE(with.withdrawn_founds + with.deferred_founds, 1u);
-  EXPECT_TRUE(with.all_found);
-  EXPECT_EQ(without.ghosts, 1u) << "the trial no longer exercises the failure it was kept for";
-}
-
 // Seed 13, trial 2: a signal whose filter took a pulse of victims 0 and 3 summed (periods 3 ms
 // apart, carriers 0.72 Hz, fields nearly parallel at the receiver: not flagged elliptical) was
 // FOUND 0.86 m from victim 3 with a 0.17 m radius after victim 3's own clean pulses.
-TEST(TracedTrials, AFilterFedASumOfTwoTransmittersIsNotFoundWhereNoVictimIs) {
-  const auto [with, without] = run_with_and_without_witness(13, 2);
-  EXPECT_EQ(with.ghosts, 0u);
-  EXPECT_GE(with.withdrawn_founds + with.deferred_founds, 1u);
-  EXPECT_EQ(without.ghosts, 1u) << "the trial no longer exercises the failure it was kept for";
+//
+// Each trial reproduces bit for bit on one machine, but a walk of hundreds of steps follows the
+// last bits of the floating point: on the Intel Xeon where they were traced both gave a ghost
+// without the witness; on an AMD EPYC (2026-11-29) seed 13 trial 2 gives none, and its filter
+// never asks for the witness. So every traced trial must be free of
+// ghosts with the witness, and at least one of them must still give its ghost without it (and
+// have the witness withdraw or defer a FOUND with it), or the test no longer tests the rule.
+TEST(TracedTrials, TheFoundWitnessKeepsTheCarrierMateGhostsAway) {
+  struct Traced {
+    std::uint64_t seed;
+    std::uint32_t trial;
+    bool all_found;  ///< every victim FOUND with the witness on
+  };
+  int exercised = 0;
+  for (const Traced t : {Traced{14, 97, true}, Traced{13, 2, false}}) {
+    SCOPED_TRACE("seed " + std::to_string(t.seed) + " trial " + std::to_string(t.trial));
+    const auto [with, without] = run_with_and_without_witness(t.seed, t.trial);
+    EXPECT_EQ(with.ghosts, 0u);
+    if (t.all_found) {
+      EXPECT_TRUE(with.all_found);
+    }
+    if (without.ghosts == 0) continue;
+    ++exercised;
+    EXPECT_GE(with.withdrawn_founds + with.deferred_founds, 1u);
+  }
+  EXPECT_GE(exercised, 1) << "no traced trial exercises the failure the witness was built for";
 }
 
 }  // namespace
