@@ -397,10 +397,7 @@ std::vector<TransmitterHypothesis> GridFilter::hypotheses() const {
 }
 
 bool GridFilter::moment_plausible() const {
-  if (cells_.empty()) return false;
-  const MixtureMoments mm = moments();
-  return sog_.standard.allows(mm.mean.segment<3>(idx::kMom), mm.covariance.block<3, 3>(idx::kMom, idx::kMom),
-                              sog_.moment_margin);
+  return !cells_.empty() && moment_plausible_from(moments(), sog_.standard, sog_.moment_margin);
 }
 
 }  // namespace sarloc::avalanche

@@ -362,10 +362,7 @@ std::vector<TransmitterHypothesis> ParticleFilter::hypotheses() const {
 }
 
 bool ParticleFilter::moment_plausible() const {
-  if (particles_.empty()) return false;
-  const MixtureMoments mm = moments();
-  return sog_.standard.allows(mm.mean.segment<3>(idx::kMom), mm.covariance.block<3, 3>(idx::kMom, idx::kMom),
-                              sog_.moment_margin);
+  return !particles_.empty() && moment_plausible_from(moments(), sog_.standard, sog_.moment_margin);
 }
 
 }  // namespace sarloc::avalanche

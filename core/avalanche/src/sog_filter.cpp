@@ -404,10 +404,7 @@ bool SogFilter::pinned_down_plausibly() const {
 }
 
 bool SogFilter::moment_plausible() const {
-  if (components_.empty()) return false;
-  const MixtureMoments mm = moments();
-  return config_.standard.allows(mm.mean.segment<3>(idx::kMom),
-                                 mm.covariance.block<3, 3>(idx::kMom, idx::kMom), config_.moment_margin);
+  return !components_.empty() && moment_plausible_from(moments(), config_.standard, config_.moment_margin);
 }
 
 std::vector<TransmitterHypothesis> SogFilter::hypotheses() const {

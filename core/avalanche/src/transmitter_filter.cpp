@@ -59,4 +59,9 @@ VictimEstimate estimate_from(const MixtureMoments& moments, std::size_t hypothes
   return e;
 }
 
+bool moment_plausible_from(const MixtureMoments& moments, const TransmitterStandard& standard, double margin) {
+  return standard.allows(moments.mean.segment<3>(idx::kMom), moments.covariance.block<3, 3>(idx::kMom, idx::kMom),
+                         margin);
+}
+
 }  // namespace sarloc::avalanche

@@ -27,6 +27,7 @@
 #include "sarloc/core/avalanche/transmitter_hypothesis.hpp"
 #include "sarloc/core/avalanche/dipole_model.hpp"
 #include "sarloc/core/avalanche/odometry_accumulator.hpp"
+#include "sarloc/core/avalanche/transmitter_standard.hpp"
 
 namespace sarloc::avalanche {
 
@@ -54,6 +55,10 @@ void check_sample(const FieldMeasurement& measurement, const std::string& rescue
 VictimEstimate estimate_from(const MixtureMoments& moments, std::size_t hypotheses, double converged_radius_m,
                              std::size_t top_k, const std::function<double(std::size_t)>& weight_of,
                              const std::function<MixtureComponentSummary(std::size_t)>& summary_of);
+
+/// TransmitterFilter::moment_plausible for a filter whose posterior has `moments`: the mean moment
+/// and its spread allowed by `standard` within `margin`.
+bool moment_plausible_from(const MixtureMoments& moments, const TransmitterStandard& standard, double margin);
 
 /// What every filter reports about one update.
 struct FilterStepResult {
