@@ -249,14 +249,14 @@ void expect_picture_kept(const json& at_kill, const json& at_end) {
   }
 }
 
-// The active incident command is killed while the victims are in the picture, mostly not found
-// yet (they entered it at 35-42 s of this mission when the kill times were first set, at 42-44 s on
-// an idle machine in the twenty-sixth session, later on a loaded one: kills at 42 and 45 s each once found it
-// empty under the full suite; they are found from 47 s on). Its standby takes the picture over within the 3 s liveliness lease of the picture
-// writers (+ its 0.25 s cycle), keeps every victim's id and times, and finishes the mission:
-// every victim found, none twice.
+// The active incident command is killed while victims are in the picture and the mission runs on
+// (handover.yaml: A and B enter the picture at 42-44 s and are found from 44 s on, C is found at
+// 82-90 s). small.yaml ended at 46-50 s, so a kill at 48 s sometimes came after its end, and a
+// kill at 42-45 s under the full suite found the picture empty. Its standby takes the picture over
+// within the 3 s liveliness lease of the picture writers (+ its 0.25 s cycle), keeps every
+// victim's id and times, and finishes the mission: every victim found, none twice.
 TEST(Mission, KilledIncidentCommandHandsOverToItsStandby) {
-  const auto run = run_mission("small.yaml", kDomainMissionCommandKill, "--kill command@48");
+  const auto run = run_mission("handover.yaml", kDomainMissionCommandKill, "--kill command@55");
   expect_complete(run);
   ASSERT_EQ(run.summary["faults"].size(), 1U);
   const auto& fault = run.summary["faults"][0];
@@ -271,8 +271,8 @@ TEST(Mission, KilledIncidentCommandHandsOverToItsStandby) {
 // A killed instance started again rejoins as standby: it adopts the picture from the active
 // one before it publishes anything, and never takes it over while that one is alive.
 TEST(Mission, RestartedIncidentCommandRejoinsAsStandby) {
-  const auto run = run_mission("small.yaml", kDomainMissionCommandRestart,
-                               "--kill command@48 --restart command@53 --log-level info");
+  const auto run = run_mission("handover.yaml", kDomainMissionCommandRestart,
+                               "--kill command@55 --restart command@62 --log-level info");
   expect_complete(run);
   ASSERT_EQ(run.summary["faults"].size(), 2U);
   ASSERT_TRUE(run.summary["faults"][0].contains("handover_after_s")) << "no standby took over";
