@@ -271,7 +271,8 @@ responder::Guidance to_core(const ::sarloc::Guidance& g) {
   out.floor(r.floor);
   out.source(static_cast<::sarloc::PositionSource>(r.source));
   out.flags((r.converged ? ::sarloc::RESPONDER_FLAG_CONVERGED : 0U) |
-            (r.map_error_suspected ? ::sarloc::RESPONDER_FLAG_MAP_ERROR_SUSPECTED : 0U));
+            (r.map_error_suspected ? ::sarloc::RESPONDER_FLAG_MAP_ERROR_SUSPECTED : 0U) |
+            (r.confirmed ? ::sarloc::RESPONDER_FLAG_CONFIRMED : 0U));
   return out;
 }
 
@@ -286,6 +287,7 @@ responder::ResponderPosition to_core(const ::sarloc::ResponderPosition& r) {
   out.source = checked_enum<responder::PositionSource>(r.source(), ::sarloc::POSITION_MANUAL, "responder_position.source");
   out.converged = (r.flags() & ::sarloc::RESPONDER_FLAG_CONVERGED) != 0;
   out.map_error_suspected = (r.flags() & ::sarloc::RESPONDER_FLAG_MAP_ERROR_SUSPECTED) != 0;
+  out.confirmed = (r.flags() & ::sarloc::RESPONDER_FLAG_CONFIRMED) != 0;
   return out;
 }
 

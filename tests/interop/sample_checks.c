@@ -182,7 +182,8 @@ void check_responder_position(const void* sample, CheckReport* r) {
   check_angle(r, "heading_rad", p->heading_rad);
   check_range(r, "floor", p->floor, -20, 200);
   check_enum(r, "source", p->source, sarloc_POSITION_MANUAL);
-  const uint32_t known = sarloc_RESPONDER_FLAG_CONVERGED | sarloc_RESPONDER_FLAG_MAP_ERROR_SUSPECTED;
+  const uint32_t known =
+      sarloc_RESPONDER_FLAG_CONVERGED | sarloc_RESPONDER_FLAG_MAP_ERROR_SUSPECTED | sarloc_RESPONDER_FLAG_CONFIRMED;
   if ((p->flags & ~known) != 0) check_fail(r, "flags", "0x%x: unknown bits (known 0x%x)", p->flags, known);
 }
 

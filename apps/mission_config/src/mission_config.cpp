@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "sarloc/app/avalanche_yaml.hpp"
+#include "sarloc/app/floor_plan_yaml.hpp"
 #include "sarloc/app/yaml_reader.hpp"
 
 namespace sarloc::app {
@@ -57,6 +58,11 @@ void MissionConfig::validate() const {
   dds.validate();
   scenario.validate();
   estimators.validate();
+  for (const auto& [id, role] : role_of) {
+    if (role == estimator::ResponderRole::kFirefighter && !estimators.firefighter.building) {
+      throw ConfigError("rescuers[" + id + "].role = firefighter: the mission has no building: section");
+    }
+  }
   std::set<std::string> known(sectors.begin(), sectors.end());
   if (known.size() != sectors.size()) throw ConfigError("sectors: duplicate sector name");
   for (const auto& r : scenario.rescuers) {
@@ -182,9 +188,24 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("sector", sector);
     std::string role = estimator::to_string(estimator::ResponderRole::kAvalancheRescuer);
     r.read("role", role);
+    const auto parsed_role = estimator::parse_responder_role(role, name + ": " + r.path() + ".role");
+    if (r.has("entry") || r.has("hand")) {
+      if (parsed_role != estimator::ResponderRole::kFirefighter) {
+        throw ConfigError(name + ": " + r.path() + ": entry and hand are a firefighter's keys (role = " + role + ")");
+      }
+      estimator::FirefighterEstimatorConfig::ReportedStart start_at;
+      r.read("entry", start_at.entry);
+      std::string hand = "right";
+      r.read("hand", hand);
+      if (hand != "right" && hand != "left") {
+        throw ConfigError(name + ": " + r.path() + ".hand = '" + hand + "': must be right or left");
+      }
+      start_at.hand = hand == "right" ? firefighter::Hand::kRight : firefighter::Hand::kLeft;
+      c.estimators.firefighter.entry_of[s.id] = start_at;
+    }
     r.expect_done();
     c.sector_of[s.id] = sector;
-    c.role_of[s.id] = estimator::parse_responder_role(role, name + ": " + r.path() + ".role");
+    c.role_of[s.id] = parsed_role;
     c.scenario.rescuers.push_back(s);
   }
   for (auto& r : root.child_list("sectors")) {
@@ -201,6 +222,32 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("gnss_correlation_s", c.scenario.gnss_correlation_s);
     r.read("gnss_white_sigma_m", c.scenario.gnss_white_sigma_m);
     read_simulation(r, c.scenario.sensors);
+  }
+  if (root.has("building")) {
+    auto r = root.child("building");
+    std::string plan;
+    r.require("plan", plan);
+    std::vector<double> origin{0.0, 0.0};
+    r.read("origin", origin);
+    if (origin.size() != 2) throw ConfigError(name + ": building.origin: expected [east, north]");
+    auto& f = c.estimators.firefighter;
+    f.origin = firefighter::Vec2(origin[0], origin[1]);
+    r.read("rotation_deg", f.rotation_deg);
+    r.expect_done();
+    f.seed = c.scenario.seed;
+    c.building_path = resolve(plan, base_dir);
+    f.building = std::make_shared<const firefighter::BuildingModel>(load_floor_plan(c.building_path),
+                                                                    firefighter::BuildingModelConfig{});
+  }
+  {
+    auto r = root.child("firefighter");
+    auto& f = c.estimators.firefighter;
+    r.read("entry_position_sigma_m", f.entry_position_sigma_m);
+    r.read("entry_heading_sigma_deg", f.entry_heading_sigma_deg);
+    r.read("max_speed_mps", f.max_speed_mps);
+    r.read("particles", f.filter.particles);
+    r.read("particles_max", f.filter.particles_max);
+    r.expect_done();
   }
   auto& avalanche = c.estimators.avalanche_rescuer;
   read_sog(root.child("sog"), avalanche.sog);

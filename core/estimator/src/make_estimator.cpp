@@ -9,6 +9,8 @@ std::unique_ptr<ResponderEstimator> make_estimator(ResponderRole role, const std
   switch (role) {
     case ResponderRole::kAvalancheRescuer:
       return std::make_unique<AvalancheRescuerEstimator>(responder_id, configs.avalanche_rescuer);
+    case ResponderRole::kFirefighter:
+      return std::make_unique<FirefighterEstimator>(responder_id, configs.firefighter);
   }
   return nullptr;  // unreachable: every role is handled above
 }

@@ -25,10 +25,6 @@ double ms_since(Clock::time_point t0) {
 
 double median(std::vector<double> v) { return percentile(std::move(v), 0.5); }
 
-Vec2 rotate(const Vec2& v, double a) {
-  return {std::cos(a) * v.x() - std::sin(a) * v.y(), std::sin(a) * v.x() + std::cos(a) * v.y()};
-}
-
 // The full comparison's time is measured on every 4th comparison of a walk, made whether a row
 // needs it or not: the rows that need one need mostly the early ones (before their cloud
 // concentrates), the first of which are shorter, and the figure should not depend on the rows run.

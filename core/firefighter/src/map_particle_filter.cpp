@@ -24,10 +24,6 @@ constexpr double kHeightLeak = 0.05;
 // particles soon after the cloud concentrates, rarely enough not to deplete it by redrawing.
 constexpr std::uint32_t kAdaptEveryMovingSteps = 4;
 
-Vec2 rotate(const Vec2& v, double a) {
-  return {std::cos(a) * v.x() - std::sin(a) * v.y(), std::sin(a) * v.x() + std::cos(a) * v.y()};
-}
-
 }  // namespace
 
 const char* to_string(PseudoResampling r) {
@@ -199,6 +195,17 @@ void MapParticleFilter::predict(const Eigen::Vector3d& delta, std::mt19937_64& r
   refresh_flags(removed);
   converged_steps_ = converged_ ? converged_steps_ + 1 : 0;
   if (moving && ++moving_steps_ % kAdaptEveryMovingSteps == 0) adapt_count(rng);
+}
+
+void MapParticleFilter::diffuse(double position_sigma_m, std::mt19937_64& rng) {
+  if (!std::isfinite(position_sigma_m) || position_sigma_m < 0.0) {
+    throw InputError("diffuse: position_sigma_m = " + std::to_string(position_sigma_m) + ": must be finite and >= 0");
+  }
+  if (particles_.empty()) throw InputError("diffuse before init");
+  boost::random::normal_distribution<double> n(0.0, 1.0);
+  for (Particle& p : particles_) p.position += position_sigma_m * Vec2(n(rng), n(rng));
+  refresh_flags();
+  converged_steps_ = 0;
 }
 
 std::uint64_t MapParticleFilter::bin_of(const Particle& p) const {
@@ -420,10 +427,14 @@ MapEstimate MapParticleFilter::estimate() const {
   e.floor = static_cast<std::size_t>(std::max_element(per_floor.begin(), per_floor.end()) - per_floor.begin());
   e.floor_probability = per_floor[e.floor];
   Vec2 mean = Vec2::Zero();
+  Vec2 heading = Vec2::Zero();
   for (std::size_t i = 0; i < particles_.size(); ++i) {
-    if (particles_[i].floor == e.floor) mean += weights_[i] * particles_[i].position;
+    if (particles_[i].floor != e.floor) continue;
+    mean += weights_[i] * particles_[i].position;
+    heading += weights_[i] * Vec2(std::cos(particles_[i].heading), std::sin(particles_[i].heading));
   }
   mean /= e.floor_probability;
+  e.frame_heading = std::atan2(heading.y(), heading.x());
   Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
   for (std::size_t i = 0; i < particles_.size(); ++i) {
     if (particles_[i].floor != e.floor) continue;

@@ -27,7 +27,8 @@ struct MissionConfig {
   std::map<std::string, std::string> sector_of;       ///< rescuer id -> sector name ("" = none)
   std::map<std::string, estimator::ResponderRole> role_of;  ///< rescuer id -> role (rescuers[].role)
   std::vector<std::string> sectors;                   ///< one sarloc-core per sector (none: one core)
-  estimator::EstimatorConfigs estimators;             ///< every role's estimator (sog:, search:, rescuer_search:)
+  estimator::EstimatorConfigs estimators;             ///< every role's estimator (sog:, search:, rescuer_search:, building:, firefighter:)
+  std::string building_path;                          ///< building.plan, resolved ("" = no building)
   dds::CoreNodeConfig core;
   dds::RescuerNodeConfig rescuer;                     ///< template: id/team/partitions filled per rescuer
   /// Two instances of incident command unless the file says otherwise (command.instances):

@@ -15,11 +15,17 @@
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <cmath>
 #include <vector>
 
 namespace sarloc::firefighter {
 
 using Vec2 = Eigen::Vector2d;
+
+/// `v` turned by `a` rad counter-clockwise.
+inline Vec2 rotate(const Vec2& v, double a) {
+  return {std::cos(a) * v.x() - std::sin(a) * v.y(), std::sin(a) * v.x() + std::cos(a) * v.y()};
+}
 
 struct Segment {
   Vec2 a = Vec2::Zero();

@@ -120,6 +120,9 @@ struct MapEstimate {
   std::size_t floor = 0;
   double floor_probability = 0.0;
   double variance_m2 = 0.0;  ///< trace of the covariance
+  /// Map heading of the INS navigation frame (weighted circular mean on `floor`, rad): a
+  /// displacement of the INS, turned by it, is one in the map.
+  double frame_heading = 0.0;
   bool converged = false;
   bool map_error_suspected = false;
   /// The flag has been raised since the start, cleared or not. Over 20 walks per building with
@@ -144,6 +147,11 @@ class MapParticleFilter {
 
   /// One odometry step: the INS displacement in its navigation frame.
   void predict(const Eigen::Vector3d& delta, std::mt19937_64& rng);
+  /// Odometry over an interval was lost (a radio gap longer than the device's buffer): the
+  /// firefighter moved somewhere within about `position_sigma_m`. Every particle is displaced at
+  /// random by that much, through walls too (the unknown path may have used a door), and the
+  /// confirmation starts over.
+  void diffuse(double position_sigma_m, std::mt19937_64& rng);
   /// One pattern comparison. `walk_heading_ins`: the walking direction in the INS frame at the
   /// end of the compared trajectory.
   void update(const std::vector<PseudoObservation>& observations, double walk_heading_ins, std::mt19937_64& rng);

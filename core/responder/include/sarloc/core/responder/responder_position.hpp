@@ -18,6 +18,9 @@ struct ResponderPosition {
   PositionSource source = PositionSource::kGnss;
   bool converged = false;
   bool map_error_suspected = false;
+  /// Map-aided only: converged for a while, no map error since the start, and traced back to an
+  /// entry (firefighter::MapEstimate::confirmed): a position incident command may act on.
+  bool confirmed = false;
 };
 
 }  // namespace sarloc::responder

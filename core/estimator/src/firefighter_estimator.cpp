@@ -1,0 +1,160 @@
+#include "sarloc/core/estimator/firefighter_estimator.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "sarloc/core/common/angle.hpp"
+#include "sarloc/core/common/errors.hpp"
+
+namespace sarloc::estimator {
+namespace {
+
+using responder::RejectReason;
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDegToRad = kPi / 180.0;
+// A step further than this past the last one is a clock jump, not a gap to spread over.
+constexpr TimestampNs kMaxGapNs = 120'000'000'000;
+
+firefighter::MapFilterConfig filter_with_entry_prior(const FirefighterEstimatorConfig& config) {
+  firefighter::MapFilterConfig f = config.filter;
+  f.known_position_sigma_m = config.entry_position_sigma_m;
+  f.known_heading_sigma_deg = config.entry_heading_sigma_deg;
+  return f;
+}
+
+std::uint64_t seed_of(const std::string& id, std::uint64_t seed) {
+  return seed ^ (std::hash<std::string>{}(id) * 0x9E3779B97F4A7C15ULL);
+}
+
+}  // namespace
+
+void FirefighterEstimatorConfig::validate() const {
+  const auto positive = [](double v, const char* key, double max) {
+    if (!std::isfinite(v) || v <= 0.0 || v > max) {
+      std::ostringstream os;
+      os << "firefighter." << key << " = " << v << ": must be in (0, " << max << "]";
+      throw ConfigError(os.str());
+    }
+  };
+  positive(entry_position_sigma_m, "entry_position_sigma_m", 20.0);
+  positive(entry_heading_sigma_deg, "entry_heading_sigma_deg", 180.0);
+  positive(max_speed_mps, "max_speed_mps", 10.0);
+  if (!origin.allFinite() || origin.norm() > 1e6) throw ConfigError("building.origin: must be finite, within 1000 km");
+  if (!std::isfinite(rotation_deg) || std::abs(rotation_deg) > 360.0) {
+    throw ConfigError("building.rotation_deg = " + std::to_string(rotation_deg) + ": must be in [-360, 360]");
+  }
+  filter.validate();
+  if (!building && !entry_of.empty()) throw ConfigError("firefighters: listed without a building");
+  if (building) {
+    for (const auto& [id, start] : entry_of) {
+      if (start.entry.empty()) continue;
+      bool found = false;
+      for (const auto& e : building->plan().entries) found = found || e.id == start.entry;
+      if (!found) throw ConfigError("firefighters[" + id + "].entry = '" + start.entry + "': not an entry of the building");
+    }
+  }
+}
+
+FirefighterEstimator::FirefighterEstimator(std::string responder_id, const FirefighterEstimatorConfig& config)
+    : id_(std::move(responder_id)),
+      config_(config),
+      localizer_((config.building ? void() : throw ConfigError("firefighter '" + id_ + "': the mission has no building"),
+                  config.building),
+                 filter_with_entry_prior(config), seed_of(id_, config.seed)) {
+  const auto it = config_.entry_of.find(id_);
+  if (it != config_.entry_of.end() && !it->second.entry.empty()) {
+    const auto& plan = config_.building->plan();
+    for (const auto& e : plan.entries) {
+      if (e.id != it->second.entry) continue;
+      entry_ = e.id;
+      // The crew stands at the entry facing in; the INS frame's x axis is the boot's heading then.
+      // The crew aligns the boot INS standing just inside the door, turned to the wall it
+      // searches along: right of walking in for a right-hand search (search_walk.hpp).
+      const double turn = it->second.hand == firefighter::Hand::kRight ? -0.5 * kPi : 0.5 * kPi;
+      localizer_.start_at(e.position, plan.floor_index(e.floor), wrap_angle(e.heading_rad + turn));
+    }
+    if (entry_.empty()) {
+      throw ConfigError("firefighters[" + id_ + "].entry = '" + it->second.entry + "': not an entry of the building");
+    }
+  } else {
+    localizer_.start_unknown();
+  }
+}
+
+Outcome FirefighterEstimator::add_odometry(const responder::Odometry& o) {
+  if (o.rescuer_id != id_) {
+    return responder::reject(RejectReason::kWrongRescuer, id_, "odometry of '" + o.rescuer_id + "'");
+  }
+  if (last_sequence_ && o.sequence == *last_sequence_) {
+    return responder::reject(RejectReason::kDuplicateSequence, id_, "odometry sequence " + std::to_string(o.sequence) + " again");
+  }
+  if (last_sequence_ && o.sequence < *last_sequence_) {
+    return responder::reject(RejectReason::kSequenceBackwards, id_,
+                             "odometry sequence " + std::to_string(o.sequence) + " after " + std::to_string(*last_sequence_));
+  }
+  if (o.interval_end <= o.interval_start || o.interval_start < last_end_ ||
+      (last_end_ > 0 && o.interval_end - last_end_ > kMaxGapNs)) {
+    return responder::reject(RejectReason::kStampBackwards, id_,
+                             "odometry interval [" + std::to_string(o.interval_start) + ", " +
+                                 std::to_string(o.interval_end) + "] after " + std::to_string(last_end_));
+  }
+  if (!o.translation.allFinite() || !o.rotation_rpy.allFinite() || !o.covariance.allFinite()) {
+    return responder::reject(RejectReason::kInvalidValue, id_, "odometry translation/rotation/covariance: not finite");
+  }
+  const double dt = 1e-9 * static_cast<double>(o.interval_end - o.interval_start);
+  const double reach = config_.max_speed_mps * dt + 0.5;
+  if (o.translation.norm() > reach || std::abs(o.rotation_rpy.z()) > 3.2) {
+    std::ostringstream os;
+    os << "odometry translation " << o.translation.norm() << " m in " << dt << " s (at most " << reach
+       << " m) or yaw change " << o.rotation_rpy.z() << " rad";
+    return responder::reject(RejectReason::kAbsurdMotion, id_, os.str());
+  }
+  if (last_end_ > 0 && o.interval_start > last_end_) {
+    // Steps lost on the way: the firefighter walked somewhere meanwhile.
+    const double gap_s = 1e-9 * static_cast<double>(o.interval_start - last_end_);
+    localizer_.lost_motion(0.5 * config_.max_speed_mps * gap_s);
+  }
+  const firefighter::Vec2 horizontal = firefighter::rotate(o.translation.head<2>(), yaw_);
+  const firefighter::MapEstimate e = localizer_.step(Eigen::Vector3d(horizontal.x(), horizontal.y(), o.translation.z()));
+  yaw_ = wrap_angle(yaw_ + o.rotation_rpy.z());
+  last_sequence_ = o.sequence;
+  last_end_ = o.interval_end;
+  EstimatorOutput out;
+  out.position = position_at(o.interval_end, e);
+  return out;
+}
+
+bool FirefighterEstimator::add_unknown_motion(TimestampNs from, TimestampNs until) {
+  if (until <= from || until <= last_end_) return false;
+  localizer_.lost_motion(0.5 * config_.max_speed_mps * 1e-9 * static_cast<double>(until - std::max(from, last_end_)));
+  last_end_ = until;
+  return true;
+}
+
+Outcome FirefighterEstimator::process(const SensorSample&) {
+  return responder::reject(RejectReason::kWrongRole, id_, "a firefighter takes odometry only");
+}
+
+responder::ResponderPosition FirefighterEstimator::position_at(TimestampNs stamp, const firefighter::MapEstimate& e) const {
+  const double rot = config_.rotation_deg * kDegToRad;
+  const Eigen::Rotation2Dd R(rot);
+  responder::ResponderPosition p;
+  p.responder_id = id_;
+  p.stamp = stamp;
+  const auto& plan = config_.building->plan();
+  const firefighter::Vec2 xy = config_.origin + R * e.position;
+  p.position.position = Vec3(xy.x(), xy.y(), plan.floors[e.floor].elevation_m);
+  p.position.covariance.setZero();
+  p.position.covariance.topLeftCorner<2, 2>() = R.toRotationMatrix() * e.covariance * R.toRotationMatrix().transpose();
+  p.position.covariance(2, 2) = 0.25;  // the floor's height: a boot within half a metre of it
+  p.heading_rad = wrap_angle(rot + e.frame_heading + yaw_);
+  p.floor = static_cast<std::int32_t>(e.floor);
+  p.source = responder::PositionSource::kMapAided;
+  p.converged = e.converged;
+  p.map_error_suspected = e.map_error_suspected;
+  p.confirmed = e.confirmed;
+  return p;
+}
+
+}  // namespace sarloc::estimator

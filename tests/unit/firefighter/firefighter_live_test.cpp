@@ -1,0 +1,298 @@
+// The firefighter pipeline as the live system runs it, without DDS: the device's INS turns the
+// boot's IMU into 2 Hz odometry (FirefighterDevice), the daemon's estimator chains it into the
+// map-aided filter (FirefighterEstimator) and answers with incident-frame positions; the
+// device raises and clears its alarms and dead reckons from the last fix.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/estimator/firefighter_device.hpp"
+#include "sarloc/core/estimator/make_estimator.hpp"
+#include "sarloc/core/firefighter/foot_trajectory.hpp"
+#include "sarloc/core/firefighter/imu_error_model.hpp"
+#include "sarloc/core/firefighter/search_walk.hpp"
+#include "test_buildings.hpp"
+
+namespace sarloc::estimator {
+namespace {
+
+using firefighter::FootTrajectory;
+using firefighter::Footfall;
+
+constexpr TimestampNs kOrigin = 1'700'000'000'000'000'000;
+constexpr double kPi = 3.14159265358979323846;
+
+double seconds(TimestampNs stamp) { return 1e-9 * static_cast<double>(stamp - kOrigin); }
+
+EstimatorConfigs configs_for(const std::string& building, const std::string& responder, const std::string& entry,
+                             firefighter::Vec2 origin = firefighter::Vec2::Zero(), double rotation_deg = 0.0) {
+  EstimatorConfigs c;
+  c.firefighter.building =
+      std::make_shared<const firefighter::BuildingModel>(firefighter::test::building(building), firefighter::BuildingModelConfig{});
+  c.firefighter.origin = origin;
+  c.firefighter.rotation_deg = rotation_deg;
+  if (!entry.empty()) c.firefighter.entry_of[responder] = {entry, firefighter::Hand::kRight};
+  c.validate();
+  return c;
+}
+
+// Straight strides along +x with a stop of `stop_s` after `before` strides.
+std::vector<Footfall> walk_with_stop(int before, double stop_s, int after) {
+  std::vector<Footfall> feet;
+  Footfall start;
+  start.stance_s = 8.0;
+  feet.push_back(start);
+  double t = 8.0, x = 0.0;
+  for (int k = 0; k < before + after; ++k) {
+    x += 0.8;
+    Footfall f;
+    f.t_land = t + 0.7;
+    f.stance_s = k == before - 1 ? stop_s : 0.9;
+    f.position = Eigen::Vector3d(x, 0.0, 0.0);
+    feet.push_back(f);
+    t = f.t_land + f.stance_s;
+  }
+  return feet;
+}
+
+struct LiveRun {
+  std::vector<double> error_m;       // per answer, after the first minute
+  std::size_t answers = 0, outside99 = 0, converged = 0;
+  std::size_t confirmed = 0, confirmed_outside99 = 0;
+};
+
+// One right-hand search of `building` from its first entry, IMU to estimator.
+LiveRun run_search(const std::string& building, const std::string& entry, std::uint64_t seed,
+                   firefighter::Vec2 origin = firefighter::Vec2::Zero(), double rotation_deg = 0.0) {
+  const EstimatorConfigs configs = configs_for(building, "ff1", entry, origin, rotation_deg);
+  const auto& plan = configs.firefighter.building->plan();
+  std::mt19937_64 rng(seed);
+  firefighter::SearchWalkConfig walk;
+  walk.duration_s = 150.0;
+  const auto search = firefighter::generate_search_walk(plan, walk, firefighter::Hand::kRight, rng);
+  const FootTrajectory foot(search.leader);
+  firefighter::ImuErrors errors(firefighter::ImuErrorConfig{}, rng);
+  FirefighterDeviceConfig device_config;
+  device_config.ins.initial_yaw_rad = 0.0;
+  FirefighterDevice device("ff1", "alpha", device_config, kOrigin);
+  auto estimator = make_estimator(ResponderRole::kFirefighter, "ff1", configs);
+  const Eigen::Rotation2Dd R(rotation_deg * kPi / 180.0);
+  LiveRun run;
+  for (const auto& ideal : foot.imu_samples(100.0)) {
+    device.push(errors.apply(ideal, rng));
+    const auto odometry = device.take_odometry();
+    if (!odometry) continue;
+    auto outcome = estimator->add_odometry(*odometry);
+    const auto* out = std::get_if<EstimatorOutput>(&outcome);
+    EXPECT_NE(out, nullptr);
+    if (out == nullptr || !out->position) continue;
+    ++run.answers;
+    const auto& p = *out->position;
+    EXPECT_EQ(p.source, responder::PositionSource::kMapAided);
+    const double t = seconds(p.stamp);
+    const firefighter::Vec2 truth = origin + R * foot.at(t).position.head<2>();
+    const Eigen::Vector2d err = p.position.position.head<2>() - truth;
+    const Eigen::Matrix2d P = p.position.covariance.topLeftCorner<2, 2>() + 1e-9 * Eigen::Matrix2d::Identity();
+    const bool outside = err.dot(P.ldlt().solve(err)) > 9.21;  // chi2_2(0.99)
+    if (t > 60.0) run.error_m.push_back(err.norm());
+    if (p.converged) {
+      ++run.converged;
+      run.outside99 += outside ? 1 : 0;
+    }
+    if (p.confirmed) {
+      ++run.confirmed;
+      run.confirmed_outside99 += outside ? 1 : 0;
+    }
+  }
+  return run;
+}
+
+double rms(const std::vector<double>& v) {
+  double s = 0.0;
+  for (double x : v) s += x * x;
+  return v.empty() ? 0.0 : std::sqrt(s / static_cast<double>(v.size()));
+}
+
+TEST(FirefighterLive, FromTheReportedEntryTheDaemonTracksTheSearchInTheIncidentFrame) {
+  // The building turned by 30 deg and moved: the answers must be in the incident frame.
+  for (std::uint64_t seed : {1, 2, 3}) {
+    const LiveRun run = run_search("house-125", "front", seed, {100.0, -40.0}, 30.0);
+    ASSERT_GT(run.answers, 250U) << "2 Hz over 155 s";
+    EXPECT_LT(rms(run.error_m), 1.0) << "seed " << seed;
+    EXPECT_GT(run.confirmed, run.answers / 2) << "seed " << seed << ": a known entry's track is confirmed";
+    EXPECT_LE(run.confirmed_outside99, run.confirmed / 50 + 1) << "seed " << seed;
+  }
+}
+
+TEST(FirefighterLive, UnknownStartClaimsNothingItCannotBackUp) {
+  const LiveRun run = run_search("house-125", "", 4);
+  ASSERT_GT(run.answers, 250U);
+  EXPECT_LE(run.confirmed_outside99, run.confirmed / 50 + 1);
+}
+
+TEST(FirefighterLive, EstimatorRefusesBadOdometryAndSensorSamplesLeavingItUntouched) {
+  const EstimatorConfigs configs = configs_for("house-125", "ff1", "front");
+  auto est = make_estimator(ResponderRole::kFirefighter, "ff1", configs);
+  responder::Odometry o;
+  o.rescuer_id = "ff1";
+  o.sequence = 1;
+  o.interval_start = kOrigin;
+  o.interval_end = kOrigin + 500'000'000;
+  o.translation = Vec3(0.3, 0.0, 0.0);
+  o.source = responder::OdometrySource::kFootMountedIns;
+  ASSERT_TRUE(std::holds_alternative<EstimatorOutput>(est->add_odometry(o)));
+  const auto refused = [&](responder::Odometry bad, responder::RejectReason reason) {
+    auto outcome = est->add_odometry(bad);
+    const auto* r = std::get_if<responder::Rejection>(&outcome);
+    ASSERT_NE(r, nullptr);
+    EXPECT_EQ(r->reason, reason) << r->detail;
+    EXPECT_NE(r->detail.find("ff1"), std::string::npos) << r->detail;
+  };
+  refused(o, responder::RejectReason::kDuplicateSequence);
+  responder::Odometry next = o;
+  next.sequence = 2;
+  next.interval_start = o.interval_end;
+  next.interval_end = o.interval_end + 500'000'000;
+  auto nan = next;
+  nan.translation.x() = std::nan("");
+  refused(nan, responder::RejectReason::kInvalidValue);
+  auto far = next;
+  far.translation = Vec3(50.0, 0.0, 0.0);
+  refused(far, responder::RejectReason::kAbsurdMotion);
+  auto backwards = next;
+  backwards.interval_start = o.interval_start;
+  refused(backwards, responder::RejectReason::kStampBackwards);
+  auto other = next;
+  other.rescuer_id = "ff2";
+  refused(other, responder::RejectReason::kWrongRescuer);
+  const auto before = dynamic_cast<const FirefighterEstimator&>(*est).localizer().estimate().position;
+  const auto good = est->add_odometry(next);
+  const auto* answer = std::get_if<EstimatorOutput>(&good);
+  ASSERT_NE(answer, nullptr) << "the good step after the bad ones";
+  EXPECT_LT((answer->position->position.position.head<2>() - before).norm(), 1.0);
+  avalanche::FieldMeasurement field;
+  field.rescuer_id = "ff1";
+  const auto wrong = est->process(SensorSample{field});
+  ASSERT_TRUE(std::holds_alternative<responder::Rejection>(wrong));
+  EXPECT_EQ(std::get<responder::Rejection>(wrong).reason, responder::RejectReason::kWrongRole);
+}
+
+TEST(FirefighterLive, ConfigNamesAnUnknownEntryAndAMissingBuilding) {
+  EstimatorConfigs c = configs_for("house-125", "ff1", "front");
+  c.firefighter.entry_of["ff1"].entry = "back";
+  try {
+    c.validate();
+    FAIL() << "an entry the building does not have";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("firefighters[ff1].entry = 'back'"), std::string::npos) << e.what();
+  }
+  EstimatorConfigs none;
+  EXPECT_THROW(make_estimator(ResponderRole::kFirefighter, "ff1", none), ConfigError);
+}
+
+TEST(FirefighterLive, MotionlessAlarmFiresAfterItsTimeAndClearsWhenTheFirefighterMovesAgain) {
+  std::mt19937_64 rng(5);
+  const FootTrajectory foot(walk_with_stop(10, 45.0, 10));
+  firefighter::ImuErrors errors(firefighter::ImuErrorConfig{}, rng);
+  FirefighterDeviceConfig config;
+  config.ins.motionless_after_s = 30.0;
+  FirefighterDevice device("ff1", "alpha", config, kOrigin);
+  // The stop: the 10th footfall lands and stays 45 s.
+  const double stop_start = foot.footfalls()[10].t_land;
+  const double stop_end = stop_start + 45.0;
+  std::vector<responder::ResponderAlarm> changes;
+  for (const auto& ideal : foot.imu_samples(100.0)) {
+    device.push(errors.apply(ideal, rng));
+    (void)device.take_odometry();
+    for (auto& a : device.alarm_changes()) changes.push_back(a);
+  }
+  ASSERT_EQ(changes.size(), 2U) << "raised once, cleared once";
+  EXPECT_EQ(changes[0].kind, responder::AlarmKind::kMotionless);
+  EXPECT_TRUE(changes[0].active);
+  const double raised = seconds(changes[0].raised_at);
+  EXPECT_GE(raised, stop_start + 30.0 - 0.5);
+  EXPECT_LE(raised, stop_start + 30.0 + 1.0) << "within its timeout plus one second";
+  EXPECT_FALSE(changes[1].active);
+  EXPECT_NEAR(seconds(changes[1].cleared_at), stop_end, 1.0) << "cleared by moving again";
+  EXPECT_EQ(changes[1].raised_at, changes[0].raised_at);
+}
+
+TEST(FirefighterLive, ResetClearsAndReArmsTheMotionlessAlarmAndOnlyResetClearsAMayday) {
+  std::mt19937_64 rng(6);
+  const FootTrajectory foot(walk_with_stop(4, 80.0, 6));
+  firefighter::ImuErrors errors(firefighter::ImuErrorConfig{}, rng);
+  FirefighterDevice device("ff1", "alpha", FirefighterDeviceConfig{}, kOrigin);
+  const double stop_start = foot.footfalls()[4].t_land;
+  std::vector<responder::ResponderAlarm> changes;
+  bool reset_done = false, mayday_pressed = false;
+  for (const auto& ideal : foot.imu_samples(100.0)) {
+    device.push(errors.apply(ideal, rng));
+    if (!mayday_pressed && ideal.t > 9.0) {
+      device.press_mayday();
+      mayday_pressed = true;
+    }
+    if (!reset_done && ideal.t > stop_start + 35.0) {
+      device.reset(responder::AlarmKind::kMotionless);
+      reset_done = true;
+    }
+    for (auto& a : device.alarm_changes()) changes.push_back(a);
+  }
+  // mayday raised; motionless raised (~30 s), reset (35 s), raised again 30 s after the reset
+  // (65 s), cleared by walking (80 s). The mayday is still active at the end: walking does not
+  // clear it.
+  std::vector<std::pair<responder::AlarmKind, bool>> seen;
+  for (const auto& a : changes) seen.emplace_back(a.kind, a.active);
+  const std::vector<std::pair<responder::AlarmKind, bool>> expected{
+      {responder::AlarmKind::kMayday, true},      {responder::AlarmKind::kMotionless, true},
+      {responder::AlarmKind::kMotionless, false}, {responder::AlarmKind::kMotionless, true},
+      {responder::AlarmKind::kMotionless, false}};
+  EXPECT_EQ(seen, expected);
+  ASSERT_EQ(changes.size(), 5U);
+  EXPECT_NEAR(seconds(changes[3].raised_at), stop_start + 65.0, 1.0);
+  ASSERT_EQ(device.active_alarms().size(), 1U);
+  EXPECT_EQ(device.active_alarms()[0].kind, responder::AlarmKind::kMayday);
+  device.reset(responder::AlarmKind::kMayday);
+  EXPECT_TRUE(device.active_alarms().empty());
+}
+
+TEST(FirefighterLive, DeadReckoningFromTheLastFixFollowsTheWalkWithinItsGrownUncertainty) {
+  std::mt19937_64 rng(7);
+  const FootTrajectory foot(walk_with_stop(5, 1.0, 40));  // 36 m along +x
+  firefighter::ImuErrors errors(firefighter::ImuErrorConfig{}, rng);
+  FirefighterDevice device("ff1", "alpha", FirefighterDeviceConfig{}, kOrigin);
+  // The INS frame's x is the boot's heading at power-up (+x); in the incident frame the walk
+  // heads north-east from (10, 20).
+  const double heading = 0.25 * kPi;
+  const Eigen::Rotation2Dd R(heading);
+  bool fixed = false;
+  EXPECT_FALSE(device.dead_reckoning()) << "no fix yet";
+  for (const auto& ideal : foot.imu_samples(100.0)) {
+    device.push(errors.apply(ideal, rng));
+    const auto o = device.take_odometry();
+    if (!o || fixed || seconds(o->interval_end) < 15.0) continue;
+    responder::ResponderPosition fix;
+    fix.responder_id = "ff1";
+    fix.stamp = o->interval_end;
+    const Eigen::Vector2d at = Eigen::Vector2d(10.0, 20.0) + R * foot.at(seconds(o->interval_end)).position.head<2>();
+    fix.position.position = Vec3(at.x(), at.y(), 0.0);
+    fix.position.covariance = 0.04 * Mat3::Identity();
+    fix.heading_rad = heading + device.ins().yaw();
+    fix.source = responder::PositionSource::kMapAided;
+    device.on_fix(fix);
+    fixed = true;
+  }
+  const auto p = device.dead_reckoning();
+  ASSERT_TRUE(p);
+  EXPECT_EQ(p->source, responder::PositionSource::kDeadReckoning);
+  const double t = seconds(p->stamp);
+  const Eigen::Vector2d truth = Eigen::Vector2d(10.0, 20.0) + R * foot.at(t).position.head<2>();
+  const Eigen::Vector2d err = p->position.position.head<2>() - truth;
+  EXPECT_LT(err.norm(), 3.0 * std::sqrt(p->position.covariance(0, 0))) << "error " << err.norm();
+  EXPECT_GT(p->position.covariance(0, 0), 0.04 + 0.1) << "grown with the ~30 m walked";
+  EXPECT_GT(device.distance_walked_m(), 30.0);
+}
+
+}  // namespace
+}  // namespace sarloc::estimator
