@@ -45,13 +45,15 @@ void FirefighterEstimatorConfig::validate() const {
     throw ConfigError("building.rotation_deg = " + std::to_string(rotation_deg) + ": must be in [-360, 360]");
   }
   filter.validate();
-  if (!building && !entry_of.empty()) throw ConfigError("firefighters: listed without a building");
+  if (!building && !entry_of.empty()) {
+    throw ConfigError("rescuers[" + entry_of.begin()->first + "].entry: the mission has no building: section");
+  }
   if (building) {
     for (const auto& [id, start] : entry_of) {
       if (start.entry.empty()) continue;
       bool found = false;
       for (const auto& e : building->plan().entries) found = found || e.id == start.entry;
-      if (!found) throw ConfigError("firefighters[" + id + "].entry = '" + start.entry + "': not an entry of the building");
+      if (!found) throw ConfigError("rescuers[" + id + "].entry = '" + start.entry + "': not an entry of the building");
     }
   }
 }
@@ -75,7 +77,7 @@ FirefighterEstimator::FirefighterEstimator(std::string responder_id, const Firef
       localizer_.start_at(e.position, plan.floor_index(e.floor), wrap_angle(e.heading_rad + turn));
     }
     if (entry_.empty()) {
-      throw ConfigError("firefighters[" + id_ + "].entry = '" + it->second.entry + "': not an entry of the building");
+      throw ConfigError("rescuers[" + id_ + "].entry = '" + it->second.entry + "': not an entry of the building");
     }
   } else {
     localizer_.start_unknown();

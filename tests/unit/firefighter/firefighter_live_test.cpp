@@ -186,7 +186,7 @@ TEST(FirefighterLive, ConfigNamesAnUnknownEntryAndAMissingBuilding) {
     c.validate();
     FAIL() << "an entry the building does not have";
   } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("firefighters[ff1].entry = 'back'"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("rescuers[ff1].entry = 'back'"), std::string::npos) << e.what();
   }
   EstimatorConfigs none;
   EXPECT_THROW(make_estimator(ResponderRole::kFirefighter, "ff1", none), ConfigError);

@@ -10,7 +10,7 @@
 // rotation_rpy.z (roll and pitch 0). Chained here into the estimator's own navigation frame,
 // whose map heading the particles carry.
 //
-// Start: from the entry and search hand the team reports (the mission's `firefighters[].entry`
+// Start: from the entry and search hand the team reports (the mission's `rescuers[].entry`
 // and `.hand`), around the entry's position with `entry_position_sigma_m`, and around the
 // heading the crew stands in while the boot INS aligns (turned from walking in to the wall it
 // will follow: right for a right-hand search) with `entry_heading_sigma_deg`. The INS frame's

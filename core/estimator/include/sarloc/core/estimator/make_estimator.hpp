@@ -11,7 +11,7 @@ namespace sarloc::estimator {
 
 struct EstimatorConfigs {
   avalanche::RescuerSearchConfig avalanche_rescuer;  ///< mission file: sog:, search:, rescuer_search:
-  FirefighterEstimatorConfig firefighter;            ///< mission file: building:, firefighter:, firefighters[].entry
+  FirefighterEstimatorConfig firefighter;            ///< mission file: building:, firefighter:, rescuers[].entry, .hand
 
   /// Throws ConfigError naming the key.
   void validate() const {
