@@ -68,6 +68,7 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
       team_writer_(participant_),
       summary_writer_(participant_),
       frame_writer_(participant_),
+      alarm_writer_(participant_),
       status_writer_(participant_) {
   // Published while active (established: when this instance first takes over, unless it
   // adopts the frame of the instance before it).
@@ -120,7 +121,11 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
           auto& owners = writer_owner_;
           const bool known = std::any_of(owners.begin(), owners.end(),
                                          [&](const auto& o) { return o.first == info.publication_handle; });
-          if (!known) owners.emplace_back(info.publication_handle, position.responder_id);
+          // A device's own writer stands for its link; the core daemon's map-aided positions
+          // come from one writer for many responders, whose liveliness says nothing of them.
+          if (!known && position.source != responder::PositionSource::kMapAided) {
+            owners.emplace_back(info.publication_handle, position.responder_id);
+          }
           tracker_.on_position(position, clock_.now());
           // GNSS heights become the antenna's above the snow; indoor positions keep theirs.
           fixes_[position.responder_id].add(
@@ -200,6 +205,60 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
         adopted_frame_ = f;
       });
 
+  responder_alarm_reader_ = std::make_unique<Reader<::sarloc::ResponderAlarm>>(
+      participant_, [this](const ::sarloc::ResponderAlarm& a, const auto&) {
+        try {
+          const auto alarm = to_core(a);
+          std::lock_guard<std::mutex> lock(mutex_);
+          alarm_board_.on_device_alarm(alarm, clock_.now());
+          if (alarm.active) {
+            spdlog::warn("{}: {} alarm from '{}' (team '{}')", config_.node_id, responder::to_string(alarm.kind),
+                         alarm.responder_id, alarm.team_id);
+          } else {
+            spdlog::info("{}: {} alarm of '{}' cleared", config_.node_id, responder::to_string(alarm.kind),
+                         alarm.responder_id);
+          }
+        } catch (const InputError& error) {
+          counters_.rejected("invalid_value");
+          warnings_.warn(a.responder_id().to_string(), "invalid_value", std::string("responder alarm: ") + error.what());
+        }
+      });
+  acknowledgement_reader_ = std::make_unique<Reader<::sarloc::AlarmAcknowledgement>>(
+      participant_, [this](const ::sarloc::AlarmAcknowledgement& ack, const auto&) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (arbiter_.role() != incident::CommandRole::kActive) return;  // the active one's picture carries it
+        const auto result = alarm_board_.acknowledge(ack.alarm_id(), ack.operator_id().to_string(), clock_.now());
+        if (result == incident::AckResult::kUnknown) {
+          warnings_.warn(ack.operator_id().to_string(), "unknown_alarm",
+                         "acknowledgement of alarm " + std::to_string(ack.alarm_id()) + ": no such alarm");
+        } else if (result == incident::AckResult::kAcknowledged) {
+          spdlog::info("{}: alarm {} acknowledged by '{}'", config_.node_id, ack.alarm_id(), ack.operator_id().to_string());
+        }
+      });
+  ReaderEvents alarm_events;
+  alarm_events.on_instance_gone = [this](const auto& info) {
+    if (info.instance_state != eprosima::fastdds::dds::NOT_ALIVE_DISPOSED_INSTANCE_STATE) return;
+    if (participant_->is_own_writer(info.publication_handle)) return;
+    const auto id = alarm_id_of(info.instance_handle);
+    if (!id) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    adopted_alarms_.erase(*id);
+  };
+  picture_alarm_reader_ = std::make_unique<Reader<::sarloc::IncidentAlarm>>(
+      participant_,
+      [this](const ::sarloc::IncidentAlarm& a, const auto& info) {
+        if (participant_->is_own_writer(info.publication_handle)) return;
+        try {
+          auto alarm = to_core(a);
+          std::lock_guard<std::mutex> lock(mutex_);
+          adopted_alarms_[alarm.alarm_id] = std::move(alarm);
+        } catch (const InputError& error) {
+          counters_.rejected("invalid_value");
+          warnings_.warn("picture", "invalid_value", std::string("adopted alarm: ") + error.what());
+        }
+      },
+      EndpointOptions{}, alarm_events);
+
   thread_ = std::thread([this] {
     using Clock = std::chrono::steady_clock;
     auto asserted = Clock::now();
@@ -225,6 +284,9 @@ CommandNode::~CommandNode() {
   picture_victim_reader_.reset();
   picture_team_reader_.reset();
   picture_frame_reader_.reset();
+  picture_alarm_reader_.reset();
+  responder_alarm_reader_.reset();
+  acknowledgement_reader_.reset();
   stopping_.store(true);
   thread_.join();
   if (arbiter_.role() != incident::CommandRole::kActive) return;
@@ -232,7 +294,8 @@ CommandNode::~CommandNode() {
   // with Fast DDS 2.9: a reader takes no other writer's disposal of a deleted writer's instance.)
   const auto wait = std::chrono::milliseconds(500);
   if (!victim_writer_.wait_for_acknowledgments(wait) || !team_writer_.wait_for_acknowledgments(wait) ||
-      !summary_writer_.wait_for_acknowledgments(wait) || !frame_writer_.wait_for_acknowledgments(wait)) {
+      !summary_writer_.wait_for_acknowledgments(wait) || !frame_writer_.wait_for_acknowledgments(wait) ||
+      !alarm_writer_.wait_for_acknowledgments(wait)) {
     spdlog::warn("{}: stopping before every reader acknowledged the last picture", config_.node_id);
   }
 }
@@ -260,6 +323,8 @@ void CommandNode::cycle() {
   std::vector<std::uint32_t> removed;
   std::vector<std::uint32_t> retired;
   std::vector<incident::TeamStatus> teams;
+  std::vector<incident::IncidentAlarm> alarms;
+  std::vector<std::uint32_t> removed_alarms;
   const TimestampNs now = clock_.now();
   std::size_t responders = 0;
   std::size_t lost = 0;
@@ -322,6 +387,7 @@ void CommandNode::cycle() {
       if (frame_.established() == 0) frame_.established(now);
       adopted_victims_.clear();
       adopted_teams_.clear();
+      adopted_alarms_.clear();
       adopted_frame_.reset();
     }
     fusion_.step(now);
@@ -351,6 +417,21 @@ void CommandNode::cycle() {
     }
     teams = tracker_.evaluate(now);
     last_teams_ = teams;
+    // Link lost and map error are alarms until acknowledged (docs/topics.md, IncidentAlarm).
+    for (const auto& t : teams) {
+      for (const auto& m : t.members) {
+        std::optional<GaussianPosition> where;
+        if (m.has_position) where = m.last_position;
+        alarm_board_.set_condition(m.responder_id, t.team_id, responder::AlarmKind::kLinkLost,
+                                   m.link == incident::LinkState::kLost, now, where, m.floor);
+        alarm_board_.set_condition(m.responder_id, t.team_id, responder::AlarmKind::kMapError,
+                                   m.has_position && m.source == responder::PositionSource::kMapAided &&
+                                       m.map_error_suspected,
+                                   now, where, m.floor);
+      }
+    }
+    alarms = alarm_board_.alarms();
+    removed_alarms = alarm_board_.take_removed();
     responders = tracker_.responders_total();
     lost = tracker_.link_lost_count(now);
   }
@@ -391,6 +472,18 @@ void CommandNode::cycle() {
       spdlog::error("cannot publish team '{}': {}", t.team_id, e.what());
     }
   }
+  for (const auto id : removed_alarms) {
+    ::sarloc::IncidentAlarm key;
+    key.alarm_id(id);
+    if (!alarm_writer_.dispose(key)) spdlog::error("{}: cannot dispose of alarm {}", config_.node_id, id);
+  }
+  for (const auto& a : alarms) {
+    try {
+      alarm_writer_.write(to_idl(a));
+    } catch (const InputError& e) {
+      spdlog::error("cannot publish alarm {}: {}", a.alarm_id, e.what());
+    }
+  }
   ::sarloc::IncidentSummary summary;
   summary.incident_id(config_.incident_id);
   summary.stamp(now);
@@ -412,6 +505,7 @@ void CommandNode::apply(const incident::RoleChange& change, std::size_t adopted_
     team_writer_.set_ownership_strength(change.strength);
     summary_writer_.set_ownership_strength(change.strength);
     frame_writer_.set_ownership_strength(change.strength);
+    alarm_writer_.set_ownership_strength(change.strength);
   } catch (const DdsError& error) {  // publishes anyway: readers take it once no stronger one is alive
     spdlog::error("{}: {}", config_.node_id, error.what());
   }
@@ -466,6 +560,9 @@ void CommandNode::adopt_picture() {
   try {
     fusion_.adopt(victims, largest_id_seen_);
     tracker_.adopt(teams);
+    std::vector<incident::IncidentAlarm> alarms;
+    for (const auto& [id, a] : adopted_alarms_) alarms.push_back(a);
+    alarm_board_.adopt(alarms);
   } catch (const InputError& error) {  // checked on arrival: not expected
     spdlog::error("{}: cannot adopt the picture: {}", config_.node_id, error.what());
   }
@@ -477,6 +574,12 @@ void CommandNode::assert_picture_liveliness() {
   team_writer_.assert_liveliness();
   summary_writer_.assert_liveliness();
   frame_writer_.assert_liveliness();
+  alarm_writer_.assert_liveliness();
+}
+
+std::vector<incident::IncidentAlarm> CommandNode::alarms() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return alarm_board_.alarms();
 }
 
 incident::CommandRole CommandNode::role() const {

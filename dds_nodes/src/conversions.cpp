@@ -350,6 +350,11 @@ incident::FusedVictim to_core(const ::sarloc::FusedVictim& v) {
     s.last_seen(m.last_seen);
     s.link(static_cast<::sarloc::LinkState>(m.link));
     s.accountability(static_cast<::sarloc::AccountabilityState>(m.accountability));
+    s.floor(m.floor);
+    s.source(static_cast<::sarloc::PositionSource>(m.source));
+    s.flags((m.converged ? ::sarloc::RESPONDER_FLAG_CONVERGED : 0U) |
+            (m.map_error_suspected ? ::sarloc::RESPONDER_FLAG_MAP_ERROR_SUSPECTED : 0U) |
+            (m.confirmed ? ::sarloc::RESPONDER_FLAG_CONFIRMED : 0U));
     out.members().push_back(s);
   }
   return out;
@@ -367,24 +372,109 @@ incident::TeamStatus to_core(const ::sarloc::TeamStatus& t) {
     m.link = checked_enum<incident::LinkState>(s.link(), ::sarloc::LINK_LOST, "team_status.members.link");
     m.accountability = checked_enum<incident::AccountabilityState>(
         s.accountability(), ::sarloc::ACCOUNTABILITY_MISSING, "team_status.members.accountability");
+    m.floor = s.floor();
+    m.source = checked_enum<responder::PositionSource>(s.source(), ::sarloc::POSITION_MANUAL, "team_status.members.source");
+    m.converged = (s.flags() & ::sarloc::RESPONDER_FLAG_CONVERGED) != 0;
+    m.map_error_suspected = (s.flags() & ::sarloc::RESPONDER_FLAG_MAP_ERROR_SUSPECTED) != 0;
+    m.confirmed = (s.flags() & ::sarloc::RESPONDER_FLAG_CONFIRMED) != 0;
     out.members.push_back(m);
   }
   return out;
 }
 
-std::optional<std::uint32_t> victim_id_of(const eprosima::fastrtps::rtps::InstanceHandle_t& instance) {
-  // fastddsgen keys of at most 16 bytes are the big-endian CDR of the key: victim_id first.
+::sarloc::ResponderAlarm to_idl(const responder::ResponderAlarm& a) {
+  ::sarloc::ResponderAlarm out;
+  out.responder_id(to_identifier(a.responder_id, "responder_alarm.responder_id"));
+  out.kind(static_cast<::sarloc::AlarmKind>(a.kind));
+  out.team_id(to_identifier(a.team_id, "responder_alarm.team_id"));
+  out.raised_at(a.raised_at);
+  out.cleared_at(a.cleared_at);
+  out.active(a.active);
+  out.position_known(a.position_known);
+  out.last_position(to_idl(a.last_position));
+  out.floor(a.floor);
+  return out;
+}
+
+responder::ResponderAlarm to_core(const ::sarloc::ResponderAlarm& a) {
+  responder::ResponderAlarm out;
+  out.responder_id = a.responder_id().to_string();
+  out.kind = checked_enum<responder::AlarmKind>(a.kind(), ::sarloc::ALARM_MAP_ERROR, "responder_alarm.kind");
+  out.team_id = a.team_id().to_string();
+  out.raised_at = a.raised_at();
+  out.cleared_at = a.cleared_at();
+  out.active = a.active();
+  out.position_known = a.position_known();
+  out.last_position = to_core(a.last_position());
+  out.floor = a.floor();
+  return out;
+}
+
+::sarloc::IncidentAlarm to_idl(const incident::IncidentAlarm& a) {
+  ::sarloc::IncidentAlarm out;
+  out.alarm_id(a.alarm_id);
+  out.responder_id(to_identifier(a.alarm.responder_id, "incident_alarm.responder_id"));
+  out.team_id(to_identifier(a.alarm.team_id, "incident_alarm.team_id"));
+  out.kind(static_cast<::sarloc::AlarmKind>(a.alarm.kind));
+  out.raised_at(a.alarm.raised_at);
+  out.cleared_at(a.alarm.cleared_at);
+  out.active(a.alarm.active);
+  out.acknowledged(a.acknowledged);
+  out.acknowledged_by(to_identifier(a.acknowledged_by, "incident_alarm.acknowledged_by"));
+  out.acknowledged_at(a.acknowledged_at);
+  out.position_known(a.alarm.position_known);
+  out.last_position(to_idl(a.alarm.last_position));
+  out.floor(a.alarm.floor);
+  return out;
+}
+
+incident::IncidentAlarm to_core(const ::sarloc::IncidentAlarm& a) {
+  incident::IncidentAlarm out;
+  out.alarm_id = a.alarm_id();
+  out.alarm.responder_id = a.responder_id().to_string();
+  out.alarm.team_id = a.team_id().to_string();
+  out.alarm.kind = checked_enum<responder::AlarmKind>(a.kind(), ::sarloc::ALARM_MAP_ERROR, "incident_alarm.kind");
+  out.alarm.raised_at = a.raised_at();
+  out.alarm.cleared_at = a.cleared_at();
+  out.alarm.active = a.active();
+  out.acknowledged = a.acknowledged();
+  out.acknowledged_by = a.acknowledged_by().to_string();
+  out.acknowledged_at = a.acknowledged_at();
+  out.alarm.position_known = a.position_known();
+  out.alarm.last_position = to_core(a.last_position());
+  out.alarm.floor = a.floor();
+  return out;
+}
+
+namespace {
+
+// fastddsgen keys of at most 16 bytes are the big-endian CDR of the key: a 32-bit id first.
+// Checked by computing the handle of that id again.
+template <class Type, class PubSubType>
+std::optional<std::uint32_t> id_key_of(const eprosima::fastrtps::rtps::InstanceHandle_t& instance,
+                                       void (Type::*set_id)(std::uint32_t)) {
   std::uint32_t id = 0;
   for (std::size_t i = 0; i < 4; ++i) id = (id << 8) | instance.value[i];
-  ::sarloc::FusedVictim key;
-  key.victim_id(id);
-  ::sarloc::FusedVictimPubSubType type;
+  Type key;
+  (key.*set_id)(id);
+  PubSubType type;
   eprosima::fastrtps::rtps::InstanceHandle_t expected;
   if (!type.getKey(&key, &expected)) return std::nullopt;
   for (std::size_t i = 0; i < 16; ++i) {
     if (expected.value[i] != instance.value[i]) return std::nullopt;
   }
   return id;
+}
+
+}  // namespace
+
+std::optional<std::uint32_t> victim_id_of(const eprosima::fastrtps::rtps::InstanceHandle_t& instance) {
+  return id_key_of<::sarloc::FusedVictim, ::sarloc::FusedVictimPubSubType>(instance, &::sarloc::FusedVictim::victim_id);
+}
+
+std::optional<std::uint32_t> alarm_id_of(const eprosima::fastrtps::rtps::InstanceHandle_t& instance) {
+  return id_key_of<::sarloc::IncidentAlarm, ::sarloc::IncidentAlarmPubSubType>(instance,
+                                                                                &::sarloc::IncidentAlarm::alarm_id);
 }
 
 }  // namespace sarloc::dds

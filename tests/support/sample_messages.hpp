@@ -7,6 +7,7 @@
 #include "sarloc/core/responder/victim_estimate.hpp"
 #include "sarloc/core/incident/fused_victim.hpp"
 #include "sarloc/core/responder/responder_position.hpp"
+#include "sarloc/core/incident/alarm_board.hpp"
 #include "sarloc/core/incident/team_status.hpp"
 
 namespace sarloc::test {
@@ -128,9 +129,37 @@ inline incident::TeamStatus sample_team_status() {
     m.last_seen = 1763731299000000000LL - i;
     m.link = static_cast<incident::LinkState>(i);
     m.accountability = static_cast<incident::AccountabilityState>(2 - i);
+    m.floor = i;
+    m.source = static_cast<responder::PositionSource>(i);
+    m.confirmed = i == 1;
     t.members.push_back(m);
   }
   return t;
+}
+
+inline responder::ResponderAlarm sample_responder_alarm() {
+  responder::ResponderAlarm a;
+  a.responder_id = "ff-7";
+  a.team_id = "alpha";
+  a.kind = responder::AlarmKind::kMotionless;
+  a.raised_at = 1763731300000000000LL;
+  a.cleared_at = 1763731330000000000LL;
+  a.active = false;
+  a.position_known = true;
+  a.last_position = sample_position(3.0);
+  a.floor = 1;
+  return a;
+}
+
+inline incident::IncidentAlarm sample_incident_alarm() {
+  incident::IncidentAlarm a;
+  a.alarm_id = 42;
+  a.alarm = sample_responder_alarm();
+  a.alarm.kind = responder::AlarmKind::kMayday;
+  a.acknowledged = true;
+  a.acknowledged_by = "ic-chief";
+  a.acknowledged_at = 1763731340000000000LL;
+  return a;
 }
 
 }  // namespace sarloc::test

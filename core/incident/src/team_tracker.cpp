@@ -9,6 +9,9 @@
 namespace sarloc::incident {
 namespace {
 
+// A dead-reckoned position does not replace a map-aided one younger than this (device stamps).
+constexpr TimestampNs kMapAidedPreferredNs = 3'000'000'000;
+
 [[noreturn]] void config_fail(const char* key, double value, const char* rule) {
   std::ostringstream os;
   os << "team_tracker." << key << " = " << value << ": " << rule;
@@ -41,7 +44,12 @@ void TeamTracker::on_position(const ResponderPosition& position, TimestampNs now
   latest_now_ = std::max(latest_now_, now);
   Member& m = members_[position.responder_id];
   m.team_id = position.team_id;
-  if (!m.has_position || position.stamp >= m.last_position.stamp) {
+  // A firefighter's device dead reckons while the daemon is silent; while the daemon's
+  // map-aided positions still come, they are the better ones.
+  const bool map_aided_fresh = m.has_position && m.last_position.source == responder::PositionSource::kMapAided &&
+                               position.source == responder::PositionSource::kDeadReckoning &&
+                               position.stamp - m.last_position.stamp < kMapAidedPreferredNs;
+  if ((!m.has_position || position.stamp >= m.last_position.stamp) && !map_aided_fresh) {
     m.last_position = position;
     m.has_position = true;
   }
@@ -79,6 +87,11 @@ void TeamTracker::adopt(const std::vector<TeamStatus>& teams) {
         m.last_position.team_id = t.team_id;
         m.last_position.stamp = s.position_stamp;
         m.last_position.position = s.last_position;
+        m.last_position.floor = s.floor;
+        m.last_position.source = s.source;
+        m.last_position.converged = s.converged;
+        m.last_position.map_error_suspected = s.map_error_suspected;
+        m.last_position.confirmed = s.confirmed;
         m.has_position = true;
       }
       m.last_heard = std::max(m.last_heard, s.last_seen);
@@ -105,6 +118,11 @@ std::vector<TeamStatus> TeamTracker::evaluate(TimestampNs now) const {
     if (m.has_position) {
       s.last_position = m.last_position.position;
       s.position_stamp = m.last_position.stamp;
+      s.floor = m.last_position.floor;
+      s.source = m.last_position.source;
+      s.converged = m.last_position.converged;
+      s.map_error_suspected = m.last_position.map_error_suspected;
+      s.confirmed = m.last_position.confirmed;
     }
     s.has_position = m.has_position;
     s.last_seen = m.last_heard;

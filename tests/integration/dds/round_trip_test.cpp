@@ -113,5 +113,34 @@ TEST(DdsRoundTrip, NodeStatus) {
   expect_round_trip<::sarloc::NodeStatus>(kBase + 9, {s});
 }
 
+TEST(DdsRoundTrip, ResponderAlarm) {
+  auto a = to_idl(test::sample_responder_alarm());
+  auto b = a;
+  b.kind(::sarloc::ALARM_MAYDAY);  // another instance: the kind is part of the key
+  b.active(true);
+  b.cleared_at(0);
+  expect_round_trip<::sarloc::ResponderAlarm>(kBase + 10, {a, b});
+  EXPECT_EQ(to_core(a).kind, responder::AlarmKind::kMotionless);
+  EXPECT_EQ(to_core(a).cleared_at, test::sample_responder_alarm().cleared_at);
+}
+
+TEST(DdsRoundTrip, IncidentAlarm) {
+  const auto a = to_idl(test::sample_incident_alarm());
+  expect_round_trip<::sarloc::IncidentAlarm>(kBase + 11, {a});
+  const auto back = to_core(a);
+  EXPECT_EQ(back.alarm_id, 42U);
+  EXPECT_EQ(back.acknowledged_by, "ic-chief");
+  EXPECT_EQ(back.alarm.kind, responder::AlarmKind::kMayday);
+  EXPECT_EQ(back.alarm.floor, 1);
+}
+
+TEST(DdsRoundTrip, AlarmAcknowledgement) {
+  ::sarloc::AlarmAcknowledgement ack;
+  ack.alarm_id(42);
+  ack.operator_id("ic-chief");
+  ack.stamp(1763731340000000000LL);
+  expect_round_trip<::sarloc::AlarmAcknowledgement>(kBase + 12, {ack});
+}
+
 }  // namespace
 }  // namespace sarloc::dds

@@ -168,5 +168,30 @@ TEST(TeamTracker, AdoptFillsInWhatThisTrackerNeverHeard) {
   EXPECT_THROW(restarted.adopt({bad}), InputError);
 }
 
+TEST(TeamTracker, MapAidedPositionsOutrankTheDevicesDeadReckoningWhileTheyKeepComing) {
+  TeamTracker tracker;
+  auto map_aided = pos("ff1", "alpha", 10 * kSec, 5.0);
+  map_aided.source = responder::PositionSource::kMapAided;
+  map_aided.floor = 1;
+  map_aided.confirmed = true;
+  tracker.on_position(map_aided, 10 * kSec);
+  auto reckoned = pos("ff1", "alpha", 11 * kSec, 6.0);
+  reckoned.source = responder::PositionSource::kDeadReckoning;
+  tracker.on_position(reckoned, 11 * kSec);
+  auto m = member(tracker.evaluate(11 * kSec), "ff1");
+  EXPECT_DOUBLE_EQ(m.last_position.position.x(), 5.0) << "the daemon's fix 1 s old stays";
+  EXPECT_EQ(m.floor, 1);
+  EXPECT_EQ(m.source, responder::PositionSource::kMapAided);
+  EXPECT_TRUE(m.confirmed);
+  EXPECT_EQ(m.last_seen, 11 * kSec) << "the device was heard all the same";
+  reckoned.stamp = 14 * kSec;  // the daemon silent for 4 s: the device's own is the newest known
+  reckoned.position.position.x() = 7.0;
+  tracker.on_position(reckoned, 14 * kSec);
+  m = member(tracker.evaluate(14 * kSec), "ff1");
+  EXPECT_DOUBLE_EQ(m.last_position.position.x(), 7.0);
+  EXPECT_EQ(m.source, responder::PositionSource::kDeadReckoning);
+  EXPECT_FALSE(m.confirmed);
+}
+
 }  // namespace
 }  // namespace sarloc::incident

@@ -2,7 +2,10 @@
 // sarloc-command's DDS node: incident command's one picture.
 //
 // Inputs: every rescuer's VictimEstimate (all sectors), every responder's ResponderPosition
-// (with its writer's liveliness: a crashed device is "link lost" within the lease).
+// (with its writer's liveliness: a crashed device is "link lost" within the lease; only a
+// device's own writer stands for its link, not the core daemon's map-aided positions, whose
+// writer serves many responders), devices' ResponderAlarm, operators' AlarmAcknowledgement.
+// Alarms (incident::AlarmBoard) are published as IncidentAlarm until acknowledged and cleared.
 // Each cycle: estimates are moved into the incident frame with the rescuer's fix nearest in
 // time, associated and fused (incident::VictimFusion), teams evaluated (incident::TeamTracker),
 // and the picture published TRANSIENT_LOCAL (FusedVictim per victim, TeamStatus per team,
@@ -25,6 +28,7 @@
 
 #include <optional>
 
+#include "sarloc/core/incident/alarm_board.hpp"
 #include "sarloc/core/incident/responder_track.hpp"
 #include "sarloc/core/incident/standby_arbiter.hpp"
 #include "sarloc/core/incident/team_tracker.hpp"
@@ -83,6 +87,7 @@ class CommandNode {
   /// A copy of the current picture (thread-safe).
   std::vector<incident::FusedVictim> victims() const;
   std::vector<incident::TeamStatus> teams() const;
+  std::vector<incident::IncidentAlarm> alarms() const;
   /// Standby or active now (thread-safe).
   incident::CommandRole role() const;
 
@@ -116,6 +121,10 @@ class CommandNode {
   mutable std::mutex mutex_;
   incident::VictimFusion fusion_;
   incident::TeamTracker tracker_;
+  /// Alarms until acknowledged: devices' (motionless, mayday) and this node's (link lost and
+  /// map error, from the team tracker's members each cycle).
+  incident::AlarmBoard alarm_board_;
+  std::map<std::uint32_t, incident::IncidentAlarm> adopted_alarms_;  ///< the active one's, while standby
   struct PendingEstimate {
     responder::VictimEstimate estimate;
     std::string writer;  ///< the DDS writer's GUID: which estimator
@@ -147,6 +156,7 @@ class CommandNode {
   Writer<::sarloc::TeamStatus> team_writer_;
   Writer<::sarloc::IncidentSummary> summary_writer_;
   Writer<::sarloc::IncidentFrame> frame_writer_;
+  Writer<::sarloc::IncidentAlarm> alarm_writer_;
   Writer<::sarloc::NodeStatus> status_writer_;
   std::atomic<bool> stopping_{false};
   std::atomic<bool> wake_{false};  ///< run the next cycle now (the active instance was lost)
@@ -157,6 +167,9 @@ class CommandNode {
   std::unique_ptr<Reader<::sarloc::FusedVictim>> picture_victim_reader_;
   std::unique_ptr<Reader<::sarloc::TeamStatus>> picture_team_reader_;
   std::unique_ptr<Reader<::sarloc::IncidentFrame>> picture_frame_reader_;
+  std::unique_ptr<Reader<::sarloc::IncidentAlarm>> picture_alarm_reader_;
+  std::unique_ptr<Reader<::sarloc::ResponderAlarm>> responder_alarm_reader_;
+  std::unique_ptr<Reader<::sarloc::AlarmAcknowledgement>> acknowledgement_reader_;
 };
 
 }  // namespace sarloc::dds

@@ -11,11 +11,13 @@
 #include <optional>
 
 #include "sarloc/core/avalanche/field_measurement.hpp"
+#include "sarloc/core/responder/alarm.hpp"
 #include "sarloc/core/responder/guidance.hpp"
 #include "sarloc/core/responder/odometry.hpp"
 #include "sarloc/core/responder/victim_estimate.hpp"
 #include "sarloc/core/incident/fused_victim.hpp"
 #include "sarloc/core/responder/responder_position.hpp"
+#include "sarloc/core/incident/alarm_board.hpp"
 #include "sarloc/core/incident/team_status.hpp"
 #include "sarloc/idl/avalanche.h"
 #include "sarloc/idl/responder.h"
@@ -54,9 +56,15 @@ responder::ResponderPosition to_core(const ::sarloc::ResponderPosition& r);
 incident::FusedVictim to_core(const ::sarloc::FusedVictim& v);
 ::sarloc::TeamStatus to_idl(const incident::TeamStatus& t);
 incident::TeamStatus to_core(const ::sarloc::TeamStatus& t);
+::sarloc::ResponderAlarm to_idl(const responder::ResponderAlarm& a);
+responder::ResponderAlarm to_core(const ::sarloc::ResponderAlarm& a);
+::sarloc::IncidentAlarm to_idl(const incident::IncidentAlarm& a);
+incident::IncidentAlarm to_core(const ::sarloc::IncidentAlarm& a);
 /// The victim_id of a FusedVictim instance (a disposal carries only its instance handle):
 /// the key's serialised form, checked by computing the handle of that id again; nothing if
 /// the handle is not a FusedVictim's.
 std::optional<std::uint32_t> victim_id_of(const eprosima::fastrtps::rtps::InstanceHandle_t& instance);
+/// The alarm_id of an IncidentAlarm instance, the same way.
+std::optional<std::uint32_t> alarm_id_of(const eprosima::fastrtps::rtps::InstanceHandle_t& instance);
 
 }  // namespace sarloc::dds

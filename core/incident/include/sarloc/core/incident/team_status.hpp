@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "sarloc/core/common/types.hpp"
+#include "sarloc/core/responder/responder_position.hpp"
 
 namespace sarloc::incident {
 
@@ -18,6 +19,9 @@ struct MemberStatus {
   AccountabilityState accountability = AccountabilityState::kPending;
   TimestampNs position_stamp = 0;  ///< device stamp of last_position (0 while none)
   bool has_position = false;       ///< false: only liveliness heard so far, no position yet
+  std::int32_t floor = 0;          ///< of last_position (building floor, 0 = ground or outdoors)
+  responder::PositionSource source = responder::PositionSource::kGnss;  ///< of last_position
+  bool converged = false, map_error_suspected = false, confirmed = false;  ///< of last_position (map-aided)
 };
 
 struct TeamStatus {

@@ -48,7 +48,8 @@ class TeamTracker {
   explicit TeamTracker(TeamTrackerConfig config = {});
 
   /// A position report. Throws InputError for an empty responder_id. The stored position is
-  /// replaced only by a report with a stamp >= the stored one, but every report counts as heard.
+  /// replaced only by a report with a stamp >= the stored one, and a dead-reckoned one does not
+  /// replace a map-aided one less than 3 s older; every report counts as heard.
   void on_position(const ResponderPosition& position, TimestampNs now);
   /// DDS liveliness: alive = false marks the link lost at once; alive = true counts as heard.
   void on_link(const std::string& responder_id, bool alive, TimestampNs now);

@@ -1,0 +1,78 @@
+#pragma once
+// Incident command's alarms: what the commander must see and answer. Each alarm stays on the
+// board until an operator acknowledged it *and* its condition cleared, so an alarm that came
+// and went while nobody looked is still there to be seen.
+//
+// Sources:
+//   - a device's alarms (motionless, mayday; responder::ResponderAlarm), one alarm per raise,
+//     identified by (responder, kind, raised_at): the raise and its clear are one alarm, in
+//     whichever order and however often they arrive;
+//   - conditions incident command sees itself (link lost, map error), one alarm per episode:
+//     set_condition(true) opens one if none is open for (responder, kind), set_condition(false)
+//     clears the open one.
+// Acknowledging a cleared alarm removes it (its id is reported by take_removed so the picture
+// can dispose of it); acknowledging an active one marks it, and it goes when it clears.
+//
+// Hot standby: a standby instance adopts the active one's board as published (adopt), with its
+// ids and acknowledgements, and goes on from there when it takes over.
+//
+//   AlarmBoard board;
+//   board.on_device_alarm(alarm, now);
+//   board.set_condition("ff1", "alpha", AlarmKind::kLinkLost, true, now, last_position);
+//   board.acknowledge(id, "ic-1", now);
+//   publish(board.alarms()); dispose(board.take_removed());
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sarloc/core/responder/alarm.hpp"
+
+namespace sarloc::incident {
+
+struct IncidentAlarm {
+  std::uint32_t alarm_id = 0;
+  responder::ResponderAlarm alarm;  ///< responder, team, kind, raised/cleared, position
+  bool acknowledged = false;
+  std::string acknowledged_by;
+  TimestampNs acknowledged_at = 0;
+};
+
+enum class AckResult : std::uint8_t {
+  kAcknowledged,  ///< marked (and removed if it had cleared)
+  kAlready,       ///< acknowledged before: nothing changed
+  kUnknown,       ///< no such alarm (never raised, or removed already)
+};
+
+class AlarmBoard {
+ public:
+  /// A device's alarm raised or cleared. Throws InputError for an empty responder_id or a
+  /// clear before its raise (cleared_at < raised_at).
+  void on_device_alarm(const responder::ResponderAlarm& alarm, TimestampNs now);
+  /// A condition incident command watches (kLinkLost, kMapError): opens an alarm when it
+  /// becomes true, clears the open one when it becomes false. `position` (if known) is where
+  /// the responder was last known.
+  void set_condition(const std::string& responder_id, const std::string& team_id, responder::AlarmKind kind,
+                     bool active, TimestampNs now, const std::optional<GaussianPosition>& position = std::nullopt,
+                     std::int32_t floor = 0);
+  AckResult acknowledge(std::uint32_t alarm_id, const std::string& operator_id, TimestampNs now);
+
+  /// Every alarm on the board, by id.
+  std::vector<IncidentAlarm> alarms() const;
+  /// Ids removed since the previous call (acknowledged and cleared).
+  std::vector<std::uint32_t> take_removed();
+  /// Replaces the board by the active instance's (hot standby).
+  void adopt(const std::vector<IncidentAlarm>& alarms);
+  std::size_t active_count() const;
+
+ private:
+  IncidentAlarm& open(const responder::ResponderAlarm& alarm);
+  void remove_if_done(std::uint32_t alarm_id);
+
+  std::map<std::uint32_t, IncidentAlarm> alarms_;
+  std::uint32_t next_id_ = 1;
+  std::vector<std::uint32_t> removed_;
+};
+
+}  // namespace sarloc::incident
