@@ -87,6 +87,7 @@ void check_placement(const app::MissionConfig& mission, const std::map<std::stri
   const unsigned instances = mission.command_instances();
   for (unsigned k = 1; k <= instances; ++k) names.insert(instances == 1 ? "command" : "command-" + std::to_string(k));
   for (const auto& r : mission.scenario.rescuers) names.insert("rescuer-" + r.id);
+  for (const auto& f : mission.firefighters) names.insert("rescuer-" + f.id);
   for (const auto& [name, host] : hosts) {
     if (names.count(name) == 0) throw ConfigError("--host " + name + "=" + host + ": no process '" + name + "' in this mission");
     if (host.empty()) throw ConfigError("--host " + name + "=: empty host");
@@ -107,6 +108,7 @@ struct Picture {
   std::string owner;
   std::chrono::steady_clock::time_point owner_since{}, owner_heard{};
   std::map<std::string, std::string> node_of_participant, participant_of_node;
+  std::map<std::uint32_t, incident::IncidentAlarm> alarms;  ///< every alarm the picture held
 
   /// The fused victims now (copied, so matching runs without the lock).
   std::vector<incident::FusedVictim> victims_now() {
@@ -163,6 +165,34 @@ void print_summary(const mission::MissionSummary& s, const std::string& run_dir)
     std::printf("%-10s %18.1f %10d %18d %10.1f / %-10.1f\n", id.c_str(), d.distance_walked_m, d.fallbacks,
                 d.guidance_switches, d.latency_p50_ms.value_or(-1.0), d.latency_p99_ms.value_or(-1.0));
   }
+  if (!s.firefighters.empty() || !s.firefighters_without_summary.empty()) {
+    std::printf("\n%-11s %-6s %8s %7s %10s %12s %9s %11s %6s  %s\n", "firefighter", "team", "walked m", "floors",
+                "converge s", "RMSE after m", "map err %", "confirmed %", "DR s", "alarms (delay from the true event)");
+    for (const auto& f : s.firefighters) {
+      std::string alarms;
+      for (const auto& a : f.alarms) {
+        char buf[128];
+        std::snprintf(buf, sizeof(buf), "%s%s at %.1f s%s", alarms.empty() ? "" : "; ", a.kind.c_str(), a.raised_s,
+                      a.delay_s ? (" (+" + optional_text(a.delay_s, "%.2f") + " s)").c_str() : "");
+        alarms += buf;
+        if (a.cleared_s) alarms += ", cleared at " + optional_text(a.cleared_s, "%.1f") + " s";
+      }
+      std::string floors;
+      for (const auto floor : f.floors_visited) floors += (floors.empty() ? "" : ",") + std::to_string(floor);
+      std::printf("%-11s %-6s %8.1f %7s %10s %12s %9.1f %11.1f %6.1f  %s\n", f.responder_id.c_str(), f.team.c_str(),
+                  f.distance_walked_m, floors.c_str(), optional_text(f.time_to_converge_s, "%.1f").c_str(),
+                  optional_text(f.rmse_after_convergence_m, "%.2f").c_str(), 100.0 * f.map_error_share,
+                  100.0 * f.confirmed_share, f.dead_reckoning_s, alarms.empty() ? "-" : alarms.c_str());
+    }
+    for (const auto& id : s.firefighters_without_summary) std::printf("%-10s (no summary: killed?)\n", id.c_str());
+    std::printf("\nalarms in the incident picture:");
+    if (s.picture_alarms.empty()) std::printf(" none");
+    for (const auto& a : s.picture_alarms) {
+      std::printf("\n  %u %-10s %-8s raised at %.1f s%s", a.alarm_id, a.kind.c_str(), a.responder_id.c_str(), a.raised_s,
+                  a.cleared_s ? (", cleared at " + optional_text(a.cleared_s, "%.1f") + " s").c_str() : "");
+    }
+    std::printf("\n");
+  }
   for (const auto& f : s.faults) {
     if (f.handover_after_s) {
       std::printf("\nincident command killed at mission second %.0f: %s took over after %.2f wall s\n", f.at_s,
@@ -184,7 +214,7 @@ void print_summary(const mission::MissionSummary& s, const std::string& run_dir)
 
 int main(int argc, char** argv) {
   app::install_shutdown_handlers();
-  CLI::App cli{"sarloc-mission: a whole simulated avalanche mission over DDS on this machine"};
+  CLI::App cli{"sarloc-mission: a whole simulated mission (avalanche, building or both) over DDS on this machine"};
   std::string config_path = SARLOC_SOURCE_DIR "/config/missions/default.yaml";
   std::string json_path;
   std::string run_dir;
@@ -223,7 +253,7 @@ int main(int argc, char** argv) {
     std::vector<Fault> faults;
     for (const auto& k : kills) {
       auto f = parse_fault(k, false);
-      if (f.target != "core" && f.target != "command") mission.scenario.rescuer_index(f.target);  // known id?
+      if (f.target != "core" && f.target != "command") (void)mission.team_of(f.target);  // known id?
       faults.push_back(f);
     }
     for (const auto& r : restarts) faults.push_back(parse_fault(r, true));
@@ -233,8 +263,9 @@ int main(int argc, char** argv) {
     if (run_dir.empty()) run_dir = (fs::temp_directory_path() / ("sarloc-mission-" + std::to_string(getpid()))).string();
     fs::create_directories(run_dir);
     const std::string config_abs = fs::absolute(config_path).string();
-    spdlog::info("mission '{}': {} victims, {} rescuers, speedup {}x; logs in {}", mission.name,
-                 mission.scenario.victims.size(), mission.scenario.rescuers.size(), mission.speedup, run_dir);
+    spdlog::info("mission '{}': {} victims, {} rescuers, {} firefighters, speedup {}x; logs in {}", mission.name,
+                 mission.scenario.victims.size(), mission.scenario.rescuers.size(), mission.firefighters.size(),
+                 mission.speedup, run_dir);
 
     // The mission's own participant: it watches the picture like incident command's dashboard.
     const auto dds_config = app::participant_config(mission, domain, "sarloc-mission");
@@ -292,6 +323,16 @@ int main(int argc, char** argv) {
         for (const auto& m : team.members) picture.links[m.responder_id] = m.link;
       } catch (const InputError& e) {
         spdlog::warn("ignoring a team status: {}", e.what());
+      }
+    });
+
+    sarloc::dds::Reader<::sarloc::IncidentAlarm> alarm_reader(participant, [&](const ::sarloc::IncidentAlarm& a, const auto&) {
+      try {
+        auto alarm = sarloc::dds::to_core(a);
+        std::lock_guard<std::mutex> lock(picture.mutex);
+        picture.alarms[alarm.alarm_id] = std::move(alarm);
+      } catch (const InputError& e) {
+        spdlog::warn("ignoring an incident alarm: {}", e.what());
       }
     });
 
@@ -356,6 +397,16 @@ int main(int argc, char** argv) {
                   "--summary", (fs::path(run_dir) / (r.id + ".json")).string(), "--domain", domain_arg, "--log-level",
                   log_level}),
           log_file("rescuer-" + r.id));
+    }
+    // Firefighters' devices: the same app; each ends when its simulated search does.
+    for (const auto& f : mission.firefighters) {
+      rescuers[f.id] = std::make_unique<app::ChildProcess>(
+          "rescuer-" + f.id,
+          placed("rescuer-" + f.id,
+                 {(bin_dir / "sarloc-rescuer").string(), "-c", config_abs, "--id", f.id, "--epoch-ns", epoch_arg,
+                  "--summary", (fs::path(run_dir) / (f.id + ".json")).string(), "--domain", domain_arg, "--log-level",
+                  log_level, "--quiet"}),
+          log_file("rescuer-" + f.id));
     }
 
     const auto wall_start = std::chrono::steady_clock::now();
@@ -436,7 +487,14 @@ int main(int argc, char** argv) {
       }
       // Every buried victim matched by a FOUND victim of the picture (not just as many FOUND
       // as buried: a duplicate whose disposal is still on its way must not end the mission).
-      if (mission::every_victim_found(mission.scenario.victims, picture.victims_now())) {
+      // A building mission goes on while a firefighter still searches (killed ones excepted).
+      const bool searching = std::any_of(mission.firefighters.begin(), mission.firefighters.end(), [&](const auto& f) {
+        const bool killed = std::any_of(faults.begin(), faults.end(), [&](const Fault& k) {
+          return k.done && !k.restart && k.target == f.id;
+        });
+        return !killed && rescuers.at(f.id)->running();
+      });
+      if (!searching && mission::every_victim_found(mission.scenario.victims, picture.victims_now())) {
         // Let the pending link-lost detections finish before stopping.
         const bool waiting_link = std::any_of(faults.begin(), faults.end(), [&](const Fault& f) {
           const bool pending = (is_rescuer_kill(f) && f.link_lost_after_s < 0.0) ||
@@ -490,6 +548,28 @@ int main(int argc, char** argv) {
       }
     }
     auto summary = mission::summarise_mission(mission.name, mission.scenario, picture.victims_now(), epoch, devices);
+    for (const auto& f : mission.firefighters) {
+      std::ifstream in(fs::path(run_dir) / (f.id + ".json"));
+      try {
+        if (!in) throw std::runtime_error("no summary file (killed?)");
+        summary.firefighters.push_back(app::firefighter_summary_from_json(nlohmann::json::parse(in)));
+      } catch (const std::exception& e) {
+        spdlog::warn("cannot read {}'s summary: {}", f.id, e.what());
+        summary.firefighters_without_summary.push_back(f.id);
+      }
+    }
+    {
+      std::lock_guard<std::mutex> lock(picture.mutex);
+      for (const auto& [id, a] : picture.alarms) {
+        mission::MissionSummary::PictureAlarm p;
+        p.alarm_id = id;
+        p.kind = responder::to_string(a.alarm.kind);
+        p.responder_id = a.alarm.responder_id;
+        p.raised_s = 1e-9 * static_cast<double>(a.alarm.raised_at - epoch);
+        if (!a.alarm.active) p.cleared_s = 1e-9 * static_cast<double>(a.alarm.cleared_at - epoch);
+        summary.picture_alarms.push_back(p);
+      }
+    }
     summary.mission_s = mission_s;
     summary.wall_s = wall_s;
     summary.command_alive_at_end = command_alive_at_end;
@@ -509,6 +589,10 @@ int main(int argc, char** argv) {
     print_summary(summary, run_dir);
     if (!json_path.empty()) app::write_json_file(json_path, app::to_json(summary));
     if (interrupted) return app::ExitCode::kInterrupted;
-    return summary.all_found ? app::ExitCode::kOk : app::ExitCode::kFailure;
+    // Every firefighter's device reported, and each converged on the map.
+    const bool firefighters_ok = summary.firefighters_without_summary.empty() &&
+                                 std::all_of(summary.firefighters.begin(), summary.firefighters.end(),
+                                             [](const auto& f) { return f.converged_at_s.has_value(); });
+    return summary.all_found && firefighters_ok ? app::ExitCode::kOk : app::ExitCode::kFailure;
   });
 }

@@ -1,6 +1,8 @@
-// sarloc-rescuer: the app on a rescuer's device. Publishes field measurements, odometry and
-// its position; shows the rescuer what to do; keeps guiding on the device when the core
-// daemon is unreachable (dds/rescuer_node.hpp).
+// sarloc-rescuer: the app on a responder's device. An avalanche rescuer's publishes field
+// measurements, odometry and its position, shows the rescuer what to do, and keeps guiding on
+// the device when the core daemon is unreachable (dds/rescuer_node.hpp). A firefighter's runs
+// the boot INS, publishes odometry and alarms, and dead reckons when the daemon is silent
+// (firefighter_device_loop.hpp).
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
@@ -17,6 +19,7 @@
 #include "sarloc/app/node_options.hpp"
 #include "sarloc/app/run_main.hpp"
 #include "sarloc/app/shutdown_signal.hpp"
+#include "firefighter_device_loop.hpp"
 #include "sensor_source.hpp"
 
 namespace {
@@ -87,6 +90,12 @@ int main(int argc, char** argv) {
   return app::run_main("sarloc-rescuer", [&] {
     app::setup_logging(options.log_level, rescuer_id);
     const auto mission = app::load_mission_config(options.config_path);
+    if (const auto* firefighter = mission.firefighter(rescuer_id)) {
+      if (source != "sim") {
+        throw ConfigError("--source '" + source + "': a firefighter's device runs the simulated boot IMU only (sim)");
+      }
+      return rescuer::run_firefighter_device(mission, *firefighter, options, summary_path, quiet);
+    }
     const auto node_config = mission.rescuer_config(rescuer_id);  // throws ConfigError for an unknown id
     const sarloc::dds::MissionClock clock = options.clock(mission);
     const TimestampNs epoch = clock.epoch();

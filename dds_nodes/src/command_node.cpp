@@ -229,6 +229,7 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
         if (arbiter_.role() != incident::CommandRole::kActive) return;  // the active one's picture carries it
         const auto result = alarm_board_.acknowledge(ack.alarm_id(), ack.operator_id().to_string(), clock_.now());
         if (result == incident::AckResult::kUnknown) {
+          counters_.rejected("unknown_alarm");
           warnings_.warn(ack.operator_id().to_string(), "unknown_alarm",
                          "acknowledgement of alarm " + std::to_string(ack.alarm_id()) + ": no such alarm");
         } else if (result == incident::AckResult::kAcknowledged) {

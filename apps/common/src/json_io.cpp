@@ -212,6 +212,71 @@ nlohmann::json to_json(const mission::DeviceSummary& d) {
   return j;
 }
 
+nlohmann::json to_json(const mission::FirefighterDeviceSummary& f) {
+  nlohmann::json j;
+  j["responder_id"] = f.responder_id;
+  j["team"] = f.team;
+  j["role"] = "firefighter";
+  j["enter_at_s"] = f.enter_at_s;
+  j["fixes"] = f.fixes;
+  if (f.converged_at_s) j["converged_at_s"] = *f.converged_at_s;
+  if (f.time_to_converge_s) j["time_to_converge_s"] = *f.time_to_converge_s;
+  if (f.rmse_after_convergence_m) j["rmse_after_convergence_m"] = *f.rmse_after_convergence_m;
+  j["wrong_floor"] = f.wrong_floor;
+  j["map_error_share"] = f.map_error_share;
+  j["confirmed_share"] = f.confirmed_share;
+  j["confirmed_outside_99"] = f.confirmed_outside_99;
+  j["distance_walked_m"] = f.distance_walked_m;
+  j["dead_reckoning_s"] = f.dead_reckoning_s;
+  j["floors_visited"] = f.floors_visited;
+  j["floors_reported"] = f.floors_reported;
+  nlohmann::json alarms = nlohmann::json::array();
+  for (const auto& a : f.alarms) {
+    nlohmann::json e{{"kind", a.kind}, {"raised_s", a.raised_s}};
+    if (a.cleared_s) e["cleared_s"] = *a.cleared_s;
+    if (a.true_event_s) e["true_event_s"] = *a.true_event_s;
+    if (a.delay_s) e["delay_s"] = *a.delay_s;
+    if (a.clear_delay_s) e["clear_delay_s"] = *a.clear_delay_s;
+    alarms.push_back(e);
+  }
+  j["alarms"] = alarms;
+  return j;
+}
+
+mission::FirefighterDeviceSummary firefighter_summary_from_json(const nlohmann::json& j) {
+  try {
+    mission::FirefighterDeviceSummary f;
+    f.responder_id = j.at("responder_id").get<std::string>();
+    f.team = j.value("team", std::string{});
+    f.enter_at_s = j.value("enter_at_s", 0.0);
+    f.fixes = j.value("fixes", std::size_t{0});
+    if (j.contains("converged_at_s")) f.converged_at_s = j.at("converged_at_s").get<double>();
+    if (j.contains("time_to_converge_s")) f.time_to_converge_s = j.at("time_to_converge_s").get<double>();
+    if (j.contains("rmse_after_convergence_m")) f.rmse_after_convergence_m = j.at("rmse_after_convergence_m").get<double>();
+    f.wrong_floor = j.value("wrong_floor", std::size_t{0});
+    f.map_error_share = j.value("map_error_share", 0.0);
+    f.confirmed_share = j.value("confirmed_share", 0.0);
+    f.confirmed_outside_99 = j.value("confirmed_outside_99", std::size_t{0});
+    f.distance_walked_m = j.value("distance_walked_m", 0.0);
+    f.dead_reckoning_s = j.value("dead_reckoning_s", 0.0);
+    f.floors_visited = j.value("floors_visited", std::vector<std::int32_t>{});
+    f.floors_reported = j.value("floors_reported", std::vector<std::int32_t>{});
+    for (const auto& e : j.value("alarms", nlohmann::json::array())) {
+      mission::FirefighterAlarmRecord a;
+      a.kind = e.at("kind").get<std::string>();
+      a.raised_s = e.at("raised_s").get<double>();
+      if (e.contains("cleared_s")) a.cleared_s = e.at("cleared_s").get<double>();
+      if (e.contains("true_event_s")) a.true_event_s = e.at("true_event_s").get<double>();
+      if (e.contains("delay_s")) a.delay_s = e.at("delay_s").get<double>();
+      if (e.contains("clear_delay_s")) a.clear_delay_s = e.at("clear_delay_s").get<double>();
+      f.alarms.push_back(a);
+    }
+    return f;
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(std::string("firefighter summary: ") + e.what());
+  }
+}
+
 mission::DeviceSummary device_summary_from_json(const nlohmann::json& j) {
   try {
     mission::DeviceSummary d;
@@ -297,6 +362,17 @@ nlohmann::json to_json(const mission::MissionSummary& s) {
     if (!f.taken_over_by.empty()) fj["taken_over_by"] = f.taken_over_by;
     if (f.action == "kill" && f.target == "command") fj["picture_at_kill"] = picture_json(f.picture_at_kill);
     out["faults"].push_back(fj);
+  }
+  if (!s.firefighters.empty() || !s.firefighters_without_summary.empty()) {
+    out["firefighters"] = nlohmann::json::array();
+    for (const auto& f : s.firefighters) out["firefighters"].push_back(to_json(f));
+    out["firefighters_without_summary"] = s.firefighters_without_summary;
+    out["alarms"] = nlohmann::json::array();
+    for (const auto& a : s.picture_alarms) {
+      nlohmann::json aj{{"alarm_id", a.alarm_id}, {"kind", a.kind}, {"responder_id", a.responder_id}, {"raised_s", a.raised_s}};
+      if (a.cleared_s) aj["cleared_s"] = *a.cleared_s;
+      out["alarms"].push_back(aj);
+    }
   }
   return out;
 }

@@ -56,7 +56,8 @@ void MissionConfig::validate() const {
   if (!(speedup >= 0.1 && speedup <= 100.0)) fail("mission.speedup", speedup, "must be in [0.1, 100]");
   if (!(period_s >= 0.1 && period_s <= 10.0)) fail("mission.period_s", period_s, "must be in [0.1, 10]");
   dds.validate();
-  scenario.validate();
+  // A building mission may have no avalanche victims or rescuers, but some responder.
+  if (!scenario.victims.empty() || !scenario.rescuers.empty() || firefighters.empty()) scenario.validate();
   estimators.validate();
   for (const auto& [id, role] : role_of) {
     if (role == estimator::ResponderRole::kFirefighter && !estimators.firefighter.building) {
@@ -65,19 +66,17 @@ void MissionConfig::validate() const {
   }
   std::set<std::string> known(sectors.begin(), sectors.end());
   if (known.size() != sectors.size()) throw ConfigError("sectors: duplicate sector name");
-  for (const auto& r : scenario.rescuers) {
-    const auto it = sector_of.find(r.id);
-    const std::string sector = it == sector_of.end() ? "" : it->second;
+  for (const auto& [id, sector] : sector_of) {
     if (!sectors.empty() && known.count(sector) == 0) {
-      throw ConfigError("rescuers[" + r.id + "].sector = '" + sector + "': must be one of the sectors");
+      throw ConfigError("rescuers[" + id + "].sector = '" + sector + "': must be one of the sectors");
     }
     if (sectors.empty() && !sector.empty()) {
-      throw ConfigError("rescuers[" + r.id + "].sector = '" + sector + "': no sectors are defined");
+      throw ConfigError("rescuers[" + id + "].sector = '" + sector + "': no sectors are defined");
     }
   }
   for (const auto& s : sectors) core_config(s).validate();
   if (sectors.empty()) core_config("").validate();
-  for (const auto& r : scenario.rescuers) rescuer_config(r.id).validate();
+  for (const auto& [id, role] : role_of) rescuer_config(id).validate();
   for (unsigned k = 1; k <= std::max(1U, command.standby.instances); ++k) command_config(k).validate();
 }
 
@@ -89,18 +88,16 @@ dds::CoreNodeConfig MissionConfig::core_config(const std::string& sector) const 
   c.node_id = sector.empty() ? core.node_id : core.node_id + "-" + sector;
   // Roster mode: the rescuers this daemon serves are the mission's, of its sector.
   c.roster.listed.clear();
-  for (const auto& r : scenario.rescuers) {
-    const auto it = sector_of.find(r.id);
-    if ((it == sector_of.end() ? "" : it->second) == sector) c.roster.listed.push_back(r.id);
+  for (const auto& [id, responder_sector] : sector_of) {
+    if (responder_sector == sector) c.roster.listed.push_back(id);
   }
   return c;
 }
 
 dds::RescuerNodeConfig MissionConfig::rescuer_config(const std::string& rescuer_id) const {
-  const auto& spec = scenario.rescuers.at(scenario.rescuer_index(rescuer_id));
   dds::RescuerNodeConfig c = rescuer;
-  c.rescuer_id = spec.id;
-  c.team = spec.team;
+  c.rescuer_id = rescuer_id;
+  c.team = team_of(rescuer_id);
   c.role = role_of.at(rescuer_id);
   c.estimators = estimators;
   // Waiting longer than half an epoch for the daemon would make the device fall behind.
@@ -108,6 +105,20 @@ dds::RescuerNodeConfig MissionConfig::rescuer_config(const std::string& rescuer_
   const auto it = sector_of.find(rescuer_id);
   c.partitions = partitions_of_sector(it == sector_of.end() ? "" : it->second);
   return c;
+}
+
+std::string MissionConfig::team_of(const std::string& responder_id) const {
+  for (const auto& f : firefighters) {
+    if (f.id == responder_id) return f.team;
+  }
+  return scenario.rescuers.at(scenario.rescuer_index(responder_id)).team;  // ConfigError when unknown
+}
+
+const FirefighterEntry* MissionConfig::firefighter(const std::string& responder_id) const {
+  for (const auto& f : firefighters) {
+    if (f.id == responder_id) return &f;
+  }
+  return nullptr;
 }
 
 dds::CommandNodeConfig MissionConfig::command_config(unsigned instance) const {
@@ -176,37 +187,50 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     c.scenario.victims.push_back(v);
   }
   for (auto& r : root.child_list("rescuers")) {
-    mission::RescuerSpec s;
-    r.require("id", s.id);
-    r.require("team", s.team);
-    std::vector<double> start;
-    r.require("start", start);
-    if (start.size() != 2) throw ConfigError(name + ": " + r.path() + ".start: expected [x, y]");
-    s.start = Vec3(start[0], start[1], 0.0);
-    r.read("heading_deg", s.heading_deg);
-    std::string sector;
+    std::string id, team, sector;
+    r.require("id", id);
+    r.require("team", team);
     r.read("sector", sector);
     std::string role = estimator::to_string(estimator::ResponderRole::kAvalancheRescuer);
     r.read("role", role);
     const auto parsed_role = estimator::parse_responder_role(role, name + ": " + r.path() + ".role");
-    if (r.has("entry") || r.has("hand")) {
-      if (parsed_role != estimator::ResponderRole::kFirefighter) {
-        throw ConfigError(name + ": " + r.path() + ": entry and hand are a firefighter's keys (role = " + role + ")");
-      }
-      estimator::FirefighterEstimatorConfig::ReportedStart start_at;
-      r.read("entry", start_at.entry);
+    if (parsed_role == estimator::ResponderRole::kFirefighter) {
+      // A firefighter enters the mission's building (a simulated one walks a directional search).
+      FirefighterEntry f;
+      f.id = id;
+      f.team = team;
+      r.read("entry", f.spec.entry);
       std::string hand = "right";
       r.read("hand", hand);
       if (hand != "right" && hand != "left") {
         throw ConfigError(name + ": " + r.path() + ".hand = '" + hand + "': must be right or left");
       }
-      start_at.hand = hand == "right" ? firefighter::Hand::kRight : firefighter::Hand::kLeft;
-      c.estimators.firefighter.entry_of[s.id] = start_at;
+      f.spec.hand = hand == "right" ? firefighter::Hand::kRight : firefighter::Hand::kLeft;
+      r.read("member", f.spec.member);
+      r.read("enter_at_s", f.spec.enter_at_s);
+      r.read("search_s", f.spec.search_s);
+      r.read("stop_at_s", f.spec.stop_at_s);
+      r.read("stop_s", f.spec.stop_s);
+      r.expect_done();
+      f.spec.validate(r.path());
+      // The daemon starts the filter from the entry the team reports; none: unknown start.
+      if (!f.spec.entry.empty()) c.estimators.firefighter.entry_of[id] = {f.spec.entry, f.spec.hand};
+      c.firefighters.push_back(f);
+    } else {
+      mission::RescuerSpec s;
+      s.id = id;
+      s.team = team;
+      std::vector<double> start;
+      r.require("start", start);
+      if (start.size() != 2) throw ConfigError(name + ": " + r.path() + ".start: expected [x, y]");
+      s.start = Vec3(start[0], start[1], 0.0);
+      r.read("heading_deg", s.heading_deg);
+      r.expect_done();
+      c.scenario.rescuers.push_back(s);
     }
-    r.expect_done();
-    c.sector_of[s.id] = sector;
-    c.role_of[s.id] = parsed_role;
-    c.scenario.rescuers.push_back(s);
+    if (c.sector_of.count(id) != 0) throw ConfigError(name + ": " + r.path() + ".id = '" + id + "': duplicate rescuer id");
+    c.sector_of[id] = sector;
+    c.role_of[id] = parsed_role;
   }
   for (auto& r : root.child_list("sectors")) {
     std::string sector;
@@ -233,11 +257,31 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     auto& f = c.estimators.firefighter;
     f.origin = firefighter::Vec2(origin[0], origin[1]);
     r.read("rotation_deg", f.rotation_deg);
+    std::string moved_door;
+    double shift_m = 0.0;
+    if (r.has("map_error")) {
+      auto m = r.child("map_error");
+      m.require("door", moved_door);
+      m.require("shift_m", shift_m);
+      m.expect_done();
+    }
     r.expect_done();
     f.seed = c.scenario.seed;
     c.building_path = resolve(plan, base_dir);
-    f.building = std::make_shared<const firefighter::BuildingModel>(load_floor_plan(c.building_path),
-                                                                    firefighter::BuildingModelConfig{});
+    auto world = load_floor_plan(c.building_path);
+    firefighter::FloorPlan map = world;
+    if (!moved_door.empty()) {
+      // The daemon's map is wrong here: the door is elsewhere in the real building.
+      bool moved = false;
+      for (std::size_t k = 0; k < map.floors.size() && !moved; ++k) {
+        for (const auto& d : map.floors[k].doors) moved = moved || d.id == moved_door;
+        if (moved) c.map_error_shift_m = firefighter::move_door(map, k, moved_door, shift_m);
+      }
+      if (!moved) throw ConfigError(name + ": building.map_error.door = '" + moved_door + "': no such door in the plan");
+      c.map_error_door = moved_door;
+    }
+    c.world = std::make_shared<const firefighter::FloorPlan>(std::move(world));
+    f.building = std::make_shared<const firefighter::BuildingModel>(std::move(map), firefighter::BuildingModelConfig{});
   }
   {
     auto r = root.child("firefighter");

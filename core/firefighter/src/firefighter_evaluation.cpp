@@ -405,16 +405,9 @@ MapErrorExperiment FirefighterEvaluation::map_error_experiment(std::string door,
       }
     }
   }
-  auto it = std::find_if(f.doors.begin(), f.doors.end(), [&](const Door& d) { return d.id == door; });
-  if (it == f.doors.end()) throw ConfigError("map_error.door = '" + door + "': no such door on floor '" + f.id + "'");
-  const Wall& wall = *std::find_if(f.walls.begin(), f.walls.end(), [&](const Wall& w) { return w.id == it->wall; });
-  const Vec2 u = (wall.b - wall.a).normalized();
-  const double length = (wall.b - wall.a).norm();
-  const double t = std::clamp((it->center - wall.a).dot(u) + shift_m, 0.5 * it->width_m, length - 0.5 * it->width_m);
   MapErrorExperiment out;
   out.door = door;
-  out.shift_m = t - (it->center - wall.a).dot(u);
-  it->center = wall.a + t * u;
+  out.shift_m = move_door(wrong, floor, door, shift_m);
   wrong.validate();
   const NavigableGrid grid = navigable_grid(wrong, config_.grid);
   const PatternMatcher matcher(extract_node_sequences(wrong, config_.grid), config_.grid, config_.pattern);

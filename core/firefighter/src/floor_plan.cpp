@@ -201,4 +201,19 @@ void FloorPlan::bounds(Vec2& min, Vec2& max) const {
   }
 }
 
+double move_door(FloorPlan& plan, std::size_t floor, const std::string& door, double shift_m) {
+  if (floor >= plan.floors.size()) throw ConfigError("move_door: floor " + std::to_string(floor) + " not in the plan");
+  Floor& f = plan.floors[floor];
+  auto it = std::find_if(f.doors.begin(), f.doors.end(), [&](const Door& d) { return d.id == door; });
+  if (it == f.doors.end()) throw ConfigError("map_error.door = '" + door + "': no such door on floor '" + f.id + "'");
+  const Wall& wall = *std::find_if(f.walls.begin(), f.walls.end(), [&](const Wall& w) { return w.id == it->wall; });
+  const Vec2 u = (wall.b - wall.a).normalized();
+  const double length = (wall.b - wall.a).norm();
+  const double along = (it->center - wall.a).dot(u);
+  const double t = std::clamp(along + shift_m, 0.5 * it->width_m, length - 0.5 * it->width_m);
+  it->center = wall.a + t * u;
+  plan.validate();
+  return t - along;
+}
+
 }  // namespace sarloc::firefighter

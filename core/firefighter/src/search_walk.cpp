@@ -318,8 +318,16 @@ SearchWalk generate_search_walk(const FloorPlan& plan, const SearchWalkConfig& c
   config.validate();
   if (plan.entries.empty()) throw ConfigError("entries: the plan has no entry to start a search from");
   const Entry& entry = plan.entries[std::uniform_int_distribution<std::size_t>(0, plan.entries.size() - 1)(rng)];
+  return generate_search_walk(plan, config, hand, entry.id, rng);
+}
+
+SearchWalk generate_search_walk(const FloorPlan& plan, const SearchWalkConfig& config, Hand hand,
+                                const std::string& entry_id, std::mt19937_64& rng) {
+  config.validate();
+  const auto entry = std::find_if(plan.entries.begin(), plan.entries.end(), [&](const Entry& e) { return e.id == entry_id; });
+  if (entry == plan.entries.end()) throw ConfigError("entry = '" + entry_id + "': not an entry of the plan");
   Walker walker(plan, config, hand, rng);
-  SearchWalk walk = walker.run(entry);
+  SearchWalk walk = walker.run(*entry);
   walk.hand = hand;
   return walk;
 }

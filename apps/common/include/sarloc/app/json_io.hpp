@@ -12,6 +12,7 @@
 #include "sarloc/core/firefighter/firefighter_evaluation.hpp"
 #include "sarloc/core/incident/fused_victim.hpp"
 #include "sarloc/core/incident/team_status.hpp"
+#include "sarloc/core/mission/firefighter_summary.hpp"
 #include "sarloc/core/mission/mission_summary.hpp"
 
 namespace sarloc::app {
@@ -30,6 +31,11 @@ nlohmann::json to_json(const firefighter::FirefighterSummary& summary, double rm
                        const firefighter::MapErrorExperiment* map_error = nullptr);
 nlohmann::json to_json(const mission::DeviceSummary& device);
 nlohmann::json to_json(const mission::MissionSummary& summary);
+
+/// A firefighter device's summary (role "firefighter"): fixes, convergence, RMSE, alarms.
+nlohmann::json to_json(const mission::FirefighterDeviceSummary& firefighter);
+/// Throws std::runtime_error naming the key for a document that is not one.
+mission::FirefighterDeviceSummary firefighter_summary_from_json(const nlohmann::json& j);
 
 /// Throws std::runtime_error naming the key for a document that is not a device summary.
 mission::DeviceSummary device_summary_from_json(const nlohmann::json& j);

@@ -9,12 +9,21 @@
 
 #include "sarloc/core/estimator/make_estimator.hpp"
 #include "sarloc/core/mission/mission_scenario.hpp"
+#include "sarloc/core/mission/simulated_firefighter.hpp"
 #include "sarloc/dds/command_node.hpp"
 #include "sarloc/dds/core_node.hpp"
 #include "sarloc/dds/participant.hpp"
 #include "sarloc/dds/rescuer_node.hpp"
 
 namespace sarloc::app {
+
+/// A firefighter of the mission (rescuers[] with role firefighter): its team and, simulated,
+/// its part in a directional search of the building.
+struct FirefighterEntry {
+  std::string id;
+  std::string team;
+  mission::FirefighterSpec spec;
+};
 
 struct MissionConfig {
   std::string name = "mission";
@@ -29,6 +38,12 @@ struct MissionConfig {
   std::vector<std::string> sectors;                   ///< one sarloc-core per sector (none: one core)
   estimator::EstimatorConfigs estimators;             ///< every role's estimator (sog:, search:, rescuer_search:, building:, firefighter:)
   std::string building_path;                          ///< building.plan, resolved ("" = no building)
+  /// The building as it is (the simulated world); the daemon's map (estimators.firefighter.
+  /// building) differs by building.map_error, if any.
+  std::shared_ptr<const firefighter::FloorPlan> world;
+  std::string map_error_door;                         ///< building.map_error.door ("" = none)
+  double map_error_shift_m = 0.0;                     ///< as applied (clamped to the wall)
+  std::vector<FirefighterEntry> firefighters;         ///< rescuers[] with role firefighter
   dds::CoreNodeConfig core;
   dds::RescuerNodeConfig rescuer;                     ///< template: id/team/partitions filled per rescuer
   /// Two instances of incident command unless the file says otherwise (command.instances):
@@ -46,6 +61,10 @@ struct MissionConfig {
   static std::vector<std::string> partitions_of_sector(const std::string& sector);
   dds::CoreNodeConfig core_config(const std::string& sector) const;
   dds::RescuerNodeConfig rescuer_config(const std::string& rescuer_id) const;
+  /// The team of any responder (avalanche rescuer or firefighter); ConfigError when unknown.
+  std::string team_of(const std::string& responder_id) const;
+  /// The firefighter with this id, nullptr if it is none.
+  const FirefighterEntry* firefighter(const std::string& responder_id) const;
   /// Incident command instance `instance` (1..command.standby.instances): with more than one,
   /// its node id gets "-<instance>" (NodeStatus keys must differ).
   dds::CommandNodeConfig command_config(unsigned instance = 1) const;

@@ -115,4 +115,9 @@ class FloorPlan {
   void bounds(Vec2& min, Vec2& max) const;
 };
 
+/// Moves door `door` of floor `floor` by `shift_m` along its wall, as far as the wall allows (a
+/// map error: the plan says the door is elsewhere). Returns the shift applied. Throws
+/// ConfigError naming the door when the floor has no such door.
+double move_door(FloorPlan& plan, std::size_t floor, const std::string& door, double shift_m);
+
 }  // namespace sarloc::firefighter

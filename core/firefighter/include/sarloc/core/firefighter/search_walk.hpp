@@ -57,6 +57,10 @@ struct SearchWalk {
 SearchWalk generate_search_walk(const FloorPlan& plan, const SearchWalkConfig& config, Hand hand,
                                 std::mt19937_64& rng);
 
+/// The same from the entry `entry_id` (ConfigError naming it when the plan has none such).
+SearchWalk generate_search_walk(const FloorPlan& plan, const SearchWalkConfig& config, Hand hand,
+                                const std::string& entry_id, std::mt19937_64& rng);
+
 /// Horizontal length of the footfall path.
 double path_length(const std::vector<Footfall>& footfalls);
 

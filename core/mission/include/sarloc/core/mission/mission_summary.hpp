@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "sarloc/core/incident/fused_victim.hpp"
+#include "sarloc/core/mission/firefighter_summary.hpp"
 #include "sarloc/core/mission/mission_scenario.hpp"
 #include "sarloc/core/responder/victim_estimate.hpp"
 
@@ -102,6 +103,17 @@ struct MissionSummary {
   std::vector<std::string> rescuer_ids;          ///< scenario order
   std::map<std::string, DeviceSummary> devices;  ///< those that wrote a summary
   std::vector<FaultOutcome> faults;
+  /// Firefighters of a building mission: their devices' summaries (firefighter_summary.hpp),
+  /// and the alarms incident command's picture held (kind, responder, mission second raised).
+  std::vector<FirefighterDeviceSummary> firefighters;
+  std::vector<std::string> firefighters_without_summary;
+  struct PictureAlarm {
+    std::uint32_t alarm_id = 0;
+    std::string kind, responder_id;
+    double raised_s = 0.0;
+    std::optional<double> cleared_s;
+  };
+  std::vector<PictureAlarm> picture_alarms;
   /// Whether a sarloc-command process was still running when the mission stopped, and
   /// whether an active one was publishing the picture then: when not, `victims[].found` only
   /// tells what the picture knew before it was lost, and `finders` what the devices know.

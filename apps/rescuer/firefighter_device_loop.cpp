@@ -1,0 +1,162 @@
+#include "firefighter_device_loop.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <thread>
+
+#include "sarloc/app/exit_codes.hpp"
+#include "sarloc/app/json_io.hpp"
+#include "sarloc/app/shutdown_signal.hpp"
+#include "sarloc/core/common/angle.hpp"
+#include "sarloc/core/common/seeds.hpp"
+#include "sarloc/core/estimator/firefighter_device.hpp"
+#include "sarloc/core/mission/firefighter_summary.hpp"
+#include "sarloc/core/mission/simulated_firefighter.hpp"
+#include "sarloc/dds/firefighter_node.hpp"
+
+namespace sarloc::rescuer {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::uint64_t seed_of_name(std::uint64_t seed, const std::string& name) {
+  return derive_seed(seed, std::hash<std::string>{}(name) & 0xFFFFFFFFULL);
+}
+
+const char* source_name(responder::PositionSource s) {
+  switch (s) {
+    case responder::PositionSource::kGnss: return "GNSS";
+    case responder::PositionSource::kMapAided: return "map-aided";
+    case responder::PositionSource::kDeadReckoning: return "DEAD RECKONING";
+    case responder::PositionSource::kManual: return "manual";
+  }
+  return "?";
+}
+
+}  // namespace
+
+app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const app::FirefighterEntry& ff,
+                           const app::NodeOptions& options, const std::string& summary_path, bool quiet) {
+  const auto& placement = mission.estimators.firefighter;
+  if (!mission.world || !placement.building) {
+    throw ConfigError("rescuers[" + ff.id + "].role = firefighter: the mission has no building: section");
+  }
+  const dds::MissionClock clock = options.clock(mission);
+  const TimestampNs epoch = clock.epoch();
+  const auto mission_s = [&](TimestampNs stamp) { return 1e-9 * static_cast<double>(stamp - epoch); };
+  mission::SimulatedFirefighter sim(*mission.world, ff.spec, seed_of_name(mission.scenario.seed, ff.team),
+                                    seed_of_name(mission.scenario.seed, ff.id));
+  estimator::FirefighterDeviceConfig device_config;
+  estimator::FirefighterDevice device(ff.id, ff.team, device_config, epoch);
+  auto participant = std::make_shared<dds::Participant>(options.participant(mission, "rescuer-" + ff.id));
+  dds::FirefighterNodeConfig node_config;
+  node_config.responder_id = ff.id;
+  node_config.team = ff.team;
+  node_config.partitions = mission.rescuer_config(ff.id).partitions;
+  node_config.daemon_timeout_s = mission.rescuer.fallback_timeout_s;
+  dds::FirefighterNode node(participant, node_config, clock);
+  if (!node.wait_for_daemon(std::chrono::seconds(5))) {
+    spdlog::warn("no core daemon matched within 5 s: starting anyway (dead reckoning on the device until one answers)");
+  }
+  // Dead reckoning starts from the reported entry (where the crew aligns, turned to its wall).
+  std::optional<responder::ResponderPosition> entry_fix;
+  if (!ff.spec.entry.empty()) {
+    for (const auto& e : mission.world->entries) {
+      if (e.id != ff.spec.entry) continue;
+      const double rot = placement.rotation_deg * kPi / 180.0;
+      const Eigen::Vector2d xy = placement.origin + Eigen::Rotation2Dd(rot) * e.position;
+      responder::ResponderPosition p;
+      p.responder_id = ff.id;
+      p.team_id = ff.team;
+      p.position.position = Vec3(xy.x(), xy.y(), mission.world->floors[mission.world->floor_index(e.floor)].elevation_m);
+      p.position.covariance = Mat3::Identity() * std::pow(placement.entry_position_sigma_m, 2);
+      p.heading_rad = wrap_angle(rot + e.heading_rad + (ff.spec.hand == firefighter::Hand::kRight ? -0.5 : 0.5) * kPi);
+      p.floor = static_cast<std::int32_t>(mission.world->floor_index(e.floor));
+      p.source = responder::PositionSource::kManual;
+      entry_fix = p;
+    }
+  }
+  const double rot = placement.rotation_deg * kPi / 180.0;
+  const auto truth_incident = [&](double t) {
+    const auto truth = sim.truth(t);
+    return std::make_pair(firefighter::Vec2(placement.origin + Eigen::Rotation2Dd(rot) * truth.position),
+                          static_cast<std::int32_t>(truth.floor));
+  };
+  mission::FirefighterScore score(ff.id, ff.team, ff.spec.enter_at_s);
+  bool anchored = false;
+  bool on_own = false;
+  double last_position_s = -1e9;
+  std::optional<responder::ResponderPosition> last_fix;
+  std::size_t published = 0;
+  while (!app::shutdown_requested()) {
+    auto sample = sim.next_sample();
+    if (!sample) break;
+    // The sample's moment on the (possibly accelerated) mission clock.
+    const TimestampNs at = epoch + static_cast<TimestampNs>(sample->t * 1e9);
+    while (!app::shutdown_requested() && clock.now() < at) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    device.push(*sample);
+    const auto odometry = device.take_odometry();
+    if (!odometry) continue;
+    if (!anchored && entry_fix) {
+      entry_fix->stamp = odometry->interval_start;  // the INS history's first pose
+      device.on_fix(*entry_fix);
+      anchored = true;
+    }
+    node.publish_odometry(*odometry);
+    ++published;
+    for (const auto& a : device.alarm_changes()) {
+      node.publish_alarm(a);
+      score.on_alarm(a, epoch);
+      spdlog::warn("{}: {} alarm {}", ff.id, responder::to_string(a.kind), a.active ? "RAISED" : "cleared");
+    }
+    for (const auto& fix : node.take_fixes()) {
+      const double t = mission_s(fix.stamp);
+      const auto [truth, floor] = truth_incident(t);
+      score.on_fix(t, fix, truth, floor);
+      try {
+        device.on_fix(fix);
+      } catch (const InputError& e) {
+        spdlog::warn("{}: ignoring the daemon's position: {}", ff.id, e.what());
+      }
+      last_fix = fix;
+    }
+    const bool silent = node.daemon_silent();
+    if (silent != on_own) {
+      spdlog::warn("{}: {}", ff.id, silent ? "no position from the core daemon: dead reckoning on the device"
+                                           : "the core daemon's map-aided position again");
+      on_own = silent;
+    }
+    if (silent) score.add_dead_reckoning(odometry->interval_end > odometry->interval_start
+                                             ? mission_s(odometry->interval_end) - mission_s(odometry->interval_start)
+                                             : 0.0);
+    // The device's own position once a mission second: its writer is the firefighter's link at
+    // incident command, and while the daemon is silent it is the best position there is.
+    const double now_s = mission_s(odometry->interval_end);
+    if (now_s - last_position_s >= 1.0) {
+      if (auto own = device.dead_reckoning()) {
+        own->team_id = ff.team;
+        node.publish_position(*own);
+        last_position_s = now_s;
+      }
+    }
+    if (!quiet && published % 10 == 0) {
+      const auto shown = silent ? device.dead_reckoning() : last_fix;
+      if (shown) {
+        spdlog::info("{} | {} | ({:.1f}, {:.1f}) floor {} +- {:.1f} m{}{}{}", ff.id, source_name(shown->source),
+                     shown->position.position.x(), shown->position.position.y(), shown->floor,
+                     std::sqrt(shown->position.covariance.topLeftCorner<2, 2>().trace()),
+                     shown->converged ? " | converged" : "", shown->confirmed ? " | confirmed" : "",
+                     shown->map_error_suspected ? " | MAP ERROR SUSPECTED" : "");
+      }
+    }
+  }
+  spdlog::info("{}: search over after {:.0f} mission s ({} odometry steps)", ff.id, sim.end_s(), published);
+  if (!summary_path.empty()) {
+    const auto s = score.summary(sim.distance_m(), sim.stop(), device_config.ins.motionless_after_s);
+    app::write_json_file(summary_path, app::to_json(s));
+  }
+  return app::ExitCode::kOk;
+}
+
+}  // namespace sarloc::rescuer

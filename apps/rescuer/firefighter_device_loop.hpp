@@ -1,0 +1,18 @@
+#pragma once
+// sarloc-rescuer for a firefighter (rescuers[].role: firefighter): the boot IMU (simulated, a
+// directional search of the mission's building) through the device's INS; odometry, alarms and
+// its own dead-reckoned position published; the daemon's map-aided positions shown, scored
+// against the walk's truth for the summary.
+#include <string>
+
+#include "sarloc/app/exit_codes.hpp"
+#include "sarloc/app/mission_config.hpp"
+#include "sarloc/app/node_options.hpp"
+
+namespace sarloc::rescuer {
+
+/// Runs until the simulated search ends or shutdown is requested.
+app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const app::FirefighterEntry& firefighter,
+                           const app::NodeOptions& options, const std::string& summary_path, bool quiet);
+
+}  // namespace sarloc::rescuer
