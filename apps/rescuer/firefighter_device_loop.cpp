@@ -14,6 +14,7 @@
 #include "sarloc/core/mission/firefighter_summary.hpp"
 #include "sarloc/core/mission/simulated_firefighter.hpp"
 #include "sarloc/dds/firefighter_node.hpp"
+#include "imu_file.hpp"
 
 namespace sarloc::rescuer {
 namespace {
@@ -37,7 +38,8 @@ const char* source_name(responder::PositionSource s) {
 }  // namespace
 
 app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const app::FirefighterEntry& ff,
-                           const app::NodeOptions& options, const std::string& summary_path, bool quiet) {
+                                     const app::NodeOptions& options, const std::string& source,
+                                     const std::string& summary_path, bool quiet) {
   const auto& placement = mission.estimators.firefighter;
   if (!mission.world || !placement.building) {
     throw ConfigError("rescuers[" + ff.id + "].role = firefighter: the mission has no building: section");
@@ -45,8 +47,17 @@ app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const ap
   const dds::MissionClock clock = options.clock(mission);
   const TimestampNs epoch = clock.epoch();
   const auto mission_s = [&](TimestampNs stamp) { return 1e-9 * static_cast<double>(stamp - epoch); };
-  mission::SimulatedFirefighter sim(*mission.world, ff.spec, seed_of_name(mission.scenario.seed, ff.team),
-                                    seed_of_name(mission.scenario.seed, ff.id));
+  // The boot's samples: the simulated search (with its truth, for the summary) or a recording.
+  std::optional<mission::SimulatedFirefighter> sim;
+  std::optional<ImuFile> file;
+  if (source == "sim") {
+    sim.emplace(*mission.world, ff.spec, seed_of_name(mission.scenario.seed, ff.team), seed_of_name(mission.scenario.seed, ff.id));
+  } else {
+    file.emplace(source);  // ConfigError naming the file for a missing one or a wrong header
+  }
+  const auto next_sample = [&]() -> std::optional<firefighter::ImuSample> {
+    return sim ? sim->next_sample() : file->next();
+  };
   estimator::FirefighterDeviceConfig device_config;
   estimator::FirefighterDevice device(ff.id, ff.team, device_config, epoch);
   auto participant = std::make_shared<dds::Participant>(options.participant(mission, "rescuer-" + ff.id));
@@ -79,7 +90,7 @@ app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const ap
   }
   const double rot = placement.rotation_deg * kPi / 180.0;
   const auto truth_incident = [&](double t) {
-    const auto truth = sim.truth(t);
+    const auto truth = sim->truth(t);
     return std::make_pair(firefighter::Vec2(placement.origin + Eigen::Rotation2Dd(rot) * truth.position),
                           static_cast<std::int32_t>(truth.floor));
   };
@@ -90,12 +101,17 @@ app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const ap
   std::optional<responder::ResponderPosition> last_fix;
   std::size_t published = 0;
   while (!app::shutdown_requested()) {
-    auto sample = sim.next_sample();
+    auto sample = next_sample();
     if (!sample) break;
     // The sample's moment on the (possibly accelerated) mission clock.
     const TimestampNs at = epoch + static_cast<TimestampNs>(sample->t * 1e9);
     while (!app::shutdown_requested() && clock.now() < at) std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    device.push(*sample);
+    try {
+      device.push(*sample);
+    } catch (const InputError& e) {  // beyond the sensor's range, or not after the last one
+      spdlog::warn("{}: IMU sample at t = {:.3f} s skipped: {}", ff.id, sample->t, e.what());
+      continue;
+    }
     const auto odometry = device.take_odometry();
     if (!odometry) continue;
     if (!anchored && entry_fix) {
@@ -112,8 +128,10 @@ app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const ap
     }
     for (const auto& fix : node.take_fixes()) {
       const double t = mission_s(fix.stamp);
-      const auto [truth, floor] = truth_incident(t);
-      score.on_fix(t, fix, truth, floor);
+      if (sim) {
+        const auto [truth, floor] = truth_incident(t);
+        score.on_fix(t, fix, truth, floor);
+      }
       try {
         device.on_fix(fix);
       } catch (const InputError& e) {
@@ -151,9 +169,12 @@ app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const ap
       }
     }
   }
-  spdlog::info("{}: search over after {:.0f} mission s ({} odometry steps)", ff.id, sim.end_s(), published);
+  spdlog::info("{}: IMU source ended after {} odometry steps{}", ff.id, published,
+               file ? " (" + std::to_string(file->skipped_rows()) + " malformed rows skipped)" : std::string());
   if (!summary_path.empty()) {
-    const auto s = score.summary(sim.distance_m(), sim.stop(), device_config.ins.motionless_after_s);
+    // A recording has no truth: its summary holds the alarms and the distance the INS walked.
+    const auto s = sim ? score.summary(sim->distance_m(), sim->stop(), device_config.ins.motionless_after_s)
+                       : score.summary(device.distance_walked_m(), std::nullopt, device_config.ins.motionless_after_s);
     app::write_json_file(summary_path, app::to_json(s));
   }
   return app::ExitCode::kOk;

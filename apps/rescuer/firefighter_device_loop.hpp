@@ -1,6 +1,6 @@
 #pragma once
 // sarloc-rescuer for a firefighter (rescuers[].role: firefighter): the boot IMU (simulated, a
-// directional search of the mission's building) through the device's INS; odometry, alarms and
+// directional search of the mission's building, or a recorded file) through the device's INS; odometry, alarms and
 // its own dead-reckoned position published; the daemon's map-aided positions shown, scored
 // against the walk's truth for the summary.
 #include <string>
@@ -11,8 +11,10 @@
 
 namespace sarloc::rescuer {
 
-/// Runs until the simulated search ends or shutdown is requested.
+/// Runs until the IMU source ends (`source`: "sim", the simulated search, or a recorded IMU
+/// file, imu_file.hpp) or shutdown is requested.
 app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const app::FirefighterEntry& firefighter,
-                           const app::NodeOptions& options, const std::string& summary_path, bool quiet);
+                                     const app::NodeOptions& options, const std::string& source,
+                                     const std::string& summary_path, bool quiet);
 
 }  // namespace sarloc::rescuer

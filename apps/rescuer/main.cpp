@@ -82,7 +82,9 @@ int main(int argc, char** argv) {
   bool quiet = false;
   app::add_node_options(cli, options);
   cli.add_option("--id", rescuer_id, "this rescuer's id (one of the mission's rescuers)")->required();
-  cli.add_option("--source", source, "'sim' (mission simulator) or a recorded sensor file (JSON lines)");
+  cli.add_option("--source", source,
+                 "'sim' (mission simulator) or a recorded file: JSON-lines sensor file (avalanche rescuer), "
+                 "boot IMU CSV (firefighter)");
   cli.add_option("--summary", summary_path, "write a JSON summary here on exit");
   cli.add_flag("--quiet", quiet, "do not print the guidance line every epoch");
   if (auto code = app::parse_command_line(cli, argc, argv)) return *code;
@@ -91,10 +93,7 @@ int main(int argc, char** argv) {
     app::setup_logging(options.log_level, rescuer_id);
     const auto mission = app::load_mission_config(options.config_path);
     if (const auto* firefighter = mission.firefighter(rescuer_id)) {
-      if (source != "sim") {
-        throw ConfigError("--source '" + source + "': a firefighter's device runs the simulated boot IMU only (sim)");
-      }
-      return rescuer::run_firefighter_device(mission, *firefighter, options, summary_path, quiet);
+      return rescuer::run_firefighter_device(mission, *firefighter, options, source, summary_path, quiet);
     }
     const auto node_config = mission.rescuer_config(rescuer_id);  // throws ConfigError for an unknown id
     const sarloc::dds::MissionClock clock = options.clock(mission);
