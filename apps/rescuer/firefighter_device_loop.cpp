@@ -96,6 +96,7 @@ app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const ap
   };
   mission::FirefighterScore score(ff.id, ff.team, ff.spec.enter_at_s);
   bool anchored = false;
+  bool mayday_pressed = false, reset_pressed = false;
   bool on_own = false;
   double last_position_s = -1e9;
   std::optional<responder::ResponderPosition> last_fix;
@@ -111,6 +112,16 @@ app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const ap
     } catch (const InputError& e) {  // beyond the sensor's range, or not after the last one
       spdlog::warn("{}: IMU sample at t = {:.3f} s skipped: {}", ff.id, sample->t, e.what());
       continue;
+    }
+    // The firefighter's own hand on the device (simulated: the mission's mayday_at_s, reset_at_s).
+    if (!mayday_pressed && ff.spec.mayday_at_s >= 0.0 && sample->t >= ff.spec.mayday_at_s) {
+      device.press_mayday();
+      mayday_pressed = true;
+    }
+    if (!reset_pressed && ff.spec.reset_at_s >= 0.0 && sample->t >= ff.spec.reset_at_s) {
+      device.reset(responder::AlarmKind::kMayday);
+      device.reset(responder::AlarmKind::kMotionless);
+      reset_pressed = true;
     }
     const auto odometry = device.take_odometry();
     if (!odometry) continue;

@@ -109,9 +109,7 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
       }
     }
   };
-  position_reader_ = std::make_unique<Reader<::sarloc::ResponderPosition>>(
-      participant_,
-      [this](const ::sarloc::ResponderPosition& p, const auto& info) {
+  const auto on_position = [this](const ::sarloc::ResponderPosition& p, const auto& info) {
         try {
           auto position = to_core(p);
           if (!position.position.position.allFinite() || !position.position.covariance.allFinite()) {
@@ -134,8 +132,18 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
           counters_.rejected("invalid_value");
           warnings_.warn(p.responder_id().to_string(), "invalid_value", error.what());
         }
-      },
-      EndpointOptions{}, events);
+      };
+  position_reader_ = std::make_unique<Reader<::sarloc::ResponderPosition>>(participant_, on_position, EndpointOptions{}, events);
+  // Firefighter devices' own writers also match this MANUAL_BY_TOPIC reader, whose liveliness
+  // reports a killed device within its 3 s lease (the AUTOMATIC one waits for the participant's).
+  device_position_reader_ = std::make_unique<Reader<::sarloc::ResponderPosition>>(
+      participant_, on_position,
+      [] {
+        EndpointOptions options;
+        options.profile_override = "responder_position.device.reader";
+        return options;
+      }(),
+      events);
 
   // The picture as the active instance publishes it. Exclusive ownership: these readers
   // deliver the strongest live writer's samples only, so another instance's summary here means
@@ -281,6 +289,7 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
 CommandNode::~CommandNode() {
   estimate_reader_.reset();
   position_reader_.reset();
+  device_position_reader_.reset();
   summary_reader_.reset();
   picture_victim_reader_.reset();
   picture_team_reader_.reset();

@@ -27,7 +27,11 @@ FirefighterNode::FirefighterNode(std::shared_ptr<Participant> participant, Firef
       participant_(std::move(participant)),
       odometry_writer_(participant_, EndpointOptions::in(config_.partitions)),
       alarm_writer_(participant_),
-      position_writer_(participant_) {
+      position_writer_(participant_, [] {
+        EndpointOptions options;
+        options.profile_override = "responder_position.device.writer";
+        return options;
+      }()) {
   position_reader_ = std::make_unique<Reader<::sarloc::ResponderPosition>>(
       participant_, [this](const ::sarloc::ResponderPosition& p, const auto& info) {
         if (p.responder_id().to_string() != config_.responder_id || participant_->is_own_writer(info.publication_handle)) {
@@ -52,7 +56,10 @@ FirefighterNode::~FirefighterNode() {
   (void)alarm_writer_.wait_for_acknowledgments(std::chrono::milliseconds(500));
 }
 
-bool FirefighterNode::publish_odometry(const responder::Odometry& odometry) { return odometry_writer_.write(to_idl(odometry)); }
+bool FirefighterNode::publish_odometry(const responder::Odometry& odometry) {
+  position_writer_.assert_liveliness();  // the link is alive while the device steps, fix or not
+  return odometry_writer_.write(to_idl(odometry));
+}
 bool FirefighterNode::publish_alarm(const responder::ResponderAlarm& alarm) { return alarm_writer_.write(to_idl(alarm)); }
 bool FirefighterNode::publish_position(const responder::ResponderPosition& position) {
   return position_writer_.write(to_idl(position));

@@ -30,6 +30,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainCommandRedispose = 152,
   kDomainCoreFirefighter = 153,  // tests/integration/mission/firefighters.yaml names it too
   kDomainMissionBuilding = 154,  // tests/integration/mission/building-small.yaml names it too
+  kDomainCommandAlarms = 155,
   kDomainMissionSmall = 130,  // mission_test: 130..139, and:
   kDomainMissionCommandKill = 134,
   kDomainMissionCommandRestart = 136,

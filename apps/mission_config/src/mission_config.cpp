@@ -211,6 +211,8 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
       r.read("search_s", f.spec.search_s);
       r.read("stop_at_s", f.spec.stop_at_s);
       r.read("stop_s", f.spec.stop_s);
+      r.read("mayday_at_s", f.spec.mayday_at_s);
+      r.read("reset_at_s", f.spec.reset_at_s);
       r.expect_done();
       f.spec.validate(r.path());
       // The daemon starts the filter from the entry the team reports; none: unknown start.

@@ -19,6 +19,8 @@ void FirefighterSpec::validate(const std::string& key) const {
   if (!std::isfinite(stop_at_s) || stop_at_s > 86400.0) fail("stop_at_s", stop_at_s, "must be finite, at most 86400");
   if (!std::isfinite(stop_s) || stop_s < 0.0 || stop_s > 3600.0) fail("stop_s", stop_s, "must be in [0, 3600]");
   if (stop_at_s >= 0.0 && stop_s <= 0.0) fail("stop_s", stop_s, "must be > 0 with a stop_at_s");
+  if (!std::isfinite(mayday_at_s) || mayday_at_s > 86400.0) fail("mayday_at_s", mayday_at_s, "must be finite, at most 86400");
+  if (!std::isfinite(reset_at_s) || reset_at_s > 86400.0) fail("reset_at_s", reset_at_s, "must be finite, at most 86400");
 }
 
 SimulatedFirefighter::SimulatedFirefighter(const firefighter::FloorPlan& world, const FirefighterSpec& spec,

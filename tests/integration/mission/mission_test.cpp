@@ -189,19 +189,26 @@ TEST(Mission, BuildingFirefightersConvergeRaiseTheMotionlessAlarmAndAKilledOneIs
   ASSERT_EQ(run.summary["faults"].size(), 1U);
   const auto& fault = run.summary["faults"][0];
   ASSERT_TRUE(fault.contains("link_lost_after_s")) << "incident command never reported ff3's link lost: " << run_report(run);
-  // Within the 3 s lease (+ a command cycle + delivery), wall time. What reports it first at this
-  // speedup is incident command's silence rule (command.teams.lost_after_s, 15 mission s = 1.9
-  // wall s at speedup 8): the DDS liveliness of a killed device's writer came only with its
-  // participant's 6 s lease (docs/operations.md, "Firefighters").
+  // Within the 3 s lease (+ a command cycle + delivery), wall time. building-small.yaml makes the
+  // silence rule wait 60 mission s (7.5 wall s), so this is the device writer's MANUAL_BY_TOPIC
+  // liveliness (config/dds/topics.xml, responder_position.device).
   EXPECT_LE(fault["link_lost_after_s"].get<double>(), 3.0 + 0.25 + 0.75);
   // The picture held the alarms: ff2's motionless one and ff3's link lost.
-  bool motionless_in_picture = false, link_lost_in_picture = false;
+  // ff1's mayday (raised at 50 s, reset at 65 s) too.
+  bool motionless_in_picture = false, link_lost_in_picture = false, mayday_in_picture = false;
   for (const auto& a : run.summary["alarms"]) {
     motionless_in_picture = motionless_in_picture || (a["kind"] == "motionless" && a["responder_id"] == "ff2");
     link_lost_in_picture = link_lost_in_picture || (a["kind"] == "link_lost" && a["responder_id"] == "ff3");
+    if (a["kind"] == "mayday" && a["responder_id"] == "ff1") {
+      mayday_in_picture = true;
+      EXPECT_NEAR(a["raised_s"].get<double>(), 50.0, 0.6) << a.dump();
+      ASSERT_TRUE(a.contains("cleared_s")) << "reset: " << a.dump();
+      EXPECT_NEAR(a["cleared_s"].get<double>(), 65.0, 0.6) << a.dump();
+    }
   }
   EXPECT_TRUE(motionless_in_picture) << run.summary["alarms"].dump();
   EXPECT_TRUE(link_lost_in_picture) << run.summary["alarms"].dump();
+  EXPECT_TRUE(mayday_in_picture) << run.summary["alarms"].dump();
 }
 
 TEST(Mission, KilledDaemonLeavesRescuersGuidingOnTheirDevices) {

@@ -29,6 +29,8 @@ struct FirefighterSpec {
   double search_s = 300.0;       ///< how long the search goes on
   double stop_at_s = -1.0;       ///< mission second of a scripted stop (< 0: none)
   double stop_s = 0.0;           ///< its length
+  double mayday_at_s = -1.0;     ///< mission second the firefighter raises a mayday (< 0: none)
+  double reset_at_s = -1.0;      ///< mission second the firefighter resets its alarms (< 0: never)
   void validate(const std::string& key) const;  ///< throws ConfigError naming `key`.<field>
 };
 
