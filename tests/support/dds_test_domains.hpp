@@ -31,6 +31,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainCoreFirefighter = 153,  // tests/integration/mission/firefighters.yaml names it too
   kDomainMissionBuilding = 154,  // tests/integration/mission/building-small.yaml names it too
   kDomainCommandAlarms = 155,
+  kDomainMissionMixed = 156,  // tests/integration/mission/mixed.yaml names it too
   kDomainMissionSmall = 130,  // mission_test: 130..139, and:
   kDomainMissionCommandKill = 134,
   kDomainMissionCommandRestart = 136,

@@ -66,20 +66,31 @@ FirefighterEstimator::FirefighterEstimator(std::string responder_id, const Firef
                  filter_with_entry_prior(config), seed_of(id_, config.seed)) {
   const auto it = config_.entry_of.find(id_);
   if (it != config_.entry_of.end() && !it->second.entry.empty()) {
+    for (const auto& e : config_.building->plan().entries) {
+      if (e.id == it->second.entry) entry_ = e.id;
+    }
+    if (entry_.empty()) {
+      throw ConfigError("rescuers[" + id_ + "].entry = '" + it->second.entry + "': not an entry of the building");
+    }
+  }
+}
+
+void FirefighterEstimator::start(std::uint64_t first_sequence) {
+  // The reported entry is where the walk began: it holds only if this is the device's first
+  // step. A daemon restarted (or whose idle state was released) mid-search meets the
+  // firefighter somewhere inside, and starting it at the door would be a confident wrong place.
+  const auto it = config_.entry_of.find(id_);
+  if (!entry_.empty() && first_sequence == 1) {
     const auto& plan = config_.building->plan();
     for (const auto& e : plan.entries) {
-      if (e.id != it->second.entry) continue;
-      entry_ = e.id;
-      // The crew stands at the entry facing in; the INS frame's x axis is the boot's heading then.
+      if (e.id != entry_) continue;
       // The crew aligns the boot INS standing just inside the door, turned to the wall it
       // searches along: right of walking in for a right-hand search (search_walk.hpp).
       const double turn = it->second.hand == firefighter::Hand::kRight ? -0.5 * kPi : 0.5 * kPi;
       localizer_.start_at(e.position, plan.floor_index(e.floor), wrap_angle(e.heading_rad + turn));
     }
-    if (entry_.empty()) {
-      throw ConfigError("rescuers[" + id_ + "].entry = '" + it->second.entry + "': not an entry of the building");
-    }
   } else {
+    started_mid_search_ = !entry_.empty();
     localizer_.start_unknown();
   }
 }
@@ -112,6 +123,7 @@ Outcome FirefighterEstimator::add_odometry(const responder::Odometry& o) {
        << " m) or yaw change " << o.rotation_rpy.z() << " rad";
     return responder::reject(RejectReason::kAbsurdMotion, id_, os.str());
   }
+  if (!localizer_.started()) start(o.sequence);
   if (last_end_ > 0 && o.interval_start > last_end_) {
     // Steps lost on the way: the firefighter walked somewhere meanwhile.
     const double gap_s = 1e-9 * static_cast<double>(o.interval_start - last_end_);
@@ -128,7 +140,7 @@ Outcome FirefighterEstimator::add_odometry(const responder::Odometry& o) {
 }
 
 bool FirefighterEstimator::add_unknown_motion(TimestampNs from, TimestampNs until) {
-  if (until <= from || until <= last_end_) return false;
+  if (until <= from || until <= last_end_ || !localizer_.started()) return false;
   localizer_.lost_motion(0.5 * config_.max_speed_mps * 1e-9 * static_cast<double>(until - std::max(from, last_end_)));
   last_end_ = until;
   return true;

@@ -211,6 +211,19 @@ TEST(Mission, BuildingFirefightersConvergeRaiseTheMotionlessAlarmAndAKilledOneIs
   EXPECT_TRUE(mayday_in_picture) << run.summary["alarms"].dump();
 }
 
+// A mission may hold both kinds of responders: one core daemon serves the avalanche rescuers
+// and the firefighters at once, and the victims are found while the firefighters are located.
+TEST(Mission, OneDaemonServesAvalancheRescuersAndFirefightersAtOnce) {
+  const auto run = run_mission("mixed.yaml", kDomainMissionMixed);
+  expect_complete(run);
+  ASSERT_EQ(run.summary["firefighters"].size(), 2U) << run_report(run);
+  for (const auto& f : run.summary["firefighters"]) {
+    ASSERT_TRUE(f.contains("rmse_after_convergence_m")) << f.dump();
+    EXPECT_LE(f["rmse_after_convergence_m"].get<double>(), 1.5) << f.dump();
+    EXPECT_GT(f["fixes"].get<int>(), 100) << "the daemon answered the firefighter all along: " << f.dump();
+  }
+}
+
 TEST(Mission, KilledDaemonLeavesRescuersGuidingOnTheirDevices) {
   const auto run = run_mission("small.yaml", kDomainMissionSmall + 2, "--kill core@10");
   expect_complete(run);

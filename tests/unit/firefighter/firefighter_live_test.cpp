@@ -65,7 +65,8 @@ struct LiveRun {
 
 // One right-hand search of `building` from its first entry, IMU to estimator.
 LiveRun run_search(const std::string& building, const std::string& entry, std::uint64_t seed,
-                   firefighter::Vec2 origin = firefighter::Vec2::Zero(), double rotation_deg = 0.0) {
+                   firefighter::Vec2 origin = firefighter::Vec2::Zero(), double rotation_deg = 0.0,
+                   std::uint64_t first_step = 1, bool* started_mid_search = nullptr) {
   const EstimatorConfigs configs = configs_for(building, "ff1", entry, origin, rotation_deg);
   const auto& plan = configs.firefighter.building->plan();
   std::mt19937_64 rng(seed);
@@ -83,7 +84,7 @@ LiveRun run_search(const std::string& building, const std::string& entry, std::u
   for (const auto& ideal : foot.imu_samples(100.0)) {
     device.push(errors.apply(ideal, rng));
     const auto odometry = device.take_odometry();
-    if (!odometry) continue;
+    if (!odometry || odometry->sequence < first_step) continue;  // a daemon that came later saw none of these
     auto outcome = estimator->add_odometry(*odometry);
     const auto* out = std::get_if<EstimatorOutput>(&outcome);
     EXPECT_NE(out, nullptr);
@@ -106,6 +107,9 @@ LiveRun run_search(const std::string& building, const std::string& entry, std::u
       run.confirmed_outside99 += outside ? 1 : 0;
     }
   }
+  if (started_mid_search != nullptr) {
+    *started_mid_search = dynamic_cast<const FirefighterEstimator&>(*estimator).started_mid_search();
+  }
   return run;
 }
 
@@ -123,6 +127,17 @@ TEST(FirefighterLive, FromTheReportedEntryTheDaemonTracksTheSearchInTheIncidentF
     EXPECT_LT(rms(run.error_m), 1.0) << "seed " << seed;
     EXPECT_GT(run.confirmed, run.answers / 2) << "seed " << seed << ": a known entry's track is confirmed";
     EXPECT_LE(run.confirmed_outside99, run.confirmed / 50 + 1) << "seed " << seed;
+  }
+}
+
+TEST(FirefighterLive, ADaemonMeetingTheFirefighterMidSearchDoesNotStartItAtTheReportedDoor) {
+  // A core daemon restarted 60 s into the search: the first odometry it sees is step 121.
+  for (std::uint64_t seed : {1, 2}) {
+    bool mid_search = false;
+    const LiveRun run = run_search("house-125", "front", seed, {}, 0.0, 121, &mid_search);
+    EXPECT_TRUE(mid_search) << "seed " << seed;
+    ASSERT_GT(run.answers, 150U);
+    EXPECT_LE(run.confirmed_outside99, run.confirmed / 50 + 1) << "seed " << seed << ": " << run.confirmed << " confirmed";
   }
 }
 

@@ -15,8 +15,9 @@
 // heading the crew stands in while the boot INS aligns (turned from walking in to the wall it
 // will follow: right for a right-hand search) with `entry_heading_sigma_deg`. The INS frame's
 // x axis is the boot's heading at alignment, and without a compass (magnetometers are useless
-// near steel) nothing else ties it to the building. With no entry given, from an unknown state
-// (anywhere, any heading).
+// near steel) nothing else ties it to the building. With no entry given, or when the first
+// odometry this estimator sees is not the device's first step (a daemon restarted mid-search),
+// from an unknown state (anywhere, any heading).
 // A gap in the odometry (interval_start after the last interval_end: steps lost on the radio)
 // spreads the particles by how far the firefighter may have walked in it (`max_speed_mps`).
 #include <map>
@@ -67,16 +68,21 @@ class FirefighterEstimator final : public ResponderEstimator {
   std::size_t active_filters() const override { return 1; }
 
   const firefighter::IndoorLocalizer& localizer() const { return localizer_; }
-  /// The entry it started from, empty for an unknown start.
+  /// The entry it starts from, empty for an unknown start.
   const std::string& entry() const { return entry_; }
+  /// An entry was reported but the first odometry came mid-search: started unknown.
+  bool started_mid_search() const { return started_mid_search_; }
 
  private:
   responder::ResponderPosition position_at(TimestampNs stamp, const firefighter::MapEstimate& e) const;
+  /// On the first odometry: from the entry if it is the device's first step, else unknown.
+  void start(std::uint64_t first_sequence);
 
   std::string id_;
   FirefighterEstimatorConfig config_;
   firefighter::IndoorLocalizer localizer_;
   std::string entry_;
+  bool started_mid_search_ = false;
   double yaw_ = 0.0;  ///< INS yaw in the estimator's navigation frame
   std::optional<std::uint64_t> last_sequence_;
   TimestampNs last_end_ = 0;
