@@ -134,16 +134,10 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
         }
       };
   position_reader_ = std::make_unique<Reader<::sarloc::ResponderPosition>>(participant_, on_position, EndpointOptions{}, events);
-  // Firefighter devices' own writers also match this MANUAL_BY_TOPIC reader, whose liveliness
-  // reports a killed device within its 3 s lease (the AUTOMATIC one waits for the participant's).
-  device_position_reader_ = std::make_unique<Reader<::sarloc::ResponderPosition>>(
-      participant_, on_position,
-      [] {
-        EndpointOptions options;
-        options.profile_override = "responder_position.device.reader";
-        return options;
-      }(),
-      events);
+  // Devices' own writers also match this MANUAL_BY_TOPIC reader, whose liveliness reports a
+  // killed device within its 3 s lease (the AUTOMATIC one waits for the participant's).
+  device_position_reader_ =
+      std::make_unique<Reader<::sarloc::ResponderPosition>>(participant_, on_position, device_position_options(true), events);
 
   // The picture as the active instance publishes it. Exclusive ownership: these readers
   // deliver the strongest live writer's samples only, so another instance's summary here means

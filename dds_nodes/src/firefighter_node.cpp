@@ -27,11 +27,7 @@ FirefighterNode::FirefighterNode(std::shared_ptr<Participant> participant, Firef
       participant_(std::move(participant)),
       odometry_writer_(participant_, EndpointOptions::in(config_.partitions)),
       alarm_writer_(participant_),
-      position_writer_(participant_, [] {
-        EndpointOptions options;
-        options.profile_override = "responder_position.device.writer";
-        return options;
-      }()) {
+      position_writer_(participant_, device_position_options()) {
   position_reader_ = std::make_unique<Reader<::sarloc::ResponderPosition>>(
       participant_, [this](const ::sarloc::ResponderPosition& p, const auto& info) {
         if (p.responder_id().to_string() != config_.responder_id || participant_->is_own_writer(info.publication_handle)) {

@@ -38,7 +38,7 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
       sample_writers_(participant_, EndpointOptions::in(config_.partitions)),
       odometry_writer_(participant_, EndpointOptions::in(config_.partitions)),
       estimate_writer_(participant_, EndpointOptions::in(config_.partitions)),
-      position_writer_(participant_),
+      position_writer_(participant_, device_position_options()),
       arbiter_(config_.fallback_timeout_s, clock_.now(), config_.rejoin_epochs) {
   guidance_reader_ = std::make_unique<Reader<::sarloc::Guidance>>(
       participant_,
@@ -145,6 +145,7 @@ EpochResult RescuerNode::epoch(const std::vector<responder::Odometry>& odometry,
     for (const std::uint32_t signal : found_elsewhere_) local_->mark_done(signal);
   }
   move(odometry);  // motion first: the daemon must apply the step before this epoch's samples
+  position_writer_.assert_liveliness();  // the link is alive while the device runs, fix or not
   if (fix) {
     if (!position_writer_.write(to_idl(*fix))) spdlog::error("DDS refused the position fix");
     if (own_fixes_.empty() || fix->stamp > own_fixes_.back().stamp) own_fixes_.push_back(*fix);

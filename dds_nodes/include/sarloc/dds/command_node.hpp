@@ -163,7 +163,7 @@ class CommandNode {
   std::thread thread_;
   std::unique_ptr<Reader<::sarloc::VictimEstimate>> estimate_reader_;
   std::unique_ptr<Reader<::sarloc::ResponderPosition>> position_reader_;
-  std::unique_ptr<Reader<::sarloc::ResponderPosition>> device_position_reader_;  ///< MANUAL_BY_TOPIC: firefighter devices
+  std::unique_ptr<Reader<::sarloc::ResponderPosition>> device_position_reader_;  ///< MANUAL_BY_TOPIC: devices' own writers
   std::unique_ptr<Reader<::sarloc::IncidentSummary>> summary_reader_;
   std::unique_ptr<Reader<::sarloc::FusedVictim>> picture_victim_reader_;
   std::unique_ptr<Reader<::sarloc::TeamStatus>> picture_team_reader_;

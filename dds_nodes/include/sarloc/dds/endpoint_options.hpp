@@ -25,5 +25,15 @@ struct EndpointOptions {
   }
 };
 
+/// A responder device's own ResponderPosition writer (avalanche rescuer or firefighter), and
+/// incident command's second reader of those: the `responder_position.device` profiles,
+/// MANUAL_BY_TOPIC with a 3 s lease, so a killed device is reported lost 3 s after its last
+/// assertion (config/dds/topics.xml has why).
+inline EndpointOptions device_position_options(bool reader = false) {
+  EndpointOptions options;
+  options.profile_override = reader ? "responder_position.device.reader" : "responder_position.device.writer";
+  return options;
+}
+
 
 }  // namespace sarloc::dds

@@ -4,8 +4,9 @@
 //   - Odometry (2 Hz boot INS) into the sector's partition, for the core daemon;
 //   - ResponderAlarm (motionless, mayday) at once, RELIABLE, TRANSIENT_LOCAL;
 //   - its own ResponderPosition (dead reckoning) once a mission second: it keeps the
-//     firefighter heard at incident command, and its writer's liveliness is the firefighter's
-//     link there (the daemon's map-aided positions come from another writer);
+//     firefighter heard at incident command, and its writer's liveliness (MANUAL_BY_TOPIC,
+//     asserted every odometry step, device_position_options) is the firefighter's link there
+//     (the daemon's map-aided positions come from another writer);
 //   - the daemon's map-aided ResponderPosition of this firefighter, handed to the device.
 #include <deque>
 #include <memory>
