@@ -32,6 +32,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainMissionBuilding = 154,  // tests/integration/mission/building-small.yaml names it too
   kDomainCommandAlarms = 155,
   kDomainMissionMixed = 156,  // tests/integration/mission/mixed.yaml names it too
+  kDomainMissionBuildingDaemonKill = 157,
   kDomainMissionSmall = 130,  // mission_test: 130..139, and:
   kDomainMissionCommandKill = 134,
   kDomainMissionCommandRestart = 136,

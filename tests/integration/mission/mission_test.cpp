@@ -211,6 +211,22 @@ TEST(Mission, BuildingFirefightersConvergeRaiseTheMotionlessAlarmAndAKilledOneIs
   EXPECT_TRUE(mayday_in_picture) << run.summary["alarms"].dump();
 }
 
+// The core daemon killed mid-search and restarted: the firefighters' devices dead reckon from
+// their last fix meanwhile, and the new daemon, meeting them mid-search, starts them from an
+// unknown state, never at the door: nothing it confirms is wrong.
+TEST(Mission, BuildingDevicesDeadReckonWhileTheDaemonIsDownAndTheNewOneConfirmsNothingWrong) {
+  const auto run = run_mission("building-small.yaml", kDomainMissionBuildingDaemonKill, "--kill core@50 --restart core@65");
+  ASSERT_FALSE(run.summary.is_null()) << file_text(run.run_dir / "mission.out");
+  ASSERT_EQ(run.summary["firefighters"].size(), 3U) << run_report(run);
+  for (const auto& f : run.summary["firefighters"]) {
+    EXPECT_GE(f["dead_reckoning_s"].get<double>(), 10.0) << "on its own while the daemon was down: " << f.dump();
+    EXPECT_EQ(f["confirmed_outside_99"].get<int>(), 0) << f.dump();
+    // Before the kill at 50 s the daemon answered at most 80 steps (2 Hz from 10 s): the rest came
+    // from the restarted one.
+    EXPECT_GT(f["fixes"].get<int>(), 100) << "the restarted daemon answers too: " << f.dump();
+  }
+}
+
 // A mission may hold both kinds of responders: one core daemon serves the avalanche rescuers
 // and the firefighters at once, and the victims are found while the firefighters are located.
 TEST(Mission, OneDaemonServesAvalancheRescuersAndFirefightersAtOnce) {
