@@ -34,7 +34,9 @@ SimulatedFirefighter::SimulatedFirefighter(const firefighter::FloorPlan& world, 
   offset_s_ = std::max(0.0, spec.enter_at_s - walk.standing_s);
   walk.standing_s = std::max(spec.enter_at_s, walk.standing_s) - offset_s_;
   std::mt19937_64 team_rng(team_seed);
-  const auto search = firefighter::generate_search_walk(world, walk, spec.hand, spec.entry, team_rng);
+  // A team that reports no entry (the daemon then starts unknown) still goes in by one: drawn.
+  const auto search = spec.entry.empty() ? firefighter::generate_search_walk(world, walk, spec.hand, team_rng)
+                                         : firefighter::generate_search_walk(world, walk, spec.hand, spec.entry, team_rng);
   std::vector<firefighter::Footfall> feet = spec.member == 0 ? search.leader : search.follower;
   if (spec.stop_at_s >= 0.0) {
     // The first footfall landing at or after the stop: it stays down stop_s longer, and every

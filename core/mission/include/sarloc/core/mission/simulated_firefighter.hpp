@@ -22,7 +22,7 @@
 namespace sarloc::mission {
 
 struct FirefighterSpec {
-  std::string entry;
+  std::string entry;             ///< the entry the team reports and goes in by ("": one drawn, unreported)
   firefighter::Hand hand = firefighter::Hand::kRight;
   unsigned member = 0;           ///< 0: leads the team's walk; 1: follows
   double enter_at_s = 0.0;       ///< mission second the search starts
