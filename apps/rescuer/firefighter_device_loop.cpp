@@ -19,8 +19,6 @@
 namespace sarloc::rescuer {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 std::uint64_t seed_of_name(std::uint64_t seed, const std::string& name) {
   return derive_seed(seed, std::hash<std::string>{}(name) & 0xFFFFFFFFULL);
 }
@@ -75,24 +73,21 @@ app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const ap
   if (!ff.spec.entry.empty()) {
     for (const auto& e : mission.world->entries) {
       if (e.id != ff.spec.entry) continue;
-      const double rot = placement.rotation_deg * kPi / 180.0;
-      const Eigen::Vector2d xy = placement.origin + Eigen::Rotation2Dd(rot) * e.position;
+      const firefighter::Vec2 xy = placement.to_incident(e.position);
       responder::ResponderPosition p;
       p.responder_id = ff.id;
       p.team_id = ff.team;
       p.position.position = Vec3(xy.x(), xy.y(), mission.world->floors[mission.world->floor_index(e.floor)].elevation_m);
       p.position.covariance = Mat3::Identity() * std::pow(placement.entry_position_sigma_m, 2);
-      p.heading_rad = wrap_angle(rot + e.heading_rad + (ff.spec.hand == firefighter::Hand::kRight ? -0.5 : 0.5) * kPi);
+      p.heading_rad = wrap_angle(placement.rotation_rad() + firefighter::stance_heading(e, ff.spec.hand));
       p.floor = static_cast<std::int32_t>(mission.world->floor_index(e.floor));
       p.source = responder::PositionSource::kManual;
       entry_fix = p;
     }
   }
-  const double rot = placement.rotation_deg * kPi / 180.0;
   const auto truth_incident = [&](double t) {
     const auto truth = sim->truth(t);
-    return std::make_pair(firefighter::Vec2(placement.origin + Eigen::Rotation2Dd(rot) * truth.position),
-                          static_cast<std::int32_t>(truth.floor));
+    return std::make_pair(placement.to_incident(truth.position), static_cast<std::int32_t>(truth.floor));
   };
   mission::FirefighterScore score(ff.id, ff.team, ff.spec.enter_at_s);
   bool anchored = false;

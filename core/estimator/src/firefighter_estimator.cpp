@@ -11,8 +11,6 @@ namespace {
 
 using responder::RejectReason;
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDegToRad = kPi / 180.0;
 // A step further than this past the last one is a clock jump, not a gap to spread over.
 constexpr TimestampNs kMaxGapNs = 120'000'000'000;
 
@@ -84,10 +82,8 @@ void FirefighterEstimator::start(std::uint64_t first_sequence) {
     const auto& plan = config_.building->plan();
     for (const auto& e : plan.entries) {
       if (e.id != entry_) continue;
-      // The crew aligns the boot INS standing just inside the door, turned to the wall it
-      // searches along: right of walking in for a right-hand search (search_walk.hpp).
-      const double turn = it->second.hand == firefighter::Hand::kRight ? -0.5 * kPi : 0.5 * kPi;
-      localizer_.start_at(e.position, plan.floor_index(e.floor), wrap_angle(e.heading_rad + turn));
+      // The crew aligns the boot INS standing just inside the door, turned to its wall.
+      localizer_.start_at(e.position, plan.floor_index(e.floor), wrap_angle(firefighter::stance_heading(e, it->second.hand)));
     }
   } else {
     started_mid_search_ = !entry_.empty();
@@ -151,13 +147,13 @@ Outcome FirefighterEstimator::process(const SensorSample&) {
 }
 
 responder::ResponderPosition FirefighterEstimator::position_at(TimestampNs stamp, const firefighter::MapEstimate& e) const {
-  const double rot = config_.rotation_deg * kDegToRad;
+  const double rot = config_.rotation_rad();
   const Eigen::Rotation2Dd R(rot);
   responder::ResponderPosition p;
   p.responder_id = id_;
   p.stamp = stamp;
   const auto& plan = config_.building->plan();
-  const firefighter::Vec2 xy = config_.origin + R * e.position;
+  const firefighter::Vec2 xy = config_.to_incident(e.position);
   p.position.position = Vec3(xy.x(), xy.y(), plan.floors[e.floor].elevation_m);
   p.position.covariance.setZero();
   p.position.covariance.topLeftCorner<2, 2>() = R.toRotationMatrix() * e.covariance * R.toRotationMatrix().transpose();

@@ -24,7 +24,7 @@ Vec2 dir(double heading) { return {std::cos(heading), std::sin(heading)}; }
 class Walker {
  public:
   Walker(const FloorPlan& plan, const SearchWalkConfig& config, Hand hand, std::mt19937_64& rng)
-      : plan_(plan), config_(config), side_(hand == Hand::kRight ? -1.0 : 1.0), rng_(rng) {
+      : plan_(plan), config_(config), hand_(hand), side_(hand == Hand::kRight ? -1.0 : 1.0), rng_(rng) {
     for (std::size_t f = 0; f < plan.floors.size(); ++f) {
       world_.push_back(std::make_unique<WallIndex>(plan.solid_walls(f, WallSet::kWorld)));
     }
@@ -35,9 +35,7 @@ class Walker {
     walk.entry = entry.id;
     floor_ = plan_.floor_index(entry.floor);
     pos_ = entry.position;
-    // "Turn right at each entry point" (left for a left-hand search): the door's wall is then
-    // on the searching hand.
-    heading_ = entry.heading_rad + side_ * 0.5 * kPi;
+    heading_ = stance_heading(entry, hand_);
     speed_ = uniform(config_.speed_min_mps, config_.speed_max_mps);
     offset_ = draw_offset();
     Footfall first;
@@ -277,7 +275,8 @@ class Walker {
 
   const FloorPlan& plan_;
   SearchWalkConfig config_;
-  double side_;
+  Hand hand_;
+  double side_;  ///< -1 right-hand, +1 left-hand: the followed wall's side
   std::mt19937_64& rng_;
   std::vector<std::unique_ptr<WallIndex>> world_;
   std::vector<Footfall> feet_;
@@ -330,6 +329,11 @@ SearchWalk generate_search_walk(const FloorPlan& plan, const SearchWalkConfig& c
   SearchWalk walk = walker.run(*entry);
   walk.hand = hand;
   return walk;
+}
+
+double stance_heading(const Entry& entry, Hand hand) {
+  // The door's wall is then on the searching hand.
+  return entry.heading_rad + (hand == Hand::kRight ? -0.5 : 0.5) * kPi;
 }
 
 double path_length(const std::vector<Footfall>& footfalls) {

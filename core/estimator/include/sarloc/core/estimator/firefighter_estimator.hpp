@@ -36,6 +36,11 @@ struct FirefighterEstimatorConfig {
   /// the floor's elevation.
   firefighter::Vec2 origin = firefighter::Vec2::Zero();
   double rotation_deg = 0.0;
+  /// The plan's rotation into the incident frame (rad), and a plan point there (horizontal).
+  double rotation_rad() const { return rotation_deg * 3.14159265358979323846 / 180.0; }
+  firefighter::Vec2 to_incident(const firefighter::Vec2& plan_point) const {
+    return origin + firefighter::rotate(plan_point, rotation_rad());
+  }
   firefighter::MapFilterConfig filter;
   double entry_position_sigma_m = 0.5;  ///< where inside the door the crew starts
   double entry_heading_sigma_deg = 10.0;

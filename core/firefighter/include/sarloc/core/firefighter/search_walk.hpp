@@ -61,6 +61,12 @@ SearchWalk generate_search_walk(const FloorPlan& plan, const SearchWalkConfig& c
 SearchWalk generate_search_walk(const FloorPlan& plan, const SearchWalkConfig& config, Hand hand,
                                 const std::string& entry_id, std::mt19937_64& rng);
 
+/// How a crew stands at `entry` before a `hand` search: turned from walking in to the wall it
+/// will follow ("turn right at each entry point", left for a left-hand search). The heading
+/// (rad, map frame) the simulated walk starts with, and the one the live filter assumes for the
+/// boot INS that aligned there.
+double stance_heading(const Entry& entry, Hand hand);
+
 /// Horizontal length of the footfall path.
 double path_length(const std::vector<Footfall>& footfalls);
 
