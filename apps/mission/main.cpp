@@ -25,6 +25,7 @@
 #include "sarloc/core/mission/victim_matching.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/reader.hpp"
+#include "sarloc/dds/recorder.hpp"
 
 namespace {
 
@@ -225,6 +226,8 @@ int main(int argc, char** argv) {
   int domain = -1;
   std::string launcher;
   std::vector<std::string> host_args;  // NAME=HOST
+  std::string record_dir;
+  bool no_record = false;
   cli.add_option("mission", config_path, "mission YAML")->capture_default_str();
   cli.add_option("--json", json_path, "write the summary as JSON here");
   cli.add_option("--run-dir", run_dir, "folder for the processes' logs and summaries (default: a new one in /tmp)");
@@ -243,6 +246,9 @@ int main(int argc, char** argv) {
                  "run process NAME on HOST through --launcher: NAME is core (core-SECTOR), command (command-K with "
                  "several instances) or rescuer-ID, e.g. --host rescuer-r1=h5")
       ->delimiter(',');
+  cli.add_option("--record", record_dir,
+                 "folder for the mission's MCAP recording (default: record.directory of the mission, recordings/)");
+  cli.add_flag("--no-record", no_record, "do not record the mission");
   app::add_log_level_option(cli, log_level);
   cli.set_version_flag("--version", SARLOC_VERSION);
   if (auto code = app::parse_command_line(cli, argc, argv)) return *code;
@@ -346,6 +352,23 @@ int main(int argc, char** argv) {
       if (const auto it = hosts.find(name); it != hosts.end()) args.insert(args.begin(), {launcher, it->second});
       return args;
     };
+
+    // The recorder first, so that it hears every process from its first sample.
+    std::unique_ptr<app::ChildProcess> recorder;
+    std::string recording_path;
+    if (!no_record) {
+      recording_path = fs::absolute(sarloc::dds::timestamped_recording_path(
+                                        record_dir.empty() ? mission.record_directory : record_dir, mission.name))
+                           .string();
+      std::vector<std::string> args{(bin_dir / "sarloc-record").string(), "-c", config_abs, "--domain", domain_arg,
+                                    "-o", recording_path, "--log-level", log_level,
+                                    "--meta", "epoch_ns=" + epoch_arg,
+                                    "--meta", "speedup=" + std::to_string(mission.speedup),
+                                    "--meta-file", "mission_yaml=" + config_abs};
+      if (!mission.building_path.empty()) args.insert(args.end(), {"--meta-file", "building_plan_yaml=" + mission.building_path});
+      recorder = std::make_unique<app::ChildProcess>("record", args, log_file("record"));
+      spdlog::info("recording the mission to {}", recording_path);
+    }
 
     std::vector<std::unique_ptr<app::ChildProcess>> cores;
     std::vector<std::string> sectors = mission.sectors.empty() ? std::vector<std::string>{""} : mission.sectors;
@@ -535,6 +558,14 @@ int main(int argc, char** argv) {
     }
     if (last_active > 0) commands[last_active - 1]->stop(std::chrono::seconds(10));
     for (auto& c : cores) c->stop(std::chrono::seconds(10));
+    // The recorder last: it writes the summary of the file when it stops.
+    if (recorder) {
+      const int code = recorder->stop(std::chrono::seconds(20));
+      if (code != 0) {
+        spdlog::error("the recorder ended with exit code {}: see {}; the recording may need sarloc-record --recover",
+                      code, log_file("record"));
+      }
+    }
 
     // What each rescuer's device knew (its summary): found signals and their own errors.
     std::map<std::string, mission::DeviceSummary> devices;
@@ -587,7 +618,12 @@ int main(int argc, char** argv) {
       summary.faults.push_back(outcome);
     }
     print_summary(summary, run_dir);
-    if (!json_path.empty()) app::write_json_file(json_path, app::to_json(summary));
+    if (!recording_path.empty()) std::printf("recording: %s\n", recording_path.c_str());
+    if (!json_path.empty()) {
+      nlohmann::json j = app::to_json(summary);
+      if (!recording_path.empty()) j["recording"] = recording_path;
+      app::write_json_file(json_path, j);
+    }
     if (interrupted) return app::ExitCode::kInterrupted;
     // Every firefighter's device reported, and each converged on the map.
     const bool firefighters_ok = summary.firefighters_without_summary.empty() &&

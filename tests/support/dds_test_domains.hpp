@@ -33,6 +33,8 @@ enum DdsTestDomain : std::uint32_t {
   kDomainCommandAlarms = 155,
   kDomainMissionMixed = 156,  // tests/integration/mission/mixed.yaml names it too
   kDomainMissionBuildingDaemonKill = 157,
+  kDomainRecorder = 158,
+  kDomainRecorderKill = 159,
   kDomainMissionSmall = 130,  // mission_test: 130..139, and:
   kDomainMissionCommandKill = 134,
   kDomainMissionCommandRestart = 136,

@@ -350,6 +350,30 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     }
     r.expect_done();
   }
+  {
+    auto r = root.child("record");
+    r.read("directory", c.record_directory);  // relative to where the recorder runs
+    r.read("allow", c.record.allow);
+    r.read("block", c.record.block);
+    r.read("partitions", c.record.partitions);
+    std::string compression = recording::compression_name(c.record.compression);
+    r.read("compression", compression);
+    try {
+      c.record.compression = recording::parse_compression(compression);
+    } catch (const recording::RecordingError& error) {
+      throw ConfigError(name + ": record.compression: " + error.what());
+    }
+    r.read("flush_period_s", c.record.flush_period_s);
+    r.read("rotate_size_mb", c.record.rotate_size_mb);
+    r.read("rotate_duration_s", c.record.rotate_duration_s);
+    r.read("max_queue_mb", c.record.max_queue_mb);
+    r.read("sync_on_flush", c.record.sync_on_flush);
+    r.expect_done();
+    // Checked now with a stand-in path; the real one is chosen per run.
+    dds::RecorderConfig check = c.record;
+    check.output_path = "check.mcap";
+    check.validate();
+  }
   root.expect_done();
   c.validate();
   return c;

@@ -10,6 +10,7 @@
 #include "sarloc/core/estimator/make_estimator.hpp"
 #include "sarloc/core/mission/mission_scenario.hpp"
 #include "sarloc/core/mission/simulated_firefighter.hpp"
+#include "sarloc/dds/recorder.hpp"
 #include "sarloc/dds/command_node.hpp"
 #include "sarloc/dds/core_node.hpp"
 #include "sarloc/dds/participant.hpp"
@@ -53,6 +54,10 @@ struct MissionConfig {
     c.standby.instances = 2;
     return c;
   }();
+
+  /// How sarloc-record records this mission (record:); output_path is set per run.
+  dds::RecorderConfig record;
+  std::string record_directory = "recordings";  ///< record.directory, resolved
 
   /// Throws ConfigError naming the key.
   void validate() const;
