@@ -12,6 +12,7 @@
 #include <cmath>
 #include <ctime>
 #include <filesystem>
+#include <set>
 #include <nlohmann/json.hpp>
 
 #include "sarloc/core/common/errors.hpp"
@@ -33,6 +34,18 @@ namespace {
 constexpr std::int32_t kRecorderDepth = 1000;
 // The recorder's own channel: one JSON message per flush with the counters so far.
 constexpr const char* kStatusTopic = "sarloc/recorder_status";
+// The recorder's events: a participant's first sample on a topic.
+constexpr const char* kEventsTopic = "sarloc/recorder_events";
+
+std::string hex(const std::array<std::uint8_t, 12>& bytes) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out;
+  for (const auto b : bytes) {
+    out += kHex[b >> 4];
+    out += kHex[b & 0xF];
+  }
+  return out;
+}
 
 std::uint64_t to_ns(const eprosima::fastrtps::rtps::Time_t& time) {
   const std::int64_t ns = time.to_ns();
@@ -120,6 +133,7 @@ class Recorder::Listener : public fdds::DataReaderListener {
       item.publish_time_ns = to_ns(info.source_timestamp);
       item.log_time_ns = to_ns(info.reception_timestamp);
       if (item.log_time_ns == 0) item.log_time_ns = now_ns();
+      for (std::size_t i = 0; i < item.participant.size(); ++i) item.participant[i] = info.publication_handle.value[i];
       item.bytes = std::move(sample.bytes);
       recorder_.enqueue(std::move(item));
     }
@@ -323,6 +337,8 @@ void Recorder::writer_loop() {
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(config_.flush_period_s));
   std::unique_ptr<recording::McapWriter> writer;
   std::uint16_t status_channel = 0;
+  std::uint16_t events_channel = 0;
+  std::set<std::pair<std::size_t, std::array<std::uint8_t, 12>>> writers_seen;  // per file
   Clock::time_point file_started;
 
   auto open = [&](const std::string& path) {
@@ -342,6 +358,9 @@ void Recorder::writer_loop() {
       channel->file_channel = writer->add_channel(topic.name, schemas[topic.type_name], "cdr", channel->metadata);
     }
     status_channel = writer->add_channel(kStatusTopic, 0, "json", {{"content", "recorder counters per topic, once per flush"}});
+    events_channel = writer->add_channel(kEventsTopic, 0, "json",
+                                         {{"content", "a participant's first sample on a topic (MCAP messages do not name their writer)"}});
+    writers_seen.clear();
     writer->flush();
     file_started = Clock::now();
   };
@@ -383,6 +402,16 @@ void Recorder::writer_loop() {
       }
       std::map<std::size_t, std::uint64_t> written;
       for (const auto& item : batch) {
+        if (writers_seen.insert({item.channel, item.participant}).second) {
+          const std::string event = nlohmann::json{{"event", "writer_seen"},
+                                                   {"topic", channels_[item.channel]->topic->name},
+                                                   {"participant", hex(item.participant)},
+                                                   {"sequence", item.sequence},
+                                                   {"log_time_ns", item.log_time_ns}}
+                                        .dump();
+          writer->write(events_channel, 0, item.log_time_ns, item.log_time_ns,
+                        reinterpret_cast<const std::uint8_t*>(event.data()), event.size());
+        }
         writer->write(channels_[item.channel]->file_channel, item.sequence, item.log_time_ns, item.publish_time_ns,
                       item.bytes.data(), item.bytes.size());
         ++written[item.channel];

@@ -35,6 +35,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainMissionBuildingDaemonKill = 157,
   kDomainRecorder = 158,
   kDomainRecorderKill = 159,
+  kDomainMissionRecorded = 160,
   kDomainMissionSmall = 130,  // mission_test: 130..139, and:
   kDomainMissionCommandKill = 134,
   kDomainMissionCommandRestart = 136,

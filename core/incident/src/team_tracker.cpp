@@ -43,7 +43,9 @@ void TeamTracker::on_position(const ResponderPosition& position, TimestampNs now
     throw InputError("responder_position.responder_id = \"\": must not be empty");
   latest_now_ = std::max(latest_now_, now);
   Member& m = members_[position.responder_id];
-  m.team_id = position.team_id;
+  // The daemon's map-aided positions do not know the team: they never move a member out of
+  // the team its own device reports.
+  if (!position.team_id.empty() || m.team_id.empty()) m.team_id = position.team_id;
   // A firefighter's device dead reckons while the daemon is silent; while the daemon's
   // map-aided positions still come, they are the better ones.
   const bool map_aided_fresh = m.has_position && m.last_position.source == responder::PositionSource::kMapAided &&

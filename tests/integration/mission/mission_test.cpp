@@ -36,8 +36,10 @@ MissionRun run_mission(const std::string& mission_file, std::uint32_t domain, co
   const fs::path json_path = run.run_dir / "summary.json";
   // A bare name is one of this folder's test missions; an absolute path any other.
   const std::string path = mission_file.front() == '/' ? mission_file : std::string(SARLOC_MISSION_DIR) + "/" + mission_file;
+  // Recordings go with the run's other files, never into the build tree.
+  const std::string record = extra.find("-record") == std::string::npos ? " --record " + (run.run_dir / "recordings").string() : "";
   const std::string command = prefix + std::string(SARLOC_BIN_DIR) + "/sarloc-mission " + path + " --domain " + std::to_string(domain) + " --run-dir " +
-                              run.run_dir.string() + " --json " + json_path.string() + " " +
+                              run.run_dir.string() + " --json " + json_path.string() + record + " " +
                               (extra.find("--log-level") == std::string::npos ? "--log-level warn " : "") + extra +
                               " > " + (run.run_dir / "mission.out").string() + " 2>&1";
   const int status = std::system(command.c_str());
@@ -238,6 +240,59 @@ TEST(Mission, OneDaemonServesAvalancheRescuersAndFirefightersAtOnce) {
     EXPECT_LE(f["rmse_after_convergence_m"].get<double>(), 1.5) << f.dump();
     EXPECT_GT(f["fixes"].get<int>(), 100) << "the daemon answered the firefighter all along: " << f.dump();
   }
+}
+
+// The mission's recording, read by independent readers: the MCAP project's own reader with
+// Foxglove's IDL decoder (every topic, the counts the recorder wrote, every CRC), then the
+// report of it in headless Chromium (no console error, not blank).
+TEST(Mission, ItsRecordingReadsInAnIndependentReaderAndItsReportOpensInChromium) {
+  const auto run = run_mission("mixed.yaml", kDomainMissionRecorded);
+  expect_complete(run);
+  ASSERT_TRUE(run.summary.contains("recording")) << run_report(run);
+  const std::string recording = run.summary["recording"];
+  ASSERT_TRUE(fs::exists(recording)) << recording;
+
+  const fs::path check = run.run_dir / "check.json";
+  const int checked = std::system(("node " SARLOC_SOURCE_DIR "/tests/js/check_mcap.mjs '" + recording + "' > " + check.string()).c_str());
+  std::ifstream check_in(check);
+  const json report = json::parse(check_in);
+  EXPECT_EQ(WEXITSTATUS(checked), 0) << report["errors"].dump();
+  EXPECT_TRUE(report["errors"].empty()) << report["errors"].dump();
+  const json& written = report["metadata"]["sarloc.recorder_counters"];
+  for (const char* topic : {"sarloc/field_measurement", "sarloc/odometry", "sarloc/victim_estimate", "sarloc/guidance",
+                            "sarloc/responder_position", "sarloc/fused_victim", "sarloc/team_status",
+                            "sarloc/incident_summary", "sarloc/node_status", "sarloc/incident_frame"}) {
+    const json& channel = report["channels"][topic];
+    EXPECT_GT(channel["count"].get<int>(), 0) << topic << " missing from the recording";
+    EXPECT_EQ(channel["decodeFailures"], 0) << topic;
+    // "received=N written=N lost=N rejected=..." as the recorder counted them.
+    const std::string counted = written[topic];
+    EXPECT_NE(counted.find("written=" + std::to_string(channel["count"].get<int>()) + " "), std::string::npos)
+        << topic << ": " << counted << " vs " << channel["count"];
+  }
+  // The two victims found in the picture are FOUND in the last recorded fused_victim samples.
+  EXPECT_EQ(report["channels"]["sarloc/fused_victim"]["last"]["state"], 2) << "VICTIM_FOUND";
+
+  const fs::path html = run.run_dir / "report.html";
+  const int reported = std::system((std::string(SARLOC_BIN_DIR) + "/sarloc-report '" + recording + "' -o " + html.string() +
+                                    " > " + (run.run_dir / "report.out").string() + " 2>&1").c_str());
+  ASSERT_EQ(WEXITSTATUS(reported), 0) << file_text(run.run_dir / "report.out");
+  const std::string page = file_text(html);
+  EXPECT_NE(page.find("Avalanche field"), std::string::npos);
+  EXPECT_NE(page.find("Building, floor 0"), std::string::npos);
+  EXPECT_NE(page.find("victim 1 FOUND"), std::string::npos);
+  // The screenshot is kept as a test artifact beside the run's logs.
+  const fs::path shot = run.run_dir / "report.png";
+  const fs::path shot_json = run.run_dir / "screenshot.json";
+  const int browsed = std::system(("node " SARLOC_SOURCE_DIR "/tests/js/screenshot.mjs " + html.string() + " " + shot.string() +
+                                   " > " + shot_json.string() + " 2>&1").c_str());
+  const std::string browser_said = file_text(shot_json);
+  ASSERT_EQ(WEXITSTATUS(browsed), 0) << browser_said;
+  const json shot_report = json::parse(browser_said);
+  EXPECT_TRUE(shot_report["errors"].empty()) << browser_said;
+  EXPECT_GE(shot_report["svgs"].get<int>(), 3) << "two maps and the timeline";
+  EXPECT_GT(shot_report["inkFraction"].get<double>(), 0.01) << "blank screenshot: " << browser_said;
+  EXPECT_GT(shot_report["colours"].get<int>(), 20) << browser_said;
 }
 
 TEST(Mission, KilledDaemonLeavesRescuersGuidingOnTheirDevices) {

@@ -16,7 +16,8 @@ int exit_code_of(const std::string& command) {
 }
 
 const std::vector<std::string> kApps = {"sarloc-core", "sarloc-rescuer",       "sarloc-command",   "sarloc-mission",
-                                        "sarloc-eval", "sarloc-bench-latency", "sarloc-bench-echo"};
+                                        "sarloc-eval", "sarloc-bench-latency", "sarloc-bench-echo", "sarloc-record",
+                                        "sarloc-report"};
 
 std::string app(const std::string& name) { return std::string(SARLOC_BIN_DIR) + "/" + name; }
 
@@ -47,6 +48,14 @@ TEST(ExitCodes, BadValueOrMissingRequiredOptionExitsTwo) {
   EXPECT_EQ(exit_code_of(app("sarloc-mission") + " --domain notanumber"), 2);
   EXPECT_EQ(exit_code_of(app("sarloc-eval")), 2) << "a subcommand is required";
   EXPECT_EQ(exit_code_of(app("sarloc-eval") + " avalanche --trials many"), 2);
+}
+
+TEST(ExitCodes, RecordingToolsRefuseWhatIsNotARecording) {
+  EXPECT_EQ(exit_code_of(app("sarloc-report")), 2) << "the recording is required";
+  const std::string text = std::string(SARLOC_SOURCE_DIR) + "/README.md";
+  EXPECT_EQ(exit_code_of(app("sarloc-report") + " " + text + " -o /dev/null"), 4) << "not MCAP";
+  EXPECT_EQ(exit_code_of(app("sarloc-record") + " --recover /nonexistent.mcap"), 4);
+  EXPECT_EQ(exit_code_of(app("sarloc-record")), 3) << "-c is required unless --recover";
 }
 
 TEST(ExitCodes, MissingConfigFileIsAConfigurationErrorNotUsage) {

@@ -65,6 +65,23 @@ TEST(TeamTracker, GroupsByTeamSorted) {
   EXPECT_EQ(t.evaluate(kSec)[1].members.size(), 2u);
 }
 
+// Found through sarloc-report on a recorded mission: the daemon's map-aided fixes (no team)
+// had moved firefighters into a team "" in the picture.
+TEST(TeamTracker, APositionWithoutATeamKeepsTheMemberInItsTeam) {
+  TeamTracker t;
+  t.on_position(pos("ff1", "alpha", 0), 0);
+  t.on_position(pos("ff1", "", kSec), kSec);
+  auto teams = t.evaluate(kSec);
+  ASSERT_EQ(teams.size(), 1u);
+  EXPECT_EQ(teams[0].team_id, "alpha");
+  // Heard first without a team: in team "" until its device names one.
+  t.on_position(pos("ff2", "", kSec), kSec);
+  t.on_position(pos("ff2", "alpha", 2 * kSec), 2 * kSec);
+  teams = t.evaluate(2 * kSec);
+  ASSERT_EQ(teams.size(), 1u);
+  EXPECT_EQ(teams[0].members.size(), 2u);
+}
+
 TEST(TeamTracker, AliveStaleLostByTime) {
   TeamTracker t;  // stale after 5 s, lost after 15 s
   t.on_position(pos("r1", "a", 0, 3.0), 0);

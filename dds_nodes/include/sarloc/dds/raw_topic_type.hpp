@@ -44,4 +44,14 @@ bool decode_payload(const std::vector<std::uint8_t>& bytes, T& sample) {
   }
 }
 
+/// Serializes one sample of a generated type as a payload (encapsulation first), as a writer
+/// would send it: what a recording holds.
+template <class PubSubType, class T>
+std::vector<std::uint8_t> encode_payload(const T& sample) {
+  PubSubType type;
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(type.m_typeSize);
+  if (!type.serialize(const_cast<T*>(&sample), &payload)) return {};
+  return std::vector<std::uint8_t>(payload.data, payload.data + payload.length);
+}
+
 }  // namespace sarloc::dds

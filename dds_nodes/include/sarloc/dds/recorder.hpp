@@ -9,8 +9,15 @@
 // What the listener threads do: copy the payload and its times into the queue (nothing else).
 // What the writer thread does: everything with the file: chunks, flushes every
 // flush_period_s, rotation, the per-flush status message, and the error that stops it.
+//
+// Besides the topics, two JSON channels of its own: "sarloc/recorder_status" (counters per
+// topic, once per flush) and "sarloc/recorder_events" (the first sample of each participant on
+// each topic: {topic, participant, sequence, log_time_ns}). MCAP messages do not say who wrote
+// them; the events do, so that a report can tell an incident-command failover (the picture
+// written by another participant) or a daemon restart.
 #include <fastdds/dds/subscriber/DataReader.hpp>
 
+#include <array>
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
@@ -87,6 +94,7 @@ class Recorder {
     std::uint32_t sequence = 0;
     std::uint64_t log_time_ns = 0;
     std::uint64_t publish_time_ns = 0;
+    std::array<std::uint8_t, 12> participant{};  ///< the writer's GUID prefix
     std::vector<std::uint8_t> bytes;
   };
   class Listener;

@@ -1,0 +1,14 @@
+#pragma once
+// The post-mission report: one self-contained HTML file (inline CSS and SVG, no script, no
+// external asset) that an incident commander reads after the mission.
+#include <string>
+
+#include "mission_record.hpp"
+
+namespace sarloc::report {
+
+/// The report of `record`; with `baseline`, also how `record` differs from it (two recordings
+/// of the same inputs replayed with different configurations).
+std::string render_report(const MissionRecord& record, const MissionRecord* baseline = nullptr);
+
+}  // namespace sarloc::report

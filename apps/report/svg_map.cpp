@@ -1,0 +1,129 @@
+#include "svg_map.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace sarloc::report {
+
+namespace {
+
+constexpr double kChi2_2dof_95 = 5.991464547107979;
+constexpr double kTitle_px = 22.0;
+
+std::string num(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.1f", v);
+  return buffer;
+}
+
+}  // namespace
+
+std::string escape_html(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+SvgMap::SvgMap(Eigen::Vector2d min, Eigen::Vector2d max, double width_px, double margin_m, std::string title)
+    : min_(min - Eigen::Vector2d::Constant(margin_m)), max_(max + Eigen::Vector2d::Constant(margin_m)), title_(std::move(title)) {
+  Eigen::Vector2d span = (max_ - min_).cwiseMax(1.0);
+  max_ = min_ + span;
+  scale_ = width_px / span.x();
+  // Keep maps of long thin fields readable: at most 1.2 times as tall as wide.
+  scale_ = std::min(scale_, 1.2 * width_px / span.y());
+  width_px_ = span.x() * scale_;
+  height_px_ = span.y() * scale_ + kTitle_px;
+}
+
+Eigen::Vector2d SvgMap::px(const Eigen::Vector2d& m) const {
+  return {(m.x() - min_.x()) * scale_, kTitle_px + (max_.y() - m.y()) * scale_};
+}
+
+void SvgMap::polyline(const std::vector<Eigen::Vector2d>& points, const std::string& colour, double width_px,
+                      const std::string& dash, double opacity) {
+  if (points.size() < 2) return;
+  body_ += "<polyline fill=\"none\" stroke=\"" + colour + "\" stroke-width=\"" + num(width_px) + "\" stroke-opacity=\"" +
+           num(opacity) + "\"" + (dash.empty() ? "" : " stroke-dasharray=\"" + dash + "\"") + " points=\"";
+  for (const auto& p : points) {
+    const auto q = px(p);
+    body_ += num(q.x()) + "," + num(q.y()) + " ";
+  }
+  body_ += "\"/>\n";
+}
+
+void SvgMap::line(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const std::string& colour, double width_px) {
+  const auto p = px(a), q = px(b);
+  body_ += "<line x1=\"" + num(p.x()) + "\" y1=\"" + num(p.y()) + "\" x2=\"" + num(q.x()) + "\" y2=\"" + num(q.y()) +
+           "\" stroke=\"" + colour + "\" stroke-width=\"" + num(width_px) + "\" stroke-linecap=\"round\"/>\n";
+}
+
+void SvgMap::dot(const Eigen::Vector2d& p, double radius_px, const std::string& colour, double opacity) {
+  const auto q = px(p);
+  body_ += "<circle cx=\"" + num(q.x()) + "\" cy=\"" + num(q.y()) + "\" r=\"" + num(radius_px) + "\" fill=\"" + colour +
+           "\" fill-opacity=\"" + num(opacity) + "\"/>\n";
+}
+
+void SvgMap::ellipse95(const Eigen::Vector2d& centre, const Eigen::Matrix2d& covariance, const std::string& colour,
+                       double opacity, bool filled) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(covariance);
+  const double a = std::sqrt(kChi2_2dof_95 * std::max(0.0, eigen.eigenvalues()(1))) * scale_;
+  const double b = std::sqrt(kChi2_2dof_95 * std::max(0.0, eigen.eigenvalues()(0))) * scale_;
+  const Eigen::Vector2d major = eigen.eigenvectors().col(1);
+  // SVG's y points down: the angle flips sign.
+  const double angle_deg = -std::atan2(major.y(), major.x()) * 180.0 / M_PI;
+  const auto q = px(centre);
+  body_ += "<ellipse cx=\"" + num(q.x()) + "\" cy=\"" + num(q.y()) + "\" rx=\"" + num(std::max(a, 0.5)) + "\" ry=\"" +
+           num(std::max(b, 0.5)) + "\" transform=\"rotate(" + num(angle_deg) + " " + num(q.x()) + " " + num(q.y()) +
+           ")\" stroke=\"" + colour + "\" stroke-opacity=\"" + num(opacity) + "\" fill=\"" + (filled ? colour : "none") +
+           "\" fill-opacity=\"" + num(filled ? 0.15 * opacity : 0.0) + "\"/>\n";
+}
+
+void SvgMap::cross(const Eigen::Vector2d& p, double size_px, const std::string& colour) {
+  const auto q = px(p);
+  const std::string a = num(q.x() - size_px), b = num(q.x() + size_px), c = num(q.y() - size_px), d = num(q.y() + size_px);
+  body_ += "<path d=\"M" + a + " " + c + " L" + b + " " + d + " M" + a + " " + d + " L" + b + " " + c + "\" stroke=\"" +
+           colour + "\" stroke-width=\"2.5\"/>\n";
+}
+
+void SvgMap::label(const Eigen::Vector2d& p, const std::string& text, const std::string& colour, double dx_px, double dy_px) {
+  const auto q = px(p);
+  body_ += "<text x=\"" + num(q.x() + dx_px) + "\" y=\"" + num(q.y() + dy_px) + "\" fill=\"" + colour +
+           "\" font-size=\"12\">" + escape_html(text) + "</text>\n";
+}
+
+std::string SvgMap::finish() const {
+  // A scale bar of a round length near a fifth of the width.
+  const double target_m = (max_.x() - min_.x()) / 5.0;
+  const double base_m = std::pow(10.0, std::floor(std::log10(target_m)));
+  double bar_m = base_m;
+  for (const double f : {2.0, 5.0}) {
+    if (base_m * f <= target_m) bar_m = base_m * f;
+  }
+  const double bar_px = bar_m * scale_;
+  const double y = height_px_ - 12.0;
+  std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"map\" width=\"" + num(width_px_) + "\" height=\"" +
+                    num(height_px_) + "\" viewBox=\"0 0 " + num(width_px_) + " " + num(height_px_) + "\" role=\"img\">\n";
+  svg += "<rect x=\"0\" y=\"" + num(kTitle_px) + "\" width=\"" + num(width_px_) + "\" height=\"" + num(height_px_ - kTitle_px) +
+         "\" fill=\"#f7f9fb\" stroke=\"#9aa5b1\"/>\n";
+  svg += "<text x=\"4\" y=\"16\" font-size=\"14\" font-weight=\"bold\">" + escape_html(title_) + "</text>\n";
+  svg += body_;
+  svg += "<line x1=\"10\" y1=\"" + num(y) + "\" x2=\"" + num(10 + bar_px) + "\" y2=\"" + num(y) +
+         "\" stroke=\"#111\" stroke-width=\"3\"/>\n";
+  svg += "<text x=\"10\" y=\"" + num(y - 5) + "\" font-size=\"11\">" + num(bar_m) + " m</text>\n";
+  svg += "<text x=\"" + num(width_px_ - 18) + "\" y=\"" + num(kTitle_px + 16) + "\" font-size=\"13\" font-weight=\"bold\">N</text>\n";
+  svg += "<path d=\"M" + num(width_px_ - 14) + " " + num(kTitle_px + 20) + " l-5 12 l10 0 z\" fill=\"#111\"/>\n";
+  svg += "</svg>\n";
+  return svg;
+}
+
+}  // namespace sarloc::report
