@@ -6,6 +6,7 @@
 #include <limits>
 #include <set>
 
+#include "record_comparison.hpp"
 #include "svg_map.hpp"
 
 namespace sarloc::report {
@@ -299,38 +300,37 @@ std::string quality_table(const MissionRecord& r) {
 }
 
 std::string comparison(const MissionRecord& r, const MissionRecord& base) {
+  const RecordComparison c = compare_records(r, base);
+  const auto failures = reproduction_failures(c);
   std::string html = "<section id=\"comparison\"><h2>Difference from " + escape_html(base.path) + "</h2>\n";
-  html += "<p>Victims are paired by the nearest final estimate. A difference larger than the two 95 % radii together is "
-          "marked.</p>\n<table><tr><th>victim here</th><th>there</th><th>state here / there</th><th>located here / there (s)</th>"
-          "<th>found here / there (s)</th><th>distance between final estimates (m)</th><th>95 % radius here / there (m)</th></tr>\n";
-  for (const auto& [id, v] : r.victims) {
-    if (v.samples.empty()) continue;
-    const auto& mine = v.samples.back();
-    const VictimHistory* best = nullptr;
-    double distance = std::numeric_limits<double>::infinity();
-    for (const auto& [other_id, o] : base.victims) {
-      if (o.samples.empty()) continue;
-      const double d = (o.samples.back().position.position - mine.position.position).norm();
-      if (d < distance) {
-        distance = d;
-        best = &o;
-      }
-    }
-    if (best == nullptr) {
-      html += "<tr class=\"warn\"><td>" + std::to_string(id) + "</td><td>none</td><td>" + state_text(mine.state) +
-              " / —</td><td></td><td></td><td>—</td><td></td></tr>\n";
-      continue;
-    }
-    const auto& theirs = best->samples.back();
-    const double r1 = radius95_m(mine.position.covariance), r2 = radius95_m(theirs.position.covariance);
-    html += std::string("<tr") + (distance > r1 + r2 ? " class=\"warn\"" : "") + "><td>" + std::to_string(id) + "</td><td>" +
-            std::to_string(best->id) + "</td><td>" + state_text(mine.state) + " / " + state_text(theirs.state) + "</td><td>" +
-            opt(v.located_s) + " / " + opt(best->located_s) + "</td><td>" + opt(v.found_s) + " / " + opt(best->found_s) +
-            "</td><td>" + f(distance, 2) + "</td><td>" + f(r1, 2) + " / " + f(r2, 2) + "</td></tr>\n";
+  html += failures.empty()
+              ? "<p><b>Reproduces it</b>: the same victims found, each within 0.5 m and 5 s, and every map-aided track "
+                "within 0.5 m RMS.</p>\n"
+              : "<div class=\"banner\"><b>Does not reproduce it:</b><ul>";
+  for (const auto& failure : failures) html += "<li>" + escape_html(failure) + "</li>";
+  if (!failures.empty()) html += "</ul></div>\n";
+  html += "<p>Victims are paired by the nearest final estimate.</p>\n<table><tr><th>victim here</th><th>there</th>"
+          "<th>state here / there</th><th>found here / there (s)</th><th>distance between final estimates (m)</th>"
+          "<th>95 % radius here / there (m)</th></tr>\n";
+  for (const auto& p : c.victims) {
+    const bool apart = p.there == 0 || p.distance_m > p.radius_here_m + p.radius_there_m;
+    html += std::string("<tr") + (apart ? " class=\"warn\"" : "") + "><td>" + std::to_string(p.here) + "</td><td>" +
+            (p.there == 0 ? "none" : std::to_string(p.there)) + "</td><td>" + state_text(p.state_here) + " / " +
+            (p.there == 0 ? "—" : state_text(p.state_there)) + "</td><td>" + opt(p.found_here_s) + " / " + opt(p.found_there_s) +
+            "</td><td>" + (p.there == 0 ? "—" : f(p.distance_m, 2)) + "</td><td>" + f(p.radius_here_m, 2) + " / " +
+            (p.there == 0 ? "—" : f(p.radius_there_m, 2)) + "</td></tr>\n";
   }
-  html += "</table>\n<p>Victims here: " + std::to_string(r.victims.size()) + "; there: " + std::to_string(base.victims.size()) +
-          ". Events here: " + std::to_string(r.events.size()) + "; there: " + std::to_string(base.events.size()) + ".</p></section>\n";
-  return html;
+  html += "</table>\n";
+  if (!c.tracks.empty()) {
+    html += "<table><tr><th>responder</th><th>map-aided fixes at the same stamp</th><th>RMS difference (m)</th>"
+            "<th>largest (m)</th></tr>\n";
+    for (const auto& t : c.tracks) {
+      html += "<tr><td>" + escape_html(t.responder) + "</td><td>" + std::to_string(t.matched) + "</td><td>" + f(t.rms_m, 2) +
+              "</td><td>" + f(t.max_m, 2) + "</td></tr>\n";
+    }
+    html += "</table>\n";
+  }
+  return html + "</section>\n";
 }
 
 }  // namespace

@@ -36,6 +36,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainRecorder = 158,
   kDomainRecorderKill = 159,
   kDomainMissionRecorded = 160,
+  kDomainMissionReplay = 161,
   kDomainMissionSmall = 130,  // mission_test: 130..139, and:
   kDomainMissionCommandKill = 134,
   kDomainMissionCommandRestart = 136,

@@ -16,7 +16,8 @@ dds::ParticipantConfig NodeOptions::participant(const MissionConfig& mission, co
 }
 
 dds::MissionClock NodeOptions::clock(const MissionConfig& mission) const {
-  return dds::MissionClock(epoch_ns > 0 ? epoch_ns : dds::MissionClock::wall_now_ns(), mission.speedup);
+  const TimestampNs epoch = epoch_ns > 0 ? epoch_ns : dds::MissionClock::wall_now_ns();
+  return dds::MissionClock(epoch, speedup > 0.0 ? speedup : mission.speedup, epoch_wall_ns > 0 ? epoch_wall_ns : epoch);
 }
 
 void add_node_options(CLI::App& cli, NodeOptions& options, bool with_epoch) {
@@ -26,6 +27,10 @@ void add_node_options(CLI::App& cli, NodeOptions& options, bool with_epoch) {
   if (with_epoch) {
     cli.add_option("--epoch-ns", options.epoch_ns,
                    "mission start, ns since the Unix epoch (sarloc-mission sets it; default: now)");
+    cli.add_option("--epoch-wall-ns", options.epoch_wall_ns,
+                   "wall time at which the mission clock reads --epoch-ns (a replay of a recording; default: --epoch-ns)");
+    cli.add_option("--speedup", options.speedup, "mission seconds per wall second, overriding mission.speedup")
+        ->check(CLI::PositiveNumber);
   }
   cli.set_version_flag("--version", SARLOC_VERSION);
 }

@@ -11,6 +11,9 @@
 #include <set>
 #include <sstream>
 #include <string>
+
+#include "mission_record.hpp"
+#include "record_comparison.hpp"
 #include <vector>
 
 #include "support/dds_test_domains.hpp"
@@ -293,6 +296,50 @@ TEST(Mission, ItsRecordingReadsInAnIndependentReaderAndItsReportOpensInChromium)
   EXPECT_GE(shot_report["svgs"].get<int>(), 3) << "two maps and the timeline";
   EXPECT_GT(shot_report["inkFraction"].get<double>(), 0.01) << "blank screenshot: " << browser_said;
   EXPECT_GT(shot_report["colours"].get<int>(), 20) << browser_said;
+}
+
+// Replaying only what the devices measured into a fresh core daemon and incident command gives
+// the recorded outcome again (report::reproduction_failures defines "again"); with another
+// configuration, the comparison shows the difference.
+TEST(Mission, ReplayingItsInputsIntoFreshNodesReproducesTheRecordedPicture) {
+  const auto run = run_mission("mixed.yaml", kDomainMissionReplay);
+  expect_complete(run);
+  const std::string recording = run.summary["recording"];
+  const std::string domain = std::to_string(static_cast<int>(kDomainMissionReplay));
+  auto replay = [&](const std::string& config, const std::string& name) {
+    const fs::path out = run.run_dir / (name + ".mcap");
+    const std::string command = std::string(SARLOC_BIN_DIR) + "/sarloc-replay '" + recording + "' -c " + config +
+                                " --domain " + domain + " --inputs-only --run-nodes --record " + out.string() + " --run-dir " +
+                                (run.run_dir / name).string() + " --log-level warn > " + (run.run_dir / (name + ".out")).string() +
+                                " 2>&1";
+    const int status = std::system(command.c_str());
+    EXPECT_EQ(WEXITSTATUS(status), 0) << file_text(run.run_dir / (name + ".out"));
+    return sarloc::report::load_mission_record(out.string());
+  };
+  const auto original = sarloc::report::load_mission_record(recording);
+  const auto again = replay(std::string(SARLOC_MISSION_DIR) + "/mixed.yaml", "replay");
+  const auto comparison = sarloc::report::compare_records(again, original);
+  const auto failures = sarloc::report::reproduction_failures(comparison);
+  std::string said;
+  for (const auto& f : failures) said += f + "\n";
+  EXPECT_TRUE(failures.empty()) << said;
+  ASSERT_EQ(comparison.victims.size(), 2U);
+  for (const auto& p : comparison.victims) EXPECT_EQ(p.state_here, sarloc::incident::VictimState::kFound);
+  ASSERT_EQ(comparison.tracks.size(), 2U) << "both firefighters' map-aided tracks";
+  for (const auto& t : comparison.tracks) EXPECT_GT(t.matched, 50U) << t.responder;
+
+  // Another configuration: fewer particles for the firefighters. Same inputs, other tracks.
+  std::string text = file_text(std::string(SARLOC_MISSION_DIR) + "/mixed.yaml");
+  const std::string relative = "../../../config/buildings/house-125.yaml";
+  text.replace(text.find(relative), relative.size(), std::string(SARLOC_SOURCE_DIR) + "/config/buildings/house-125.yaml");
+  text += "firefighter: {particles: 500, particles_max: 500}\n";
+  const fs::path changed = run.run_dir / "changed.yaml";
+  std::ofstream(changed) << text;
+  const auto other = replay(changed.string(), "changed");
+  const auto difference = sarloc::report::compare_records(other, original);
+  double largest = 0.0;
+  for (const auto& t : difference.tracks) largest = std::max(largest, t.rms_m);
+  EXPECT_GT(largest, 0.0) << "another particle count must give other map-aided fixes";
 }
 
 TEST(Mission, KilledDaemonLeavesRescuersGuidingOnTheirDevices) {

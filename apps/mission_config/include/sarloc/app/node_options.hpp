@@ -20,6 +20,10 @@ struct NodeOptions {
   std::string log_level = "info";
   int domain = -1;            ///< < 0: the mission file's dds.domain_id
   std::int64_t epoch_ns = 0;  ///< 0: now
+  /// Wall time at which the mission clock reads epoch_ns (0: epoch_ns itself). sarloc-replay
+  /// sets it to run fresh nodes on a recorded mission's timeline.
+  std::int64_t epoch_wall_ns = 0;
+  double speedup = 0.0;       ///< 0: the mission file's
 
   /// The mission's participant settings with this node's name and the domain override.
   dds::ParticipantConfig participant(const MissionConfig& mission, const std::string& name) const;
@@ -28,7 +32,7 @@ struct NodeOptions {
 };
 
 /// Adds -c/--config (required), --log-level, --domain, --version and, for nodes that follow
-/// the mission clock (`with_epoch`), --epoch-ns.
+/// the mission clock (`with_epoch`), --epoch-ns, --epoch-wall-ns and --speedup.
 void add_node_options(CLI::App& cli, NodeOptions& options, bool with_epoch = true);
 
 /// The mission's participant settings named `name`, on `domain` if >= 0 (else dds.domain_id).
