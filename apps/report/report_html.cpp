@@ -160,16 +160,20 @@ std::vector<std::string> building_maps(const MissionRecord& r) {
       const std::string colour = colour_of(c++);
       std::vector<Eigen::Vector2d> aided, reckoned;
       double next_ellipse_s = -1e9;
+      double next_flag_s = -1e9;
       for (const auto& s : track.samples) {
         if (static_cast<std::size_t>(s.floor) != k) continue;
         if (s.source == responder::PositionSource::kMapAided) {
           aided.push_back(xy(s.position.position));
-          // Uncertainty every 10 mission seconds, bolder once converged.
-          if (s.t_s >= next_ellipse_s) {
-            map.ellipse95(xy(s.position.position), s.position.covariance.topLeftCorner<2, 2>(), colour, s.converged ? 0.7 : 0.25, false);
-            next_ellipse_s = s.t_s + 10.0;
+          // Uncertainty every 30 mission seconds once converged (before, the cloud is the map).
+          if (s.converged && s.t_s >= next_ellipse_s) {
+            map.ellipse95(xy(s.position.position), s.position.covariance.topLeftCorner<2, 2>(), colour, 0.6, false);
+            next_ellipse_s = s.t_s + 30.0;
           }
-          if (s.map_error_suspected) map.dot(xy(s.position.position), 3, "#d62728", 0.8);
+          if (s.map_error_suspected && s.t_s >= next_flag_s) {
+            map.dot(xy(s.position.position), 3, "#d62728", 0.8);
+            next_flag_s = s.t_s + 5.0;
+          }
         } else if (s.source == responder::PositionSource::kDeadReckoning) {
           reckoned.push_back(xy(s.position.position));
         }
@@ -390,8 +394,9 @@ svg { display: block; margin: 0.5em 0; }
                     "unconfirmed. Black crosses: true positions (simulation).</p>\n";
   }
   for (const auto& map : building_maps(r)) {
-    html += map + "<p class=\"legend\">Walls black, doors green. Solid: map-aided track with 95 % ellipses every 10 s (faint "
-                  "until converged); dashed: the device's own dead reckoning; red dots: map error suspected.</p>\n";
+    html += map + "<p class=\"legend\">Walls black, doors green. Solid: map-aided track, with its 95 % ellipse every 30 s "
+                  "once converged; dashed: the device's own dead reckoning; red dots: map error suspected (at most one per "
+                  "5 s).</p>\n";
   }
   html += "</section>\n";
 

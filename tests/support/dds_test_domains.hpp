@@ -37,6 +37,8 @@ enum DdsTestDomain : std::uint32_t {
   kDomainRecorderKill = 159,
   kDomainMissionRecorded = 160,
   kDomainMissionReplay = 161,
+  kDomainRecorderRotate = 162,
+  kDomainBenchRecorder = 163,
   kDomainMissionSmall = 130,  // mission_test: 130..139, and:
   kDomainMissionCommandKill = 134,
   kDomainMissionCommandRestart = 136,

@@ -226,6 +226,51 @@ TEST(Recorder, AKilledRecorderLosesOnlyTheLastSecondAndRecoverMakesTheFileWhole)
   fs::remove_all(dir);
 }
 
+// Rotation: by duration here (size works the same way, checked after each flush); every file
+// is whole on its own, and together they hold every sample, none twice.
+TEST(Recorder, RotatesIntoWholeFilesThatTogetherHoldEverySample) {
+  const fs::path dir = temp_dir("rotate");
+  auto publisher = make_participant(kDomainRecorderRotate, "publisher");
+  dds::Writer<::sarloc::Odometry> writer(publisher);
+  dds::RecorderConfig config;
+  config.output_path = (dir / "rotated.mcap").string();
+  config.allow = {"sarloc/odometry"};
+  config.flush_period_s = 0.25;
+  config.rotate_duration_s = 1.0;
+  auto recorder_participant = make_participant(kDomainRecorderRotate, "recorder");
+  dds::Recorder recorder(recorder_participant, config);
+  ASSERT_TRUE(writer.wait_for_readers(1, std::chrono::seconds(10)));
+  auto odometry = sample_odometry();
+  constexpr std::uint64_t kSamples = 175;  // 3.5 s at 50 Hz
+  for (std::uint64_t seq = 1; seq <= kSamples; ++seq) {
+    odometry.sequence = seq;
+    ASSERT_TRUE(writer.write(dds::to_idl(odometry)));
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_TRUE(eventually([&] { return recorder.counters()["sarloc/odometry"].written == kSamples; }, std::chrono::seconds(10)));
+  recorder.close();
+  const auto files = recorder.files();
+  ASSERT_GE(files.size(), 3u);
+  EXPECT_EQ(fs::path(files[1]).filename(), "rotated-001.mcap");
+  std::vector<std::uint64_t> all;
+  for (const auto& file : files) {
+    std::map<std::uint16_t, std::string> topics;
+    recording::McapVisitor visitor;
+    visitor.on_channel = [&](const recording::Channel& c) { topics[c.id] = c.topic; };
+    visitor.on_message = [&](const recording::Message& m) {
+      ::sarloc::Odometry o;
+      if (topics[m.channel_id] == "sarloc/odometry" && dds::decode_payload<::sarloc::OdometryPubSubType>(m.data, o)) {
+        all.push_back(o.sequence_number());
+      }
+    };
+    const auto result = recording::read_mcap(file, visitor);
+    EXPECT_TRUE(result.complete) << file << ": " << result.damage;
+  }
+  ASSERT_EQ(all.size(), kSamples);
+  for (std::uint64_t k = 0; k < kSamples; ++k) EXPECT_EQ(all[k], k + 1);
+  fs::remove_all(dir);
+}
+
 TEST(Recorder, AFullDiskOrANonMcapFileIsAClearErrorWithExitCode4) {
   const fs::path dir = temp_dir("errors");
   const std::string domain = std::to_string(static_cast<int>(kDomainRecorderKill) + 0);
