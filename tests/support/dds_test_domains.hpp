@@ -38,7 +38,8 @@ enum DdsTestDomain : std::uint32_t {
   kDomainMissionRecorded = 160,
   kDomainMissionReplay = 161,
   kDomainRecorderRotate = 162,
-  kDomainBenchRecorder = 163,
+  kDomainBenchRecorder = 163,  // sarloc-bench-recorder's default --domain
+  kDomainReplayer = 164,
   kDomainMissionSmall = 130,  // mission_test: 130..139, and:
   kDomainMissionCommandKill = 134,
   kDomainMissionCommandRestart = 136,

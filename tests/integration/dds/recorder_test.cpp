@@ -17,9 +17,15 @@
 #include "support/sample_messages.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/raw_topic_type.hpp"
+#include "sarloc/dds/idl_schemas.hpp"
+#include "sarloc/dds/mission_clock.hpp"
+#include "sarloc/dds/reader.hpp"
 #include "sarloc/dds/recorder.hpp"
+#include "sarloc/dds/replayer.hpp"
+#include "sarloc/dds/topic_catalog.hpp"
 #include "sarloc/dds/writer.hpp"
 #include "sarloc/recording/mcap_reader.hpp"
+#include "sarloc/recording/mcap_writer.hpp"
 
 namespace sarloc::test {
 namespace {
@@ -268,6 +274,65 @@ TEST(Recorder, RotatesIntoWholeFilesThatTogetherHoldEverySample) {
   }
   ASSERT_EQ(all.size(), kSamples);
   for (std::uint64_t k = 0; k < kSamples; ++k) EXPECT_EQ(all[k], k + 1);
+  fs::remove_all(dir);
+}
+
+// The replayer on a recording made here: only the chosen topics, only between start and end,
+// each payload untouched, at the recorded pace times the rate.
+TEST(Replayer, SendsTheChosenTopicsBetweenStartAndEndAtTheRecordedPaceTimesTheRate) {
+  const fs::path dir = temp_dir("replay");
+  const std::string path = (dir / "made.mcap").string();
+  constexpr std::int64_t kEpoch = 1'800'000'000'000'000'000LL;
+  {
+    recording::McapWriter writer(path, {});
+    writer.write_metadata({"sarloc.recording", {{"epoch_ns", std::to_string(kEpoch)}, {"speedup", "2"}}});
+    std::map<std::string, std::uint16_t> channels;
+    for (const auto& topic : dds::topic_catalog()) {
+      const auto schema = writer.add_schema(topic.type_name, "omgidl", dds::self_contained_idl(topic.idl_file));
+      channels[topic.name] = writer.add_channel(topic.name, schema, "cdr", {});
+    }
+    // 20 odometry and 20 guidance samples, one every 100 ms of wall time = 0.2 mission s.
+    for (int k = 0; k < 20; ++k) {
+      auto o = sample_odometry();
+      o.sequence = static_cast<std::uint64_t>(k + 1);
+      const auto bytes = dds::encode_payload<::sarloc::OdometryPubSubType>(dds::to_idl(o));
+      const auto at = static_cast<std::uint64_t>(kEpoch + k * 100'000'000LL);
+      writer.write(channels["sarloc/odometry"], 0, at, at, bytes.data(), bytes.size());
+      const auto g = dds::encode_payload<::sarloc::GuidancePubSubType>(dds::to_idl(sample_guidance()));
+      writer.write(channels["sarloc/guidance"], 0, at, at, g.data(), g.size());
+    }
+    writer.close();
+  }
+  auto subscriber = make_participant(kDomainReplayer, "subscriber");
+  Inbox<std::pair<std::uint64_t, std::chrono::steady_clock::time_point>> inbox;
+  std::atomic<int> guidance{0};
+  dds::Reader<::sarloc::Odometry> odometry_reader(subscriber, [&](const ::sarloc::Odometry& o, const auto&) {
+    inbox.push({o.sequence_number(), std::chrono::steady_clock::now()});
+  });
+  dds::Reader<::sarloc::Guidance> guidance_reader(subscriber, [&](const ::sarloc::Guidance&, const auto&) { ++guidance; });
+
+  dds::ReplayConfig config;
+  config.recording = path;
+  config.topics = {"sarloc/odometry"};
+  config.start_s = 1.0;  // mission s: sample 6 (k = 5) on
+  config.end_s = 3.0;    // up to sample 16 (k = 15)
+  config.rate = 2.0;
+  auto publisher = make_participant(kDomainReplayer, "replayer");
+  dds::Replayer replayer(publisher, config);
+  EXPECT_EQ(replayer.timeline().epoch_ns, kEpoch);
+  EXPECT_DOUBLE_EQ(replayer.timeline().speedup, 2.0);
+  ASSERT_TRUE(odometry_reader.wait_for_writers(1, std::chrono::seconds(10)));
+  const auto result = replayer.run(dds::MissionClock::wall_now_ns() + 200'000'000, {});
+  EXPECT_EQ(result.published, 11u);
+  EXPECT_EQ(result.published_by_topic.at("sarloc/odometry"), 11u);
+  const auto got = inbox.wait_for(11, std::chrono::seconds(5));
+  ASSERT_EQ(got.size(), 11u);
+  for (std::size_t i = 0; i < got.size(); ++i) EXPECT_EQ(got[i].first, 6 + i);
+  // 10 gaps of 100 ms recorded, at rate 2: 0.5 s.
+  const double span = std::chrono::duration<double>(got.back().second - got.front().second).count();
+  EXPECT_NEAR(span, 0.5, 0.1);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  EXPECT_EQ(guidance.load(), 0) << "guidance was not chosen";
   fs::remove_all(dir);
 }
 
