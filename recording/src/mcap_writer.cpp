@@ -16,6 +16,30 @@ namespace sarloc::recording {
 
 using detail::ByteWriter;
 
+namespace {
+
+// The Schema and Channel records: written once in the data section, again in the summary.
+void put_schema_record(ByteWriter& out, const Schema& schema) {
+  ByteWriter content;
+  content.put<std::uint16_t>(schema.id);
+  content.put_string(schema.name);
+  content.put_string(schema.encoding);
+  content.put_string(schema.data);
+  out.put_record(Opcode::kSchema, content);
+}
+
+void put_channel_record(ByteWriter& out, const Channel& channel) {
+  ByteWriter content;
+  content.put<std::uint16_t>(channel.id);
+  content.put<std::uint16_t>(channel.schema_id);
+  content.put_string(channel.topic);
+  content.put_string(channel.message_encoding);
+  content.put_map(channel.metadata);
+  out.put_record(Opcode::kChannel, content);
+}
+
+}  // namespace
+
 void McapWriterOptions::validate() const {
   if (profile.rfind("x-", 0) != 0) {
     throw RecordingError("profile = '" + profile + "': a custom MCAP profile must start with 'x-'");
@@ -74,13 +98,8 @@ std::uint16_t McapWriter::add_schema(const std::string& name, const std::string&
   check_open("add a schema");
   if (schemas_.size() >= std::numeric_limits<std::uint16_t>::max()) throw RecordingError("too many schemas");
   Schema schema{static_cast<std::uint16_t>(schemas_.size() + 1), name, encoding, data};  // 0 means "no schema"
-  ByteWriter content;
-  content.put<std::uint16_t>(schema.id);
-  content.put_string(schema.name);
-  content.put_string(schema.encoding);
-  content.put_string(schema.data);
   ByteWriter record;
-  record.put_record(Opcode::kSchema, content);
+  put_schema_record(record, schema);
   append(record.bytes());
   schemas_.push_back(schema);
   return schema.id;
@@ -92,14 +111,8 @@ std::uint16_t McapWriter::add_channel(const std::string& topic, std::uint16_t sc
   if (schema_id > schemas_.size()) throw RecordingError("channel '" + topic + "': unknown schema id " + std::to_string(schema_id));
   if (channels_.size() >= std::numeric_limits<std::uint16_t>::max()) throw RecordingError("too many channels");
   Channel channel{static_cast<std::uint16_t>(channels_.size()), schema_id, topic, message_encoding, metadata};
-  ByteWriter content;
-  content.put<std::uint16_t>(channel.id);
-  content.put<std::uint16_t>(channel.schema_id);
-  content.put_string(channel.topic);
-  content.put_string(channel.message_encoding);
-  content.put_map(channel.metadata);
   ByteWriter record;
-  record.put_record(Opcode::kChannel, content);
+  put_channel_record(record, channel);
   append(record.bytes());
   channels_.push_back(channel);
   return channel.id;
@@ -233,25 +246,10 @@ void McapWriter::close() {
     if (length > 0) groups.push_back({opcode, summary_start + start, length});
   };
   group(Opcode::kSchema, [&] {
-    for (const auto& schema : schemas_) {
-      ByteWriter content;
-      content.put<std::uint16_t>(schema.id);
-      content.put_string(schema.name);
-      content.put_string(schema.encoding);
-      content.put_string(schema.data);
-      summary.put_record(Opcode::kSchema, content);
-    }
+    for (const auto& schema : schemas_) put_schema_record(summary, schema);
   });
   group(Opcode::kChannel, [&] {
-    for (const auto& channel : channels_) {
-      ByteWriter content;
-      content.put<std::uint16_t>(channel.id);
-      content.put<std::uint16_t>(channel.schema_id);
-      content.put_string(channel.topic);
-      content.put_string(channel.message_encoding);
-      content.put_map(channel.metadata);
-      summary.put_record(Opcode::kChannel, content);
-    }
+    for (const auto& channel : channels_) put_channel_record(summary, channel);
   });
   group(Opcode::kStatistics, [&] {
     ByteWriter content;
