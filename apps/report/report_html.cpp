@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <set>
 
 #include "record_comparison.hpp"
@@ -277,6 +278,35 @@ std::string responders_table(const MissionRecord& r) {
   return html + "</table>\n";
 }
 
+// Per team: its members, how far they went together, when it was first and last heard of.
+std::string teams_table(const MissionRecord& r) {
+  struct Team {
+    std::vector<std::string> members;
+    double distance_m = 0.0;
+    std::optional<double> first_s, last_s;
+  };
+  std::map<std::string, Team> teams;
+  for (const auto& [id, t] : r.responders) {
+    auto& team = teams[t.team.empty() ? "(no team)" : t.team];
+    team.members.push_back(id);
+    const auto source = t.firefighter ? responder::PositionSource::kMapAided : responder::PositionSource::kGnss;
+    team.distance_m += track_length(t.samples, source);
+    if (!t.samples.empty()) {
+      team.first_s = std::min(team.first_s.value_or(t.samples.front().t_s), t.samples.front().t_s);
+      team.last_s = std::max(team.last_s.value_or(t.samples.back().t_s), t.samples.back().t_s);
+    }
+  }
+  std::string html = "<table><tr><th>team</th><th>members</th><th>distance, all members (m)</th><th>first heard (s)</th>"
+                     "<th>last heard (s)</th></tr>\n";
+  for (const auto& [name, team] : teams) {
+    std::string members;
+    for (const auto& m : team.members) members += (members.empty() ? "" : ", ") + m;
+    html += "<tr><td>" + escape_html(name) + "</td><td>" + escape_html(members) + "</td><td>" + f(team.distance_m) +
+            "</td><td>" + opt(team.first_s) + "</td><td>" + opt(team.last_s) + "</td></tr>\n";
+  }
+  return html + "</table>\n";
+}
+
 std::string quality_table(const MissionRecord& r) {
   std::string html = "<table><tr><th>topic</th><th>in the file</th><th>undecodable</th><th>received by the recorder</th>"
                      "<th>written</th><th>lost (DDS)</th><th>rejected</th></tr>\n";
@@ -407,7 +437,7 @@ svg { display: block; margin: 0.5em 0; }
   }
   html += "</table></section>\n";
   html += "<section id=\"victims\"><h2>Victims</h2>\n" + victims_table(r) + "</section>\n";
-  html += "<section id=\"responders\"><h2>Teams and responders</h2>\n" + responders_table(r) + "</section>\n";
+  html += "<section id=\"responders\"><h2>Teams and responders</h2>\n" + teams_table(r) + responders_table(r) + "</section>\n";
   html += "<section id=\"quality\"><h2>Data quality</h2>\n" + quality_table(r) + "</section>\n";
   if (baseline != nullptr) html += comparison(r, *baseline);
   if (!r.notes.empty()) {
