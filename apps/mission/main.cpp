@@ -12,6 +12,7 @@
 #include <fstream>
 #include <map>
 #include <set>
+#include <thread>
 
 #include "sarloc/app/command_line.hpp"
 #include "sarloc/app/child_process.hpp"
@@ -228,6 +229,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> host_args;  // NAME=HOST
   std::string record_dir;
   bool no_record = false;
+  bool dashboard = false;
+  int dashboard_port = -1;
   cli.add_option("mission", config_path, "mission YAML")->capture_default_str();
   cli.add_option("--json", json_path, "write the summary as JSON here");
   cli.add_option("--run-dir", run_dir, "folder for the processes' logs and summaries (default: a new one in /tmp)");
@@ -249,6 +252,8 @@ int main(int argc, char** argv) {
   cli.add_option("--record", record_dir,
                  "folder for the mission's MCAP recording (default: record.directory of the mission, recordings/)");
   cli.add_flag("--no-record", no_record, "do not record the mission");
+  cli.add_flag("--dashboard", dashboard, "also start sarloc-dashboard on the mission and print its URL");
+  cli.add_option("--dashboard-port", dashboard_port, "the dashboard's port (default: dashboard.port of the mission; 0: any)");
   app::add_log_level_option(cli, log_level);
   cli.set_version_flag("--version", SARLOC_VERSION);
   if (auto code = app::parse_command_line(cli, argc, argv)) return *code;
@@ -368,6 +373,27 @@ int main(int argc, char** argv) {
       if (!mission.building_path.empty()) args.insert(args.end(), {"--meta-file", "building_plan_yaml=" + mission.building_path});
       recorder = std::make_unique<app::ChildProcess>("record", args, log_file("record"));
       spdlog::info("recording the mission to {}", recording_path);
+    }
+
+    std::unique_ptr<app::ChildProcess> dashboard_process;
+    if (dashboard) {
+      const fs::path url_file = fs::path(run_dir) / "dashboard.url";
+      fs::remove(url_file);
+      std::vector<std::string> args{(bin_dir / "sarloc-dashboard").string(), "-c", config_abs, "--domain", domain_arg,
+                                    "--epoch-ns", epoch_arg, "--url-file", url_file.string(), "--log-level", log_level};
+      if (dashboard_port >= 0) args.insert(args.end(), {"--port", std::to_string(dashboard_port)});
+      dashboard_process = std::make_unique<app::ChildProcess>("dashboard", args, log_file("dashboard"));
+      for (int k = 0; k < 50 && !fs::exists(url_file) && dashboard_process->running(); ++k) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      }
+      std::ifstream url(url_file);
+      std::string text;
+      if (url && std::getline(url, text)) {
+        std::printf("dashboard: %s\n", text.c_str());
+        std::fflush(stdout);
+      } else {
+        spdlog::error("the dashboard did not start: see {}", log_file("dashboard"));
+      }
     }
 
     std::vector<std::unique_ptr<app::ChildProcess>> cores;
@@ -558,6 +584,7 @@ int main(int argc, char** argv) {
     }
     if (last_active > 0) commands[last_active - 1]->stop(std::chrono::seconds(10));
     for (auto& c : cores) c->stop(std::chrono::seconds(10));
+    if (dashboard_process) dashboard_process->stop(std::chrono::seconds(5));
     // The recorder last: it writes the summary of the file when it stops.
     if (recorder) {
       const int code = recorder->stop(std::chrono::seconds(20));

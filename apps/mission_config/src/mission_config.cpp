@@ -374,6 +374,21 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     check.output_path = "check.mcap";
     check.validate();
   }
+  {
+    auto r = root.child("dashboard");
+    auto& d = c.dashboard;
+    r.read("bind_address", d.bind_address);
+    r.read("port", d.port);
+    r.read("token", d.token);
+    r.read("operator_id", d.operator_id);
+    r.read("stale_after_s", d.stale_after_s);
+    r.read("par_interval_s", d.par_interval_s);
+    r.read("push_period_s", d.push_period_s);
+    r.read("max_streams", d.max_streams);
+    r.read("track_length", d.track_length);
+    r.expect_done();
+    d.validate();
+  }
   root.expect_done();
   c.validate();
   return c;

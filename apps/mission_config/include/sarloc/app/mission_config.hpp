@@ -10,6 +10,7 @@
 #include "sarloc/core/estimator/make_estimator.hpp"
 #include "sarloc/core/mission/mission_scenario.hpp"
 #include "sarloc/core/mission/simulated_firefighter.hpp"
+#include "sarloc/app/dashboard_config.hpp"
 #include "sarloc/dds/recorder.hpp"
 #include "sarloc/dds/command_node.hpp"
 #include "sarloc/dds/core_node.hpp"
@@ -58,6 +59,8 @@ struct MissionConfig {
   /// How sarloc-record records this mission (record:); output_path is set per run.
   dds::RecorderConfig record;
   std::string record_directory = "recordings";  ///< record.directory, resolved
+  /// sarloc-dashboard (dashboard:).
+  DashboardConfig dashboard;
 
   /// Throws ConfigError naming the key.
   void validate() const;

@@ -1,0 +1,174 @@
+#include "dashboard_server.hpp"
+
+#include <httplib.h>
+
+#include <malloc.h>
+
+#include <chrono>
+#include <random>
+#include <regex>
+
+#include "sarloc/core/common/errors.hpp"
+
+namespace sarloc::dashboard {
+
+namespace {
+
+// The page, embedded at build time (apps/dashboard/page/; CMake writes page_assets.inc).
+struct Asset {
+  const char* path;
+  const char* type;
+  const char* body;
+};
+const Asset kAssets[] = {
+#include "page_assets.inc"
+};
+
+void error(httplib::Response& res, int status, const std::string& what) {
+  res.status = status;
+  res.set_content(nlohmann::json{{"error", what}}.dump(), "application/json");
+}
+
+}  // namespace
+
+void DashboardServerConfig::validate() const {
+  if (bind_address.empty()) throw ConfigError("dashboard.bind_address is empty");
+  if (port < 0 || port > 65535) throw ConfigError("dashboard.port = " + std::to_string(port) + ": must be 0-65535");
+  if (token.size() < 8) throw ConfigError("dashboard.token: must be at least 8 characters (or absent: a random one is made)");
+  if (operator_id.empty() || operator_id.size() > 64) {
+    throw ConfigError("dashboard.operator_id = '" + operator_id + "': must be 1-64 characters (an IDL Identifier)");
+  }
+  if (!(push_period_s >= 0.05 && push_period_s <= 10.0)) {
+    throw ConfigError("dashboard.push_period_s = " + std::to_string(push_period_s) + ": must be in [0.05, 10]");
+  }
+  if (max_streams < 1 || max_streams > 1000) {
+    throw ConfigError("dashboard.max_streams = " + std::to_string(max_streams) + ": must be 1-1000");
+  }
+}
+
+std::string random_token() {
+  std::random_device device;
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string token;
+  for (int i = 0; i < 32; ++i) token += kHex[device() & 0xF];
+  return token;
+}
+
+DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& state,
+                                 std::function<bool(std::uint32_t, const std::string&)> acknowledge)
+    : config_(std::move(config)), state_(state), acknowledge_(std::move(acknowledge)), server_(std::make_unique<httplib::Server>()) {
+  config_.validate();
+  auto& s = *server_;
+  // One thread per open stream, and some for everything else.
+  const int threads = config_.max_streams + 8;
+  s.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
+  s.set_payload_max_length(4096);
+  s.set_read_timeout(5, 0);
+  s.set_write_timeout(5, 0);
+
+  for (const auto& asset : kAssets) {
+    const std::string path = asset.path;
+    s.Get(path == "/index.html" ? "/" : path.c_str(), [asset](const httplib::Request&, httplib::Response& res) {
+      res.set_content(asset.body, asset.type);
+      res.set_header("Cache-Control", "no-store");
+    });
+  }
+  s.Get("/api/state", [this](const httplib::Request&, httplib::Response& res) {
+    res.set_content(state_.snapshot().dump(), "application/json");
+  });
+  s.Get("/events", [this](const httplib::Request&, httplib::Response& res) {
+    if (streams_.fetch_add(1) >= config_.max_streams) {
+      streams_.fetch_sub(1);
+      return error(res, 503, "too many open event streams (dashboard.max_streams)");
+    }
+    res.set_header("Cache-Control", "no-store");
+    auto sent = std::make_shared<std::uint64_t>(0);
+    auto beat = std::make_shared<std::chrono::steady_clock::time_point>();
+    res.set_chunked_content_provider(
+        "text/event-stream",
+        [this, sent, beat](std::size_t, httplib::DataSink& sink) {
+          if (stopping_ || !sink.is_writable()) return false;  // the browser left: free the thread
+          std::string chunk;
+          if (*sent == 0) {
+            const auto snapshot = state_.snapshot();
+            *sent = snapshot["version"].get<std::uint64_t>();
+            chunk = "event: snapshot\ndata: " + snapshot.dump() + "\n\n";
+          } else {
+            std::this_thread::sleep_for(std::chrono::duration<double>(config_.push_period_s));
+            if (stopping_) return false;
+            if (state_.version() > *sent) {
+              const auto delta = state_.delta(*sent);
+              *sent = delta["version"].get<std::uint64_t>();
+              chunk = "event: delta\ndata: " + delta.dump() + "\n\n";
+            }
+          }
+          const auto now = std::chrono::steady_clock::now();
+          if (now - *beat >= std::chrono::seconds(1)) {
+            *beat = now;
+            chunk += "event: heartbeat\ndata: " + state_.heartbeat().dump() + "\n\n";
+          }
+          // A closed browser makes the write fail: the provider ends and its thread is free.
+          return chunk.empty() || sink.write(chunk.data(), chunk.size());
+        },
+        [this](bool) {
+          // The stream's snapshot was the largest buffer it made: give its memory back now, so
+          // that the server's size follows what is open, not what once was.
+          if (streams_.fetch_sub(1) == 1) ::malloc_trim(0);
+        });
+  });
+  s.Post(R"(/api/alarms/(\d{1,10})/ack)", [this](const httplib::Request& req, httplib::Response& res) {
+    if (!authorised(req.get_header_value("Authorization"))) return error(res, 401, "the access token is missing or wrong");
+    const auto id = std::stoull(req.matches[1]);
+    if (id > 0xFFFFFFFFull) return error(res, 400, "no such alarm id");
+    const auto alarms = state_.snapshot()["alarms"];
+    bool known = false;
+    for (const auto& a : alarms) known = known || a["id"].get<std::uint64_t>() == id;
+    if (!known) return error(res, 404, "alarm " + std::to_string(id) + " is not in the picture");
+    if (!acknowledge_(static_cast<std::uint32_t>(id), config_.operator_id)) return error(res, 503, "DDS refused the acknowledgement");
+    state_.note("alarm", "acknowledgement of alarm " + std::to_string(id) + " sent by " + config_.operator_id);
+    res.status = 202;
+    res.set_content(nlohmann::json{{"acknowledged", id}, {"operator", config_.operator_id}}.dump(), "application/json");
+  });
+  s.Post(R"(/api/teams/([A-Za-z0-9_.\-]{1,64})/par)", [this](const httplib::Request& req, httplib::Response& res) {
+    if (!authorised(req.get_header_value("Authorization"))) return error(res, 401, "the access token is missing or wrong");
+    if (!state_.par_reported(req.matches[1], config_.operator_id)) return error(res, 404, "no such team");
+    res.set_content(nlohmann::json{{"par_reported", std::string(req.matches[1])}}.dump(), "application/json");
+  });
+  s.set_error_handler([](const httplib::Request&, httplib::Response& res) {
+    if (res.body.empty()) res.set_content(nlohmann::json{{"error", "HTTP " + std::to_string(res.status)}}.dump(), "application/json");
+  });
+  s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
+    error(res, 500, "internal error");  // never a crash
+  });
+}
+
+DashboardServer::~DashboardServer() { stop(); }
+
+bool DashboardServer::authorised(const std::string& header) const {
+  const std::string expected = "Bearer " + config_.token;
+  if (header.size() != expected.size()) return false;
+  unsigned char difference = 0;  // constant time: the token does not leak through timing
+  for (std::size_t i = 0; i < header.size(); ++i) difference |= static_cast<unsigned char>(header[i] ^ expected[i]);
+  return difference == 0;
+}
+
+void DashboardServer::start() {
+  if (config_.port == 0) {
+    port_ = server_->bind_to_any_port(config_.bind_address.c_str());
+  } else {
+    port_ = server_->bind_to_port(config_.bind_address.c_str(), config_.port) ? config_.port : -1;
+  }
+  if (port_ < 0) {
+    throw std::runtime_error("cannot listen on " + config_.bind_address + ":" + std::to_string(config_.port) +
+                             " (address in use, or not this machine's)");
+  }
+  thread_ = std::thread([this] { server_->listen_after_bind(); });
+}
+
+void DashboardServer::stop() {
+  if (stopping_.exchange(true)) return;
+  server_->stop();
+  if (thread_.joinable()) thread_.join();
+}
+
+}  // namespace sarloc::dashboard

@@ -1,0 +1,71 @@
+#pragma once
+// sarloc-dashboard's HTTP side (Debian's cpp-httplib): the page and its assets, the picture as
+// JSON, a server-sent event stream of changes, and the operator's actions (acknowledge an
+// alarm, report a team's PAR), which need the access token.
+//
+//   GET  /                      the page (index.html, app.js, style.css: no external asset)
+//   GET  /api/state             the whole picture (JSON)
+//   GET  /events                text/event-stream: "snapshot" once, then "delta" and "heartbeat"
+//   POST /api/alarms/ID/ack     acknowledge alarm ID   (Authorization: Bearer TOKEN)
+//   POST /api/teams/ID/par      a team's PAR reported  (Authorization: Bearer TOKEN)
+//
+// Bad requests get a 4xx and a JSON {"error": ...}; nothing a client sends stops the server.
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "picture_state.hpp"
+
+namespace httplib {
+class Server;
+}
+
+namespace sarloc::dashboard {
+
+struct DashboardServerConfig {
+  std::string bind_address = "127.0.0.1";  ///< all interfaces only when asked: 0.0.0.0
+  int port = 8080;                         ///< 0: any free port (tests)
+  std::string token;                       ///< required by every action; never empty when serving
+  std::string operator_id = "dashboard";   ///< who acknowledges, as published over DDS
+  double push_period_s = 0.25;             ///< a stream sends what changed at most this often
+  int max_streams = 64;                    ///< open event streams at once; more get 503
+
+  /// Throws ConfigError naming the field, the value and the rule.
+  void validate() const;
+};
+
+class DashboardServer {
+ public:
+  /// `acknowledge(alarm_id, operator_id)` publishes the acknowledgement (false: DDS refused).
+  DashboardServer(DashboardServerConfig config, PictureState& state,
+                  std::function<bool(std::uint32_t, const std::string&)> acknowledge);
+  ~DashboardServer();
+  DashboardServer(const DashboardServer&) = delete;
+  DashboardServer& operator=(const DashboardServer&) = delete;
+
+  /// Binds (throws std::runtime_error naming the address when it cannot) and serves on a thread.
+  void start();
+  /// Ends every stream and the server; idempotent.
+  void stop();
+  int port() const { return port_; }
+  int open_streams() const { return streams_.load(); }
+
+ private:
+  bool authorised(const std::string& header) const;
+
+  DashboardServerConfig config_;
+  PictureState& state_;
+  std::function<bool(std::uint32_t, const std::string&)> acknowledge_;
+  std::unique_ptr<httplib::Server> server_;
+  std::thread thread_;
+  std::atomic<bool> stopping_{false};
+  std::atomic<int> streams_{0};
+  int port_ = 0;
+};
+
+/// A random access token (128 bits, hex) for a dashboard started without one.
+std::string random_token();
+
+}  // namespace sarloc::dashboard

@@ -1,0 +1,98 @@
+// sarloc-dashboard: the incident commander's screen, a web page served by this process on the
+// incident picture over DDS (docs/operations/dashboard.md). Binds 127.0.0.1 unless told
+// otherwise; every operator action needs the access token.
+//
+// Exit codes: 0 stopped by SIGINT/SIGTERM; 2 bad command line; 3 bad mission file or options;
+// 4 could not run (DDS, the address in use).
+#include <CLI/CLI.hpp>
+#include <spdlog/spdlog.h>
+
+#include <malloc.h>
+
+#include <cstdlib>
+#include <fstream>
+
+#include "dashboard_server.hpp"
+#include "picture_state.hpp"
+#include "sarloc/app/command_line.hpp"
+#include "sarloc/app/logging.hpp"
+#include "sarloc/app/node_options.hpp"
+#include "sarloc/app/run_main.hpp"
+#include "sarloc/app/shutdown_signal.hpp"
+#include "sarloc/dds/dashboard_node.hpp"
+
+int main(int argc, char** argv) {
+  using namespace sarloc;
+  // Few malloc arenas: every event stream has a thread of its own, and per-thread arenas would
+  // keep each stream's largest snapshot (docs/operations/dashboard.md, memory).
+  ::mallopt(M_ARENA_MAX, 2);
+  app::install_shutdown_handlers();
+  CLI::App cli{"sarloc-dashboard: the incident-command web page on the incident picture"};
+  app::NodeOptions options;
+  app::add_node_options(cli, options);
+  std::string bind, token, url_file;
+  int port = -1;
+  cli.add_option("--bind", bind, "address to listen on, overriding dashboard.bind_address (default 127.0.0.1)");
+  cli.add_option("--port", port, "port, overriding dashboard.port (0: any free port)");
+  cli.add_option("--token", token, "access token for operator actions (also SARLOC_DASHBOARD_TOKEN; default: random)");
+  cli.add_option("--url-file", url_file, "write the page's URL (with the token) to this file once serving");
+  if (auto code = app::parse_command_line(cli, argc, argv)) return *code;
+
+  return app::run_main("sarloc-dashboard", [&] {
+    app::setup_logging(options.log_level, "dashboard");
+    const auto mission = app::load_mission_config(options.config_path);
+    app::DashboardConfig settings = mission.dashboard;
+    if (!bind.empty()) settings.bind_address = bind;
+    if (port >= 0) settings.port = port;
+    if (token.empty() && std::getenv("SARLOC_DASHBOARD_TOKEN") != nullptr) token = std::getenv("SARLOC_DASHBOARD_TOKEN");
+    if (!token.empty()) settings.token = token;
+    const bool generated = settings.token.empty();
+    if (generated) settings.token = dashboard::random_token();
+    settings.validate();
+
+    const auto clock = options.clock(mission);
+    dashboard::PictureStateConfig state_config;
+    state_config.track_length = static_cast<std::size_t>(settings.track_length);
+    state_config.par_interval_s = settings.par_interval_s;
+    state_config.stale_after_s = settings.stale_after_s;
+    dashboard::PictureState state(state_config, [clock] { return clock.now(); }, clock.epoch());
+    if (mission.world) {
+      const auto& f = mission.estimators.firefighter;
+      state.set_building({*mission.world, f.origin.x(), f.origin.y(), f.rotation_rad()});
+    }
+    auto participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, "sarloc-dashboard"));
+    sarloc::dds::DashboardSink sink;
+    sink.on_victim = [&](const auto& v) { state.on_victim(v); };
+    sink.on_victim_gone = [&](auto id) { state.on_victim_gone(id); };
+    sink.on_team = [&](const auto& t) { state.on_team(t); };
+    sink.on_alarm = [&](const auto& a) { state.on_alarm(a); };
+    sink.on_alarm_gone = [&](auto id) { state.on_alarm_gone(id); };
+    sink.on_position = [&](const auto& p) { state.on_position(p); };
+    sink.on_guidance = [&](const auto& g) { state.on_guidance(g); };
+    sink.on_picture_writer = [&](const auto& w) { state.on_picture_writer(w); };
+    sink.on_rejected = [&](const auto& topic) { state.on_rejected(topic); };
+    sarloc::dds::DashboardNode node(participant, sink);
+
+    dashboard::DashboardServerConfig server_config{settings.bind_address, settings.port, settings.token, settings.operator_id,
+                                                   settings.push_period_s, settings.max_streams};
+    dashboard::DashboardServer server(server_config, state, [&](std::uint32_t id, const std::string& op) {
+      return node.acknowledge(id, op, clock.now());
+    });
+    server.start();
+    const std::string host = settings.bind_address == "0.0.0.0" ? "127.0.0.1" : settings.bind_address;
+    const std::string url = "http://" + host + ":" + std::to_string(server.port()) + "/#token=" + settings.token;
+    spdlog::info("dashboard of mission '{}' at {}{}", mission.name, url, generated ? " (random token: give it to operators)" : "");
+    if (settings.bind_address != "127.0.0.1" && settings.bind_address != "localhost") {
+      spdlog::warn("listening on {}: anyone on that network sees the picture; actions need the token", settings.bind_address);
+    }
+    if (!url_file.empty()) {
+      std::ofstream out(url_file);
+      out << url << "\n";
+    }
+    while (!app::wait_for_shutdown(std::chrono::seconds(1))) {
+    }
+    spdlog::info("dashboard stopping");
+    server.stop();
+    return app::ExitCode::kOk;
+  });
+}

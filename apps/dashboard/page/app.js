@@ -1,0 +1,250 @@
+// sarloc dashboard page: one event stream (/events) keeps a copy of the picture; rendering is
+// batched into animation frames. No library, nothing from elsewhere.
+"use strict";
+
+const picture = { victims: new Map(), responders: new Map(), teams: new Map(), alarms: new Map(), events: [], building: null,
+                  missionNs: 0, epochNs: 0, wallMs: 0, receivedAtMs: 0, parIntervalS: 600 };
+// The view follows the data (fits it) until the operator pans or zooms.
+const view = { x: 0, y: 0, w: 100, h: 100, userMoved: false };
+const CHI2_95 = 5.991464547107979;
+window.sarlocFrameTimes = [];   // render durations (ms), for the browser test
+window.sarlocLatencies = [];    // server push to browser (ms)
+let dirty = false;
+
+const $ = (id) => document.getElementById(id);
+const esc = (s) => String(s).replace(/[&<>"]/g, (c) => ({ "&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;" })[c]);
+// Mission time as T+m:ss from the mission's epoch.
+const missionS = (ns) => {
+  const s = Math.max(0, Math.round((ns - picture.epochNs) / 1e9));
+  return `T+${Math.floor(s / 60)}:${String(s % 60).padStart(2, "0")}`;
+};
+
+function token() { return $("token").value.trim(); }
+$("token").value = sessionStorage.getItem("sarloc-token") || new URLSearchParams(location.hash.slice(1)).get("token") || "";
+$("token").addEventListener("change", () => sessionStorage.setItem("sarloc-token", token()));
+
+const TRACK_LENGTH = 120;
+
+function merge(message) {
+  for (const kind of ["victims", "teams", "alarms"]) {
+    for (const item of message[kind] || []) picture[kind].set(String(item.id), item);
+  }
+  // A delta's responder has no track: its new position extends the one we keep.
+  for (const r of message.responders || []) {
+    if (!r.track) {
+      const before = picture.responders.get(String(r.id));
+      r.track = before ? before.track : [];
+      const last = r.track[r.track.length - 1];
+      if (!last || last[0] !== r.x || last[1] !== r.y) r.track.push([r.x, r.y]);
+      if (r.track.length > TRACK_LENGTH) r.track.splice(0, r.track.length - TRACK_LENGTH);
+    }
+    picture.responders.set(String(r.id), r);
+  }
+  for (const r of message.removed || []) picture[r.kind === "victim" ? "victims" : "alarms"].delete(String(r.id));
+  for (const e of message.events || []) picture.events.push(e);
+  if (picture.events.length > 500) picture.events.splice(0, picture.events.length - 500);
+  picture.missionNs = message.mission_ns;
+  picture.epochNs = message.epoch_ns;
+  picture.wallMs = message.wall_ms;
+  picture.receivedAtMs = Date.now();
+  if (message.wall_ms) window.sarlocLatencies.push(Date.now() - message.wall_ms);
+  if (window.sarlocLatencies.length > 10000) window.sarlocLatencies.splice(0, 5000);
+  schedule();
+}
+
+function connect() {
+  const source = new EventSource("/events");
+  source.addEventListener("snapshot", (e) => {
+    const s = JSON.parse(e.data);
+    for (const kind of ["victims", "responders", "teams", "alarms"]) picture[kind].clear();
+    picture.events = [];
+    picture.building = s.building && s.building.floors ? s.building : null;
+    picture.parIntervalS = s.par_interval_s;
+    fillFloors();
+    merge(s);
+  });
+  source.addEventListener("delta", (e) => merge(JSON.parse(e.data)));
+  source.addEventListener("heartbeat", (e) => {
+    const h = JSON.parse(e.data);
+    picture.missionNs = h.mission_ns;
+    $("banner").hidden = !h.stale;
+    $("banner-age").textContent = h.data_age_s < 0 ? "ever" : h.data_age_s.toFixed(0);
+    schedule();
+  });
+  source.onopen = () => { $("status").textContent = "live"; $("status").className = "ok"; };
+  source.onerror = () => { $("status").textContent = "reconnecting…"; $("status").className = "bad"; };
+}
+
+function fillFloors() {
+  const select = $("floor");
+  const floors = picture.building ? picture.building.floors : [{ id: "ground" }];
+  select.innerHTML = floors.map((f, i) => `<option value="${i}">${i} (${esc(f.id)})</option>`).join("");
+}
+
+function schedule() {
+  if (!dirty) { dirty = true; requestAnimationFrame(render); }
+}
+
+function ellipse(x, y, cov, cls) {
+  const [a, b, c] = cov;
+  const mean = (a + c) / 2, diff = Math.sqrt(((a - c) / 2) ** 2 + b * b);
+  const l1 = Math.max(mean + diff, 1e-6), l2 = Math.max(mean - diff, 1e-6);
+  const angle = (0.5 * Math.atan2(2 * b, a - c) * 180) / Math.PI;
+  return `<ellipse class="${cls}" cx="${x}" cy="${-y}" rx="${Math.sqrt(CHI2_95 * l1)}" ry="${Math.sqrt(CHI2_95 * l2)}" transform="rotate(${-angle} ${x} ${-y})"/>`;
+}
+
+function fit() {
+  const xs = [], ys = [];
+  const add = (x, y) => { if (isFinite(x) && isFinite(y)) { xs.push(x); ys.push(y); } };
+  picture.victims.forEach((v) => add(v.x, v.y));
+  picture.responders.forEach((r) => add(r.x, r.y));
+  if (picture.building) for (const f of picture.building.floors) for (const w of f.walls) { add(w[0], w[1]); add(w[2], w[3]); }
+  if (!xs.length) return;
+  const pad = 5, minX = Math.min(...xs) - pad, maxX = Math.max(...xs) + pad, minY = Math.min(...ys) - pad, maxY = Math.max(...ys) + pad;
+  const box = $("map").getBoundingClientRect();
+  const aspect = box.width > 0 && box.height > 0 ? box.width / box.height : 1.5;
+  let w = maxX - minX, h = maxY - minY;
+  if (w / h < aspect) w = h * aspect; else h = w / aspect;
+  Object.assign(view, { x: (minX + maxX) / 2 - w / 2, y: -(minY + maxY) / 2 - h / 2, w, h });
+}
+
+const COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2"];
+
+function renderMap() {
+  if (!view.userMoved) fit();
+  const floor = Number($("floor").value || 0);
+  const px = view.w / Math.max(1, $("map").getBoundingClientRect().width);  // metres per pixel
+  let svg = "";
+  if (picture.building && picture.building.floors[floor]) {
+    for (const w of picture.building.floors[floor].walls) {
+      svg += `<line x1="${w[0]}" y1="${-w[1]}" x2="${w[2]}" y2="${-w[3]}" stroke="#333" stroke-width="${3 * px}"/>`;
+    }
+    for (const d of picture.building.floors[floor].doors) {
+      svg += `<circle cx="${d.x}" cy="${-d.y}" r="${d.width_m / 2}" fill="#8fbc8f" fill-opacity="0.5"/>`;
+    }
+  }
+  let k = 0;
+  for (const r of picture.responders.values()) {
+    const colour = COLOURS[k++ % COLOURS.length];
+    const indoors = r.source === "map-aided" || r.source === "dead reckoning";
+    if (indoors && r.floor !== floor) continue;
+    if (r.track.length > 1) {
+      svg += `<polyline fill="none" stroke="${colour}" stroke-width="${2 * px}" stroke-opacity="0.7" points="${r.track.map((p) => `${p[0]},${-p[1]}`).join(" ")}"/>`;
+    }
+    if (indoors) svg += ellipse(r.x, r.y, r.cov, "").replace("<ellipse", `<ellipse fill="none" stroke="${colour}" stroke-width="${px}"`);
+    svg += `<circle data-responder="${esc(r.id)}" cx="${r.x}" cy="${-r.y}" r="${5 * px}" fill="${colour}" stroke="#fff" stroke-width="${px}"/>`;
+    if (r.heading_rad !== null && !indoors) {
+      const L = 30 * px, hx = r.x + L * Math.cos(r.heading_rad), hy = r.y + L * Math.sin(r.heading_rad);
+      svg += `<line x1="${r.x}" y1="${-r.y}" x2="${hx}" y2="${-hy}" stroke="${colour}" stroke-width="${2.5 * px}" marker-end="url(#arrow)"/>`;
+    }
+    svg += `<text x="${r.x + 7 * px}" y="${-r.y - 7 * px}" style="font-size:${12 * px}px;stroke-width:${3 * px}px">${esc(r.id)}</text>`;
+  }
+  for (const v of picture.victims.values()) {
+    const colour = v.state === "FOUND" ? "#1b7f1b" : v.state === "LOCATED" ? "#c96a00" : "#777";
+    svg += ellipse(v.x, v.y, v.cov, "").replace("<ellipse", `<ellipse data-victim="${v.id}" fill="${colour}" fill-opacity="0.18" stroke="${colour}" stroke-width="${2 * px}"`);
+    svg += `<path d="M${v.x - 5 * px} ${-v.y - 5 * px} L${v.x + 5 * px} ${-v.y + 5 * px} M${v.x - 5 * px} ${-v.y + 5 * px} L${v.x + 5 * px} ${-v.y - 5 * px}" stroke="${colour}" stroke-width="${2.5 * px}"/>`;
+    svg += `<text x="${v.x + 7 * px}" y="${-v.y + 14 * px}" style="font-size:${12 * px}px;stroke-width:${3 * px}px">victim ${v.id}</text>`;
+  }
+  for (const a of picture.alarms.values()) {
+    if (!a.position_known || !a.active) continue;
+    svg += `<circle cx="${a.x}" cy="${-a.y}" r="${12 * px}" fill="none" stroke="#b00020" stroke-width="${3 * px}"/>`;
+  }
+  // Scale bar: a round length near a fifth of the view.
+  const target = view.w / 5, base = 10 ** Math.floor(Math.log10(target));
+  const bar = [5, 2, 1].map((f) => f * base).find((b) => b <= target);
+  const bx = view.x + 10 * px, by = view.y + view.h - 12 * px;
+  svg += `<line x1="${bx}" y1="${by}" x2="${bx + bar}" y2="${by}" stroke="#111" stroke-width="${3 * px}"/>`;
+  svg += `<text x="${bx}" y="${by - 5 * px}" style="font-size:${11 * px}px;stroke-width:${3 * px}px">${bar} m</text>`;
+  const defs = `<defs><marker id="arrow" viewBox="0 0 10 10" refX="5" refY="5" markerWidth="4" markerHeight="4" orient="auto-start-reverse"><path d="M0 0 L10 5 L0 10 z" fill="#333"/></marker></defs>`;
+  $("map").setAttribute("viewBox", `${view.x} ${view.y} ${view.w} ${view.h}`);
+  $("map").innerHTML = defs + svg;
+}
+
+function renderLists() {
+  const now = picture.missionNs;
+  const victims = [...picture.victims.values()].sort((a, b) => a.id - b.id);
+  $("victim-count").textContent = victims.length;
+  $("victims").tBodies[0].innerHTML = victims.map((v) =>
+    `<tr data-victim="${v.id}"><td>${v.id}${v.conflict ? ' <b class="error">conflict</b>' : ""}</td>` +
+    `<td class="state state-${esc(v.state)}">${esc(v.state)}</td><td>${v.radius95_m.toFixed(2)}</td>` +
+    `<td>${v.located_ns ? `${((now - v.located_ns) / 1e9).toFixed(0)} s ago` : "—"}</td><td>${esc(v.sources.join(", "))}</td></tr>`).join("");
+
+  const wallNow = picture.wallMs + (Date.now() - picture.receivedAtMs);
+  $("teams").innerHTML = [...picture.teams.values()].sort((a, b) => a.id.localeCompare(b.id)).map((t) => {
+    const left = (t.par_due_wall_ms - wallNow) / 1000;
+    const cls = left < 0 ? "red" : left < 60 ? "amber" : "";
+    const par = left < 0 ? `PAR overdue ${(-left).toFixed(0)} s` : `PAR in ${Math.floor(left / 60)}:${String(Math.floor(left % 60)).padStart(2, "0")}`;
+    const rows = t.members.map((m) => `<tr data-member="${esc(m.id)}"><td>${esc(m.id)}</td><td class="link link-${m.link}">${m.link}</td>` +
+      `<td>${esc(m.accountability)}</td><td>${m.last_seen_ns ? `${((now - m.last_seen_ns) / 1e9).toFixed(0)} s ago` : "never"}</td><td>floor ${m.floor}</td></tr>`).join("");
+    return `<div class="team" data-team="${esc(t.id)}"><h3>${esc(t.id || "(no team)")} <span><span class="par ${cls}">${par}</span> ` +
+      `<button type="button" class="par-report" data-team="${esc(t.id)}">PAR reported</button></span></h3><table>${rows}</table></div>`;
+  }).join("");
+
+  const alarms = [...picture.alarms.values()].sort((a, b) => b.raised_ns - a.raised_ns);
+  $("alarm-count").textContent = alarms.filter((a) => !a.acknowledged).length;
+  $("alarms").innerHTML = alarms.map((a) =>
+    `<li data-alarm="${a.id}" class="${a.active ? "" : "cleared"} ${a.acknowledged ? "acknowledged" : ""}"><span><b>${esc(a.kind)}</b> ${esc(a.responder)} (${esc(a.team)}), ` +
+    `raised at ${missionS(a.raised_ns)}${a.active ? "" : ", cleared"}${a.acknowledged ? `, acknowledged by ${esc(a.acknowledged_by)}` : ""}</span>` +
+    (a.acknowledged ? "" : `<button type="button" class="ack" data-alarm="${a.id}">acknowledge</button>`) + "</li>").join("");
+
+  $("events").innerHTML = picture.events.slice(-200).reverse().map((e) =>
+    `<li><b>${missionS(e.mission_ns)}</b> ${esc(e.kind)}: ${esc(e.text)}</li>`).join("");
+  $("clock").textContent = `mission ${missionS(now)}`;
+}
+
+function render() {
+  dirty = false;
+  const start = performance.now();
+  renderMap();
+  renderLists();
+  window.sarlocFrameTimes.push(performance.now() - start);
+  if (window.sarlocFrameTimes.length > 10000) window.sarlocFrameTimes.splice(0, 5000);
+}
+
+async function act(url, what) {
+  const response = await fetch(url, { method: "POST", headers: { Authorization: `Bearer ${token()}` } });
+  if (!response.ok) {
+    const body = await response.json().catch(() => ({ error: response.statusText }));
+    picture.events.push({ mission_ns: picture.missionNs, kind: "dashboard", text: `${what} refused: ${body.error}` });
+    schedule();
+  }
+  return response.status;
+}
+window.sarlocAct = act;
+
+document.addEventListener("click", (e) => {
+  const ack = e.target.closest("button.ack");
+  if (ack) act(`/api/alarms/${ack.dataset.alarm}/ack`, `acknowledging alarm ${ack.dataset.alarm}`);
+  const par = e.target.closest("button.par-report");
+  if (par) act(`/api/teams/${encodeURIComponent(par.dataset.team)}/par`, `PAR of ${par.dataset.team}`);
+});
+$("floor").addEventListener("change", schedule);
+$("fit").addEventListener("click", () => { view.userMoved = false; schedule(); });
+
+// Pan and zoom on the map.
+let drag = null;
+$("map").addEventListener("mousedown", (e) => { drag = { x: e.clientX, y: e.clientY, vx: view.x, vy: view.y }; });
+window.addEventListener("mouseup", () => { drag = null; });
+window.addEventListener("mousemove", (e) => {
+  if (!drag) return;
+  const scale = view.w / $("map").getBoundingClientRect().width;
+  view.x = drag.vx - (e.clientX - drag.x) * scale;
+  view.y = drag.vy - (e.clientY - drag.y) * scale;
+  view.userMoved = true;
+  schedule();
+});
+$("map").addEventListener("wheel", (e) => {
+  e.preventDefault();
+  const box = $("map").getBoundingClientRect();
+  const fx = (e.clientX - box.left) / box.width, fy = (e.clientY - box.top) / box.height;
+  const factor = e.deltaY > 0 ? 1.2 : 1 / 1.2;
+  const w = view.w * factor, h = view.h * factor;
+  view.x += (view.w - w) * fx;
+  view.y += (view.h - h) * fy;
+  view.w = w;
+  view.h = h;
+  view.userMoved = true;
+  schedule();
+}, { passive: false });
+setInterval(schedule, 1000);  // timers (PAR, "s ago") move even without data
+connect();

@@ -1,0 +1,371 @@
+#include "picture_state.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <cstdio>
+
+namespace sarloc::dashboard {
+
+using nlohmann::json;
+
+namespace {
+
+constexpr double kChi2_2dof_95 = 5.991464547107979;
+
+double system_wall_s() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+std::string fmt1(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.1f", v);
+  return buffer;
+}
+
+const char* link_name(incident::LinkState s) {
+  switch (s) {
+    case incident::LinkState::kAlive: return "alive";
+    case incident::LinkState::kStale: return "stale";
+    case incident::LinkState::kLost: return "lost";
+  }
+  return "lost";
+}
+
+const char* accountability_name(incident::AccountabilityState s) {
+  switch (s) {
+    case incident::AccountabilityState::kAccounted: return "accounted";
+    case incident::AccountabilityState::kPending: return "pending";
+    case incident::AccountabilityState::kMissing: return "missing";
+  }
+  return "missing";
+}
+
+const char* source_name(responder::PositionSource s) {
+  switch (s) {
+    case responder::PositionSource::kGnss: return "GNSS";
+    case responder::PositionSource::kMapAided: return "map-aided";
+    case responder::PositionSource::kDeadReckoning: return "dead reckoning";
+    case responder::PositionSource::kManual: return "manual";
+  }
+  return "?";
+}
+
+// Positions to the centimetre on the wire: what a map shows, a third of the bytes.
+double cm(double metres) { return std::round(metres * 100.0) / 100.0; }
+
+double radius95(const Mat3& c) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> e(c.topLeftCorner<2, 2>());
+  return std::sqrt(kChi2_2dof_95 * std::max(0.0, e.eigenvalues()(1)));
+}
+
+}  // namespace
+
+PictureState::PictureState(PictureStateConfig config, MissionClock mission_now, TimestampNs epoch_ns, WallClock wall_now)
+    : config_(config),
+      mission_now_(std::move(mission_now)),
+      epoch_ns_(epoch_ns),
+      wall_now_(wall_now ? std::move(wall_now) : WallClock(system_wall_s)) {}
+
+void PictureState::set_building(PlacedPlan b) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  json floors = json::array();
+  const double c = std::cos(b.rotation_rad), s = std::sin(b.rotation_rad);
+  auto place = [&](const firefighter::Vec2& p) {
+    return std::array<double, 2>{b.origin_x + c * p.x() - s * p.y(), b.origin_y + s * p.x() + c * p.y()};
+  };
+  for (const auto& floor : b.plan.floors) {
+    json walls = json::array(), doors = json::array();
+    for (const auto& w : floor.walls) {
+      const auto a = place(w.a), e = place(w.b);
+      walls.push_back({a[0], a[1], e[0], e[1]});
+    }
+    for (const auto& d : floor.doors) {
+      const auto p = place(d.center);
+      doors.push_back({{"id", d.id}, {"x", p[0]}, {"y", p[1]}, {"width_m", d.width_m}});
+    }
+    floors.push_back({{"id", floor.id}, {"walls", walls}, {"doors", doors}});
+  }
+  building_ = {{"name", b.plan.name}, {"floors", floors}};
+  ++version_;
+}
+
+void PictureState::touch_data() { last_data_wall_s_ = wall_now_(); }
+
+void PictureState::event(const std::string& kind, const std::string& text) {
+  ++version_;
+  events_.push_back({version_, {{"seq", version_},
+                                {"mission_ns", mission_now_()},
+                                {"wall_ms", static_cast<std::int64_t>(wall_now_() * 1e3)},
+                                {"kind", kind},
+                                {"text", text}}});
+  while (events_.size() > config_.event_log_length) events_.pop_front();
+}
+
+void PictureState::note(const std::string& kind, const std::string& text) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  event(kind, text);
+}
+
+void PictureState::on_victim(const incident::FusedVictim& v) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  touch_data();
+  const auto it = victims_.find(v.victim_id);
+  const std::string name = "victim " + std::to_string(v.victim_id);
+  const std::string where = " at (" + fmt1(v.position.position.x()) + ", " + fmt1(v.position.position.y()) + ")";
+  if (it == victims_.end()) {
+    event("victim", name + " in the picture (" + incident::to_string(v.state) + ")" + where);
+  } else {
+    const auto before = it->second.first.state;
+    if (before != v.state) event("victim", name + " " + incident::to_string(v.state) + where);
+    if (v.evidence_conflict && !it->second.first.evidence_conflict) {
+      event("victim", name + ": its sources DISAGREE (evidence conflict): do not dig on it alone");
+    }
+  }
+  ++version_;
+  victims_[v.victim_id] = {v, version_};
+}
+
+void PictureState::on_victim_gone(std::uint32_t id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (victims_.erase(id) == 0) return;
+  event("victim", "victim " + std::to_string(id) + " merged into another (same transmitter)");
+  removed_.push_back({version_, {"victim", std::to_string(id)}});
+}
+
+void PictureState::on_team(const incident::TeamStatus& t) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  touch_data();
+  auto [it, fresh] = teams_.try_emplace(t.team_id);
+  auto& team = it->second;
+  if (fresh) team.par_due_wall_s = wall_now_() + config_.par_interval_s;
+  for (const auto& m : t.members) {
+    const auto before = team.links.find(m.responder_id);
+    if (before != team.links.end() && before->second != m.link) {
+      event("link", m.responder_id + " (" + t.team_id + "): link " +
+                        (m.link == incident::LinkState::kAlive ? std::string("alive again") : std::string(link_name(m.link))));
+    }
+    team.links[m.responder_id] = m.link;
+  }
+  team.status = t;
+  team.version = ++version_;
+}
+
+void PictureState::on_alarm(const incident::IncidentAlarm& a) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  touch_data();
+  const std::string name = std::string(responder::to_string(a.alarm.kind)) + " alarm " + std::to_string(a.alarm_id) + " for " +
+                           a.alarm.responder_id;
+  const auto it = alarms_.find(a.alarm_id);
+  if (it == alarms_.end()) {
+    event("alarm", name + " RAISED");
+  } else {
+    if (a.acknowledged && !it->second.first.acknowledged) event("alarm", name + " acknowledged by " + a.acknowledged_by);
+    if (!a.alarm.active && it->second.first.alarm.active) event("alarm", name + " cleared");
+  }
+  ++version_;
+  alarms_[a.alarm_id] = {a, version_};
+}
+
+void PictureState::on_alarm_gone(std::uint32_t id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (alarms_.erase(id) == 0) return;
+  event("alarm", "alarm " + std::to_string(id) + " closed (acknowledged and cleared)");
+  removed_.push_back({version_, {"alarm", std::to_string(id)}});
+}
+
+void PictureState::on_position(const responder::ResponderPosition& p) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  touch_data();
+  auto& r = responders_[p.responder_id];
+  if (r.version > 0 && p.source == responder::PositionSource::kMapAided && p.map_error_suspected != r.last.map_error_suspected &&
+      r.last.source == responder::PositionSource::kMapAided) {
+    event("map error", p.responder_id + (p.map_error_suspected ? ": the floor plan looks wrong here" : ": map error no longer suspected"));
+  }
+  // A device's dead reckoning does not replace a fresh map-aided fix on the map.
+  if (r.version > 0 && r.last.source == responder::PositionSource::kMapAided &&
+      p.source == responder::PositionSource::kDeadReckoning && p.stamp - r.last.stamp < 3'000'000'000LL) {
+    return;
+  }
+  if (r.version > 0 && p.stamp < r.last.stamp) return;  // out of order: keep the newest
+  r.last = p;
+  r.track.push_back({p.position.position.x(), p.position.position.y()});
+  while (r.track.size() > config_.track_length) r.track.pop_front();
+  r.version = ++version_;
+}
+
+void PictureState::on_guidance(const responder::Guidance& g) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  touch_data();
+  auto it = responders_.find(g.rescuer_id);
+  if (it == responders_.end()) return;  // no position yet: nowhere to draw the arrow
+  it->second.guidance_heading_rad = g.heading_rad;
+  it->second.version = ++version_;
+}
+
+void PictureState::on_picture_writer(const std::string& participant) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  touch_data();
+  if (participant == picture_writer_) return;
+  if (!picture_writer_.empty()) event("command", "incident picture now published by another instance (failover): " + participant.substr(0, 8));
+  picture_writer_ = participant;
+}
+
+void PictureState::on_rejected(const std::string& topic) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  ++rejected_[topic];
+}
+
+bool PictureState::par_reported(const std::string& team_id, const std::string& operator_id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = teams_.find(team_id);
+  if (it == teams_.end()) return false;
+  it->second.par_due_wall_s = wall_now_() + config_.par_interval_s;
+  it->second.version = ++version_;
+  event("accountability", "PAR of team " + team_id + " reported (" + operator_id + ")");
+  return true;
+}
+
+json PictureState::victim_json(const incident::FusedVictim& v) const {
+  const auto& c = v.position.covariance;
+  std::vector<std::string> sources;
+  for (const auto& s : v.sources) sources.push_back(s.rescuer_id + "/" + std::to_string(s.signal_id));
+  return {{"id", v.victim_id},
+          {"state", incident::to_string(v.state)},
+          {"x", v.position.position.x()},
+          {"y", v.position.position.y()},
+          {"z", v.position.position.z()},
+          {"cov", {c(0, 0), c(0, 1), c(1, 1)}},
+          {"radius95_m", radius95(c)},
+          {"floor", v.floor},
+          {"located_ns", v.located_at},
+          {"found_ns", v.found_at},
+          {"sources", sources},
+          {"conflict", v.evidence_conflict},
+          {"possibly_same_as", v.possibly_same_as}};
+}
+
+json PictureState::responder_json(const std::string& id, const Responder& r, bool with_track) const {
+  const auto& c = r.last.position.covariance;
+  json out = {{"id", id},
+          {"team", r.last.team_id},
+          {"x", cm(r.last.position.position.x())},
+          {"y", cm(r.last.position.position.y())},
+          {"cov", {c(0, 0), c(0, 1), c(1, 1)}},
+          {"floor", r.last.floor},
+          {"source", source_name(r.last.source)},
+          {"converged", r.last.converged},
+          {"confirmed", r.last.confirmed},
+          {"map_error", r.last.map_error_suspected},
+          {"stamp_ns", r.last.stamp},
+          {"heading_rad", r.guidance_heading_rad ? json(*r.guidance_heading_rad) : json(nullptr)}};
+  if (with_track) {
+    json track = json::array();
+    for (const auto& p : r.track) track.push_back({cm(p[0]), cm(p[1])});
+    out["track"] = std::move(track);
+  }
+  return out;
+}
+
+json PictureState::team_json(const Team& t) const {
+  json members = json::array();
+  for (const auto& m : t.status.members) {
+    members.push_back({{"id", m.responder_id},
+                       {"link", link_name(m.link)},
+                       {"accountability", accountability_name(m.accountability)},
+                       {"last_seen_ns", m.last_seen},
+                       {"floor", m.floor}});
+  }
+  return {{"id", t.status.team_id}, {"members", members}, {"par_due_wall_ms", static_cast<std::int64_t>(t.par_due_wall_s * 1e3)}};
+}
+
+json PictureState::alarm_json(const incident::IncidentAlarm& a) const {
+  return {{"id", a.alarm_id},
+          {"kind", responder::to_string(a.alarm.kind)},
+          {"responder", a.alarm.responder_id},
+          {"team", a.alarm.team_id},
+          {"raised_ns", a.alarm.raised_at},
+          {"active", a.alarm.active},
+          {"cleared_ns", a.alarm.cleared_at},
+          {"acknowledged", a.acknowledged},
+          {"acknowledged_by", a.acknowledged_by},
+          {"position_known", a.alarm.position_known},
+          {"x", a.alarm.last_position.position.x()},
+          {"y", a.alarm.last_position.position.y()},
+          {"floor", a.alarm.floor}};
+}
+
+json PictureState::collect(std::uint64_t since, bool with_tracks) const {
+  json out = {{"version", version_},
+              {"mission_ns", mission_now_()},
+              {"epoch_ns", epoch_ns_},
+              {"wall_ms", static_cast<std::int64_t>(wall_now_() * 1e3)}};
+  json victims = json::array(), responders = json::array(), teams = json::array(), alarms = json::array(), events = json::array(),
+       removed = json::array();
+  for (const auto& [id, v] : victims_) {
+    if (v.second > since) victims.push_back(victim_json(v.first));
+  }
+  for (const auto& [id, r] : responders_) {
+    if (r.version > since) responders.push_back(responder_json(id, r, with_tracks));
+  }
+  for (const auto& [id, t] : teams_) {
+    if (t.version > since) teams.push_back(team_json(t));
+  }
+  for (const auto& [id, a] : alarms_) {
+    if (a.second > since) alarms.push_back(alarm_json(a.first));
+  }
+  for (const auto& [v, e] : events_) {
+    if (v > since) events.push_back(e);
+  }
+  for (const auto& [v, r] : removed_) {
+    if (v > since) removed.push_back({{"kind", r.first}, {"id", r.second}});
+  }
+  out["victims"] = victims;
+  out["responders"] = responders;
+  out["teams"] = teams;
+  out["alarms"] = alarms;
+  out["events"] = events;
+  out["removed"] = removed;
+  return out;
+}
+
+json PictureState::snapshot() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  json out = collect(0, true);
+  out["type"] = "snapshot";
+  out["removed"] = json::array();
+  out["building"] = building_;
+  out["rejected"] = rejected_;
+  out["par_interval_s"] = config_.par_interval_s;
+  return out;
+}
+
+json PictureState::delta(std::uint64_t since) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  json out = collect(since, false);
+  out["type"] = "delta";
+  return out;
+}
+
+json PictureState::heartbeat() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const double age = last_data_wall_s_ < 0 ? -1.0 : wall_now_() - last_data_wall_s_;
+  return {{"type", "heartbeat"},
+          {"version", version_},
+          {"mission_ns", mission_now_()},
+          {"epoch_ns", epoch_ns_},
+          {"wall_ms", static_cast<std::int64_t>(wall_now_() * 1e3)},
+          {"data_age_s", age},
+          {"stale", age < 0 || age > config_.stale_after_s}};
+}
+
+std::uint64_t PictureState::version() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return version_;
+}
+
+std::size_t PictureState::victim_count() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return victims_.size();
+}
+
+}  // namespace sarloc::dashboard

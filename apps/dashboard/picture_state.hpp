@@ -1,0 +1,124 @@
+#pragma once
+// What the dashboard shows, kept up to date from DDS samples (or a recording) and served as
+// JSON: a full snapshot for a page that opens, and deltas (what changed since a version) for
+// the live stream. Thread-safe: DDS listener threads feed it, HTTP threads read it.
+//
+// Times shown to people are mission seconds (the clock given to it); link freshness, the PAR
+// timers and the "no data" banner go by the wall clock, like the people watching.
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string>
+
+#include "sarloc/core/firefighter/floor_plan.hpp"
+#include "sarloc/core/incident/alarm_board.hpp"
+#include "sarloc/core/incident/fused_victim.hpp"
+#include "sarloc/core/incident/team_status.hpp"
+#include "sarloc/core/responder/guidance.hpp"
+#include "sarloc/core/responder/responder_position.hpp"
+
+namespace sarloc::dashboard {
+
+struct PictureStateConfig {
+  /// Recent positions kept per responder for its track on the map.
+  std::size_t track_length = 120;
+  /// Events kept for the log.
+  std::size_t event_log_length = 500;
+  /// A personnel accountability report (PAR) is due this long after the last one (wall s).
+  double par_interval_s = 600.0;
+  /// The "no data" banner after this long without any DDS sample (wall s).
+  double stale_after_s = 5.0;
+};
+
+/// A building plan placed in the incident frame (the mission's building: section).
+struct PlacedPlan {
+  firefighter::FloorPlan plan;
+  double origin_x = 0.0, origin_y = 0.0, rotation_rad = 0.0;
+};
+
+class PictureState {
+ public:
+  using WallClock = std::function<double()>;         ///< wall seconds
+  using MissionClock = std::function<TimestampNs()>;  ///< mission time now
+
+  /// `epoch_ns`: mission time 0, from which the page counts (T+ mm:ss).
+  PictureState(PictureStateConfig config, MissionClock mission_now, TimestampNs epoch_ns, WallClock wall_now = {});
+
+  void set_building(PlacedPlan building);
+
+  void on_victim(const incident::FusedVictim& v);
+  void on_victim_gone(std::uint32_t id);
+  void on_team(const incident::TeamStatus& t);
+  void on_alarm(const incident::IncidentAlarm& a);
+  void on_alarm_gone(std::uint32_t id);
+  void on_position(const responder::ResponderPosition& p);
+  void on_guidance(const responder::Guidance& g);
+  void on_picture_writer(const std::string& participant);
+  void on_rejected(const std::string& topic);
+  /// An operator reported the team's PAR: its timer starts again. False for an unknown team.
+  bool par_reported(const std::string& team_id, const std::string& operator_id);
+  /// Something the operator did (acknowledged an alarm, ...), for the event log.
+  void note(const std::string& kind, const std::string& text);
+
+  /// Everything, for a page that opens now.
+  nlohmann::json snapshot() const;
+  /// What changed since `version` (entities whose version is newer, ids removed since, and
+  /// newer events); its "version" is the one to ask from next time. Responders come without
+  /// their track: the page appends each new position to the track of the snapshot.
+  nlohmann::json delta(std::uint64_t version) const;
+  /// Data age and the banner, once a second.
+  nlohmann::json heartbeat() const;
+  std::uint64_t version() const;
+  std::size_t victim_count() const;
+
+ private:
+  struct Versioned {
+    nlohmann::json json;
+    std::uint64_t version = 0;
+  };
+  struct Responder {
+    responder::ResponderPosition last;
+    std::deque<std::array<double, 2>> track;
+    std::optional<double> guidance_heading_rad;
+    std::uint64_t version = 0;
+  };
+  struct Team {
+    incident::TeamStatus status;
+    double par_due_wall_s = 0.0;
+    std::map<std::string, incident::LinkState> links;
+    std::uint64_t version = 0;
+  };
+
+  void touch_data();
+  void event(const std::string& kind, const std::string& text);
+  nlohmann::json victim_json(const incident::FusedVictim& v) const;
+  nlohmann::json responder_json(const std::string& id, const Responder& r, bool with_track) const;
+  nlohmann::json team_json(const Team& t) const;
+  nlohmann::json alarm_json(const incident::IncidentAlarm& a) const;
+  nlohmann::json collect(std::uint64_t since, bool with_tracks) const;
+
+  PictureStateConfig config_;
+  MissionClock mission_now_;
+  TimestampNs epoch_ns_;
+  WallClock wall_now_;
+  mutable std::mutex mutex_;
+  std::uint64_t version_ = 0;
+  double last_data_wall_s_ = -1.0;
+  std::map<std::uint32_t, std::pair<incident::FusedVictim, std::uint64_t>> victims_;
+  std::map<std::string, Responder> responders_;
+  std::map<std::string, Team> teams_;
+  std::map<std::uint32_t, std::pair<incident::IncidentAlarm, std::uint64_t>> alarms_;
+  std::deque<std::pair<std::uint64_t, nlohmann::json>> events_;
+  std::deque<std::pair<std::uint64_t, std::pair<std::string, std::string>>> removed_;  // (version, (kind, id))
+  std::string picture_writer_;
+  std::map<std::string, std::uint64_t> rejected_;
+  nlohmann::json building_;
+};
+
+}  // namespace sarloc::dashboard

@@ -1,0 +1,24 @@
+#pragma once
+// The mission file's dashboard: section (sarloc-dashboard), validated at load.
+#include <string>
+
+namespace sarloc::app {
+
+struct DashboardConfig {
+  std::string bind_address = "127.0.0.1";  ///< loopback only unless the file says otherwise
+  int port = 8080;                         ///< 0: any free port (tests)
+  /// Every operator action needs it (Authorization: Bearer TOKEN). Empty here: sarloc-dashboard
+  /// makes a random one at start and logs it; --token or SARLOC_DASHBOARD_TOKEN set it too.
+  std::string token;
+  std::string operator_id = "dashboard";  ///< who acknowledges alarms, as published over DDS
+  double stale_after_s = 5.0;             ///< the "no data" banner after this long without a sample (wall s)
+  double par_interval_s = 600.0;          ///< a team's PAR is due this long after the last (wall s)
+  double push_period_s = 0.25;            ///< an event stream sends what changed at most this often
+  int max_streams = 64;                   ///< open event streams at once
+  int track_length = 120;                 ///< recent positions drawn per responder
+
+  /// Throws ConfigError naming the key, the value and the rule ("dashboard.port = ...").
+  void validate() const;
+};
+
+}  // namespace sarloc::app

@@ -1,0 +1,119 @@
+#include "sarloc/dds/dashboard_node.hpp"
+
+#include <map>
+#include <mutex>
+
+#include "sarloc/dds/conversions.hpp"
+#include "sarloc/dds/reader.hpp"
+#include "sarloc/dds/writer.hpp"
+
+namespace sarloc::dds {
+
+namespace fdds = eprosima::fastdds::dds;
+using Handle = eprosima::fastrtps::rtps::InstanceHandle_t;
+
+struct DashboardNode::Impl {
+  std::shared_ptr<Participant> participant;
+  DashboardSink sink;
+  std::mutex mutex;
+  // Disposals name only the instance: remember which id each instance carried.
+  std::map<Handle, std::uint32_t> victim_of_instance, alarm_of_instance;
+  std::unique_ptr<Reader<::sarloc::FusedVictim>> victims;
+  std::unique_ptr<Reader<::sarloc::TeamStatus>> teams;
+  std::unique_ptr<Reader<::sarloc::IncidentAlarm>> alarms;
+  std::unique_ptr<Reader<::sarloc::IncidentSummary>> summary;
+  std::unique_ptr<Reader<::sarloc::ResponderPosition>> positions;
+  std::unique_ptr<Reader<::sarloc::Guidance>> guidance;
+  std::unique_ptr<Writer<::sarloc::AlarmAcknowledgement>> acknowledgements;
+
+  template <class F>
+  void guarded(const char* topic, F&& convert_and_deliver) {
+    try {
+      convert_and_deliver();
+    } catch (const std::exception&) {
+      if (sink.on_rejected) sink.on_rejected(topic);  // bad input never reaches the page
+    }
+  }
+
+  void gone(const fdds::SampleInfo& info, std::map<Handle, std::uint32_t>& ids, const std::function<void(std::uint32_t)>& callback) {
+    if (info.instance_state != fdds::NOT_ALIVE_DISPOSED_INSTANCE_STATE || !callback) return;
+    std::uint32_t id = 0;
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      const auto it = ids.find(info.instance_handle);
+      if (it == ids.end()) return;
+      id = it->second;
+      ids.erase(it);
+    }
+    callback(id);
+  }
+};
+
+DashboardNode::DashboardNode(std::shared_ptr<Participant> participant, DashboardSink sink) : impl_(std::make_unique<Impl>()) {
+  auto& d = *impl_;
+  d.participant = std::move(participant);
+  d.sink = std::move(sink);
+  ReaderEvents victim_events;
+  victim_events.on_instance_gone = [&d](const fdds::SampleInfo& info) { d.gone(info, d.victim_of_instance, d.sink.on_victim_gone); };
+  d.victims = std::make_unique<Reader<::sarloc::FusedVictim>>(
+      d.participant,
+      [&d](const ::sarloc::FusedVictim& v, const fdds::SampleInfo& info) {
+        d.guarded("fused_victim", [&] {
+          const auto victim = to_core(v);
+          {
+            std::lock_guard<std::mutex> lock(d.mutex);
+            d.victim_of_instance[info.instance_handle] = victim.victim_id;
+          }
+          if (d.sink.on_victim) d.sink.on_victim(victim);
+        });
+      },
+      EndpointOptions{}, victim_events);
+  d.teams = std::make_unique<Reader<::sarloc::TeamStatus>>(d.participant, [&d](const ::sarloc::TeamStatus& t, const auto&) {
+    d.guarded("team_status", [&] {
+      if (d.sink.on_team) d.sink.on_team(to_core(t));
+    });
+  });
+  ReaderEvents alarm_events;
+  alarm_events.on_instance_gone = [&d](const fdds::SampleInfo& info) { d.gone(info, d.alarm_of_instance, d.sink.on_alarm_gone); };
+  d.alarms = std::make_unique<Reader<::sarloc::IncidentAlarm>>(
+      d.participant,
+      [&d](const ::sarloc::IncidentAlarm& a, const fdds::SampleInfo& info) {
+        d.guarded("incident_alarm", [&] {
+          const auto alarm = to_core(a);
+          {
+            std::lock_guard<std::mutex> lock(d.mutex);
+            d.alarm_of_instance[info.instance_handle] = alarm.alarm_id;
+          }
+          if (d.sink.on_alarm) d.sink.on_alarm(alarm);
+        });
+      },
+      EndpointOptions{}, alarm_events);
+  d.summary = std::make_unique<Reader<::sarloc::IncidentSummary>>(
+      d.participant, [&d](const ::sarloc::IncidentSummary&, const fdds::SampleInfo& info) {
+        if (d.sink.on_picture_writer) d.sink.on_picture_writer(handle_text(info.publication_handle).substr(0, 24));
+      });
+  d.positions = std::make_unique<Reader<::sarloc::ResponderPosition>>(
+      d.participant, [&d](const ::sarloc::ResponderPosition& p, const auto&) {
+        d.guarded("responder_position", [&] {
+          if (d.sink.on_position) d.sink.on_position(to_core(p));
+        });
+      });
+  d.guidance = std::make_unique<Reader<::sarloc::Guidance>>(d.participant, [&d](const ::sarloc::Guidance& g, const auto&) {
+    d.guarded("guidance", [&] {
+      if (d.sink.on_guidance) d.sink.on_guidance(to_core(g));
+    });
+  });
+  d.acknowledgements = std::make_unique<Writer<::sarloc::AlarmAcknowledgement>>(d.participant);
+}
+
+DashboardNode::~DashboardNode() = default;
+
+bool DashboardNode::acknowledge(std::uint32_t alarm_id, const std::string& operator_id, TimestampNs stamp) {
+  ::sarloc::AlarmAcknowledgement ack;
+  ack.alarm_id(alarm_id);
+  ack.operator_id(operator_id);
+  ack.stamp(stamp);
+  return impl_->acknowledgements->write(ack);
+}
+
+}  // namespace sarloc::dds

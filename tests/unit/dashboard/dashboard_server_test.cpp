@@ -1,0 +1,208 @@
+// The dashboard's HTTP server on its own (no DDS): the page and its assets, bad requests (4xx,
+// the server stays up), the token on every action, and 50 event streams at once without the
+// server's memory growing.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <fstream>
+#include <thread>
+
+#include <malloc.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+// Eigen before httplib.h: the resolver header httplib pulls in defines `_res`, a name Eigen uses.
+#include "dashboard_server.hpp"
+#include "support/sample_messages.hpp"
+
+#include <httplib.h>
+
+namespace sarloc::dashboard {
+namespace {
+
+constexpr const char* kToken = "correct-horse-battery";
+
+class Server : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    DashboardServerConfig config;
+    config.port = 0;
+    config.token = kToken;
+    config.max_streams = 60;
+    config.push_period_s = 0.05;
+    server = std::make_unique<DashboardServer>(config, state, [this](std::uint32_t id, const std::string& op) {
+      acknowledged.push_back({id, op});
+      return true;
+    });
+    server->start();
+    client = std::make_unique<httplib::Client>("127.0.0.1", server->port());
+    auto alarm = test::sample_incident_alarm();
+    alarm.alarm_id = 7;
+    alarm.acknowledged = false;
+    state.on_alarm(alarm);
+  }
+  httplib::Headers bearer(const std::string& token) { return {{"Authorization", "Bearer " + token}}; }
+
+  TimestampNs mission = 5'000'000'000LL;
+  PictureState state{PictureStateConfig{}, [this] { return mission; }, 0};
+  std::vector<std::pair<std::uint32_t, std::string>> acknowledged;
+  std::unique_ptr<DashboardServer> server;
+  std::unique_ptr<httplib::Client> client;
+};
+
+TEST_F(Server, ServesThePageItsAssetsAndThePictureWithNothingFromElsewhere) {
+  auto page = client->Get("/");
+  ASSERT_TRUE(page);
+  EXPECT_EQ(page->status, 200);
+  EXPECT_NE(page->body.find("id=\"map\""), std::string::npos);
+  EXPECT_EQ(page->body.find("http://"), page->body.find("http://www.w3.org/2000/svg"));
+  EXPECT_EQ(page->body.find("https://"), std::string::npos);
+  for (const char* asset : {"/app.js", "/style.css"}) {
+    auto res = client->Get(asset);
+    ASSERT_TRUE(res) << asset;
+    EXPECT_EQ(res->status, 200) << asset;
+    EXPECT_EQ(res->body.find("https://"), std::string::npos) << asset;
+  }
+  auto state_json = client->Get("/api/state");
+  ASSERT_TRUE(state_json);
+  EXPECT_EQ(nlohmann::json::parse(state_json->body)["alarms"][0]["id"], 7);
+}
+
+TEST_F(Server, BadRequestsGetA4xxAndTheServerStaysUp) {
+  EXPECT_EQ(client->Get("/nosuch")->status, 404);
+  EXPECT_EQ(client->Get("/../../etc/passwd")->status, 404);
+  EXPECT_EQ(client->Post("/api/alarms/abc/ack", bearer(kToken), "", "text/plain")->status, 404);
+  EXPECT_EQ(client->Post("/api/alarms/4294967296/ack", bearer(kToken), "", "text/plain")->status, 400);
+  EXPECT_EQ(client->Post("/api/alarms/8/ack", bearer(kToken), "", "text/plain")->status, 404) << "not in the picture";
+  EXPECT_EQ(client->Post("/api/teams/no%20such/par", bearer(kToken), "", "text/plain")->status, 404);
+  const std::string huge(100000, 'x');
+  EXPECT_EQ(client->Post("/api/alarms/7/ack", bearer(kToken), huge, "text/plain")->status, 413);
+  EXPECT_EQ(client->Get("/")->status, 200) << "still serving";
+  EXPECT_TRUE(acknowledged.empty());
+}
+
+TEST_F(Server, ActionsNeedTheTokenAndAcknowledgementsArePublished) {
+  EXPECT_EQ(client->Post("/api/alarms/7/ack", "", "text/plain")->status, 401) << "no token";
+  EXPECT_EQ(client->Post("/api/alarms/7/ack", bearer("wrong-token-here"), "", "text/plain")->status, 401);
+  EXPECT_EQ(client->Post("/api/alarms/7/ack", bearer(std::string(kToken) + "x"), "", "text/plain")->status, 401);
+  EXPECT_TRUE(acknowledged.empty());
+  const auto ok = client->Post("/api/alarms/7/ack", bearer(kToken), "", "text/plain");
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(ok->status, 202);
+  ASSERT_EQ(acknowledged.size(), 1u);
+  EXPECT_EQ(acknowledged[0].first, 7u);
+  EXPECT_EQ(acknowledged[0].second, "dashboard");
+}
+
+// The server alone in a child process (the clients' threads would blur its memory), fed 200
+// responders at 1 Hz; 50 event streams at once, round after round, must not grow its RSS.
+TEST(DashboardServer, FiftyEventStreamsAtOnceDoNotGrowTheServersMemory) {
+  int pipe_fds[2];
+  ASSERT_EQ(::pipe(pipe_fds), 0);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    ::close(pipe_fds[0]);
+    ::mallopt(M_ARENA_MAX, 2);  // as sarloc-dashboard's main() does
+    PictureState state{PictureStateConfig{}, [] { return TimestampNs{0}; }, 0};
+    DashboardServerConfig config;
+    config.port = 0;
+    config.token = kToken;
+    config.push_period_s = 0.05;
+    config.max_streams = 50;  // a pool of 58 threads: after the warm-up every one has served
+    DashboardServer server(config, state, [](std::uint32_t, const std::string&) { return true; });
+    server.start();
+    const int port = server.port();
+    if (::write(pipe_fds[1], &port, sizeof port) != sizeof port) ::_exit(1);
+    auto p = test::sample_responder_position();
+    for (int k = 0;; ++k) {  // until the parent kills it
+      for (int r = 0; r < 200; ++r) {
+        p.responder_id = "r" + std::to_string(r);
+        p.stamp = k;
+        p.position.position = Vec3(r, k * 0.1, 0);
+        state.on_position(p);
+      }
+      std::this_thread::sleep_for(std::chrono::seconds(1));
+    }
+  }
+  ::close(pipe_fds[1]);
+  int port = 0;
+  ASSERT_EQ(::read(pipe_fds[0], &port, sizeof port), static_cast<ssize_t>(sizeof port));
+  auto child_rss_mb = [child] {
+    std::ifstream status("/proc/" + std::to_string(child) + "/status");
+    for (std::string line; std::getline(status, line);) {
+      if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+    }
+    return 0.0;
+  };
+  auto round = [&](double seconds) {
+    std::atomic<int> snapshots{0}, deltas{0};
+    std::vector<std::thread> clients;
+    for (int i = 0; i < 50; ++i) {
+      clients.emplace_back([&] {
+        httplib::Client c("127.0.0.1", port);
+        c.set_read_timeout(5, 0);
+        const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+        c.Get("/events", [&](const char* data, std::size_t size) {
+          const std::string text(data, size);
+          if (text.find("event: snapshot") != std::string::npos) ++snapshots;
+          if (text.find("event: delta") != std::string::npos) ++deltas;
+          return std::chrono::steady_clock::now() < until;
+        });
+      });
+    }
+    for (auto& t : clients) t.join();
+    EXPECT_EQ(snapshots.load(), 50);
+    EXPECT_GE(deltas.load(), 50) << "each stream hears the 1 Hz changes";
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // the streams end on the server too
+    return child_rss_mb();
+  };
+  // Warm-up: each of the pool's threads touches its stack and malloc arena once, whichever
+  // connection it serves; once all have, the server's memory must stay put.
+  for (int k = 0; k < 3; ++k) round(2.0);
+  std::vector<double> rss;
+  for (int k = 0; k < 5; ++k) rss.push_back(round(2.0));
+  ::kill(child, SIGKILL);
+  ::waitpid(child, nullptr, 0);
+  std::string said;
+  for (double r : rss) said += std::to_string(r).substr(0, 5) + " ";
+  std::printf("50 event streams, server RSS (MB) after each of 5 rounds (after 3 of warm-up): %s\n", said.c_str());
+  // Measured 2026-11-30: it still creeps, 0.7-1.9 MB per round of 50 streams (allocator
+  // fragmentation suspected; docs/operations/dashboard.md, open point). The bound catches a
+  // real per-stream leak: keeping each stream's snapshot (about 0.4 MB here) is 20 MB a round.
+  EXPECT_LT((rss.back() - rss.front()) / 4.0, 4.0) << "server RSS after each round: " << said;
+}
+
+TEST(DashboardServer, MoreStreamsThanAllowedGet503) {
+  PictureState state{PictureStateConfig{}, [] { return TimestampNs{0}; }, 0};
+  DashboardServerConfig config;
+  config.port = 0;
+  config.token = kToken;
+  config.max_streams = 10;
+  DashboardServer server_(config, state, [](std::uint32_t, const std::string&) { return true; });
+  server_.start();
+  auto* server = &server_;
+  std::vector<std::thread> clients;
+  std::atomic<int> refused{0};
+  for (int i = 0; i < 12; ++i) {
+    clients.emplace_back([&] {
+      httplib::Client c("127.0.0.1", server->port());
+      c.Get(
+          "/events",
+          [&](const httplib::Response& response) {
+            if (response.status == 503) ++refused;
+            return true;
+          },
+          [&](const char*, std::size_t) {
+            std::this_thread::sleep_for(std::chrono::seconds(4));  // all twelve overlap
+            return false;
+          });
+    });
+  }
+  for (auto& t : clients) t.join();
+  EXPECT_EQ(refused.load(), 2) << "max_streams is 10";
+}
+
+}  // namespace
+}  // namespace sarloc::dashboard

@@ -1,0 +1,146 @@
+// The dashboard's picture: what changed since a version, events on transitions, removals,
+// PAR timers and the no-data banner, on fake clocks.
+#include <gtest/gtest.h>
+
+#include "picture_state.hpp"
+#include "support/sample_messages.hpp"
+
+namespace sarloc::dashboard {
+namespace {
+
+struct Clocks {
+  TimestampNs mission = 1'000'000'000'000LL;
+  double wall = 1000.0;
+};
+
+PictureState make(Clocks& c, PictureStateConfig config = {}) {
+  return PictureState(config, [&c] { return c.mission; }, 0, [&c] { return c.wall; });
+}
+
+bool has_event(const nlohmann::json& message, const std::string& text) {
+  for (const auto& e : message["events"]) {
+    if (e["text"].get<std::string>().find(text) != std::string::npos) return true;
+  }
+  return false;
+}
+
+TEST(PictureState, DeltasCarryOnlyWhatChangedAndEventsMarkTransitions) {
+  Clocks c;
+  auto state = make(c);
+  auto v = test::sample_fused_victim();
+  v.victim_id = 3;
+  v.state = incident::VictimState::kLocated;
+  v.evidence_conflict = false;
+  state.on_victim(v);
+  const auto after_first = state.version();
+  auto snapshot = state.snapshot();
+  ASSERT_EQ(snapshot["victims"].size(), 1u);
+  EXPECT_EQ(snapshot["victims"][0]["state"], "LOCATED");
+  EXPECT_TRUE(has_event(snapshot, "victim 3 in the picture"));
+
+  auto p = test::sample_responder_position();
+  p.responder_id = "r1";
+  state.on_position(p);
+  auto delta = state.delta(after_first);
+  EXPECT_EQ(delta["victims"].size(), 0u) << "the victim did not change";
+  ASSERT_EQ(delta["responders"].size(), 1u);
+  EXPECT_EQ(delta["responders"][0]["id"], "r1");
+
+  const auto before_found = state.version();
+  v.state = incident::VictimState::kFound;
+  state.on_victim(v);
+  delta = state.delta(before_found);
+  ASSERT_EQ(delta["victims"].size(), 1u);
+  EXPECT_EQ(delta["victims"][0]["state"], "FOUND");
+  EXPECT_TRUE(has_event(delta, "victim 3 FOUND"));
+  EXPECT_EQ(delta["version"], state.version());
+
+  const auto before_gone = state.version();
+  state.on_victim_gone(3);
+  delta = state.delta(before_gone);
+  ASSERT_EQ(delta["removed"].size(), 1u);
+  EXPECT_EQ(delta["removed"][0]["kind"], "victim");
+  EXPECT_EQ(state.victim_count(), 0u);
+  state.on_victim_gone(3);  // twice: nothing more
+  EXPECT_EQ(state.delta(state.version())["removed"].size(), 0u);
+}
+
+TEST(PictureState, LinksAlarmsAndPar) {
+  Clocks c;
+  PictureStateConfig config;
+  config.par_interval_s = 600;
+  auto state = make(c, config);
+  auto t = test::sample_team_status();
+  t.team_id = "alpha";
+  t.members.resize(1);
+  t.members[0].responder_id = "ff1";
+  t.members[0].link = incident::LinkState::kAlive;
+  state.on_team(t);
+  auto snapshot = state.snapshot();
+  EXPECT_EQ(snapshot["teams"][0]["par_due_wall_ms"], static_cast<std::int64_t>((1000.0 + 600.0) * 1e3));
+  t.members[0].link = incident::LinkState::kLost;
+  state.on_team(t);
+  EXPECT_TRUE(has_event(state.snapshot(), "ff1 (alpha): link lost"));
+
+  c.wall += 700;  // overdue; reported now
+  EXPECT_TRUE(state.par_reported("alpha", "ic"));
+  EXPECT_FALSE(state.par_reported("nosuch", "ic"));
+  EXPECT_EQ(state.snapshot()["teams"][0]["par_due_wall_ms"], static_cast<std::int64_t>((1700.0 + 600.0) * 1e3));
+
+  auto a = test::sample_incident_alarm();
+  a.alarm_id = 9;
+  a.acknowledged = false;
+  a.alarm.active = true;
+  state.on_alarm(a);
+  a.acknowledged = true;
+  a.acknowledged_by = "ic";
+  state.on_alarm(a);
+  a.alarm.active = false;
+  state.on_alarm(a);
+  snapshot = state.snapshot();
+  EXPECT_TRUE(has_event(snapshot, "alarm 9 for ff-7 RAISED"));
+  EXPECT_TRUE(has_event(snapshot, "acknowledged by ic"));
+  EXPECT_TRUE(has_event(snapshot, "cleared"));
+  state.on_alarm_gone(9);
+  EXPECT_EQ(state.snapshot()["alarms"].size(), 0u);
+}
+
+TEST(PictureState, TheBannerComesWhenNoDataArrivesForStaleAfter) {
+  Clocks c;
+  PictureStateConfig config;
+  config.stale_after_s = 5;
+  auto state = make(c, config);
+  EXPECT_TRUE(state.heartbeat()["stale"]) << "nothing ever heard";
+  state.on_position(test::sample_responder_position());
+  c.wall += 4;
+  EXPECT_FALSE(state.heartbeat()["stale"]);
+  c.wall += 2;
+  EXPECT_TRUE(state.heartbeat()["stale"]);
+  EXPECT_NEAR(state.heartbeat()["data_age_s"].get<double>(), 6.0, 1e-9);
+}
+
+TEST(PictureState, AnOlderPositionOrADeadReckoningOverAFreshMapAidedFixIsNotShown) {
+  Clocks c;
+  auto state = make(c);
+  auto p = test::sample_responder_position();
+  p.responder_id = "ff1";
+  p.source = responder::PositionSource::kMapAided;
+  p.stamp = 10'000'000'000LL;
+  p.position.position = Vec3(1, 2, 0);
+  state.on_position(p);
+  auto older = p;
+  older.stamp = 9'000'000'000LL;
+  older.position.position = Vec3(50, 50, 0);
+  state.on_position(older);
+  auto reckoned = p;
+  reckoned.source = responder::PositionSource::kDeadReckoning;
+  reckoned.stamp = 11'000'000'000LL;
+  reckoned.position.position = Vec3(60, 60, 0);
+  state.on_position(reckoned);
+  const auto r = state.snapshot()["responders"][0];
+  EXPECT_DOUBLE_EQ(r["x"].get<double>(), 1.0);
+  EXPECT_EQ(r["source"], "map-aided");
+}
+
+}  // namespace
+}  // namespace sarloc::dashboard
