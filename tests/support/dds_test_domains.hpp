@@ -40,6 +40,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainRecorderRotate = 162,
   kDomainBenchRecorder = 163,  // sarloc-bench-recorder's default --domain
   kDomainReplayer = 164,
+  kDomainMissionDashboard = 165,  // tests/integration/mission/dashboard.yaml names it too
   kDomainMissionSmall = 130,  // mission_test: 130..139, and:
   kDomainMissionCommandKill = 134,
   kDomainMissionCommandRestart = 136,

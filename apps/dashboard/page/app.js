@@ -97,7 +97,7 @@ function fit() {
   const xs = [], ys = [];
   const add = (x, y) => { if (isFinite(x) && isFinite(y)) { xs.push(x); ys.push(y); } };
   picture.victims.forEach((v) => add(v.x, v.y));
-  picture.responders.forEach((r) => add(r.x, r.y));
+  picture.responders.forEach((r) => { add(r.x, r.y); for (const p of r.track) add(p[0], p[1]); });
   if (picture.building) for (const f of picture.building.floors) for (const w of f.walls) { add(w[0], w[1]); add(w[2], w[3]); }
   if (!xs.length) return;
   const pad = 5, minX = Math.min(...xs) - pad, maxX = Math.max(...xs) + pad, minY = Math.min(...ys) - pad, maxY = Math.max(...ys) + pad;

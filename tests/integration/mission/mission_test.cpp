@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include "mission_record.hpp"
 #include "record_comparison.hpp"
@@ -340,6 +341,50 @@ TEST(Mission, ReplayingItsInputsIntoFreshNodesReproducesTheRecordedPicture) {
   double largest = 0.0;
   for (const auto& t : difference.tracks) largest = std::max(largest, t.rms_m);
   EXPECT_GT(largest, 0.0) << "another particle count must give other map-aided fixes";
+}
+
+// The dashboard in headless Chromium while a mission runs: loads with no console error, shows
+// the aggregator's victims and their states changing live (no reload), a killed firefighter's
+// link lost, and an alarm acknowledged with the token (refused without it).
+TEST(Mission, TheDashboardShowsTheMissionLiveInABrowser) {
+  const fs::path run_dir = fs::temp_directory_path() / "sarloc-mission-test-dashboard";
+  fs::remove_all(run_dir);
+  fs::create_directories(run_dir);
+  const std::string mission = std::string(SARLOC_BIN_DIR) + "/sarloc-mission " + SARLOC_MISSION_DIR + "/dashboard.yaml --domain " +
+                              std::to_string(static_cast<int>(kDomainMissionDashboard)) + " --run-dir " + run_dir.string() +
+                              " --json " + (run_dir / "summary.json").string() +
+                              " --no-record --dashboard --dashboard-port 0 --kill ff1@30 --log-level warn > " +
+                              (run_dir / "mission.out").string() + " 2>&1";
+  std::thread runner([&] { std::system(mission.c_str()); });
+  const fs::path url_file = run_dir / "dashboard.url";
+  for (int k = 0; k < 150 && (!fs::exists(url_file) || fs::file_size(url_file) == 0); ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  std::string url;
+  std::getline(std::ifstream(url_file), url);
+  ASSERT_FALSE(url.empty()) << file_text(run_dir / "mission.out");
+  const fs::path browser_out = run_dir / "browser.json";
+  const int browsed = std::system(("node " SARLOC_SOURCE_DIR "/tests/js/dashboard_e2e.mjs '" + url + "' " + run_dir.string() +
+                                   " ff1 > " + browser_out.string() + " 2>&1").c_str());
+  runner.join();
+  const std::string said = file_text(browser_out);
+  ASSERT_EQ(WEXITSTATUS(browsed), 0) << said;
+  const json browser = json::parse(said);
+  std::ifstream summary_in(run_dir / "summary.json");
+  ASSERT_TRUE(summary_in) << file_text(run_dir / "mission.out");
+  const json summary = json::parse(summary_in);
+  EXPECT_TRUE(browser["errors"].empty()) << said;
+  EXPECT_EQ(browser["victimCount"], summary["fused_victim_count"]) << "the page shows the aggregator's victims";
+  bool changed_live = false;
+  for (const auto& [id, states] : browser["statesSeen"].items()) changed_live = changed_live || states.size() >= 2;
+  EXPECT_TRUE(changed_live) << "a victim's state changed on the page without a reload: " << browser["statesSeen"].dump();
+  EXPECT_TRUE(browser["linkLostSeen"]) << said;
+  EXPECT_EQ(browser["ackRefusedStatus"], 401) << said;
+  EXPECT_TRUE(browser["ackAccepted"]) << said;
+  EXPECT_TRUE(fs::exists(run_dir / "dashboard.png"));
+  std::printf("dashboard in Chromium: render median %.2f ms, p95 %.2f ms (%d frames); push latency p50 %.0f ms, p99 %.0f ms\n",
+              browser["frameMs"]["median"].get<double>(), browser["frameMs"]["p95"].get<double>(), browser["frameMs"]["count"].get<int>(),
+              browser["pushLatencyMs"]["p50"].get<double>(), browser["pushLatencyMs"]["p99"].get<double>());
 }
 
 TEST(Mission, KilledDaemonLeavesRescuersGuidingOnTheirDevices) {

@@ -17,7 +17,7 @@ int exit_code_of(const std::string& command) {
 
 const std::vector<std::string> kApps = {"sarloc-core", "sarloc-rescuer",       "sarloc-command",   "sarloc-mission",
                                         "sarloc-eval", "sarloc-bench-latency", "sarloc-bench-echo", "sarloc-record",
-                                        "sarloc-report"};
+                                        "sarloc-report", "sarloc-replay", "sarloc-dashboard", "sarloc-bench-recorder"};
 
 std::string app(const std::string& name) { return std::string(SARLOC_BIN_DIR) + "/" + name; }
 

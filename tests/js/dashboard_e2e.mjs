@@ -1,0 +1,75 @@
+// The dashboard in a real browser against a running mission (mission_test.cpp runs it while
+// sarloc-mission --dashboard runs): headless Debian chromium driven by playwright-core.
+//
+//   node tests/js/dashboard_e2e.mjs URL OUTDIR KILLED_ID   -> JSON on stdout
+//
+// It watches without ever reloading: victims and their states as they change, the killed
+// responder's link, an alarm acknowledged with a wrong token (refused) and with the right one
+// (accepted, then shown acknowledged), render times and push latency; then a screenshot.
+import { chromium } from "playwright-core";
+import fs from "node:fs";
+import os from "node:os";
+import path from "node:path";
+
+const [url, outdir, killed] = process.argv.slice(2);
+const result = { errors: [], statesSeen: {}, linkLostSeen: false, ackRefusedStatus: null, ackAccepted: false, victimCount: 0 };
+const profile = fs.mkdtempSync(path.join(os.tmpdir(), "sarloc-chromium-"));
+const browser = await chromium.launchPersistentContext(profile, {
+  executablePath: process.env.SARLOC_CHROMIUM ?? "/usr/bin/chromium",
+  headless: true,
+  args: ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-extensions"],
+  viewport: { width: 1400, height: 900 },
+});
+try {
+  const page = await browser.newPage();
+  page.on("console", (m) => { if (m.type() === "error") result.errors.push(`console: ${m.text()}`); });
+  page.on("pageerror", (e) => result.errors.push(`page: ${e.message}`));
+  page.on("request", (r) => { if (!r.url().startsWith(new URL(url).origin) && !r.url().startsWith("data:")) result.errors.push(`external request: ${r.url()}`); });
+  await page.goto(url, { waitUntil: "load" });
+  await page.waitForFunction(() => document.getElementById("status").textContent === "live", null, { timeout: 15000 });
+  const deadline = Date.now() + 60000;
+  let alarmId = null;
+  while (Date.now() < deadline) {
+    const seen = await page.evaluate(() => [...document.querySelectorAll("#victims tbody tr")].map((tr) => [tr.dataset.victim, tr.querySelector(".state").textContent]));
+    for (const [id, state] of seen) {
+      const list = (result.statesSeen[id] ??= []);
+      if (list[list.length - 1] !== state) list.push(state);
+    }
+    result.victimCount = seen.length;
+    const link = await page.locator(`tr[data-member="${killed}"] .link`).textContent().catch(() => null);
+    if (link === "lost") result.linkLostSeen = true;
+    if (alarmId === null) {
+      alarmId = await page.evaluate((who) => {
+        for (const li of document.querySelectorAll("#alarms li")) if (li.textContent.includes(`link_lost ${who}`)) return li.dataset.alarm;
+        return null;
+      }, killed);
+      if (alarmId !== null) {
+        // From outside the page: a refused request in the page would log a console error.
+        const refused = await fetch(`${new URL(url).origin}/api/alarms/${alarmId}/ack`, { method: "POST", headers: { Authorization: "Bearer not-the-token" } });
+        result.ackRefusedStatus = refused.status;
+        await page.locator(`button.ack[data-alarm="${alarmId}"]`).click();
+      }
+    } else if (!result.ackAccepted) {
+      result.ackAccepted = await page.evaluate((id) => {
+        const li = document.querySelector(`#alarms li[data-alarm="${id}"]`);
+        return li !== null && li.textContent.includes("acknowledged by dashboard");
+      }, alarmId);
+    }
+    const everyFound = Object.values(result.statesSeen).length >= 2 && Object.values(result.statesSeen).every((s) => s[s.length - 1] === "FOUND");
+    if (everyFound && result.linkLostSeen && result.ackAccepted) break;
+    await page.waitForTimeout(200);
+  }
+  const timing = await page.evaluate(() => ({ frames: window.sarlocFrameTimes.slice(), latencies: window.sarlocLatencies.slice() }));
+  const percentile = (values, p) => { const v = [...values].sort((a, b) => a - b); return v.length ? v[Math.min(v.length - 1, Math.floor(p * v.length))] : null; };
+  result.frameMs = { count: timing.frames.length, median: percentile(timing.frames, 0.5), p95: percentile(timing.frames, 0.95) };
+  result.pushLatencyMs = { count: timing.latencies.length, p50: percentile(timing.latencies, 0.5), p99: percentile(timing.latencies, 0.99) };
+  result.screenshot = path.join(outdir, "dashboard.png");
+  await page.screenshot({ path: result.screenshot });
+} catch (error) {
+  result.errors.push(`browser: ${error.message}`);
+} finally {
+  await browser.close();
+  fs.rmSync(profile, { recursive: true, force: true });
+}
+console.log(JSON.stringify(result));
+process.exit(result.errors.length === 0 ? 0 : 1);
