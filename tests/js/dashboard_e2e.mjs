@@ -6,22 +6,14 @@
 // It watches without ever reloading: victims and their states as they change, the killed
 // responder's link, an alarm acknowledged with a wrong token (refused) and with the right one
 // (accepted, then shown acknowledged), render times and push latency; then a screenshot.
-import { chromium } from "playwright-core";
-import fs from "node:fs";
-import os from "node:os";
+import { launchChromium } from "./browser.mjs";
 import path from "node:path";
 
 const [url, outdir, killed] = process.argv.slice(2);
 const result = { errors: [], statesSeen: {}, linkLostSeen: false, ackRefusedStatus: null, ackAccepted: false, victimCount: 0 };
-const profile = fs.mkdtempSync(path.join(os.tmpdir(), "sarloc-chromium-"));
-const browser = await chromium.launchPersistentContext(profile, {
-  executablePath: process.env.SARLOC_CHROMIUM ?? "/usr/bin/chromium",
-  headless: true,
-  args: ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-extensions"],
-  viewport: { width: 1400, height: 900 },
-});
+const browser = await launchChromium({ width: 1400, height: 900 });
 try {
-  const page = await browser.newPage();
+  const page = await browser.context.newPage();
   page.on("console", (m) => { if (m.type() === "error") result.errors.push(`console: ${m.text()}`); });
   page.on("pageerror", (e) => result.errors.push(`page: ${e.message}`));
   page.on("request", (r) => { if (!r.url().startsWith(new URL(url).origin) && !r.url().startsWith("data:")) result.errors.push(`external request: ${r.url()}`); });
@@ -69,7 +61,6 @@ try {
   result.errors.push(`browser: ${error.message}`);
 } finally {
   await browser.close();
-  fs.rmSync(profile, { recursive: true, force: true });
 }
 console.log(JSON.stringify(result));
 process.exit(result.errors.length === 0 ? 0 : 1);

@@ -3,9 +3,7 @@
 // not blank: enough of its pixels differ from the background.
 //
 //   node tests/js/screenshot.mjs PAGE.html SHOT.png   -> JSON {errors, width, height, inkFraction}
-import { chromium } from "playwright-core";
-import fs from "node:fs";
-import os from "node:os";
+import { launchChromium } from "./browser.mjs";
 import path from "node:path";
 
 const [page_path, shot_path] = process.argv.slice(2);
@@ -13,16 +11,10 @@ if (!page_path || !shot_path) {
   console.error("usage: node screenshot.mjs PAGE.html SHOT.png");
   process.exit(2);
 }
-const profile = fs.mkdtempSync(path.join(os.tmpdir(), "sarloc-chromium-"));
 const result = { errors: [] };
-const browser = await chromium.launchPersistentContext(profile, {
-  executablePath: process.env.SARLOC_CHROMIUM ?? "/usr/bin/chromium",
-  headless: true,
-  args: ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-extensions"],
-  viewport: { width: 1200, height: 900 },
-});
+const browser = await launchChromium({ width: 1200, height: 900 });
 try {
-  const page = await browser.newPage();
+  const page = await browser.context.newPage();
   page.on("console", (message) => {
     if (message.type() === "error") result.errors.push(`console: ${message.text()}`);
   });
@@ -60,7 +52,6 @@ try {
   result.errors.push(`browser: ${error.message}`);
 } finally {
   await browser.close();
-  fs.rmSync(profile, { recursive: true, force: true });
 }
 console.log(JSON.stringify(result));
 process.exit(result.errors.length === 0 ? 0 : 1);
