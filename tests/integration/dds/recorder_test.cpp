@@ -87,6 +87,12 @@ TEST(Recorder, AnIndependentReaderDecodesEveryRecordedSampleWithThePublishedValu
                m["sarloc/incident_alarm"] >= 1 && m["sarloc/team_status"] >= 1;
       },
       std::chrono::seconds(10)));
+  // Matched both ways: a VOLATILE writer that has not yet discovered the reader sends it nothing.
+  ASSERT_TRUE(field_writer.wait_for_readers(1, std::chrono::seconds(10)));
+  ASSERT_TRUE(odometry_writer.wait_for_readers(1, std::chrono::seconds(10)));
+  ASSERT_TRUE(victim_writer.wait_for_readers(1, std::chrono::seconds(10)));
+  ASSERT_TRUE(alarm_writer.wait_for_readers(1, std::chrono::seconds(10)));
+  ASSERT_TRUE(team_writer.wait_for_readers(1, std::chrono::seconds(10)));
 
   constexpr int kMeasurements = 40;
   for (int i = 0; i < kMeasurements; ++i) {
