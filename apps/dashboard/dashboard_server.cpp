@@ -24,6 +24,9 @@ const Asset kAssets[] = {
 #include "page_assets.inc"
 };
 
+// A stream's version before its first snapshot.
+constexpr std::uint64_t kNothingSent = ~std::uint64_t{0};
+
 void error(httplib::Response& res, int status, const std::string& what) {
   res.status = status;
   res.set_content(nlohmann::json{{"error", what}}.dump(), "application/json");
@@ -82,25 +85,25 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
       return error(res, 503, "too many open event streams (dashboard.max_streams)");
     }
     res.set_header("Cache-Control", "no-store");
-    auto sent = std::make_shared<std::uint64_t>(0);
+    auto sent = std::make_shared<std::uint64_t>(kNothingSent);
     auto beat = std::make_shared<std::chrono::steady_clock::time_point>();
     res.set_chunked_content_provider(
         "text/event-stream",
         [this, sent, beat](std::size_t, httplib::DataSink& sink) {
           if (stopping_ || !sink.is_writable()) return false;  // the browser left: free the thread
           std::string chunk;
-          if (*sent == 0) {
-            const auto snapshot = state_.snapshot();
-            *sent = snapshot["version"].get<std::uint64_t>();
-            chunk = "event: snapshot\ndata: " + snapshot.dump() + "\n\n";
+          nlohmann::json message;
+          if (*sent == kNothingSent) {
+            message = state_.snapshot();
           } else {
             std::this_thread::sleep_for(std::chrono::duration<double>(config_.push_period_s));
             if (stopping_) return false;
-            if (state_.version() > *sent) {
-              const auto delta = state_.delta(*sent);
-              *sent = delta["version"].get<std::uint64_t>();
-              chunk = "event: delta\ndata: " + delta.dump() + "\n\n";
-            }
+            // A delta, or all of it again when the picture was rebuilt (PictureState::delta).
+            if (state_.version() > *sent) message = state_.delta(*sent);
+          }
+          if (!message.is_null()) {
+            *sent = message["version"].get<std::uint64_t>();
+            chunk = "event: " + message["type"].get<std::string>() + "\ndata: " + message.dump() + "\n\n";
           }
           const auto now = std::chrono::steady_clock::now();
           if (now - *beat >= std::chrono::seconds(1)) {
@@ -134,6 +137,20 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
     if (!state_.par_reported(req.matches[1], config_.operator_id)) return error(res, 404, "no such team");
     res.set_content(nlohmann::json{{"par_reported", std::string(req.matches[1])}}.dump(), "application/json");
   });
+  s.Post("/api/replay", [this](const httplib::Request& req, httplib::Response& res) {
+    if (!replay_control_) return error(res, 404, "not a replay (sarloc-dashboard --recording)");
+    nlohmann::json request;
+    try {
+      request = nlohmann::json::parse(req.body);
+    } catch (const std::exception&) {
+      return error(res, 400, "the body is not JSON");
+    }
+    try {
+      res.set_content(replay_control_(request).dump(), "application/json");
+    } catch (const std::invalid_argument& e) {
+      error(res, 400, e.what());
+    }
+  });
   s.set_error_handler([](const httplib::Request&, httplib::Response& res) {
     if (res.body.empty()) res.set_content(nlohmann::json{{"error", "HTTP " + std::to_string(res.status)}}.dump(), "application/json");
   });
@@ -143,6 +160,10 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
 }
 
 DashboardServer::~DashboardServer() { stop(); }
+
+void DashboardServer::set_replay_control(std::function<nlohmann::json(const nlohmann::json&)> control) {
+  replay_control_ = std::move(control);
+}
 
 bool DashboardServer::authorised(const std::string& header) const {
   const std::string expected = "Bearer " + config_.token;

@@ -8,6 +8,7 @@
 //   GET  /events                text/event-stream: "snapshot" once, then "delta" and "heartbeat"
 //   POST /api/alarms/ID/ack     acknowledge alarm ID   (Authorization: Bearer TOKEN)
 //   POST /api/teams/ID/par      a team's PAR reported  (Authorization: Bearer TOKEN)
+//   POST /api/replay            a replay's play, pause, seek (no token: it changes no incident)
 //
 // Bad requests get a 4xx and a JSON {"error": ...}; nothing a client sends stops the server.
 #include <atomic>
@@ -45,6 +46,11 @@ class DashboardServer {
   DashboardServer(const DashboardServer&) = delete;
   DashboardServer& operator=(const DashboardServer&) = delete;
 
+  /// A replay's timeline (sarloc-dashboard --recording): POST /api/replay hands its JSON body
+  /// to `control` and answers what it returns; std::invalid_argument becomes a 400. Set before
+  /// start(). Without it, /api/replay is 404.
+  void set_replay_control(std::function<nlohmann::json(const nlohmann::json&)> control);
+
   /// Binds (throws std::runtime_error naming the address when it cannot) and serves on a thread.
   void start();
   /// Ends every stream and the server; idempotent.
@@ -58,6 +64,7 @@ class DashboardServer {
   DashboardServerConfig config_;
   PictureState& state_;
   std::function<bool(std::uint32_t, const std::string&)> acknowledge_;
+  std::function<nlohmann::json(const nlohmann::json&)> replay_control_;
   std::unique_ptr<httplib::Server> server_;
   std::thread thread_;
   std::atomic<bool> stopping_{false};

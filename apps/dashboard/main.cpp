@@ -14,6 +14,7 @@
 
 #include "dashboard_server.hpp"
 #include "picture_state.hpp"
+#include "recording_player.hpp"
 #include "sarloc/app/command_line.hpp"
 #include "sarloc/app/logging.hpp"
 #include "sarloc/app/node_options.hpp"
@@ -30,12 +31,13 @@ int main(int argc, char** argv) {
   CLI::App cli{"sarloc-dashboard: the incident-command web page on the incident picture"};
   app::NodeOptions options;
   app::add_node_options(cli, options);
-  std::string bind, token, url_file;
+  std::string bind, token, url_file, recording;
   int port = -1;
   cli.add_option("--bind", bind, "address to listen on, overriding dashboard.bind_address (default 127.0.0.1)");
   cli.add_option("--port", port, "port, overriding dashboard.port (0: any free port)");
   cli.add_option("--token", token, "access token for operator actions (also SARLOC_DASHBOARD_TOKEN; default: random)");
   cli.add_option("--url-file", url_file, "write the page's URL (with the token) to this file once serving");
+  cli.add_option("--recording", recording, "show this recording (.mcap) instead of live DDS, with a timeline to play, pause and scrub");
   if (auto code = app::parse_command_line(cli, argc, argv)) return *code;
 
   return app::run_main("sarloc-dashboard", [&] {
@@ -55,11 +57,44 @@ int main(int argc, char** argv) {
     state_config.track_length = static_cast<std::size_t>(settings.track_length);
     state_config.par_interval_s = settings.par_interval_s;
     state_config.stale_after_s = settings.stale_after_s;
-    dashboard::PictureState state(state_config, [clock] { return clock.now(); }, clock.epoch());
-    if (mission.world) {
+    auto building = [&](dashboard::PictureState& state) {
+      if (!mission.world) return;
       const auto& f = mission.estimators.firefighter;
       state.set_building({*mission.world, f.origin.x(), f.origin.y(), f.rotation_rad()});
+    };
+    dashboard::DashboardServerConfig server_config{settings.bind_address, settings.port, settings.token, settings.operator_id,
+                                                   settings.push_period_s, settings.max_streams};
+    auto announce = [&](int port_in_use) {
+      const std::string host = settings.bind_address == "0.0.0.0" ? "127.0.0.1" : settings.bind_address;
+      const std::string url = "http://" + host + ":" + std::to_string(port_in_use) + "/#token=" + settings.token;
+      spdlog::info("dashboard of mission '{}' at {}{}", mission.name, url, generated ? " (random token: give it to operators)" : "");
+      if (settings.bind_address != "127.0.0.1" && settings.bind_address != "localhost") {
+        spdlog::warn("listening on {}: anyone on that network sees the picture; actions need the token", settings.bind_address);
+      }
+      if (!url_file.empty()) std::ofstream(url_file) << url << "\n";
+    };
+
+    if (!recording.empty()) {
+      // The debrief view: a recording instead of DDS, on the recording's own clocks.
+      dashboard::RecordingPlayer player(recording);
+      if (!player.damage().empty()) spdlog::warn("the recording is damaged: {}; showing what could be read", player.damage());
+      dashboard::PictureState state(state_config, [&player] { return player.mission_now(); }, player.epoch_ns(),
+                                    [&player] { return player.wall_now_s(); });
+      building(state);
+      player.attach(state);
+      player.seek(0.0);
+      dashboard::DashboardServer server(server_config, state, [](std::uint32_t, const std::string&) { return false; });
+      server.set_replay_control([&player](const nlohmann::json& request) { return player.control(request); });
+      server.start();
+      spdlog::info("replaying '{}': {} picture samples", recording, player.samples());
+      announce(server.port());
+      while (!app::wait_for_shutdown(std::chrono::milliseconds(100))) player.tick();
+      server.stop();
+      return app::ExitCode::kOk;
     }
+
+    dashboard::PictureState state(state_config, [clock] { return clock.now(); }, clock.epoch());
+    building(state);
     auto participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, "sarloc-dashboard"));
     sarloc::dds::DashboardSink sink;
     sink.on_victim = [&](const auto& v) { state.on_victim(v); };
@@ -73,22 +108,11 @@ int main(int argc, char** argv) {
     sink.on_rejected = [&](const auto& topic) { state.on_rejected(topic); };
     sarloc::dds::DashboardNode node(participant, sink);
 
-    dashboard::DashboardServerConfig server_config{settings.bind_address, settings.port, settings.token, settings.operator_id,
-                                                   settings.push_period_s, settings.max_streams};
     dashboard::DashboardServer server(server_config, state, [&](std::uint32_t id, const std::string& op) {
       return node.acknowledge(id, op, clock.now());
     });
     server.start();
-    const std::string host = settings.bind_address == "0.0.0.0" ? "127.0.0.1" : settings.bind_address;
-    const std::string url = "http://" + host + ":" + std::to_string(server.port()) + "/#token=" + settings.token;
-    spdlog::info("dashboard of mission '{}' at {}{}", mission.name, url, generated ? " (random token: give it to operators)" : "");
-    if (settings.bind_address != "127.0.0.1" && settings.bind_address != "localhost") {
-      spdlog::warn("listening on {}: anyone on that network sees the picture; actions need the token", settings.bind_address);
-    }
-    if (!url_file.empty()) {
-      std::ofstream out(url_file);
-      out << url << "\n";
-    }
+    announce(server.port());
     while (!app::wait_for_shutdown(std::chrono::seconds(1))) {
     }
     spdlog::info("dashboard stopping");

@@ -328,9 +328,34 @@ json PictureState::collect(std::uint64_t since, bool with_tracks) const {
   return out;
 }
 
+void PictureState::reset() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  victims_.clear();
+  responders_.clear();
+  teams_.clear();
+  alarms_.clear();
+  events_.clear();
+  removed_.clear();
+  picture_writer_.clear();
+  rejected_.clear();
+  last_data_wall_s_ = -1.0;
+  reset_version_ = ++version_;
+}
+
+bool PictureState::needs_snapshot(std::uint64_t since) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return since < reset_version_;
+}
+
+void PictureState::set_extra(const std::string& key, json value) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  extra_[key] = std::move(value);
+}
+
 json PictureState::snapshot() const {
   std::lock_guard<std::mutex> lock(mutex_);
   json out = collect(0, true);
+  for (const auto& [key, value] : extra_.items()) out[key] = value;
   out["type"] = "snapshot";
   out["removed"] = json::array();
   out["building"] = building_;
@@ -340,22 +365,29 @@ json PictureState::snapshot() const {
 }
 
 json PictureState::delta(std::uint64_t since) const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  json out = collect(since, false);
-  out["type"] = "delta";
-  return out;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (since >= reset_version_) {
+      json out = collect(since, false);
+      out["type"] = "delta";
+      return out;
+    }
+  }
+  return snapshot();  // rebuilt since: what the page holds is void
 }
 
 json PictureState::heartbeat() const {
   std::lock_guard<std::mutex> lock(mutex_);
   const double age = last_data_wall_s_ < 0 ? -1.0 : wall_now_() - last_data_wall_s_;
-  return {{"type", "heartbeat"},
+  json out = {{"type", "heartbeat"},
           {"version", version_},
           {"mission_ns", mission_now_()},
           {"epoch_ns", epoch_ns_},
           {"wall_ms", static_cast<std::int64_t>(wall_now_() * 1e3)},
           {"data_age_s", age},
           {"stale", age < 0 || age > config_.stale_after_s}};
+  for (const auto& [key, value] : extra_.items()) out[key] = value;
+  return out;
 }
 
 std::uint64_t PictureState::version() const {

@@ -66,11 +66,19 @@ class PictureState {
   /// Something the operator did (acknowledged an alarm, ...), for the event log.
   void note(const std::string& kind, const std::string& text);
 
+  /// Forgets the picture (not the building) to be filled again (a replay seeking back). Streams
+  /// that had a version from before get a new snapshot (needs_snapshot).
+  void reset();
+  bool needs_snapshot(std::uint64_t since) const;
+  /// Extra fields every snapshot and heartbeat carries (a replay's timeline).
+  void set_extra(const std::string& key, nlohmann::json value);
+
   /// Everything, for a page that opens now.
   nlohmann::json snapshot() const;
   /// What changed since `version` (entities whose version is newer, ids removed since, and
   /// newer events); its "version" is the one to ask from next time. Responders come without
-  /// their track: the page appends each new position to the track of the snapshot.
+  /// their track: the page appends each new position to the track of the snapshot. If the
+  /// picture was reset since `version`, a snapshot instead (its "type" says which).
   nlohmann::json delta(std::uint64_t version) const;
   /// Data age and the banner, once a second.
   nlohmann::json heartbeat() const;
@@ -109,6 +117,8 @@ class PictureState {
   WallClock wall_now_;
   mutable std::mutex mutex_;
   std::uint64_t version_ = 0;
+  std::uint64_t reset_version_ = 0;
+  nlohmann::json extra_ = nlohmann::json::object();
   double last_data_wall_s_ = -1.0;
   std::map<std::uint32_t, std::pair<incident::FusedVictim, std::uint64_t>> victims_;
   std::map<std::string, Responder> responders_;

@@ -52,6 +52,28 @@ function merge(message) {
   schedule();
 }
 
+// A replay's timeline (sarloc-dashboard --recording): shown when the server says so.
+let scrubbing = false;
+let replayPlaying = false;
+function showReplay(replay) {
+  if (!replay) return;
+  $("replay").hidden = false;
+  replayPlaying = replay.playing;
+  $("play").textContent = replay.playing ? "pause" : "play";
+  $("scrub").min = replay.start_s;
+  $("scrub").max = replay.end_s;
+  if (!scrubbing) $("scrub").value = replay.cursor_s;
+  $("replay-time").textContent = `${replay.cursor_s.toFixed(0)} s of ${replay.end_s.toFixed(0)} s`;
+}
+async function replayControl(request) {
+  const response = await fetch("/api/replay", { method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(request) });
+  if (response.ok) showReplay(await response.json());
+}
+$("play").addEventListener("click", () => replayControl(replayPlaying ? { action: "pause" } : { action: "play", rate: Number($("rate").value) }));
+$("scrub").addEventListener("input", () => { scrubbing = true; });
+$("scrub").addEventListener("change", async () => { await replayControl({ action: "seek", t_s: Number($("scrub").value) }); scrubbing = false; });
+window.sarlocReplay = replayControl;
+
 function connect() {
   const source = new EventSource("/events");
   source.addEventListener("snapshot", (e) => {
@@ -62,11 +84,13 @@ function connect() {
     picture.parIntervalS = s.par_interval_s;
     fillFloors();
     merge(s);
+    showReplay(s.replay);
   });
   source.addEventListener("delta", (e) => merge(JSON.parse(e.data)));
   source.addEventListener("heartbeat", (e) => {
     const h = JSON.parse(e.data);
     picture.missionNs = h.mission_ns;
+    showReplay(h.replay);
     $("banner").hidden = !h.stale;
     $("banner-age").textContent = h.data_age_s < 0 ? "ever" : h.data_age_s.toFixed(0);
     schedule();

@@ -1,6 +1,7 @@
 // Whole missions as separate processes over DDS (sarloc-mission starts sarloc-core,
 // sarloc-rescuer x N and sarloc-command), with faults injected.
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -297,6 +298,33 @@ TEST(Mission, ItsRecordingReadsInAnIndependentReaderAndItsReportOpensInChromium)
   EXPECT_GE(shot_report["svgs"].get<int>(), 3) << "two maps and the timeline";
   EXPECT_GT(shot_report["inkFraction"].get<double>(), 0.01) << "blank screenshot: " << browser_said;
   EXPECT_GT(shot_report["colours"].get<int>(), 20) << browser_said;
+
+  // The same recording on the dashboard's debrief view: the timeline scrubs and plays.
+  const fs::path url_file = run.run_dir / "replay.url";
+  const std::string dashboard = std::string(SARLOC_BIN_DIR) + "/sarloc-dashboard -c " + SARLOC_MISSION_DIR +
+                                "/mixed.yaml --recording '" + recording + "' --port 0 --url-file " + url_file.string() +
+                                " --log-level warn > " + (run.run_dir / "dashboard-replay.log").string() + " 2>&1 & echo $!";
+  FILE* spawned = ::popen(dashboard.c_str(), "r");
+  char pid_text[32] = {0};
+  ASSERT_NE(std::fgets(pid_text, sizeof pid_text, spawned), nullptr);
+  ::pclose(spawned);
+  const int dashboard_pid = std::atoi(pid_text);
+  for (int k = 0; k < 100 && (!fs::exists(url_file) || fs::file_size(url_file) == 0); ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  std::string url;
+  std::getline(std::ifstream(url_file), url);
+  const fs::path replay_out = run.run_dir / "dashboard-replay.json";
+  const int replayed = std::system(("node " SARLOC_SOURCE_DIR "/tests/js/dashboard_replay.mjs '" + url + "' " + run.run_dir.string() +
+                                    " > " + replay_out.string() + " 2>&1").c_str());
+  ::kill(dashboard_pid, SIGTERM);
+  const std::string replay_said = file_text(replay_out);
+  ASSERT_EQ(WEXITSTATUS(replayed), 0) << replay_said << file_text(run.run_dir / "dashboard-replay.log");
+  const json replay = json::parse(replay_said);
+  EXPECT_TRUE(replay["errors"].empty()) << replay_said;
+  EXPECT_EQ(replay["atEnd"], json::array({"FOUND", "FOUND"})) << replay_said;
+  EXPECT_TRUE(replay["atStart"].empty()) << "no victim at the recording's start: " << replay_said;
+  EXPECT_GT(replay["advancedS"].get<double>(), 5.0) << "playing moves the timeline: " << replay_said;
 }
 
 // Replaying only what the devices measured into a fresh core daemon and incident command gives

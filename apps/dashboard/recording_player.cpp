@@ -1,0 +1,205 @@
+#include "recording_player.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "sarloc/dds/conversions.hpp"
+#include "sarloc/dds/raw_topic_type.hpp"
+#include "sarloc/dds/topics.hpp"
+#include "sarloc/recording/mcap_reader.hpp"
+
+namespace sarloc::dashboard {
+
+namespace {
+
+// The topics the dashboard shows, in the order of Sample::topic.
+const char* const kTopics[] = {"sarloc/fused_victim", "sarloc/team_status", "sarloc/incident_alarm", "sarloc/responder_position",
+                               "sarloc/guidance", "sarloc/recorder_events"};
+
+std::int64_t steady_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+template <class T>
+bool decode(const std::vector<std::uint8_t>& bytes, T& sample) {
+  return dds::decode_payload<typename dds::TopicTraits<T>::PubSubType>(bytes, sample);
+}
+
+}  // namespace
+
+RecordingPlayer::RecordingPlayer(const std::string& path) {
+  std::map<std::uint16_t, int> topic_of;
+  recording::McapVisitor visitor;
+  visitor.on_channel = [&](const recording::Channel& c) {
+    for (int k = 0; k < static_cast<int>(std::size(kTopics)); ++k) {
+      if (c.topic == kTopics[k]) topic_of[c.id] = k;
+    }
+  };
+  visitor.on_metadata = [&](const recording::Metadata& m) {
+    if (m.name != "sarloc.recording") return;
+    try {
+      if (m.values.count("epoch_ns")) epoch_ns_ = std::stoll(m.values.at("epoch_ns"));
+      if (m.values.count("speedup")) speedup_ = std::stod(m.values.at("speedup"));
+    } catch (const std::exception&) {
+      damage_ += "the recording's epoch_ns/speedup do not parse; ";
+    }
+  };
+  visitor.on_message = [&](const recording::Message& m) {
+    const auto it = topic_of.find(m.channel_id);
+    if (it == topic_of.end()) return;
+    samples_.push_back({m.log_time_ns, static_cast<std::uint8_t>(it->second), m.data});
+  };
+  const auto result = recording::read_mcap(path, visitor);
+  damage_ += result.damage;
+  // Recorded in arrival order, which the log times follow but for a few microseconds.
+  std::stable_sort(samples_.begin(), samples_.end(), [](const Sample& a, const Sample& b) { return a.log_ns < b.log_ns; });
+  if (!(speedup_ > 0.0) || !std::isfinite(speedup_)) speedup_ = 1.0;
+  if (!samples_.empty()) {
+    first_log_ns_ = samples_.front().log_ns;
+    last_log_ns_ = samples_.back().log_ns;
+  }
+  if (epoch_ns_ == 0) epoch_ns_ = static_cast<std::int64_t>(first_log_ns_);
+  cursor_log_ns_ = first_log_ns_;
+}
+
+void RecordingPlayer::attach(PictureState& state) {
+  state_ = &state;
+  publish_status();
+}
+
+double RecordingPlayer::mission_s_of(std::uint64_t log_ns) const {
+  return 1e-9 * speedup_ * (static_cast<double>(log_ns) - static_cast<double>(epoch_ns_));
+}
+
+std::uint64_t RecordingPlayer::log_of(double mission_s) const {
+  const double log = static_cast<double>(epoch_ns_) + mission_s / speedup_ * 1e9;
+  return static_cast<std::uint64_t>(std::clamp(log, static_cast<double>(first_log_ns_), static_cast<double>(last_log_ns_)));
+}
+
+TimestampNs RecordingPlayer::mission_now() const {
+  return epoch_ns_ + static_cast<TimestampNs>(mission_s_of(cursor_log_ns_.load()) * 1e9);
+}
+
+double RecordingPlayer::wall_now_s() const { return 1e-9 * static_cast<double>(cursor_log_ns_.load()); }
+
+void RecordingPlayer::apply(const Sample& s) {
+  auto& state = *state_;
+  try {
+    switch (s.topic) {
+      case 0: {
+        ::sarloc::FusedVictim v;
+        if (decode(s.bytes, v)) state.on_victim(dds::to_core(v));
+        break;
+      }
+      case 1: {
+        ::sarloc::TeamStatus t;
+        if (decode(s.bytes, t)) state.on_team(dds::to_core(t));
+        break;
+      }
+      case 2: {
+        ::sarloc::IncidentAlarm a;
+        if (decode(s.bytes, a)) state.on_alarm(dds::to_core(a));
+        break;
+      }
+      case 3: {
+        ::sarloc::ResponderPosition p;
+        if (decode(s.bytes, p)) state.on_position(dds::to_core(p));
+        break;
+      }
+      case 4: {
+        ::sarloc::Guidance g;
+        if (decode(s.bytes, g)) state.on_guidance(dds::to_core(g));
+        break;
+      }
+      case 5: {
+        const auto event = nlohmann::json::parse(s.bytes.begin(), s.bytes.end());
+        if (event.value("topic", "") == "sarloc/incident_summary") state.on_picture_writer(event.value("participant", ""));
+        break;
+      }
+      default:
+        break;
+    }
+  } catch (const std::exception&) {
+    state.on_rejected(kTopics[s.topic]);  // what the core refuses is counted, never shown
+  }
+}
+
+void RecordingPlayer::feed_until(std::uint64_t log_ns) {
+  while (next_ < samples_.size() && samples_[next_].log_ns <= log_ns) apply(samples_[next_++]);
+}
+
+void RecordingPlayer::play(double rate) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  playing_ = true;
+  rate_ = std::clamp(std::isfinite(rate) ? rate : 1.0, 0.1, 100.0);
+  last_tick_ns_ = steady_ns();
+  publish_status();
+}
+
+void RecordingPlayer::pause() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  playing_ = false;
+  publish_status();
+}
+
+void RecordingPlayer::seek(double mission_s) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const std::uint64_t target = log_of(std::isfinite(mission_s) ? mission_s : 0.0);
+  if (target < cursor_log_ns_.load()) {
+    state_->reset();  // back in time: the picture as it was is rebuilt from the start
+    next_ = 0;
+  }
+  cursor_log_ns_ = target;
+  feed_until(target);
+  last_tick_ns_ = steady_ns();
+  publish_status();
+}
+
+void RecordingPlayer::tick() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!playing_) return;
+  const std::int64_t now = steady_ns();
+  const auto advance = static_cast<std::uint64_t>(static_cast<double>(now - last_tick_ns_) * rate_);
+  last_tick_ns_ = now;
+  const std::uint64_t target = std::min(cursor_log_ns_.load() + advance, last_log_ns_);
+  cursor_log_ns_ = target;
+  feed_until(target);
+  if (target >= last_log_ns_) playing_ = false;  // the end
+  publish_status();
+}
+
+void RecordingPlayer::publish_status() {
+  if (state_ != nullptr) state_->set_extra("replay", status_locked());
+}
+
+nlohmann::json RecordingPlayer::status() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return status_locked();
+}
+
+nlohmann::json RecordingPlayer::status_locked() const {
+  return {{"start_s", mission_s_of(first_log_ns_)},
+          {"end_s", mission_s_of(last_log_ns_)},
+          {"cursor_s", mission_s_of(cursor_log_ns_.load())},
+          {"playing", playing_},
+          {"rate", rate_},
+          {"damage", damage_}};
+}
+
+nlohmann::json RecordingPlayer::control(const nlohmann::json& request) {
+  const std::string action = request.value("action", "");
+  if (action == "play") {
+    play(request.value("rate", 1.0));
+  } else if (action == "pause") {
+    pause();
+  } else if (action == "seek") {
+    if (!request.contains("t_s") || !request["t_s"].is_number()) throw std::invalid_argument("seek needs a number t_s");
+    seek(request["t_s"].get<double>());
+  } else {
+    throw std::invalid_argument("action must be play, pause or seek");
+  }
+  return status();
+}
+
+}  // namespace sarloc::dashboard

@@ -1,0 +1,45 @@
+// The dashboard's debrief view in a real browser: sarloc-dashboard --recording REC.mcap.
+//
+//   node tests/js/dashboard_replay.mjs URL OUTDIR   -> JSON on stdout
+//
+// It scrubs the timeline to the end and back to the start with the slider, then plays: the
+// victims shown follow the cursor, without a reload; then a screenshot.
+import { launchChromium } from "./browser.mjs";
+import path from "node:path";
+
+const [url, outdir] = process.argv.slice(2);
+const result = { errors: [] };
+const browser = await launchChromium({ width: 1400, height: 900 });
+try {
+  const page = await browser.context.newPage();
+  page.on("console", (m) => { if (m.type() === "error") result.errors.push(`console: ${m.text()}`); });
+  page.on("pageerror", (e) => result.errors.push(`page: ${e.message}`));
+  await page.goto(url, { waitUntil: "load" });
+  await page.waitForSelector("#replay:not([hidden])", { timeout: 10000 });
+  const victims = () => page.evaluate(() => [...document.querySelectorAll("#victims tbody tr .state")].map((td) => td.textContent));
+  const scrub = async (where) => {
+    await page.evaluate((w) => {
+      const slider = document.getElementById("scrub");
+      slider.value = w === "end" ? slider.max : slider.min;
+      slider.dispatchEvent(new Event("change"));
+    }, where);
+    await page.waitForTimeout(1500);  // the server rebuilds, the stream brings the picture
+  };
+  await scrub("end");
+  result.atEnd = await victims();
+  await scrub("start");
+  result.atStart = await victims();
+  const before = Number(await page.inputValue("#scrub"));
+  await page.selectOption("#rate", "16");
+  await page.click("#play");
+  await page.waitForTimeout(2500);
+  result.advancedS = Number(await page.inputValue("#scrub")) - before;
+  result.playLabel = await page.textContent("#play");
+  await page.screenshot({ path: path.join(outdir, "dashboard-replay.png") });
+} catch (error) {
+  result.errors.push(`browser: ${error.message}`);
+} finally {
+  await browser.close();
+}
+console.log(JSON.stringify(result));
+process.exit(result.errors.length === 0 ? 0 : 1);
