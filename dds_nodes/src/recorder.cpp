@@ -18,6 +18,7 @@
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/dds/dds_error.hpp"
 #include "sarloc/dds/idl_schemas.hpp"
+#include "sarloc/dds/raw_topic_readers.hpp"
 #include "sarloc/dds/raw_topic_type.hpp"
 #include "sarloc/dds/topic_catalog.hpp"
 #include "sarloc/recording/mcap_writer.hpp"
@@ -29,9 +30,6 @@ using eprosima::fastrtps::types::ReturnCode_t;
 
 namespace {
 
-// How deep the recorder's reader history is, per instance: it takes every sample at once, so
-// this only has to cover a burst between two listener calls, never to hold a mission.
-constexpr std::int32_t kRecorderDepth = 1000;
 // The recorder's own channel: one JSON message per flush with the counters so far.
 constexpr const char* kStatusTopic = "sarloc/recorder_status";
 // The recorder's events: a participant's first sample on a topic.
@@ -57,28 +55,8 @@ std::uint64_t now_ns() {
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
 }
 
-std::string reliability_name(const fdds::DataReaderQos& qos) {
-  return qos.reliability().kind == fdds::RELIABLE_RELIABILITY_QOS ? "RELIABLE" : "BEST_EFFORT";
-}
 
-std::string durability_name(const fdds::DataReaderQos& qos) {
-  switch (qos.durability().kind) {
-    case fdds::VOLATILE_DURABILITY_QOS: return "VOLATILE";
-    case fdds::TRANSIENT_LOCAL_DURABILITY_QOS: return "TRANSIENT_LOCAL";
-    case fdds::TRANSIENT_DURABILITY_QOS: return "TRANSIENT";
-    case fdds::PERSISTENT_DURABILITY_QOS: return "PERSISTENT";
-  }
-  return "?";
-}
 
-std::string liveliness_name(const fdds::DataReaderQos& qos) {
-  switch (qos.liveliness().kind) {
-    case fdds::AUTOMATIC_LIVELINESS_QOS: return "AUTOMATIC";
-    case fdds::MANUAL_BY_PARTICIPANT_LIVELINESS_QOS: return "MANUAL_BY_PARTICIPANT";
-    case fdds::MANUAL_BY_TOPIC_LIVELINESS_QOS: return "MANUAL_BY_TOPIC";
-  }
-  return "?";
-}
 
 bool listed(const std::vector<std::string>& names, const std::string& name) {
   return std::find(names.begin(), names.end(), name) != names.end();
@@ -111,62 +89,22 @@ void RecorderConfig::validate() const {
 
 struct Recorder::Channel {
   const CatalogTopic* topic = nullptr;
-  fdds::Topic* dds_topic = nullptr;
-  std::vector<std::pair<fdds::Subscriber*, fdds::DataReader*>> readers;
-  std::unique_ptr<Listener> listener;
   recording::StringMap metadata;
   std::uint16_t file_channel = 0;  // its id in the current file
-};
-
-class Recorder::Listener : public fdds::DataReaderListener {
- public:
-  Listener(Recorder& recorder, std::size_t channel) : recorder_(recorder), channel_(channel) {}
-
-  void on_data_available(fdds::DataReader* reader) override {
-    RawSample sample;
-    fdds::SampleInfo info;
-    while (reader->take_next_sample(&sample, &info) == ReturnCode_t::RETCODE_OK) {
-      if (!info.valid_data) continue;  // dispose/unregister notices carry no payload
-      Queued item;
-      item.channel = channel_;
-      item.sequence = static_cast<std::uint32_t>(info.sample_identity.sequence_number().to64long());
-      item.publish_time_ns = to_ns(info.source_timestamp);
-      item.log_time_ns = to_ns(info.reception_timestamp);
-      if (item.log_time_ns == 0) item.log_time_ns = now_ns();
-      for (std::size_t i = 0; i < item.participant.size(); ++i) item.participant[i] = info.publication_handle.value[i];
-      item.bytes = std::move(sample.bytes);
-      recorder_.enqueue(std::move(item));
-    }
-  }
-  void on_sample_lost(fdds::DataReader*, const fdds::SampleLostStatus& status) override {
-    if (status.total_count_change > 0) recorder_.count_lost(channel_, static_cast<std::uint64_t>(status.total_count_change));
-  }
-  void on_sample_rejected(fdds::DataReader*, const fdds::SampleRejectedStatus& status) override {
-    static const char* const reasons[] = {"not_rejected", "instances_limit", "samples_limit", "samples_per_instance_limit"};
-    const auto kind = static_cast<std::size_t>(status.last_reason);
-    for (std::uint32_t i = 0; i < status.total_count_change; ++i) recorder_.count_rejected(channel_, kind < 4 ? reasons[kind] : "other");
-  }
-  void on_requested_incompatible_qos(fdds::DataReader*, const fdds::RequestedIncompatibleQosStatus&) override {
-    recorder_.count_incompatible(channel_);
-  }
-
- private:
-  Recorder& recorder_;
-  std::size_t channel_;
 };
 
 Recorder::Recorder(std::shared_ptr<Participant> participant, RecorderConfig config)
     : participant_(std::move(participant)), config_(std::move(config)) {
   config_.validate();
+  std::vector<const CatalogTopic*> topics;
   for (const auto& topic : topic_catalog()) {
     if (!config_.allow.empty() && !listed(config_.allow, topic.name)) continue;
     if (listed(config_.block, topic.name)) continue;
     auto channel = std::make_unique<Channel>();
     channel->topic = &topic;
-    channel->listener = std::make_unique<Listener>(*this, channels_.size());
-    channel->dds_topic = participant_->topic(topic.name, fdds::TypeSupport(new RawPubSubType(topic.make_type())));
     counters_[topic.name];
     channels_.push_back(std::move(channel));
+    topics.push_back(&topic);
   }
   // The file first: an unwritable path fails here, before any reader exists.
   recording::McapWriterOptions probe;
@@ -174,69 +112,34 @@ Recorder::Recorder(std::shared_ptr<Participant> participant, RecorderConfig conf
   probe.validate();
   { recording::McapWriter check(config_.output_path, probe); }
   files_.push_back(config_.output_path);
-  // Readers: the default partition, and each listed partition pattern on its own subscriber
-  // ("*" matches named partitions only, never the default one: NOTES).
-  std::vector<std::vector<std::string>> partition_sets = {{}};
-  for (const auto& name : config_.partitions) partition_sets.push_back({name});
-  try {
-    create_readers(partition_sets);
-  } catch (...) {
-    delete_readers();
-    throw;
+
+  RawReaderEvents events;
+  events.on_sample = [this](std::size_t channel, RawSample&& sample, const fdds::SampleInfo& info) {
+    Queued item;
+    item.channel = channel;
+    item.sequence = static_cast<std::uint32_t>(info.sample_identity.sequence_number().to64long());
+    item.publish_time_ns = to_ns(info.source_timestamp);
+    item.log_time_ns = to_ns(info.reception_timestamp);
+    if (item.log_time_ns == 0) item.log_time_ns = now_ns();
+    for (std::size_t i = 0; i < item.participant.size(); ++i) item.participant[i] = info.publication_handle.value[i];
+    item.bytes = std::move(sample.bytes);
+    enqueue(std::move(item));
+  };
+  events.on_lost = [this](std::size_t channel, std::uint64_t count) { count_lost(channel, count); };
+  events.on_rejected = [this](std::size_t channel, const std::string& reason) { count_rejected(channel, reason); };
+  events.on_incompatible_qos = [this](std::size_t channel) { count_incompatible(channel); };
+  readers_ = std::make_unique<RawTopicReaders>(participant_, topics, config_.partitions, std::move(events));
+  std::string recorded_partitions = "(default)";
+  for (const auto& name : config_.partitions) recorded_partitions += "," + name;
+  for (std::size_t k = 0; k < channels_.size(); ++k) {
+    auto& channel = *channels_[k];
+    for (const auto& [key, value] : describe_qos(readers_->qos(k))) channel.metadata[key] = value;
+    channel.metadata["qos_profile"] = channel.topic->profile + ".reader";
+    channel.metadata["type"] = channel.topic->type_name;
+    channel.metadata["partitions"] = recorded_partitions;
   }
   // Samples that arrived meanwhile wait in the queue.
   writer_thread_ = std::thread([this] { writer_loop(); });
-}
-
-void Recorder::create_readers(const std::vector<std::vector<std::string>>& partition_sets) {
-  for (auto& channel : channels_) {
-    for (const auto& partitions : partition_sets) {
-      fdds::SubscriberQos subscriber_qos = participant_->get()->get_default_subscriber_qos();
-      for (const auto& name : partitions) subscriber_qos.partition().push_back(name.c_str());
-      auto* subscriber = participant_->get()->create_subscriber(subscriber_qos);
-      if (subscriber == nullptr) throw DdsError("recorder: cannot create a subscriber for '" + channel->topic->name + "'");
-      fdds::DataReaderQos qos;
-      const std::string profile = channel->topic->profile + ".reader";
-      if (subscriber->get_datareader_qos_from_profile(profile, qos) != ReturnCode_t::RETCODE_OK) {
-        throw DdsError("recorder: no reader profile '" + profile + "' in the topics file");
-      }
-      // The topic's own reader QoS (so it matches what its readers match), with a deeper
-      // history: the listener takes every sample, and KEEP_LAST never pushes back on writers.
-      qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-      qos.history().depth = std::max(qos.history().depth, kRecorderDepth);
-      qos.resource_limits().max_samples_per_instance = qos.history().depth;
-      qos.resource_limits().max_samples = 0;  // unlimited
-      auto* reader = subscriber->create_datareader(channel->dds_topic, qos, channel->listener.get());
-      if (reader == nullptr) throw DdsError("recorder: cannot create the reader of '" + channel->topic->name + "'");
-      channel->readers.emplace_back(subscriber, reader);
-      if (partitions.empty()) {
-        const fdds::DataReaderQos used = reader->get_qos();
-        channel->metadata = {
-            {"qos_profile", profile},
-            {"reliability", reliability_name(used)},
-            {"durability", durability_name(used)},
-            {"liveliness", liveliness_name(used)},
-            {"ownership", used.ownership().kind == fdds::EXCLUSIVE_OWNERSHIP_QOS ? "EXCLUSIVE" : "SHARED"},
-            {"recorder_history_depth", std::to_string(used.history().depth)},
-            {"type", channel->topic->type_name},
-        };
-      }
-    }
-    std::string recorded_partitions = "(default)";
-    for (const auto& name : config_.partitions) recorded_partitions += "," + name;
-    channel->metadata["partitions"] = recorded_partitions;
-  }
-}
-
-void Recorder::delete_readers() {
-  for (auto& channel : channels_) {
-    for (auto& [subscriber, reader] : channel->readers) {
-      reader->set_listener(nullptr);
-      subscriber->delete_datareader(reader);
-      participant_->get()->delete_subscriber(subscriber);
-    }
-    channel->readers.clear();
-  }
 }
 
 Recorder::~Recorder() {
@@ -250,7 +153,7 @@ Recorder::~Recorder() {
 void Recorder::close() {
   if (closed_) return;
   closed_ = true;
-  delete_readers();
+  if (readers_) readers_->close();
   {
     std::lock_guard<std::mutex> lock(mutex_);
     stopping_ = true;
@@ -309,18 +212,7 @@ std::vector<std::string> Recorder::files() const {
   return files_;
 }
 
-std::map<std::string, int> Recorder::matched_writers() const {
-  std::map<std::string, int> matched;
-  for (const auto& channel : channels_) {
-    int count = 0;
-    for (const auto& [subscriber, reader] : channel->readers) {
-      fdds::SubscriptionMatchedStatus status;
-      if (reader->get_subscription_matched_status(status) == ReturnCode_t::RETCODE_OK) count += status.current_count;
-    }
-    matched[channel->topic->name] = count;
-  }
-  return matched;
-}
+std::map<std::string, int> Recorder::matched_writers() const { return readers_->matched_writers(); }
 
 std::string Recorder::next_file_path() {
   std::lock_guard<std::mutex> lock(mutex_);

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "sarloc/dds/participant.hpp"
+#include "sarloc/dds/raw_topic_readers.hpp"
 #include "sarloc/recording/mcap_records.hpp"
 
 namespace sarloc::dds {
@@ -97,10 +98,6 @@ class Recorder {
     std::array<std::uint8_t, 12> participant{};  ///< the writer's GUID prefix
     std::vector<std::uint8_t> bytes;
   };
-  class Listener;
-
-  void create_readers(const std::vector<std::vector<std::string>>& partition_sets);
-  void delete_readers();
   void enqueue(Queued item);
   void count_lost(std::size_t channel, std::uint64_t count);
   void count_rejected(std::size_t channel, const std::string& reason);
@@ -111,6 +108,7 @@ class Recorder {
   std::shared_ptr<Participant> participant_;
   RecorderConfig config_;
   std::vector<std::unique_ptr<Channel>> channels_;
+  std::unique_ptr<RawTopicReaders> readers_;
 
   mutable std::mutex mutex_;
   std::condition_variable wake_;
