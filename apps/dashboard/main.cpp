@@ -9,11 +9,13 @@
 
 #include <malloc.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 
 #include "dashboard_server.hpp"
 #include "picture_state.hpp"
+#include "foxglove_bridge.hpp"
 #include "recording_player.hpp"
 #include "sarloc/app/command_line.hpp"
 #include "sarloc/app/logging.hpp"
@@ -21,6 +23,9 @@
 #include "sarloc/app/run_main.hpp"
 #include "sarloc/app/shutdown_signal.hpp"
 #include "sarloc/dds/dashboard_node.hpp"
+#include "sarloc/dds/idl_schemas.hpp"
+#include "sarloc/dds/raw_topic_readers.hpp"
+#include "sarloc/dds/topic_catalog.hpp"
 
 int main(int argc, char** argv) {
   using namespace sarloc;
@@ -33,10 +38,12 @@ int main(int argc, char** argv) {
   app::add_node_options(cli, options);
   std::string bind, token, url_file, recording;
   int port = -1;
+  int foxglove_port = -2;
   cli.add_option("--bind", bind, "address to listen on, overriding dashboard.bind_address (default 127.0.0.1)");
   cli.add_option("--port", port, "port, overriding dashboard.port (0: any free port)");
   cli.add_option("--token", token, "access token for operator actions (also SARLOC_DASHBOARD_TOKEN; default: random)");
   cli.add_option("--url-file", url_file, "write the page's URL (with the token) to this file once serving");
+  cli.add_option("--foxglove-port", foxglove_port, "the Foxglove WebSocket feed's port, overriding dashboard.foxglove_port (-1: off)");
   cli.add_option("--recording", recording, "show this recording (.mcap) instead of live DDS, with a timeline to play, pause and scrub");
   if (auto code = app::parse_command_line(cli, argc, argv)) return *code;
 
@@ -46,6 +53,7 @@ int main(int argc, char** argv) {
     app::DashboardConfig settings = mission.dashboard;
     if (!bind.empty()) settings.bind_address = bind;
     if (port >= 0) settings.port = port;
+    if (foxglove_port >= -1) settings.foxglove_port = foxglove_port;
     if (token.empty() && std::getenv("SARLOC_DASHBOARD_TOKEN") != nullptr) token = std::getenv("SARLOC_DASHBOARD_TOKEN");
     if (!token.empty()) settings.token = token;
     const bool generated = settings.token.empty();
@@ -64,14 +72,20 @@ int main(int argc, char** argv) {
     };
     dashboard::DashboardServerConfig server_config{settings.bind_address, settings.port, settings.token, settings.operator_id,
                                                    settings.push_period_s, settings.max_streams};
-    auto announce = [&](int port_in_use) {
+    auto announce = [&](int port_in_use, int foxglove_in_use) {
       const std::string host = settings.bind_address == "0.0.0.0" ? "127.0.0.1" : settings.bind_address;
       const std::string url = "http://" + host + ":" + std::to_string(port_in_use) + "/#token=" + settings.token;
       spdlog::info("dashboard of mission '{}' at {}{}", mission.name, url, generated ? " (random token: give it to operators)" : "");
       if (settings.bind_address != "127.0.0.1" && settings.bind_address != "localhost") {
         spdlog::warn("listening on {}: anyone on that network sees the picture; actions need the token", settings.bind_address);
       }
-      if (!url_file.empty()) std::ofstream(url_file) << url << "\n";
+      const std::string feed = foxglove_in_use > 0 ? "ws://" + host + ":" + std::to_string(foxglove_in_use) : "";
+      if (!feed.empty()) spdlog::info("Foxglove WebSocket feed (foxglove.websocket.v1) at {}", feed);
+      if (!url_file.empty()) {
+        // Whole or not at all: whoever waits for the file reads both lines.
+        std::ofstream(url_file + ".tmp") << url << "\n" << feed << "\n";
+        std::rename((url_file + ".tmp").c_str(), url_file.c_str());
+      }
     };
 
     if (!recording.empty()) {
@@ -87,7 +101,7 @@ int main(int argc, char** argv) {
       server.set_replay_control([&player](const nlohmann::json& request) { return player.control(request); });
       server.start();
       spdlog::info("replaying '{}': {} picture samples", recording, player.samples());
-      announce(server.port());
+      announce(server.port(), -1);
       while (!app::wait_for_shutdown(std::chrono::milliseconds(100))) player.tick();
       server.stop();
       return app::ExitCode::kOk;
@@ -112,10 +126,37 @@ int main(int argc, char** argv) {
       return node.acknowledge(id, op, clock.now());
     });
     server.start();
-    announce(server.port());
+
+    // The Foxglove feed: every topic's payloads as they arrive, on a participant of its own
+    // (raw readers cannot share topics with the typed ones above).
+    std::unique_ptr<dashboard::FoxgloveBridge> foxglove;
+    std::shared_ptr<sarloc::dds::Participant> raw_participant;
+    std::unique_ptr<sarloc::dds::RawTopicReaders> raw_readers;
+    if (settings.foxglove_port >= 0) {
+      std::vector<dashboard::FoxgloveChannel> channels;
+      std::vector<const sarloc::dds::CatalogTopic*> topics;
+      for (const auto& topic : sarloc::dds::topic_catalog()) {
+        channels.push_back({static_cast<std::uint32_t>(channels.size() + 1), topic.name, topic.type_name,
+                            sarloc::dds::self_contained_idl(topic.idl_file)});
+        topics.push_back(&topic);
+      }
+      foxglove = std::make_unique<dashboard::FoxgloveBridge>(settings.bind_address, settings.foxglove_port, channels);
+      foxglove->start();
+      raw_participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, "sarloc-dashboard-foxglove"));
+      sarloc::dds::RawReaderEvents events;
+      events.on_sample = [&foxglove](std::size_t k, sarloc::dds::RawSample&& sample, const eprosima::fastdds::dds::SampleInfo& info) {
+        const std::int64_t stamp = info.source_timestamp.to_ns();
+        foxglove->publish(static_cast<std::uint32_t>(k + 1), stamp > 0 ? static_cast<std::uint64_t>(stamp) : 0, sample.bytes.data(),
+                          sample.bytes.size());
+      };
+      raw_readers = std::make_unique<sarloc::dds::RawTopicReaders>(raw_participant, topics, std::vector<std::string>{"*"}, events);
+    }
+    announce(server.port(), foxglove ? foxglove->port() : -1);
     while (!app::wait_for_shutdown(std::chrono::seconds(1))) {
     }
     spdlog::info("dashboard stopping");
+    if (raw_readers) raw_readers->close();
+    if (foxglove) foxglove->stop();
     server.stop();
     return app::ExitCode::kOk;
   });

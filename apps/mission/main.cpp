@@ -382,14 +382,16 @@ int main(int argc, char** argv) {
       std::vector<std::string> args{(bin_dir / "sarloc-dashboard").string(), "-c", config_abs, "--domain", domain_arg,
                                     "--epoch-ns", epoch_arg, "--url-file", url_file.string(), "--log-level", log_level};
       if (dashboard_port >= 0) args.insert(args.end(), {"--port", std::to_string(dashboard_port)});
+      if (dashboard_port == 0) args.insert(args.end(), {"--foxglove-port", "0"});  // any free port for both
       dashboard_process = std::make_unique<app::ChildProcess>("dashboard", args, log_file("dashboard"));
       for (int k = 0; k < 50 && !fs::exists(url_file) && dashboard_process->running(); ++k) {
         std::this_thread::sleep_for(std::chrono::milliseconds(100));
       }
       std::ifstream url(url_file);
-      std::string text;
+      std::string text, feed;
       if (url && std::getline(url, text)) {
         std::printf("dashboard: %s\n", text.c_str());
+        if (std::getline(url, feed) && !feed.empty()) std::printf("Foxglove / Lichtblick: %s\n", feed.c_str());
         std::fflush(stdout);
       } else {
         spdlog::error("the dashboard did not start: see {}", log_file("dashboard"));

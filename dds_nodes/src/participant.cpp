@@ -93,7 +93,15 @@ std::string handle_text(const eprosima::fastrtps::rtps::InstanceHandle_t& handle
 eprosima::fastdds::dds::Topic* Participant::topic(const std::string& name,
                                                   eprosima::fastdds::dds::TypeSupport type) {
   std::lock_guard<std::mutex> lock(topics_mutex_);
-  if (auto it = topics_.find(name); it != topics_.end()) return it->second;
+  // One topic, one way of (de)serializing: a raw reader on a topic created with the generated
+  // type (or the reverse) would read one kind of sample into the other.
+  const std::type_index kind(typeid(*type.get()));
+  if (auto it = topics_.find(name); it != topics_.end()) {
+    if (topic_kinds_.at(name) != kind) {
+      throw DdsError("topic '" + name + "' already exists in this participant with another type support (raw and typed endpoints need participants of their own)");
+    }
+    return it->second;
+  }
   const std::string type_name = type.get_type_name();
   if (type.register_type(participant_) != ReturnCode_t::RETCODE_OK) {
     throw DdsError("cannot register type '" + type_name + "' for topic '" + name + "'");
@@ -101,6 +109,7 @@ eprosima::fastdds::dds::Topic* Participant::topic(const std::string& name,
   auto* topic = participant_->create_topic(name, type_name, eprosima::fastdds::dds::TOPIC_QOS_DEFAULT);
   if (topic == nullptr) throw DdsError("cannot create topic '" + name + "' of type '" + type_name + "'");
   topics_.emplace(name, topic);
+  topic_kinds_.emplace(name, kind);
   return topic;
 }
 

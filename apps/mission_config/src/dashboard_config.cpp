@@ -25,6 +25,7 @@ void DashboardConfig::validate() const {
   check(within(par_interval_s, 10, 86400), "par_interval_s", std::to_string(par_interval_s), "must be in [10, 86400]");
   check(within(push_period_s, 0.05, 10), "push_period_s", std::to_string(push_period_s), "must be in [0.05, 10]");
   check(max_streams >= 1 && max_streams <= 1000, "max_streams", std::to_string(max_streams), "must be 1-1000");
+  check(foxglove_port >= -1 && foxglove_port <= 65535, "foxglove_port", std::to_string(foxglove_port), "must be -1 (off) or 0-65535");
   check(track_length >= 1 && track_length <= 10000, "track_length", std::to_string(track_length), "must be 1-10000");
 }
 

@@ -386,6 +386,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("push_period_s", d.push_period_s);
     r.read("max_streams", d.max_streams);
     r.read("track_length", d.track_length);
+    r.read("foxglove_port", d.foxglove_port);
     r.expect_done();
     d.validate();
   }

@@ -388,13 +388,40 @@ TEST(Mission, TheDashboardShowsTheMissionLiveInABrowser) {
   for (int k = 0; k < 150 && (!fs::exists(url_file) || fs::file_size(url_file) == 0); ++k) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
-  std::string url;
-  std::getline(std::ifstream(url_file), url);
+  std::string url, feed;
+  {
+    std::ifstream lines(url_file);
+    std::getline(lines, url);
+    std::getline(lines, feed);
+  }
   ASSERT_FALSE(url.empty()) << file_text(run_dir / "mission.out");
+  ASSERT_FALSE(feed.empty()) << "no Foxglove feed: " << file_text(run_dir / "mission.out");
+  // Meanwhile, a Foxglove client on the feed.
+  const fs::path feed_out = run_dir / "foxglove.json";
+  std::thread foxglove([&] {
+    std::system(("node --experimental-websocket " SARLOC_SOURCE_DIR "/tests/js/foxglove_feed.mjs " + feed + " 18 > " +
+                 feed_out.string() + " 2>&1").c_str());
+  });
   const fs::path browser_out = run_dir / "browser.json";
   const int browsed = std::system(("node " SARLOC_SOURCE_DIR "/tests/js/dashboard_e2e.mjs '" + url + "' " + run_dir.string() +
                                    " ff1 > " + browser_out.string() + " 2>&1").c_str());
+  foxglove.join();
   runner.join();
+  const std::string fed = file_text(feed_out);
+  const auto feed_start = fed.find("{\"errors\"");
+  ASSERT_NE(feed_start, std::string::npos) << fed;
+  const json feed_report = json::parse(fed.substr(feed_start));
+  EXPECT_TRUE(feed_report["errors"].empty()) << fed;
+  EXPECT_EQ(feed_report["subprotocol"], "foxglove.websocket.v1");
+  for (const char* topic : {"sarloc/fused_victim", "sarloc/team_status", "sarloc/responder_position", "sarloc/field_measurement"}) {
+    const json& channel = feed_report["channels"][topic];
+    EXPECT_EQ(channel["schemaEncoding"], "omgidl") << topic;
+    EXPECT_EQ(channel["encoding"], "cdr") << topic;
+    EXPECT_GT(channel["count"].get<int>(), 0) << topic << ": " << fed.substr(0, 2000);
+    EXPECT_EQ(channel["decodeFailures"], 0) << topic;
+  }
+  EXPECT_GT(feed_report["channels"]["sarloc/fused_victim"].value("last", json::object()).value("victim_id", 0), 0) << fed.substr(0, 2000);
+  EXPECT_GE(feed_report["channels"]["sarloc/team_status"].value("last", json::object()).value("members", json::array()).size(), 2U);
   const std::string said = file_text(browser_out);
   ASSERT_EQ(WEXITSTATUS(browsed), 0) << said;
   const json browser = json::parse(said);

@@ -20,6 +20,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <typeindex>
 #include <vector>
 
 #include "sarloc/dds/responder_filter.hpp"
@@ -75,6 +76,7 @@ class Participant {
   bool secured_ = false;
   std::mutex topics_mutex_;
   std::map<std::string, eprosima::fastdds::dds::Topic*> topics_;
+  std::map<std::string, std::type_index> topic_kinds_;  // the TopicDataType class of each topic
   std::unique_ptr<ResponderFilterFactory> responder_filters_;  // registered on first use
   std::vector<eprosima::fastdds::dds::ContentFilteredTopic*> filtered_;
 };

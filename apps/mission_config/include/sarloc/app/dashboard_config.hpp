@@ -16,6 +16,9 @@ struct DashboardConfig {
   double push_period_s = 0.25;            ///< an event stream sends what changed at most this often
   int max_streams = 64;                   ///< open event streams at once
   int track_length = 120;                 ///< recent positions drawn per responder
+  /// The Foxglove WebSocket feed (foxglove.websocket.v1) on this port of bind_address; -1: off,
+  /// 0: any free port.
+  int foxglove_port = 8765;
 
   /// Throws ConfigError naming the key, the value and the rule ("dashboard.port = ...").
   void validate() const;
