@@ -9,6 +9,7 @@ const view = { x: 0, y: 0, w: 100, h: 100, userMoved: false };
 const CHI2_95 = 5.991464547107979;
 window.sarlocFrameTimes = [];   // render durations (ms), for the browser test
 window.sarlocLatencies = [];    // server push to browser (ms)
+window.sarlocSampleAgesMs = [];  // a responder's sample, from its stamp to the browser (ms)
 let dirty = false;
 
 const $ = (id) => document.getElementById(id);
@@ -29,8 +30,10 @@ function merge(message) {
   for (const kind of ["victims", "teams", "alarms"]) {
     for (const item of message[kind] || []) picture[kind].set(String(item.id), item);
   }
-  // A delta's responder has no track: its new position extends the one we keep.
+  // A delta's responder has no track: its new position extends the one we keep. How old each
+  // sample is on arrival (its stamp is the publisher's clock: meaningful at speedup 1).
   for (const r of message.responders || []) {
+    if (message.type === "delta") window.sarlocSampleAgesMs.push(Date.now() - r.stamp_ns / 1e6);
     if (!r.track) {
       const before = picture.responders.get(String(r.id));
       r.track = before ? before.track : [];
