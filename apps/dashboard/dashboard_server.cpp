@@ -92,19 +92,16 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
         [this, sent, beat](std::size_t, httplib::DataSink& sink) {
           if (stopping_ || !sink.is_writable()) return false;  // the browser left: free the thread
           std::string chunk;
-          nlohmann::json message;
+          std::shared_ptr<const std::string> message;
           if (*sent == kNothingSent) {
-            message = state_.snapshot();
+            message = message_for(0, true, *sent);
           } else {
             std::this_thread::sleep_for(std::chrono::duration<double>(config_.push_period_s));
             if (stopping_) return false;
             // A delta, or all of it again when the picture was rebuilt (PictureState::delta).
-            if (state_.version() > *sent) message = state_.delta(*sent);
+            if (state_.version() > *sent) message = message_for(*sent, false, *sent);
           }
-          if (!message.is_null()) {
-            *sent = message["version"].get<std::uint64_t>();
-            chunk = "event: " + message["type"].get<std::string>() + "\ndata: " + message.dump() + "\n\n";
-          }
+          if (message && !sink.write(message->data(), message->size())) return false;
           const auto now = std::chrono::steady_clock::now();
           if (now - *beat >= std::chrono::seconds(1)) {
             *beat = now;
@@ -163,6 +160,25 @@ DashboardServer::~DashboardServer() { stop(); }
 
 void DashboardServer::set_replay_control(std::function<nlohmann::json(const nlohmann::json&)> control) {
   replay_control_ = std::move(control);
+}
+
+std::shared_ptr<const std::string> DashboardServer::message_for(std::uint64_t since, bool first, std::uint64_t& version) {
+  std::lock_guard<std::mutex> lock(cache_mutex_);
+  const std::uint64_t now = state_.version();
+  auto& cached = cache_[{first, since}];
+  if (!cached.text || cached.picture_version != now) {
+    const nlohmann::json message = first ? state_.snapshot() : state_.delta(since);
+    cached.picture_version = now;
+    cached.version = message["version"].get<std::uint64_t>();
+    cached.text = std::make_shared<const std::string>("event: " + message["type"].get<std::string>() + "\ndata: " + message.dump() +
+                                                      "\n\n");
+  }
+  // Old entries (streams long past them) go: the cache holds a few versions, not a history.
+  for (auto it = cache_.begin(); it != cache_.end();) {
+    it = it->second.picture_version + 64 < now ? cache_.erase(it) : std::next(it);
+  }
+  version = cached.version;
+  return cached.text;
 }
 
 bool DashboardServer::authorised(const std::string& header) const {

@@ -13,6 +13,8 @@
 // Bad requests get a 4xx and a JSON {"error": ...}; nothing a client sends stops the server.
 #include <atomic>
 #include <functional>
+#include <map>
+#include <mutex>
 #include <memory>
 #include <string>
 #include <thread>
@@ -60,6 +62,10 @@ class DashboardServer {
 
  private:
   bool authorised(const std::string& header) const;
+  /// The event-stream message for a stream at version `since` (0: a first snapshot): made once
+  /// per picture version and shared by every stream at the same point, so that 50 open pages
+  /// cost one serialization, not 50.
+  std::shared_ptr<const std::string> message_for(std::uint64_t since, bool first, std::uint64_t& version);
 
   DashboardServerConfig config_;
   PictureState& state_;
@@ -69,6 +75,13 @@ class DashboardServer {
   std::thread thread_;
   std::atomic<bool> stopping_{false};
   std::atomic<int> streams_{0};
+  std::mutex cache_mutex_;
+  struct Cached {
+    std::uint64_t picture_version = 0;  // the picture it was made from
+    std::uint64_t version = 0;          // the version it brings a stream to
+    std::shared_ptr<const std::string> text;
+  };
+  std::map<std::pair<bool, std::uint64_t>, Cached> cache_;  // (first, since) -> message
   int port_ = 0;
 };
 
