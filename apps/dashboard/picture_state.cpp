@@ -1,6 +1,7 @@
 #include "picture_state.hpp"
 
-#include <Eigen/Eigenvalues>
+#include "sarloc/core/common/gaussian.hpp"
+
 #include <cmath>
 #include <cstdio>
 
@@ -9,8 +10,6 @@ namespace sarloc::dashboard {
 using nlohmann::json;
 
 namespace {
-
-constexpr double kChi2_2dof_95 = 5.991464547107979;
 
 double system_wall_s() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
@@ -53,10 +52,6 @@ const char* source_name(responder::PositionSource s) {
 // Positions to the centimetre on the wire: what a map shows, a third of the bytes.
 double cm(double metres) { return std::round(metres * 100.0) / 100.0; }
 
-double radius95(const Mat3& c) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> e(c.topLeftCorner<2, 2>());
-  return std::sqrt(kChi2_2dof_95 * std::max(0.0, e.eigenvalues()(1)));
-}
 
 }  // namespace
 
@@ -235,7 +230,7 @@ json PictureState::victim_json(const incident::FusedVictim& v) const {
           {"y", v.position.position.y()},
           {"z", v.position.position.z()},
           {"cov", {c(0, 0), c(0, 1), c(1, 1)}},
-          {"radius95_m", radius95(c)},
+          {"radius95_m", radius95_2d(c)},
           {"floor", v.floor},
           {"located_ns", v.located_at},
           {"found_ns", v.found_at},

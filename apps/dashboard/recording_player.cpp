@@ -4,8 +4,10 @@
 #include <chrono>
 #include <cmath>
 
+#include "sarloc/core/common/errors.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/raw_topic_type.hpp"
+#include "sarloc/dds/replayer.hpp"
 #include "sarloc/dds/topics.hpp"
 #include "sarloc/recording/mcap_reader.hpp"
 
@@ -39,10 +41,11 @@ RecordingPlayer::RecordingPlayer(const std::string& path) {
   visitor.on_metadata = [&](const recording::Metadata& m) {
     if (m.name != "sarloc.recording") return;
     try {
-      if (m.values.count("epoch_ns")) epoch_ns_ = std::stoll(m.values.at("epoch_ns"));
-      if (m.values.count("speedup")) speedup_ = std::stod(m.values.at("speedup"));
-    } catch (const std::exception&) {
-      damage_ += "the recording's epoch_ns/speedup do not parse; ";
+      const auto timeline = dds::timeline_of(m.values);
+      epoch_ns_ = timeline.epoch_ns;
+      speedup_ = timeline.speedup;
+    } catch (const ConfigError& error) {
+      damage_ += std::string(error.what()) + "; ";
     }
   };
   visitor.on_message = [&](const recording::Message& m) {
@@ -54,7 +57,6 @@ RecordingPlayer::RecordingPlayer(const std::string& path) {
   damage_ += result.damage;
   // Recorded in arrival order, which the log times follow but for a few microseconds.
   std::stable_sort(samples_.begin(), samples_.end(), [](const Sample& a, const Sample& b) { return a.log_ns < b.log_ns; });
-  if (!(speedup_ > 0.0) || !std::isfinite(speedup_)) speedup_ = 1.0;
   if (!samples_.empty()) {
     first_log_ns_ = samples_.front().log_ns;
     last_log_ns_ = samples_.back().log_ns;

@@ -2,7 +2,6 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -12,15 +11,13 @@
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/raw_topic_type.hpp"
+#include "sarloc/dds/replayer.hpp"
 #include "sarloc/dds/topic_catalog.hpp"
 #include "sarloc/dds/topics.hpp"
 
 namespace sarloc::report {
 
 namespace {
-
-// chi-square quantile, 2 degrees of freedom, 95 %.
-constexpr double kChi2_2dof_95 = 5.991464547107979;
 
 std::string fmt1(double v) {
   char buffer[32];
@@ -105,14 +102,13 @@ class Loader {
   }
 
   void set_epoch_from_metadata() {
-    auto& md = r_.recording_metadata;
     try {
-      if (md.count("epoch_ns")) r_.epoch_ns = std::stoll(md["epoch_ns"]);
-      if (md.count("speedup")) r_.speedup = std::stod(md["speedup"]);
-    } catch (const std::exception&) {
+      const auto timeline = dds::timeline_of(r_.recording_metadata);
+      r_.epoch_ns = timeline.epoch_ns;
+      r_.speedup = timeline.speedup;
+    } catch (const ConfigError&) {
       r_.notes.push_back("the recording's epoch_ns/speedup metadata do not parse: times count from its first message");
     }
-    if (!(r_.speedup > 0.0) || !std::isfinite(r_.speedup)) r_.speedup = 1.0;
   }
 
  private:
@@ -170,7 +166,7 @@ class Loader {
       h.found_s = stamp_to_mission(v.found_at);
       r_.events.push_back({*h.found_s, "victim", "victim " + std::to_string(v.victim_id) + " FOUND at (" +
                                                      fmt1(v.position.position.x()) + ", " + fmt1(v.position.position.y()) +
-                                                     "), 95 % radius " + fmt1(radius95_m(v.position.covariance)) + " m"});
+                                                     "), 95 % radius " + fmt1(radius95_2d(v.position.covariance)) + " m"});
     }
     if (v.evidence_conflict && !h.evidence_conflict) {
       r_.events.push_back({stamp_to_mission(v.last_update), "victim",
@@ -403,11 +399,6 @@ Eigen::Vector2d PlacedBuilding::to_incident(const Eigen::Vector2d& p) const {
   return origin + Eigen::Vector2d(c * p.x() - s * p.y(), s * p.x() + c * p.y());
 }
 
-double radius95_m(const Mat3& covariance) {
-  const Eigen::Matrix2d horizontal = covariance.topLeftCorner<2, 2>();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(horizontal);
-  return std::sqrt(kChi2_2dof_95 * std::max(0.0, eigen.eigenvalues()(1)));
-}
 
 MissionRecord load_mission_record(const std::string& path, const std::function<void(std::uint64_t, std::uint64_t)>& on_progress) {
   MissionRecord record;

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "sarloc/core/common/gaussian.hpp"
 #include "sarloc/core/common/types.hpp"
 #include "sarloc/core/firefighter/floor_plan.hpp"
 #include "sarloc/core/incident/fused_victim.hpp"
@@ -101,8 +102,5 @@ struct MissionRecord {
 /// file gives what could be read (record.read.damage says what could not).
 MissionRecord load_mission_record(const std::string& path,
                                   const std::function<void(std::uint64_t, std::uint64_t)>& on_progress = {});
-
-/// Horizontal 95 % radius of a position's covariance (largest axis of the 2-D ellipse).
-double radius95_m(const Mat3& covariance);
 
 }  // namespace sarloc::report

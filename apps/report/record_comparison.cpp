@@ -29,7 +29,7 @@ RecordComparison compare_records(const MissionRecord& here, const MissionRecord&
     const auto& mine = v.samples.back();
     pair.state_here = mine.state;
     pair.found_here_s = v.found_s;
-    pair.radius_here_m = radius95_m(mine.position.covariance);
+    pair.radius_here_m = radius95_2d(mine.position.covariance);
     pair.distance_m = std::numeric_limits<double>::infinity();
     for (const auto& [other_id, o] : there.victims) {
       if (o.samples.empty()) continue;
@@ -39,7 +39,7 @@ RecordComparison compare_records(const MissionRecord& here, const MissionRecord&
         pair.there = other_id;
         pair.state_there = o.samples.back().state;
         pair.found_there_s = o.found_s;
-        pair.radius_there_m = radius95_m(o.samples.back().position.covariance);
+        pair.radius_there_m = radius95_2d(o.samples.back().position.covariance);
       }
     }
     if (pair.there != 0) paired.insert(pair.there);

@@ -238,7 +238,7 @@ std::string victims_table(const MissionRecord& r) {
     for (const auto& s : v.sources) sources += (sources.empty() ? "" : ", ") + s;
     html += "<tr><td>" + std::to_string(id) + (v.evidence_conflict ? " <b class=\"warn\">conflict</b>" : "") +
             "</td><td style=\"color:" + state_colour(last.state) + "\">" + state_text(last.state) + "</td><td>" + opt(v.located_s) +
-            "</td><td>" + opt(v.found_s) + "</td><td>" + f(radius95_m(last.position.covariance), 2) + "</td><td>" +
+            "</td><td>" + opt(v.found_s) + "</td><td>" + f(radius95_2d(last.position.covariance), 2) + "</td><td>" +
             f(last.position.position.x()) + ", " + f(last.position.position.y()) + ", " + f(last.position.position.z()) + "</td><td>" +
             (truth ? escape_html(truth->name) : "—") + "</td><td>" + (truth ? f(error, 2) : "—") + "</td><td>" +
             escape_html(sources) + "</td></tr>\n";

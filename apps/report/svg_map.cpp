@@ -1,5 +1,7 @@
 #include "svg_map.hpp"
 
+#include "sarloc/core/common/gaussian.hpp"
+
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -9,7 +11,6 @@ namespace sarloc::report {
 
 namespace {
 
-constexpr double kChi2_2dof_95 = 5.991464547107979;
 constexpr double kTitle_px = 22.0;
 
 std::string num(double v) {
@@ -76,8 +77,8 @@ void SvgMap::dot(const Eigen::Vector2d& p, double radius_px, const std::string& 
 void SvgMap::ellipse95(const Eigen::Vector2d& centre, const Eigen::Matrix2d& covariance, const std::string& colour,
                        double opacity, bool filled) {
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(covariance);
-  const double a = std::sqrt(kChi2_2dof_95 * std::max(0.0, eigen.eigenvalues()(1))) * scale_;
-  const double b = std::sqrt(kChi2_2dof_95 * std::max(0.0, eigen.eigenvalues()(0))) * scale_;
+  const double a = std::sqrt(kChi2_2_95 * std::max(0.0, eigen.eigenvalues()(1))) * scale_;
+  const double b = std::sqrt(kChi2_2_95 * std::max(0.0, eigen.eigenvalues()(0))) * scale_;
   const Eigen::Vector2d major = eigen.eigenvectors().col(1);
   // SVG's y points down: the angle flips sign.
   const double angle_deg = -std::atan2(major.y(), major.x()) * 180.0 / M_PI;

@@ -1,9 +1,6 @@
 #include "sarloc/dds/recorder.hpp"
 
-#include <fastdds/dds/subscriber/DataReaderListener.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
-#include <fastdds/dds/subscriber/Subscriber.hpp>
-#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -18,6 +15,7 @@
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/dds/dds_error.hpp"
 #include "sarloc/dds/idl_schemas.hpp"
+#include "sarloc/dds/mission_clock.hpp"
 #include "sarloc/dds/raw_topic_readers.hpp"
 #include "sarloc/dds/raw_topic_type.hpp"
 #include "sarloc/dds/topic_catalog.hpp"
@@ -26,7 +24,6 @@
 namespace sarloc::dds {
 
 namespace fdds = eprosima::fastdds::dds;
-using eprosima::fastrtps::types::ReturnCode_t;
 
 namespace {
 
@@ -50,10 +47,6 @@ std::uint64_t to_ns(const eprosima::fastrtps::rtps::Time_t& time) {
   return ns > 0 ? static_cast<std::uint64_t>(ns) : 0;
 }
 
-std::uint64_t now_ns() {
-  return static_cast<std::uint64_t>(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
-}
 
 
 
@@ -120,7 +113,7 @@ Recorder::Recorder(std::shared_ptr<Participant> participant, RecorderConfig conf
     item.sequence = static_cast<std::uint32_t>(info.sample_identity.sequence_number().to64long());
     item.publish_time_ns = to_ns(info.source_timestamp);
     item.log_time_ns = to_ns(info.reception_timestamp);
-    if (item.log_time_ns == 0) item.log_time_ns = now_ns();
+    if (item.log_time_ns == 0) item.log_time_ns = static_cast<std::uint64_t>(MissionClock::wall_now_ns());
     for (std::size_t i = 0; i < item.participant.size(); ++i) item.participant[i] = info.publication_handle.value[i];
     item.bytes = std::move(sample.bytes);
     enqueue(std::move(item));
@@ -263,7 +256,7 @@ void Recorder::writer_loop() {
                                 {"rejected", c.rejected}, {"incompatible_qos", c.incompatible_qos}};
     }
     const std::string text = status.dump();
-    const std::uint64_t now = now_ns();
+    const auto now = static_cast<std::uint64_t>(MissionClock::wall_now_ns());
     writer->write(status_channel, 0, now, now, reinterpret_cast<const std::uint8_t*>(text.data()), text.size());
   };
   auto finish = [&] {

@@ -45,6 +45,18 @@ void ReplayConfig::validate() const {
   }
 }
 
+RecordedTimeline timeline_of(const recording::StringMap& metadata) {
+  RecordedTimeline timeline;
+  try {
+    if (metadata.count("epoch_ns")) timeline.epoch_ns = std::stoll(metadata.at("epoch_ns"));
+    if (metadata.count("speedup")) timeline.speedup = std::stod(metadata.at("speedup"));
+  } catch (const std::exception&) {
+    throw ConfigError("the recording's epoch_ns/speedup metadata do not parse");
+  }
+  if (!(timeline.speedup > 0.0) || !std::isfinite(timeline.speedup)) timeline.speedup = 1.0;
+  return timeline;
+}
+
 RecordedTimeline recorded_timeline(const std::string& recording) {
   RecordedTimeline timeline;
   std::uint64_t first = 0;
@@ -52,10 +64,9 @@ RecordedTimeline recorded_timeline(const std::string& recording) {
   visitor.on_metadata = [&](const recording::Metadata& m) {
     if (m.name != "sarloc.recording") return;
     try {
-      if (m.values.count("epoch_ns")) timeline.epoch_ns = std::stoll(m.values.at("epoch_ns"));
-      if (m.values.count("speedup")) timeline.speedup = std::stod(m.values.at("speedup"));
-    } catch (const std::exception&) {
-      throw ConfigError("recording '" + recording + "': its epoch_ns/speedup metadata do not parse");
+      timeline = timeline_of(m.values);
+    } catch (const ConfigError& error) {
+      throw ConfigError("recording '" + recording + "': " + error.what());
     }
   };
   visitor.on_message = [&](const recording::Message& m) {
@@ -63,7 +74,6 @@ RecordedTimeline recorded_timeline(const std::string& recording) {
   };
   recording::read_mcap(recording, visitor);
   if (timeline.epoch_ns == 0) timeline.epoch_ns = static_cast<std::int64_t>(first);
-  if (!(timeline.speedup > 0.0) || !std::isfinite(timeline.speedup)) timeline.speedup = 1.0;
   return timeline;
 }
 

@@ -174,7 +174,7 @@ TEST(MissionRecord, ReadsTracksVictimsAndEveryKindOfEventFromARecording) {
   EXPECT_DOUBLE_EQ(*v.found_s, 40.0);
   ASSERT_EQ(r.truth_victims.size(), 1u);
   EXPECT_NEAR((r.truth_victims[0].position - v.samples.back().position.position).norm(), 0.5, 1e-9);
-  EXPECT_NEAR(radius95_m(v.samples.back().position.covariance), std::sqrt(5.991464547107979 * 0.04), 1e-9);
+  EXPECT_NEAR(radius95_2d(v.samples.back().position.covariance), std::sqrt(5.991464547107979 * 0.04), 1e-9);
   ASSERT_EQ(r.responders.at("r1").samples.size(), 51u);
   EXPECT_FALSE(r.responders.at("r1").firefighter);
   EXPECT_TRUE(r.responders.at("ff1").firefighter);

@@ -54,6 +54,9 @@ struct RecordedTimeline {
   double speedup = 1.0;
 };
 RecordedTimeline recorded_timeline(const std::string& recording);
+/// The same from a "sarloc.recording" metadata record's values (epoch 0 when it has none; a
+/// speedup that is not a positive number is 1). Throws ConfigError when a value does not parse.
+RecordedTimeline timeline_of(const recording::StringMap& metadata);
 
 class Replayer {
  public:
