@@ -1,5 +1,6 @@
 #include "eval_config.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "sarloc/app/avalanche_yaml.hpp"
@@ -188,6 +189,20 @@ void load_firefighter_config(const std::string& path, firefighter::FirefighterEv
 void load_firefighter_config_text(const std::string& text, const std::string& name,
                                   firefighter::FirefighterEvalConfig& config) {
   load_firefighter(YamlReader::from_string(text, name), config);
+}
+
+avalanche::MultiBurialSetup multi_burial_setup(const avalanche::EvaluationSetup& base, std::uint32_t victims,
+                                               double spread_m, std::uint32_t trials) {
+  avalanche::MultiBurialSetup setup;
+  setup.victims = victims;
+  setup.spread_m = spread_m;
+  setup.simulation = base.simulation;  // multi_burial refuses the ideal receiver, naming the key
+  setup.rescuer.sog = base.sog;
+  setup.rescuer.search = base.search;
+  setup.evaluation = base.evaluation;
+  setup.evaluation.trials = trials;
+  setup.evaluation.step_budget = std::max<std::uint32_t>(base.evaluation.step_budget, 200 * victims);
+  return setup;
 }
 
 void load_avalanche_config(const std::string& path, avalanche::EvaluationSetup& setup) {

@@ -75,6 +75,7 @@ void print_table(const av::EvaluationSummary& s, unsigned threads) {
   std::printf("%-28s %10u   (error > stated 95 %% radius + %.1f m)\n", "False FOUND", s.false_found,
               av::kFalseFoundMarginM);
   std::printf("%-28s %10u\n", "Ended by probe pattern", s.found_by_probe_pattern);
+  std::printf("%-28s %10u   (signal lost while wide: primary line walked again)\n", "Re-planned", s.resumed_line);
   std::printf("%-28s median %.3f  p95 %.3f\n", "ms per filter step", s.ms_per_step_median,
               s.ms_per_step_p95);
   std::printf("%-28s mean %.3f  95%% bounds [%.3f, %.3f] over %u trials  %s\n",
@@ -292,14 +293,10 @@ int main(int argc, char** argv) {
     av::EvaluationSetup base;
     try {
       if (!multi_config.empty()) sarloc::eval::load_avalanche_config(multi_config, base);
-      multi_setup.simulation = base.simulation;
-      multi_setup.simulation.receiver.kind = av::ReceiverKind::kRealistic;
-      multi_setup.rescuer.sog = base.sog;
-      multi_setup.rescuer.search = base.search;
+      const double period_spread = multi_setup.period_spread;
+      multi_setup = sarloc::eval::multi_burial_setup(base, multi_setup.victims, multi_setup.spread_m, multi_trials.value_or(100));
+      multi_setup.period_spread = period_spread;
       multi_setup.rescuer.found_witness_window_s = found_witness_window_s;
-      multi_setup.evaluation = base.evaluation;
-      multi_setup.evaluation.trials = multi_trials.value_or(100);
-      multi_setup.evaluation.step_budget = std::max<std::uint32_t>(base.evaluation.step_budget, 200 * multi_setup.victims);
       if (multi_seed) multi_setup.evaluation.seed = *multi_seed;
       multi_setup.validate();
     } catch (const sarloc::Error& e) {
@@ -322,7 +319,6 @@ int main(int argc, char** argv) {
       bar.finish();
       // The reference: one victim at a time, same configuration, seed and number of trials.
       av::EvaluationSetup one = base;
-      one.simulation.receiver.kind = av::ReceiverKind::kRealistic;
       one.evaluation = multi_setup.evaluation;
       one.evaluation.step_budget = base.evaluation.step_budget;
       single = av::run_evaluation(one, {}, [] { return sarloc::app::shutdown_requested(); });

@@ -41,6 +41,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainBenchRecorder = 163,  // sarloc-bench-recorder's default --domain
   kDomainReplayer = 164,
   kDomainMissionDashboard = 165,  // tests/integration/mission/dashboard.yaml names it too
+  kDomainAccuracyDefaultMission = 166,  // tests/accuracy: config/missions/default.yaml
   kDomainMissionSmall = 130,  // mission_test: 130..139, and:
   kDomainMissionCommandKill = 134,
   kDomainMissionCommandRestart = 136,

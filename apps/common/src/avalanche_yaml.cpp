@@ -29,6 +29,7 @@ void read_receiver(YamlReader r, avalanche::ReceiverModelConfig& c) {
   r.read("sample_rate_hz", c.sample_rate_hz);
   r.read("two_tone_span_hz", c.two_tone_span_hz);
   r.read("same_carrier_pairs", c.same_carrier_pairs);
+  r.read("continuous_listening", c.continuous_listening);
   r.expect_done();
 }
 
@@ -125,6 +126,7 @@ void read_search(YamlReader r, avalanche::SearchConfig& c) {
   c.opening_heading = avalanche::parse_opening_heading(opening);
   r.read("opening_line_samples", c.opening_line_samples);
   r.read("coast_return_m", c.coast_return_m);
+  r.read("lost_signal_steps", c.lost_signal_steps);
   r.read("bearing_kernel_deg", c.bearing_kernel_deg);
   r.read("bearing_switch_ratio", c.bearing_switch_ratio);
   r.read("lookahead_hypotheses", c.lookahead.hypotheses);
@@ -154,6 +156,23 @@ void read_rescuer_search(YamlReader r, avalanche::RescuerSearchConfig& c) {
   r.read("found_witness_gate_probability", c.found_witness_gate_probability);
   r.read("found_witness_radius_factor", c.found_witness_radius_factor);
   r.expect_done();
+}
+
+std::map<std::string, std::string> avalanche_parameters(const avalanche::SimulationConfig& simulation,
+                                                        const avalanche::SogConfig& sog,
+                                                        const avalanche::SearchConfig& search) {
+  // Reading an empty document changes nothing and records every key's current value.
+  YamlReader::ValueRecorder recorder;
+  auto empty = YamlReader::from_string("", "parameters");
+  auto sim = simulation;
+  auto filter = sog;
+  auto control = search;
+  read_simulation(empty.child("simulation"), sim);
+  read_sog(empty.child("sog"), filter);
+  read_search(empty.child("search"), control);
+  std::map<std::string, std::string> out;
+  for (const auto& [key, value] : recorder.values()) out[key] = value.text;
+  return out;
 }
 
 }  // namespace sarloc::app

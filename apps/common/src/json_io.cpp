@@ -153,6 +153,7 @@ nlohmann::json to_json(const avalanche::EvaluationSummary& s) {
   j["receiver"] = s.receiver;
   j["false_found"] = s.false_found;
   j["found_by_probe_pattern"] = s.found_by_probe_pattern;
+  j["resumed_line"] = s.resumed_line;
   j["ms_per_step"] = {{"median", s.ms_per_step_median}, {"p95", s.ms_per_step_p95}};
   j["nees"] = {{"mean", s.nees_mean},
                {"fraction_inside_95", s.nees_fraction_inside_95},
@@ -181,7 +182,8 @@ nlohmann::json to_json(const avalanche::EvaluationSummary& s) {
                       {"radius95_m", t.radius95_m},
                       {"false_found", t.false_found},
                       {"probe_points", t.probe_points},
-                      {"found_by_probe_pattern", t.found_by_probe_pattern}});
+                      {"found_by_probe_pattern", t.found_by_probe_pattern},
+                      {"line_resumptions", t.line_resumptions}});
   }
   j["per_trial"] = trials;
   return j;

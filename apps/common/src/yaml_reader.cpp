@@ -47,10 +47,41 @@ YamlReader::YamlReader(YAML::Node node, std::string path, std::string source)
 
 namespace {
 thread_local std::set<std::string>* key_recorder = nullptr;
+thread_local std::map<std::string, YamlReader::ValueRecorder::Value>* value_recorder = nullptr;
+
+// Shortest text that reads back to the same double: equal values show equal text.
+std::string shown(double v) {
+  std::ostringstream out;
+  out.precision(17);
+  out << v;
+  return out.str();
+}
+std::string shown(bool v) { return v ? "true" : "false"; }
+template <class Int>
+std::string shown(Int v) {
+  return std::to_string(v);
+}
+std::string shown(const std::string& v) { return v; }
+template <class T>
+std::string shown_list(const T& values) {
+  std::string out = "[";
+  for (std::size_t i = 0; i < static_cast<std::size_t>(values.size()); ++i) out += (i ? ", " : "") + shown(values[i]);
+  return out + "]";
+}
 }  // namespace
 
 YamlReader::KeyRecorder::KeyRecorder() : previous_(key_recorder) { key_recorder = &keys_; }
 YamlReader::KeyRecorder::~KeyRecorder() { key_recorder = previous_; }
+
+YamlReader::ValueRecorder::ValueRecorder() : previous_(value_recorder) { value_recorder = &values_; }
+YamlReader::ValueRecorder::~ValueRecorder() { value_recorder = previous_; }
+
+void YamlReader::note(const std::string& key, const std::string& text) const {
+  if (value_recorder == nullptr) return;
+  auto& v = (*value_recorder)[key_path(key)];
+  v.text = text;
+  v.written = consumed_->count(key) != 0;
+}
 
 bool YamlReader::has(const std::string& key) const {
   if (key_recorder != nullptr) {
@@ -76,7 +107,7 @@ YAML::Node YamlReader::lookup(const std::string& key) {
 
 template <>
 void YamlReader::read<bool>(const std::string& key, bool& value) {
-  if (!has(key)) return;
+  if (!has(key)) return note(key, shown(value));
   const YAML::Node n = lookup(key);
   if (!n.IsScalar()) fail(key, "= " + scalar_text(n) + ": expected true or false");
   const std::string& s = n.Scalar();
@@ -87,6 +118,7 @@ void YamlReader::read<bool>(const std::string& key, bool& value) {
   } else {
     fail(key, "= " + scalar_text(n) + ": expected true or false");
   }
+  note(key, shown(value));
 }
 
 namespace {
@@ -118,12 +150,13 @@ bool parse_integer(const std::string& text, Int& out) {
 #define SARLOC_YAML_INTEGER(Type, what)                                            \
   template <>                                                                      \
   void YamlReader::read<Type>(const std::string& key, Type& value) {               \
-    if (!has(key)) return;                                                         \
+    if (!has(key)) return note(key, shown(value));                                 \
     const YAML::Node n = lookup(key);                                              \
     Type parsed{};                                                                 \
     if (!n.IsScalar() || !parse_integer(n.Scalar(), parsed))                       \
       fail(key, "= " + scalar_text(n) + ": expected " what);                       \
     value = parsed;                                                                \
+    note(key, shown(value));                                                       \
   }
 SARLOC_YAML_INTEGER(int, "an integer")
 SARLOC_YAML_INTEGER(unsigned, "a non-negative integer")
@@ -149,24 +182,26 @@ bool parse_finite_double(const YAML::Node& n, double& out) {
 
 template <>
 void YamlReader::read<double>(const std::string& key, double& value) {
-  if (!has(key)) return;
+  if (!has(key)) return note(key, shown(value));
   const YAML::Node n = lookup(key);
   double parsed = 0.0;
   if (!parse_finite_double(n, parsed)) fail(key, "= " + scalar_text(n) + ": expected a finite number");
   value = parsed;
+  note(key, shown(value));
 }
 
 template <>
 void YamlReader::read<std::string>(const std::string& key, std::string& value) {
-  if (!has(key)) return;
+  if (!has(key)) return note(key, value);
   const YAML::Node n = lookup(key);
   if (!n.IsScalar()) fail(key, "= " + scalar_text(n) + ": expected a string");
   value = n.Scalar();
+  note(key, value);
 }
 
 template <>
 void YamlReader::read<std::vector<double>>(const std::string& key, std::vector<double>& value) {
-  if (!has(key)) return;
+  if (!has(key)) return note(key, shown_list(value));
   const YAML::Node n = lookup(key);
   if (!n.IsSequence()) fail(key, "= " + scalar_text(n) + ": expected a list of numbers");
   std::vector<double> parsed;
@@ -178,11 +213,12 @@ void YamlReader::read<std::vector<double>>(const std::string& key, std::vector<d
     parsed.push_back(v);
   }
   value = std::move(parsed);
+  note(key, shown_list(value));
 }
 
 template <>
 void YamlReader::read<std::vector<std::string>>(const std::string& key, std::vector<std::string>& value) {
-  if (!has(key)) return;
+  if (!has(key)) return note(key, shown_list(value));
   const YAML::Node n = lookup(key);
   if (!n.IsSequence()) fail(key, "= " + scalar_text(n) + ": expected a list of strings");
   std::vector<std::string> parsed;
@@ -191,15 +227,17 @@ void YamlReader::read<std::vector<std::string>>(const std::string& key, std::vec
     parsed.push_back(n[i].Scalar());
   }
   value = std::move(parsed);
+  note(key, shown_list(value));
 }
 
 template <>
 void YamlReader::read<Eigen::Vector3d>(const std::string& key, Eigen::Vector3d& value) {
   std::vector<double> v;
-  if (!has(key)) return;
+  if (!has(key)) return note(key, shown_list(value));
   read(key, v);
   if (v.size() != 3) fail(key, "has " + std::to_string(v.size()) + " numbers: expected [x, y, z]");
   value = Eigen::Vector3d(v[0], v[1], v[2]);
+  note(key, shown_list(value));
 }
 
 YamlReader YamlReader::child(const std::string& key) {

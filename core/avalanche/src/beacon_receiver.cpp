@@ -42,6 +42,7 @@ BeaconReceiver::BeaconReceiver(SimulationConfig config, std::uint64_t seed)
       pulse_noise_(axis_noise_floor(config_.receiver, config_.field_noise_floor_A_per_m)),
       oscillator_offset_hz_(draw_oscillator_offset_hz(config_.receiver, seed)),
       k_(wavenumber(config_.receiver)),
+      lead_s_(config_.receiver.continuous_listening ? 1e-3 * config_.receiver.on_time_max_ms + 0.05 : 0.0),
       separator_(separator_config(config_)) {}
 
 Listening BeaconReceiver::listen(const ReceiverPose& pose, const std::vector<Beacon>& beacons, double t0_s,
@@ -56,7 +57,7 @@ Listening BeaconReceiver::listen(const ReceiverPose& pose, const std::vector<Bea
     Vec3c h_device = r_world.transpose().cast<std::complex<double>>() * h_world;
     ideal[b] = h_device.real();
     const double magnitude = h_device.norm();
-    for (double start : beacon.timing.starts_in(t0_s, t0_s + duration_s)) {
+    for (double start : beacon.timing.starts_in(t0_s - lead_s_, t0_s + duration_s)) {
       // Pulse-to-pulse fluctuation in phase with the pulse (5 % of |H| per axis, as the ideal
       // receiver's), the device's gains, then the carrier phase of this pulse.
       const Vec3 fluctuation = config_.field_noise_relative * magnitude * normal3(rng_);
@@ -71,8 +72,13 @@ Listening BeaconReceiver::listen(const ReceiverPose& pose, const std::vector<Bea
       pulses.push_back(p);
     }
   }
-  const BasebandWindow window =
-      synthesize(pulses, t0_s, duration_s, config_.receiver.sample_rate_hz, pulse_noise_, rng_);
+  // The device listens without gaps: each window begins with the end of the previous one, so a
+  // pulse crossing from one into the next is heard whole (BasebandWindow::lead_s). Windows cut
+  // apart lost every pulse of a transmitter whose period was within a few ms of the window's,
+  // for minutes: a victim 4 m away never heard (seed 20, trial 36).
+  BasebandWindow window =
+      synthesize(pulses, t0_s - lead_s_, duration_s + lead_s_, config_.receiver.sample_rate_hz, pulse_noise_, rng_);
+  window.lead_s = lead_s_;
   Listening out;
   out.report = separator_.process(window);
   // Truth of each detected pulse: the incoming pulses on its carrier that overlap it, by energy

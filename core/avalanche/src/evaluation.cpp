@@ -175,6 +175,7 @@ TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index,
     }
     filter->add_odometry(sim.walk(g.bearing_rad, g.step_m));
   }
+  tr.line_resumptions = ctl.line_resumptions();
   tr.wrong_attributions = sim.wrong_attributions();
   tr.spurious_signals = signals.empty() ? 0 : static_cast<std::uint32_t>(signals.size() - 1);
   return tr;
@@ -212,6 +213,7 @@ EvaluationSummary run_evaluation(const EvaluationSetup& setup,
     if (r.error_m > 1.0) ++s.errors_over_1m;
     if (r.false_found) ++s.false_found;
     if (r.found_by_probe_pattern) ++s.found_by_probe_pattern;
+    if (r.line_resumptions > 0) ++s.resumed_line;
     ms.insert(ms.end(), r.step_ms.begin(), r.step_ms.end());
     if (!r.nees.empty()) {
       trial_nees.push_back(std::accumulate(r.nees.begin(), r.nees.end(), 0.0) /

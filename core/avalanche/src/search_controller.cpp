@@ -68,6 +68,7 @@ void SearchConfig::validate() const {
   check("flux_smoothing", flux_smoothing, 0.0, 0.99, false);
   check("opening_line_samples", opening_line_samples, 0.0, 100.0, false);
   check("coast_return_m", coast_return_m, 1.0, 1000.0, false);
+  check("lost_signal_steps", lost_signal_steps, 0.0, 1000.0, false);
   check("flux_snr_cap", flux_snr_cap, 0.0, 1000.0, true);
   check("flux_detection_snr2", flux_detection_snr2, 0.0, 100.0, false);
   check("bearing_kernel_deg", bearing_kernel_deg, 0.0, 180.0, true);
@@ -178,6 +179,14 @@ Guidance SearchController::guide(const TransmitterFilter& filter, const FieldMea
   g.signal_id = meas.signal_id;
   g.stamp = meas.stamp;
   returning_ = false;
+  if (resuming_line_) {
+    // Heard again on the primary line: the opening search starts over from here.
+    resuming_line_ = false;
+    mode_ = GuidanceMode::kOpening;
+    opening_samples_ = 0;
+    initial_r95h_.reset();
+    opening_heading_.reset();
+  }
   recent_gaps_[gap_slot_++ % recent_gaps_.size()] = coasts_since_sample_;
   coasts_since_sample_ = 0;
   if (!filter.initialised()) {
@@ -193,6 +202,7 @@ Guidance SearchController::guide(const TransmitterFilter& filter, const FieldMea
   const Eigen::Vector2d mean_h = mean.head<2>();
   const double dist = mean_h.norm();
   const double r95_h = radius95_2d(cov);
+  if (!primary_heading_) primary_heading_ = yaw;  // the rescuer was walking the primary search's line
   g.distance_m = dist;
   g.uncertainty_radius_m = r95_h;
 
@@ -379,6 +389,21 @@ Guidance SearchController::coast(const TransmitterFilter& filter) {
     ++confirm_waits_;
     g.bearing_rad = wrap_angle(g.heading_rad - mm.mean[idx::kAtt + 2]);
     g.step_m = 0.0;
+    return g;
+  }
+  const double yaw = mm.mean[idx::kAtt + 2];
+  const bool wide = radius95_3d(mm.covariance.block<3, 3>(idx::kPos, idx::kPos)) > filter.converged_radius_m();
+  if (config_.lost_signal_steps > 0 && primary_heading_ && wide && !resuming_line_ &&
+      coasts_since_sample_ >= config_.lost_signal_steps) {
+    resuming_line_ = true;
+    returning_ = false;
+    ++line_resumptions_;
+  }
+  if (resuming_line_) {
+    g.mode = GuidanceMode::kOpening;
+    g.heading_rad = *primary_heading_;
+    g.bearing_rad = wrap_angle(*primary_heading_ - yaw);
+    g.step_m = config_.step_length_m;
     return g;
   }
   const Vec3 heard = filter.predicted_last_measurement_position();

@@ -408,7 +408,6 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
   std::vector<double> carriers;
   for (const auto& t : tracks_) carriers.push_back(t.carrier_hz);
   r.pulses = detect_pulses(window, config_.detector, carriers);
-  r.attributed.assign(r.pulses.size(), std::nullopt);
   const double window_end = window.time(window.size());
   // A start found within its own uncertainty of the window's start may be the window's: the
   // pulse may have begun before it (seen: the last 44 ms of a pulse, found 2 ms after the window
@@ -418,6 +417,15 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
   // every window's end, and only such a pulse's start, which is its own, lets a track begin.
   for (auto& p : r.pulses)
     if (p.start_s - window.t0_s < config_.timing_gate_sigmas * edge_sigma(p)) p.truncated_start = true;
+  if (window.lead_s > 0.0) {
+    // A window that begins with the end of the previous one: a pulse that ended there was heard
+    // then, and one still on at this window's end is heard whole in the next.
+    const double heard_before = window.new_from_s() + 0.5 / window.sample_rate_hz;
+    r.pulses.erase(std::remove_if(r.pulses.begin(), r.pulses.end(),
+                                  [&](const DetectedPulse& p) { return p.end_s <= heard_before || p.truncated_end; }),
+                   r.pulses.end());
+  }
+  r.attributed.assign(r.pulses.size(), std::nullopt);
   // Strongest first: a weak pulse never takes a track from a strong one.
   std::vector<std::size_t> order(r.pulses.size());
   std::iota(order.begin(), order.end(), 0);
@@ -548,12 +556,12 @@ SeparationReport SignalSeparator::process(const BasebandWindow& window) {
         continue;
       }
       bool missed = false;
-      if (const auto due = whole_pulse_due(t, window.t0_s, window_end)) {
+      if (const auto due = whole_pulse_due(t, window.new_from_s(), window_end)) {
         missed = std::none_of(r.pulses.begin(), r.pulses.end(),
                               [&](const DetectedPulse& p) { return p.end_s > due->first && p.start_s < due->second; });
       }
       if (!missed) {
-        t.quiet.add_window(window.t0_s, window_end, *t.on_time_s + config_.on_time_tolerance_s, pulse_spans,
+        t.quiet.add_window(window.new_from_s(), window_end, *t.on_time_s + config_.on_time_tolerance_s, pulse_spans,
                            config_.timing_gate_sigmas * config_.edge_sigma_s);
         missed = t.quiet.every_phase_covered(t.timing.period_s(), config_.timing_gate_sigmas * t.timing.period_sigma_s());
       }

@@ -14,6 +14,7 @@
 
 #include "support/dds_test_domains.hpp"
 #include "support/dds_test_helpers.hpp"
+#include "support/required_program.hpp"
 #include "support/sample_messages.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/raw_topic_type.hpp"
@@ -51,6 +52,7 @@ Command run(const std::string& command) {
 
 /// The independent reader's report of `path` (tests/js/check_mcap.mjs).
 json independent_report(const fs::path& path, int* exit_code = nullptr) {
+  EXPECT_TRUE(sarloc::test::has_node());
   const Command command = run("node " SARLOC_SOURCE_DIR "/tests/js/check_mcap.mjs '" + path.string() + "'");
   if (exit_code != nullptr) *exit_code = command.exit_code;
   const auto start = command.output.find('{');

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "support/dds_test_domains.hpp"
+#include "support/required_program.hpp"
 
 namespace sarloc::test {
 namespace {
@@ -251,6 +252,8 @@ TEST(Mission, OneDaemonServesAvalancheRescuersAndFirefightersAtOnce) {
 // Foxglove's IDL decoder (every topic, the counts the recorder wrote, every CRC), then the
 // report of it in headless Chromium (no console error, not blank).
 TEST(Mission, ItsRecordingReadsInAnIndependentReaderAndItsReportOpensInChromium) {
+  ASSERT_TRUE(sarloc::test::has_node());
+  ASSERT_TRUE(sarloc::test::has_chromium());
   const auto run = run_mission("mixed.yaml", kDomainMissionRecorded);
   expect_complete(run);
   ASSERT_TRUE(run.summary.contains("recording")) << run_report(run);
@@ -375,6 +378,8 @@ TEST(Mission, ReplayingItsInputsIntoFreshNodesReproducesTheRecordedPicture) {
 // the aggregator's victims and their states changing live (no reload), a killed firefighter's
 // link lost, and an alarm acknowledged with the token (refused without it).
 TEST(Mission, TheDashboardShowsTheMissionLiveInABrowser) {
+  ASSERT_TRUE(sarloc::test::has_node());
+  ASSERT_TRUE(sarloc::test::has_chromium());
   const fs::path run_dir = fs::temp_directory_path() / "sarloc-mission-test-dashboard";
   fs::remove_all(run_dir);
   fs::create_directories(run_dir);
@@ -498,7 +503,7 @@ void expect_found_without_ghosts(const MissionRun& run) {
 // 20 % of UDP datagrams dropped (docs/benchmarks.md, "Under packet loss").
 TEST(Mission, EveryVictimFoundWithTwentyPercentUdpLoss) {
   const auto run = run_degraded_mission(kDomainMissionLossy, "ISOLATED_UDP_LOSS=0.2");
-  if (run.run_dir.empty()) GTEST_SKIP() << "no ../shared/tools/isolated to make a lossy namespace";
+  ASSERT_FALSE(run.run_dir.empty()) << "no ../shared/tools/isolated to make a lossy namespace";
   expect_found_without_ghosts(run);
 }
 
@@ -506,7 +511,7 @@ TEST(Mission, EveryVictimFoundWithTwentyPercentUdpLoss) {
 // average (docs/benchmarks.md, "Under faults").
 TEST(Mission, EveryVictimFoundUnderRadioFades) {
   const auto run = run_degraded_mission(kDomainMissionFades, "ISOLATED_UDP_OUTAGE=8:4");
-  if (run.run_dir.empty()) GTEST_SKIP() << "no ../shared/tools/isolated to make a fading namespace";
+  ASSERT_FALSE(run.run_dir.empty()) << "no ../shared/tools/isolated to make a fading namespace";
   expect_found_without_ghosts(run);
 }
 

@@ -21,6 +21,7 @@ std::vector<std::string> split(const std::string& line, char sep) {
 // header column; the first row of a trial is taken at the start pose.
 TEST(TraceCsvTest, OneRowPerStepInTrialOrder) {
   avalanche::EvaluationSetup setup;
+  setup.simulation.receiver.kind = avalanche::ReceiverKind::kIdeal;  // a sample every step
   setup.sog.initial_components = 400;
   setup.evaluation.trials = 3;
   setup.evaluation.threads = 2;

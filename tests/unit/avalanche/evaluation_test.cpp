@@ -14,6 +14,9 @@ namespace {
 EvaluationSetup small_setup(std::uint32_t trials, std::uint32_t threads) {
   EvaluationSetup s;
   s.sog.initial_components = 500;  // lean: the full-size figures live in sarloc-eval
+  // The harness on the ideal receiver (a sample every step), its opening heading from the first.
+  s.simulation.receiver.kind = ReceiverKind::kIdeal;
+  s.search.opening_line_samples = 0;
   s.evaluation.trials = trials;
   s.evaluation.threads = threads;
   s.evaluation.seed = 12345;

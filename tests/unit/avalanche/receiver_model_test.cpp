@@ -356,6 +356,11 @@ TEST(SignalSeparator, OverlappingPulsesOnDistinctCarriersKeepTheirIds) {
 // them apart and says so (unattributed) rather than guessing.
 TEST(SignalSeparator, SameCarrierSameTimeIsNotAttributed) {
   SimulationConfig config;
+  // Windows cut apart, as this test was written for: with continuous listening each window's data
+  // starts 0.25 s earlier, and at that phase (pulses of period 1 s at 0.35 and 0.85 in the window)
+  // the separator never confirms a track, cut windows or not: a limitation found in issue 58
+  // (docs/estimation/avalanche.md, "Left"), kept visible here rather than hidden by the phase.
+  config.receiver.continuous_listening = false;
   BeaconReceiver receiver(config, 12);
   std::vector<Beacon> beacons(2);
   for (int i = 0; i < 2; ++i) {
@@ -395,6 +400,11 @@ Beacon same_carrier_beacon(const Vec3& position, const Vec3& moment, double firs
 // interleaved with the first: two signals, each its own transmitter's.
 TEST(SignalSeparator, SameCarrierDistinctTimingGivesTwoSignals) {
   SimulationConfig config;
+  // Windows cut apart, as this test was written for: with continuous listening each window's data
+  // starts 0.25 s earlier, and at that phase (pulses of period 1 s at 0.35 and 0.85 in the window)
+  // the separator never confirms a track, cut windows or not: a limitation found in issue 58
+  // (docs/estimation/avalanche.md, "Left"), kept visible here rather than hidden by the phase.
+  config.receiver.continuous_listening = false;
   BeaconReceiver receiver(config, 14);
   const std::vector<Beacon> beacons{same_carrier_beacon(Vec3(12.0, 0.0, -1.0), Vec3(0.01, 0.0, 0.01), 0.1, -30.0),
                                     same_carrier_beacon(Vec3(14.0, -3.0, -1.5), Vec3(0.0, 0.012, 0.004), 0.6, -29.5)};
@@ -484,6 +494,11 @@ TEST(SignalSeparator, OneTransmitterRetimedIsNeverSplit) {
 // trial 5).
 TEST(SignalSeparator, ALostTrackOnASharedCarrierIsReanchoredClearOfItsMate) {
   SimulationConfig config;
+  // Windows cut apart, as this test was written for: with continuous listening each window's data
+  // starts 0.25 s earlier, and at that phase (pulses of period 1 s at 0.35 and 0.85 in the window)
+  // the separator never confirms a track, cut windows or not: a limitation found in issue 58
+  // (docs/estimation/avalanche.md, "Left"), kept visible here rather than hidden by the phase.
+  config.receiver.continuous_listening = false;
   BeaconReceiver receiver(config, 17);
   const Beacon a = same_carrier_beacon(Vec3(12.0, 0.0, -1.0), Vec3(0.01, 0.0, 0.01), 0.1, -30.0);
   const Beacon b_before = same_carrier_beacon(Vec3(14.0, -3.0, -1.5), Vec3(0.0, 0.012, 0.004), 0.6, -29.5);

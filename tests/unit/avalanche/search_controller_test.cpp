@@ -570,6 +570,7 @@ TEST(SearchControllerOpening, HeadsForTheMostProbableBearingWithHysteresis) {
     SearchConfig sc;
     sc.opening_heading = OpeningHeading::kPosteriorBearing;
     sc.approach_mahalanobis = 0.5;  // a long opening
+    sc.opening_line_samples = 0;    // the heading rule from the first sample, not the primary line
     SearchController ctl(sc);
     const double kernel = sc.bearing_kernel_deg * kPi / 180.0;
     std::optional<double> held;

@@ -2,6 +2,9 @@
 // YAML sections of the avalanche estimator, shared by sarloc-eval and the mission apps so a
 // key means the same everywhere. Each reader consumes one section (a map) over the defaults
 // already in the struct and rejects unknown keys; validation is the struct's own validate().
+#include <map>
+#include <string>
+
 #include "sarloc/app/yaml_reader.hpp"
 #include "sarloc/core/avalanche/rescuer_search.hpp"
 #include "sarloc/core/avalanche/simulator.hpp"
@@ -15,5 +18,12 @@ void read_sog(YamlReader section, avalanche::SogConfig& config);
 void read_search(YamlReader section, avalanche::SearchConfig& config);
 /// The rescuer_search: section (limits of the input gate, summary size).
 void read_rescuer_search(YamlReader section, avalanche::RescuerSearchConfig& config);
+
+/// Every parameter of these sections as the readers see it, key path -> value text
+/// ("search.opening_line_samples" -> "60"): what a program built from these structs runs.
+/// The same keys and texts for equal values, so two programs' parameters compare key by key.
+std::map<std::string, std::string> avalanche_parameters(const avalanche::SimulationConfig& simulation,
+                                                        const avalanche::SogConfig& sog,
+                                                        const avalanche::SearchConfig& search);
 
 }  // namespace sarloc::app

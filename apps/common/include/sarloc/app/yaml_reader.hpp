@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -63,6 +64,27 @@ class YamlReader {
     std::set<std::string>* previous_;
   };
 
+  /// While one is alive, every read() on this thread records the value its key holds after
+  /// the read (the file's, or the default it left) with its full path, and whether the file
+  /// wrote it. Reading an empty document with one alive lists a config struct's values
+  /// without changing them: how config_consistency_test compares what each program runs.
+  class ValueRecorder {
+   public:
+    struct Value {
+      std::string text;      ///< the value as read() left it ("0.05", "true", "[1, 2, 3]", "realistic")
+      bool written = false;  ///< the file wrote this key
+    };
+    ValueRecorder();
+    ~ValueRecorder();
+    ValueRecorder(const ValueRecorder&) = delete;
+    ValueRecorder& operator=(const ValueRecorder&) = delete;
+    const std::map<std::string, Value>& values() const { return values_; }
+
+   private:
+    std::map<std::string, Value> values_;
+    std::map<std::string, Value>* previous_;
+  };
+
   const std::string& path() const { return path_; }
   const std::string& source() const { return source_; }
   const YAML::Node& node() const { return node_; }
@@ -71,6 +93,8 @@ class YamlReader {
   std::string key_path(const std::string& key) const;
   [[noreturn]] void fail(const std::string& key, const std::string& rule) const;
   YAML::Node lookup(const std::string& key);
+  /// Hands `value` to the ValueRecorder alive on this thread, if any.
+  void note(const std::string& key, const std::string& text) const;
 
   YAML::Node node_;
   std::string path_;

@@ -75,6 +75,7 @@ class BeaconReceiver {
   Vec3 pulse_noise_;
   double oscillator_offset_hz_;  ///< truth: this device's oscillator error at the carrier
   double k_;
+  double lead_s_;  ///< each window's overlap with the previous one: longer than any pulse
   SignalSeparator separator_;
   std::vector<std::pair<std::uint32_t, std::size_t>> truth_;  ///< signal -> beacon
   std::map<std::uint32_t, std::map<std::size_t, std::uint32_t>> samples_of_;  ///< signal -> beacon -> samples

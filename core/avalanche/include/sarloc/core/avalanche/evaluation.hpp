@@ -72,6 +72,7 @@ struct TrialResult {
   bool false_found = false;       ///< found and error_m > radius95_m + kFalseFoundMarginM
   std::uint32_t probe_points = 0; ///< points of the adaptive end's probe pattern (0 = none)
   bool found_by_probe_pattern = false;  ///< ended by the adaptive end, not the fixed radius
+  std::uint32_t line_resumptions = 0;   ///< signal lost while wide, primary line walked again (SearchConfig::lost_signal_steps)
   // Realistic receiver only:
   std::uint32_t primary_steps = 0;      ///< steps of the primary search before the first sample
   std::uint32_t measurements = 0;       ///< samples the filter took (steps without one: none heard)
@@ -96,6 +97,7 @@ struct EvaluationSummary {
   std::uint32_t errors_over_1m = 0;      ///< trials ending more than 1 m off (seed 000, Fig. 5's last bin)
   std::uint32_t false_found = 0;         ///< found farther than radius95 + kFalseFoundMarginM
   std::uint32_t found_by_probe_pattern = 0;  ///< trials ended by the adaptive end
+  std::uint32_t resumed_line = 0;            ///< trials that walked the primary line again after losing the signal
   std::string receiver = "realistic";
   Stats primary_steps;                   ///< realistic: steps before the signal was first heard
   Stats measurements;                    ///< samples the filter took

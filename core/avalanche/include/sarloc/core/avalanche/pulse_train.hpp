@@ -51,8 +51,14 @@ struct BasebandWindow {
   double sample_rate_hz = 500.0;
   Eigen::Matrix<std::complex<double>, 3, Eigen::Dynamic> samples;
   Vec3 sample_noise = Vec3::Zero();  ///< per axis, 1 sigma of each real component of a sample
+  /// The first lead_s of the window were the end of the previous one: a device listens without
+  /// gaps, and a pulse that crosses from one window into the next is heard whole in the window
+  /// where it ends (SignalSeparator::process). 0: a window on its own.
+  double lead_s = 0.0;
   Eigen::Index size() const { return samples.cols(); }
   double time(Eigen::Index n) const { return t0_s + static_cast<double>(n) / sample_rate_hz; }
+  /// Where the new part of the window begins: pulses that ended before it were heard already.
+  double new_from_s() const { return t0_s + lead_s; }
 };
 
 /// Noise per sample that gives `pulse_noise` (1 sigma per axis) on the amplitude of a 70 ms

@@ -139,12 +139,20 @@ struct SearchConfig {
   /// line, until the posterior has narrowed enough to leave the opening search: a real
   /// receiver first hears a pulse now and then at the edge of range, and a turn on such a
   /// ring walks out of range half of the time (measured: 10 of 40 trials lost).
-  std::uint32_t opening_line_samples = 0;
+  std::uint32_t opening_line_samples = 60;
   /// Farther than this from where the signal was last heard without hearing it again: head
   /// back there (what a searcher who lost the signal does). Walking on, straight or for a
   /// mixture still wide, can leave the range for good (1-2 trials in 100 walked off at 40-50 m);
   /// a hypothesis this close would have been heard on the way.
   double coast_return_m = 10.0;
+  /// Unheard this many epochs in a row while the estimate has not converged (the mixture still
+  /// wider than sog.converged_radius_m): the rescuer is out of the signal, or its geometry told
+  /// nothing. The search re-plans: back to the primary search's line, walked on from where he
+  /// is until the signal is heard again, and that line kept again for opening_line_samples (a
+  /// primary strip passes within its half width of every victim, where the ring narrows).
+  /// Walking to the wide mixture's mean and back to where the signal was last heard, he shuttled
+  /// at the edge of range for the rest of the search (seed 12, trial 0). 0 = off.
+  std::uint32_t lost_signal_steps = 15;
   /// Angular width (1 sigma) of the kernel smoothing the posterior bearing density: wide
   /// enough that an arc of the ring counts as one direction, narrow enough to tell arcs apart.
   double bearing_kernel_deg = 35.0;
@@ -213,6 +221,8 @@ class SearchController {
   std::size_t probe_points_visited() const { return pattern_next_; }
   /// The search ended kFound by the adaptive end (a complete probe pattern).
   bool found_by_probe_pattern() const { return pattern_complete_; }
+  /// Times the signal was lost while the estimate was wide and the primary line resumed.
+  std::uint32_t line_resumptions() const { return line_resumptions_; }
 
  private:
   SearchConfig config_;
@@ -223,6 +233,9 @@ class SearchController {
   std::optional<double> opening_heading_;  ///< posterior-bearing heading held in G
   std::uint32_t opening_samples_ = 0;      ///< samples guided in the opening search so far
   bool returning_ = false;                 ///< coasting back to where the signal was last heard
+  std::optional<double> primary_heading_;  ///< heading (G) of the primary search when first heard
+  bool resuming_line_ = false;             ///< signal lost while wide: walking the primary line again
+  std::uint32_t line_resumptions_ = 0;
   std::optional<StallDetector> stall_;     ///< fine-search watch (stall_window_steps > 0)
   std::vector<Eigen::Vector2d> pattern_;   ///< adaptive end: probe offsets from the estimate
   std::size_t pattern_next_ = 0;           ///< next probe point to walk to

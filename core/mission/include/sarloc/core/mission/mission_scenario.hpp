@@ -33,11 +33,7 @@ struct MissionScenario {
   /// hears the pulses of every transmitter, summed on its coils, and separates them itself
   /// (avalanche/beacon_receiver.hpp). The ideal receiver (separated, signed samples of every
   /// victim within detection_range_m) stays for comparison and for unit tests.
-  avalanche::SimulationConfig sensors = [] {
-    avalanche::SimulationConfig c;
-    c.receiver.kind = avalanche::ReceiverKind::kRealistic;
-    return c;
-  }();
+  avalanche::SimulationConfig sensors;
   /// Ideal receiver only: it separates signals within this range (NOTES: 40-70 m). The
   /// realistic receiver's range follows from its noise floor.
   double detection_range_m = 60.0;
