@@ -49,7 +49,7 @@ namespace {
 thread_local std::set<std::string>* key_recorder = nullptr;
 thread_local std::map<std::string, YamlReader::ValueRecorder::Value>* value_recorder = nullptr;
 
-// Shortest text that reads back to the same double: equal values show equal text.
+// 17 digits read back to the same double: equal values show equal text, unequal ones differ.
 std::string shown(double v) {
   std::ostringstream out;
   out.precision(17);

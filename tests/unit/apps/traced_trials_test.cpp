@@ -21,16 +21,10 @@ namespace {
 MultiBurialSetup four_within_five_metres(std::uint64_t seed) {
   EvaluationSetup base;
   eval::load_avalanche_config(std::string(SARLOC_SOURCE_DIR) + "/config/eval/avalanche.yaml", base);
-  MultiBurialSetup setup;
-  setup.victims = 4;
-  setup.spread_m = 5.0;
-  setup.simulation = base.simulation;
-  setup.simulation.receiver.kind = ReceiverKind::kRealistic;
+  MultiBurialSetup setup = eval::multi_burial_setup(base, 4, 5.0, base.evaluation.trials);
   // Recorded before devices had an oscillator error (2026-11-29): its draw shifts every carrier a
   // device hears on the detector's grid, and the walk with it, so these trials would be others.
   setup.simulation.receiver.oscillator_sigma_ppm = 0.0;
-  setup.rescuer.sog = base.sog;
-  setup.rescuer.search = base.search;
   // ... and while a probe point was waited on 10 epochs at most (search.confirm_max_waits): the
   // longer waits change the walk, and without the witness seed 13 trial 2 then finds no ghost.
   setup.rescuer.search.confirm_max_waits = 10;
@@ -42,8 +36,6 @@ MultiBurialSetup four_within_five_metres(std::uint64_t seed) {
   // ... and while the device's windows were cut apart (continuous_listening, issue 58).
   setup.simulation.receiver.continuous_listening = false;
   setup.rescuer.search.lost_signal_steps = 0;  // ... and before a search lost while wide re-planned
-  setup.evaluation = base.evaluation;
-  setup.evaluation.step_budget = std::max<std::uint32_t>(base.evaluation.step_budget, 200 * setup.victims);
   setup.evaluation.seed = seed;
   setup.validate();
   return setup;

@@ -602,3 +602,64 @@ TEST(SearchControllerOpening, HeadsForTheMostProbableBearingWithHysteresis) {
 
 }  // namespace
 }  // namespace sarloc::avalanche
+
+namespace sarloc::avalanche {
+namespace {
+
+// A signal lost while the estimate is still a wide ring (search.lost_signal_steps, issue 58):
+// after that many unheard epochs the rescuer walks the primary search's line again (the heading
+// he had when the signal was first heard), whatever the ring's mean says, and the opening search
+// starts over with the next sample. Before it, and with a converged estimate, coast() does what it did.
+TEST(SearchControllerLostSignal, AWideSearchLostForLongWalksThePrimaryLineAgain) {
+  Scenario s;
+  s.transmitter = Vec3(45.0, 20.0, -1.5);
+  s.moment = Vec3(0.006, 0.0, 0.004);
+  s.receiver = Vec3(0, 0, 1);
+  s.receiver_rpy = Vec3(0, 0, 0.3);  // walking the primary line at 0.3 rad
+  AvalancheSimulator sim(SimulationConfig{}, s, 3);
+  SogConfig cfg;
+  cfg.initial_components = 400;
+  SogFilter f(cfg);
+  SearchConfig sc;
+  SearchController ctl(sc);
+  const FieldMeasurement z = sim.measure();
+  f.process(z);
+  ctl.guide(f, z);
+  const double primary = f.moments().mean[idx::kAtt + 2];  // the compass's word for 0.3 rad
+  ASSERT_NEAR(primary, 0.3, 0.3);
+  ASSERT_GT(radius95_3d(f.moments().covariance.block<3, 3>(idx::kPos, idx::kPos)), f.converged_radius_m());
+  for (std::uint32_t k = 1; k < sc.lost_signal_steps; ++k) {
+    const Guidance g = ctl.coast(f);
+    EXPECT_EQ(ctl.line_resumptions(), 0U) << "epoch " << k;
+    f.add_odometry(sim.walk(g.bearing_rad, g.step_m));
+  }
+  for (int k = 0; k < 5; ++k) {
+    const Guidance g = ctl.coast(f);
+    EXPECT_EQ(ctl.line_resumptions(), 1U);
+    EXPECT_EQ(g.mode, GuidanceMode::kOpening);
+    EXPECT_DOUBLE_EQ(g.heading_rad, primary) << "the primary line's heading, held";
+    EXPECT_DOUBLE_EQ(g.step_m, sc.step_length_m);
+    f.add_odometry(sim.walk(g.bearing_rad, g.step_m));
+  }
+  const FieldMeasurement heard = sim.measure();
+  f.process(heard);
+  ctl.guide(f, heard);
+  // Heard again: the line is left, and only as many unheard epochs again walk it once more.
+  for (std::uint32_t k = 1; k < sc.lost_signal_steps; ++k) {
+    const Guidance g = ctl.coast(f);
+    EXPECT_EQ(ctl.line_resumptions(), 1U) << "epoch " << k;
+    f.add_odometry(sim.walk(g.bearing_rad, g.step_m));
+  }
+  ctl.coast(f);
+  EXPECT_EQ(ctl.line_resumptions(), 2U);
+
+  SearchConfig off = sc;
+  off.lost_signal_steps = 0;
+  SearchController never(off);
+  never.guide(f, heard);
+  for (std::uint32_t k = 0; k < 2 * sc.lost_signal_steps; ++k) never.coast(f);
+  EXPECT_EQ(never.line_resumptions(), 0U) << "0 = off";
+}
+
+}  // namespace
+}  // namespace sarloc::avalanche

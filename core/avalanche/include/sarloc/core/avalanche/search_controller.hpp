@@ -148,8 +148,8 @@ struct SearchConfig {
   /// Unheard this many epochs in a row while the estimate has not converged (the mixture still
   /// wider than sog.converged_radius_m): the rescuer is out of the signal, or its geometry told
   /// nothing. The search re-plans: back to the primary search's line, walked on from where he
-  /// is until the signal is heard again, and that line kept again for opening_line_samples (a
-  /// primary strip passes within its half width of every victim, where the ring narrows).
+  /// is until the signal is heard again, where the opening search starts over (a primary strip
+  /// passes within its half width of every victim, where the ring narrows).
   /// Walking to the wide mixture's mean and back to where the signal was last heard, he shuttled
   /// at the edge of range for the rest of the search (seed 12, trial 0). 0 = off.
   std::uint32_t lost_signal_steps = 15;
