@@ -17,7 +17,7 @@ namespace {
 // What `sarloc-eval multi-burial -c config/eval/avalanche.yaml --victims 4 --spread 5` sets up,
 // with `simulation.receiver.oscillator_sigma_ppm: 0`, `search.confirm_max_waits: 10`,
 // `simulation.receiver.two_tone_span_hz: 0`, `simulation.receiver.same_carrier_pairs: false` and
-// `simulation.receiver.continuous_listening: false`, `search.lost_signal_steps: 0`.
+// `simulation.receiver.continuous_listening: false`.
 MultiBurialSetup four_within_five_metres(std::uint64_t seed) {
   EvaluationSetup base;
   eval::load_avalanche_config(std::string(SARLOC_SOURCE_DIR) + "/config/eval/avalanche.yaml", base);
@@ -35,7 +35,6 @@ MultiBurialSetup four_within_five_metres(std::uint64_t seed) {
   setup.simulation.receiver.same_carrier_pairs = false;
   // ... and while the device's windows were cut apart (continuous_listening, issue 58).
   setup.simulation.receiver.continuous_listening = false;
-  setup.rescuer.search.lost_signal_steps = 0;  // ... and before a search lost while wide re-planned
   setup.evaluation.seed = seed;
   setup.validate();
   return setup;

@@ -621,6 +621,7 @@ TEST(SearchControllerLostSignal, AWideSearchLostForLongWalksThePrimaryLineAgain)
   cfg.initial_components = 400;
   SogFilter f(cfg);
   SearchConfig sc;
+  sc.lost_signal_steps = 15;  // off by default (search_controller.hpp)
   SearchController ctl(sc);
   const FieldMeasurement z = sim.measure();
   f.process(z);

@@ -151,8 +151,10 @@ struct SearchConfig {
   /// is until the signal is heard again, where the opening search starts over (a primary strip
   /// passes within its half width of every victim, where the ring narrows).
   /// Walking to the wide mixture's mean and back to where the signal was last heard, he shuttled
-  /// at the edge of range for the rest of the search (seed 12, trial 0). 0 = off.
-  std::uint32_t lost_signal_steps = 15;
+  /// at the edge of range for the rest of the search (seed 12, trial 0). 0 = off, the default
+  /// until it is measured in live missions (docs/estimation/avalanche.md, "Every search ends";
+  /// 15 is the value evaluated).
+  std::uint32_t lost_signal_steps = 0;
   /// Angular width (1 sigma) of the kernel smoothing the posterior bearing density: wide
   /// enough that an arc of the ring counts as one direction, narrow enough to tell arcs apart.
   double bearing_kernel_deg = 35.0;
