@@ -127,6 +127,7 @@ void read_search(YamlReader r, avalanche::SearchConfig& c) {
   r.read("opening_line_samples", c.opening_line_samples);
   r.read("coast_return_m", c.coast_return_m);
   r.read("lost_signal_steps", c.lost_signal_steps);
+  r.read("lost_line_half_length_m", c.lost_line_half_length_m);
   r.read("bearing_kernel_deg", c.bearing_kernel_deg);
   r.read("bearing_switch_ratio", c.bearing_switch_ratio);
   r.read("lookahead_hypotheses", c.lookahead.hypotheses);

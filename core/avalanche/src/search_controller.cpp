@@ -69,6 +69,7 @@ void SearchConfig::validate() const {
   check("opening_line_samples", opening_line_samples, 0.0, 100.0, false);
   check("coast_return_m", coast_return_m, 1.0, 1000.0, false);
   check("lost_signal_steps", lost_signal_steps, 0.0, 1000.0, false);
+  check("lost_line_half_length_m", lost_line_half_length_m, 1.0, 1000.0, false);
   check("flux_snr_cap", flux_snr_cap, 0.0, 1000.0, true);
   check("flux_detection_snr2", flux_detection_snr2, 0.0, 100.0, false);
   check("bearing_kernel_deg", bearing_kernel_deg, 0.0, 180.0, true);
@@ -397,16 +398,20 @@ Guidance SearchController::coast(const TransmitterFilter& filter) {
       coasts_since_sample_ >= config_.lost_signal_steps) {
     resuming_line_ = true;
     returning_ = false;
+    line_heading_ = *primary_heading_;
     ++line_resumptions_;
   }
+  const Vec3 heard = filter.predicted_last_measurement_position();
   if (resuming_line_) {
+    const Eigen::Vector2d along(std::cos(line_heading_), std::sin(line_heading_));
+    if (heard.head<2>().norm() > config_.lost_line_half_length_m && heard.head<2>().dot(along) < 0.0)
+      line_heading_ = wrap_angle(line_heading_ + kPi);
     g.mode = GuidanceMode::kOpening;
-    g.heading_rad = *primary_heading_;
-    g.bearing_rad = wrap_angle(*primary_heading_ - yaw);
+    g.heading_rad = line_heading_;
+    g.bearing_rad = wrap_angle(line_heading_ - yaw);
     g.step_m = config_.step_length_m;
     return g;
   }
-  const Vec3 heard = filter.predicted_last_measurement_position();
   const double back_m = heard.head<2>().norm();
   if (back_m > config_.coast_return_m) returning_ = true;
   if (back_m <= config_.step_length_m) returning_ = false;

@@ -621,7 +621,7 @@ TEST(SearchControllerLostSignal, AWideSearchLostForLongWalksThePrimaryLineAgain)
   cfg.initial_components = 400;
   SogFilter f(cfg);
   SearchConfig sc;
-  sc.lost_signal_steps = 15;  // off by default (search_controller.hpp)
+  ASSERT_GT(sc.lost_signal_steps, 0U) << "the re-plan ships on";
   SearchController ctl(sc);
   const FieldMeasurement z = sim.measure();
   f.process(z);
@@ -660,6 +660,43 @@ TEST(SearchControllerLostSignal, AWideSearchLostForLongWalksThePrimaryLineAgain)
   never.guide(f, heard);
   for (std::uint32_t k = 0; k < 2 * sc.lost_signal_steps; ++k) never.coast(f);
   EXPECT_EQ(never.line_resumptions(), 0U) << "0 = off";
+}
+
+// The re-planned walk is bounded: a signal never heard again keeps the rescuer sweeping the
+// line within search.lost_line_half_length_m (plus a step) of where it was last heard, both ways,
+// never walking off (a live rescuer walked 299 m "until heard", issue 58).
+TEST(SearchControllerLostSignal, TheSweepForASignalNeverHeardAgainStaysNearWhereItWasHeard) {
+  Scenario s;
+  s.transmitter = Vec3(45.0, 20.0, -1.5);
+  s.moment = Vec3(0.006, 0.0, 0.004);
+  s.receiver = Vec3(0, 0, 1);
+  s.receiver_rpy = Vec3(0, 0, 0.3);
+  AvalancheSimulator sim(SimulationConfig{}, s, 5);
+  SogConfig cfg;
+  cfg.initial_components = 400;
+  SogFilter f(cfg);
+  SearchConfig sc;
+  sc.lost_line_half_length_m = 30.0;
+  SearchController ctl(sc);
+  const FieldMeasurement z = sim.measure();
+  f.process(z);
+  ctl.guide(f, z);
+  const Eigen::Vector2d heard_at = sim.scenario().receiver.head<2>();
+  double farthest = 0.0;
+  int turns = 0;
+  std::optional<double> last_heading;
+  for (int k = 0; k < 400; ++k) {
+    const Guidance g = ctl.coast(f);
+    if (last_heading && std::abs(wrap_angle(g.heading_rad - *last_heading)) > 3.0) ++turns;
+    if (ctl.line_resumptions() > 0) last_heading = g.heading_rad;
+    f.add_odometry(sim.walk(g.bearing_rad, g.step_m));
+    farthest = std::max(farthest, (sim.scenario().receiver.head<2>() - heard_at).norm());
+  }
+  EXPECT_EQ(ctl.line_resumptions(), 1U);
+  EXPECT_GE(turns, 3) << "swept both ways, again and again";
+  // The odometry drifts a little over 400 steps: the bound is the filter's word for the place.
+  EXPECT_LT(farthest, sc.lost_line_half_length_m + 3.0 * sc.step_length_m);
+  EXPECT_GT(farthest, sc.lost_line_half_length_m - sc.step_length_m) << "the sweep reaches its bound";
 }
 
 }  // namespace

@@ -147,14 +147,17 @@ struct SearchConfig {
   double coast_return_m = 10.0;
   /// Unheard this many epochs in a row while the estimate has not converged (the mixture still
   /// wider than sog.converged_radius_m): the rescuer is out of the signal, or its geometry told
-  /// nothing. The search re-plans: back to the primary search's line, walked on from where he
-  /// is until the signal is heard again, where the opening search starts over (a primary strip
+  /// nothing. The search re-plans: back to the primary search's line, swept from where he is
+  /// until the signal is heard again, where the opening search starts over (a primary strip
   /// passes within its half width of every victim, where the ring narrows).
   /// Walking to the wide mixture's mean and back to where the signal was last heard, he shuttled
-  /// at the edge of range for the rest of the search (seed 12, trial 0). 0 = off, the default
-  /// until it is measured in live missions (docs/estimation/avalanche.md, "Every search ends";
-  /// 15 is the value evaluated).
-  std::uint32_t lost_signal_steps = 0;
+  /// at the edge of range for the rest of the search (seed 12, trial 0). 0 = off.
+  std::uint32_t lost_signal_steps = 15;
+  /// The re-planned sweep stays within this distance of where the signal was last heard: past
+  /// it, with that place behind him, the rescuer turns round on the line. The victim was heard
+  /// from there, so it lies within the receiver's range of it (40-70 m for the realistic
+  /// receiver); an unbounded walk "until heard" took a live rescuer 299 m away (issue 58).
+  double lost_line_half_length_m = 50.0;
   /// Angular width (1 sigma) of the kernel smoothing the posterior bearing density: wide
   /// enough that an arc of the ring counts as one direction, narrow enough to tell arcs apart.
   double bearing_kernel_deg = 35.0;
@@ -223,7 +226,7 @@ class SearchController {
   std::size_t probe_points_visited() const { return pattern_next_; }
   /// The search ended kFound by the adaptive end (a complete probe pattern).
   bool found_by_probe_pattern() const { return pattern_complete_; }
-  /// Times the signal was lost while the estimate was wide and the primary line resumed.
+  /// Times the signal was lost while the estimate was wide and the primary line was swept again.
   std::uint32_t line_resumptions() const { return line_resumptions_; }
 
  private:
@@ -236,7 +239,8 @@ class SearchController {
   std::uint32_t opening_samples_ = 0;      ///< samples guided in the opening search so far
   bool returning_ = false;                 ///< coasting back to where the signal was last heard
   std::optional<double> primary_heading_;  ///< heading (G) of the primary search when first heard
-  bool resuming_line_ = false;             ///< signal lost while wide: walking the primary line again
+  bool resuming_line_ = false;             ///< signal lost while wide: sweeping the primary line again
+  double line_heading_ = 0.0;              ///< heading (G) of the sweep: the primary line's, or its reverse
   std::uint32_t line_resumptions_ = 0;
   std::optional<StallDetector> stall_;     ///< fine-search watch (stall_window_steps > 0)
   std::vector<Eigen::Vector2d> pattern_;   ///< adaptive end: probe offsets from the estimate
