@@ -1,4 +1,5 @@
 #include "dashboard_server.hpp"
+#include "json_text.hpp"
 
 #include <httplib.h>
 
@@ -8,7 +9,10 @@
 #include <random>
 #include <regex>
 
+#include <spdlog/spdlog.h>
+
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/identifier.hpp"
 
 namespace sarloc::dashboard {
 
@@ -24,12 +28,14 @@ const Asset kAssets[] = {
 #include "page_assets.inc"
 };
 
+constexpr std::size_t kMaxHeaderFields = 64;
+
 // A stream's version before its first snapshot.
 constexpr std::uint64_t kNothingSent = ~std::uint64_t{0};
 
 void error(httplib::Response& res, int status, const std::string& what) {
   res.status = status;
-  res.set_content(nlohmann::json{{"error", what}}.dump(), "application/json");
+  res.set_content(json_text(nlohmann::json{{"error", what}}), "application/json");
 }
 
 }  // namespace
@@ -38,9 +44,7 @@ void DashboardServerConfig::validate() const {
   if (bind_address.empty()) throw ConfigError("dashboard.bind_address is empty");
   if (port < 0 || port > 65535) throw ConfigError("dashboard.port = " + std::to_string(port) + ": must be 0-65535");
   if (token.size() < 8) throw ConfigError("dashboard.token: must be at least 8 characters (or absent: a random one is made)");
-  if (operator_id.empty() || operator_id.size() > 64) {
-    throw ConfigError("dashboard.operator_id = '" + operator_id + "': must be 1-64 characters (an IDL Identifier)");
-  }
+  if (auto problem = identifier_problem(operator_id, "dashboard.operator_id"); !problem.empty()) throw ConfigError(problem);
   if (!(push_period_s >= 0.05 && push_period_s <= 10.0)) {
     throw ConfigError("dashboard.push_period_s = " + std::to_string(push_period_s) + ": must be in [0.05, 10]");
   }
@@ -69,6 +73,39 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
   s.set_read_timeout(5, 0);
   s.set_write_timeout(5, 0);
 
+  // Decided from the request's head, before a byte of its body is read: a chunked body has no
+  // Content-Length for the payload limit to refuse it by (a token-less 200 MB chunked POST was
+  // read whole before its 401), and 10 000 header fields were accepted.
+  s.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+    using Outcome = httplib::Server::HandlerResponse;
+    if (req.headers.size() > kMaxHeaderFields) {
+      error(res, 431, "more than " + std::to_string(kMaxHeaderFields) + " header fields");
+      return Outcome::Handled;
+    }
+    if (req.method == "GET" || req.method == "HEAD") return Outcome::Unhandled;
+    // A page of another site may post here from the commander's own browser: its Origin says so.
+    const std::string origin = req.get_header_value("Origin");
+    if (!origin.empty() && origin != "http://" + req.get_header_value("Host")) {
+      error(res, 403, "a request from another site's page");
+      return Outcome::Handled;
+    }
+    if (req.path != "/api/replay" && !authorised(req.get_header_value("Authorization"))) {
+      error(res, 401, "the access token is missing or wrong");
+      return Outcome::Handled;
+    }
+    if (req.has_header("Transfer-Encoding")) {
+      error(res, 411, "a request body needs a Content-Length (chunked bodies are refused)");
+      return Outcome::Handled;
+    }
+    return Outcome::Unhandled;
+  });
+  s.set_post_routing_handler([](const httplib::Request&, httplib::Response& res) {
+    res.set_header("Content-Security-Policy", "default-src 'self'; img-src 'self' data:; frame-ancestors 'none'; base-uri 'none'");
+    res.set_header("X-Frame-Options", "DENY");
+    res.set_header("X-Content-Type-Options", "nosniff");
+    res.set_header("Referrer-Policy", "no-referrer");
+  });
+
   for (const auto& asset : kAssets) {
     const std::string path = asset.path;
     s.Get(path == "/index.html" ? "/" : path.c_str(), [asset](const httplib::Request&, httplib::Response& res) {
@@ -77,7 +114,7 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
     });
   }
   s.Get("/api/state", [this](const httplib::Request&, httplib::Response& res) {
-    res.set_content(state_.snapshot().dump(), "application/json");
+    res.set_content(json_text(state_.snapshot()), "application/json");
   });
   s.Get("/events", [this](const httplib::Request&, httplib::Response& res) {
     if (streams_.fetch_add(1) >= config_.max_streams) {
@@ -90,25 +127,13 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
     res.set_chunked_content_provider(
         "text/event-stream",
         [this, sent, beat](std::size_t, httplib::DataSink& sink) {
-          if (stopping_ || !sink.is_writable()) return false;  // the browser left: free the thread
-          std::string chunk;
-          std::shared_ptr<const std::string> message;
-          if (*sent == kNothingSent) {
-            message = message_for(0, true, *sent);
-          } else {
-            std::this_thread::sleep_for(std::chrono::duration<double>(config_.push_period_s));
-            if (stopping_) return false;
-            // A delta, or all of it again when the picture was rebuilt (PictureState::delta).
-            if (state_.version() > *sent) message = message_for(*sent, false, *sent);
+          // httplib calls a content provider outside its handler's try: nothing may leave it.
+          try {
+            return push_events(sink, *sent, *beat);
+          } catch (const std::exception& e) {
+            spdlog::error("dashboard: an event stream ended on an error: {}", e.what());
+            return false;
           }
-          if (message && !sink.write(message->data(), message->size())) return false;
-          const auto now = std::chrono::steady_clock::now();
-          if (now - *beat >= std::chrono::seconds(1)) {
-            *beat = now;
-            chunk += "event: heartbeat\ndata: " + state_.heartbeat().dump() + "\n\n";
-          }
-          // A closed browser makes the write fail: the provider ends and its thread is free.
-          return chunk.empty() || sink.write(chunk.data(), chunk.size());
         },
         [this](bool) {
           // The stream's snapshot was the largest buffer it made: give its memory back now, so
@@ -117,7 +142,6 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
         });
   });
   s.Post(R"(/api/alarms/(\d{1,10})/ack)", [this](const httplib::Request& req, httplib::Response& res) {
-    if (!authorised(req.get_header_value("Authorization"))) return error(res, 401, "the access token is missing or wrong");
     const auto id = std::stoull(req.matches[1]);
     if (id > 0xFFFFFFFFull) return error(res, 400, "no such alarm id");
     const auto alarms = state_.snapshot()["alarms"];
@@ -127,15 +151,18 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
     if (!acknowledge_(static_cast<std::uint32_t>(id), config_.operator_id)) return error(res, 503, "DDS refused the acknowledgement");
     state_.note("alarm", "acknowledgement of alarm " + std::to_string(id) + " sent by " + config_.operator_id);
     res.status = 202;
-    res.set_content(nlohmann::json{{"acknowledged", id}, {"operator", config_.operator_id}}.dump(), "application/json");
+    res.set_content(json_text(nlohmann::json{{"acknowledged", id}, {"operator", config_.operator_id}}), "application/json");
   });
   s.Post(R"(/api/teams/([A-Za-z0-9_.\-]{1,64})/par)", [this](const httplib::Request& req, httplib::Response& res) {
-    if (!authorised(req.get_header_value("Authorization"))) return error(res, 401, "the access token is missing or wrong");
     if (!state_.par_reported(req.matches[1], config_.operator_id)) return error(res, 404, "no such team");
-    res.set_content(nlohmann::json{{"par_reported", std::string(req.matches[1])}}.dump(), "application/json");
+    res.set_content(json_text(nlohmann::json{{"par_reported", std::string(req.matches[1])}}), "application/json");
   });
   s.Post("/api/replay", [this](const httplib::Request& req, httplib::Response& res) {
     if (!replay_control_) return error(res, 404, "not a replay (sarloc-dashboard --recording)");
+    // A cross-site form can post text/plain without asking; application/json it cannot.
+    if (req.get_header_value("Content-Type").rfind("application/json", 0) != 0) {
+      return error(res, 415, "the body must be application/json");
+    }
     nlohmann::json request;
     try {
       request = nlohmann::json::parse(req.body);
@@ -143,13 +170,13 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
       return error(res, 400, "the body is not JSON");
     }
     try {
-      res.set_content(replay_control_(request).dump(), "application/json");
+      res.set_content(json_text(replay_control_(request)), "application/json");
     } catch (const std::invalid_argument& e) {
       error(res, 400, e.what());
     }
   });
   s.set_error_handler([](const httplib::Request&, httplib::Response& res) {
-    if (res.body.empty()) res.set_content(nlohmann::json{{"error", "HTTP " + std::to_string(res.status)}}.dump(), "application/json");
+    if (res.body.empty()) res.set_content(json_text(nlohmann::json{{"error", "HTTP " + std::to_string(res.status)}}), "application/json");
   });
   s.set_exception_handler([](const httplib::Request&, httplib::Response& res, std::exception_ptr) {
     error(res, 500, "internal error");  // never a crash
@@ -170,7 +197,7 @@ std::shared_ptr<const std::string> DashboardServer::message_for(std::uint64_t si
     const nlohmann::json message = first ? state_.snapshot() : state_.delta(since);
     cached.picture_version = now;
     cached.version = message["version"].get<std::uint64_t>();
-    cached.text = std::make_shared<const std::string>("event: " + message["type"].get<std::string>() + "\ndata: " + message.dump() +
+    cached.text = std::make_shared<const std::string>("event: " + message["type"].get<std::string>() + "\ndata: " + json_text(message) +
                                                       "\n\n");
   }
   // Old entries (streams long past them) go: the cache holds a few versions, not a history.
@@ -179,6 +206,28 @@ std::shared_ptr<const std::string> DashboardServer::message_for(std::uint64_t si
   }
   version = cached.version;
   return cached.text;
+}
+
+bool DashboardServer::push_events(httplib::DataSink& sink, std::uint64_t& sent, std::chrono::steady_clock::time_point& beat) {
+  if (stopping_ || !sink.is_writable()) return false;  // the browser left: free the thread
+  std::string chunk;
+  std::shared_ptr<const std::string> message;
+  if (sent == kNothingSent) {
+    message = message_for(0, true, sent);
+  } else {
+    std::this_thread::sleep_for(std::chrono::duration<double>(config_.push_period_s));
+    if (stopping_) return false;
+    // A delta, or all of it again when the picture was rebuilt (PictureState::delta).
+    if (state_.version() > sent) message = message_for(sent, false, sent);
+  }
+  if (message && !sink.write(message->data(), message->size())) return false;
+  const auto now = std::chrono::steady_clock::now();
+  if (now - beat >= std::chrono::seconds(1)) {
+    beat = now;
+    chunk += "event: heartbeat\ndata: " + json_text(state_.heartbeat()) + "\n\n";
+  }
+  // A closed browser makes the write fail: the provider ends and its thread is free.
+  return chunk.empty() || sink.write(chunk.data(), chunk.size());
 }
 
 bool DashboardServer::authorised(const std::string& header) const {

@@ -8,10 +8,16 @@
 //   GET  /events                text/event-stream: "snapshot" once, then "delta" and "heartbeat"
 //   POST /api/alarms/ID/ack     acknowledge alarm ID   (Authorization: Bearer TOKEN)
 //   POST /api/teams/ID/par      a team's PAR reported  (Authorization: Bearer TOKEN)
-//   POST /api/replay            a replay's play, pause, seek (no token: it changes no incident)
+//   POST /api/replay            a replay's play, pause, seek (no token: it changes no incident;
+//                               application/json only, so that no other site's form can post it)
 //
 // Bad requests get a 4xx and a JSON {"error": ...}; nothing a client sends stops the server.
+// Every request other than GET is judged on its head before its body is read: the token, its
+// Origin (a browser's must be this server's own), no chunked body, at most 64 header fields.
+// Every response carries a Content-Security-Policy (default-src 'self'), X-Frame-Options DENY
+// and nosniff.
 #include <atomic>
+#include <chrono>
 #include <functional>
 #include <map>
 #include <mutex>
@@ -23,6 +29,7 @@
 
 namespace httplib {
 class Server;
+class DataSink;
 }
 
 namespace sarloc::dashboard {
@@ -62,6 +69,9 @@ class DashboardServer {
 
  private:
   bool authorised(const std::string& header) const;
+  /// One turn of an event stream: the first snapshot, or what changed, and a heartbeat each
+  /// second. False ends the stream (the browser left, or the server stops).
+  bool push_events(httplib::DataSink& sink, std::uint64_t& sent, std::chrono::steady_clock::time_point& beat);
   /// The event-stream message for a stream at version `since` (0: a first snapshot): made once
   /// per picture version and shared by every stream at the same point, so that 50 open pages
   /// cost one serialization, not 50.

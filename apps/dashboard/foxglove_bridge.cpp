@@ -1,10 +1,16 @@
 #include "foxglove_bridge.hpp"
+#include "json_text.hpp"
 
 #include <nlohmann/json.hpp>
 #include <websocketpp/config/asio_no_tls.hpp>
 #include <websocketpp/server.hpp>
 
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
 #include <stdexcept>
+
+#include "sarloc/core/common/identifier.hpp"
 
 namespace sarloc::dashboard {
 
@@ -17,17 +23,45 @@ constexpr const char* kSubprotocol = "foxglove.websocket.v1";
 }  // namespace
 
 struct FoxgloveBridge::Impl {
+  FoxgloveBridgeConfig config;
   Server server;
   std::thread thread;
   std::vector<FoxgloveChannel> channels;
   mutable std::mutex mutex;
   // Per client: subscription id -> channel id.
   std::map<Handle, std::map<std::uint32_t, std::uint32_t>, std::owner_less<Handle>> clients;
+  std::size_t slow_dropped = 0;
   bool running = false;
 
   void send_text(Handle handle, const nlohmann::json& message) {
     websocketpp::lib::error_code ignored;  // a client gone meanwhile: its close handler cleans up
-    server.send(handle, message.dump(), websocketpp::frame::opcode::text, ignored);
+    server.send(handle, json_text(message), websocketpp::frame::opcode::text, ignored);
+  }
+
+  bool admit(Handle handle) {
+    auto connection = server.get_con_from_hdl(handle);
+    const std::string origin = connection->get_request_header("Origin");
+    const auto& allowed = config.allowed_origins;
+    if (!origin.empty() && std::find(allowed.begin(), allowed.end(), origin) == allowed.end()) {
+      spdlog::warn("Foxglove feed: a client from origin {} refused (dashboard.feed_origins)", printable_excerpt(origin));
+      connection->set_status(websocketpp::http::status_code::forbidden);
+      return false;
+    }
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (clients.size() >= config.max_clients) {
+        connection->set_status(websocketpp::http::status_code::service_unavailable);
+        return false;
+      }
+    }
+    // Only clients that speak the Foxglove protocol, and we tell them so.
+    for (const auto& protocol : connection->get_requested_subprotocols()) {
+      if (protocol == kSubprotocol) {
+        connection->select_subprotocol(kSubprotocol);
+        return true;
+      }
+    }
+    return false;
   }
 
   void on_open(Handle handle) {
@@ -58,54 +92,110 @@ struct FoxgloveBridge::Impl {
   }
 
   void on_message(Handle handle, Server::message_ptr message) {
-    nlohmann::json request;
+    // Whatever a client sends, the answer is at most a status: any JSON value, any bytes.
     try {
-      request = nlohmann::json::parse(message->get_payload());
+      const std::string problem = apply(handle, message->get_payload());
+      if (!problem.empty()) send_status(handle, problem);
     } catch (const std::exception&) {
-      return send_status(handle, "a message that is not JSON was ignored");
+      send_status(handle, "a request that could not be read was ignored");
     }
-    const std::string op = request.value("op", "");
+  }
+
+  /// Applies one client request; returns what was wrong with it ("" when nothing).
+  std::string apply(Handle handle, const std::string& payload) {
+    const nlohmann::json request = nlohmann::json::parse(payload, nullptr, false);
+    if (request.is_discarded()) return "a message that is not JSON was ignored";
+    if (!request.is_object() || !request.contains("op") || !request["op"].is_string()) return "a message without an \"op\" was ignored";
+    const std::string op = request["op"].get<std::string>();
     std::lock_guard<std::mutex> lock(mutex);
-    auto& subscriptions = clients[handle];
-    try {
-      if (op == "subscribe") {
-        for (const auto& s : request.at("subscriptions")) {
-          const auto channel = s.at("channelId").get<std::uint32_t>();
-          if (channel == 0 || channel > channels.size()) continue;  // no such channel: nothing to send
-          subscriptions[s.at("id").get<std::uint32_t>()] = channel;
-        }
-      } else if (op == "unsubscribe") {
-        for (const auto& id : request.at("subscriptionIds")) subscriptions.erase(id.get<std::uint32_t>());
+    const auto client = clients.find(handle);
+    if (client == clients.end()) return "";
+    auto& subscriptions = client->second;
+    const char* list_key = op == "subscribe" ? "subscriptions" : "subscriptionIds";
+    if (op != "subscribe" && op != "unsubscribe") return "unknown op ignored";
+    if (!request.contains(list_key) || !request[list_key].is_array()) return op + " without a list was ignored";
+    std::size_t refused = 0;
+    for (const auto& entry : request[list_key]) {
+      if (op == "unsubscribe") {
+        if (entry.is_number_unsigned()) subscriptions.erase(entry.get<std::uint32_t>());
+        continue;
       }
-    } catch (const std::exception&) {
-      // A malformed request changes nothing and never stops the bridge.
+      if (!entry.is_object() || !entry.contains("id") || !entry.contains("channelId") || !entry["id"].is_number_unsigned() ||
+          !entry["channelId"].is_number_unsigned()) {
+        ++refused;
+        continue;
+      }
+      const auto id = entry["id"].get<std::uint64_t>();
+      const auto channel = entry["channelId"].get<std::uint64_t>();
+      if (id > 0xFFFFFFFFu || channel == 0 || channel > channels.size()) {
+        ++refused;  // no such channel: nothing to send
+        continue;
+      }
+      if (subscriptions.count(static_cast<std::uint32_t>(id)) == 0 && subscriptions.size() >= config.max_subscriptions_per_client) {
+        ++refused;
+        continue;
+      }
+      subscriptions[static_cast<std::uint32_t>(id)] = static_cast<std::uint32_t>(channel);
     }
+    if (refused == 0) return "";
+    return std::to_string(refused) + " subscription(s) refused: malformed, no such channel, or more than " +
+           std::to_string(config.max_subscriptions_per_client) + " per client";
   }
 
   void send_status(Handle handle, const std::string& text) {
     send_text(handle, {{"op", "status"}, {"level", 1}, {"message", text}});
   }
+
+  /// On the server's own thread (publish() posts it there): the queue a client has not read is
+  /// measured where it grows, and a client behind by more than max_queued_bytes is dropped.
+  void deliver(std::uint32_t channel_id, std::string& frame) {
+    std::vector<std::pair<Handle, std::uint32_t>> targets;
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      for (const auto& [handle, subscriptions] : clients) {
+        for (const auto& [subscription, channel] : subscriptions) {
+          if (channel == channel_id) targets.emplace_back(handle, subscription);
+        }
+      }
+    }
+    for (const auto& [handle, subscription] : targets) {
+      websocketpp::lib::error_code ec;
+      auto connection = server.get_con_from_hdl(handle, ec);
+      if (ec) continue;
+      if (connection->get_buffered_amount() + frame.size() > config.max_queued_bytes) {
+        drop_slow(handle, connection);
+        continue;
+      }
+      for (int i = 0; i < 4; ++i) frame[1 + i] = static_cast<char>((subscription >> (8 * i)) & 0xFF);
+      connection->send(frame.data(), frame.size(), websocketpp::frame::opcode::binary);
+    }
+  }
+
+  void drop_slow(Handle handle, const Server::connection_ptr& connection) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      const auto client = clients.find(handle);
+      if (client == clients.end() || client->second.empty()) return;  // already being dropped
+      client->second.clear();
+      ++slow_dropped;
+    }
+    spdlog::warn("Foxglove feed: a client more than {} bytes behind was dropped", config.max_queued_bytes);
+    websocketpp::lib::error_code ignored;
+    connection->close(websocketpp::close::status::policy_violation, "too slow: more than the queue limit unread", ignored);
+  }
 };
 
-FoxgloveBridge::FoxgloveBridge(std::string bind_address, int port, std::vector<FoxgloveChannel> channels)
-    : impl_(std::make_unique<Impl>()), bind_address_(std::move(bind_address)), port_(port) {
+FoxgloveBridge::FoxgloveBridge(FoxgloveBridgeConfig config, std::vector<FoxgloveChannel> channels)
+    : impl_(std::make_unique<Impl>()), port_(config.port) {
+  impl_->config = std::move(config);
   impl_->channels = std::move(channels);
   auto& s = impl_->server;
   s.clear_access_channels(websocketpp::log::alevel::all);
   s.clear_error_channels(websocketpp::log::elevel::all);
   s.init_asio();
   s.set_reuse_addr(true);
-  s.set_validate_handler([this](Handle handle) {
-    // Only clients that speak the Foxglove protocol, and we tell them so.
-    auto connection = impl_->server.get_con_from_hdl(handle);
-    for (const auto& protocol : connection->get_requested_subprotocols()) {
-      if (protocol == kSubprotocol) {
-        connection->select_subprotocol(kSubprotocol);
-        return true;
-      }
-    }
-    return false;
-  });
+  s.set_max_message_size(impl_->config.max_message_bytes);
+  s.set_validate_handler([this](Handle handle) { return impl_->admit(handle); });
   s.set_open_handler([this](Handle h) { impl_->on_open(h); });
   s.set_close_handler([this](Handle h) { impl_->on_close(h); });
   s.set_fail_handler([this](Handle h) { impl_->on_close(h); });
@@ -116,9 +206,10 @@ FoxgloveBridge::~FoxgloveBridge() { stop(); }
 
 void FoxgloveBridge::start() {
   auto& s = impl_->server;
+  const std::string& bind_address = impl_->config.bind_address;
   websocketpp::lib::error_code ec;
-  s.listen(bind_address_, std::to_string(port_), ec);
-  if (ec) throw std::runtime_error("Foxglove feed: cannot listen on " + bind_address_ + ":" + std::to_string(port_) + ": " + ec.message());
+  s.listen(bind_address, std::to_string(port_), ec);
+  if (ec) throw std::runtime_error("Foxglove feed: cannot listen on " + bind_address + ":" + std::to_string(port_) + ": " + ec.message());
   s.start_accept(ec);
   if (ec) throw std::runtime_error("Foxglove feed: " + ec.message());
   websocketpp::lib::asio::error_code endpoint_error;
@@ -145,26 +236,25 @@ std::size_t FoxgloveBridge::clients() const {
   return impl_->clients.size();
 }
 
+std::size_t FoxgloveBridge::slow_clients_dropped() const {
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  return impl_->slow_dropped;
+}
+
 void FoxgloveBridge::publish(std::uint32_t channel_id, std::uint64_t timestamp_ns, const std::uint8_t* data, std::size_t size) {
-  std::vector<std::pair<Handle, std::uint32_t>> targets;
   {
     std::lock_guard<std::mutex> lock(impl_->mutex);
+    bool wanted = false;
     for (const auto& [handle, subscriptions] : impl_->clients) {
-      for (const auto& [subscription, channel] : subscriptions) {
-        if (channel == channel_id) targets.emplace_back(handle, subscription);
-      }
+      for (const auto& [subscription, channel] : subscriptions) wanted = wanted || channel == channel_id;
     }
+    if (!wanted || !impl_->running) return;
   }
-  if (targets.empty()) return;
-  std::string frame(1 + 4 + 8 + size, '\0');
-  frame[0] = 0x01;  // MessageData
-  for (int i = 0; i < 8; ++i) frame[5 + i] = static_cast<char>((timestamp_ns >> (8 * i)) & 0xFF);
-  std::copy(data, data + size, frame.begin() + 13);
-  for (const auto& [handle, subscription] : targets) {
-    for (int i = 0; i < 4; ++i) frame[1 + i] = static_cast<char>((subscription >> (8 * i)) & 0xFF);
-    websocketpp::lib::error_code ignored;  // a slow or gone client must not stop the others
-    impl_->server.send(handle, frame.data(), frame.size(), websocketpp::frame::opcode::binary, ignored);
-  }
+  auto frame = std::make_shared<std::string>(1 + 4 + 8 + size, '\0');
+  (*frame)[0] = 0x01;  // MessageData; the subscription id (bytes 1-4) is written per client
+  for (int i = 0; i < 8; ++i) (*frame)[5 + i] = static_cast<char>((timestamp_ns >> (8 * i)) & 0xFF);
+  std::copy(data, data + size, frame->begin() + 13);
+  impl_->server.get_io_service().post([impl = impl_.get(), channel_id, frame] { impl->deliver(channel_id, *frame); });
 }
 
 }  // namespace sarloc::dashboard

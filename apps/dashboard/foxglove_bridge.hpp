@@ -22,9 +22,26 @@ struct FoxgloveChannel {
   std::string schema;       ///< the self-contained IDL text
 };
 
+/// What the feed lets a client do. Nothing a client sends may stop the process, and no client
+/// may make it queue without limit (issue 59: "[]" as a text frame ended the dashboard; 5000
+/// subscriptions of a client that stopped reading took it from 52 to 431 MB in 6 s).
+struct FoxgloveBridgeConfig {
+  std::string bind_address = "127.0.0.1";
+  int port = 8765;  ///< 0: any free port
+  /// Browsers send an Origin; any web page the commander opens could otherwise connect and read
+  /// every topic. A client that sends one must be on this list ("https://app.foxglove.dev" for
+  /// Foxglove's web app); clients that send none (desktop viewers, tools) are let in.
+  std::vector<std::string> allowed_origins;
+  std::size_t max_clients = 16;
+  std::size_t max_subscriptions_per_client = 64;  ///< 13 topics: room to spare
+  /// A client whose unsent frames exceed this is too slow: it is dropped, not queued for.
+  std::size_t max_queued_bytes = 4u << 20;
+  std::size_t max_message_bytes = 64u << 10;  ///< a client's largest frame (a subscribe list)
+};
+
 class FoxgloveBridge {
  public:
-  FoxgloveBridge(std::string bind_address, int port, std::vector<FoxgloveChannel> channels);
+  FoxgloveBridge(FoxgloveBridgeConfig config, std::vector<FoxgloveChannel> channels);
   ~FoxgloveBridge();
   FoxgloveBridge(const FoxgloveBridge&) = delete;
   FoxgloveBridge& operator=(const FoxgloveBridge&) = delete;
@@ -34,6 +51,8 @@ class FoxgloveBridge {
   void stop();
   int port() const { return port_; }
   std::size_t clients() const;
+  /// Clients dropped for queuing more than max_queued_bytes, since start.
+  std::size_t slow_clients_dropped() const;
 
   /// Forwards one payload of channel `channel_id` to every client subscribed to it.
   void publish(std::uint32_t channel_id, std::uint64_t timestamp_ns, const std::uint8_t* data, std::size_t size);
@@ -41,7 +60,6 @@ class FoxgloveBridge {
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  std::string bind_address_;
   int port_ = 0;
 };
 

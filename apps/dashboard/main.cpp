@@ -140,7 +140,11 @@ int main(int argc, char** argv) {
                             sarloc::dds::self_contained_idl(topic.idl_file)});
         topics.push_back(&topic);
       }
-      foxglove = std::make_unique<dashboard::FoxgloveBridge>(settings.bind_address, settings.foxglove_port, channels);
+      dashboard::FoxgloveBridgeConfig feed;
+      feed.bind_address = settings.bind_address;
+      feed.port = settings.foxglove_port;
+      feed.allowed_origins = settings.feed_origins;
+      foxglove = std::make_unique<dashboard::FoxgloveBridge>(feed, channels);
       foxglove->start();
       raw_participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, "sarloc-dashboard-foxglove"));
       sarloc::dds::RawReaderEvents events;

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <set>
 
+#include "sarloc/core/common/identifier.hpp"
 #include "sarloc/core/incident/source_estimate.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/process_stats.hpp"
@@ -94,7 +95,7 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
           pending_estimates_.push_back({std::move(estimate), std::move(writer), e.from_device(), clock_.now()});
         } catch (const InputError& error) {
           counters_.rejected("invalid_value");
-          warnings_.warn(e.rescuer_id().to_string(), "invalid_value", std::string("victim estimate: ") + error.what());
+          warnings_.warn(printable_id(e.rescuer_id()), "invalid_value", std::string("victim estimate: ") + error.what());
         }
       },
       EndpointOptions::in(config_.estimate_partitions));
@@ -130,7 +131,7 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
               position.stamp, incident::reporter_fix_of(position, config_.antenna_height_m, config_.antenna_height_sigma_m));
         } catch (const InputError& error) {
           counters_.rejected("invalid_value");
-          warnings_.warn(p.responder_id().to_string(), "invalid_value", error.what());
+          warnings_.warn(printable_id(p.responder_id()), "invalid_value", error.what());
         }
       };
   position_reader_ = std::make_unique<Reader<::sarloc::ResponderPosition>>(participant_, on_position, EndpointOptions{}, events);
@@ -222,20 +223,27 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
           }
         } catch (const InputError& error) {
           counters_.rejected("invalid_value");
-          warnings_.warn(a.responder_id().to_string(), "invalid_value", std::string("responder alarm: ") + error.what());
+          warnings_.warn(printable_id(a.responder_id()), "invalid_value", std::string("responder alarm: ") + error.what());
         }
       });
   acknowledgement_reader_ = std::make_unique<Reader<::sarloc::AlarmAcknowledgement>>(
       participant_, [this](const ::sarloc::AlarmAcknowledgement& ack, const auto&) {
         std::lock_guard<std::mutex> lock(mutex_);
         if (arbiter_.role() != incident::CommandRole::kActive) return;  // the active one's picture carries it
-        const auto result = alarm_board_.acknowledge(ack.alarm_id(), ack.operator_id().to_string(), clock_.now());
+        const std::string operator_id = ack.operator_id().to_string();
+        if (!is_identifier(operator_id)) {
+          // It would travel on as the alarm's acknowledged_by, which every reader refuses.
+          counters_.rejected("invalid_value");
+          warnings_.warn(printable_id(ack.operator_id()), "invalid_value", "alarm acknowledgement: operator_id is not an identifier");
+          return;
+        }
+        const auto result = alarm_board_.acknowledge(ack.alarm_id(), operator_id, clock_.now());
         if (result == incident::AckResult::kUnknown) {
           counters_.rejected("unknown_alarm");
-          warnings_.warn(ack.operator_id().to_string(), "unknown_alarm",
+          warnings_.warn(printable_id(ack.operator_id()), "unknown_alarm",
                          "acknowledgement of alarm " + std::to_string(ack.alarm_id()) + ": no such alarm");
         } else if (result == incident::AckResult::kAcknowledged) {
-          spdlog::info("{}: alarm {} acknowledged by '{}'", config_.node_id, ack.alarm_id(), ack.operator_id().to_string());
+          spdlog::info("{}: alarm {} acknowledged by '{}'", config_.node_id, ack.alarm_id(), operator_id);
         }
       });
   ReaderEvents alarm_events;

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/identifier.hpp"
 #include "sarloc/idl/incidentPubSubTypes.h"
 
 namespace sarloc::dds {
@@ -17,6 +18,15 @@ Identifier to_identifier(const std::string& value, const char* field) {
                      " characters: at most " + std::to_string(::sarloc::ID_MAX));
   }
   return Identifier(value);
+}
+
+// Every id from the wire passes the one identifier rule (sarloc/core/common/identifier.hpp):
+// a peer's bytes that are not an id (invalid UTF-8, markup, control characters) are refused
+// here, counted as the reader's rejection, and never reach a picture, a page or a file name.
+std::string from_identifier(const Identifier& id, const char* field, bool empty_allowed = false) {
+  std::string value = id.to_string();
+  check_identifier(value, field, empty_allowed);
+  return value;
 }
 
 // Row-major on the wire, whatever Eigen's storage order.
@@ -45,6 +55,11 @@ CoreEnum checked_enum(std::uint32_t wire, std::uint32_t last, const char* field)
 }
 
 }  // namespace
+
+std::string printable_id(const Identifier& id) {
+  std::string value = id.to_string();
+  return is_identifier(value) ? value : printable_excerpt(value);
+}
 
 ::sarloc::Vector3 to_idl(const Vec3& v) {
   ::sarloc::Vector3 out;
@@ -127,7 +142,7 @@ responder::TransmitterSignature to_core(const ::sarloc::TransmitterSignature& s,
 
 avalanche::FieldMeasurement to_core(const ::sarloc::FieldMeasurement& m) {
   avalanche::FieldMeasurement out;
-  out.rescuer_id = m.rescuer_id().to_string();
+  out.rescuer_id = from_identifier(m.rescuer_id(), "field_measurement.rescuer_id");
   out.signal_id = m.signal_id();
   out.sequence = m.sequence_number();
   out.stamp = m.stamp();
@@ -160,7 +175,7 @@ avalanche::FieldMeasurement to_core(const ::sarloc::FieldMeasurement& m) {
 
 responder::Odometry to_core(const ::sarloc::Odometry& o) {
   responder::Odometry out;
-  out.rescuer_id = o.rescuer_id().to_string();
+  out.rescuer_id = from_identifier(o.rescuer_id(), "odometry.rescuer_id");
   out.sequence = o.sequence_number();
   out.interval_start = o.interval_start();
   out.interval_end = o.interval_end();
@@ -202,7 +217,7 @@ responder::Odometry to_core(const ::sarloc::Odometry& o) {
 
 responder::VictimEstimate to_core(const ::sarloc::VictimEstimate& e) {
   responder::VictimEstimate out;
-  out.rescuer_id = e.rescuer_id().to_string();
+  out.rescuer_id = from_identifier(e.rescuer_id(), "victim_estimate.rescuer_id");
   out.signal_id = e.signal_id();
   out.stamp = e.stamp();
   out.status = checked_enum<responder::EstimatorStatus>(e.status(), ::sarloc::ESTIMATOR_FOUND, "victim_estimate.status");
@@ -249,7 +264,7 @@ responder::VictimEstimate to_core(const ::sarloc::VictimEstimate& e) {
 
 responder::Guidance to_core(const ::sarloc::Guidance& g) {
   responder::Guidance out;
-  out.rescuer_id = g.rescuer_id().to_string();
+  out.rescuer_id = from_identifier(g.rescuer_id(), "guidance.rescuer_id");
   out.signal_id = g.signal_id();
   out.stamp = g.stamp();
   out.mode = checked_enum<responder::GuidanceMode>(g.mode(), ::sarloc::GUIDANCE_FOUND, "guidance.mode");
@@ -278,8 +293,8 @@ responder::Guidance to_core(const ::sarloc::Guidance& g) {
 
 responder::ResponderPosition to_core(const ::sarloc::ResponderPosition& r) {
   responder::ResponderPosition out;
-  out.responder_id = r.responder_id().to_string();
-  out.team_id = r.team_id().to_string();
+  out.responder_id = from_identifier(r.responder_id(), "responder_position.responder_id");
+  out.team_id = from_identifier(r.team_id(), "responder_position.team_id", true);
   out.stamp = r.stamp();
   out.position = to_core(r.position());
   out.heading_rad = r.heading_rad();
@@ -322,7 +337,7 @@ incident::FusedVictim to_core(const ::sarloc::FusedVictim& v) {
   out.position = to_core(v.position());
   out.floor = v.floor();
   for (const auto& s : v.sources()) {
-    out.sources.push_back({s.rescuer_id().to_string(), s.signal_id(), s.last_update(),
+    out.sources.push_back({from_identifier(s.rescuer_id(), "fused_victim.sources.rescuer_id"), s.signal_id(), s.last_update(),
                            checked_enum<responder::SignalEvent>(s.signal_event(), ::sarloc::SIGNAL_SEPARATED,
                                                                 "fused_victim.sources.signal_event"),
                            s.signal_event_stamp()});
@@ -362,11 +377,11 @@ incident::FusedVictim to_core(const ::sarloc::FusedVictim& v) {
 
 incident::TeamStatus to_core(const ::sarloc::TeamStatus& t) {
   incident::TeamStatus out;
-  out.team_id = t.team_id().to_string();
+  out.team_id = from_identifier(t.team_id(), "team_status.team_id");
   out.stamp = t.stamp();
   for (const auto& s : t.members()) {
     incident::MemberStatus m;
-    m.responder_id = s.responder_id().to_string();
+    m.responder_id = from_identifier(s.responder_id(), "team_status.members.responder_id");
     m.last_position = to_core(s.last_position());
     m.last_seen = s.last_seen();
     m.link = checked_enum<incident::LinkState>(s.link(), ::sarloc::LINK_LOST, "team_status.members.link");
@@ -398,9 +413,9 @@ incident::TeamStatus to_core(const ::sarloc::TeamStatus& t) {
 
 responder::ResponderAlarm to_core(const ::sarloc::ResponderAlarm& a) {
   responder::ResponderAlarm out;
-  out.responder_id = a.responder_id().to_string();
+  out.responder_id = from_identifier(a.responder_id(), "responder_alarm.responder_id");
   out.kind = checked_enum<responder::AlarmKind>(a.kind(), ::sarloc::ALARM_MAP_ERROR, "responder_alarm.kind");
-  out.team_id = a.team_id().to_string();
+  out.team_id = from_identifier(a.team_id(), "responder_alarm.team_id", true);
   out.raised_at = a.raised_at();
   out.cleared_at = a.cleared_at();
   out.active = a.active();
@@ -431,14 +446,14 @@ responder::ResponderAlarm to_core(const ::sarloc::ResponderAlarm& a) {
 incident::IncidentAlarm to_core(const ::sarloc::IncidentAlarm& a) {
   incident::IncidentAlarm out;
   out.alarm_id = a.alarm_id();
-  out.alarm.responder_id = a.responder_id().to_string();
-  out.alarm.team_id = a.team_id().to_string();
+  out.alarm.responder_id = from_identifier(a.responder_id(), "incident_alarm.responder_id");
+  out.alarm.team_id = from_identifier(a.team_id(), "incident_alarm.team_id", true);
   out.alarm.kind = checked_enum<responder::AlarmKind>(a.kind(), ::sarloc::ALARM_MAP_ERROR, "incident_alarm.kind");
   out.alarm.raised_at = a.raised_at();
   out.alarm.cleared_at = a.cleared_at();
   out.alarm.active = a.active();
   out.acknowledged = a.acknowledged();
-  out.acknowledged_by = a.acknowledged_by().to_string();
+  out.acknowledged_by = from_identifier(a.acknowledged_by(), "incident_alarm.acknowledged_by", true);
   out.acknowledged_at = a.acknowledged_at();
   out.alarm.position_known = a.position_known();
   out.alarm.last_position = to_core(a.last_position());

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <functional>
 
+#include "sarloc/core/common/identifier.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/mission_clock.hpp"
 #include "sarloc/dds/process_stats.hpp"
@@ -80,7 +81,7 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
           try {
             enqueue(o.rescuer_id().to_string(), to_core(o));
           } catch (const InputError& e) {
-            refuse(o.rescuer_id().to_string(), e.what());
+            refuse(printable_id(o.rescuer_id()), e.what());
           }
         },
         inputs);
@@ -90,6 +91,7 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
           if (v.state() != ::sarloc::VICTIM_FOUND && v.state() != ::sarloc::VICTIM_RECOVERED) return;
           for (const auto& source : v.sources()) {
             const std::string id = source.rescuer_id().to_string();
+            if (!is_identifier(id)) continue;  // no rescuer of ours: nothing to stop
             enqueue(id, MarkDone{id, source.signal_id()});
           }
         });

@@ -13,7 +13,7 @@ SampleReaders::SampleReaders(std::shared_ptr<Participant> participant, OnSample 
         try {
           on_sample(to_core(m));
         } catch (const InputError& e) {
-          on_refused(m.rescuer_id().to_string(), e.what());
+          on_refused(printable_id(m.rescuer_id()), e.what());
         }
       },
       options);

@@ -164,13 +164,13 @@ function renderMap() {
       const L = 30 * px, hx = r.x + L * Math.cos(r.heading_rad), hy = r.y + L * Math.sin(r.heading_rad);
       svg += `<line x1="${r.x}" y1="${-r.y}" x2="${hx}" y2="${-hy}" stroke="${colour}" stroke-width="${2.5 * px}" marker-end="url(#arrow)"/>`;
     }
-    svg += `<text x="${r.x + 7 * px}" y="${-r.y - 7 * px}" style="font-size:${12 * px}px;stroke-width:${3 * px}px">${esc(r.id)}</text>`;
+    svg += `<text x="${r.x + 7 * px}" y="${-r.y - 7 * px}" font-size="${12 * px}" stroke-width="${3 * px}">${esc(r.id)}</text>`;
   }
   for (const v of picture.victims.values()) {
     const colour = v.state === "FOUND" ? "#1b7f1b" : v.state === "LOCATED" ? "#c96a00" : "#777";
     svg += ellipse(v.x, v.y, v.cov, "").replace("<ellipse", `<ellipse data-victim="${v.id}" fill="${colour}" fill-opacity="0.18" stroke="${colour}" stroke-width="${2 * px}"`);
     svg += `<path d="M${v.x - 5 * px} ${-v.y - 5 * px} L${v.x + 5 * px} ${-v.y + 5 * px} M${v.x - 5 * px} ${-v.y + 5 * px} L${v.x + 5 * px} ${-v.y - 5 * px}" stroke="${colour}" stroke-width="${2.5 * px}"/>`;
-    svg += `<text x="${v.x + 7 * px}" y="${-v.y + 14 * px}" style="font-size:${12 * px}px;stroke-width:${3 * px}px">victim ${v.id}</text>`;
+    svg += `<text x="${v.x + 7 * px}" y="${-v.y + 14 * px}" font-size="${12 * px}" stroke-width="${3 * px}">victim ${v.id}</text>`;
   }
   for (const a of picture.alarms.values()) {
     if (!a.position_known || !a.active) continue;
@@ -181,7 +181,7 @@ function renderMap() {
   const bar = [5, 2, 1].map((f) => f * base).find((b) => b <= target);
   const bx = view.x + 10 * px, by = view.y + view.h - 12 * px;
   svg += `<line x1="${bx}" y1="${by}" x2="${bx + bar}" y2="${by}" stroke="#111" stroke-width="${3 * px}"/>`;
-  svg += `<text x="${bx}" y="${by - 5 * px}" style="font-size:${11 * px}px;stroke-width:${3 * px}px">${bar} m</text>`;
+  svg += `<text x="${bx}" y="${by - 5 * px}" font-size="${11 * px}" stroke-width="${3 * px}">${bar} m</text>`;
   const defs = `<defs><marker id="arrow" viewBox="0 0 10 10" refX="5" refY="5" markerWidth="4" markerHeight="4" orient="auto-start-reverse"><path d="M0 0 L10 5 L0 10 z" fill="#333"/></marker></defs>`;
   $("map").setAttribute("viewBox", `${view.x} ${view.y} ${view.w} ${view.h}`);
   $("map").innerHTML = defs + svg;

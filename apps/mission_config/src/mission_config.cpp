@@ -9,9 +9,15 @@
 #include "sarloc/app/avalanche_yaml.hpp"
 #include "sarloc/app/floor_plan_yaml.hpp"
 #include "sarloc/app/yaml_reader.hpp"
+#include "sarloc/core/common/identifier.hpp"
 
 namespace sarloc::app {
 namespace {
+
+// Ids name files, partitions and page elements: the one identifier rule, at load.
+void require_identifier(const std::string& value, const std::string& where, bool empty_allowed = false) {
+  if (auto problem = identifier_problem(value, where, empty_allowed); !problem.empty()) throw ConfigError(problem);
+}
 
 void fail(const std::string& key, double value, const std::string& rule) {
   std::ostringstream os;
@@ -157,6 +163,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("longitude_deg", c.command.origin.longitude_deg);
     r.read("altitude_m", c.command.origin.altitude_m);
     r.expect_done();
+    require_identifier(c.command.incident_id, name + ": incident.id");
   }
   {
     auto r = root.child("dds");
@@ -191,6 +198,9 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.require("id", id);
     r.require("team", team);
     r.read("sector", sector);
+    require_identifier(id, name + ": " + r.path() + ".id");
+    require_identifier(team, name + ": " + r.path() + ".team");
+    require_identifier(sector, name + ": " + r.path() + ".sector", true);
     std::string role = estimator::to_string(estimator::ResponderRole::kAvalancheRescuer);
     r.read("role", role);
     const auto parsed_role = estimator::parse_responder_role(role, name + ": " + r.path() + ".role");
@@ -238,6 +248,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     std::string sector;
     r.require("name", sector);
     r.expect_done();
+    require_identifier(sector, name + ": " + r.path() + ".name");
     c.sectors.push_back(sector);
   }
   {
@@ -387,6 +398,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("max_streams", d.max_streams);
     r.read("track_length", d.track_length);
     r.read("foxglove_port", d.foxglove_port);
+    r.read("feed_origins", d.feed_origins);
     r.expect_done();
     d.validate();
   }

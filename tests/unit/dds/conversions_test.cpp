@@ -3,12 +3,14 @@
 #include "sarloc/idl/incidentPubSubTypes.h"
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/identifier.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <random>
 #include <string>
 #include <utility>
 #include <vector>
@@ -289,6 +291,72 @@ TEST(Conversions, VictimIdOfAFusedVictimInstanceHandle) {
   other.value[3] = 5;
   other.value[9] = 1;  // not a 4-byte key
   EXPECT_FALSE(victim_id_of(other).has_value());
+}
+
+// Every id from the wire passes the one identifier rule, or the sample is refused naming the
+// field (issue 59: a responder_id "bad\xff\xfeid" reached the dashboard and ended it).
+TEST(Conversions, AnIdThatIsNotAnIdentifierIsRefusedByName) {
+  auto wire = to_idl(test::sample_responder_position());
+  wire.responder_id("bad\xff\xfeid");
+  try {
+    (void)to_core(wire);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "responder_position.responder_id = 'bad\\xFF\\xFEid': not an identifier (1-64 of A-Z a-z 0-9 _ . -)");
+  }
+  auto alarm = to_idl(test::sample_incident_alarm());
+  alarm.acknowledged_by("<img src=x onerror=alert(1)>");
+  EXPECT_THROW((void)to_core(alarm), InputError);
+  alarm.acknowledged_by("");
+  EXPECT_NO_THROW((void)to_core(alarm)) << "nobody has acknowledged it yet";
+}
+
+// Random bytes in every id field of every type: each sample either converts with ids that are
+// identifiers, or is refused with an InputError naming that field. Seeded: 600 cases per field.
+TEST(Conversions, RandomBytesInEveryIdFieldNeverPassAndNeverCrash) {
+  std::mt19937 rng(59);
+  auto random_id = [&rng]() {
+    std::uniform_int_distribution<int> length(0, 64);
+    std::uniform_int_distribution<int> byte(0, 255);
+    std::bernoulli_distribution mostly_plain(0.5);
+    std::string id(static_cast<std::size_t>(length(rng)), 'a');
+    for (auto& c : id) c = mostly_plain(rng) ? static_cast<char>('a' + byte(rng) % 26) : static_cast<char>(byte(rng));
+    return id;
+  };
+  struct Field {
+    std::string name;
+    std::function<std::vector<std::string>(const std::string&)> convert;  // the ids to_core returned
+  };
+  const std::vector<Field> fields{
+      {"field_measurement.rescuer_id", [](const std::string& id) { auto w = to_idl(test::sample_field_measurement()); w.rescuer_id(id); return std::vector<std::string>{to_core(w).rescuer_id}; }},
+      {"odometry.rescuer_id", [](const std::string& id) { auto w = to_idl(test::sample_odometry()); w.rescuer_id(id); return std::vector<std::string>{to_core(w).rescuer_id}; }},
+      {"victim_estimate.rescuer_id", [](const std::string& id) { auto w = to_idl(test::sample_victim_estimate()); w.rescuer_id(id); return std::vector<std::string>{to_core(w).rescuer_id}; }},
+      {"guidance.rescuer_id", [](const std::string& id) { auto w = to_idl(test::sample_guidance()); w.rescuer_id(id); return std::vector<std::string>{to_core(w).rescuer_id}; }},
+      {"responder_position.responder_id", [](const std::string& id) { auto w = to_idl(test::sample_responder_position()); w.responder_id(id); return std::vector<std::string>{to_core(w).responder_id}; }},
+      {"responder_position.team_id", [](const std::string& id) { auto w = to_idl(test::sample_responder_position()); w.team_id(id); const auto c = to_core(w); return std::vector<std::string>{c.responder_id, c.team_id}; }},
+      {"fused_victim.sources.rescuer_id", [](const std::string& id) { auto w = to_idl(test::sample_fused_victim()); w.sources()[0].rescuer_id(id); return std::vector<std::string>{to_core(w).sources[0].rescuer_id}; }},
+      {"team_status.team_id", [](const std::string& id) { auto w = to_idl(test::sample_team_status()); w.team_id(id); return std::vector<std::string>{to_core(w).team_id}; }},
+      {"team_status.members.responder_id", [](const std::string& id) { auto w = to_idl(test::sample_team_status()); w.members()[0].responder_id(id); return std::vector<std::string>{to_core(w).members[0].responder_id}; }},
+      {"responder_alarm.responder_id", [](const std::string& id) { auto w = to_idl(test::sample_responder_alarm()); w.responder_id(id); return std::vector<std::string>{to_core(w).responder_id}; }},
+      {"incident_alarm.acknowledged_by", [](const std::string& id) { auto w = to_idl(test::sample_incident_alarm()); w.acknowledged_by(id); const auto c = to_core(w); return std::vector<std::string>{c.alarm.responder_id, c.acknowledged_by}; }},
+  };
+  const bool optional[] = {false, false, false, false, false, true, false, false, false, false, true};
+  for (std::size_t f = 0; f < fields.size(); ++f) {
+    int refused = 0;
+    for (int k = 0; k < 600; ++k) {
+      const std::string id = random_id();
+      try {
+        for (const auto& out : fields[f].convert(id)) {
+          EXPECT_TRUE(is_identifier(out) || (optional[f] && out.empty())) << fields[f].name << " let " << printable_excerpt(out) << " through";
+        }
+      } catch (const InputError& e) {
+        ++refused;
+        EXPECT_EQ(std::string(e.what()).rfind(fields[f].name + " = ", 0), 0U) << e.what();
+        EXPECT_FALSE(is_identifier(id)) << fields[f].name << " refused a good id " << id;
+      }
+    }
+    EXPECT_GT(refused, 100) << fields[f].name << ": the random ids were mostly not identifiers";
+  }
 }
 
 }  // namespace

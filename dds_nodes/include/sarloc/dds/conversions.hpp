@@ -26,6 +26,10 @@
 
 namespace sarloc::dds {
 
+/// An id from the wire, fit for a log line or a warning whatever its bytes: itself when it is an
+/// identifier (sarloc/core/common/identifier.hpp), else its printable excerpt.
+std::string printable_id(const eprosima::fastrtps::fixed_string<::sarloc::ID_MAX>& id);
+
 // Common value types.
 ::sarloc::Vector3 to_idl(const Vec3& v);
 Vec3 to_core(const ::sarloc::Vector3& v);

@@ -1,6 +1,7 @@
 #pragma once
 // The mission file's dashboard: section (sarloc-dashboard), validated at load.
 #include <string>
+#include <vector>
 
 namespace sarloc::app {
 
@@ -19,6 +20,10 @@ struct DashboardConfig {
   /// The Foxglove WebSocket feed (foxglove.websocket.v1) on this port of bind_address; -1: off,
   /// 0: any free port.
   int foxglove_port = 8765;
+  /// Web origins whose pages may open the feed (a browser sends its page's origin; any other
+  /// page the commander opens could read every topic). Clients sending no Origin (desktop
+  /// viewers, tools) are let in. Foxglove's web app: "https://app.foxglove.dev".
+  std::vector<std::string> feed_origins;
 
   /// Throws ConfigError naming the key, the value and the rule ("dashboard.port = ...").
   void validate() const;
