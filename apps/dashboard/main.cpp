@@ -7,10 +7,15 @@
 #include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
+#include <fcntl.h>
 #include <malloc.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 
 #include "dashboard_server.hpp"
@@ -74,8 +79,16 @@ int main(int argc, char** argv) {
                                                    settings.push_period_s, settings.max_streams};
     auto announce = [&](int port_in_use, int foxglove_in_use) {
       const std::string host = settings.bind_address == "0.0.0.0" ? "127.0.0.1" : settings.bind_address;
-      const std::string url = "http://" + host + ":" + std::to_string(port_in_use) + "/#token=" + settings.token;
-      spdlog::info("dashboard of mission '{}' at {}{}", mission.name, url, generated ? " (random token: give it to operators)" : "");
+      const std::string page = "http://" + host + ":" + std::to_string(port_in_use) + "/";
+      const std::string url = page + "#token=" + settings.token;
+      // The token goes to whoever started the dashboard, never into its log.
+      spdlog::info("dashboard of mission '{}' at {}; the operator token is {}{}", mission.name, page,
+                   url_file.empty() ? "in the URL printed on standard output" : "in " + url_file + " (mode 0600)",
+                   generated ? " (a random one: give it to operators)" : "");
+      if (url_file.empty()) {
+        std::printf("%s\n", url.c_str());
+        std::fflush(stdout);
+      }
       if (settings.bind_address != "127.0.0.1" && settings.bind_address != "localhost") {
         spdlog::warn("listening on {}: anyone on that network sees the picture; actions need the token", settings.bind_address);
       }
@@ -83,8 +96,14 @@ int main(int argc, char** argv) {
       if (!feed.empty()) spdlog::info("Foxglove WebSocket feed (foxglove.websocket.v1) at {}", feed);
       if (!url_file.empty()) {
         // Whole or not at all: whoever waits for the file reads both lines.
-        std::ofstream(url_file + ".tmp") << url << "\n" << feed << "\n";
-        std::rename((url_file + ".tmp").c_str(), url_file.c_str());
+        // Readable by its owner only: it holds the token.
+        const std::string text = url + "\n" + feed + "\n";
+        const int fd = ::open((url_file + ".tmp").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+        const bool written = fd >= 0 && ::fchmod(fd, 0600) == 0 && ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
+        if (fd >= 0) ::close(fd);
+        if (!written || std::rename((url_file + ".tmp").c_str(), url_file.c_str()) != 0) {
+          spdlog::error("could not write {}: {}", url_file, std::strerror(errno));
+        }
       }
     };
 

@@ -16,6 +16,7 @@
 #include "sarloc/app/command_line.hpp"
 #include "sarloc/app/logging.hpp"
 #include "sarloc/app/node_options.hpp"
+#include "sarloc/app/redact_secrets.hpp"
 #include "sarloc/app/run_main.hpp"
 #include "sarloc/app/shutdown_signal.hpp"
 #include "sarloc/dds/recorder.hpp"
@@ -102,7 +103,7 @@ int main(int argc, char** argv) {
     for (const auto& m : meta) config.metadata.insert(split_pair("--meta", m));
     for (const auto& m : meta_files) {
       const auto [key, path] = split_pair("--meta-file", m);
-      config.metadata[key] = read_text_file("--meta-file " + key, path);
+      config.metadata[key] = app::redact_secrets(read_text_file("--meta-file " + key, path));
     }
     auto participant = std::make_shared<sarloc::dds::Participant>(app::participant_config(mission, domain, "sarloc-record"));
     sarloc::dds::Recorder recorder(participant, config);

@@ -386,7 +386,7 @@ TEST(Mission, TheDashboardShowsTheMissionLiveInABrowser) {
   const std::string mission = std::string(SARLOC_BIN_DIR) + "/sarloc-mission " + SARLOC_MISSION_DIR + "/dashboard.yaml --domain " +
                               std::to_string(static_cast<int>(kDomainMissionDashboard)) + " --run-dir " + run_dir.string() +
                               " --json " + (run_dir / "summary.json").string() +
-                              " --no-record --dashboard --dashboard-port 0 --kill ff1@30 --log-level warn > " +
+                              " --no-record --dashboard --dashboard-port 0 --kill ff1@30 --log-level info > " +
                               (run_dir / "mission.out").string() + " 2>&1";
   std::thread runner([&] { std::system(mission.c_str()); });
   const fs::path url_file = run_dir / "dashboard.url";
@@ -412,6 +412,13 @@ TEST(Mission, TheDashboardShowsTheMissionLiveInABrowser) {
                                    " ff1 > " + browser_out.string() + " 2>&1").c_str());
   foxglove.join();
   runner.join();
+  // The token is for whoever started the mission: in a file only its owner reads, never in a log.
+  EXPECT_EQ(fs::status(url_file).permissions() & (fs::perms::group_all | fs::perms::others_all), fs::perms::none)
+      << "dashboard.url holds the token";
+  const std::string token = url.substr(url.find("#token=") + 7);
+  ASSERT_GE(token.size(), 8U) << url;
+  EXPECT_NE(file_text(run_dir / "dashboard.log").find("operator token is in"), std::string::npos);
+  EXPECT_EQ(file_text(run_dir / "dashboard.log").find(token), std::string::npos) << "the token is in the dashboard's log";
   const std::string fed = file_text(feed_out);
   const auto feed_start = fed.find("{\"errors\"");
   ASSERT_NE(feed_start, std::string::npos) << fed;
