@@ -3,14 +3,25 @@
 #   OUT/ca.{pem,key}                 the incident's certificate authority (identity + permissions)
 #   OUT/governance.p7s               deploy/security/governance.xml signed by the CA (S/MIME)
 #   OUT/<node>/{cert.pem,key.pem}    each node's identity (CN=<node>)
-#   OUT/<node>/permissions.p7s       what <node> may publish and subscribe, signed by the CA
+#   OUT/<node>/permissions.p7s       what <node> may publish and subscribe, by its role, signed by the CA
 #   OUT/<node>/secure.xml            participant profile "sarloc_secure" for <node>: localhost
 #                                    transports plus the dds.sec.* properties pointing at the files
-# Usage: make-certs.sh OUT NODE [NODE...]     e.g. make-certs.sh /etc/sarloc/security core command r1 r2
-# Keep OUT/ca.key offline once the nodes are issued. Re-running adds nodes with the same CA.
+# Usage: make-certs.sh OUT [ROLE:]NODE...
+#   e.g. make-certs.sh /etc/sarloc/security command:command-1 command:command-2 core:core-west r1 r2
+# A node's role decides the topics it may publish (every role may subscribe to every topic):
+#   command    the incident picture: incident_frame, fused_victim, team_status, incident_summary,
+#              incident_alarm (so no other identity can inject a victim, a team or an alarm)
+#   core       victim_estimate, guidance, responder_position (map-aided fixes)
+#   device     (the default) a rescuer's or firefighter's device: field_measurement, odometry,
+#              responder_position, victim_estimate (while its core daemon is unreachable),
+#              responder_alarm
+#   dashboard  alarm_acknowledgement
+#   recorder   nothing but its node_status
+# Every role publishes node_status. Keep OUT/ca.key offline once the nodes are issued.
+# Re-running adds nodes with the same CA.
 set -euo pipefail
 if [[ $# -lt 2 ]]; then
-  echo "usage: $0 OUT_DIR NODE [NODE...]" >&2
+  echo "usage: $0 OUT_DIR [ROLE:]NODE... (ROLE: command, core, device, dashboard, recorder; default device)" >&2
   exit 64
 fi
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -28,7 +39,29 @@ openssl smime -sign -text -in "$here/governance.xml" -out "$out/governance.p7s" 
 
 not_before=$(date -u +%Y-%m-%dT%H:%M:%S)
 not_after=$(date -u -d '+10 years' +%Y-%m-%dT%H:%M:%S)
-for node in "$@"; do
+# The topics a role may publish (DDS Security permission topic expressions).
+role_topics() {
+  case "$1" in
+    command) echo "sarloc/incident_frame sarloc/fused_victim sarloc/team_status sarloc/incident_summary sarloc/incident_alarm" ;;
+    core) echo "sarloc/victim_estimate sarloc/guidance sarloc/responder_position" ;;
+    device) echo "sarloc/field_measurement sarloc/odometry sarloc/responder_position sarloc/victim_estimate sarloc/responder_alarm" ;;
+    dashboard) echo "sarloc/alarm_acknowledgement" ;;
+    recorder) echo "" ;;
+    *) return 1 ;;
+  esac
+}
+for spec in "$@"; do
+  if [[ "$spec" == *:* ]]; then role=${spec%%:*}; node=${spec#*:}; else role=device; node=$spec; fi
+  if ! role_topics "$role" > /dev/null; then
+    echo "make-certs.sh: $spec: unknown role '$role' (command, core, device, dashboard, recorder)" >&2
+    exit 64
+  fi
+  if [[ ! "$node" =~ ^[A-Za-z0-9_.-]{1,64}$ ]]; then
+    echo "make-certs.sh: $spec: a node id is 1-64 of A-Z a-z 0-9 _ . -" >&2
+    exit 64
+  fi
+  publish="<topic>sarloc/node_status</topic>"
+  for topic in $(role_topics "$role"); do publish+="<topic>${topic}</topic>"; done
   dir="$out/$node"
   mkdir -p "$dir"
   openssl ecparam -name prime256v1 -genkey -noout -out "$dir/key.pem" 2>/dev/null
@@ -42,12 +75,12 @@ for node in "$@"; do
 <dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance"
      xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-Security/20170801/omg_shared_ca_permissions.xsd">
   <permissions>
-    <grant name="${node}_grant">
+    <grant name="${node}_${role}">
       <subject_name>${subject}</subject_name>
       <validity><not_before>${not_before}</not_before><not_after>${not_after}</not_after></validity>
       <allow_rule>
         <domains><id_range><min>0</min><max>232</max></id_range></domains>
-        <publish><topics><topic>sarloc/*</topic></topics></publish>
+        <publish><topics>${publish}</topics></publish>
         <subscribe><topics><topic>sarloc/*</topic></topics></subscribe>
       </allow_rule>
       <default>DENY</default>
@@ -107,5 +140,5 @@ XML
   </profiles>
 </dds>
 XML
-  echo "make-certs.sh: $node -> $dir/secure.xml"
+  echo "make-certs.sh: $node ($role) -> $dir/secure.xml"
 done

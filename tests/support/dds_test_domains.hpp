@@ -17,6 +17,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainSectorSplit = 127,
   kDomainManyParticipants = 128,
   kDomainSecurity = 129,
+  kDomainSecurityRoles = 167,
   kDomainDiscoveryServer = 140,
   kDomainBenchEchoListener = 141,
   kDomainBenchEchoQueue = 142,

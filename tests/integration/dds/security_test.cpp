@@ -1,9 +1,11 @@
 // deploy/security/make-certs.sh produces material Fast DDS accepts: two secured nodes talk,
-// an unauthenticated participant on the same domain hears nothing.
+// an unauthenticated participant on the same domain hears nothing; only incident command's
+// identities may publish the picture, and an identity from another CA injects nothing.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 
@@ -18,11 +20,11 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
-ParticipantConfig secure_config(const fs::path& dir, const std::string& node) {
+ParticipantConfig secure_config(const fs::path& dir, const std::string& node, std::uint32_t domain = test::kDomainSecurity) {
   ParticipantConfig c;
   c.profiles_file = (dir / node / "secure.xml").string();
   c.profile = "sarloc_secure";
-  c.domain_id = test::kDomainSecurity;
+  c.domain_id = domain;
   c.name = node;
   c.require_security = true;
   return c;
@@ -38,7 +40,7 @@ ParticipantConfig secure_config(const fs::path& dir, const std::string& node) {
 TEST(Security, SecuredNodesTalkAndAnUnauthenticatedOneHearsNothing) {
   const fs::path dir = fs::temp_directory_path() / ("sarloc-security-test-" + std::to_string(getpid()));
   fs::remove_all(dir);
-  const std::string make = std::string(SARLOC_SECURITY_DIR) + "/make-certs.sh " + dir.string() + " alpha bravo > /dev/null";
+  const std::string make = std::string(SARLOC_SECURITY_DIR) + "/make-certs.sh " + dir.string() + " dashboard:alpha command:bravo > /dev/null";
   ASSERT_EQ(std::system(make.c_str()), 0) << make;
 
   // bravo publishes from another process: each process loads one node's secure.xml.
@@ -77,6 +79,89 @@ TEST(Security, SecuredNodesTalkAndAnUnauthenticatedOneHearsNothing) {
   EXPECT_GE(got.size(), 3U) << "secured nodes did not exchange data";
   EXPECT_TRUE(outsider_inbox.wait_for(1, 0ms).empty()) << "an unauthenticated participant received secured data";
   EXPECT_EQ(outsider_reader.matched_writers(), 0);
+  fs::remove_all(dir);
+}
+
+/// In a child process (each loads one node's secure.xml, and Fast DDS keeps the first file of a
+/// profile name for the process's life: ctest runs each test in a process of its own):
+/// `node` publishes fused victim `id` for a few seconds. Exit 0 it published to a reader; 10 it
+/// could not create the writer (its permissions forbid it); 20 it never matched a reader; 30 it
+/// could not even create its participant.
+pid_t publish_victim_in_child(const fs::path& dir, const std::string& node, std::uint32_t id) {
+  const pid_t child = fork();
+  if (child != 0) return child;
+  int code = 30;
+  try {
+    auto participant = std::make_shared<Participant>(secure_config(dir, node, test::kDomainSecurityRoles));
+    code = 20;
+    std::unique_ptr<Writer<::sarloc::FusedVictim>> writer;
+    try {
+      writer = std::make_unique<Writer<::sarloc::FusedVictim>>(participant);
+    } catch (const DdsError&) {
+      _exit(10);
+    }
+    const bool matched = writer->wait_for_readers(1, 15s);
+    ::sarloc::FusedVictim v;
+    v.victim_id(id);
+    v.state(::sarloc::VICTIM_FOUND);
+    for (int k = 0; k < 20; ++k) {
+      writer->write(v);
+      std::this_thread::sleep_for(100ms);
+    }
+    code = matched ? 0 : 20;
+  } catch (...) {
+  }
+  _exit(code);
+}
+
+// Issue 59, finding 3: a participant on the domain added a FOUND victim to the picture. With the
+// shipped security material, a device's identity cannot even create a picture writer, and an
+// identity named like incident command but issued by another CA matches nothing; incident
+// command's own identity is heard.
+TEST(Security, OnlyIncidentCommandPublishesThePictureAndAForgedIdentityInjectsNothing) {
+  const fs::path dir = fs::temp_directory_path() / ("sarloc-security-roles-" + std::to_string(getpid()));
+  const fs::path forged = dir / "forged";
+  fs::remove_all(dir);
+  const std::string script = std::string(SARLOC_SECURITY_DIR) + "/make-certs.sh ";
+  ASSERT_EQ(std::system((script + dir.string() + " command:ic r1 dashboard:dash > /dev/null").c_str()), 0);
+  ASSERT_EQ(std::system((script + forged.string() + " command:ic > /dev/null").c_str()), 0) << "an attacker's own CA";
+
+  const pid_t command = publish_victim_in_child(dir, "ic", 1);
+  const pid_t device = publish_victim_in_child(dir, "r1", 666);
+  const pid_t impostor = publish_victim_in_child(forged, "ic", 667);
+  ASSERT_GT(command, 0);
+  ASSERT_GT(device, 0);
+  ASSERT_GT(impostor, 0);
+
+  // The dashboard's reader in a process of its own too: exit 0 it heard victim 1 and no other,
+  // 1 it heard nothing, 2 it heard a victim from an identity that may not publish one.
+  const pid_t dashboard = fork();
+  ASSERT_GE(dashboard, 0);
+  if (dashboard == 0) {
+    int code = 1;
+    try {
+      auto participant = std::make_shared<Participant>(secure_config(dir, "dash", test::kDomainSecurityRoles));
+      test::Inbox<std::uint32_t> ids;
+      Reader<::sarloc::FusedVictim> reader(participant, [&](const auto& v, const auto&) { ids.push(v.victim_id()); });
+      std::this_thread::sleep_for(20s);  // the publishers' whole lives
+      const auto got = ids.wait_for(1, 0ms);
+      if (!got.empty()) code = std::all_of(got.begin(), got.end(), [](std::uint32_t id) { return id == 1; }) ? 0 : 2;
+    } catch (...) {
+    }
+    _exit(code);
+  }
+  int status = 0;
+  waitpid(command, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "incident command's identity never matched the dashboard";
+  waitpid(device, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 10) << "a device's identity created a picture writer (exit "
+                                                               << WEXITSTATUS(status) << ")";
+  waitpid(impostor, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 20) << "an identity of another CA matched (exit " << WEXITSTATUS(status) << ")";
+  waitpid(dashboard, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
+      << (WEXITSTATUS(status) == 2 ? "the dashboard heard a victim from an identity that may not publish one"
+                                   : "the dashboard heard no victim from incident command");
   fs::remove_all(dir);
 }
 
