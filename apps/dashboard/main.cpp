@@ -114,6 +114,7 @@ int main(int argc, char** argv) {
       dashboard::PictureState state(state_config, [&player] { return player.mission_now(); }, player.epoch_ns(),
                                     [&player] { return player.wall_now_s(); });
       building(state);
+      state.set_extra("dds_security", "recording");
       player.attach(state);
       player.seek(0.0);
       dashboard::DashboardServer server(server_config, state, [](std::uint32_t, const std::string&) { return false; });
@@ -129,6 +130,9 @@ int main(int argc, char** argv) {
     dashboard::PictureState state(state_config, [clock] { return clock.now(); }, clock.epoch());
     building(state);
     auto participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, "sarloc-dashboard"));
+    // Shown on the page's header: in red when anyone on the network could have written the picture.
+    state.set_extra("dds_security", participant->secured() ? "authenticated, encrypted" : "none");
+    if (!participant->secured()) spdlog::warn("DDS Security is off: the page says so in red (docs/operations.md, \"Security\")");
     sarloc::dds::DashboardSink sink;
     sink.on_victim = [&](const auto& v) { state.on_victim(v); };
     sink.on_victim_gone = [&](auto id) { state.on_victim_gone(id); };

@@ -5,7 +5,8 @@
 //
 // It watches without ever reloading: victims and their states as they change, the killed
 // responder's link, an alarm acknowledged with a wrong token (refused) and with the right one
-// (accepted, then shown acknowledged), render times and push latency; then a screenshot.
+// (accepted, then shown acknowledged), whether the header says the DDS data is authenticated,
+// the page's Content-Security-Policy, render times and push latency; then a screenshot.
 import { launchChromium } from "./browser.mjs";
 import path from "node:path";
 
@@ -17,8 +18,11 @@ try {
   page.on("console", (m) => { if (m.type() === "error") result.errors.push(`console: ${m.text()}`); });
   page.on("pageerror", (e) => result.errors.push(`page: ${e.message}`));
   page.on("request", (r) => { if (!r.url().startsWith(new URL(url).origin) && !r.url().startsWith("data:")) result.errors.push(`external request: ${r.url()}`); });
-  await page.goto(url, { waitUntil: "load" });
+  const response = await page.goto(url, { waitUntil: "load" });
+  result.csp = response.headers()["content-security-policy"] ?? null;
   await page.waitForFunction(() => document.getElementById("status").textContent === "live", null, { timeout: 15000 });
+  await page.waitForFunction(() => document.getElementById("dds").textContent !== "DDS: ?", null, { timeout: 15000 });
+  result.ddsTrust = await page.evaluate(() => ({ text: document.getElementById("dds").textContent, className: document.getElementById("dds").className }));
   const deadline = Date.now() + 60000;
   let alarmId = null;
   while (Date.now() < deadline) {
@@ -55,6 +59,9 @@ try {
   const percentile = (values, p) => { const v = [...values].sort((a, b) => a - b); return v.length ? v[Math.min(v.length - 1, Math.floor(p * v.length))] : null; };
   result.frameMs = { count: timing.frames.length, median: percentile(timing.frames, 0.5), p95: percentile(timing.frames, 0.95) };
   result.pushLatencyMs = { count: timing.latencies.length, p50: percentile(timing.latencies, 0.5), p99: percentile(timing.latencies, 0.99) };
+  // Map labels stay legible at the fitted zoom (a CSS rule once overrode their per-zoom size
+  // and drew them 50 px high).
+  result.labelHeightsPx = await page.evaluate(() => [...document.querySelectorAll("#map text")].map((t) => t.getBoundingClientRect().height));
   result.screenshot = path.join(outdir, "dashboard.png");
   await page.screenshot({ path: result.screenshot });
 } catch (error) {

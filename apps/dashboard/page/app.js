@@ -88,18 +88,30 @@ function connect() {
     fillFloors();
     merge(s);
     showReplay(s.replay);
+    showTrust(s.dds_security);
   });
   source.addEventListener("delta", (e) => merge(JSON.parse(e.data)));
   source.addEventListener("heartbeat", (e) => {
     const h = JSON.parse(e.data);
     picture.missionNs = h.mission_ns;
     showReplay(h.replay);
+    showTrust(h.dds_security);
     $("banner").hidden = !h.stale;
     $("banner-age").textContent = h.data_age_s < 0 ? "ever" : h.data_age_s.toFixed(0);
     schedule();
   });
   source.onopen = () => { $("status").textContent = "live"; $("status").className = "ok"; };
   source.onerror = () => { $("status").textContent = "reconnecting…"; $("status").className = "bad"; };
+}
+
+// Whether what this page shows could have been written by anyone on the network: in red
+// unless the dashboard's participant runs DDS Security (authenticated and encrypted).
+function showTrust(security) {
+  if (security === undefined) return;
+  const secured = security === "authenticated, encrypted";
+  $("dds").textContent = secured ? "DDS authenticated, encrypted"
+    : security === "recording" ? "DDS: a recording" : "DDS NOT AUTHENTICATED: anyone on the network can change this picture";
+  $("dds").className = secured || security === "recording" ? "ok" : "alarm";
 }
 
 function fillFloors() {

@@ -448,6 +448,15 @@ TEST(Mission, TheDashboardShowsTheMissionLiveInABrowser) {
   EXPECT_TRUE(browser["linkLostSeen"]) << said;
   EXPECT_EQ(browser["ackRefusedStatus"], 401) << said;
   EXPECT_TRUE(browser["ackAccepted"]) << said;
+  // The test mission runs without DDS Security: the header must say so, in red.
+  EXPECT_EQ(browser["ddsTrust"]["className"], "alarm") << said;
+  EXPECT_NE(browser["ddsTrust"]["text"].get<std::string>().find("NOT AUTHENTICATED"), std::string::npos) << said;
+  EXPECT_EQ(browser["csp"].get<std::string>().rfind("default-src 'self'", 0), 0U) << said;
+  ASSERT_FALSE(browser["labelHeightsPx"].empty()) << said;
+  for (const auto& height : browser["labelHeightsPx"]) {
+    EXPECT_GT(height.get<double>(), 6.0) << "a map label too small to read: " << said;
+    EXPECT_LT(height.get<double>(), 24.0) << "a map label drawn huge: " << said;
+  }
   EXPECT_TRUE(fs::exists(run_dir / "dashboard.png"));
   std::printf("dashboard in Chromium: render median %.2f ms, p95 %.2f ms (%d frames); push latency p50 %.0f ms, p99 %.0f ms\n",
               browser["frameMs"]["median"].get<double>(), browser["frameMs"]["p95"].get<double>(), browser["frameMs"]["count"].get<int>(),
