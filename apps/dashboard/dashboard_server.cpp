@@ -44,6 +44,8 @@ void DashboardServerConfig::validate() const {
   if (bind_address.empty()) throw ConfigError("dashboard.bind_address is empty");
   if (port < 0 || port > 65535) throw ConfigError("dashboard.port = " + std::to_string(port) + ": must be 0-65535");
   if (token.size() < 8) throw ConfigError("dashboard.token: must be at least 8 characters (or absent: a random one is made)");
+  if (view_token.size() < 8) throw ConfigError("dashboard.view_token: must be at least 8 characters (or absent: a random one is made)");
+  if (view_token == token) throw ConfigError("dashboard.view_token: must differ from dashboard.token (viewers must not act)");
   if (auto problem = identifier_problem(operator_id, "dashboard.operator_id"); !problem.empty()) throw ConfigError(problem);
   if (!(push_period_s >= 0.05 && push_period_s <= 10.0)) {
     throw ConfigError("dashboard.push_period_s = " + std::to_string(push_period_s) + ": must be in [0.05, 10]");
@@ -53,18 +55,11 @@ void DashboardServerConfig::validate() const {
   }
 }
 
-std::string random_token() {
-  std::random_device device;
-  static constexpr char kHex[] = "0123456789abcdef";
-  std::string token;
-  for (int i = 0; i < 32; ++i) token += kHex[device() & 0xF];
-  return token;
-}
-
 DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& state,
                                  std::function<bool(std::uint32_t, const std::string&)> acknowledge)
     : config_(std::move(config)), state_(state), acknowledge_(std::move(acknowledge)), server_(std::make_unique<httplib::Server>()) {
   config_.validate();
+  sessions_ = std::make_shared<SessionStore>(config_.view_token, config_.token);
   auto& s = *server_;
   // One thread per open stream, and some for everything else.
   const int threads = config_.max_streams + 8;
@@ -89,8 +84,9 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
       error(res, 403, "a request from another site's page");
       return Outcome::Handled;
     }
-    if (req.path != "/api/replay" && !authorised(req.get_header_value("Authorization"))) {
-      error(res, 401, "the access token is missing or wrong");
+    // Signing in and a replay's controls need no operator token (their handlers check theirs).
+    if (req.path != "/api/session" && req.path != "/api/replay" && !sessions_->may_act_bearer(req.get_header_value("Authorization"))) {
+      error(res, 401, "the operator token is missing or wrong");
       return Outcome::Handled;
     }
     if (req.has_header("Transfer-Encoding")) {
@@ -113,10 +109,29 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
       res.set_header("Cache-Control", "no-store");
     });
   }
-  s.Get("/api/state", [this](const httplib::Request&, httplib::Response& res) {
+  s.Get("/api/session", [this](const httplib::Request& req, httplib::Response& res) {
+    // Always 200: the page asks before it signs in, and a 401 would be a console error.
+    res.set_content(json_text(nlohmann::json{{"signed_in", may_view(req)},
+                                             {"may_act", sessions_->may_act_bearer(req.get_header_value("Authorization"))}}),
+                    "application/json");
+  });
+  s.Post("/api/session", [this](const httplib::Request& req, httplib::Response& res) {
+    const nlohmann::json request = nlohmann::json::parse(req.body, nullptr, false);
+    if (!request.is_object() || !request.contains("token") || !request["token"].is_string()) {
+      return error(res, 400, "expected {\"token\": \"...\"}");
+    }
+    if (!sessions_->may_view(request["token"].get<std::string>())) return error(res, 401, "the access token is wrong");
+    res.set_header("Set-Cookie", SessionStore::set_cookie(sessions_->open(), config_.secure_cookie));
+    res.set_content(json_text(nlohmann::json{{"signed_in", true}}), "application/json");
+  });
+  s.Get("/api/state", [this](const httplib::Request& req, httplib::Response& res) {
+    if (!may_view(req)) return error(res, 401, "sign in first: the view token, or a session");
     res.set_content(json_text(state_.snapshot()), "application/json");
   });
-  s.Get("/events", [this](const httplib::Request&, httplib::Response& res) {
+  s.Get("/events", [this](const httplib::Request& req, httplib::Response& res) {
+    // Checked before a stream is counted: clients without a credential can never use up the
+    // streams that the commander's own browser needs.
+    if (!may_view(req)) return error(res, 401, "sign in first: the view token, or a session");
     if (streams_.fetch_add(1) >= config_.max_streams) {
       streams_.fetch_sub(1);
       return error(res, 503, "too many open event streams (dashboard.max_streams)");
@@ -159,6 +174,7 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
   });
   s.Post("/api/replay", [this](const httplib::Request& req, httplib::Response& res) {
     if (!replay_control_) return error(res, 404, "not a replay (sarloc-dashboard --recording)");
+    if (!may_view(req)) return error(res, 401, "sign in first: the view token, or a session");
     // A cross-site form can post text/plain without asking; application/json it cannot.
     if (req.get_header_value("Content-Type").rfind("application/json", 0) != 0) {
       return error(res, 415, "the body must be application/json");
@@ -230,12 +246,9 @@ bool DashboardServer::push_events(httplib::DataSink& sink, std::uint64_t& sent, 
   return chunk.empty() || sink.write(chunk.data(), chunk.size());
 }
 
-bool DashboardServer::authorised(const std::string& header) const {
-  const std::string expected = "Bearer " + config_.token;
-  if (header.size() != expected.size()) return false;
-  unsigned char difference = 0;  // constant time: the token does not leak through timing
-  for (std::size_t i = 0; i < header.size(); ++i) difference |= static_cast<unsigned char>(header[i] ^ expected[i]);
-  return difference == 0;
+bool DashboardServer::may_view(const httplib::Request& request) const {
+  return sessions_->may_view_bearer(request.get_header_value("Authorization")) ||
+         sessions_->has_session(request.get_header_value("Cookie"));
 }
 
 void DashboardServer::start() {

@@ -1,15 +1,19 @@
 #pragma once
 // sarloc-dashboard's HTTP side (Debian's cpp-httplib): the page and its assets, the picture as
 // JSON, a server-sent event stream of changes, and the operator's actions (acknowledge an
-// alarm, report a team's PAR), which need the access token.
+// alarm, report a team's PAR). Looking needs the view token (or the operator token, or a
+// session opened with either); acting needs the operator token.
 //
-//   GET  /                      the page (index.html, app.js, style.css: no external asset)
-//   GET  /api/state             the whole picture (JSON)
-//   GET  /events                text/event-stream: "snapshot" once, then "delta" and "heartbeat"
-//   POST /api/alarms/ID/ack     acknowledge alarm ID   (Authorization: Bearer TOKEN)
-//   POST /api/teams/ID/par      a team's PAR reported  (Authorization: Bearer TOKEN)
-//   POST /api/replay            a replay's play, pause, seek (no token: it changes no incident;
-//                               application/json only, so that no other site's form can post it)
+//   GET  /                      the page (index.html, app.js, style.css: no data, no external asset)
+//   GET  /api/session           {"signed_in": bool, "may_act": bool} for this browser
+//   POST /api/session           {"token": T}: a session cookie (HttpOnly, SameSite=Strict) for T
+//   GET  /api/state             the whole picture (JSON)                       [view]
+//   GET  /events                text/event-stream: "snapshot" once, then "delta" and "heartbeat" [view]
+//   POST /api/alarms/ID/ack     acknowledge alarm ID   (Authorization: Bearer OPERATOR_TOKEN)
+//   POST /api/teams/ID/par      a team's PAR reported  (Authorization: Bearer OPERATOR_TOKEN)
+//   POST /api/replay            a replay's play, pause, seek [view; application/json only, so
+//                               that no other site's form can post it]
+// [view]: Authorization: Bearer VIEW_TOKEN (or the operator's), or the session cookie.
 //
 // Bad requests get a 4xx and a JSON {"error": ...}; nothing a client sends stops the server.
 // Every request other than GET is judged on its head before its body is read: the token, its
@@ -26,10 +30,12 @@
 #include <thread>
 
 #include "picture_state.hpp"
+#include "session_store.hpp"
 
 namespace httplib {
 class Server;
 class DataSink;
+struct Request;
 }
 
 namespace sarloc::dashboard {
@@ -37,10 +43,12 @@ namespace sarloc::dashboard {
 struct DashboardServerConfig {
   std::string bind_address = "127.0.0.1";  ///< all interfaces only when asked: 0.0.0.0
   int port = 8080;                         ///< 0: any free port (tests)
-  std::string token;                       ///< required by every action; never empty when serving
+  std::string token;                       ///< the operator token: every action needs it; never empty when serving
+  std::string view_token;                  ///< looking needs it (or the operator token); never empty when serving
   std::string operator_id = "dashboard";   ///< who acknowledges, as published over DDS
   double push_period_s = 0.25;             ///< a stream sends what changed at most this often
   int max_streams = 64;                    ///< open event streams at once; more get 503
+  bool secure_cookie = false;              ///< the session cookie only over TLS (Secure)
 
   /// Throws ConfigError naming the field, the value and the rule.
   void validate() const;
@@ -66,9 +74,12 @@ class DashboardServer {
   void stop();
   int port() const { return port_; }
   int open_streams() const { return streams_.load(); }
+  /// The credentials this server accepts, for the Foxglove feed to accept the same.
+  std::shared_ptr<const SessionStore> sessions() const { return sessions_; }
 
  private:
-  bool authorised(const std::string& header) const;
+  /// The view or operator token as a Bearer, or an open session's cookie.
+  bool may_view(const httplib::Request& request) const;
   /// One turn of an event stream: the first snapshot, or what changed, and a heartbeat each
   /// second. False ends the stream (the browser left, or the server stops).
   bool push_events(httplib::DataSink& sink, std::uint64_t& sent, std::chrono::steady_clock::time_point& beat);
@@ -81,6 +92,7 @@ class DashboardServer {
   PictureState& state_;
   std::function<bool(std::uint32_t, const std::string&)> acknowledge_;
   std::function<nlohmann::json(const nlohmann::json&)> replay_control_;
+  std::shared_ptr<SessionStore> sessions_;
   std::unique_ptr<httplib::Server> server_;
   std::thread thread_;
   std::atomic<bool> stopping_{false};
@@ -94,8 +106,5 @@ class DashboardServer {
   std::map<std::pair<bool, std::uint64_t>, Cached> cache_;  // (first, since) -> message
   int port_ = 0;
 };
-
-/// A random access token (128 bits, hex) for a dashboard started without one.
-std::string random_token();
 
 }  // namespace sarloc::dashboard

@@ -20,6 +20,18 @@ using Server = websocketpp::server<websocketpp::config::asio>;
 using Handle = websocketpp::connection_hdl;
 constexpr const char* kSubprotocol = "foxglove.websocket.v1";
 
+/// The `token` parameter of a request target "/?token=T&..." ("" when none).
+std::string query_token(const std::string& resource) {
+  const auto query = resource.find('?');
+  if (query == std::string::npos) return "";
+  for (std::size_t at = query + 1; at < resource.size();) {
+    const std::size_t end = std::min(resource.find('&', at), resource.size());
+    if (resource.compare(at, 6, "token=") == 0) return resource.substr(at + 6, end - at - 6);
+    at = end + 1;
+  }
+  return "";
+}
+
 }  // namespace
 
 struct FoxgloveBridge::Impl {
@@ -45,6 +57,11 @@ struct FoxgloveBridge::Impl {
     if (!origin.empty() && std::find(allowed.begin(), allowed.end(), origin) == allowed.end()) {
       spdlog::warn("Foxglove feed: a client from origin {} refused (dashboard.feed_origins)", printable_excerpt(origin));
       connection->set_status(websocketpp::http::status_code::forbidden);
+      return false;
+    }
+    if (config.access && !config.access->may_view(query_token(connection->get_resource())) &&
+        !config.access->has_session(connection->get_request_header("Cookie"))) {
+      connection->set_status(websocketpp::http::status_code::unauthorized);
       return false;
     }
     {

@@ -13,6 +13,8 @@
 #include <thread>
 #include <vector>
 
+#include "session_store.hpp"
+
 namespace sarloc::dashboard {
 
 struct FoxgloveChannel {
@@ -37,6 +39,10 @@ struct FoxgloveBridgeConfig {
   /// A client whose unsent frames exceed this is too slow: it is dropped, not queued for.
   std::size_t max_queued_bytes = 4u << 20;
   std::size_t max_message_bytes = 64u << 10;  ///< a client's largest frame (a subscribe list)
+  /// The page's credentials: a client needs the view or operator token as the URL's query
+  /// (ws://HOST:PORT/?token=T, which Foxglove and Lichtblick keep), or the page's session
+  /// cookie. Null: anyone (tests of the protocol alone).
+  std::shared_ptr<const SessionStore> access;
 };
 
 class FoxgloveBridge {

@@ -41,13 +41,15 @@ int main(int argc, char** argv) {
   CLI::App cli{"sarloc-dashboard: the incident-command web page on the incident picture"};
   app::NodeOptions options;
   app::add_node_options(cli, options);
-  std::string bind, token, url_file, recording;
+  std::string bind, token, view_token, url_file, recording;
   int port = -1;
   int foxglove_port = -2;
   cli.add_option("--bind", bind, "address to listen on, overriding dashboard.bind_address (default 127.0.0.1)");
   cli.add_option("--port", port, "port, overriding dashboard.port (0: any free port)");
   cli.add_option("--token", token, "access token for operator actions (also SARLOC_DASHBOARD_TOKEN; default: random)");
-  cli.add_option("--url-file", url_file, "write the page's URL (with the token) to this file once serving");
+  cli.add_option("--view-token", view_token, "access token for looking only (also SARLOC_DASHBOARD_VIEW_TOKEN; default: random)");
+  cli.add_option("--url-file", url_file,
+                 "once serving, write three lines to this file (mode 0600): the operator's URL, the Foxglove feed's, a viewer's URL");
   cli.add_option("--foxglove-port", foxglove_port, "the Foxglove WebSocket feed's port, overriding dashboard.foxglove_port (-1: off)");
   cli.add_option("--recording", recording, "show this recording (.mcap) instead of live DDS, with a timeline to play, pause and scrub");
   if (auto code = app::parse_command_line(cli, argc, argv)) return *code;
@@ -62,7 +64,10 @@ int main(int argc, char** argv) {
     if (token.empty() && std::getenv("SARLOC_DASHBOARD_TOKEN") != nullptr) token = std::getenv("SARLOC_DASHBOARD_TOKEN");
     if (!token.empty()) settings.token = token;
     const bool generated = settings.token.empty();
-    if (generated) settings.token = dashboard::random_token();
+    if (generated) settings.token = dashboard::random_secret();
+    if (view_token.empty() && std::getenv("SARLOC_DASHBOARD_VIEW_TOKEN") != nullptr) view_token = std::getenv("SARLOC_DASHBOARD_VIEW_TOKEN");
+    if (!view_token.empty()) settings.view_token = view_token;
+    if (settings.view_token.empty()) settings.view_token = dashboard::random_secret();
     settings.validate();
 
     const auto clock = options.clock(mission);
@@ -75,8 +80,14 @@ int main(int argc, char** argv) {
       const auto& f = mission.estimators.firefighter;
       state.set_building({*mission.world, f.origin.x(), f.origin.y(), f.rotation_rad()});
     };
-    dashboard::DashboardServerConfig server_config{settings.bind_address, settings.port, settings.token, settings.operator_id,
-                                                   settings.push_period_s, settings.max_streams};
+    dashboard::DashboardServerConfig server_config;
+    server_config.bind_address = settings.bind_address;
+    server_config.port = settings.port;
+    server_config.token = settings.token;
+    server_config.view_token = settings.view_token;
+    server_config.operator_id = settings.operator_id;
+    server_config.push_period_s = settings.push_period_s;
+    server_config.max_streams = settings.max_streams;
     auto announce = [&](int port_in_use, int foxglove_in_use) {
       const std::string host = settings.bind_address == "0.0.0.0" ? "127.0.0.1" : settings.bind_address;
       const std::string page = "http://" + host + ":" + std::to_string(port_in_use) + "/";
@@ -92,12 +103,14 @@ int main(int argc, char** argv) {
       if (settings.bind_address != "127.0.0.1" && settings.bind_address != "localhost") {
         spdlog::warn("listening on {}: anyone on that network sees the picture; actions need the token", settings.bind_address);
       }
-      const std::string feed = foxglove_in_use > 0 ? "ws://" + host + ":" + std::to_string(foxglove_in_use) : "";
-      if (!feed.empty()) spdlog::info("Foxglove WebSocket feed (foxglove.websocket.v1) at {}", feed);
+      // Foxglove and Lichtblick take the URL as it is: the view token rides in its query.
+      const std::string feed = foxglove_in_use > 0 ? "ws://" + host + ":" + std::to_string(foxglove_in_use) + "/?token=" + settings.view_token : "";
+      const std::string viewer = page + "#token=" + settings.view_token;
+      if (foxglove_in_use > 0) spdlog::info("Foxglove WebSocket feed (foxglove.websocket.v1) on port {} (the view token in its URL's query)", foxglove_in_use);
       if (!url_file.empty()) {
         // Whole or not at all: whoever waits for the file reads both lines.
         // Readable by its owner only: it holds the token.
-        const std::string text = url + "\n" + feed + "\n";
+        const std::string text = url + "\n" + feed + "\n" + viewer + "\n";
         const int fd = ::open((url_file + ".tmp").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
         const bool written = fd >= 0 && ::fchmod(fd, 0600) == 0 && ::write(fd, text.data(), text.size()) == static_cast<ssize_t>(text.size());
         if (fd >= 0) ::close(fd);
@@ -167,6 +180,7 @@ int main(int argc, char** argv) {
       feed.bind_address = settings.bind_address;
       feed.port = settings.foxglove_port;
       feed.allowed_origins = settings.feed_origins;
+      feed.access = server.sessions();
       foxglove = std::make_unique<dashboard::FoxgloveBridge>(feed, channels);
       foxglove->start();
       raw_participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, "sarloc-dashboard-foxglove"));

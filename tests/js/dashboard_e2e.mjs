@@ -21,6 +21,7 @@ try {
   const response = await page.goto(url, { waitUntil: "load" });
   result.csp = response.headers()["content-security-policy"] ?? null;
   await page.waitForFunction(() => document.getElementById("status").textContent === "live", null, { timeout: 15000 });
+  result.addressBar = page.url();  // the token opened a session and left it
   await page.waitForFunction(() => document.getElementById("dds").textContent !== "DDS: ?", null, { timeout: 15000 });
   result.ddsTrust = await page.evaluate(() => ({ text: document.getElementById("dds").textContent, className: document.getElementById("dds").className }));
   const deadline = Date.now() + 60000;

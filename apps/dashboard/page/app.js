@@ -20,9 +20,36 @@ const missionS = (ns) => {
   return `T+${Math.floor(s / 60)}:${String(s % 60).padStart(2, "0")}`;
 };
 
+// The token in the address bar (#token=...) is used once: it opens a session (an HttpOnly
+// cookie the page cannot read) and leaves the address bar. The operator's token stays in the
+// tab's session storage for actions; looking needs only the session.
 function token() { return $("token").value.trim(); }
-$("token").value = sessionStorage.getItem("sarloc-token") || new URLSearchParams(location.hash.slice(1)).get("token") || "";
-$("token").addEventListener("change", () => sessionStorage.setItem("sarloc-token", token()));
+const tokenFromUrl = new URLSearchParams(location.hash.slice(1)).get("token");
+if (tokenFromUrl) history.replaceState(null, "", location.pathname + location.search);
+$("token").value = tokenFromUrl || sessionStorage.getItem("sarloc-token") || "";
+if (tokenFromUrl) sessionStorage.setItem("sarloc-token", tokenFromUrl);
+let connected = false;
+async function signIn() {
+  const session = await fetch("/api/session").then((r) => r.json()).catch(() => ({ signed_in: false }));
+  if (session.signed_in) return true;
+  if (!token()) return false;
+  const opened = await fetch("/api/session", { method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify({ token: token() }) });
+  return opened.ok;
+}
+async function start() {
+  if (connected) return;
+  if (await signIn()) {
+    connected = true;
+    connect();
+  } else {
+    $("status").textContent = "sign in: enter the access token";
+    $("status").className = "bad";
+  }
+}
+$("token").addEventListener("change", () => {
+  sessionStorage.setItem("sarloc-token", token());
+  start();
+});
 
 const TRACK_LENGTH = 120;
 
@@ -286,4 +313,4 @@ $("map").addEventListener("wheel", (e) => {
   schedule();
 }, { passive: false });
 setInterval(schedule, 1000);  // timers (PAR, "s ago") move even without data
-connect();
+start();

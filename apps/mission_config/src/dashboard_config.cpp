@@ -21,6 +21,8 @@ void DashboardConfig::validate() const {
   check(!bind_address.empty(), "bind_address", "''", "must name an address (127.0.0.1, 0.0.0.0, ...)");
   check(port >= 0 && port <= 65535, "port", std::to_string(port), "must be 0-65535");
   check(token.empty() || token.size() >= 8, "token", "(hidden)", "must be at least 8 characters, or absent (a random one)");
+  check(view_token.empty() || view_token.size() >= 8, "view_token", "(hidden)", "must be at least 8 characters, or absent (a random one)");
+  check(view_token.empty() || view_token != token, "view_token", "(hidden)", "must differ from dashboard.token (viewers must not act)");
   if (auto problem = identifier_problem(operator_id, "dashboard.operator_id"); !problem.empty()) throw ConfigError(problem);
   check(within(stale_after_s, 0.5, 3600), "stale_after_s", std::to_string(stale_after_s), "must be in [0.5, 3600]");
   check(within(par_interval_s, 10, 86400), "par_interval_s", std::to_string(par_interval_s), "must be in [10, 86400]");

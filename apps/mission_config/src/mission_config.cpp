@@ -391,6 +391,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("bind_address", d.bind_address);
     r.read("port", d.port);
     r.read("token", d.token);
+    r.read("view_token", d.view_token);
     r.read("operator_id", d.operator_id);
     r.read("stale_after_s", d.stale_after_s);
     r.read("par_interval_s", d.par_interval_s);

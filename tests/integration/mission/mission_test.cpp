@@ -452,6 +452,7 @@ TEST(Mission, TheDashboardShowsTheMissionLiveInABrowser) {
   EXPECT_EQ(browser["ddsTrust"]["className"], "alarm") << said;
   EXPECT_NE(browser["ddsTrust"]["text"].get<std::string>().find("NOT AUTHENTICATED"), std::string::npos) << said;
   EXPECT_EQ(browser["csp"].get<std::string>().rfind("default-src 'self'", 0), 0U) << said;
+  EXPECT_EQ(browser["addressBar"].get<std::string>().find("token"), std::string::npos) << "the token stayed in the address bar: " << said;
   ASSERT_FALSE(browser["labelHeightsPx"].empty()) << said;
   for (const auto& height : browser["labelHeightsPx"]) {
     EXPECT_GT(height.get<double>(), 6.0) << "a map label too small to read: " << said;

@@ -16,11 +16,13 @@ TEST(RedactSecrets, EveryTokenIsReplacedAndTheRestIsKept) {
       "dashboard:\n"
       "  token: correct-horse-battery   # given to operators\n"
       "  operator_id: chief\n"
+      "  view_token: look-but-do-not-touch\n"
       "other: {token: 'in-quotes-123', password: \"p w\", keep: token}\n"
       "list: [a, b]\n";
   const std::string redacted = redact_secrets(text);
   EXPECT_EQ(redacted.find("correct-horse-battery"), std::string::npos) << redacted;
   EXPECT_EQ(redacted.find("in-quotes-123"), std::string::npos) << redacted;
+  EXPECT_EQ(redacted.find("look-but-do-not-touch"), std::string::npos) << redacted;
   EXPECT_EQ(redacted.find("p w"), std::string::npos) << redacted;
   EXPECT_NE(redacted.find("  token: \"(redacted)\"   # given to operators\n"), std::string::npos) << redacted;
   EXPECT_NE(redacted.find("name: secret mission"), std::string::npos) << "a word in a value is not a key";

@@ -23,6 +23,8 @@ namespace {
 using test::RawSocket;
 
 constexpr const char* kToken = "correct-horse-battery";
+constexpr const char* kViewToken = "look-but-do-not-touch";
+const httplib::Headers kViewer{{"Authorization", std::string("Bearer ") + kViewToken}};
 
 class Hostile : public ::testing::Test {
  protected:
@@ -30,6 +32,7 @@ class Hostile : public ::testing::Test {
     DashboardServerConfig config;
     config.port = 0;
     config.token = kToken;
+    config.view_token = kViewToken;
     config.push_period_s = 0.05;
     server = std::make_unique<DashboardServer>(config, state, [this](std::uint32_t, const std::string&) {
       ++acknowledgements;
@@ -57,7 +60,7 @@ class Hostile : public ::testing::Test {
     const auto page = client.Get("/");
     ASSERT_TRUE(page) << "the server no longer answers";
     EXPECT_EQ(page->status, 200);
-    const auto state_json = client.Get("/api/state");
+    const auto state_json = client.Get("/api/state", kViewer);
     ASSERT_TRUE(state_json);
     EXPECT_EQ(state_json->status, 200);
   }
@@ -77,13 +80,13 @@ TEST_F(Hostile, TextThatIsNotUtf8ReachesThePageReplacedNotAsACrash) {
   p.responder_id = "bad\xff\xfeid";
   state.on_position(p);
   httplib::Client client("127.0.0.1", server->port());
-  const auto state_json = client.Get("/api/state");
+  const auto state_json = client.Get("/api/state", kViewer);
   ASSERT_TRUE(state_json);
   ASSERT_EQ(state_json->status, 200);
   EXPECT_NE(nlohmann::json::parse(state_json->body).dump().find("bad\xEF\xBF\xBD\xEF\xBF\xBDid"), std::string::npos);
   std::string stream;
   client.set_read_timeout(5, 0);
-  client.Get("/events", [&](const char* data, std::size_t size) {
+  client.Get("/events", kViewer, [&](const char* data, std::size_t size) {
     stream.append(data, size);
     return stream.find("event: heartbeat") == std::string::npos;
   });
@@ -127,8 +130,9 @@ TEST_F(Hostile, AnotherSitesPageCannotActAndThePageCannotBeFramed) {
   const httplib::Headers same{{"Authorization", std::string("Bearer ") + kToken}, {"Origin", own}};
   EXPECT_EQ(client.Post("/api/alarms/7/ack", same, "", "text/plain")->status, 202) << "the page's own origin acts";
   EXPECT_EQ(acknowledgements, 1);
-  EXPECT_EQ(client.Post("/api/replay", R"({"action":"pause"})", "text/plain")->status, 415);
-  EXPECT_EQ(client.Post("/api/replay", R"({"action":"pause"})", "application/json")->status, 200);
+  EXPECT_EQ(client.Post("/api/replay", kViewer, R"({"action":"pause"})", "text/plain")->status, 415);
+  EXPECT_EQ(client.Post("/api/replay", R"({"action":"pause"})", "application/json")->status, 401) << "a replay is looked at too";
+  EXPECT_EQ(client.Post("/api/replay", kViewer, R"({"action":"pause"})", "application/json")->status, 200);
   const auto page = client.Get("/");
   ASSERT_TRUE(page);
   EXPECT_EQ(page->get_header_value("X-Frame-Options"), "DENY");

@@ -22,6 +22,7 @@ namespace sarloc::dashboard {
 namespace {
 
 constexpr const char* kToken = "correct-horse-battery";
+constexpr const char* kViewToken = "look-but-do-not-touch";
 
 class Server : public ::testing::Test {
  protected:
@@ -29,6 +30,8 @@ class Server : public ::testing::Test {
     DashboardServerConfig config;
     config.port = 0;
     config.token = kToken;
+  config.view_token = kViewToken;
+    config.view_token = kViewToken;
     config.max_streams = 60;
     config.push_period_s = 0.05;
     server = std::make_unique<DashboardServer>(config, state, [this](std::uint32_t id, const std::string& op) {
@@ -64,7 +67,8 @@ TEST_F(Server, ServesThePageItsAssetsAndThePictureWithNothingFromElsewhere) {
     EXPECT_EQ(res->status, 200) << asset;
     EXPECT_EQ(res->body.find("https://"), std::string::npos) << asset;
   }
-  auto state_json = client->Get("/api/state");
+  EXPECT_EQ(client->Get("/api/state")->status, 401) << "the picture needs the view token";
+  auto state_json = client->Get("/api/state", bearer(kViewToken));
   ASSERT_TRUE(state_json);
   EXPECT_EQ(nlohmann::json::parse(state_json->body)["alarms"][0]["id"], 7);
 }
@@ -86,6 +90,7 @@ TEST_F(Server, ActionsNeedTheTokenAndAcknowledgementsArePublished) {
   EXPECT_EQ(client->Post("/api/alarms/7/ack", "", "text/plain")->status, 401) << "no token";
   EXPECT_EQ(client->Post("/api/alarms/7/ack", bearer("wrong-token-here"), "", "text/plain")->status, 401);
   EXPECT_EQ(client->Post("/api/alarms/7/ack", bearer(std::string(kToken) + "x"), "", "text/plain")->status, 401);
+  EXPECT_EQ(client->Post("/api/alarms/7/ack", bearer(kViewToken), "", "text/plain")->status, 401) << "a viewer cannot act";
   EXPECT_TRUE(acknowledged.empty());
   const auto ok = client->Post("/api/alarms/7/ack", bearer(kToken), "", "text/plain");
   ASSERT_TRUE(ok);
@@ -111,6 +116,8 @@ TEST(DashboardServer, FiftyEventStreamsAtOnceDoNotGrowTheServersMemory) {
     DashboardServerConfig config;
     config.port = 0;
     config.token = kToken;
+  config.view_token = kViewToken;
+    config.view_token = kViewToken;
     config.push_period_s = 0.05;
     // Room for a round's streams and the last round's, which end on the server only at their
     // next write (a closed peer is seen when writing to it).
@@ -148,6 +155,7 @@ TEST(DashboardServer, FiftyEventStreamsAtOnceDoNotGrowTheServersMemory) {
         httplib::Client c("127.0.0.1", port);
         c.set_read_timeout(15, 0);
         const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+        c.set_default_headers({{"Authorization", std::string("Bearer ") + kViewToken}});
         c.Get("/events", [&](const char* data, std::size_t size) {
           const std::string text(data, size);
           if (text.find("event: snapshot") != std::string::npos) ++snapshots;
@@ -183,6 +191,7 @@ TEST(DashboardServer, MoreStreamsThanAllowedGet503) {
   DashboardServerConfig config;
   config.port = 0;
   config.token = kToken;
+  config.view_token = kViewToken;
   config.max_streams = 10;
   DashboardServer server_(config, state, [](std::uint32_t, const std::string&) { return true; });
   server_.start();
@@ -192,6 +201,7 @@ TEST(DashboardServer, MoreStreamsThanAllowedGet503) {
   for (int i = 0; i < 12; ++i) {
     clients.emplace_back([&] {
       httplib::Client c("127.0.0.1", server->port());
+      c.set_default_headers({{"Authorization", std::string("Bearer ") + kViewToken}});
       c.Get(
           "/events",
           [&](const httplib::Response& response) {
@@ -206,6 +216,31 @@ TEST(DashboardServer, MoreStreamsThanAllowedGet503) {
   }
   for (auto& t : clients) t.join();
   EXPECT_EQ(refused.load(), 2) << "max_streams is 10";
+}
+
+// Issue 59, finding 6: /api/state, /events (and the feed) needed no token. Looking now needs the
+// view token, the operator token, or a session a token opened: an HttpOnly, SameSite=Strict
+// cookie, so that the token leaves the address bar after its first use.
+TEST_F(Server, LookingNeedsTheViewTokenOrASessionOpenedWithIt) {
+  EXPECT_EQ(client->Get("/api/state")->status, 401);
+  EXPECT_EQ(client->Get("/api/state", bearer("not-a-token-at-all"))->status, 401);
+  EXPECT_EQ(client->Get("/api/state", bearer(kToken))->status, 200) << "the operator may look too";
+  EXPECT_EQ(nlohmann::json::parse(client->Get("/api/session")->body)["signed_in"], false);
+  EXPECT_EQ(client->Post("/api/session", R"({"token":"wrong-token-here"})", "application/json")->status, 401);
+  EXPECT_EQ(client->Post("/api/session", R"([1])", "application/json")->status, 400);
+  const auto opened = client->Post("/api/session", std::string(R"({"token":")") + kViewToken + R"("})", "application/json");
+  ASSERT_TRUE(opened);
+  ASSERT_EQ(opened->status, 200);
+  const std::string cookie = opened->get_header_value("Set-Cookie");
+  EXPECT_NE(cookie.find("HttpOnly"), std::string::npos) << cookie;
+  EXPECT_NE(cookie.find("SameSite=Strict"), std::string::npos) << cookie;
+  const std::string session = cookie.substr(0, cookie.find(';'));
+  EXPECT_EQ(client->Get("/api/state", {{"Cookie", "other=1; " + session}})->status, 200);
+  EXPECT_EQ(nlohmann::json::parse(client->Get("/api/session", {{"Cookie", session}})->body)["signed_in"], true);
+  EXPECT_EQ(client->Get("/api/state", {{"Cookie", "sarloc_session=0123456789abcdef0123456789abcdef"}})->status, 401)
+      << "a session id nobody was given";
+  EXPECT_EQ(client->Post("/api/alarms/7/ack", {{"Cookie", session}}, "", "text/plain")->status, 401) << "a session only looks";
+  EXPECT_EQ(client->Get("/")->status, 200) << "the page itself holds no data";
 }
 
 }  // namespace

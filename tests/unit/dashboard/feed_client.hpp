@@ -21,8 +21,9 @@ class FeedClient {
  public:
   using Client = websocketpp::client<websocketpp::config::asio_client>;
 
-  /// Connects to ws://127.0.0.1:port with the Foxglove subprotocol; `origin` sent when not empty.
-  FeedClient(int port, const std::string& origin = "") {
+  /// Connects to ws://127.0.0.1:port`resource` with the Foxglove subprotocol; `origin` and
+  /// `cookie` sent when not empty.
+  FeedClient(int port, const std::string& origin = "", const std::string& resource = "/", const std::string& cookie = "") {
     client_.clear_access_channels(websocketpp::log::alevel::all);
     client_.clear_error_channels(websocketpp::log::elevel::all);
     client_.init_asio();
@@ -39,10 +40,11 @@ class FeedClient {
       cv_.notify_all();
     });
     websocketpp::lib::error_code ec;
-    auto connection = client_.get_connection("ws://127.0.0.1:" + std::to_string(port), ec);
+    auto connection = client_.get_connection("ws://127.0.0.1:" + std::to_string(port) + resource, ec);
     if (ec) return;
     connection->add_subprotocol("foxglove.websocket.v1");
     if (!origin.empty()) connection->replace_header("Origin", origin);
+    if (!cookie.empty()) connection->replace_header("Cookie", cookie);
     handle_ = connection->get_handle();
     client_.connect(connection);
     thread_ = std::thread([this] { client_.run(); });

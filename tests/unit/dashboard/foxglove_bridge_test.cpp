@@ -96,6 +96,22 @@ TEST_F(Feed, APageFromAnOriginNotAllowedIsRefused) {
   EXPECT_TRUE(desktop.opened()) << "no Origin: not a web page";
 }
 
+// Issue 59, finding 6: the feed served every topic, raw field measurements included, to anyone.
+// It takes the page's credentials: the view or operator token in the URL's query (Foxglove and
+// Lichtblick keep it), or the page's session cookie.
+TEST_F(Feed, AClientNeedsTheViewTokenOrThePagesSession) {
+  auto sessions = std::make_shared<SessionStore>("look-but-do-not-touch", "correct-horse-battery");
+  FoxgloveBridgeConfig config;
+  config.access = sessions;
+  start(config);
+  EXPECT_FALSE(FeedClient(bridge->port()).opened()) << "no credential";
+  EXPECT_FALSE(FeedClient(bridge->port(), "", "/?token=guessed-token").opened());
+  EXPECT_FALSE(FeedClient(bridge->port(), "", "/", "sarloc_session=0123456789abcdef0123456789abcdef").opened());
+  EXPECT_TRUE(FeedClient(bridge->port(), "", "/?token=look-but-do-not-touch").opened());
+  EXPECT_TRUE(FeedClient(bridge->port(), "", "/?x=1&token=correct-horse-battery").opened());
+  EXPECT_TRUE(FeedClient(bridge->port(), "", "/", "a=b; sarloc_session=" + sessions->open()).opened());
+}
+
 // Issue 59, finding 4: one client subscribing 5000 ids to one topic, then not reading, took the
 // dashboard from 52 to 431 MB in 6 s. A request is at most max_message_bytes (a larger one
 // closes its connection), and subscriptions are capped per client.

@@ -6,7 +6,7 @@
 
 namespace sarloc::app {
 
-/// The value of every `token`, `password`, `secret` or `private_key` key of a YAML text, block
+/// The value of every `token` (`view_token`, ...), `password`, `secret` or `private_key` key of a YAML text, block
 /// or flow style, replaced with "(redacted)"; everything else, comments and layout included,
 /// left as it was. The result still loads (the placeholder is a valid token).
 std::string redact_secrets(const std::string& yaml_text);

@@ -11,6 +11,10 @@ struct DashboardConfig {
   /// Every operator action needs it (Authorization: Bearer TOKEN). Empty here: sarloc-dashboard
   /// makes a random one at start and logs it; --token or SARLOC_DASHBOARD_TOKEN set it too.
   std::string token;
+  /// Looking at the picture (the page's data, the event stream, the Foxglove feed) needs this
+  /// token, the operator token, or a session opened with either. Empty here: --view-token,
+  /// SARLOC_DASHBOARD_VIEW_TOKEN, or a random one made at start.
+  std::string view_token;
   std::string operator_id = "dashboard";  ///< who acknowledges alarms, as published over DDS
   double stale_after_s = 5.0;             ///< the "no data" banner after this long without a sample (wall s)
   double par_interval_s = 600.0;          ///< a team's PAR is due this long after the last (wall s)
