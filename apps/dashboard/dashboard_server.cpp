@@ -40,6 +40,10 @@ void error(httplib::Response& res, int status, const std::string& what) {
 
 }  // namespace
 
+bool is_loopback_address(const std::string& address) {
+  return address == "localhost" || address == "::1" || address.rfind("127.", 0) == 0;
+}
+
 void DashboardServerConfig::validate() const {
   if (bind_address.empty()) throw ConfigError("dashboard.bind_address is empty");
   if (port < 0 || port > 65535) throw ConfigError("dashboard.port = " + std::to_string(port) + ": must be 0-65535");
@@ -47,6 +51,14 @@ void DashboardServerConfig::validate() const {
   if (view_token.size() < 8) throw ConfigError("dashboard.view_token: must be at least 8 characters (or absent: a random one is made)");
   if (view_token == token) throw ConfigError("dashboard.view_token: must differ from dashboard.token (viewers must not act)");
   if (auto problem = identifier_problem(operator_id, "dashboard.operator_id"); !problem.empty()) throw ConfigError(problem);
+  if (tls_certificate.empty() != tls_private_key.empty()) {
+    throw ConfigError("dashboard.tls_certificate and dashboard.tls_private_key: give both, or neither");
+  }
+  if (tls_certificate.empty() && !is_loopback_address(bind_address)) {
+    throw ConfigError("dashboard.bind_address = " + bind_address +
+                      ": serving beyond this machine needs TLS (dashboard.tls_certificate, dashboard.tls_private_key; "
+                      "deploy/security/make-dashboard-cert.sh makes them)");
+  }
   if (!(push_period_s >= 0.05 && push_period_s <= 10.0)) {
     throw ConfigError("dashboard.push_period_s = " + std::to_string(push_period_s) + ": must be in [0.05, 10]");
   }
@@ -57,8 +69,18 @@ void DashboardServerConfig::validate() const {
 
 DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& state,
                                  std::function<bool(std::uint32_t, const std::string&)> acknowledge)
-    : config_(std::move(config)), state_(state), acknowledge_(std::move(acknowledge)), server_(std::make_unique<httplib::Server>()) {
+    : config_(std::move(config)), state_(state), acknowledge_(std::move(acknowledge)) {
   config_.validate();
+  if (tls()) {
+    auto secure = std::make_unique<httplib::SSLServer>(config_.tls_certificate.c_str(), config_.tls_private_key.c_str());
+    if (!secure->is_valid()) {
+      throw ConfigError("dashboard.tls_certificate = " + config_.tls_certificate + ", dashboard.tls_private_key = " +
+                        config_.tls_private_key + ": not a certificate and its key in PEM (or unreadable)");
+    }
+    server_ = std::move(secure);
+  } else {
+    server_ = std::make_unique<httplib::Server>();
+  }
   sessions_ = std::make_shared<SessionStore>(config_.view_token, config_.token);
   auto& s = *server_;
   // One thread per open stream, and some for everything else.
@@ -121,7 +143,7 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
       return error(res, 400, "expected {\"token\": \"...\"}");
     }
     if (!sessions_->may_view(request["token"].get<std::string>())) return error(res, 401, "the access token is wrong");
-    res.set_header("Set-Cookie", SessionStore::set_cookie(sessions_->open(), config_.secure_cookie));
+    res.set_header("Set-Cookie", SessionStore::set_cookie(sessions_->open(), tls()));
     res.set_content(json_text(nlohmann::json{{"signed_in", true}}), "application/json");
   });
   s.Get("/api/state", [this](const httplib::Request& req, httplib::Response& res) {

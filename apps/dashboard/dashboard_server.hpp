@@ -48,11 +48,17 @@ struct DashboardServerConfig {
   std::string operator_id = "dashboard";   ///< who acknowledges, as published over DDS
   double push_period_s = 0.25;             ///< a stream sends what changed at most this often
   int max_streams = 64;                    ///< open event streams at once; more get 503
-  bool secure_cookie = false;              ///< the session cookie only over TLS (Secure)
+  /// TLS: both PEM files, or neither. Without them the server binds loopback only (plain HTTP
+  /// beyond this machine would carry the tokens in clear).
+  std::string tls_certificate;
+  std::string tls_private_key;
 
   /// Throws ConfigError naming the field, the value and the rule.
   void validate() const;
 };
+
+/// 127.x.x.x, ::1 or localhost.
+bool is_loopback_address(const std::string& address);
 
 class DashboardServer {
  public:
@@ -73,6 +79,7 @@ class DashboardServer {
   /// Ends every stream and the server; idempotent.
   void stop();
   int port() const { return port_; }
+  bool tls() const { return !config_.tls_certificate.empty(); }
   int open_streams() const { return streams_.load(); }
   /// The credentials this server accepts, for the Foxglove feed to accept the same.
   std::shared_ptr<const SessionStore> sessions() const { return sessions_; }

@@ -88,9 +88,16 @@ int main(int argc, char** argv) {
     server_config.operator_id = settings.operator_id;
     server_config.push_period_s = settings.push_period_s;
     server_config.max_streams = settings.max_streams;
+    server_config.tls_certificate = settings.tls_certificate;
+    server_config.tls_private_key = settings.tls_private_key;
+    if (settings.foxglove_port >= 0 && !dashboard::is_loopback_address(settings.bind_address)) {
+      throw ConfigError("dashboard.foxglove_port = " + std::to_string(settings.foxglove_port) + " with bind_address " +
+                        settings.bind_address + ": the Foxglove feed speaks no TLS yet, so it serves on loopback only (-1: off)");
+    }
     auto announce = [&](int port_in_use, int foxglove_in_use) {
       const std::string host = settings.bind_address == "0.0.0.0" ? "127.0.0.1" : settings.bind_address;
-      const std::string page = "http://" + host + ":" + std::to_string(port_in_use) + "/";
+      const std::string page = std::string(settings.tls_certificate.empty() ? "http" : "https") + "://" + host + ":" +
+                               std::to_string(port_in_use) + "/";
       const std::string url = page + "#token=" + settings.token;
       // The token goes to whoever started the dashboard, never into its log.
       spdlog::info("dashboard of mission '{}' at {}; the operator token is {}{}", mission.name, page,

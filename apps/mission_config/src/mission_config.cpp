@@ -400,6 +400,10 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("track_length", d.track_length);
     r.read("foxglove_port", d.foxglove_port);
     r.read("feed_origins", d.feed_origins);
+    r.read("tls_certificate", d.tls_certificate);
+    r.read("tls_private_key", d.tls_private_key);
+    if (r.has("tls_certificate")) d.tls_certificate = resolve(d.tls_certificate, base_dir);
+    if (r.has("tls_private_key")) d.tls_private_key = resolve(d.tls_private_key, base_dir);
     r.expect_done();
     d.validate();
   }

@@ -28,6 +28,10 @@ struct DashboardConfig {
   /// page the commander opens could read every topic). Clients sending no Origin (desktop
   /// viewers, tools) are let in. Foxglove's web app: "https://app.foxglove.dev".
   std::vector<std::string> feed_origins;
+  /// The page over TLS (HTTPS): a PEM certificate and its key, both or neither
+  /// (deploy/security/make-dashboard-cert.sh). Any bind_address but loopback needs them.
+  std::string tls_certificate;
+  std::string tls_private_key;
 
   /// Throws ConfigError naming the key, the value and the rule ("dashboard.port = ...").
   void validate() const;
