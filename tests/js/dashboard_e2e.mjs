@@ -37,7 +37,7 @@ try {
     if (link === "lost") result.linkLostSeen = true;
     if (alarmId === null) {
       alarmId = await page.evaluate((who) => {
-        for (const li of document.querySelectorAll("#alarms li")) if (li.textContent.includes(`link_lost ${who}`)) return li.dataset.alarm;
+        for (const li of document.querySelectorAll("#alarms li")) if (li.textContent.includes(`Link lost ${who}`)) return li.dataset.alarm;
         return null;
       }, killed);
       if (alarmId !== null) {
@@ -63,6 +63,26 @@ try {
   // Map labels stay legible at the fitted zoom (a CSS rule once overrode their per-zoom size
   // and drew them 50 px high).
   result.labelHeightsPx = await page.evaluate(() => [...document.querySelectorAll("#map text")].map((t) => t.getBoundingClientRect().height));
+  // A screen read at a glance: no two map labels overlap; tables have headers; a FOUND victim
+  // says when; the header names the incident and the time; a legend explains the symbols.
+  result.glance = await page.evaluate(() => {
+    const boxes = [...document.querySelectorAll("#map text")].map((t) => ({ text: t.textContent, r: t.getBoundingClientRect() }));
+    const overlaps = [];
+    for (let i = 0; i < boxes.length; ++i) for (let j = i + 1; j < boxes.length; ++j) {
+      const a = boxes[i].r, b = boxes[j].r;
+      const w = Math.min(a.right, b.right) - Math.max(a.left, b.left), h = Math.min(a.bottom, b.bottom) - Math.max(a.top, b.top);
+      if (w > 1 && h > 1) overlaps.push(`${boxes[i].text} / ${boxes[j].text}`);
+    }
+    return {
+      labelOverlaps: overlaps,
+      teamHeaders: [...document.querySelectorAll("#teams table")].map((t) => t.querySelectorAll("th").length),
+      foundCells: [...document.querySelectorAll("#victims tbody tr")].filter((tr) => tr.querySelector(".state").textContent === "FOUND").map((tr) => tr.querySelector(".found").textContent),
+      incident: document.getElementById("incident").textContent,
+      wall: document.getElementById("wall").textContent,
+      legendItems: document.querySelectorAll("#legend span").length,
+      areas: document.getElementById("area").options.length,
+    };
+  });
   result.screenshot = path.join(outdir, "dashboard.png");
   await page.screenshot({ path: result.screenshot });
 } catch (error) {

@@ -116,6 +116,7 @@ function connect() {
     merge(s);
     showReplay(s.replay);
     showTrust(s.dds_security);
+    if (s.incident) $("incident").textContent = s.incident.name || s.incident.id;
   });
   source.addEventListener("delta", (e) => merge(JSON.parse(e.data)));
   source.addEventListener("heartbeat", (e) => {
@@ -151,22 +152,69 @@ function schedule() {
   if (!dirty) { dirty = true; requestAnimationFrame(render); }
 }
 
-function ellipse(x, y, cov, cls) {
+// A 95 % ellipse, drawn at least `minimum` across so that it stays visible at any zoom (its
+// radius is in the label).
+function ellipse(x, y, cov, cls, minimum = 0) {
   const [a, b, c] = cov;
   const mean = (a + c) / 2, diff = Math.sqrt(((a - c) / 2) ** 2 + b * b);
   const l1 = Math.max(mean + diff, 1e-6), l2 = Math.max(mean - diff, 1e-6);
   const angle = (0.5 * Math.atan2(2 * b, a - c) * 180) / Math.PI;
-  return `<ellipse class="${cls}" cx="${x}" cy="${-y}" rx="${Math.sqrt(CHI2_95 * l1)}" ry="${Math.sqrt(CHI2_95 * l2)}" transform="rotate(${-angle} ${x} ${-y})"/>`;
+  const rx = Math.max(Math.sqrt(CHI2_95 * l1), minimum), ry = Math.max(Math.sqrt(CHI2_95 * l2), minimum);
+  return `<ellipse class="${cls}" cx="${x}" cy="${-y}" rx="${rx}" ry="${ry}" transform="rotate(${-angle} ${x} ${-y})"/>`;
 }
 
-function fit() {
-  const xs = [], ys = [];
-  const add = (x, y) => { if (isFinite(x) && isFinite(y)) { xs.push(x); ys.push(y); } };
+// Labels placed where they overlap no label placed before: the first free one of eight spots
+// around the point, then further out. Sizes in map units (px = map units per screen pixel).
+function labeller(px) {
+  const placed = [];
+  return (x, y, text) => {
+    const w = (7 * text.length + 4) * px, h = 14 * px;
+    const spots = [[7, -7], [7, 14], [-7 - w / px, -7], [-7 - w / px, 14], [-w / px / 2, -12], [-w / px / 2, 24], [7, -21], [7, 28]];
+    let box = null;
+    for (const [dx, dy] of spots) {
+      const candidate = { x: x + dx * px, y: -y + dy * px, w, h };
+      if (!placed.some((b) => candidate.x < b.x + b.w && b.x < candidate.x + candidate.w && candidate.y - candidate.h < b.y && b.y - b.h < candidate.y)) {
+        box = candidate;
+        break;
+      }
+    }
+    box = box || { x: x + 7 * px, y: -y - 7 * px - placed.length % 4 * 14 * px, w, h };
+    placed.push(box);
+    return `<text x="${box.x}" y="${box.y}" font-size="${12 * px}" stroke-width="${3 * px}">${esc(text)}</text>`;
+  };
+}
+
+// The areas a commander looks at: where people and victims are now, split where they are far
+// apart (an avalanche field and a building 80 m away are two areas, not one box around both).
+const AREA_GAP_M = 40;
+function areas() {
+  const points = [];
+  const add = (x, y) => { if (isFinite(x) && isFinite(y)) points.push([x, y]); };
   picture.victims.forEach((v) => add(v.x, v.y));
-  picture.responders.forEach((r) => { add(r.x, r.y); for (const p of r.track) add(p[0], p[1]); });
-  if (picture.building) for (const f of picture.building.floors) for (const w of f.walls) { add(w[0], w[1]); add(w[2], w[3]); }
+  picture.responders.forEach((r) => add(r.x, r.y));
+  if (picture.building && !points.length) for (const w of picture.building.floors[0].walls) { add(w[0], w[1]); add(w[2], w[3]); }
+  // Single linkage: a point within AREA_GAP_M of an area joins it.
+  const groups = [];
+  for (const p of points) {
+    const near = groups.filter((g) => g.some((q) => Math.hypot(p[0] - q[0], p[1] - q[1]) < AREA_GAP_M));
+    const merged = [p, ...near.flat()];
+    for (const g of near) groups.splice(groups.indexOf(g), 1);
+    groups.push(merged);
+  }
+  return groups.sort((a, b) => b.length - a.length);
+}
+let areaChoice = "all";
+function fit() {
+  const groups = areas();
+  const chosen = areaChoice === "all" ? groups.flat() : groups[Number(areaChoice)] || groups.flat();
+  const xs = chosen.map((p) => p[0]), ys = chosen.map((p) => p[1]);
   if (!xs.length) return;
-  const pad = 5, minX = Math.min(...xs) - pad, maxX = Math.max(...xs) + pad, minY = Math.min(...ys) - pad, maxY = Math.max(...ys) + pad;
+  const buttons = ["all", ...groups.map((_, i) => String(i))];
+  if ($("area").options.length !== buttons.length) {
+    $("area").innerHTML = buttons.map((b) => `<option value="${b}">${b === "all" ? "everything" : `area ${Number(b) + 1} (${groups[Number(b)].length})`}</option>`).join("");
+    $("area").value = buttons.includes(areaChoice) ? areaChoice : "all";
+  }
+  const pad = 10, minX = Math.min(...xs) - pad, maxX = Math.max(...xs) + pad, minY = Math.min(...ys) - pad, maxY = Math.max(...ys) + pad;
   const box = $("map").getBoundingClientRect();
   const aspect = box.width > 0 && box.height > 0 ? box.width / box.height : 1.5;
   let w = maxX - minX, h = maxY - minY;
@@ -181,6 +229,7 @@ function renderMap() {
   const floor = Number($("floor").value || 0);
   const px = view.w / Math.max(1, $("map").getBoundingClientRect().width);  // metres per pixel
   let svg = "";
+  const label = labeller(px);
   if (picture.building && picture.building.floors[floor]) {
     for (const w of picture.building.floors[floor].walls) {
       svg += `<line x1="${w[0]}" y1="${-w[1]}" x2="${w[2]}" y2="${-w[3]}" stroke="#333" stroke-width="${3 * px}"/>`;
@@ -189,6 +238,7 @@ function renderMap() {
       svg += `<circle cx="${d.x}" cy="${-d.y}" r="${d.width_m / 2}" fill="#8fbc8f" fill-opacity="0.5"/>`;
     }
   }
+  const labels = [];
   let k = 0;
   for (const r of picture.responders.values()) {
     const colour = COLOURS[k++ % COLOURS.length];
@@ -197,24 +247,27 @@ function renderMap() {
     if (r.track.length > 1) {
       svg += `<polyline fill="none" stroke="${colour}" stroke-width="${2 * px}" stroke-opacity="0.7" points="${r.track.map((p) => `${p[0]},${-p[1]}`).join(" ")}"/>`;
     }
-    if (indoors) svg += ellipse(r.x, r.y, r.cov, "").replace("<ellipse", `<ellipse fill="none" stroke="${colour}" stroke-width="${px}"`);
+    if (indoors) svg += ellipse(r.x, r.y, r.cov, "", 4 * px).replace("<ellipse", `<ellipse fill="none" stroke="${colour}" stroke-width="${px}"`);
     svg += `<circle data-responder="${esc(r.id)}" cx="${r.x}" cy="${-r.y}" r="${5 * px}" fill="${colour}" stroke="#fff" stroke-width="${px}"/>`;
     if (r.heading_rad !== null && !indoors) {
       const L = 30 * px, hx = r.x + L * Math.cos(r.heading_rad), hy = r.y + L * Math.sin(r.heading_rad);
       svg += `<line x1="${r.x}" y1="${-r.y}" x2="${hx}" y2="${-hy}" stroke="${colour}" stroke-width="${2.5 * px}" marker-end="url(#arrow)"/>`;
     }
-    svg += `<text x="${r.x + 7 * px}" y="${-r.y - 7 * px}" font-size="${12 * px}" stroke-width="${3 * px}">${esc(r.id)}</text>`;
+    labels.push([r.x, r.y, r.id]);
   }
   for (const v of picture.victims.values()) {
     const colour = v.state === "FOUND" ? "#1b7f1b" : v.state === "LOCATED" ? "#c96a00" : "#777";
-    svg += ellipse(v.x, v.y, v.cov, "").replace("<ellipse", `<ellipse data-victim="${v.id}" fill="${colour}" fill-opacity="0.18" stroke="${colour}" stroke-width="${2 * px}"`);
+    svg += ellipse(v.x, v.y, v.cov, "", 4 * px).replace("<ellipse", `<ellipse data-victim="${v.id}" fill="${colour}" fill-opacity="0.18" stroke="${colour}" stroke-width="${2 * px}"`);
     svg += `<path d="M${v.x - 5 * px} ${-v.y - 5 * px} L${v.x + 5 * px} ${-v.y + 5 * px} M${v.x - 5 * px} ${-v.y + 5 * px} L${v.x + 5 * px} ${-v.y - 5 * px}" stroke="${colour}" stroke-width="${2.5 * px}"/>`;
-    svg += `<text x="${v.x + 7 * px}" y="${-v.y + 14 * px}" font-size="${12 * px}" stroke-width="${3 * px}">victim ${v.id}</text>`;
+    labels.push([v.x, v.y, `victim ${v.id} ±${v.radius95_m.toFixed(1)} m`]);
   }
   for (const a of picture.alarms.values()) {
     if (!a.position_known || !a.active) continue;
     svg += `<circle cx="${a.x}" cy="${-a.y}" r="${12 * px}" fill="none" stroke="#b00020" stroke-width="${3 * px}"/>`;
   }
+  // Victims' labels first: they matter most where labels crowd.
+  labels.sort((a, b) => String(b[2]).startsWith("victim") - String(a[2]).startsWith("victim"));
+  for (const [x, y, text] of labels) svg += label(x, y, text);
   // Scale bar: a round length near a fifth of the view.
   const target = view.w / 5, base = 10 ** Math.floor(Math.log10(target));
   const bar = [5, 2, 1].map((f) => f * base).find((b) => b <= target);
@@ -226,6 +279,10 @@ function renderMap() {
   $("map").innerHTML = defs + svg;
 }
 
+const ALARM_NAMES = { link_lost: "Link lost", mayday: "MAYDAY", motionless: "Motionless", map_error: "Off the map" };
+// "r1/1", "r2/1" -> "r1, r2": who heard the victim (the signal numbers are in the tooltip).
+const heardBy = (sources) => [...new Set(sources.map((s) => s.split("/")[0]))].join(", ") || "—";
+
 function renderLists() {
   const now = picture.missionNs;
   const victims = [...picture.victims.values()].sort((a, b) => a.id - b.id);
@@ -233,14 +290,17 @@ function renderLists() {
   $("victims").tBodies[0].innerHTML = victims.map((v) =>
     `<tr data-victim="${v.id}"><td>${v.id}${v.conflict ? ' <b class="error">conflict</b>' : ""}</td>` +
     `<td class="state state-${esc(v.state)}">${esc(v.state)}</td><td>${v.radius95_m.toFixed(2)}</td>` +
-    `<td>${v.located_ns ? `${((now - v.located_ns) / 1e9).toFixed(0)} s ago` : "—"}</td><td>${esc(v.sources.join(", "))}</td></tr>`).join("");
+    `<td>${v.located_ns ? `${((now - v.located_ns) / 1e9).toFixed(0)} s ago` : "—"}</td>` +
+    `<td class="found">${v.state === "FOUND" && v.found_ns ? `at ${missionS(v.found_ns)}` : "—"}</td>` +
+    `<td title="${esc(v.sources.join(", "))}">${esc(heardBy(v.sources))}</td></tr>`).join("");
 
   const wallNow = picture.wallMs + (Date.now() - picture.receivedAtMs);
   $("teams").innerHTML = [...picture.teams.values()].sort((a, b) => a.id.localeCompare(b.id)).map((t) => {
     const left = (t.par_due_wall_ms - wallNow) / 1000;
     const cls = left < 0 ? "red" : left < 60 ? "amber" : "";
     const par = left < 0 ? `PAR overdue ${(-left).toFixed(0)} s` : `PAR in ${Math.floor(left / 60)}:${String(Math.floor(left % 60)).padStart(2, "0")}`;
-    const rows = t.members.map((m) => `<tr data-member="${esc(m.id)}"><td>${esc(m.id)}</td><td class="link link-${m.link}">${m.link}</td>` +
+    const head = "<tr><th>member</th><th>link</th><th>accounted</th><th>last heard</th><th>floor</th></tr>";
+    const rows = head + t.members.map((m) => `<tr data-member="${esc(m.id)}"><td>${esc(m.id)}</td><td class="link link-${m.link}">${m.link}</td>` +
       `<td>${esc(m.accountability)}</td><td>${m.last_seen_ns ? `${((now - m.last_seen_ns) / 1e9).toFixed(0)} s ago` : "never"}</td><td>floor ${m.floor}</td></tr>`).join("");
     return `<div class="team" data-team="${esc(t.id)}"><h3>${esc(t.id || "(no team)")} <span><span class="par ${cls}">${par}</span> ` +
       `<button type="button" class="par-report" data-team="${esc(t.id)}">PAR reported</button></span></h3><table>${rows}</table></div>`;
@@ -249,13 +309,14 @@ function renderLists() {
   const alarms = [...picture.alarms.values()].sort((a, b) => b.raised_ns - a.raised_ns);
   $("alarm-count").textContent = alarms.filter((a) => !a.acknowledged).length;
   $("alarms").innerHTML = alarms.map((a) =>
-    `<li data-alarm="${a.id}" class="${a.active ? "" : "cleared"} ${a.acknowledged ? "acknowledged" : ""}"><span><b>${esc(a.kind)}</b> ${esc(a.responder)} (${esc(a.team)}), ` +
+    `<li data-alarm="${a.id}" class="${a.active ? "" : "cleared"} ${a.acknowledged ? "acknowledged" : ""}"><span><b>${esc(ALARM_NAMES[a.kind] || a.kind)}</b> ${esc(a.responder)} (${esc(a.team)}), ` +
     `raised at ${missionS(a.raised_ns)}${a.active ? "" : ", cleared"}${a.acknowledged ? `, acknowledged by ${esc(a.acknowledged_by)}` : ""}</span>` +
     (a.acknowledged ? "" : `<button type="button" class="ack" data-alarm="${a.id}">acknowledge</button>`) + "</li>").join("");
 
   $("events").innerHTML = picture.events.slice(-200).reverse().map((e) =>
     `<li><b>${missionS(e.mission_ns)}</b> ${esc(e.kind)}: ${esc(e.text)}</li>`).join("");
   $("clock").textContent = `mission ${missionS(now)}`;
+  $("wall").textContent = new Date(picture.wallMs + (Date.now() - picture.receivedAtMs)).toLocaleTimeString([], { hour12: false });
 }
 
 function render() {
@@ -286,6 +347,7 @@ document.addEventListener("click", (e) => {
 });
 $("floor").addEventListener("change", schedule);
 $("fit").addEventListener("click", () => { view.userMoved = false; schedule(); });
+$("area").addEventListener("change", () => { areaChoice = $("area").value; view.userMoved = false; schedule(); });
 
 // Pan and zoom on the map.
 let drag = null;

@@ -453,6 +453,16 @@ TEST(Mission, TheDashboardShowsTheMissionLiveInABrowser) {
   EXPECT_NE(browser["ddsTrust"]["text"].get<std::string>().find("NOT AUTHENTICATED"), std::string::npos) << said;
   EXPECT_EQ(browser["csp"].get<std::string>().rfind("default-src 'self'", 0), 0U) << said;
   EXPECT_EQ(browser["addressBar"].get<std::string>().find("token"), std::string::npos) << "the token stayed in the address bar: " << said;
+  const json& glance = browser["glance"];
+  EXPECT_TRUE(glance["labelOverlaps"].empty()) << "map labels overlap: " << glance.dump();
+  ASSERT_FALSE(glance["teamHeaders"].empty()) << said;
+  for (const auto& headers : glance["teamHeaders"]) EXPECT_EQ(headers.get<int>(), 5) << "a team table without its column headers";
+  ASSERT_FALSE(glance["foundCells"].empty()) << said;
+  for (const auto& cell : glance["foundCells"]) EXPECT_EQ(cell.get<std::string>().rfind("at T+", 0), 0U) << "a FOUND victim without its time: " << cell;
+  EXPECT_EQ(glance["incident"], "test-incident") << "the header names the incident";
+  EXPECT_NE(glance["wall"].get<std::string>().find(':'), std::string::npos) << "the header shows the wall-clock time";
+  EXPECT_EQ(glance["legendItems"], 6);
+  EXPECT_EQ(glance["areas"], 3) << "everything, the avalanche field, the house 80 m east: " << glance.dump();
   ASSERT_FALSE(browser["labelHeightsPx"].empty()) << said;
   for (const auto& height : browser["labelHeightsPx"]) {
     EXPECT_GT(height.get<double>(), 6.0) << "a map label too small to read: " << said;
