@@ -377,7 +377,7 @@ incident::FusedVictim to_core(const ::sarloc::FusedVictim& v) {
 
 incident::TeamStatus to_core(const ::sarloc::TeamStatus& t) {
   incident::TeamStatus out;
-  out.team_id = from_identifier(t.team_id(), "team_status.team_id");
+  out.team_id = from_identifier(t.team_id(), "team_status.team_id", true);
   out.stamp = t.stamp();
   for (const auto& s : t.members()) {
     incident::MemberStatus m;

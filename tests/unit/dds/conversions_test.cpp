@@ -340,7 +340,8 @@ TEST(Conversions, RandomBytesInEveryIdFieldNeverPassAndNeverCrash) {
       {"responder_alarm.responder_id", [](const std::string& id) { auto w = to_idl(test::sample_responder_alarm()); w.responder_id(id); return std::vector<std::string>{to_core(w).responder_id}; }},
       {"incident_alarm.acknowledged_by", [](const std::string& id) { auto w = to_idl(test::sample_incident_alarm()); w.acknowledged_by(id); const auto c = to_core(w); return std::vector<std::string>{c.alarm.responder_id, c.acknowledged_by}; }},
   };
-  const bool optional[] = {false, false, false, false, false, true, false, false, false, false, true};
+  // Optional (may be empty): a responder's team, the team of responders without one, who acknowledged.
+  const bool optional[] = {false, false, false, false, false, true, false, true, false, false, true};
   for (std::size_t f = 0; f < fields.size(); ++f) {
     int refused = 0;
     for (int k = 0; k < 600; ++k) {
