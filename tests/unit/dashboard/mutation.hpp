@@ -3,10 +3,19 @@
 // flipped, inserted or cut, a piece repeated, a run of the format's own punctuation inserted, or
 // the rest cut off. The same seed gives the same cases on every machine.
 #include <cstdint>
+#include <cstdlib>
 #include <random>
 #include <string>
 
 namespace sarloc::dashboard::test {
+
+/// The number of fuzz cases: 10 000 in CI (under 60 s for both fuzz tests), more for a longer
+/// documented run with SARLOC_FUZZ_CASES=N (docs/operations/dashboard.md).
+inline int fuzz_cases() {
+  const char* wanted = std::getenv("SARLOC_FUZZ_CASES");
+  const int n = wanted != nullptr ? std::atoi(wanted) : 0;
+  return n >= 100 ? n : 10000;
+}
 
 class Mutator {
  public:
