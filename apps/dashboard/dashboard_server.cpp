@@ -5,6 +5,7 @@
 
 #include <malloc.h>
 
+#include <algorithm>
 #include <chrono>
 #include <random>
 #include <regex>
@@ -59,6 +60,16 @@ void DashboardServerConfig::validate() const {
                       ": serving beyond this machine needs TLS (dashboard.tls_certificate, dashboard.tls_private_key; "
                       "deploy/security/make-dashboard-cert.sh makes them)");
   }
+  const bool wildcard = bind_address == "0.0.0.0" || bind_address == "::";
+  if (wildcard && hosts.empty()) {
+    throw ConfigError("dashboard.hosts is empty with bind_address " + bind_address +
+                      ": list the names and addresses the command post reaches the page by");
+  }
+  for (const auto& host : hosts) {
+    if (host.empty() || host.size() > 253 || host.find_first_of(" /:\t\r\n") != std::string::npos) {
+      throw ConfigError("dashboard.hosts: '" + host + "' is not a host name or an IPv4 address");
+    }
+  }
   if (!(push_period_s >= 0.05 && push_period_s <= 10.0)) {
     throw ConfigError("dashboard.push_period_s = " + std::to_string(push_period_s) + ": must be in [0.05, 10]");
   }
@@ -97,6 +108,10 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
     using Outcome = httplib::Server::HandlerResponse;
     if (req.headers.size() > kMaxHeaderFields) {
       error(res, 431, "more than " + std::to_string(kMaxHeaderFields) + " header fields");
+      return Outcome::Handled;
+    }
+    if (!known_host(req.get_header_value("Host"))) {
+      error(res, 421, "this dashboard is not served under that name (dashboard.hosts)");
       return Outcome::Handled;
     }
     if (req.method == "GET" || req.method == "HEAD") return Outcome::Unhandled;
@@ -266,6 +281,17 @@ bool DashboardServer::push_events(httplib::DataSink& sink, std::uint64_t& sent, 
   }
   // A closed browser makes the write fail: the provider ends and its thread is free.
   return chunk.empty() || sink.write(chunk.data(), chunk.size());
+}
+
+bool DashboardServer::known_host(const std::string& host_header) const {
+  std::string host = host_header;
+  if (!host.empty() && host.front() == '[') {
+    host = host.substr(0, host.find(']') + 1);  // [::1]:8080
+  } else if (const auto colon = host.rfind(':'); colon != std::string::npos) {
+    host = host.substr(0, colon);
+  }
+  if (host == "127.0.0.1" || host == "localhost" || host == "[::1]" || host == config_.bind_address) return true;
+  return std::find(config_.hosts.begin(), config_.hosts.end(), host) != config_.hosts.end();
 }
 
 bool DashboardServer::may_view(const httplib::Request& request) const {

@@ -18,6 +18,7 @@
 // Bad requests get a 4xx and a JSON {"error": ...}; nothing a client sends stops the server.
 // Every request other than GET is judged on its head before its body is read: the token, its
 // Origin (a browser's must be this server's own), no chunked body, at most 64 header fields.
+// Every request names one of the server's hosts (DashboardServerConfig::hosts) or gets 421.
 // Every response carries a Content-Security-Policy (default-src 'self'), X-Frame-Options DENY
 // and nosniff.
 #include <atomic>
@@ -28,6 +29,7 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "picture_state.hpp"
 #include "session_store.hpp"
@@ -52,6 +54,10 @@ struct DashboardServerConfig {
   /// beyond this machine would carry the tokens in clear).
   std::string tls_certificate;
   std::string tls_private_key;
+  /// The names and addresses browsers reach the page by (the Host header, without its port).
+  /// Loopback names and a specific bind_address are always in; a page reached by any other
+  /// name gets 421, so that a site whose name was rebound to this address reads nothing.
+  std::vector<std::string> hosts;
 
   /// Throws ConfigError naming the field, the value and the rule.
   void validate() const;
@@ -87,6 +93,8 @@ class DashboardServer {
  private:
   /// The view or operator token as a Bearer, or an open session's cookie.
   bool may_view(const httplib::Request& request) const;
+  /// The request's Host (its port removed) is one of this server's names.
+  bool known_host(const std::string& host_header) const;
   /// One turn of an event stream: the first snapshot, or what changed, and a heartbeat each
   /// second. False ends the stream (the browser left, or the server stops).
   bool push_events(httplib::DataSink& sink, std::uint64_t& sent, std::chrono::steady_clock::time_point& beat);

@@ -90,6 +90,7 @@ int main(int argc, char** argv) {
     server_config.max_streams = settings.max_streams;
     server_config.tls_certificate = settings.tls_certificate;
     server_config.tls_private_key = settings.tls_private_key;
+    server_config.hosts = settings.hosts;
     if (settings.foxglove_port >= 0 && !dashboard::is_loopback_address(settings.bind_address)) {
       throw ConfigError("dashboard.foxglove_port = " + std::to_string(settings.foxglove_port) + " with bind_address " +
                         settings.bind_address + ": the Foxglove feed speaks no TLS yet, so it serves on loopback only (-1: off)");

@@ -401,6 +401,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("foxglove_port", d.foxglove_port);
     r.read("feed_origins", d.feed_origins);
     r.read("tls_certificate", d.tls_certificate);
+    r.read("hosts", d.hosts);
     r.read("tls_private_key", d.tls_private_key);
     if (r.has("tls_certificate")) d.tls_certificate = resolve(d.tls_certificate, base_dir);
     if (r.has("tls_private_key")) d.tls_private_key = resolve(d.tls_private_key, base_dir);

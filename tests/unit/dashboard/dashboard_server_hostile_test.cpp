@@ -104,20 +104,32 @@ TEST_F(Hostile, ARequestIsJudgedOnItsHeadBeforeItsBodyIsRead) {
     socket.send(head);  // no body, the connection left open: an answer means it was not awaited
     return socket.receive_head();
   };
-  EXPECT_EQ(head_only("POST /api/alarms/7/ack HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: chunked\r\n\r\n").substr(0, 12),
+  EXPECT_EQ(head_only("POST /api/alarms/7/ack HTTP/1.1\r\nHost: 127.0.0.1\r\nTransfer-Encoding: chunked\r\n\r\n").substr(0, 12),
             "HTTP/1.1 401");
-  EXPECT_EQ(head_only("POST /api/alarms/7/ack HTTP/1.1\r\nHost: x\r\nContent-Length: 200000000\r\n\r\n").substr(0, 12),
+  EXPECT_EQ(head_only("POST /api/alarms/7/ack HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Length: 200000000\r\n\r\n").substr(0, 12),
             "HTTP/1.1 401");
-  EXPECT_EQ(head_only("POST /api/alarms/7/ack HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer " + std::string(kToken) +
+  EXPECT_EQ(head_only("POST /api/alarms/7/ack HTTP/1.1\r\nHost: 127.0.0.1\r\nAuthorization: Bearer " + std::string(kToken) +
                       "\r\nTransfer-Encoding: chunked\r\n\r\n")
                 .substr(0, 12),
             "HTTP/1.1 411")
       << "even with the token: the 4 KiB body limit cannot hold for a chunked body";
-  std::string many = "GET / HTTP/1.1\r\nHost: x\r\n";
+  std::string many = "GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n";
   for (int k = 0; k < 100; ++k) many += "X-Field-" + std::to_string(k) + ": y\r\n";
   EXPECT_EQ(exchange(many + "\r\n").substr(0, 12), "HTTP/1.1 431");
   EXPECT_EQ(acknowledgements, 0);
   expect_serving();
+}
+
+// DNS rebinding: a site whose name now points at this address is refused by its Host (421);
+// the page's own names are served.
+TEST_F(Hostile, AHostThatIsNotTheDashboardsIsRefused) {
+  EXPECT_EQ(exchange("GET / HTTP/1.1\r\nHost: evil.example\r\n\r\n").substr(0, 12), "HTTP/1.1 421");
+  EXPECT_EQ(exchange("GET /api/state HTTP/1.1\r\nHost: evil.example:8080\r\nAuthorization: Bearer look-but-do-not-touch\r\n\r\n").substr(0, 12),
+            "HTTP/1.1 421");
+  EXPECT_EQ(exchange("GET / HTTP/1.1\r\n\r\n").substr(0, 12), "HTTP/1.1 421") << "no Host at all";
+  for (const char* host : {"127.0.0.1", "localhost:8080", "[::1]:8080"}) {
+    EXPECT_EQ(exchange(std::string("GET / HTTP/1.1\r\nHost: ") + host + "\r\n\r\n").substr(0, 12), "HTTP/1.1 200") << host;
+  }
 }
 
 // Another site's page in the commander's browser: its POSTs carry its Origin, and a form can

@@ -37,6 +37,15 @@ TEST(DashboardTls, BeyondLoopbackWithoutTlsIsRefusedSayingWhatToDo) {
     EXPECT_NE(std::string(e.what()).find("needs TLS"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("make-dashboard-cert.sh"), std::string::npos) << e.what();
   }
+  auto listed = config_on("0.0.0.0");
+  listed.tls_certificate = "/nonexistent/cert.pem";
+  listed.tls_private_key = "/nonexistent/key.pem";
+  try {
+    DashboardServer server(listed, state, [](std::uint32_t, const std::string&) { return false; });
+    FAIL() << "0.0.0.0 without dashboard.hosts was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("dashboard.hosts"), std::string::npos) << e.what();
+  }
   for (const char* loopback : {"127.0.0.1", "localhost", "::1"}) EXPECT_TRUE(is_loopback_address(loopback)) << loopback;
   EXPECT_FALSE(is_loopback_address("10.0.0.5"));
   auto half = config_on("127.0.0.1");

@@ -32,6 +32,9 @@ struct DashboardConfig {
   /// (deploy/security/make-dashboard-cert.sh). Any bind_address but loopback needs them.
   std::string tls_certificate;
   std::string tls_private_key;
+  /// Names and addresses the page is reached by, beyond loopback and a specific bind_address;
+  /// required with bind_address 0.0.0.0. Any other Host gets 421 (DNS rebinding).
+  std::vector<std::string> hosts;
 
   /// Throws ConfigError naming the key, the value and the rule ("dashboard.port = ...").
   void validate() const;
