@@ -2,13 +2,16 @@
 #include "json_text.hpp"
 
 #include <nlohmann/json.hpp>
+#include <websocketpp/config/asio.hpp>
 #include <websocketpp/config/asio_no_tls.hpp>
 #include <websocketpp/server.hpp>
 
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <memory>
 #include <stdexcept>
+#include <type_traits>
 
 #include "sarloc/core/common/identifier.hpp"
 
@@ -16,7 +19,6 @@ namespace sarloc::dashboard {
 
 namespace {
 
-using Server = websocketpp::server<websocketpp::config::asio>;
 using Handle = websocketpp::connection_hdl;
 constexpr const char* kSubprotocol = "foxglove.websocket.v1";
 
@@ -32,17 +34,44 @@ std::string query_token(const std::string& resource) {
   return "";
 }
 
-}  // namespace
+/// The feed's transport-independent face: FoxgloveBridge runs one Endpoint, over TCP or TLS.
+class FeedEndpoint {
+ public:
+  virtual ~FeedEndpoint() = default;
+  virtual int start() = 0;  ///< listens; returns the port
+  virtual void stop() = 0;
+  virtual std::size_t clients() const = 0;
+  virtual std::size_t slow_dropped() const = 0;
+  virtual void publish(std::uint32_t channel_id, std::shared_ptr<std::string> frame) = 0;
+};
 
-struct FoxgloveBridge::Impl {
+/// The TLS context of a feed over TLS: the certificate chain and key in PEM, TLS 1.2 and up.
+std::shared_ptr<websocketpp::lib::asio::ssl::context> tls_context(const FoxgloveBridgeConfig& config) {
+  namespace ssl = websocketpp::lib::asio::ssl;
+  auto context = std::make_shared<ssl::context>(ssl::context::tls_server);
+  context->set_options(ssl::context::default_workarounds | ssl::context::no_sslv2 | ssl::context::no_sslv3 |
+                       ssl::context::no_tlsv1 | ssl::context::no_tlsv1_1);
+  websocketpp::lib::asio::error_code ec;
+  context->use_certificate_chain_file(config.tls_certificate, ec);
+  if (!ec) context->use_private_key_file(config.tls_private_key, ssl::context::pem, ec);
+  if (ec) {
+    throw std::invalid_argument("Foxglove feed: TLS certificate " + config.tls_certificate + " or key " + config.tls_private_key +
+                                ": " + ec.message());
+  }
+  return context;
+}
+
+template <class Config>
+struct Endpoint final : FeedEndpoint {
+  using Server = websocketpp::server<Config>;
   FoxgloveBridgeConfig config;
   Server server;
   std::thread thread;
   std::vector<FoxgloveChannel> channels;
   mutable std::mutex mutex;
   // Per client: subscription id -> channel id.
-  std::map<Handle, std::map<std::uint32_t, std::uint32_t>, std::owner_less<Handle>> clients;
-  std::size_t slow_dropped = 0;
+  std::map<Handle, std::map<std::uint32_t, std::uint32_t>, std::owner_less<Handle>> subscribers;
+  std::size_t slow_dropped_count = 0;
   bool running = false;
 
   void send_text(Handle handle, const nlohmann::json& message) {
@@ -66,7 +95,7 @@ struct FoxgloveBridge::Impl {
     }
     {
       std::lock_guard<std::mutex> lock(mutex);
-      if (clients.size() >= config.max_clients) {
+      if (subscribers.size() >= config.max_clients) {
         connection->set_status(websocketpp::http::status_code::service_unavailable);
         return false;
       }
@@ -84,7 +113,7 @@ struct FoxgloveBridge::Impl {
   void on_open(Handle handle) {
     {
       std::lock_guard<std::mutex> lock(mutex);
-      clients[handle];
+      subscribers[handle];
     }
     send_text(handle, {{"op", "serverInfo"},
                        {"name", "sarloc-dashboard"},
@@ -105,10 +134,10 @@ struct FoxgloveBridge::Impl {
 
   void on_close(Handle handle) {
     std::lock_guard<std::mutex> lock(mutex);
-    clients.erase(handle);
+    subscribers.erase(handle);
   }
 
-  void on_message(Handle handle, Server::message_ptr message) {
+  void on_message(Handle handle, typename Server::message_ptr message) {
     // Whatever a client sends, the answer is at most a status: any JSON value, any bytes.
     try {
       const std::string problem = apply(handle, message->get_payload());
@@ -125,8 +154,8 @@ struct FoxgloveBridge::Impl {
     if (!request.is_object() || !request.contains("op") || !request["op"].is_string()) return "a message without an \"op\" was ignored";
     const std::string op = request["op"].get<std::string>();
     std::lock_guard<std::mutex> lock(mutex);
-    const auto client = clients.find(handle);
-    if (client == clients.end()) return "";
+    const auto client = subscribers.find(handle);
+    if (client == subscribers.end()) return "";
     auto& subscriptions = client->second;
     const char* list_key = op == "subscribe" ? "subscriptions" : "subscriptionIds";
     if (op != "subscribe" && op != "unsubscribe") return "unknown op ignored";
@@ -169,7 +198,7 @@ struct FoxgloveBridge::Impl {
     std::vector<std::pair<Handle, std::uint32_t>> targets;
     {
       std::lock_guard<std::mutex> lock(mutex);
-      for (const auto& [handle, subscriptions] : clients) {
+      for (const auto& [handle, subscriptions] : subscribers) {
         for (const auto& [subscription, channel] : subscriptions) {
           if (channel == channel_id) targets.emplace_back(handle, subscription);
         }
@@ -188,90 +217,128 @@ struct FoxgloveBridge::Impl {
     }
   }
 
-  void drop_slow(Handle handle, const Server::connection_ptr& connection) {
+  void drop_slow(Handle handle, const typename Server::connection_ptr& connection) {
     {
       std::lock_guard<std::mutex> lock(mutex);
-      const auto client = clients.find(handle);
-      if (client == clients.end() || client->second.empty()) return;  // already being dropped
+      const auto client = subscribers.find(handle);
+      if (client == subscribers.end() || client->second.empty()) return;  // already being dropped
       client->second.clear();
-      ++slow_dropped;
+      ++slow_dropped_count;
     }
     spdlog::warn("Foxglove feed: a client more than {} bytes behind was dropped", config.max_queued_bytes);
     websocketpp::lib::error_code ignored;
     connection->close(websocketpp::close::status::policy_violation, "too slow: more than the queue limit unread", ignored);
   }
+
+  Endpoint(FoxgloveBridgeConfig bridge_config, std::vector<FoxgloveChannel> feed_channels)
+      : config(std::move(bridge_config)), channels(std::move(feed_channels)) {
+    auto& s = server;
+    s.clear_access_channels(websocketpp::log::alevel::all);
+    s.clear_error_channels(websocketpp::log::elevel::all);
+    s.init_asio();
+    s.set_reuse_addr(true);
+    s.set_max_message_size(config.max_message_bytes);
+    s.set_validate_handler([this](Handle handle) { return admit(handle); });
+    s.set_open_handler([this](Handle h) { on_open(h); });
+    s.set_close_handler([this](Handle h) { on_close(h); });
+    s.set_fail_handler([this](Handle h) { on_close(h); });
+    s.set_message_handler([this](Handle h, typename Server::message_ptr m) { on_message(h, m); });
+    if constexpr (std::is_same_v<Config, websocketpp::config::asio_tls>) {
+      // Read now: a certificate that cannot be read fails at start, not at the first client.
+      auto context = tls_context(config);
+      s.set_tls_init_handler([context](Handle) { return context; });
+    }
+  }
+  ~Endpoint() override { stop(); }
+
+  int start() override {
+    auto& s = server;
+    websocketpp::lib::error_code ec;
+    s.listen(config.bind_address, std::to_string(config.port), ec);
+    if (ec) {
+      throw std::runtime_error("Foxglove feed: cannot listen on " + config.bind_address + ":" + std::to_string(config.port) + ": " +
+                               ec.message());
+    }
+    s.start_accept(ec);
+    if (ec) throw std::runtime_error("Foxglove feed: " + ec.message());
+    websocketpp::lib::asio::error_code endpoint_error;
+    const int port = s.get_local_endpoint(endpoint_error).port();
+    running = true;
+    thread = std::thread([this] { server.run(); });
+    return port;
+  }
+
+  void stop() override {
+    if (!running) return;
+    running = false;
+    websocketpp::lib::error_code ignored;
+    server.stop_listening(ignored);
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      for (auto& [handle, subscriptions] : subscribers) server.close(handle, websocketpp::close::status::going_away, "", ignored);
+    }
+    server.stop();
+    if (thread.joinable()) thread.join();
+  }
+
+  std::size_t clients() const override {
+    std::lock_guard<std::mutex> lock(mutex);
+    return subscribers.size();
+  }
+
+  std::size_t slow_dropped() const override {
+    std::lock_guard<std::mutex> lock(mutex);
+    return slow_dropped_count;
+  }
+
+  void publish(std::uint32_t channel_id, std::shared_ptr<std::string> frame) override {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      bool wanted = false;
+      for (const auto& [handle, subscriptions] : subscribers) {
+        for (const auto& [subscription, channel] : subscriptions) wanted = wanted || channel == channel_id;
+      }
+      if (!wanted || !running) return;
+    }
+    server.get_io_service().post([this, channel_id, frame] { deliver(channel_id, *frame); });
+  }
+};
+
+}  // namespace
+
+
+struct FoxgloveBridge::Impl {
+  std::unique_ptr<FeedEndpoint> endpoint;
 };
 
 FoxgloveBridge::FoxgloveBridge(FoxgloveBridgeConfig config, std::vector<FoxgloveChannel> channels)
     : impl_(std::make_unique<Impl>()), port_(config.port) {
-  impl_->config = std::move(config);
-  impl_->channels = std::move(channels);
-  auto& s = impl_->server;
-  s.clear_access_channels(websocketpp::log::alevel::all);
-  s.clear_error_channels(websocketpp::log::elevel::all);
-  s.init_asio();
-  s.set_reuse_addr(true);
-  s.set_max_message_size(impl_->config.max_message_bytes);
-  s.set_validate_handler([this](Handle handle) { return impl_->admit(handle); });
-  s.set_open_handler([this](Handle h) { impl_->on_open(h); });
-  s.set_close_handler([this](Handle h) { impl_->on_close(h); });
-  s.set_fail_handler([this](Handle h) { impl_->on_close(h); });
-  s.set_message_handler([this](Handle h, Server::message_ptr m) { impl_->on_message(h, m); });
+  if (config.tls_certificate.empty() != config.tls_private_key.empty()) {
+    throw std::invalid_argument("Foxglove feed: a TLS certificate needs its private key, and the key its certificate");
+  }
+  if (config.tls_certificate.empty()) {
+    impl_->endpoint = std::make_unique<Endpoint<websocketpp::config::asio>>(std::move(config), std::move(channels));
+  } else {
+    impl_->endpoint = std::make_unique<Endpoint<websocketpp::config::asio_tls>>(std::move(config), std::move(channels));
+  }
 }
 
 FoxgloveBridge::~FoxgloveBridge() { stop(); }
 
-void FoxgloveBridge::start() {
-  auto& s = impl_->server;
-  const std::string& bind_address = impl_->config.bind_address;
-  websocketpp::lib::error_code ec;
-  s.listen(bind_address, std::to_string(port_), ec);
-  if (ec) throw std::runtime_error("Foxglove feed: cannot listen on " + bind_address + ":" + std::to_string(port_) + ": " + ec.message());
-  s.start_accept(ec);
-  if (ec) throw std::runtime_error("Foxglove feed: " + ec.message());
-  websocketpp::lib::asio::error_code endpoint_error;
-  port_ = s.get_local_endpoint(endpoint_error).port();
-  impl_->running = true;
-  impl_->thread = std::thread([this] { impl_->server.run(); });
-}
+void FoxgloveBridge::start() { port_ = impl_->endpoint->start(); }
 
-void FoxgloveBridge::stop() {
-  if (!impl_->running) return;
-  impl_->running = false;
-  websocketpp::lib::error_code ignored;
-  impl_->server.stop_listening(ignored);
-  {
-    std::lock_guard<std::mutex> lock(impl_->mutex);
-    for (auto& [handle, subscriptions] : impl_->clients) impl_->server.close(handle, websocketpp::close::status::going_away, "", ignored);
-  }
-  impl_->server.stop();
-  if (impl_->thread.joinable()) impl_->thread.join();
-}
+void FoxgloveBridge::stop() { impl_->endpoint->stop(); }
 
-std::size_t FoxgloveBridge::clients() const {
-  std::lock_guard<std::mutex> lock(impl_->mutex);
-  return impl_->clients.size();
-}
+std::size_t FoxgloveBridge::clients() const { return impl_->endpoint->clients(); }
 
-std::size_t FoxgloveBridge::slow_clients_dropped() const {
-  std::lock_guard<std::mutex> lock(impl_->mutex);
-  return impl_->slow_dropped;
-}
+std::size_t FoxgloveBridge::slow_clients_dropped() const { return impl_->endpoint->slow_dropped(); }
 
 void FoxgloveBridge::publish(std::uint32_t channel_id, std::uint64_t timestamp_ns, const std::uint8_t* data, std::size_t size) {
-  {
-    std::lock_guard<std::mutex> lock(impl_->mutex);
-    bool wanted = false;
-    for (const auto& [handle, subscriptions] : impl_->clients) {
-      for (const auto& [subscription, channel] : subscriptions) wanted = wanted || channel == channel_id;
-    }
-    if (!wanted || !impl_->running) return;
-  }
   auto frame = std::make_shared<std::string>(1 + 4 + 8 + size, '\0');
   (*frame)[0] = 0x01;  // MessageData; the subscription id (bytes 1-4) is written per client
   for (int i = 0; i < 8; ++i) (*frame)[5 + i] = static_cast<char>((timestamp_ns >> (8 * i)) & 0xFF);
   std::copy(data, data + size, frame->begin() + 13);
-  impl_->server.get_io_service().post([impl = impl_.get(), channel_id, frame] { impl->deliver(channel_id, *frame); });
+  impl_->endpoint->publish(channel_id, std::move(frame));
 }
 
 }  // namespace sarloc::dashboard

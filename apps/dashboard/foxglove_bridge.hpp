@@ -3,7 +3,7 @@
 // docs/spec.md) on sarloc's topics, so that Foxglove and Lichtblick show sarloc live with no
 // plug-in: every topic advertised with its omgidl schema, and each subscribed channel's CDR
 // payloads forwarded as they arrive (binary opcode 0x01: subscription id, timestamp, payload).
-// Debian's websocketpp on asio; its own thread and port.
+// Debian's websocketpp on asio, over TCP or TLS; its own thread and port.
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -43,6 +43,10 @@ struct FoxgloveBridgeConfig {
   /// (ws://HOST:PORT/?token=T, which Foxglove and Lichtblick keep), or the page's session
   /// cookie. Null: anyone (tests of the protocol alone).
   std::shared_ptr<const SessionStore> access;
+  /// The feed over TLS (wss://): a PEM certificate chain and its key, both or neither; the
+  /// dashboard passes its own (dashboard.tls_certificate, tls_private_key).
+  std::string tls_certificate;
+  std::string tls_private_key;
 };
 
 class FoxgloveBridge {

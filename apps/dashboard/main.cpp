@@ -91,10 +91,7 @@ int main(int argc, char** argv) {
     server_config.tls_certificate = settings.tls_certificate;
     server_config.tls_private_key = settings.tls_private_key;
     server_config.hosts = settings.hosts;
-    if (settings.foxglove_port >= 0 && !dashboard::is_loopback_address(settings.bind_address)) {
-      throw ConfigError("dashboard.foxglove_port = " + std::to_string(settings.foxglove_port) + " with bind_address " +
-                        settings.bind_address + ": the Foxglove feed speaks no TLS yet, so it serves on loopback only (-1: off)");
-    }
+
     auto announce = [&](int port_in_use, int foxglove_in_use) {
       const std::string host = settings.bind_address == "0.0.0.0" ? "127.0.0.1" : settings.bind_address;
       const std::string page = std::string(settings.tls_certificate.empty() ? "http" : "https") + "://" + host + ":" +
@@ -112,7 +109,7 @@ int main(int argc, char** argv) {
         spdlog::warn("listening on {}: anyone on that network sees the picture; actions need the token", settings.bind_address);
       }
       // Foxglove and Lichtblick take the URL as it is: the view token rides in its query.
-      const std::string feed = foxglove_in_use > 0 ? "ws://" + host + ":" + std::to_string(foxglove_in_use) + "/?token=" + settings.view_token : "";
+      const std::string feed = foxglove_in_use > 0 ? std::string(settings.tls_certificate.empty() ? "ws" : "wss") + "://" + host + ":" + std::to_string(foxglove_in_use) + "/?token=" + settings.view_token : "";
       const std::string viewer = page + "#token=" + settings.view_token;
       if (foxglove_in_use > 0) spdlog::info("Foxglove WebSocket feed (foxglove.websocket.v1) on port {} (the view token in its URL's query)", foxglove_in_use);
       if (!url_file.empty()) {
@@ -191,6 +188,8 @@ int main(int argc, char** argv) {
       feed.port = settings.foxglove_port;
       feed.allowed_origins = settings.feed_origins;
       feed.access = server.sessions();
+      feed.tls_certificate = settings.tls_certificate;  // beyond loopback the page has TLS, and so does the feed
+      feed.tls_private_key = settings.tls_private_key;
       foxglove = std::make_unique<dashboard::FoxgloveBridge>(feed, channels);
       foxglove->start();
       raw_participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, "sarloc-dashboard-foxglove"));

@@ -6,6 +6,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <boost/asio/ssl.hpp>
+
+#include <filesystem>
 #include <fstream>
 #include <random>
 
@@ -20,6 +23,7 @@ using test::client_frame;
 using test::feed_handshake;
 using test::FeedClient;
 using test::RawSocket;
+namespace fs = std::filesystem;
 
 std::vector<FoxgloveChannel> two_channels() {
   return {{1, "sarloc/odometry", "sarloc::Odometry", "module sarloc { struct Odometry { long a; }; };"},
@@ -110,6 +114,38 @@ TEST_F(Feed, AClientNeedsTheViewTokenOrThePagesSession) {
   EXPECT_TRUE(FeedClient(bridge->port(), "", "/?token=look-but-do-not-touch").opened());
   EXPECT_TRUE(FeedClient(bridge->port(), "", "/?x=1&token=correct-horse-battery").opened());
   EXPECT_TRUE(FeedClient(bridge->port(), "", "/", "a=b; sarloc_session=" + sessions->open()).opened());
+}
+
+// Issue 59, deliverable 3: the feed over TLS with a certificate from make-dashboard-cert.sh. A
+// client verifying against the incident CA completes the WebSocket handshake; a client speaking
+// plain TCP to the same port gets no handshake.
+TEST_F(Feed, OverTlsAClientVerifyingTheIncidentCaIsServedAndPlainTcpIsNot) {
+  const fs::path dir = fs::temp_directory_path() / ("sarloc-feed-tls-" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  ASSERT_EQ(std::system((std::string(SARLOC_SECURITY_DIR) + "/make-dashboard-cert.sh " + dir.string() + " 127.0.0.1 > /dev/null").c_str()), 0);
+  FoxgloveBridgeConfig config;
+  config.tls_certificate = (dir / "dashboard-tls" / "cert.pem").string();
+  config.tls_private_key = (dir / "dashboard-tls" / "key.pem").string();
+  start(config);
+
+  namespace asio = boost::asio;
+  asio::io_context io;
+  asio::ssl::context context(asio::ssl::context::tls_client);
+  context.load_verify_file((dir / "ca.pem").string());
+  context.set_verify_mode(asio::ssl::verify_peer);
+  asio::ssl::stream<asio::ip::tcp::socket> secure(io, context);
+  secure.next_layer().connect({asio::ip::make_address("127.0.0.1"), static_cast<unsigned short>(bridge->port())});
+  secure.handshake(asio::ssl::stream_base::client);  // throws when the certificate does not verify
+  asio::write(secure, asio::buffer(feed_handshake()));
+  asio::streambuf reply;
+  asio::read_until(secure, reply, "\r\n\r\n");
+  const std::string head(asio::buffers_begin(reply.data()), asio::buffers_end(reply.data()));
+  EXPECT_EQ(head.rfind("HTTP/1.1 101", 0), 0U) << head;
+
+  RawSocket plain(bridge->port());
+  ASSERT_TRUE(plain.send(feed_handshake()));
+  EXPECT_EQ(plain.receive_head().find("101"), std::string::npos) << "a WebSocket handshake in clear on the TLS port";
+  fs::remove_all(dir);
 }
 
 // Issue 59, finding 4: one client subscribing 5000 ids to one topic, then not reading, took the
