@@ -151,8 +151,11 @@ struct SearchConfig {
   /// until the signal is heard again, where the opening search starts over (a primary strip
   /// passes within its half width of every victim, where the ring narrows).
   /// Walking to the wide mixture's mean and back to where the signal was last heard, he shuttled
-  /// at the edge of range for the rest of the search (seed 12, trial 0). 0 = off.
-  std::uint32_t lost_signal_steps = 15;
+  /// at the edge of range for the rest of the search (seed 12, trial 0). 0 = off, as shipped:
+  /// with 15 (the value evaluated), the live hand-over mission under load ended twice with an
+  /// unconfirmed contact 7-9 m deep that matched no victim; off until that is traced
+  /// (docs/estimation/avalanche.md, "Every search ends").
+  std::uint32_t lost_signal_steps = 0;
   /// The re-planned sweep stays within this distance of where the signal was last heard: past
   /// it, with that place behind him, the rescuer turns round on the line. The victim was heard
   /// from there, so it lies within the receiver's range of it (40-70 m for the realistic
