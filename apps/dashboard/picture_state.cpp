@@ -148,7 +148,7 @@ void PictureState::on_team(const incident::TeamStatus& t) {
 void PictureState::on_alarm(const incident::IncidentAlarm& a) {
   std::lock_guard<std::mutex> lock(mutex_);
   touch_data();
-  const std::string name = std::string(responder::to_string(a.alarm.kind)) + " alarm " + std::to_string(a.alarm_id) + " for " +
+  const std::string name = std::string(responder::display_name(a.alarm.kind)) + " alarm " + std::to_string(a.alarm_id) + " for " +
                            a.alarm.responder_id;
   const auto it = alarms_.find(a.alarm_id);
   if (it == alarms_.end()) {
@@ -276,6 +276,7 @@ json PictureState::team_json(const Team& t) const {
 json PictureState::alarm_json(const incident::IncidentAlarm& a) const {
   return {{"id", a.alarm_id},
           {"kind", responder::to_string(a.alarm.kind)},
+          {"name", responder::display_name(a.alarm.kind)},
           {"responder", a.alarm.responder_id},
           {"team", a.alarm.team_id},
           {"raised_ns", a.alarm.raised_at},

@@ -200,7 +200,7 @@ class Loader {
 
   void on_alarm(const incident::IncidentAlarm& a) {
     auto& last = alarms_[a.alarm_id];
-    const std::string who = std::string(responder::to_string(a.alarm.kind)) + " alarm " + std::to_string(a.alarm_id) + " for " +
+    const std::string who = std::string(responder::display_name(a.alarm.kind)) + " alarm " + std::to_string(a.alarm_id) + " for " +
                             a.alarm.responder_id;
     if (!last.seen) {
       r_.events.push_back({stamp_to_mission(a.alarm.raised_at), "alarm", who + " raised"});

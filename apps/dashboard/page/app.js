@@ -279,7 +279,6 @@ function renderMap() {
   $("map").innerHTML = defs + svg;
 }
 
-const ALARM_NAMES = { link_lost: "Link lost", mayday: "MAYDAY", motionless: "Motionless", map_error: "Off the map" };
 // "r1/1", "r2/1" -> "r1, r2": who heard the victim (the signal numbers are in the tooltip).
 const heardBy = (sources) => [...new Set(sources.map((s) => s.split("/")[0]))].join(", ") || "—";
 
@@ -309,7 +308,7 @@ function renderLists() {
   const alarms = [...picture.alarms.values()].sort((a, b) => b.raised_ns - a.raised_ns);
   $("alarm-count").textContent = alarms.filter((a) => !a.acknowledged).length;
   $("alarms").innerHTML = alarms.map((a) =>
-    `<li data-alarm="${a.id}" class="${a.active ? "" : "cleared"} ${a.acknowledged ? "acknowledged" : ""}"><span><b>${esc(ALARM_NAMES[a.kind] || a.kind)}</b> ${esc(a.responder)} (${esc(a.team)}), ` +
+    `<li data-alarm="${a.id}" class="${a.active ? "" : "cleared"} ${a.acknowledged ? "acknowledged" : ""}"><span><b>${esc(a.name || a.kind)}</b> ${esc(a.responder)} (${esc(a.team)}), ` +
     `raised at ${missionS(a.raised_ns)}${a.active ? "" : ", cleared"}${a.acknowledged ? `, acknowledged by ${esc(a.acknowledged_by)}` : ""}</span>` +
     (a.acknowledged ? "" : `<button type="button" class="ack" data-alarm="${a.id}">acknowledge</button>`) + "</li>").join("");
 

@@ -12,4 +12,14 @@ const char* to_string(AlarmKind kind) {
   return "unknown";
 }
 
+const char* display_name(AlarmKind kind) {
+  switch (kind) {
+    case AlarmKind::kMotionless: return "Motionless";
+    case AlarmKind::kMayday: return "MAYDAY";
+    case AlarmKind::kLinkLost: return "Link lost";
+    case AlarmKind::kMapError: return "Off the map";
+  }
+  return "Unknown alarm";
+}
+
 }  // namespace sarloc::responder

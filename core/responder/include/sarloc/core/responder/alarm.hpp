@@ -17,6 +17,8 @@ enum class AlarmKind : std::uint8_t {
 
 /// "motionless", "mayday", "link_lost", "map_error".
 const char* to_string(AlarmKind kind);
+/// What a commander reads: "Motionless", "MAYDAY", "Link lost", "Off the map".
+const char* display_name(AlarmKind kind);
 
 struct ResponderAlarm {
   std::string responder_id;
