@@ -27,13 +27,9 @@ fi
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 out=$(mkdir -p "$1" && cd "$1" && pwd)
 shift
-command -v openssl >/dev/null || { echo "make-certs.sh: openssl is needed (apt-get install openssl)" >&2; exit 1; }
-
-if [[ ! -f "$out/ca.pem" ]]; then
-  openssl ecparam -name prime256v1 -genkey -noout -out "$out/ca.key" 2>/dev/null
-  openssl req -new -x509 -sha256 -key "$out/ca.key" -out "$out/ca.pem" -days 3650 \
-    -subj "/O=sarloc/CN=sarloc incident CA" 2>/dev/null
-fi
+# shellcheck source=incident-ca.sh
+source "$here/incident-ca.sh"
+ensure_incident_ca "$out" make-certs.sh
 openssl smime -sign -text -in "$here/governance.xml" -out "$out/governance.p7s" \
   -signer "$out/ca.pem" -inkey "$out/ca.key" 2>/dev/null
 

@@ -12,14 +12,12 @@ if [[ $# -lt 2 ]]; then
   echo "usage: $0 OUT_DIR HOST..." >&2
   exit 64
 fi
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 out=$(mkdir -p "$1" && cd "$1" && pwd)
 shift
-command -v openssl >/dev/null || { echo "make-dashboard-cert.sh: openssl is needed (apt-get install openssl)" >&2; exit 1; }
-if [[ ! -f "$out/ca.pem" ]]; then
-  openssl ecparam -name prime256v1 -genkey -noout -out "$out/ca.key" 2>/dev/null
-  openssl req -new -x509 -sha256 -key "$out/ca.key" -out "$out/ca.pem" -days 3650 \
-    -subj "/O=sarloc/CN=sarloc incident CA" 2>/dev/null
-fi
+# shellcheck source=incident-ca.sh
+source "$here/incident-ca.sh"
+ensure_incident_ca "$out" make-dashboard-cert.sh
 names=""
 for host in "$@"; do
   if [[ "$host" =~ ^[0-9.]+$ || "$host" == *:* ]]; then names+="IP:$host,"; else names+="DNS:$host,"; fi
