@@ -44,6 +44,7 @@
 #include "sarloc/app/node_options.hpp"
 #include "sarloc/app/progress_bar.hpp"
 #include "sarloc/app/run_main.hpp"
+#include "sarloc/app/shipped_missions.hpp"
 #include "sarloc/app/shutdown_signal.hpp"
 #include "sarloc/core/avalanche/evaluation.hpp"
 #include "sarloc/core/mission/simulated_rescuer.hpp"
@@ -522,7 +523,7 @@ nlohmann::json print_summary(const std::vector<LoadResult>& runs, const std::vec
 int main(int argc, char** argv) {
   app::install_shutdown_handlers();
   CLI::App cli{"sarloc-bench-latency: measurement -> estimate latency of sarloc-core under load, against a DDS echo"};
-  std::string config_path = SARLOC_SOURCE_DIR "/config/missions/default.yaml";
+  std::string config_path = app::shipped_mission("default.yaml");
   std::vector<std::size_t> loads{1, 10, 50};
   std::vector<std::string> target_names{"echo", "sarloc"};
   std::string echo_handoff = "listener";
@@ -537,7 +538,9 @@ int main(int argc, char** argv) {
   std::string json_path;
   std::string log_level = "warn";
   BenchSetup setup;
-  cli.add_option("-c,--config", config_path, "mission YAML (victims, sensors, filter parameters)")->capture_default_str();
+  cli.add_option("-c,--config", config_path,
+                 std::string("mission YAML (victims, sensors, filter parameters; default: default.yaml in ") +
+                     app::kShippedMissionsHelp + ")");
   cli.add_option("--rescuers", loads, "load points: numbers of simulated rescuers (e.g. 1,10,50)")
       ->delimiter(',')
       ->capture_default_str();

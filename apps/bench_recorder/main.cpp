@@ -25,6 +25,7 @@
 #include "sarloc/app/logging.hpp"
 #include "sarloc/app/node_options.hpp"
 #include "sarloc/app/run_main.hpp"
+#include "sarloc/app/shipped_missions.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/raw_topic_type.hpp"
 #include "sarloc/dds/writer.hpp"
@@ -65,11 +66,13 @@ int main(int argc, char** argv) {
   std::vector<double> rates{1000, 2000, 5000, 10000, 20000, 40000};
   double seconds = 5.0;
   int domain = 163;
-  std::string config_path = SARLOC_SOURCE_DIR "/config/missions/default.yaml", reference, log_level = "warn";
+  std::string config_path = app::shipped_mission("default.yaml"), reference, log_level = "warn";
   int responders = 200;
   cli.add_option("--rates", rates, "offered rates, messages per second")->delimiter(',');
   cli.add_option("--seconds", seconds, "wall seconds per rate")->capture_default_str();
-  cli.add_option("-c,--config", config_path, "mission YAML for the DDS profile and record: settings")->capture_default_str();
+  cli.add_option("-c,--config", config_path,
+                 std::string("mission YAML for the DDS profile and record: settings (default: default.yaml in ") +
+                     app::kShippedMissionsHelp + ")");
   cli.add_option("--domain", domain, "DDS domain id")->capture_default_str();
   cli.add_option("--reference", reference, "a mission recording to scale to --responders");
   cli.add_option("--responders", responders, "incident size the reference is scaled to")->capture_default_str();

@@ -21,15 +21,6 @@ std::string fmt1(double v) {
   return buffer;
 }
 
-const char* link_name(incident::LinkState s) {
-  switch (s) {
-    case incident::LinkState::kAlive: return "alive";
-    case incident::LinkState::kStale: return "stale";
-    case incident::LinkState::kLost: return "lost";
-  }
-  return "lost";
-}
-
 const char* accountability_name(incident::AccountabilityState s) {
   switch (s) {
     case incident::AccountabilityState::kAccounted: return "accounted";
@@ -137,7 +128,9 @@ void PictureState::on_team(const incident::TeamStatus& t) {
     const auto before = team.links.find(m.responder_id);
     if (before != team.links.end() && before->second != m.link) {
       event("link", m.responder_id + " (" + t.team_id + "): link " +
-                        (m.link == incident::LinkState::kAlive ? std::string("alive again") : std::string(link_name(m.link))));
+                        (m.link == incident::LinkState::kAlive       ? std::string("alive again")
+                         : m.link == incident::LinkState::kSignedOff ? std::string("signed off")
+                                                                     : std::string(incident::to_string(m.link))));
     }
     team.links[m.responder_id] = m.link;
   }
@@ -265,7 +258,7 @@ json PictureState::team_json(const Team& t) const {
   json members = json::array();
   for (const auto& m : t.status.members) {
     members.push_back({{"id", m.responder_id},
-                       {"link", link_name(m.link)},
+                       {"link", incident::to_string(m.link)},
                        {"accountability", accountability_name(m.accountability)},
                        {"last_seen_ns", m.last_seen},
                        {"floor", m.floor}});

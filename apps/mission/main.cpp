@@ -21,6 +21,7 @@
 #include "sarloc/app/mission_config.hpp"
 #include "sarloc/app/node_options.hpp"
 #include "sarloc/app/run_main.hpp"
+#include "sarloc/app/shipped_missions.hpp"
 #include "sarloc/app/shutdown_signal.hpp"
 #include "sarloc/core/mission/mission_summary.hpp"
 #include "sarloc/core/mission/victim_matching.hpp"
@@ -195,6 +196,11 @@ void print_summary(const mission::MissionSummary& s, const std::string& run_dir)
     }
     std::printf("\n");
   }
+  if (!s.links_at_end.empty()) {
+    std::printf("\nlinks in the incident picture at the end:");
+    for (const auto& [id, link] : s.links_at_end) std::printf(" %s %s;", id.c_str(), link.c_str());
+    std::printf("\n");
+  }
   for (const auto& f : s.faults) {
     if (f.handover_after_s) {
       std::printf("\nincident command killed at mission second %.0f: %s took over after %.2f wall s\n", f.at_s,
@@ -217,7 +223,7 @@ void print_summary(const mission::MissionSummary& s, const std::string& run_dir)
 int main(int argc, char** argv) {
   app::install_shutdown_handlers();
   CLI::App cli{"sarloc-mission: a whole simulated mission (avalanche, building or both) over DDS on this machine"};
-  std::string config_path = SARLOC_SOURCE_DIR "/config/missions/default.yaml";
+  std::string config_path = app::shipped_mission("default.yaml");
   std::string json_path;
   std::string run_dir;
   std::string log_level = "info";
@@ -231,7 +237,7 @@ int main(int argc, char** argv) {
   bool no_record = false;
   bool dashboard = false;
   int dashboard_port = -1;
-  cli.add_option("mission", config_path, "mission YAML")->capture_default_str();
+  cli.add_option("mission", config_path, std::string("mission YAML (default: default.yaml in ") + app::kShippedMissionsHelp + ")");
   cli.add_option("--json", json_path, "write the summary as JSON here");
   cli.add_option("--run-dir", run_dir, "folder for the processes' logs and summaries (default: a new one in /tmp)");
   cli.add_option("--restart", restarts,
@@ -271,6 +277,14 @@ int main(int argc, char** argv) {
     const auto hosts = parse_hosts(host_args);  // process name -> host
     check_placement(mission, hosts, launcher);
     const fs::path bin_dir = fs::canonical("/proc/self/exe").parent_path();
+    // scripts/demo builds only what a mission runs; the dashboard is built on request.
+    for (const char* name : {"sarloc-core", "sarloc-rescuer", "sarloc-command", "sarloc-record"}) {
+      if (!fs::exists(bin_dir / name)) throw std::runtime_error(std::string(name) + " is not in " + bin_dir.string() + ": build it first");
+    }
+    if (dashboard && !fs::exists(bin_dir / "sarloc-dashboard")) {
+      throw std::runtime_error("--dashboard: sarloc-dashboard is not in " + bin_dir.string() +
+                               ": build it first (scripts/build --target sarloc-dashboard; scripts/demo --dashboard does)");
+    }
     if (run_dir.empty()) run_dir = (fs::temp_directory_path() / ("sarloc-mission-" + std::to_string(getpid()))).string();
     fs::create_directories(run_dir);
     const std::string config_abs = fs::absolute(config_path).string();
@@ -579,7 +593,25 @@ int main(int argc, char** argv) {
 
     // Rescuers first (they write their summaries), then command (standby instances before the
     // active one, which they would otherwise take over from), then the daemons.
-    for (auto& [id, r] : rescuers) r->stop(std::chrono::seconds(10));
+    std::vector<std::string> stopped_in_order;  // devices running until now (killed ones excepted)
+    for (auto& [id, r] : rescuers) {
+      if (r->running()) stopped_in_order.push_back(id);
+      r->stop(std::chrono::seconds(10));
+    }
+    // Each device stopped in order signs off (sign_off.hpp): give the picture a moment to say so.
+    if (command_alive_at_end) {
+      const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+      auto every_one_signed_off = [&] {
+        std::lock_guard<std::mutex> lock(picture.mutex);
+        return std::all_of(stopped_in_order.begin(), stopped_in_order.end(), [&](const std::string& id) {
+          const auto it = picture.links.find(id);
+          return it != picture.links.end() && it->second == incident::LinkState::kSignedOff;
+        });
+      };
+      while (!every_one_signed_off() && std::chrono::steady_clock::now() < deadline) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      }
+    }
     const unsigned last_active = active_command();
     for (unsigned k = 1; k <= instances; ++k) {
       if (k != last_active) commands[k - 1]->stop(std::chrono::seconds(10));
@@ -629,6 +661,7 @@ int main(int argc, char** argv) {
         if (!a.alarm.active) p.cleared_s = 1e-9 * static_cast<double>(a.alarm.cleared_at - epoch);
         summary.picture_alarms.push_back(p);
       }
+      for (const auto& [id, link] : picture.links) summary.links_at_end[id] = incident::to_string(link);
     }
     summary.mission_s = mission_s;
     summary.wall_s = wall_s;

@@ -30,6 +30,7 @@ const char* link_text(incident::LinkState link) {
     case incident::LinkState::kAlive: return "alive";
     case incident::LinkState::kStale: return "stale";
     case incident::LinkState::kLost: return "LOST";
+    case incident::LinkState::kSignedOff: return "signed off";
   }
   return "?";
 }
@@ -188,8 +189,10 @@ class Loader {
       auto& last = members_[m.responder_id];
       if (last.seen && last.link != m.link) {
         const bool regained = m.link == incident::LinkState::kAlive;
-        r_.events.push_back({t_s, "link", m.responder_id + " (" + t.team_id + "): link " + link_text(m.link) +
-                                              (regained ? " again (regained)" : "")});
+        const std::string change = m.link == incident::LinkState::kSignedOff
+                                       ? std::string("signed off (the device stopped in order)")
+                                       : std::string("link ") + link_text(m.link) + (regained ? " again (regained)" : "");
+        r_.events.push_back({t_s, "link", m.responder_id + " (" + t.team_id + "): " + change});
       }
       if (last.seen && last.accountability != m.accountability) {
         r_.events.push_back({t_s, "accountability", m.responder_id + " (" + t.team_id + "): " + accountability_text(m.accountability)});

@@ -183,6 +183,8 @@ app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const ap
                        : score.summary(device.distance_walked_m(), std::nullopt, device_config.ins.motionless_after_s);
     app::write_json_file(summary_path, app::to_json(s));
   }
+  // Ended in order (SIGTERM or the end of the source): say so, so that it is no lost link.
+  node.sign_off(std::chrono::seconds(2));
   return app::ExitCode::kOk;
 }
 

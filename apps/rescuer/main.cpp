@@ -211,6 +211,8 @@ int main(int argc, char** argv) {
       }
       app::write_json_file(summary_path, app::to_json(d));
     }
+    // Ended in order (SIGTERM or the end of the source): say so, so that it is no lost link.
+    node.sign_off(std::chrono::seconds(2));
     return app::ExitCode::kOk;
   });
 }

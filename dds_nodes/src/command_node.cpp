@@ -134,6 +134,17 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
           warnings_.warn(printable_id(p.responder_id()), "invalid_value", error.what());
         }
       };
+  // A device that stops in order disposes its own position instance before its writer goes
+  // (sign_off.hpp): signed off, not lost. Only a device's own writer speaks for its responder.
+  events.on_instance_gone = [this](const auto& info) {
+    if (info.instance_state != eprosima::fastdds::dds::NOT_ALIVE_DISPOSED_INSTANCE_STATE) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& [writer, responder] : writer_owner_) {
+      if (writer != info.publication_handle) continue;
+      if (!tracker_.signed_off(responder)) spdlog::info("{}: responder '{}' signed off", config_.node_id, responder);
+      tracker_.on_signed_off(responder, clock_.now());
+    }
+  };
   position_reader_ = std::make_unique<Reader<::sarloc::ResponderPosition>>(participant_, on_position, EndpointOptions{}, events);
   // Devices' own writers also match this MANUAL_BY_TOPIC reader, whose liveliness reports a
   // killed device within its 3 s lease (the AUTOMATIC one waits for the participant's).

@@ -384,7 +384,7 @@ incident::TeamStatus to_core(const ::sarloc::TeamStatus& t) {
     m.responder_id = from_identifier(s.responder_id(), "team_status.members.responder_id");
     m.last_position = to_core(s.last_position());
     m.last_seen = s.last_seen();
-    m.link = checked_enum<incident::LinkState>(s.link(), ::sarloc::LINK_LOST, "team_status.members.link");
+    m.link = checked_enum<incident::LinkState>(s.link(), ::sarloc::LINK_SIGNED_OFF, "team_status.members.link");
     m.accountability = checked_enum<incident::AccountabilityState>(
         s.accountability(), ::sarloc::ACCOUNTABILITY_MISSING, "team_status.members.accountability");
     m.floor = s.floor();

@@ -4,6 +4,7 @@
 
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/dds/conversions.hpp"
+#include "sarloc/dds/sign_off.hpp"
 
 namespace sarloc::dds {
 namespace {
@@ -75,6 +76,10 @@ bool FirefighterNode::daemon_silent() const {
 
 bool FirefighterNode::wait_for_daemon(std::chrono::milliseconds timeout) const {
   return odometry_writer_.wait_for_readers(1, timeout);
+}
+
+bool FirefighterNode::sign_off(std::chrono::milliseconds timeout) {
+  return dds::sign_off(position_writer_, config_.responder_id, timeout);
 }
 
 }  // namespace sarloc::dds

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "sarloc/dds/conversions.hpp"
+#include "sarloc/dds/sign_off.hpp"
 
 namespace sarloc::dds {
 namespace {
@@ -241,6 +242,10 @@ std::optional<responder::ResponderPosition> RescuerNode::own_fix_nearest(Timesta
   if (after == own_fixes_.begin()) return *after;
   const auto before = std::prev(after);
   return stamp - before->stamp < after->stamp - stamp ? *before : *after;
+}
+
+bool RescuerNode::sign_off(std::chrono::milliseconds timeout) {
+  return dds::sign_off(position_writer_, config_.rescuer_id, timeout);
 }
 
 }  // namespace sarloc::dds

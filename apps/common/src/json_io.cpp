@@ -369,13 +369,14 @@ nlohmann::json to_json(const mission::MissionSummary& s) {
     out["firefighters"] = nlohmann::json::array();
     for (const auto& f : s.firefighters) out["firefighters"].push_back(to_json(f));
     out["firefighters_without_summary"] = s.firefighters_without_summary;
-    out["alarms"] = nlohmann::json::array();
-    for (const auto& a : s.picture_alarms) {
-      nlohmann::json aj{{"alarm_id", a.alarm_id}, {"kind", a.kind}, {"responder_id", a.responder_id}, {"raised_s", a.raised_s}};
-      if (a.cleared_s) aj["cleared_s"] = *a.cleared_s;
-      out["alarms"].push_back(aj);
-    }
   }
+  out["alarms"] = nlohmann::json::array();
+  for (const auto& a : s.picture_alarms) {
+    nlohmann::json aj{{"alarm_id", a.alarm_id}, {"kind", a.kind}, {"responder_id", a.responder_id}, {"raised_s", a.raised_s}};
+    if (a.cleared_s) aj["cleared_s"] = *a.cleared_s;
+    out["alarms"].push_back(aj);
+  }
+  out["links_at_end"] = s.links_at_end;
   return out;
 }
 

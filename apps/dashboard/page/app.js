@@ -299,7 +299,7 @@ function renderLists() {
     const cls = left < 0 ? "red" : left < 60 ? "amber" : "";
     const par = left < 0 ? `PAR overdue ${(-left).toFixed(0)} s` : `PAR in ${Math.floor(left / 60)}:${String(Math.floor(left % 60)).padStart(2, "0")}`;
     const head = "<tr><th>member</th><th>link</th><th>accounted</th><th>last heard</th><th>floor</th></tr>";
-    const rows = head + t.members.map((m) => `<tr data-member="${esc(m.id)}"><td>${esc(m.id)}</td><td class="link link-${m.link}">${m.link}</td>` +
+    const rows = head + t.members.map((m) => `<tr data-member="${esc(m.id)}"><td>${esc(m.id)}</td><td class="link link-${esc(m.link)}">${esc(m.link === "signed_off" ? "signed off" : m.link)}</td>` +
       `<td>${esc(m.accountability)}</td><td>${m.last_seen_ns ? `${((now - m.last_seen_ns) / 1e9).toFixed(0)} s ago` : "never"}</td><td>floor ${m.floor}</td></tr>`).join("");
     return `<div class="team" data-team="${esc(t.id)}"><h3>${esc(t.id || "(no team)")} <span><span class="par ${cls}">${par}</span> ` +
       `<button type="button" class="par-report" data-team="${esc(t.id)}">PAR reported</button></span></h3><table>${rows}</table></div>`;

@@ -27,11 +27,22 @@ void TeamTrackerConfig::validate() const {
     config_fail("lost_after_s", lost_after_s, "must be > stale_after_s");
 }
 
+const char* to_string(LinkState link) {
+  switch (link) {
+    case LinkState::kAlive: return "alive";
+    case LinkState::kStale: return "stale";
+    case LinkState::kLost: return "lost";
+    case LinkState::kSignedOff: return "signed_off";
+  }
+  return "lost";
+}
+
 AccountabilityState accountability_of(LinkState link) {
   switch (link) {
     case LinkState::kAlive: return AccountabilityState::kAccounted;
     case LinkState::kStale: return AccountabilityState::kPending;
     case LinkState::kLost: return AccountabilityState::kMissing;
+    case LinkState::kSignedOff: return AccountabilityState::kAccounted;
   }
   return AccountabilityState::kMissing;
 }
@@ -51,6 +62,8 @@ void TeamTracker::on_position(const ResponderPosition& position, TimestampNs now
   const bool map_aided_fresh = m.has_position && m.last_position.source == responder::PositionSource::kMapAided &&
                                position.source == responder::PositionSource::kDeadReckoning &&
                                position.stamp - m.last_position.stamp < kMapAidedPreferredNs;
+  // A sign-off stands until a newer position: one reader of two may deliver an older one late.
+  if (!m.has_position || position.stamp > m.last_position.stamp) m.signed_off = false;
   if ((!m.has_position || position.stamp >= m.last_position.stamp) && !map_aided_fresh) {
     m.last_position = position;
     m.has_position = true;
@@ -65,10 +78,20 @@ void TeamTracker::on_link(const std::string& responder_id, bool alive, Timestamp
   Member& m = members_[responder_id];  // unknown: team "" until its first position
   if (alive) {
     m.liveliness_lost = false;
+    m.signed_off = false;  // a device started again
     m.last_heard = std::max(m.last_heard, now);
-  } else {
+  } else if (!m.signed_off) {
     m.liveliness_lost = true;
   }
+}
+
+void TeamTracker::on_signed_off(const std::string& responder_id, TimestampNs now) {
+  if (responder_id.empty()) throw InputError("sign_off.responder_id = \"\": must not be empty");
+  latest_now_ = std::max(latest_now_, now);
+  Member& m = members_[responder_id];
+  m.signed_off = true;
+  m.liveliness_lost = false;
+  m.last_heard = std::max(m.last_heard, now);
 }
 
 void TeamTracker::adopt(const std::vector<TeamStatus>& teams) {
@@ -82,6 +105,7 @@ void TeamTracker::adopt(const std::vector<TeamStatus>& teams) {
       if (!known) {
         m.team_id = t.team_id;
         m.liveliness_lost = s.link == LinkState::kLost;
+        m.signed_off = s.link == LinkState::kSignedOff;
       }
       if (!m.has_position && s.has_position) {
         if (m.team_id.empty()) m.team_id = t.team_id;
@@ -102,6 +126,7 @@ void TeamTracker::adopt(const std::vector<TeamStatus>& teams) {
 }
 
 LinkState TeamTracker::link_of(const Member& m, TimestampNs now) const {
+  if (m.signed_off) return LinkState::kSignedOff;
   if (m.liveliness_lost) return LinkState::kLost;
   const double silent_s = static_cast<double>(now - m.last_heard) * 1e-9;
   if (silent_s > config_.lost_after_s) return LinkState::kLost;
@@ -136,6 +161,11 @@ std::vector<TeamStatus> TeamTracker::evaluate(TimestampNs now) const {
   out.reserve(teams.size());
   for (auto& [id, t] : teams) out.push_back(std::move(t));
   return out;
+}
+
+bool TeamTracker::signed_off(const std::string& responder_id) const {
+  const auto it = members_.find(responder_id);
+  return it != members_.end() && it->second.signed_off;
 }
 
 std::size_t TeamTracker::link_lost_count(TimestampNs now) const {

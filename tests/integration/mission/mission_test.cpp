@@ -102,6 +102,10 @@ TEST(Mission, SmallMissionFindsEveryVictimExactlyOnce) {
   const auto run = run_mission("small.yaml", kDomainMissionSmall);
   expect_complete(run);
   for (const auto& r : run.summary["rescuers"]) EXPECT_GT(r["distance_walked_m"].get<double>(), 5.0) << r.dump();
+  // Issue 60: a mission that ends in order loses nobody. Every device signs off when stopped
+  // (sign_off.hpp): every link ends signed off and the picture never held a link-lost alarm.
+  EXPECT_EQ(run.summary["links_at_end"], json({{"r1", "signed_off"}, {"r2", "signed_off"}})) << run_report(run);
+  for (const auto& a : run.summary["alarms"]) EXPECT_NE(a["kind"], "link_lost") << a.dump();
 }
 
 TEST(Mission, FourVictimsWithinFiveMetresNeverGiveAGhostOrAVictimTwice) {
@@ -166,6 +170,8 @@ TEST(Mission, KilledRescuerIsReportedLinkLostWithinTheLease) {
   EXPECT_LE(fault["link_lost_after_s"].get<double>(), 3.0 + 0.25 + 0.75);
   // r1 alone still finds both victims.
   expect_complete(run);
+  // At the end r1, stopped in order, signed off; the killed r2 stays lost.
+  EXPECT_EQ(run.summary["links_at_end"], json({{"r1", "signed_off"}, {"r2", "lost"}})) << run_report(run);
 }
 
 // Issue 14's building test: every firefighter converges to <= 1.5 m RMSE, the motionless alarm
@@ -217,6 +223,8 @@ TEST(Mission, BuildingFirefightersConvergeRaiseTheMotionlessAlarmAndAKilledOneIs
   EXPECT_TRUE(motionless_in_picture) << run.summary["alarms"].dump();
   EXPECT_TRUE(link_lost_in_picture) << run.summary["alarms"].dump();
   EXPECT_TRUE(mayday_in_picture) << run.summary["alarms"].dump();
+  EXPECT_EQ(run.summary["links_at_end"], json({{"ff1", "signed_off"}, {"ff2", "signed_off"}, {"ff3", "lost"}}))
+      << run_report(run);
 }
 
 // The core daemon killed mid-search and restarted: the firefighters' devices dead reckon from

@@ -124,6 +124,41 @@ TEST(TeamTracker, LivelinessLostIsImmediateAndRecovers) {
   EXPECT_EQ(member(t.evaluate(4 * kSec), "r1").link, LinkState::kAlive);
 }
 
+TEST(TeamTracker, ASignedOffResponderIsAccountedForAndItsWritersDepartureRaisesNothing) {
+  TeamTracker t;
+  t.on_position(pos("r1", "alpha", 1 * kSec), 0);
+  t.on_position(pos("r2", "alpha", 1 * kSec), 0);
+  t.on_signed_off("r1", 2 * kSec);
+  t.on_link("r1", false, 2 * kSec);  // its writer leaves right after
+  t.on_link("r2", false, 2 * kSec);  // killed: no sign-off
+  // Long after, a signed-off responder is still accounted for; silence does not make it lost.
+  const auto teams = t.evaluate(100 * kSec);
+  EXPECT_EQ(member(teams, "r1").link, LinkState::kSignedOff);
+  EXPECT_EQ(member(teams, "r1").accountability, AccountabilityState::kAccounted);
+  EXPECT_EQ(member(teams, "r2").link, LinkState::kLost);
+  EXPECT_EQ(member(teams, "r2").accountability, AccountabilityState::kMissing);
+  EXPECT_EQ(t.link_lost_count(100 * kSec), 1u);
+
+  // A late copy of an older position (the second reader's) leaves the sign-off standing.
+  t.on_position(pos("r1", "alpha", 1 * kSec), 101 * kSec);
+  EXPECT_EQ(member(t.evaluate(101 * kSec), "r1").link, LinkState::kSignedOff);
+  // The device starts again: a newer position, and its next departure is a loss again.
+  t.on_position(pos("r1", "alpha", 200 * kSec), 200 * kSec);
+  EXPECT_EQ(member(t.evaluate(200 * kSec), "r1").link, LinkState::kAlive);
+  t.on_link("r1", false, 201 * kSec);
+  EXPECT_EQ(member(t.evaluate(201 * kSec), "r1").link, LinkState::kLost);
+  EXPECT_THROW(t.on_signed_off("", 0), InputError);
+}
+
+TEST(TeamTracker, AStandbyAdoptsASignOff) {
+  TeamTracker active;
+  active.on_position(pos("r1", "alpha", 1 * kSec), 0);
+  active.on_signed_off("r1", 2 * kSec);
+  TeamTracker standby;
+  standby.adopt(active.evaluate(3 * kSec));
+  EXPECT_EQ(member(standby.evaluate(50 * kSec), "r1").link, LinkState::kSignedOff);
+}
+
 TEST(TeamTracker, OlderPositionDoesNotReplaceButCountsAsHeard) {
   TeamTracker t;
   t.on_position(pos("r1", "a", 10 * kSec, 1.0), 10 * kSec);

@@ -48,6 +48,8 @@ class FirefighterNode {
   bool daemon_silent() const;
   /// Waits until a core daemon's odometry reader matched (or `timeout` passes).
   bool wait_for_daemon(std::chrono::milliseconds timeout) const;
+  /// The device stops in order: says so on DDS (sign_off.hpp). Not called on a crash or error.
+  bool sign_off(std::chrono::milliseconds timeout);
 
  private:
   FirefighterNodeConfig config_;

@@ -23,17 +23,18 @@
 #include <typeindex>
 #include <vector>
 
+#include "sarloc/dds/install_layout.hpp"
 #include "sarloc/dds/responder_filter.hpp"
 
 namespace sarloc::dds {
 
 struct ParticipantConfig {
   /// Fast DDS XML file with the participant profile (localhost.xml, lan.xml, discovery-client.xml).
-  std::string profiles_file = SARLOC_DDS_CONFIG_DIR "/localhost.xml";
+  std::string profiles_file = dds_config_dir() + "/localhost.xml";
   /// Participant profile name inside profiles_file.
   std::string profile = "sarloc_localhost";
   /// Per-topic writer/reader QoS profiles ("<topic>.writer" / "<topic>.reader").
-  std::string topics_file = SARLOC_DDS_CONFIG_DIR "/topics.xml";
+  std::string topics_file = dds_config_dir() + "/topics.xml";
   /// DDS domain; Fast DDS maps it to UDP ports, so at most 232.
   std::uint32_t domain_id = 0;
   /// Participant name seen by discovery tools (fastdds discovery, monitor).

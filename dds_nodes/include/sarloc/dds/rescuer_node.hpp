@@ -76,6 +76,10 @@ class RescuerNode {
   /// the first samples are not published to nobody. Returns whether they matched.
   bool wait_for_daemon(std::chrono::milliseconds timeout) const;
 
+  /// The device stops in order: says so on DDS (sign_off.hpp) and waits up to `timeout` for
+  /// incident command to have it. Not called on a crash or an error: that is a lost device.
+  bool sign_off(std::chrono::milliseconds timeout);
+
   /// Times the responder switched from daemon to local guidance.
   int fallbacks() const;
   /// Epochs whose guidance source (daemon or device) differs from the epoch before.

@@ -8,7 +8,12 @@
 
 namespace sarloc::incident {
 
-enum class LinkState : std::uint8_t { kAlive = 0, kStale = 1, kLost = 2 };
+/// kSignedOff: the responder's device stopped in order and said so (it disposed its own
+/// position instance): accounted for, no alarm. A killed device is kLost.
+enum class LinkState : std::uint8_t { kAlive = 0, kStale = 1, kLost = 2, kSignedOff = 3 };
+/// "alive", "stale", "lost", "signed_off" (the picture's JSON and the mission summary).
+const char* to_string(LinkState link);
+
 enum class AccountabilityState : std::uint8_t { kAccounted = 0, kPending = 1, kMissing = 2 };
 
 struct MemberStatus {

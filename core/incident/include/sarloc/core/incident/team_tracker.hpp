@@ -11,7 +11,9 @@
 //   kStale : silent > stale_after_s          ->  kPending:   confirm by radio at the next PAR
 //   kLost  : silent > lost_after_s, or DDS   ->  kMissing:   unaccounted for; PAR now, consider
 //            liveliness lost (at once)                       the rapid intervention team
-// A responder heard again after being lost becomes kAlive / kAccounted again. A liveliness
+//   kSignedOff: the device stopped in order  ->  kAccounted: it said so before it left; its
+//            and said so (on_signed_off)                     writer's departure raises nothing
+// A responder heard again after being lost or signed off becomes kAlive / kAccounted again. A liveliness
 // change for a responder never positioned yet is kept under team "" (unassigned) until its
 // first position names the team; a position naming another team moves the responder.
 //
@@ -51,8 +53,12 @@ class TeamTracker {
   /// replaced only by a report with a stamp >= the stored one, and a dead-reckoned one does not
   /// replace a map-aided one less than 3 s older; every report counts as heard.
   void on_position(const ResponderPosition& position, TimestampNs now);
-  /// DDS liveliness: alive = false marks the link lost at once; alive = true counts as heard.
+  /// DDS liveliness: alive = false marks the link lost at once (unless the responder signed
+  /// off: its writer's departure then is the sign-off's); alive = true counts as heard.
   void on_link(const std::string& responder_id, bool alive, TimestampNs now);
+  /// The responder's device stopped in order and said so (it disposed its own position
+  /// instance): kSignedOff until it is heard again. Throws InputError for an empty id.
+  void on_signed_off(const std::string& responder_id, TimestampNs now);
 
   /// Fills in what another incident command published (hot standby, see VictimFusion::adopt)
   /// and this tracker has not heard itself: responders it does not know yet join with the
@@ -66,7 +72,9 @@ class TeamTracker {
   std::vector<TeamStatus> evaluate(TimestampNs now) const;
 
   std::size_t responders_total() const { return members_.size(); }
-  /// Responders whose link is kLost at `now`.
+  /// Whether the responder signed off and was not heard since.
+  bool signed_off(const std::string& responder_id) const;
+  /// Responders whose link is kLost at `now` (signed-off ones are not).
   std::size_t link_lost_count(TimestampNs now) const;
   /// Same, at the latest `now` given to any call.
   std::size_t link_lost_count() const { return link_lost_count(latest_now_); }
@@ -80,6 +88,7 @@ class TeamTracker {
     bool has_position = false;
     TimestampNs last_heard = 0;
     bool liveliness_lost = false;
+    bool signed_off = false;
   };
   LinkState link_of(const Member& m, TimestampNs now) const;
 

@@ -114,6 +114,9 @@ struct MissionSummary {
     std::optional<double> cleared_s;
   };
   std::vector<PictureAlarm> picture_alarms;
+  /// Each responder's link in the picture once the devices stopped ("alive", "stale", "lost",
+  /// "signed_off": incident::to_string): a device stopped in order is signed off, a killed one lost.
+  std::map<std::string, std::string> links_at_end;
   /// Whether a sarloc-command process was still running when the mission stopped, and
   /// whether an active one was publishing the picture then: when not, `victims[].found` only
   /// tells what the picture knew before it was lost, and `finders` what the devices know.
