@@ -73,6 +73,7 @@ int main(int argc, char** argv) {
       }
     }
     if (!summary_path.empty()) write_summary(node, summary_path);
+    node.sign_off(std::chrono::seconds(1));  // stopped in order, not lost
     return app::ExitCode::kOk;
   });
 }

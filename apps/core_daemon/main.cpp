@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
     const auto counters = node.counters();
     spdlog::info("{} stopping: {} samples accepted, {} rejected, {} rescuers served", node_config.node_id,
                  counters.accepted, counters.rejected, node.rescuers_served());
+    node.sign_off(std::chrono::seconds(1));  // stopped in order: the devices hear a stop, not a loss
     return app::ExitCode::kOk;
   });
 }

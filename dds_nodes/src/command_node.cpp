@@ -11,6 +11,7 @@
 #include "sarloc/core/incident/source_estimate.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/process_stats.hpp"
+#include "sarloc/dds/sign_off.hpp"
 
 namespace sarloc::dds {
 namespace {
@@ -299,6 +300,12 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
   });
 }
 
+bool CommandNode::sign_off(std::chrono::milliseconds timeout) {
+  stopping_.store(true);
+  if (thread_.joinable()) thread_.join();  // no status is written after the disposal
+  return dds::sign_off(status_writer_, config_.node_id, timeout);
+}
+
 CommandNode::~CommandNode() {
   estimate_reader_.reset();
   position_reader_.reset();
@@ -311,7 +318,7 @@ CommandNode::~CommandNode() {
   responder_alarm_reader_.reset();
   acknowledgement_reader_.reset();
   stopping_.store(true);
-  thread_.join();
+  if (thread_.joinable()) thread_.join();
   if (arbiter_.role() != incident::CommandRole::kActive) return;
   // A clean stop: every reader gets the last picture and disposals before the writers go. (Seen
   // with Fast DDS 2.9: a reader takes no other writer's disposal of a deleted writer's instance.)

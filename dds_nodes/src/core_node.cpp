@@ -7,6 +7,7 @@
 
 #include "sarloc/core/common/identifier.hpp"
 #include "sarloc/dds/conversions.hpp"
+#include "sarloc/dds/sign_off.hpp"
 #include "sarloc/dds/mission_clock.hpp"
 #include "sarloc/dds/process_stats.hpp"
 
@@ -115,16 +116,26 @@ CoreNode::~CoreNode() {
   stop_threads();
 }
 
+bool CoreNode::sign_off(std::chrono::milliseconds timeout) {
+  sample_readers_.reset();
+  odometry_reader_.reset();
+  victim_reader_.reset();
+  stop_threads();  // no status is written after the disposal
+  return dds::sign_off(status_writer_, config_.node_id, timeout);
+}
+
 void CoreNode::stop_threads() {
-  stopping_.store(true);
+  if (stopping_.exchange(true)) return;  // stopped already (sign_off)
   for (auto& w : workers_) {
     {
       std::lock_guard<std::mutex> lock(w->mutex);
     }
     w->cv.notify_all();
   }
-  for (auto& w : workers_) w->thread.join();
-  status_thread_.join();
+  for (auto& w : workers_) {
+    if (w->thread.joinable()) w->thread.join();
+  }
+  if (status_thread_.joinable()) status_thread_.join();
 }
 
 void CoreNode::reject(const std::string& rescuer_id, const std::string& reason, const std::string& detail) {

@@ -88,6 +88,16 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
     live.erase(std::remove(live.begin(), live.end(), handle), live.end());
     if (live.empty()) arbiter_.on_daemons_lost();
   };
+  // A daemon that stops in order disposes its status first (sign_off.hpp): said as a stop.
+  core_events.on_instance_gone = [this](const auto& info) {
+    if (info.instance_state != eprosima::fastdds::dds::NOT_ALIVE_DISPOSED_INSTANCE_STATE) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    auto& live = live_core_writers_;
+    if (std::find(live.begin(), live.end(), info.publication_handle) == live.end()) return;
+    spdlog::info("{}: a core daemon stopped in order (signed off)", config_.rescuer_id);
+    live.erase(std::remove(live.begin(), live.end(), info.publication_handle), live.end());
+    if (live.empty()) arbiter_.on_daemons_lost();
+  };
   core_status_reader_ = std::make_unique<Reader<::sarloc::NodeStatus>>(
       participant_,
       [this](const ::sarloc::NodeStatus& status, const auto& info) {

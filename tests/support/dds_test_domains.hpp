@@ -18,6 +18,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainManyParticipants = 128,
   kDomainSecurity = 129,
   kDomainSecurityRoles = 167,
+  kDomainSignOff = 168,
   kDomainDiscoveryServer = 140,
   kDomainBenchEchoListener = 141,
   kDomainBenchEchoQueue = 142,

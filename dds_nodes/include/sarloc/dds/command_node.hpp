@@ -91,6 +91,10 @@ class CommandNode {
   /// Standby or active now (thread-safe).
   incident::CommandRole role() const;
 
+  /// This instance stops in order: stops its cycle, then disposes its NodeStatus instance
+  /// (sign_off.hpp). The destructor still hands the last picture over. Not on an error.
+  bool sign_off(std::chrono::milliseconds timeout);
+
  private:
   void cycle();
   /// Ownership strength of the picture writers and the log line of a role change.

@@ -68,6 +68,11 @@ class CoreNode {
   RejectCounters::Snapshot counters() const { return counters_.snapshot(); }
   std::size_t rescuers_served() const { return rescuers_served_.load(); }
 
+  /// The daemon stops in order: stops taking samples, then disposes its NodeStatus instance
+  /// (sign_off.hpp) so that devices log a stop, not a loss. Call once, last, before the
+  /// destructor; not on an error.
+  bool sign_off(std::chrono::milliseconds timeout);
+
  private:
   struct MarkDone {
     std::string rescuer_id;

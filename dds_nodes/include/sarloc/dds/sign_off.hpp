@@ -1,8 +1,10 @@
 #pragma once
-// An orderly stop said on DDS before leaving (docs/topics.md, "Signing off"): a responder's
-// device disposes its own ResponderPosition instance, so that incident command records the
-// responder as signed off (accounted for, no alarm) instead of lost when its writer goes.
-// A device that crashes or is killed says nothing and is reported lost within the lease.
+// An orderly stop said on DDS before leaving (docs/operations.md, "Signing off"): a node
+// disposes its own instance before its writer goes. A responder's device disposes its
+// ResponderPosition instance, so that incident command records the responder as signed off
+// (accounted for, no alarm) instead of lost; a core daemon or an incident-command instance its
+// NodeStatus instance. A process that crashes or is killed says nothing and is reported lost
+// within the lease.
 #include <chrono>
 #include <string>
 
@@ -16,5 +18,9 @@ namespace sarloc::dds {
 /// or a reader did not acknowledge in time (incident command may then report a lost link).
 bool sign_off(Writer<::sarloc::ResponderPosition>& device_position_writer, const std::string& responder_id,
               std::chrono::milliseconds timeout);
+
+/// The same for a core daemon or an incident-command instance: disposes its own NodeStatus
+/// instance (key: node_id). Readers then know it stopped in order, not that it was lost.
+bool sign_off(Writer<::sarloc::NodeStatus>& status_writer, const std::string& node_id, std::chrono::milliseconds timeout);
 
 }  // namespace sarloc::dds
