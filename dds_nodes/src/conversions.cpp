@@ -363,13 +363,15 @@ incident::FusedVictim to_core(const ::sarloc::FusedVictim& v) {
     s.responder_id(to_identifier(m.responder_id, "team_status.members.responder_id"));
     s.last_position(to_idl(m.last_position));
     s.last_seen(m.last_seen);
-    s.link(static_cast<::sarloc::LinkState>(m.link));
+    // Signed off goes on the wire as LINK_LOST (nothing is heard), ACCOUNTED, and the flag.
+    const bool signed_off = m.link == incident::LinkState::kSignedOff;
+    s.link(signed_off ? ::sarloc::LINK_LOST : static_cast<::sarloc::LinkState>(m.link));
     s.accountability(static_cast<::sarloc::AccountabilityState>(m.accountability));
     s.floor(m.floor);
     s.source(static_cast<::sarloc::PositionSource>(m.source));
     s.flags((m.converged ? ::sarloc::RESPONDER_FLAG_CONVERGED : 0U) |
             (m.map_error_suspected ? ::sarloc::RESPONDER_FLAG_MAP_ERROR_SUSPECTED : 0U) |
-            (m.confirmed ? ::sarloc::RESPONDER_FLAG_CONFIRMED : 0U));
+            (m.confirmed ? ::sarloc::RESPONDER_FLAG_CONFIRMED : 0U) | (signed_off ? ::sarloc::RESPONDER_FLAG_SIGNED_OFF : 0U));
     out.members().push_back(s);
   }
   return out;
@@ -384,7 +386,10 @@ incident::TeamStatus to_core(const ::sarloc::TeamStatus& t) {
     m.responder_id = from_identifier(s.responder_id(), "team_status.members.responder_id");
     m.last_position = to_core(s.last_position());
     m.last_seen = s.last_seen();
-    m.link = checked_enum<incident::LinkState>(s.link(), ::sarloc::LINK_SIGNED_OFF, "team_status.members.link");
+    m.link = checked_enum<incident::LinkState>(s.link(), ::sarloc::LINK_LOST, "team_status.members.link");
+    if (m.link == incident::LinkState::kLost && (s.flags() & ::sarloc::RESPONDER_FLAG_SIGNED_OFF) != 0) {
+      m.link = incident::LinkState::kSignedOff;
+    }
     m.accountability = checked_enum<incident::AccountabilityState>(
         s.accountability(), ::sarloc::ACCOUNTABILITY_MISSING, "team_status.members.accountability");
     m.floor = s.floor();

@@ -140,7 +140,14 @@ MissionConfig load_mission_config(const std::string& path) {
   if (!in) throw ConfigError(path + ": cannot open mission file");
   std::stringstream text;
   text << in.rdbuf();
-  return load_mission_config_text(text.str(), path, std::filesystem::path(path).parent_path().string());
+  try {
+    return load_mission_config_text(text.str(), path, std::filesystem::path(path).parent_path().string());
+  } catch (const ConfigError& e) {
+    // Every message names the file: a unit that fails at start says which file to fix.
+    const std::string what = e.what();
+    if (what.find(path) != std::string::npos) throw;
+    throw ConfigError(path + ": " + what);
+  }
 }
 
 MissionConfig load_mission_config_text(const std::string& text, const std::string& name, const std::string& base_dir) {

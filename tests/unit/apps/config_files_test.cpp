@@ -93,6 +93,17 @@ TEST(ConfigFiles, InvalidMissionsFailNamingKeyAndValue) {
   expect_all_invalid(kSource / "tests/config/invalid/mission", [](const std::string& f) { load_mission_config(f); });
 }
 
+// A service that fails at start names the file to fix, whatever the rule that failed.
+TEST(ConfigFiles, InvalidMissionsFailNamingTheFile) {
+  for (const auto& f : yaml_files(kSource / "tests/config/invalid/mission")) {
+    try {
+      load_mission_config(f.string());
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find(f.string()), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(ConfigFiles, InvalidEvaluationConfigsFailNamingKeyAndValue) {
   expect_all_invalid(kSource / "tests/config/invalid/eval", [](const std::string& f) {
     avalanche::EvaluationSetup setup;

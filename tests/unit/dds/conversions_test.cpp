@@ -240,6 +240,24 @@ TEST(Conversions, TeamStatusRoundTrips) {
   }
 }
 
+// A signed-off member crosses the wire as LINK_LOST + ACCOUNTED + RESPONDER_FLAG_SIGNED_OFF (no
+// new enumerator for @final readers) and comes back signed off; a lost one stays lost.
+TEST(Conversions, ASignedOffMemberIsLostAndAccountedOnTheWireWithItsFlag) {
+  auto in = test::sample_team_status();
+  ASSERT_GE(in.members.size(), 2U);
+  in.members[0].link = incident::LinkState::kSignedOff;
+  in.members[0].accountability = incident::AccountabilityState::kAccounted;
+  in.members[1].link = incident::LinkState::kLost;
+  const auto wire = to_idl(in);
+  EXPECT_EQ(wire.members()[0].link(), ::sarloc::LINK_LOST);
+  EXPECT_EQ(wire.members()[0].accountability(), ::sarloc::ACCOUNTABILITY_ACCOUNTED);
+  EXPECT_NE(wire.members()[0].flags() & ::sarloc::RESPONDER_FLAG_SIGNED_OFF, 0U);
+  EXPECT_EQ(wire.members()[1].flags() & ::sarloc::RESPONDER_FLAG_SIGNED_OFF, 0U);
+  const auto out = to_core(wire);
+  EXPECT_EQ(out.members[0].link, incident::LinkState::kSignedOff);
+  EXPECT_EQ(out.members[1].link, incident::LinkState::kLost);
+}
+
 TEST(Conversions, IdentifierLongerThanTheBoundIsRefusedByName) {
   auto in = test::sample_field_measurement();
   in.rescuer_id = std::string(::sarloc::ID_MAX + 1, 'x');

@@ -9,7 +9,8 @@
 namespace sarloc::incident {
 
 /// kSignedOff: the responder's device stopped in order and said so (it disposed its own
-/// position instance): accounted for, no alarm. A killed device is kLost.
+/// position instance): accounted for, no alarm. A killed device is kLost. On the wire
+/// (MemberStatus) it is LINK_LOST with RESPONDER_FLAG_SIGNED_OFF: no new enumerator.
 enum class LinkState : std::uint8_t { kAlive = 0, kStale = 1, kLost = 2, kSignedOff = 3 };
 /// "alive", "stale", "lost", "signed_off" (the picture's JSON and the mission summary).
 const char* to_string(LinkState link);
