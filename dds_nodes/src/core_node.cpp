@@ -109,19 +109,20 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
 }
 
 CoreNode::~CoreNode() {
-  // Stop the inflow first, then the threads, then (implicitly) the writers.
+  stop();  // then (implicitly) the writers
+}
+
+bool CoreNode::sign_off(std::chrono::milliseconds timeout) {
+  stop();  // no status is written after the disposal
+  return dds::sign_off(status_writer_, config_.node_id, timeout);
+}
+
+void CoreNode::stop() {
+  // The inflow first, then the threads.
   sample_readers_.reset();
   odometry_reader_.reset();
   victim_reader_.reset();
   stop_threads();
-}
-
-bool CoreNode::sign_off(std::chrono::milliseconds timeout) {
-  sample_readers_.reset();
-  odometry_reader_.reset();
-  victim_reader_.reset();
-  stop_threads();  // no status is written after the disposal
-  return dds::sign_off(status_writer_, config_.node_id, timeout);
 }
 
 void CoreNode::stop_threads() {

@@ -103,6 +103,7 @@ class CoreNode {
   void publish(estimator::SequencerReport& report);
   void reject(const std::string& rescuer_id, const std::string& reason, const std::string& detail);
   void publish_status();
+  void stop();  // the readers, then the threads; once (sign_off, then the destructor)
   void stop_threads();
 
   CoreNodeConfig config_;
