@@ -1,5 +1,6 @@
 #include "detector_command.hpp"
 
+#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
 #include <cstdio>

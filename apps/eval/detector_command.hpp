@@ -2,7 +2,7 @@
 // `sarloc-eval detector`: the realistic receiver's pulse detector alone, on overlapping pulses
 // whose truth is known (core/avalanche detector_bench.hpp): what it lets through to the tracks,
 // and how far those amplitudes are from the truth in units of their stated noise.
-#include <CLI/CLI.hpp>
+#include "sarloc/app/cli_app.hpp"
 #include <cstdint>
 #include <string>
 

@@ -1,5 +1,6 @@
 #include "firefighter_command.hpp"
 
+#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -11,7 +12,7 @@
 #include "rmse_plot.hpp"
 #include "sarloc/app/exit_codes.hpp"
 #include "sarloc/app/floor_plan_yaml.hpp"
-#include "sarloc/app/json_io.hpp"
+#include "sarloc/app/evaluation_json.hpp"
 #include "sarloc/app/progress_bar.hpp"
 #include "sarloc/app/shutdown_signal.hpp"
 #include "sarloc/core/common/errors.hpp"

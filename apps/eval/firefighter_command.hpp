@@ -2,7 +2,7 @@
 // `sarloc-eval firefighter`: the map-aided firefighter localization of seed 004 on a building
 // of config/buildings/, in the configurations of the paper's Figs. 7-8, with the map-error
 // experiment of its section V-E. Prints the tables, writes JSON and the RMSE figure (SVG).
-#include <CLI/CLI.hpp>
+#include "sarloc/app/cli_app.hpp"
 #include <cstdint>
 #include <optional>
 #include <string>

@@ -32,7 +32,7 @@
 #include "trial_trace.hpp"
 #include "sarloc/app/command_line.hpp"
 #include "sarloc/app/exit_codes.hpp"
-#include "sarloc/app/json_io.hpp"
+#include "sarloc/app/evaluation_json.hpp"
 #include "sarloc/app/logging.hpp"
 #include "sarloc/app/progress_bar.hpp"
 #include "sarloc/app/shutdown_signal.hpp"

@@ -16,6 +16,7 @@
 #include "sarloc/app/logging.hpp"
 #include "sarloc/core/avalanche/found_victim.hpp"
 #include "sarloc/core/common/gaussian.hpp"
+#include "sarloc/core/common/statistics.hpp"
 #include "sarloc/app/node_options.hpp"
 #include "sarloc/app/run_main.hpp"
 #include "sarloc/app/shutdown_signal.hpp"

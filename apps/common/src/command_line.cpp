@@ -1,5 +1,7 @@
 #include "sarloc/app/command_line.hpp"
 
+#include <CLI/CLI.hpp>
+
 #include "sarloc/app/exit_codes.hpp"
 
 namespace sarloc::app {

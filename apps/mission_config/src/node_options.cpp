@@ -1,5 +1,7 @@
 #include "sarloc/app/node_options.hpp"
 
+#include <CLI/CLI.hpp>
+
 #include "sarloc/app/command_line.hpp"
 
 namespace sarloc::app {

@@ -7,7 +7,7 @@
 //   CLI::App cli{"sarloc-x: ..."};
 //   app::add_log_level_option(cli, log_level);
 //   if (auto code = app::parse_command_line(cli, argc, argv)) return *code;
-#include <CLI/CLI.hpp>
+#include "sarloc/app/cli_app.hpp"
 #include <optional>
 #include <string>
 

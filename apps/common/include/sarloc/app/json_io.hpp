@@ -1,15 +1,12 @@
 #pragma once
 // JSON of sarloc's core types and summaries, written (and read back) in one place with
 // nlohmann-json. Key names are part of the tools' documented output (docs/getting-started.md);
-// tests read them.
+// tests read them. The evaluations' summaries are in evaluation_json.hpp.
 //
 //   app::write_json_file(path, app::to_json(summary));    // throws on I/O failure
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "sarloc/core/avalanche/evaluation.hpp"
-#include "sarloc/core/avalanche/multi_burial.hpp"
-#include "sarloc/core/firefighter/firefighter_evaluation.hpp"
 #include "sarloc/core/incident/fused_victim.hpp"
 #include "sarloc/core/incident/team_status.hpp"
 #include "sarloc/core/mission/firefighter_summary.hpp"
@@ -21,14 +18,6 @@ nlohmann::json to_json(const Vec3& v);
 nlohmann::json to_json(const incident::FusedVictim& victim);
 /// One row per member: team_id, responder_id, link, accountability.
 nlohmann::json to_json(const std::vector<incident::TeamStatus>& teams);
-nlohmann::json to_json(const avalanche::EvaluationSummary& summary);
-/// The multiple-burial evaluation: its totals and every trial (found, ghosts, duplicates, ...).
-nlohmann::json to_json(const avalanche::MultiBurialSummary& summary);
-/// The firefighter evaluation: building, runs, seed, configs[] (name, pseudo_observations,
-/// resampling, known_initial_state, rmse_m_at_s, final_rmse_m, converged_fraction,
-/// ms_per_update, ...), ins_drift_percent {median, p95}; with the map-error experiment.
-nlohmann::json to_json(const firefighter::FirefighterSummary& summary, double rmse_every_s,
-                       const firefighter::MapErrorExperiment* map_error = nullptr);
 nlohmann::json to_json(const mission::DeviceSummary& device);
 nlohmann::json to_json(const mission::MissionSummary& summary);
 

@@ -5,7 +5,7 @@
 //   NodeOptions options;
 //   add_node_options(cli, options);
 //   ... auto participant = std::make_shared<dds::Participant>(options.participant(mission, "name"));
-#include <CLI/CLI.hpp>
+#include "sarloc/app/cli_app.hpp"
 
 #include <cstdint>
 #include <string>
