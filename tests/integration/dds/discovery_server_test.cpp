@@ -16,7 +16,7 @@ using namespace std::chrono_literals;
 
 std::shared_ptr<Participant> client(const std::string& name) {
   ParticipantConfig c;
-  c.profiles_file = SARLOC_DDS_CONFIG_DIR "/discovery-client.xml";
+  c.profiles_file = dds_config_dir() + "/discovery-client.xml";
   c.profile = "sarloc_discovery_client";
   c.domain_id = test::kDomainDiscoveryServer;
   c.name = name;
