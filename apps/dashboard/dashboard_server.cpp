@@ -3,10 +3,14 @@
 
 #include <httplib.h>
 
+#include <arpa/inet.h>
 #include <malloc.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <regex>
 
 #include <spdlog/spdlog.h>
@@ -75,6 +79,13 @@ void DashboardServerConfig::validate() const {
   if (max_streams < 1 || max_streams > 1000) {
     throw ConfigError("dashboard.max_streams = " + std::to_string(max_streams) + ": must be 1-1000");
   }
+  if (max_connections_per_address < 1 || max_connections_per_address > 1000) {
+    throw ConfigError("dashboard.max_connections_per_address = " + std::to_string(max_connections_per_address) +
+                      ": must be 1-1000");
+  }
+  if (!(request_deadline_s >= 1.0 && request_deadline_s <= 120.0)) {
+    throw ConfigError("dashboard.request_deadline_s = " + std::to_string(request_deadline_s) + ": must be in [1, 120]");
+  }
 }
 
 DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& state,
@@ -99,12 +110,16 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
   s.set_payload_max_length(4096);
   s.set_read_timeout(5, 0);
   s.set_write_timeout(5, 0);
+  // One request per connection: the gate's deadline then bounds the whole of it.
+  s.set_keep_alive_max_count(1);
 
   // Decided from the request's head, before a byte of its body is read: a chunked body has no
   // Content-Length for the payload limit to refuse it by (a token-less 200 MB chunked POST was
   // read whole before its 401), and 10 000 header fields were accepted.
   s.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
     using Outcome = httplib::Server::HandlerResponse;
+    // A GET is whole once its head is: it has no deadline any more (an event stream lasts).
+    if (req.method == "GET" || req.method == "HEAD") gate_->request_arrived(req.remote_port);
     if (req.headers.size() > kMaxHeaderFields) {
       error(res, 431, "more than " + std::to_string(kMaxHeaderFields) + " header fields");
       return Outcome::Handled;
@@ -298,21 +313,54 @@ bool DashboardServer::may_view(const httplib::Request& request) const {
          sessions_->has_session(request.get_header_value("Cookie"));
 }
 
+namespace {
+
+// Debian's cpp-httplib is a compiled library that listens with a backlog of 5. The gate opens a
+// connection to the server for each client at once, so a burst of 50 browsers overflowed it:
+// the kernel dropped their handshakes, and each retry waited 1 s or more, eating into the
+// gate's request deadline. listen() again on the same socket only widens the queue.
+void widen_listen_backlog(int port) {
+  for (const auto& entry : std::filesystem::directory_iterator("/proc/self/fd")) {
+    int fd = -1;
+    try {
+      fd = std::stoi(entry.path().filename().string());
+    } catch (const std::exception&) {
+      continue;
+    }
+    sockaddr_in address{};
+    socklen_t length = sizeof address;
+    int listening = 0;
+    socklen_t flag_length = sizeof listening;
+    if (::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) != 0 || address.sin_family != AF_INET ||
+        ntohs(address.sin_port) != port || address.sin_addr.s_addr != htonl(INADDR_LOOPBACK)) {
+      continue;
+    }
+    if (::getsockopt(fd, SOL_SOCKET, SO_ACCEPTCONN, &listening, &flag_length) == 0 && listening != 0) ::listen(fd, 1024);
+  }
+}
+
+}  // namespace
+
 void DashboardServer::start() {
-  if (config_.port == 0) {
-    port_ = server_->bind_to_any_port(config_.bind_address.c_str());
-  } else {
-    port_ = server_->bind_to_port(config_.bind_address.c_str(), config_.port) ? config_.port : -1;
+  const int backend_port = server_->bind_to_any_port("127.0.0.1");
+  if (backend_port < 0) throw std::runtime_error("cannot listen on a loopback port for the page's server");
+  widen_listen_backlog(backend_port);
+  ConnectionLimits limits;
+  limits.max_per_address = config_.max_connections_per_address;
+  limits.max_total = 4 * (config_.max_streams + 8);
+  limits.request_deadline_s = config_.request_deadline_s;
+  try {
+    gate_ = std::make_unique<ConnectionGate>(limits, config_.bind_address, config_.port, backend_port);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(std::string(e.what()) + ": address in use, or not this machine's");
   }
-  if (port_ < 0) {
-    throw std::runtime_error("cannot listen on " + config_.bind_address + ":" + std::to_string(config_.port) +
-                             " (address in use, or not this machine's)");
-  }
+  port_ = gate_->port();
   thread_ = std::thread([this] { server_->listen_after_bind(); });
 }
 
 void DashboardServer::stop() {
   if (stopping_.exchange(true)) return;
+  gate_.reset();  // no new connections, and the open ones end
   server_->stop();
   if (thread_.joinable()) thread_.join();
 }

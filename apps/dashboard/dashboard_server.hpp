@@ -31,6 +31,7 @@
 #include <thread>
 #include <vector>
 
+#include "connection_gate.hpp"
 #include "picture_state.hpp"
 #include "session_store.hpp"
 
@@ -50,6 +51,8 @@ struct DashboardServerConfig {
   std::string operator_id = "dashboard";   ///< who acknowledges, as published over DDS
   double push_period_s = 0.25;             ///< a stream sends what changed at most this often
   int max_streams = 64;                    ///< open event streams at once; more get 503
+  int max_connections_per_address = 32;    ///< ConnectionGate: open connections from one address
+  double request_deadline_s = 10.0;        ///< ConnectionGate: a whole request within this of opening
   /// TLS: both PEM files, or neither. Without them the server binds loopback only (plain HTTP
   /// beyond this machine would carry the tokens in clear).
   std::string tls_certificate;
@@ -85,6 +88,8 @@ class DashboardServer {
   /// Ends every stream and the server; idempotent.
   void stop();
   int port() const { return port_; }
+  /// What the gate in front of the server let in, refused and closed (after start()).
+  ConnectionGate::Counters connection_counters() const { return gate_->counters(); }
   bool tls() const { return !config_.tls_certificate.empty(); }
   int open_streams() const { return streams_.load(); }
   /// The credentials this server accepts, for the Foxglove feed to accept the same.
@@ -108,7 +113,8 @@ class DashboardServer {
   std::function<bool(std::uint32_t, const std::string&)> acknowledge_;
   std::function<nlohmann::json(const nlohmann::json&)> replay_control_;
   std::shared_ptr<SessionStore> sessions_;
-  std::unique_ptr<httplib::Server> server_;
+  std::unique_ptr<httplib::Server> server_;  ///< on a loopback port: clients reach it through gate_
+  std::unique_ptr<ConnectionGate> gate_;     ///< the public port
   std::thread thread_;
   std::atomic<bool> stopping_{false};
   std::atomic<int> streams_{0};

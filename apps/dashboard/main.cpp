@@ -88,6 +88,8 @@ int main(int argc, char** argv) {
     server_config.operator_id = settings.operator_id;
     server_config.push_period_s = settings.push_period_s;
     server_config.max_streams = settings.max_streams;
+    server_config.max_connections_per_address = settings.max_connections_per_address;
+    server_config.request_deadline_s = settings.request_deadline_s;
     server_config.tls_certificate = settings.tls_certificate;
     server_config.tls_private_key = settings.tls_private_key;
     server_config.hosts = settings.hosts;

@@ -62,6 +62,7 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
     : config_((config.validate(), std::move(config))),
       clock_(clock),
       participant_(std::move(participant)),
+      authority_(participant_),
       warnings_(std::chrono::seconds(5)),
       fusion_(config_.fusion),
       tracker_(config_.teams),
@@ -85,6 +86,10 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
       [this](const ::sarloc::VictimEstimate& e, const auto& info) {
         try {
           auto estimate = to_core(e);
+          if (!admitted(info.publication_handle, estimate.rescuer_id, WriterAuthority::Speakers::kDeviceOrCore,
+                        "victim estimate")) {
+            return;
+          }
           // The writer tells the daemon's estimates from a device's own: two estimators of one
           // source, which VictimFusion holds to agreeing with each other.
           std::string writer = handle_text(info.publication_handle);
@@ -117,6 +122,11 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
           if (!position.position.position.allFinite() || !position.position.covariance.allFinite()) {
             throw InputError("responder_position.position: non-finite value");
           }
+          // Map-aided fixes come from the core daemon; any other kind only from the device itself.
+          const auto speakers = position.source == responder::PositionSource::kMapAided
+                                    ? WriterAuthority::Speakers::kDeviceOrCore
+                                    : WriterAuthority::Speakers::kDevice;
+          if (!admitted(info.publication_handle, position.responder_id, speakers, "responder position")) return;
           std::lock_guard<std::mutex> lock(mutex_);
           auto& owners = writer_owner_;
           const bool known = std::any_of(owners.begin(), owners.end(),
@@ -221,9 +231,13 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
       });
 
   responder_alarm_reader_ = std::make_unique<Reader<::sarloc::ResponderAlarm>>(
-      participant_, [this](const ::sarloc::ResponderAlarm& a, const auto&) {
+      participant_, [this](const ::sarloc::ResponderAlarm& a, const auto& info) {
         try {
           const auto alarm = to_core(a);
+          // A mayday "for r1" counts only from r1's own device.
+          if (!admitted(info.publication_handle, alarm.responder_id, WriterAuthority::Speakers::kDevice, "responder alarm")) {
+            return;
+          }
           std::lock_guard<std::mutex> lock(mutex_);
           alarm_board_.on_device_alarm(alarm, clock_.now());
           if (alarm.active) {
@@ -298,6 +312,16 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
       }
     }
   });
+}
+
+bool CommandNode::admitted(const eprosima::fastrtps::rtps::InstanceHandle_t& writer, const std::string& responder_id,
+                           WriterAuthority::Speakers speakers, const char* what) {
+  if (authority_.admits(writer, responder_id, speakers)) return true;
+  counters_.rejected("unauthorized_writer");
+  warnings_.warn(responder_id, "unauthorized_writer",
+                 std::string(what) + " about '" + responder_id + "' written by " + authority_.writer_name(writer) +
+                     ", which may not speak for it (DDS Security identity)");
+  return false;
 }
 
 bool CommandNode::sign_off(std::chrono::milliseconds timeout) {

@@ -36,6 +36,8 @@ void CoreNodeConfig::validate() const {
 CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig config)
     : config_((config.validate(), std::move(config))),
       participant_(std::move(participant)),
+      // Devices and incident command believe this daemon's estimates by its certificate's name.
+      authority_((require_identity(*participant_, config_.node_id, "core.node_id"), participant_)),
       warnings_(std::chrono::milliseconds(static_cast<std::int64_t>(config_.warning_interval_s * 1000.0))),
       roster_(config_.roster),
       estimate_writer_(participant_, EndpointOptions::in(config_.partitions)),
@@ -68,9 +70,11 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
     // ids it refuses takes no instance there (responder_filter.hpp).
     inputs.admit_responder = [this](const std::string& id) { return admit(id); };
     // Listener callbacks: convert, refuse what cannot even be converted, enqueue.
-    auto refuse = [this](const std::string& id, const std::string& detail) { reject(id, "invalid_value", detail); };
+    auto refuse = [this](const std::string& id, const std::string& reason, const std::string& detail) {
+      reject(id, reason, detail);
+    };
     sample_readers_ = std::make_unique<SampleReaders>(
-        participant_,
+        participant_, authority_,
         [this](estimator::SensorSample s) {
           const std::string id = estimator::responder_of(s);  // copied: `s` is moved below
           enqueue(id, std::move(s));
@@ -78,11 +82,19 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
         refuse, inputs);
     odometry_reader_ = std::make_unique<Reader<::sarloc::Odometry>>(
         participant_,
-        [this, refuse](const ::sarloc::Odometry& o, const auto&) {
+        [this, refuse](const ::sarloc::Odometry& o, const auto& info) {
           try {
-            enqueue(o.rescuer_id().to_string(), to_core(o));
+            auto odometry = to_core(o);
+            const std::string id = o.rescuer_id().to_string();
+            if (!authority_.admits(info.publication_handle, id, WriterAuthority::Speakers::kDevice)) {
+              refuse(id, "unauthorized_writer",
+                     "odometry about '" + id + "' written by " + authority_.writer_name(info.publication_handle) +
+                         ", which may not speak for it (DDS Security identity)");
+              return;
+            }
+            enqueue(id, std::move(odometry));
           } catch (const InputError& e) {
-            refuse(printable_id(o.rescuer_id()), e.what());
+            refuse(printable_id(o.rescuer_id()), "invalid_value", e.what());
           }
         },
         inputs);

@@ -6,6 +6,7 @@
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/reader.hpp"
 #include "sarloc/dds/writer.hpp"
+#include "sarloc/dds/writer_authority.hpp"
 
 namespace sarloc::dds {
 
@@ -14,6 +15,7 @@ using Handle = eprosima::fastrtps::rtps::InstanceHandle_t;
 
 struct DashboardNode::Impl {
   std::shared_ptr<Participant> participant;
+  std::unique_ptr<WriterAuthority> authority;  // with DDS Security: who may place a responder on the map
   DashboardSink sink;
   std::mutex mutex;
   // Disposals name only the instance: remember which id each instance carried.
@@ -52,6 +54,7 @@ struct DashboardNode::Impl {
 DashboardNode::DashboardNode(std::shared_ptr<Participant> participant, DashboardSink sink) : impl_(std::make_unique<Impl>()) {
   auto& d = *impl_;
   d.participant = std::move(participant);
+  d.authority = std::make_unique<WriterAuthority>(d.participant);
   d.sink = std::move(sink);
   ReaderEvents victim_events;
   victim_events.on_instance_gone = [&d](const fdds::SampleInfo& info) { d.gone(info, d.victim_of_instance, d.sink.on_victim_gone); };
@@ -93,9 +96,17 @@ DashboardNode::DashboardNode(std::shared_ptr<Participant> participant, Dashboard
         if (d.sink.on_picture_writer) d.sink.on_picture_writer(handle_text(info.publication_handle).substr(0, 24));
       });
   d.positions = std::make_unique<Reader<::sarloc::ResponderPosition>>(
-      d.participant, [&d](const ::sarloc::ResponderPosition& p, const auto&) {
+      d.participant, [&d](const ::sarloc::ResponderPosition& p, const auto& info) {
         d.guarded("responder_position", [&] {
-          if (d.sink.on_position) d.sink.on_position(to_core(p));
+          auto position = to_core(p);
+          const auto speakers = position.source == responder::PositionSource::kMapAided
+                                    ? WriterAuthority::Speakers::kDeviceOrCore
+                                    : WriterAuthority::Speakers::kDevice;
+          if (!d.authority->admits(info.publication_handle, position.responder_id, speakers)) {
+            if (d.sink.on_rejected) d.sink.on_rejected("responder_position");
+            return;
+          }
+          if (d.sink.on_position) d.sink.on_position(std::move(position));
         });
       });
   d.guidance = std::make_unique<Reader<::sarloc::Guidance>>(d.participant, [&d](const ::sarloc::Guidance& g, const auto&) {

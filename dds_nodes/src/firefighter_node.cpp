@@ -26,6 +26,8 @@ FirefighterNode::FirefighterNode(std::shared_ptr<Participant> participant, Firef
     : config_((config.validate(), std::move(config))),
       clock_(clock),
       participant_(std::move(participant)),
+      // The others believe what this device says about its responder by its certificate's name.
+      authority_((require_identity(*participant_, config_.responder_id, "rescuers[].id"), participant_)),
       odometry_writer_(participant_, EndpointOptions::in(config_.partitions)),
       alarm_writer_(participant_),
       position_writer_(participant_, device_position_options()) {
@@ -37,6 +39,12 @@ FirefighterNode::FirefighterNode(std::shared_ptr<Participant> participant, Firef
         try {
           auto fix = to_core(p);
           if (fix.source != responder::PositionSource::kMapAided) return;
+          if (!authority_.admits(info.publication_handle, config_.responder_id, WriterAuthority::Speakers::kDeviceOrCore)) {
+            refusals_.warn(config_.responder_id, "unauthorized_writer",
+                           "ignoring a map-aided position for '" + config_.responder_id + "' from " +
+                               authority_.writer_name(info.publication_handle) + ": not a core daemon's identity");
+            return;
+          }
           std::lock_guard<std::mutex> lock(mutex_);
           fixes_.push_back(std::move(fix));
           if (fixes_.size() > kFixesQueued) fixes_.pop_front();

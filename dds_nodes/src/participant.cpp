@@ -55,7 +55,7 @@ Participant::Participant(const ParticipantConfig& config) : config_(config) {
     throw DdsError("participant profile '" + config_.profile + "' not found in '" + config_.profiles_file + "'");
   }
   qos.name(config_.name);
-  secured_ = check_security(qos, config_.profile, config_.require_security);
+  secured_ = check_security(qos, config_.profile, config_.require_security, config_.allow_unauthenticated);
   participant_ = factory->create_participant(static_cast<eprosima::fastdds::dds::DomainId_t>(config_.domain_id), qos);
   if (participant_ == nullptr) {
     throw DdsError("cannot create DDS participant '" + config_.name + "' on domain " +

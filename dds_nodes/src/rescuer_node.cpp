@@ -35,6 +35,8 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
     : config_((config.validate(), std::move(config))),
       clock_(clock),
       participant_(std::move(participant)),
+      // The others believe what this device says about its responder by its certificate's name.
+      authority_((require_identity(*participant_, config_.rescuer_id, "rescuers[].id"), participant_)),
       local_(estimator::make_estimator(config_.role, config_.rescuer_id, config_.estimators)),
       sample_writers_(participant_, EndpointOptions::in(config_.partitions)),
       odometry_writer_(participant_, EndpointOptions::in(config_.partitions)),
@@ -61,6 +63,12 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
         if (e.rescuer_id().to_string() != config_.rescuer_id) return;
         // Our own fallback estimates come back to us too: only the daemon's count.
         if (info.publication_handle == estimate_writer_.get()->get_instance_handle()) return;
+        if (!authority_.admits(info.publication_handle, config_.rescuer_id, WriterAuthority::Speakers::kDeviceOrCore)) {
+          refusals_.warn(config_.rescuer_id, "unauthorized_writer",
+                         "ignoring an estimate for '" + config_.rescuer_id + "' from " +
+                             authority_.writer_name(info.publication_handle) + ": not a core daemon's identity");
+          return;
+        }
         if (e.status() > ::sarloc::ESTIMATOR_FOUND) return;
         {
           std::lock_guard<std::mutex> lock(mutex_);

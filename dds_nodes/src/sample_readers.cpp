@@ -5,15 +5,23 @@
 
 namespace sarloc::dds {
 
-SampleReaders::SampleReaders(std::shared_ptr<Participant> participant, OnSample on_sample, OnRefused on_refused,
-                             const EndpointOptions& options) {
+SampleReaders::SampleReaders(std::shared_ptr<Participant> participant, const WriterAuthority& authority,
+                             OnSample on_sample, OnRefused on_refused, const EndpointOptions& options) {
   field_reader_ = std::make_unique<Reader<::sarloc::FieldMeasurement>>(
       std::move(participant),
-      [on_sample, on_refused](const ::sarloc::FieldMeasurement& m, const auto&) {
+      [&authority, on_sample, on_refused](const ::sarloc::FieldMeasurement& m, const auto& info) {
         try {
-          on_sample(to_core(m));
+          auto sample = to_core(m);
+          const std::string id = m.rescuer_id().to_string();  // an identifier: to_core checked it
+          if (!authority.admits(info.publication_handle, id, WriterAuthority::Speakers::kDevice)) {
+            on_refused(id, "unauthorized_writer",
+                       "field measurement about '" + id + "' written by " + authority.writer_name(info.publication_handle) +
+                           ", which may not speak for it (DDS Security identity)");
+            return;
+          }
+          on_sample(std::move(sample));
         } catch (const InputError& e) {
-          on_refused(printable_id(m.rescuer_id()), e.what());
+          on_refused(printable_id(m.rescuer_id()), "invalid_value", e.what());
         }
       },
       options);

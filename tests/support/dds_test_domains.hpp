@@ -19,6 +19,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainSecurity = 129,
   kDomainSecurityRoles = 167,
   kDomainSignOff = 168,
+  kDomainSecurityIdentity = 169,
   kDomainDiscoveryServer = 140,
   kDomainBenchEchoListener = 141,
   kDomainBenchEchoQueue = 142,

@@ -28,6 +28,9 @@ void DashboardConfig::validate() const {
   check(within(par_interval_s, 10, 86400), "par_interval_s", std::to_string(par_interval_s), "must be in [10, 86400]");
   check(within(push_period_s, 0.05, 10), "push_period_s", std::to_string(push_period_s), "must be in [0.05, 10]");
   check(max_streams >= 1 && max_streams <= 1000, "max_streams", std::to_string(max_streams), "must be 1-1000");
+  check(max_connections_per_address >= 1 && max_connections_per_address <= 1000, "max_connections_per_address",
+        std::to_string(max_connections_per_address), "must be 1-1000");
+  check(within(request_deadline_s, 1, 120), "request_deadline_s", std::to_string(request_deadline_s), "must be in [1, 120]");
   check(foxglove_port >= -1 && foxglove_port <= 65535, "foxglove_port", std::to_string(foxglove_port), "must be -1 (off) or 0-65535");
   for (const auto& origin : feed_origins) {
     // An origin is scheme://host[:port], nothing more: what a browser sends, compared exactly.

@@ -91,13 +91,24 @@ dds::CoreNodeConfig MissionConfig::core_config(const std::string& sector) const 
   c.estimators = estimators;
   c.roles = role_of;
   c.partitions = partitions_of_sector(sector);
-  c.node_id = sector.empty() ? core.node_id : core.node_id + "-" + sector;
+  c.node_id = core_node_id(sector);
   // Roster mode: the rescuers this daemon serves are the mission's, of its sector.
   c.roster.listed.clear();
   for (const auto& [id, responder_sector] : sector_of) {
     if (responder_sector == sector) c.roster.listed.push_back(id);
   }
   return c;
+}
+
+std::string MissionConfig::core_node_id(const std::string& sector) const {
+  return sector.empty() ? core.node_id : core.node_id + "-" + sector;
+}
+
+std::vector<std::string> MissionConfig::core_node_ids() const {
+  if (sectors.empty()) return {core_node_id("")};
+  std::vector<std::string> ids;
+  for (const auto& sector : sectors) ids.push_back(core_node_id(sector));
+  return ids;
 }
 
 dds::RescuerNodeConfig MissionConfig::rescuer_config(const std::string& rescuer_id) const {
@@ -179,6 +190,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("topics_file", c.dds.topics_file);
     r.read("domain_id", c.dds.domain_id);
     r.read("require_security", c.dds.require_security);
+    r.read("allow_unauthenticated", c.dds.allow_unauthenticated);
     r.expect_done();
     if (r.has("profiles_file")) c.dds.profiles_file = resolve(c.dds.profiles_file, base_dir);
     if (r.has("topics_file")) c.dds.topics_file = resolve(c.dds.topics_file, base_dir);
@@ -404,6 +416,8 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("par_interval_s", d.par_interval_s);
     r.read("push_period_s", d.push_period_s);
     r.read("max_streams", d.max_streams);
+    r.read("max_connections_per_address", d.max_connections_per_address);
+    r.read("request_deadline_s", d.request_deadline_s);
     r.read("track_length", d.track_length);
     r.read("foxglove_port", d.foxglove_port);
     r.read("feed_origins", d.feed_origins);

@@ -10,6 +10,7 @@ dds::ParticipantConfig participant_config(const MissionConfig& mission, int doma
   dds::ParticipantConfig config = mission.dds;
   if (domain >= 0) config.domain_id = static_cast<std::uint32_t>(domain);
   config.name = name;
+  config.core_node_ids = mission.core_node_ids();
   return config;
 }
 

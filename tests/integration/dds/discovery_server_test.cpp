@@ -18,6 +18,7 @@ std::shared_ptr<Participant> client(const std::string& name) {
   ParticipantConfig c;
   c.profiles_file = dds_config_dir() + "/discovery-client.xml";
   c.profile = "sarloc_discovery_client";
+  c.allow_unauthenticated = true;  // a network profile; this test is about discovery, not security
   c.domain_id = test::kDomainDiscoveryServer;
   c.name = name;
   return std::make_shared<Participant>(c);

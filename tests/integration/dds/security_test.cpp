@@ -1,6 +1,7 @@
 // deploy/security/make-certs.sh produces material Fast DDS accepts: two secured nodes talk,
 // an unauthenticated participant on the same domain hears nothing; only incident command's
-// identities may publish the picture, and an identity from another CA injects nothing.
+// identities may publish the picture, and an identity from another CA injects nothing; a
+// device's identity speaks only for its own responder.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -9,8 +10,11 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "sarloc/dds/command_node.hpp"
+#include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/reader.hpp"
 #include "sarloc/dds/writer.hpp"
+#include "sarloc/dds/writer_authority.hpp"
 #include "support/dds_test_domains.hpp"
 #include "support/dds_test_helpers.hpp"
 
@@ -162,6 +166,119 @@ TEST(Security, OnlyIncidentCommandPublishesThePictureAndAForgedIdentityInjectsNo
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0)
       << (WEXITSTATUS(status) == 2 ? "the dashboard heard a victim from an identity that may not publish one"
                                    : "the dashboard heard no victim from incident command");
+  fs::remove_all(dir);
+}
+
+responder::ResponderPosition position_of(const std::string& id, const MissionClock& clock, double east, double north,
+                                         responder::PositionSource source) {
+  responder::ResponderPosition fix;
+  fix.responder_id = id;
+  fix.team_id = "north";
+  fix.stamp = clock.now();
+  fix.position.position = Vec3(east, north, 1.0);
+  fix.position.covariance = 0.25 * Mat3::Identity();
+  fix.source = source;
+  return fix;
+}
+
+responder::ResponderAlarm mayday_of(const std::string& id, const MissionClock& clock) {
+  responder::ResponderAlarm alarm;
+  alarm.responder_id = id;
+  alarm.team_id = "north";
+  alarm.kind = responder::AlarmKind::kMayday;
+  alarm.raised_at = clock.now();
+  alarm.active = true;
+  return alarm;
+}
+
+/// In a child process: `node` writes, after `delay`, for 4 s, what `write` writes once a
+/// 200 ms, on responder_position and (a device's identity only: a core's may not) responder_alarm.
+/// Exit 0 when its writers matched incident command, 20 when not, 30 on an error.
+template <class WriteOnce>
+pid_t speak_in_child(const fs::path& dir, const std::string& node, bool device, std::chrono::seconds delay,
+                     WriteOnce write) {
+  const pid_t child = fork();
+  if (child != 0) return child;
+  int code = 30;
+  try {
+    auto participant = std::make_shared<Participant>(secure_config(dir, node, test::kDomainSecurityIdentity));
+    Writer<::sarloc::ResponderPosition> positions(participant);
+    std::unique_ptr<Writer<::sarloc::ResponderAlarm>> alarms;
+    if (device) alarms = std::make_unique<Writer<::sarloc::ResponderAlarm>>(participant);
+    code = positions.wait_for_readers(1, 20s) && (!alarms || alarms->wait_for_readers(1, 20s)) ? 0 : 20;
+    std::this_thread::sleep_for(delay);
+    for (int k = 0; k < 20; ++k) {
+      write(positions, alarms.get());
+      std::this_thread::sleep_for(200ms);
+    }
+    std::this_thread::sleep_for(1s);  // reliable delivery of the last ones
+  } catch (...) {
+  }
+  _exit(code);
+}
+
+// Issue 59: DDS Security grants topics, not instances, so every device identity may publish
+// responder_position and responder_alarm. Incident command now checks each sample's writer
+// against the responder it is about (WriterAuthority): device r2 can raise neither a mayday
+// "for r1" nor move r1 on the map, by a GNSS or a forged map-aided fix; r2's own alarm and
+// position, and the core daemon's map-aided fix of r1, still count.
+TEST(Security, ADeviceSpeaksOnlyForItsOwnResponder) {
+  const fs::path dir = fs::temp_directory_path() / ("sarloc-security-identity-" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  const std::string make = std::string(SARLOC_SECURITY_DIR) + "/make-certs.sh " + dir.string() +
+                           " command:ic core:core-a r2 > /dev/null";
+  ASSERT_EQ(std::system(make.c_str()), 0) << make;
+  const MissionClock clock;  // one epoch for every process: the children inherit it
+
+  // The core daemon places r1 first; device r2 speaks (for itself and for r1) once it is done,
+  // so a spoof that got through would be r1's last position.
+  const pid_t core = speak_in_child(dir, "core-a", false, 0s, [&](auto& positions, auto*) {
+    positions.write(to_idl(position_of("r1", clock, 5.0, 5.0, responder::PositionSource::kMapAided)));
+  });
+  const pid_t device = speak_in_child(dir, "r2", true, 6s, [&](auto& positions, auto* alarms) {
+    alarms->write(to_idl(mayday_of("r1", clock)));
+    alarms->write(to_idl(mayday_of("r2", clock)));
+    positions.write(to_idl(position_of("r1", clock, 400.0, -400.0, responder::PositionSource::kGnss)));
+    positions.write(to_idl(position_of("r1", clock, -400.0, 400.0, responder::PositionSource::kMapAided)));
+    positions.write(to_idl(position_of("r2", clock, 1.0, 1.0, responder::PositionSource::kGnss)));
+  });
+  ASSERT_GT(core, 0);
+  ASSERT_GT(device, 0);
+
+  auto config = secure_config(dir, "ic", test::kDomainSecurityIdentity);
+  config.core_node_ids = {"core-a"};
+  auto participant = std::make_shared<Participant>(config);
+  // The identity a reader derives from a name is the one Fast DDS's authentication gave.
+  EXPECT_TRUE(proves_identity(*participant, "ic"));
+  EXPECT_FALSE(proves_identity(*participant, "r2"));
+  CommandNodeConfig command_config;
+  command_config.node_id = "ic";
+  command_config.incident_id = "identity-test";
+  command_config.cycle_s = 0.1;
+  CommandNode command(participant, command_config, clock);
+
+  int status = 0;
+  waitpid(core, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the core daemon's identity never matched";
+  waitpid(device, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "device r2 never matched";
+  std::this_thread::sleep_for(500ms);  // a cycle or two
+
+  bool r2_mayday = false;
+  for (const auto& alarm : command.alarms()) {
+    EXPECT_NE(alarm.alarm.responder_id, "r1") << "a mayday for r1 from r2's identity reached the alarm board";
+    r2_mayday = r2_mayday || (alarm.alarm.responder_id == "r2" && alarm.alarm.kind == responder::AlarmKind::kMayday);
+  }
+  EXPECT_TRUE(r2_mayday) << "r2's own mayday was lost";
+  std::map<std::string, incident::MemberStatus> members;
+  for (const auto& team : command.teams()) {
+    for (const auto& member : team.members) members[member.responder_id] = member;
+  }
+  ASSERT_EQ(members.count("r1"), 1U) << "the core daemon's fix of r1 was lost";
+  EXPECT_NEAR(members["r1"].last_position.position.x(), 5.0, 1e-6) << "r2 moved r1 on the map";
+  EXPECT_NEAR(members["r1"].last_position.position.y(), 5.0, 1e-6);
+  ASSERT_EQ(members.count("r2"), 1U) << "r2's own position was lost";
+  EXPECT_NEAR(members["r2"].last_position.position.x(), 1.0, 1e-6);
   fs::remove_all(dir);
 }
 

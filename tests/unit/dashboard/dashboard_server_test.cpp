@@ -116,9 +116,9 @@ TEST(DashboardServer, FiftyEventStreamsAtOnceDoNotGrowTheServersMemory) {
     DashboardServerConfig config;
     config.port = 0;
     config.token = kToken;
-  config.view_token = kViewToken;
     config.view_token = kViewToken;
     config.push_period_s = 0.05;
+    config.max_connections_per_address = 200;  // 50 browsers, here all on one address
     // Room for a round's streams and the last round's, which end on the server only at their
     // next write (a closed peer is seen when writing to it).
     config.max_streams = 120;

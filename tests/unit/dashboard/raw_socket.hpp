@@ -8,16 +8,25 @@
 #include <sys/time.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <chrono>
 #include <cstdint>
 #include <string>
 
 namespace sarloc::dashboard::test {
 
-/// A TCP connection to 127.0.0.1:port that sends exactly the bytes it is given.
+/// A TCP connection to 127.0.0.1:port that sends exactly the bytes it is given. `from`: the
+/// client's own address, another loopback one (127.0.0.2) to stand for another machine.
 class RawSocket {
  public:
-  explicit RawSocket(int port, int receive_buffer = 0) {
+  explicit RawSocket(int port, int receive_buffer = 0, const char* from = nullptr) {
     fd_ = ::socket(AF_INET, SOCK_STREAM, 0);
+    if (from != nullptr) {
+      sockaddr_in source{};
+      source.sin_family = AF_INET;
+      ::inet_pton(AF_INET, from, &source.sin_addr);
+      ::bind(fd_, reinterpret_cast<sockaddr*>(&source), sizeof source);
+    }
     if (receive_buffer > 0) ::setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &receive_buffer, sizeof receive_buffer);
     timeval timeout{2, 0};
     ::setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
@@ -45,6 +54,19 @@ class RawSocket {
   bool readable_within(int ms) {
     pollfd p{fd_, POLLIN, 0};
     return ::poll(&p, 1, ms) == 1;
+  }
+  /// True when the peer closes (or resets) the connection within `ms`; what it sends on the
+  /// way is read and dropped.
+  bool closed_within(int ms) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(ms);
+    for (;;) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(until - std::chrono::steady_clock::now());
+      if (left.count() <= 0 || !readable_within(static_cast<int>(left.count()))) return false;
+      char buffer[4096];
+      const auto n = ::recv(fd_, buffer, sizeof buffer, MSG_DONTWAIT);
+      if (n == 0) return true;
+      if (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK) return true;
+    }
   }
   /// What has arrived by now, without waiting.
   std::string receive_available() {

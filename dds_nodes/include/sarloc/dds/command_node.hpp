@@ -39,6 +39,7 @@
 #include "sarloc/dds/reader.hpp"
 #include "sarloc/dds/reject_counters.hpp"
 #include "sarloc/dds/writer.hpp"
+#include "sarloc/dds/writer_authority.hpp"
 
 namespace sarloc::dds {
 
@@ -112,6 +113,10 @@ class CommandNode {
   void log_separation_event(const responder::VictimEstimate& estimate, bool from_device);
   /// Keeps the picture writers' MANUAL_BY_TOPIC liveliness (3 s lease) while active.
   void assert_picture_liveliness();
+  /// False (counted and logged as unauthorized_writer) when `writer` may not write `what`
+  /// about `responder_id` (WriterAuthority).
+  bool admitted(const eprosima::fastrtps::rtps::InstanceHandle_t& writer, const std::string& responder_id,
+                WriterAuthority::Speakers speakers, const char* what);
   std::optional<incident::ReporterFix> fix_at(const std::string& rescuer_id, TimestampNs stamp) const;
   /// The fix that places `e`: the one it carries if of its epoch, else fix_at (under mutex_).
   std::optional<incident::ReporterFix> fix_for(const responder::VictimEstimate& e) const;
@@ -119,6 +124,7 @@ class CommandNode {
   CommandNodeConfig config_;
   MissionClock clock_;
   std::shared_ptr<Participant> participant_;
+  WriterAuthority authority_;  ///< with DDS Security: who may write about which responder
   RateLimitedLog warnings_;
   RejectCounters counters_;
 

@@ -33,6 +33,7 @@
 #include "sarloc/dds/reject_counters.hpp"
 #include "sarloc/dds/sample_readers.hpp"
 #include "sarloc/dds/writer.hpp"
+#include "sarloc/dds/writer_authority.hpp"
 
 namespace sarloc::dds {
 
@@ -108,6 +109,7 @@ class CoreNode {
 
   CoreNodeConfig config_;
   std::shared_ptr<Participant> participant_;
+  WriterAuthority authority_;  ///< with DDS Security: only a responder's device writes its samples
   RejectCounters counters_;
   RateLimitedLog warnings_;
   std::atomic<std::size_t> rescuers_served_{0};

@@ -17,8 +17,10 @@
 #include "sarloc/core/responder/responder_position.hpp"
 #include "sarloc/dds/mission_clock.hpp"
 #include "sarloc/dds/participant.hpp"
+#include "sarloc/dds/rate_limited_log.hpp"
 #include "sarloc/dds/reader.hpp"
 #include "sarloc/dds/writer.hpp"
+#include "sarloc/dds/writer_authority.hpp"
 
 namespace sarloc::dds {
 
@@ -55,6 +57,8 @@ class FirefighterNode {
   FirefighterNodeConfig config_;
   MissionClock clock_;
   std::shared_ptr<Participant> participant_;
+  WriterAuthority authority_;  ///< with DDS Security: only a core daemon writes estimates and fixes for us
+  RateLimitedLog refusals_{std::chrono::seconds(5)};
   Writer<::sarloc::Odometry> odometry_writer_;
   Writer<::sarloc::ResponderAlarm> alarm_writer_;
   Writer<::sarloc::ResponderPosition> position_writer_;

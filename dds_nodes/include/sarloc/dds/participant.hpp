@@ -42,6 +42,13 @@ struct ParticipantConfig {
   /// Refuse to start unless the profile enables DDS Security (deploy/security/). Whatever this
   /// says, a profile that sets any dds.sec.* property must set all of them correctly.
   bool require_security = false;
+  /// A profile that reaches beyond this machine runs without DDS Security only when this says
+  /// so (a drill on a closed network); on loopback-only profiles it changes nothing.
+  bool allow_unauthenticated = false;
+  /// The mission's core daemons (node ids): under DDS Security their identities may write
+  /// estimates and map-aided positions for any responder (writer_authority.hpp). Filled from
+  /// the mission file, not a key of its own.
+  std::vector<std::string> core_node_ids;
 
   /// Throws ConfigError naming the field, the value and the rule.
   void validate() const;

@@ -22,9 +22,11 @@
 #include "sarloc/core/responder/guidance_arbiter.hpp"
 #include "sarloc/dds/mission_clock.hpp"
 #include "sarloc/dds/participant.hpp"
+#include "sarloc/dds/rate_limited_log.hpp"
 #include "sarloc/dds/reader.hpp"
 #include "sarloc/dds/sample_writers.hpp"
 #include "sarloc/dds/writer.hpp"
+#include "sarloc/dds/writer_authority.hpp"
 
 namespace sarloc::dds {
 
@@ -90,6 +92,8 @@ class RescuerNode {
   RescuerNodeConfig config_;
   MissionClock clock_;
   std::shared_ptr<Participant> participant_;
+  WriterAuthority authority_;  ///< with DDS Security: only a core daemon writes estimates and fixes for us
+  RateLimitedLog refusals_{std::chrono::seconds(5)};
   std::unique_ptr<estimator::ResponderEstimator> local_;
   SampleWriters sample_writers_;
   Writer<::sarloc::Odometry> odometry_writer_;

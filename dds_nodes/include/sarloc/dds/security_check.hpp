@@ -5,12 +5,15 @@
 // incomplete, misspelled or point at missing files.
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
+#include <optional>
 #include <string>
 
 namespace sarloc::dds {
 
 /// Throws ConfigError naming the property and value when:
 ///  - `require_security` and the profile sets no dds.sec.* property;
+///  - the profile sets no dds.sec.* property, can reach beyond this machine (network_reach)
+///    and `allow_unauthenticated` is false: unsecured is the default on loopback only;
 ///  - any dds.sec.* property is set but authentication (builtin.PKI-DH), access control
 ///    (builtin.Access-Permissions) and encryption (builtin.AES-GCM-GMAC) are not all there,
 ///    spelled exactly;
@@ -18,6 +21,11 @@ namespace sarloc::dds {
 ///    does not exist.
 /// Returns true when the participant will be secured.
 bool check_security(const eprosima::fastdds::dds::DomainParticipantQos& qos, const std::string& profile,
-                    bool require_security);
+                    bool require_security, bool allow_unauthenticated);
+
+/// Why a participant of this QoS can exchange packets with other machines (builtin transports,
+/// a socket transport without an interface whitelist or with a non-loopback interface), or
+/// nothing when every transport is shared memory or loopback-only.
+std::optional<std::string> network_reach(const eprosima::fastdds::dds::DomainParticipantQos& qos);
 
 }  // namespace sarloc::dds

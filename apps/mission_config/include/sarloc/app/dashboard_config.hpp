@@ -20,6 +20,12 @@ struct DashboardConfig {
   double par_interval_s = 600.0;          ///< a team's PAR is due this long after the last (wall s)
   double push_period_s = 0.25;            ///< an event stream sends what changed at most this often
   int max_streams = 64;                   ///< open event streams at once
+  /// Open connections to the page from one client address; more are closed at once (a
+  /// browser opens about 7). One client can no longer hold every server thread (issue 59).
+  int max_connections_per_address = 32;
+  /// A connection's whole request must arrive within this (wall s) of its opening, or it is
+  /// closed: against clients that send a byte every few seconds.
+  double request_deadline_s = 10.0;
   int track_length = 120;                 ///< recent positions drawn per responder
   /// The Foxglove WebSocket feed (foxglove.websocket.v1) on this port of bind_address; -1: off,
   /// 0: any free port.

@@ -68,6 +68,9 @@ struct MissionConfig {
   /// The DDS partition of a sector ("sector-<name>"), or {} for no sector.
   static std::vector<std::string> partitions_of_sector(const std::string& sector);
   dds::CoreNodeConfig core_config(const std::string& sector) const;
+  /// The node id of the core daemon of `sector` ("" without sectors), and of every one.
+  std::string core_node_id(const std::string& sector) const;
+  std::vector<std::string> core_node_ids() const;
   dds::RescuerNodeConfig rescuer_config(const std::string& rescuer_id) const;
   /// The team of any responder (avalanche rescuer or firefighter); ConfigError when unknown.
   std::string team_of(const std::string& responder_id) const;

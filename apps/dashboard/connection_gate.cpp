@@ -1,0 +1,193 @@
+#include "connection_gate.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <array>
+#include <stdexcept>
+#include <vector>
+
+namespace sarloc::dashboard {
+
+namespace asio = boost::asio;
+using tcp = asio::ip::tcp;
+
+// One client connection and its copy towards the HTTP server. Its sockets and flags belong to
+// the gate's io thread; `deadline` and `served` are shared with the server's threads under the
+// gate's mutex.
+struct ConnectionGate::Relay {
+  explicit Relay(tcp::socket socket) : client(std::move(socket)), backend(client.get_executor()) {}
+  tcp::socket client;
+  tcp::socket backend;
+  std::array<char, 16384> upstream_buffer{};    // client -> server
+  std::array<char, 16384> downstream_buffer{};  // server -> client
+  std::string address;
+  int relay_port = 0;  // the local port of `backend`: how the server names this connection
+  Clock::time_point deadline;
+  bool served = false;
+  bool closed = false;
+};
+
+ConnectionGate::ConnectionGate(ConnectionLimits limits, const std::string& bind_address, int port, int backend_port)
+    : limits_(limits), backend_port_(backend_port), acceptor_(io_), sweep_timer_(io_) {
+  boost::system::error_code ec;
+  const auto address = asio::ip::make_address(bind_address, ec);
+  if (ec) throw std::runtime_error("cannot listen on '" + bind_address + "': not an IP address");
+  const tcp::endpoint endpoint(address, static_cast<unsigned short>(port));
+  acceptor_.open(endpoint.protocol(), ec);
+  if (!ec) acceptor_.set_option(tcp::acceptor::reuse_address(true), ec);
+  if (!ec) acceptor_.bind(endpoint, ec);
+  if (!ec) acceptor_.listen(asio::socket_base::max_listen_connections, ec);
+  if (ec) {
+    throw std::runtime_error("cannot listen on " + bind_address + ":" + std::to_string(port) + " (" + ec.message() + ")");
+  }
+  port_ = acceptor_.local_endpoint().port();
+  accept();
+  sweep();
+  thread_ = std::thread([this] { io_.run(); });
+}
+
+ConnectionGate::~ConnectionGate() {
+  // Closing everything leaves the io thread no work: run() returns.
+  asio::post(io_, [this] {
+    boost::system::error_code ignored;
+    acceptor_.close(ignored);
+    sweep_timer_.cancel();
+    std::set<std::shared_ptr<Relay>> open;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      open = relays_;
+    }
+    for (const auto& relay : open) close(relay);
+  });
+  if (thread_.joinable()) thread_.join();
+}
+
+void ConnectionGate::request_arrived(int relay_port) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = by_relay_port_.find(relay_port);
+  if (it != by_relay_port_.end()) it->second->served = true;
+}
+
+ConnectionGate::Counters ConnectionGate::counters() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return counters_;
+}
+
+void ConnectionGate::accept() {
+  acceptor_.async_accept([this](const boost::system::error_code& ec, tcp::socket socket) {
+    if (!acceptor_.is_open()) return;
+    if (!ec) admit(std::move(socket));
+    accept();
+  });
+}
+
+void ConnectionGate::admit(tcp::socket socket) {
+  boost::system::error_code ec;
+  const auto remote = socket.remote_endpoint(ec);
+  if (ec) return;  // gone already
+  auto relay = std::make_shared<Relay>(std::move(socket));
+  relay->address = remote.address().to_string();
+  const char* refusal = nullptr;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    int& open = open_per_address_[relay->address];
+    if (open >= limits_.max_per_address) {
+      ++counters_.refused_address;
+      refusal = "connections from that address";
+    } else if (static_cast<int>(relays_.size()) >= limits_.max_total) {
+      ++counters_.refused_total;
+      refusal = "connections in all";
+      if (open == 0) open_per_address_.erase(relay->address);
+    } else {
+      ++open;
+      ++counters_.relayed;
+      relays_.insert(relay);
+      relay->deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(limits_.request_deadline_s));
+    }
+  }
+  if (refusal != nullptr) {
+    refusals_.warn(relay->address, refusal,
+                   std::string("dashboard: refused a connection from ") + relay->address + ": too many open " + refusal);
+    relay->client.close(ec);
+    return;
+  }
+  relay->backend.async_connect(tcp::endpoint(asio::ip::address_v4::loopback(), static_cast<unsigned short>(backend_port_)),
+                               [this, relay](const boost::system::error_code& error) {
+                                 if (error || relay->closed) {
+                                   close(relay);
+                                   return;
+                                 }
+                                 boost::system::error_code ignored;
+                                 relay->relay_port = relay->backend.local_endpoint(ignored).port();
+                                 {
+                                   std::lock_guard<std::mutex> lock(mutex_);
+                                   by_relay_port_[relay->relay_port] = relay;
+                                 }
+                                 pump(relay, true);
+                                 pump(relay, false);
+                               });
+}
+
+void ConnectionGate::pump(const std::shared_ptr<Relay>& relay, bool upstream) {
+  auto& from = upstream ? relay->client : relay->backend;
+  auto& buffer = upstream ? relay->upstream_buffer : relay->downstream_buffer;
+  from.async_read_some(asio::buffer(buffer), [this, relay, upstream](const boost::system::error_code& ec, std::size_t n) {
+    if (relay->closed) return;
+    // Either end ends the connection: the server answers one request per connection, and
+    // answers no client that has shut its sending side (cpp-httplib), so a client's end is
+    // its leaving; the server's stream then fails at its next write and frees its thread.
+    if (ec) {
+      close(relay);
+      return;
+    }
+    auto& to = upstream ? relay->backend : relay->client;
+    const auto& data = upstream ? relay->upstream_buffer : relay->downstream_buffer;
+    asio::async_write(to, asio::buffer(data.data(), n), [this, relay, upstream](const boost::system::error_code& error, std::size_t) {
+      if (error) {
+        close(relay);
+        return;
+      }
+      pump(relay, upstream);
+    });
+  });
+}
+
+void ConnectionGate::close(const std::shared_ptr<Relay>& relay) {
+  if (relay->closed) return;
+  relay->closed = true;
+  boost::system::error_code ignored;
+  relay->client.close(ignored);
+  relay->backend.close(ignored);
+  std::lock_guard<std::mutex> lock(mutex_);
+  relays_.erase(relay);
+  const auto by_port = by_relay_port_.find(relay->relay_port);
+  if (by_port != by_relay_port_.end() && by_port->second == relay) by_relay_port_.erase(by_port);
+  const auto open = open_per_address_.find(relay->address);
+  if (open != open_per_address_.end() && --open->second <= 0) open_per_address_.erase(open);
+}
+
+void ConnectionGate::sweep() {
+  sweep_timer_.expires_after(std::chrono::milliseconds(200));
+  sweep_timer_.async_wait([this](const boost::system::error_code& ec) {
+    if (ec) return;
+    std::vector<std::shared_ptr<Relay>> expired;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      const auto now = Clock::now();
+      for (const auto& relay : relays_) {
+        if (!relay->served && now >= relay->deadline) expired.push_back(relay);
+      }
+      counters_.expired += expired.size();
+    }
+    for (const auto& relay : expired) {
+      refusals_.warn(relay->address, "deadline",
+                     fmt::format("dashboard: closed a connection from {}: no whole request within {:g} s", relay->address,
+                                 limits_.request_deadline_s));
+      close(relay);
+    }
+    sweep();
+  });
+}
+
+}  // namespace sarloc::dashboard

@@ -1,0 +1,87 @@
+#pragma once
+// The page's front door: every connection to the dashboard's port passes through here before
+// cpp-httplib sees it.
+//
+// cpp-httplib 0.11 gives each connection a worker thread while it reads the request head, and
+// restarts its 5 s read timeout on every byte: 80 clients sending a byte every 2 s held all 72
+// threads, and 200 half-sent requests did the same for 16 s (issue 59). It offers no hook at
+// accept. So the gate accepts on the public address itself and relays each connection to the
+// HTTP server, which listens on a loopback port of its own; it
+//  - refuses a client address that already has `max_per_address` connections open;
+//  - refuses connections beyond `max_total`;
+//  - closes a connection whose request has not arrived whole within `request_deadline_s` of
+//    its opening. The server reports a GET's head (request_arrived) by the port the relay's
+//    connection comes from; the GET is then served as long as it lasts (event streams). A
+//    request with a body is not reported: it must be answered by the deadline (4 KiB at most).
+// TLS passes through untouched: the server behind decrypts, and reports the same way. One
+// request per connection (the server closes after each), so the deadline covers all of it.
+#include <boost/asio.hpp>
+
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <string>
+#include <thread>
+
+#include "sarloc/dds/rate_limited_log.hpp"
+
+namespace sarloc::dashboard {
+
+struct ConnectionLimits {
+  int max_per_address = 32;         ///< open connections from one client address
+  int max_total = 256;              ///< open connections in all
+  double request_deadline_s = 10.0; ///< from opening to the request reaching its handler
+};
+
+class ConnectionGate {
+ public:
+  /// Listens on `bind_address`:`port` (0: any free port) and relays to 127.0.0.1:`backend_port`.
+  /// Throws std::runtime_error when it cannot listen.
+  ConnectionGate(ConnectionLimits limits, const std::string& bind_address, int port, int backend_port);
+  ~ConnectionGate();
+  ConnectionGate(const ConnectionGate&) = delete;
+  ConnectionGate& operator=(const ConnectionGate&) = delete;
+
+  int port() const { return port_; }
+  /// Thread-safe (the server's handler threads): the GET on the connection that reaches the
+  /// server from `relay_port` arrived whole; it has no deadline any more.
+  void request_arrived(int relay_port);
+
+  struct Counters {
+    std::uint64_t relayed = 0;           ///< connections accepted and relayed
+    std::uint64_t refused_address = 0;   ///< over max_per_address
+    std::uint64_t refused_total = 0;     ///< over max_total
+    std::uint64_t expired = 0;           ///< closed at request_deadline_s
+  };
+  Counters counters() const;
+
+ private:
+  struct Relay;
+  using Clock = std::chrono::steady_clock;
+
+  void accept();
+  void admit(boost::asio::ip::tcp::socket socket);
+  void sweep();
+  void connect(const std::shared_ptr<Relay>& relay);
+  void pump(const std::shared_ptr<Relay>& relay, bool upstream);
+  void close(const std::shared_ptr<Relay>& relay);
+
+  ConnectionLimits limits_;
+  int backend_port_ = 0;
+  int port_ = 0;
+  boost::asio::io_context io_;
+  boost::asio::ip::tcp::acceptor acceptor_;
+  boost::asio::steady_timer sweep_timer_;
+  mutable std::mutex mutex_;
+  std::set<std::shared_ptr<Relay>> relays_;
+  std::map<std::string, int> open_per_address_;
+  std::map<int, std::shared_ptr<Relay>> by_relay_port_;
+  Counters counters_;
+  dds::RateLimitedLog refusals_{std::chrono::seconds(10)};
+  std::thread thread_;
+};
+
+}  // namespace sarloc::dashboard

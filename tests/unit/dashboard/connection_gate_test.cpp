@@ -1,0 +1,109 @@
+// The page's port against clients that hold connections open (issue 59, finding 5): 80 clients
+// sending a byte every 2 s held all 72 server threads, and 200 half-sent requests did the same
+// for 16 s or more, so the commander's own GET / timed out. The gate in front of the server
+// (connection_gate.hpp) limits connections per client address and closes a connection whose
+// request has not arrived whole by the deadline; an event stream outlives it.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <memory>
+#include <thread>
+#include <vector>
+
+// Eigen before httplib.h: the resolver header httplib pulls in defines `_res`, a name Eigen uses.
+#include "dashboard_server.hpp"
+#include "raw_socket.hpp"
+
+#include <httplib.h>
+
+namespace sarloc::dashboard {
+namespace {
+
+using namespace std::chrono_literals;
+using test::RawSocket;
+
+constexpr const char* kViewToken = "look-but-do-not-touch";
+constexpr const char* kAttacker = "127.0.0.2";  // another machine on the command post's network
+
+class Gate : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    DashboardServerConfig config;
+    config.port = 0;
+    config.token = "correct-horse-battery";
+    config.view_token = kViewToken;
+    config.push_period_s = 0.05;
+    config.request_deadline_s = 2.0;
+    server = std::make_unique<DashboardServer>(config, state, [](std::uint32_t, const std::string&) { return true; });
+    server->start();
+  }
+  /// The commander's browser, from this machine: the page within `timeout`.
+  bool page_served_within(std::chrono::milliseconds timeout) {
+    httplib::Client client("127.0.0.1", server->port());
+    client.set_connection_timeout(timeout);
+    client.set_read_timeout(timeout);
+    const auto page = client.Get("/");
+    return page && page->status == 200;
+  }
+  /// `n` connections from kAttacker that each send `head` and then nothing.
+  std::vector<std::unique_ptr<RawSocket>> open_from_attacker(int n, const std::string& head) {
+    std::vector<std::unique_ptr<RawSocket>> sockets;
+    for (int i = 0; i < n; ++i) {
+      sockets.push_back(std::make_unique<RawSocket>(server->port(), 0, kAttacker));
+      sockets.back()->send(head);
+    }
+    return sockets;
+  }
+
+  TimestampNs mission = 5'000'000'000LL;
+  PictureState state{PictureStateConfig{}, [this] { return mission; }, 0};
+  std::unique_ptr<DashboardServer> server;
+};
+
+TEST_F(Gate, SlowClientsOfOneAddressCannotHoldTheServersThreads) {
+  auto slow = open_from_attacker(80, "GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n");
+  // A byte every 0.5 s, which restarted the server's 5 s read timeout every time.
+  for (int round = 0; round < 3; ++round) {
+    for (auto& socket : slow) socket->send("X");
+    std::this_thread::sleep_for(500ms);
+  }
+  EXPECT_TRUE(page_served_within(1s)) << "the commander's page timed out behind 80 slow clients";
+  const auto counters = server->connection_counters();
+  EXPECT_EQ(counters.refused_address, 80U - 32U) << "one address holds at most max_connections_per_address";
+  // The 32 let in never finish their request: closed at the 2 s deadline however they dribble.
+  int closed = 0;
+  for (auto& socket : slow) closed += socket->closed_within(2000) ? 1 : 0;
+  EXPECT_EQ(closed, 80);
+  EXPECT_EQ(server->connection_counters().expired, 32U);
+}
+
+TEST_F(Gate, HalfSentRequestsAreClosedAtTheDeadlineAndTheBodyCountsToo) {
+  const auto started = std::chrono::steady_clock::now();
+  auto half = open_from_attacker(200, "GET /api/state HTTP/1.1\r\nHost: 127.0.0.1\r\n");
+  // A POST whose head is whole but whose body never comes.
+  RawSocket post(server->port(), 0, "127.0.0.3");
+  post.send("POST /api/session HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: application/json\r\nContent-Length: 100\r\n\r\n{");
+  EXPECT_TRUE(page_served_within(1s)) << "the commander's page timed out behind 200 half-sent requests";
+  EXPECT_TRUE(post.closed_within(4000)) << "a body that never comes held its connection past the deadline";
+  for (auto& socket : half) EXPECT_TRUE(socket->closed_within(4000));
+  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  EXPECT_LT(took, 5.0) << "closed at the 2 s deadline, not by the server's read timeouts";
+  EXPECT_EQ(server->connection_counters().expired, 32U + 1U);
+}
+
+TEST_F(Gate, AnEventStreamOutlivesTheDeadlineAndAFastRequestIsUntouched) {
+  RawSocket stream(server->port(), 0, kAttacker);
+  stream.send(std::string("GET /events HTTP/1.1\r\nHost: 127.0.0.1\r\nAuthorization: Bearer ") + kViewToken + "\r\n\r\n");
+  EXPECT_NE(stream.receive_head().find("200 OK"), std::string::npos);
+  std::this_thread::sleep_for(3s);  // past the 2 s deadline
+  stream.receive_available();
+  EXPECT_FALSE(stream.closed_within(1500)) << "an event stream was cut at the deadline";
+  for (int i = 0; i < 50; ++i) ASSERT_TRUE(page_served_within(1s)) << "request " << i;
+  const auto counters = server->connection_counters();
+  EXPECT_EQ(counters.expired, 0U);
+  EXPECT_EQ(counters.refused_address, 0U);
+  EXPECT_EQ(counters.relayed, 51U);
+}
+
+}  // namespace
+}  // namespace sarloc::dashboard
