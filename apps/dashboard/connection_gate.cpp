@@ -46,9 +46,13 @@ ConnectionGate::ConnectionGate(ConnectionLimits limits, const std::string& bind_
   thread_ = std::thread([this] { io_.run(); });
 }
 
-ConnectionGate::~ConnectionGate() {
+ConnectionGate::~ConnectionGate() { stop(); }
+
+void ConnectionGate::stop() {
+  if (!thread_.joinable()) return;
   // Closing everything leaves the io thread no work: run() returns.
   asio::post(io_, [this] {
+    stopping_ = true;  // a sweep already due must not arm the timer again
     boost::system::error_code ignored;
     acceptor_.close(ignored);
     sweep_timer_.cancel();
@@ -170,7 +174,7 @@ void ConnectionGate::close(const std::shared_ptr<Relay>& relay) {
 void ConnectionGate::sweep() {
   sweep_timer_.expires_after(std::chrono::milliseconds(200));
   sweep_timer_.async_wait([this](const boost::system::error_code& ec) {
-    if (ec) return;
+    if (ec || stopping_) return;
     std::vector<std::shared_ptr<Relay>> expired;
     {
       std::lock_guard<std::mutex> lock(mutex_);

@@ -46,6 +46,9 @@ class ConnectionGate {
   ConnectionGate& operator=(const ConnectionGate&) = delete;
 
   int port() const { return port_; }
+  /// Stops accepting and closes every open connection (then only request_arrived and
+  /// counters may be called, harmlessly). The destructor does it too.
+  void stop();
   /// Thread-safe (the server's handler threads): the GET on the connection that reaches the
   /// server from `relay_port` arrived whole; it has no deadline any more.
   void request_arrived(int relay_port);
@@ -75,6 +78,7 @@ class ConnectionGate {
   boost::asio::io_context io_;
   boost::asio::ip::tcp::acceptor acceptor_;
   boost::asio::steady_timer sweep_timer_;
+  bool stopping_ = false;  // the io thread's
   mutable std::mutex mutex_;
   std::set<std::shared_ptr<Relay>> relays_;
   std::map<std::string, int> open_per_address_;

@@ -360,9 +360,10 @@ void DashboardServer::start() {
 
 void DashboardServer::stop() {
   if (stopping_.exchange(true)) return;
-  gate_.reset();  // no new connections, and the open ones end
+  if (gate_) gate_->stop();  // no new connections, and the open ones end: no handler waits on a client
   server_->stop();
   if (thread_.joinable()) thread_.join();
+  gate_.reset();  // after the handler threads, which report to it
 }
 
 }  // namespace sarloc::dashboard
