@@ -5,26 +5,14 @@
 
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/incident/victim_fusion.hpp"
+#include "source_estimates.hpp"
 
 namespace sarloc::incident {
 namespace {
 
 using responder::EstimatorStatus;
-constexpr TimestampNs kSec = 1'000'000'000;
-
-SourceEstimate src(const std::string& rescuer, std::uint32_t signal, TimestampNs t, const Vec3& p, double sigma = 0.5,
-                   EstimatorStatus st = EstimatorStatus::kConverged) {
-  SourceEstimate s;
-  s.rescuer_id = rescuer;
-  s.signal_id = signal;
-  s.stamp = t;
-  s.position.position = p;
-  s.position.covariance = sigma * sigma * Mat3::Identity();
-  s.state = source_state_of(st);
-  s.below_surface = true;
-  s.from_device = true;  // the reporter's own estimate: it may confirm
-  return s;
-}
+using test::kSec;
+using test::src;
 
 void expect_same_victims(const std::vector<FusedVictim>& a, const std::vector<FusedVictim>& b) {
   ASSERT_EQ(a.size(), b.size());
@@ -56,16 +44,16 @@ void update_both(VictimFusion& active, VictimFusion& standby, const SourceEstima
 // opened by d/1 and then merged into 1 (disposed): ids 1, 2 remain, 3 was used.
 void run_history(VictimFusion& active, VictimFusion& standby) {
   update_both(active, standby, src("a", 1, 1 * kSec, Vec3(0, 0, -1), 0.5, EstimatorStatus::kLocated));
-  update_both(active, standby, src("c", 2, 1 * kSec, Vec3(30, 0, -1)));
+  update_both(active, standby, src("c", 2, 1 * kSec, Vec3(30, 0, -1), 0.5));
   update_both(active, standby, src("d", 1, 1 * kSec, Vec3(8, 0, -1), 0.5));
   active.step(1 * kSec);
   standby.adopt(active.victims());  // a standby cycle: adopt the new picture, then step
   standby.step(1 * kSec);
   ASSERT_EQ(active.victims().size(), 3U);
-  update_both(active, standby, src("b", 1, 2 * kSec, Vec3(0.2, 0, -1)));
-  update_both(active, standby, src("d", 1, 2 * kSec, Vec3(0.4, 0, -1)));  // d moves onto victim 1
+  update_both(active, standby, src("b", 1, 2 * kSec, Vec3(0.2, 0, -1), 0.5));
+  update_both(active, standby, src("d", 1, 2 * kSec, Vec3(0.4, 0, -1), 0.5));  // d moves onto victim 1
   update_both(active, standby, src("a", 1, 2 * kSec, Vec3(0, 0, -1), 0.5, EstimatorStatus::kLocated));
-  update_both(active, standby, src("c", 2, 2 * kSec, Vec3(30, 0, -1)));
+  update_both(active, standby, src("c", 2, 2 * kSec, Vec3(30, 0, -1), 0.5));
   active.step(2 * kSec);
   ASSERT_EQ(active.take_removed(), (std::vector<std::uint32_t>{3}));
   ASSERT_EQ(active.victims().size(), 2U);
@@ -87,9 +75,9 @@ TEST(VictimFusionAdopt, TheStandbyContinuesExactlyAsTheActiveWould) {
   for (TimestampNs t = 3 * kSec; t <= 6 * kSec; t += kSec) {
     const auto found = t >= 5 * kSec ? EstimatorStatus::kFound : EstimatorStatus::kLocated;
     update_both(active, successor, src("a", 1, t, Vec3(0, 0, -1), 0.3, found));
-    update_both(active, successor, src("b", 1, t, Vec3(0.1, 0, -1)));
-    update_both(active, successor, src("c", 2, t, Vec3(30, 0.1, -1)));
-    update_both(active, successor, src("d", 1, t, Vec3(0.3, 0, -1)));
+    update_both(active, successor, src("b", 1, t, Vec3(0.1, 0, -1), 0.5));
+    update_both(active, successor, src("c", 2, t, Vec3(30, 0.1, -1), 0.5));
+    update_both(active, successor, src("d", 1, t, Vec3(0.3, 0, -1), 0.5));
     active.step(t);
     successor.step(t);
     expect_same_victims(successor.victims(), active.victims());
@@ -103,7 +91,7 @@ TEST(VictimFusionAdopt, TheStandbyContinuesExactlyAsTheActiveWould) {
   EXPECT_TRUE(successor.take_removed().empty());
 
   // A new victim after the handover gets the next unused id.
-  successor.update(src("e", 3, 7 * kSec, Vec3(-40, 0, -1)));
+  successor.update(src("e", 3, 7 * kSec, Vec3(-40, 0, -1), 0.5));
   successor.step(7 * kSec);
   ASSERT_EQ(successor.victims().size(), 3U);
   EXPECT_EQ(successor.victims()[2].victim_id, 4U);
@@ -123,7 +111,7 @@ TEST(VictimFusionAdopt, TakesThePictureVerbatimWithoutFusing) {
   v.evidence_conflict = true;
   v.sources = {{"r1", 1, 12 * kSec}};
   VictimFusion f;
-  auto e = src("r1", 1, 13 * kSec, Vec3(5, 5, -1));  // the standby's own copy says elsewhere
+  auto e = src("r1", 1, 13 * kSec, Vec3(5, 5, -1), 0.5);  // the standby's own copy says elsewhere
   e.floor = 2;
   f.update(e);
   f.adopt({v});
@@ -145,7 +133,7 @@ TEST(VictimFusionAdopt, ASourceHeardOnlyAfterTheAdoptionJoinsItsVictim) {
   VictimFusion f;  // a restarted standby: nothing heard yet
   f.adopt({v});
   // The TRANSIENT_LOCAL estimate arrives after the picture.
-  f.update(src("late", 2, 5 * kSec, Vec3(0.2, 0, -1)));
+  f.update(src("late", 2, 5 * kSec, Vec3(0.2, 0, -1), 0.5));
   f.step(5 * kSec);
   ASSERT_EQ(f.victims().size(), 1U) << "the source opened a victim of its own";
   EXPECT_EQ(f.victims()[0].victim_id, 3U);
@@ -156,7 +144,7 @@ TEST(VictimFusionAdopt, ASourceHeardOnlyAfterTheAdoptionJoinsItsVictim) {
 
 TEST(VictimFusionAdopt, RefusesABadPictureAndKeepsItsOwn) {
   VictimFusion f;
-  f.update(src("a", 1, kSec, Vec3(0, 0, -1)));
+  f.update(src("a", 1, kSec, Vec3(0, 0, -1), 0.5));
   f.step(kSec);
   ASSERT_EQ(f.victims().size(), 1U);
   FusedVictim good;
@@ -199,7 +187,7 @@ TEST(VictimFusionAdopt, WhatTheStandbyFusedAfterTheLastPictureIsKept) {
   standby.step(1 * kSec);
 
   standby.update(src("a", 1, 2 * kSec, Vec3(0, 0, -1), 0.3, EstimatorStatus::kFound));
-  standby.update(src("z", 1, 2 * kSec, Vec3(50, 0, -1)));  // a victim the active one never saw
+  standby.update(src("z", 1, 2 * kSec, Vec3(50, 0, -1), 0.5));  // a victim the active one never saw
   standby.step(2 * kSec);
   standby.step(20 * kSec);  // sources timed out (10 s) by the time it takes over
   ASSERT_EQ(standby.victims().size(), 2U);
@@ -227,7 +215,7 @@ TEST(VictimFusionAdopt, AdoptingALaggingPictureKeepsStatesAndDropsOwnVictims) {
   standby.update(src("a", 1, kSec, Vec3(0, 0, -1), 0.5, EstimatorStatus::kLocated));
   standby.adopt({located});
   standby.update(src("a", 1, 2 * kSec, Vec3(0, 0, -1), 0.3, EstimatorStatus::kFound));
-  standby.update(src("z", 1, 2 * kSec, Vec3(50, 0, -1)));
+  standby.update(src("z", 1, 2 * kSec, Vec3(50, 0, -1), 0.5));
   standby.step(2 * kSec);
   ASSERT_EQ(standby.victims().size(), 2U);
 
@@ -247,7 +235,7 @@ TEST(VictimFusionAdopt, AdoptingALaggingPictureKeepsStatesAndDropsOwnVictims) {
 // A source the picture lists twice (it cannot: one victim per source) binds to the first.
 TEST(VictimFusionAdopt, ASourceListedTwiceBindsOnce) {
   VictimFusion f;
-  f.update(src("a", 1, kSec, Vec3(0, 0, -1)));
+  f.update(src("a", 1, kSec, Vec3(0, 0, -1), 0.5));
   FusedVictim one;
   one.victim_id = 1;
   one.position.covariance = Mat3::Identity();
