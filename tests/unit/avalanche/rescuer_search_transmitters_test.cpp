@@ -1,0 +1,122 @@
+// RescuerSearch with transmitters close together: one split into two signals is found once, two
+// half a metre apart are both found.
+#include "sarloc/core/avalanche/rescuer_search.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/gaussian.hpp"
+#include "sarloc/core/mission/simulated_rescuer.hpp"
+#include "rescuer_search_world.hpp"
+
+namespace sarloc::avalanche {
+namespace {
+
+using test::feed;
+using test::kSecond;
+using test::quick;
+using test::scenario;
+
+// Walks the search as guided for up to `epochs`, each measurement passed through `edit` (which
+// may add samples) and every outcome to `seen`. Stops early when `done` says so.
+template <typename Edit, typename Seen, typename Done>
+void guided_search(RescuerSearch& search, mission::SimulatedRescuer& sim, int epochs, Edit edit, Seen seen, Done done) {
+  for (int k = 0; k < epochs && !done(); ++k) {
+    const TimestampNs t = (k + 1) * kSecond;
+    std::optional<Guidance> g;
+    for (const auto& measured : sim.measure(t)) {
+      for (const FieldMeasurement& m : edit(measured, k)) {
+        auto outcome = search.process(m);
+        ASSERT_TRUE(std::holds_alternative<SearchUpdate>(outcome));
+        const auto& u = std::get<SearchUpdate>(outcome);
+        if (u.guidance) g = u.guidance;
+        seen(m, u);
+      }
+    }
+    if (!g) g = search.coast(t);
+    if (!g) return;
+    ASSERT_FALSE(search.add_odometry(sim.walk(g->bearing_rad, g->step_m, t, t + kSecond)).has_value());
+  }
+}
+
+// The live failure (four within 5 m): the separation split one transmitter into two signals, and
+// both were found, one victim twice. The second signal (a copy of A's samples from after A was
+// found) is suspected from its first claim, never published above kConverged, and, stood over, a
+// confirmed repeat: the search moves on to B.
+TEST(RescuerSearch, OneTransmitterSplitIntoTwoSignalsIsFoundOnce) {
+  const auto s = scenario();
+  mission::SimulatedRescuer sim(s, "r");
+  RescuerSearch search("r", quick());
+  constexpr std::uint32_t kCopy = 100;
+  std::optional<std::uint32_t> a_signal;
+  std::optional<int> a_found_at;
+  EstimatorStatus copy_highest = EstimatorStatus::kInitialising;
+  std::optional<VictimEstimate> copy_last;
+  std::optional<FieldMeasurement> a_last;
+  int k_now = 0;
+  guided_search(
+      search, sim, 200,
+      [&](const FieldMeasurement& m, int k) {
+        k_now = k;
+        std::vector<FieldMeasurement> out{m};
+        if (sim.victim_of_signal(m.signal_id) == 0U) {
+          a_signal = m.signal_id;
+          a_last = m;
+          if (a_found_at && k > *a_found_at) {
+            FieldMeasurement copy = m;
+            copy.signal_id = kCopy;
+            out.push_back(copy);
+          }
+        }
+        return out;
+      },
+      [&](const FieldMeasurement& m, const SearchUpdate& u) {
+        if (!u.estimate) return;
+        if (m.signal_id == a_signal && u.estimate->status == EstimatorStatus::kFound && !a_found_at) a_found_at = k_now;
+        if (m.signal_id == kCopy) {
+          copy_highest = std::max(copy_highest, u.estimate->status);
+          copy_last = u.estimate;
+        }
+      },
+      [&] { return copy_last && copy_last->repeat == responder::RepeatState::kConfirmed; });
+  ASSERT_TRUE(a_found_at.has_value()) << "A is found";
+  ASSERT_TRUE(copy_last.has_value()) << "the copy was tracked";
+  EXPECT_EQ(copy_last->repeat, responder::RepeatState::kConfirmed);
+  EXPECT_EQ(copy_last->repeat_of_signal, *a_signal);
+  EXPECT_EQ(search.confirmed_repeats(), 1U);
+  EXPECT_LE(copy_highest, EstimatorStatus::kConverged) << "a repeat never claims a victim";
+  EXPECT_NE(search.target_signal(), std::optional<std::uint32_t>(kCopy)) << "the search moved on";
+  EXPECT_NE(search.target_signal(), std::optional<std::uint32_t>(*a_signal));
+  // The receiver's separation is told which signal the copy repeats (SignalSeparator
+  // original_of_repeats), and that A repeats none.
+  const auto copy_fit = search.field_fit(kCopy, a_last->field, a_last->noise_stddev, a_last->valid_axes);
+  const auto a_fit = search.field_fit(*a_signal, a_last->field, a_last->noise_stddev, a_last->valid_axes);
+  ASSERT_TRUE(copy_fit && a_fit);
+  EXPECT_EQ(copy_fit->repeat_of, *a_signal);
+  EXPECT_EQ(a_fit->repeat_of, 0U);
+}
+
+// Two transmitters half a metre apart are two victims: their moments differ, and each is found.
+TEST(RescuerSearch, TwoTransmittersHalfAMetreApartAreBothFound) {
+  auto s = scenario();
+  s.victims.push_back({"A2", Vec3(0.5, 15.0, -1.2), Vec3(-0.004, 0.003, 0.015), {}, {}});
+  mission::SimulatedRescuer sim(s, "r");
+  RescuerSearch search("r", quick());
+  std::set<std::size_t> found;
+  guided_search(
+      search, sim, 250, [](const FieldMeasurement& m, int) { return std::vector<FieldMeasurement>{m}; },
+      [&](const FieldMeasurement& m, const SearchUpdate& u) {
+        if (u.estimate && u.estimate->status == EstimatorStatus::kFound) found.insert(*sim.victim_of_signal(m.signal_id));
+      },
+      [&] { return found.count(0) != 0 && found.count(2) != 0; });
+  EXPECT_EQ(found.count(0), 1U) << "A found";
+  EXPECT_EQ(found.count(2), 1U) << "A2, 0.5 m from A, found too";
+  EXPECT_EQ(search.confirmed_repeats(), 0U);
+}
+
+}  // namespace
+}  // namespace sarloc::avalanche
