@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 #include "sarloc/dds/mission_clock.hpp"
 #include "sarloc/dds/process_stats.hpp"
 
@@ -28,7 +29,7 @@ EchoHandoff parse_echo_handoff(const std::string& text) {
 void EchoNodeConfig::validate() const {
   if (node_id.empty() || node_id.size() > 64) throw ConfigError("echo.node_id = '" + node_id + "': must be 1-64 characters");
   if (!(status_period_s > 0.0 && status_period_s <= 60.0)) {
-    throw ConfigError("echo.status_period_s = " + std::to_string(status_period_s) + ": must be in (0, 60]");
+    throw ConfigError("echo.status_period_s = " + config_value(status_period_s) + ": must be in (0, 60]");
   }
   for (const auto& p : partitions) {
     if (p.empty()) throw ConfigError("echo.partitions contains an empty name");

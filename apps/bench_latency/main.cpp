@@ -20,6 +20,8 @@
 // participant: field samples and odometry cycling through N rescuer ids that no one serves,
 // at `--intruder-rate` samples per second, while the real rescuers are measured.
 #include <CLI/CLI.hpp>
+
+#include "sarloc/core/common/validate.hpp"
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
@@ -591,19 +593,19 @@ int main(int argc, char** argv) {
 
   return app::run_main("sarloc-bench-latency", [&] {
     app::setup_logging(log_level, "bench");
-    if (!(rate > 0.0 && rate <= 100.0)) throw ConfigError("--rate = " + std::to_string(rate) + ": must be in (0, 100]");
-    if (!(duration >= 2.0)) throw ConfigError("--duration = " + std::to_string(duration) + ": must be >= 2 s");
+    if (!(rate > 0.0 && rate <= 100.0)) throw ConfigError("--rate = " + config_value(rate) + ": must be in (0, 100]");
+    if (!(duration >= 2.0)) throw ConfigError("--duration = " + config_value(duration) + ": must be >= 2 s");
     if (!(setup.warmup_s >= 0.0 && setup.warmup_s <= 3600.0)) {
-      throw ConfigError("--warmup = " + std::to_string(setup.warmup_s) + ": must be in [0, 3600]");
+      throw ConfigError("--warmup = " + config_value(setup.warmup_s) + ": must be in [0, 3600]");
     }
     if (repeats < 1) throw ConfigError("--repeat = 0: must be >= 1");
     if (setup.admission != "roster" && setup.admission != "open") {
       throw ConfigError("--admission = '" + setup.admission + "': must be roster or open");
     }
     if (!(setup.intruder_rate > 0.0 && setup.intruder_rate <= 100000.0)) {
-      throw ConfigError("--intruder-rate = " + std::to_string(setup.intruder_rate) + ": must be in (0, 100000]");
+      throw ConfigError("--intruder-rate = " + config_value(setup.intruder_rate) + ": must be in (0, 100000]");
     }
-    if (domain < 0 || domain > 232) throw ConfigError("--domain = " + std::to_string(domain) + ": must be in [0, 232]");
+    if (domain < 0 || domain > 232) throw ConfigError("--domain = " + config_value(domain) + ": must be in [0, 232]");
     std::vector<Target> targets;
     for (const auto& t : target_names) targets.push_back(parse_target(t));
     setup.echo_handoff = bench::parse_echo_handoff(echo_handoff);

@@ -16,6 +16,7 @@
 #include <spdlog/spdlog.h>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 #include "sarloc/core/common/identifier.hpp"
 
 namespace sarloc::dashboard {
@@ -50,7 +51,7 @@ bool is_loopback_address(const std::string& address) {
 
 void DashboardServerConfig::validate() const {
   if (bind_address.empty()) throw ConfigError("dashboard.bind_address is empty");
-  if (port < 0 || port > 65535) throw ConfigError("dashboard.port = " + std::to_string(port) + ": must be 0-65535");
+  if (port < 0 || port > 65535) throw ConfigError("dashboard.port = " + config_value(port) + ": must be 0-65535");
   if (token.size() < 8) throw ConfigError("dashboard.token: must be at least 8 characters (or absent: a random one is made)");
   if (view_token.size() < 8) throw ConfigError("dashboard.view_token: must be at least 8 characters (or absent: a random one is made)");
   if (view_token == token) throw ConfigError("dashboard.view_token: must differ from dashboard.token (viewers must not act)");
@@ -74,17 +75,17 @@ void DashboardServerConfig::validate() const {
     }
   }
   if (!(push_period_s >= 0.05 && push_period_s <= 10.0)) {
-    throw ConfigError("dashboard.push_period_s = " + std::to_string(push_period_s) + ": must be in [0.05, 10]");
+    throw ConfigError("dashboard.push_period_s = " + config_value(push_period_s) + ": must be in [0.05, 10]");
   }
   if (max_streams < 1 || max_streams > 1000) {
-    throw ConfigError("dashboard.max_streams = " + std::to_string(max_streams) + ": must be 1-1000");
+    throw ConfigError("dashboard.max_streams = " + config_value(max_streams) + ": must be 1-1000");
   }
   if (max_connections_per_address < 1 || max_connections_per_address > 1000) {
-    throw ConfigError("dashboard.max_connections_per_address = " + std::to_string(max_connections_per_address) +
+    throw ConfigError("dashboard.max_connections_per_address = " + config_value(max_connections_per_address) +
                       ": must be 1-1000");
   }
   if (!(request_deadline_s >= 1.0 && request_deadline_s <= 120.0)) {
-    throw ConfigError("dashboard.request_deadline_s = " + std::to_string(request_deadline_s) + ": must be in [1, 120]");
+    throw ConfigError("dashboard.request_deadline_s = " + config_value(request_deadline_s) + ": must be in [1, 120]");
   }
 }
 

@@ -5,6 +5,8 @@
 // or --recover succeeded; 2 bad command line; 3 bad mission file; 4 could not record (DDS,
 // unwritable path, disk full: the message names the file) or the file is not MCAP.
 #include <CLI/CLI.hpp>
+
+#include "sarloc/core/common/validate.hpp"
 #include <spdlog/spdlog.h>
 
 #include <chrono>
@@ -90,7 +92,7 @@ int main(int argc, char** argv) {
       return app::ExitCode::kOk;
     }
     if (config_path.empty()) throw ConfigError("-c/--config is required (or --recover FILE)");
-    if (duration_s < 0.0) throw ConfigError("--duration = " + std::to_string(duration_s) + ": must be >= 0");
+    if (duration_s < 0.0) throw ConfigError("--duration = " + config_value(duration_s) + ": must be >= 0");
     const auto mission = app::load_mission_config(config_path);
     sarloc::dds::RecorderConfig config = mission.record;
     config.output_path = output.empty()

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::rescuer {
 namespace {
@@ -35,7 +36,7 @@ ImuFile::ImuFile(const std::string& path) : in_(path), path_(path) {
     ++line_number_;
     if (skippable(line)) continue;
     if (trimmed(line) != kHeader) {
-      throw ConfigError(path + ":" + std::to_string(line_number_) + ": header '" + trimmed(line) +
+      throw ConfigError(path + ":" + config_value(line_number_) + ": header '" + trimmed(line) +
                         "': expected '" + kHeader + "'");
     }
     return;

@@ -1,5 +1,7 @@
 #include "sarloc/dds/command_node.hpp"
 
+#include "sarloc/core/common/validate.hpp"
+
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -33,28 +35,28 @@ void CommandNodeConfig::validate() const {
   if (incident_id.empty() || incident_id.size() > 64) {
     throw ConfigError("incident.id = '" + incident_id + "': must be 1-64 characters");
   }
-  if (!(cycle_s > 0.0 && cycle_s <= 60.0)) throw ConfigError("command.cycle_s = " + std::to_string(cycle_s) + ": must be in (0, 60]");
+  if (!(cycle_s > 0.0 && cycle_s <= 60.0)) throw ConfigError("command.cycle_s = " + config_value(cycle_s) + ": must be in (0, 60]");
   if (!(position_max_age_s > 0.0 && position_max_age_s <= 600.0)) {
-    throw ConfigError("command.position_max_age_s = " + std::to_string(position_max_age_s) + ": must be in (0, 600]");
+    throw ConfigError("command.position_max_age_s = " + config_value(position_max_age_s) + ": must be in (0, 600]");
   }
   if (!(fix_interpolation_max_gap_s >= 0.0 && fix_interpolation_max_gap_s <= 60.0)) {
-    throw ConfigError("command.fix_interpolation_max_gap_s = " + std::to_string(fix_interpolation_max_gap_s) +
+    throw ConfigError("command.fix_interpolation_max_gap_s = " + config_value(fix_interpolation_max_gap_s) +
                       ": must be in [0, 60]");
   }
   if (!(fix_wait_s > 0.0 && fix_wait_s <= 600.0)) {
-    throw ConfigError("command.fix_wait_s = " + std::to_string(fix_wait_s) + ": must be in (0, 600]");
+    throw ConfigError("command.fix_wait_s = " + config_value(fix_wait_s) + ": must be in (0, 600]");
   }
   if (!(antenna_height_m >= 0.0 && antenna_height_m <= 5.0)) {
-    throw ConfigError("command.antenna_height_m = " + std::to_string(antenna_height_m) + ": must be in [0, 5]");
+    throw ConfigError("command.antenna_height_m = " + config_value(antenna_height_m) + ": must be in [0, 5]");
   }
   if (!(antenna_height_sigma_m > 0.0 && antenna_height_sigma_m <= 5.0)) {
-    throw ConfigError("command.antenna_height_sigma_m = " + std::to_string(antenna_height_sigma_m) + ": must be in (0, 5]");
+    throw ConfigError("command.antenna_height_sigma_m = " + config_value(antenna_height_sigma_m) + ": must be in (0, 5]");
   }
   if (!(origin.latitude_deg >= -90.0 && origin.latitude_deg <= 90.0)) {
-    throw ConfigError("incident.latitude_deg = " + std::to_string(origin.latitude_deg) + ": must be in [-90, 90]");
+    throw ConfigError("incident.latitude_deg = " + config_value(origin.latitude_deg) + ": must be in [-90, 90]");
   }
   if (!(origin.longitude_deg >= -180.0 && origin.longitude_deg <= 180.0)) {
-    throw ConfigError("incident.longitude_deg = " + std::to_string(origin.longitude_deg) + ": must be in [-180, 180]");
+    throw ConfigError("incident.longitude_deg = " + config_value(origin.longitude_deg) + ": must be in [-180, 180]");
   }
 }
 

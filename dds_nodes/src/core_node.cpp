@@ -1,5 +1,7 @@
 #include "sarloc/dds/core_node.hpp"
 
+#include "sarloc/core/common/validate.hpp"
+
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -17,16 +19,16 @@ void CoreNodeConfig::validate() const {
   estimators.validate();
   roster.validate();
   if (node_id.empty() || node_id.size() > 64) throw ConfigError("core.node_id = '" + node_id + "': must be 1-64 characters");
-  if (workers < 1 || workers > 64) throw ConfigError("core.workers = " + std::to_string(workers) + ": must be in [1, 64]");
-  if (queue_limit < 16) throw ConfigError("core.queue_limit = " + std::to_string(queue_limit) + ": must be >= 16");
+  if (workers < 1 || workers > 64) throw ConfigError("core.workers = " + config_value(workers) + ": must be in [1, 64]");
+  if (queue_limit < 16) throw ConfigError("core.queue_limit = " + config_value(queue_limit) + ": must be >= 16");
   if (!(status_period_s > 0.0 && status_period_s <= 60.0)) {
-    throw ConfigError("core.status_period_s = " + std::to_string(status_period_s) + ": must be in (0, 60]");
+    throw ConfigError("core.status_period_s = " + config_value(status_period_s) + ": must be in (0, 60]");
   }
   if (!(odometry_wait_s >= 0.0 && odometry_wait_s <= 10.0)) {
-    throw ConfigError("core.odometry_wait_s = " + std::to_string(odometry_wait_s) + ": must be in [0, 10]");
+    throw ConfigError("core.odometry_wait_s = " + config_value(odometry_wait_s) + ": must be in [0, 10]");
   }
   if (!(warning_interval_s >= 0.0 && warning_interval_s <= 3600.0)) {
-    throw ConfigError("core.warning_interval_s = " + std::to_string(warning_interval_s) + ": must be in [0, 3600]");
+    throw ConfigError("core.warning_interval_s = " + config_value(warning_interval_s) + ": must be in [0, 3600]");
   }
   for (const auto& p : partitions) {
     if (p.empty()) throw ConfigError("core.partitions contains an empty name");

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/sign_off.hpp"
 
@@ -17,7 +18,7 @@ void FirefighterNodeConfig::validate() const {
   }
   if (team.empty() || team.size() > 64) throw ConfigError("rescuers[].team = '" + team + "': must be 1-64 characters");
   if (!(daemon_timeout_s > 0.0 && daemon_timeout_s <= 600.0)) {
-    throw ConfigError("rescuer.fallback_timeout_s = " + std::to_string(daemon_timeout_s) + ": must be in (0, 600]");
+    throw ConfigError("rescuer.fallback_timeout_s = " + config_value(daemon_timeout_s) + ": must be in (0, 600]");
   }
 }
 

@@ -1,5 +1,7 @@
 #include "sarloc/dds/participant.hpp"
 
+#include "sarloc/core/common/validate.hpp"
+
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
@@ -25,7 +27,7 @@ void ParticipantConfig::validate() const {
   }
   if (profile.empty()) throw ConfigError("dds.profile is empty: must name a participant profile");
   if (domain_id > 232) {
-    throw ConfigError("dds.domain_id = " + std::to_string(domain_id) + ": must be <= 232 (Fast DDS port mapping)");
+    throw ConfigError("dds.domain_id = " + config_value(domain_id) + ": must be <= 232 (Fast DDS port mapping)");
   }
   if (name.empty()) throw ConfigError("dds.name is empty");
 }

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 #include "sarloc/dds/dds_error.hpp"
 #include "sarloc/dds/idl_schemas.hpp"
 #include "sarloc/dds/mission_clock.hpp"
@@ -67,8 +68,8 @@ void RecorderConfig::validate() const {
   }
   auto positive = [](const char* field, double value, double low, double high) {
     if (!std::isfinite(value) || value < low || value > high) {
-      throw ConfigError(std::string("record.") + field + " = " + std::to_string(value) + ": must be in [" +
-                        std::to_string(low) + ", " + std::to_string(high) + "]");
+      throw ConfigError(std::string("record.") + field + " = " + config_value(value) + ": must be in [" +
+                        config_value(low) + ", " + config_value(high) + "]");
     }
   };
   positive("flush_period_s", flush_period_s, 0.05, 60.0);
@@ -76,7 +77,7 @@ void RecorderConfig::validate() const {
   positive("rotate_duration_s", rotate_duration_s, 0.0, 1e7);
   positive("max_queue_mb", max_queue_mb, 1.0, 1e5);
   if (rotate_size_mb > 0.0 && rotate_size_mb < 0.1) {
-    throw ConfigError("record.rotate_size_mb = " + std::to_string(rotate_size_mb) + ": must be 0 (never) or at least 0.1");
+    throw ConfigError("record.rotate_size_mb = " + config_value(rotate_size_mb) + ": must be 0 (never) or at least 0.1");
   }
 }
 

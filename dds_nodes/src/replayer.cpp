@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 #include "sarloc/dds/dds_error.hpp"
 #include "sarloc/dds/mission_clock.hpp"
 #include "sarloc/dds/raw_topic_type.hpp"
@@ -36,10 +37,10 @@ class QuietWriterListener : public fdds::DataWriterListener {};
 void ReplayConfig::validate() const {
   if (recording.empty()) throw ConfigError("replay.recording is empty");
   if (!std::isfinite(rate) || rate <= 0.0 || rate > 1000.0) {
-    throw ConfigError("replay.rate = " + std::to_string(rate) + ": must be in (0, 1000]");
+    throw ConfigError("replay.rate = " + config_value(rate) + ": must be in (0, 1000]");
   }
-  if (!std::isfinite(start_s) || start_s < 0.0) throw ConfigError("replay.start_s = " + std::to_string(start_s) + ": must be >= 0");
-  if (!(end_s > start_s)) throw ConfigError("replay.end_s = " + std::to_string(end_s) + ": must be > start_s");
+  if (!std::isfinite(start_s) || start_s < 0.0) throw ConfigError("replay.start_s = " + config_value(start_s) + ": must be >= 0");
+  if (!(end_s > start_s)) throw ConfigError("replay.end_s = " + config_value(end_s) + ": must be > start_s");
   for (const auto& name : topics) {
     if (find_catalog_topic(name) == nullptr) throw ConfigError("replay.topics: '" + name + "' is not a sarloc topic");
   }

@@ -1,5 +1,7 @@
 #include "sarloc/dds/rescuer_node.hpp"
 
+#include "sarloc/core/common/validate.hpp"
+
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -21,13 +23,13 @@ void RescuerNodeConfig::validate() const {
   }
   if (team.empty() || team.size() > 64) throw ConfigError("rescuer.team = '" + team + "': must be 1-64 characters");
   if (!(fallback_timeout_s > 0.0 && fallback_timeout_s <= 600.0)) {
-    throw ConfigError("rescuer.fallback_timeout_s = " + std::to_string(fallback_timeout_s) + ": must be in (0, 600]");
+    throw ConfigError("rescuer.fallback_timeout_s = " + config_value(fallback_timeout_s) + ": must be in (0, 600]");
   }
   if (!(guidance_wait_s >= 0.0 && guidance_wait_s <= 10.0)) {
-    throw ConfigError("rescuer.guidance_wait_s = " + std::to_string(guidance_wait_s) + ": must be in [0, 10]");
+    throw ConfigError("rescuer.guidance_wait_s = " + config_value(guidance_wait_s) + ": must be in [0, 10]");
   }
   if (rejoin_epochs < 1 || rejoin_epochs > 100) {
-    throw ConfigError("rescuer.rejoin_epochs = " + std::to_string(rejoin_epochs) + ": must be in [1, 100]");
+    throw ConfigError("rescuer.rejoin_epochs = " + config_value(rejoin_epochs) + ": must be in [1, 100]");
   }
 }
 

@@ -1,5 +1,7 @@
 #include "sarloc/app/floor_plan_yaml.hpp"
 
+#include "sarloc/core/common/validate.hpp"
+
 #include <cmath>
 
 #include "sarloc/app/yaml_reader.hpp"
@@ -15,7 +17,7 @@ Vec2 read_point(YamlReader& y, const std::string& key) {
   y.require(key, v);
   if (v.size() != 2) {
     throw ConfigError(y.source() + ": " + y.path() + "." + key + ": expected [x, y] in metres, got " +
-                      std::to_string(v.size()) + " numbers");
+                      config_value(v.size()) + " numbers");
   }
   return {v[0], v[1]};
 }

@@ -10,6 +10,7 @@
 #include "sarloc/app/floor_plan_yaml.hpp"
 #include "sarloc/app/yaml_reader.hpp"
 #include "sarloc/core/common/identifier.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::app {
 namespace {
@@ -20,9 +21,7 @@ void require_identifier(const std::string& value, const std::string& where, bool
 }
 
 void fail(const std::string& key, double value, const std::string& rule) {
-  std::ostringstream os;
-  os << key << " = " << value << ": " << rule;
-  throw ConfigError(os.str());
+  detail::throw_config_error(key, config_value(value), rule);
 }
 
 std::string resolve(const std::string& path, const std::string& base_dir) {

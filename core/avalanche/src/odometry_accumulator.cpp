@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::avalanche {
 namespace {
@@ -26,10 +27,10 @@ OdometryAccumulator::OdometryAccumulator(double idle_translation_sigma_m,
     : idle_translation_sigma_m_(idle_translation_sigma_m),
       idle_rotation_sigma_rad_(idle_rotation_sigma_rad) {
   if (!(idle_translation_sigma_m > 0.0) || !std::isfinite(idle_translation_sigma_m))
-    throw ConfigError("idle_translation_sigma_m = " + std::to_string(idle_translation_sigma_m) +
+    throw ConfigError("idle_translation_sigma_m = " + config_value(idle_translation_sigma_m) +
                       ": must be finite and > 0");
   if (!(idle_rotation_sigma_rad > 0.0) || !std::isfinite(idle_rotation_sigma_rad))
-    throw ConfigError("idle_rotation_sigma_rad = " + std::to_string(idle_rotation_sigma_rad) +
+    throw ConfigError("idle_rotation_sigma_rad = " + config_value(idle_rotation_sigma_rad) +
                       ": must be finite and > 0");
 }
 

@@ -6,6 +6,7 @@
 #include "sarloc/core/avalanche/dipole_model.hpp"
 #include "sarloc/core/avalanche/sensor_simulation.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::avalanche {
 namespace {
@@ -13,11 +14,8 @@ namespace {
 constexpr double kSpeedOfLight = 299792458.0;
 
 void check(const char* key, double v, double lo, double hi) {
-  if (!std::isfinite(v) || v < lo || v > hi) {
-    std::ostringstream os;
-    os << "simulation.receiver." << key << " = " << v << ": must be in [" << lo << ", " << hi << "]";
-    throw ConfigError(os.str());
-  }
+  require(std::isfinite(v) && v >= lo && v <= hi, std::string("simulation.receiver.") + key, v,
+          "must be in [" + config_value(lo) + ", " + config_value(hi) + "]");
 }
 
 }  // namespace

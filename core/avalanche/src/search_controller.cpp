@@ -9,6 +9,7 @@
 #include "sarloc/core/avalanche/rotation.hpp"
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 #include "sarloc/core/common/gaussian.hpp"
 
 namespace sarloc::avalanche {
@@ -16,12 +17,8 @@ namespace {
 
 void check(const char* key, double v, double lo, double hi, bool lo_open) {
   const bool ok = std::isfinite(v) && (lo_open ? v > lo : v >= lo) && v <= hi;
-  if (!ok) {
-    std::ostringstream os;
-    os << "search." << key << " = " << v << ": must be in " << (lo_open ? "(" : "[") << lo << ", "
-       << hi << "]";
-    throw ConfigError(os.str());
-  }
+  require(ok, std::string("search.") + key, v,
+          std::string("must be in ") + (lo_open ? "(" : "[") + config_value(lo) + ", " + config_value(hi) + "]");
 }
 
 /// A probe pattern is laid out for the 95 % radius of its moment; once the radius has grown

@@ -10,16 +10,14 @@
 #include "sarloc/core/avalanche/receiver_model.hpp"
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::avalanche {
 namespace {
 
 void check(const char* key, double v, double lo, double hi) {
-  if (!std::isfinite(v) || v < lo || v > hi) {
-    std::ostringstream os;
-    os << "separator." << key << " = " << v << ": must be in [" << lo << ", " << hi << "]";
-    throw ConfigError(os.str());
-  }
+  require(std::isfinite(v) && v >= lo && v <= hi, std::string("separator.") + key, v,
+          "must be in [" + config_value(lo) + ", " + config_value(hi) + "]");
 }
 
 }  // namespace

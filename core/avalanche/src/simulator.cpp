@@ -11,6 +11,7 @@
 #include "sarloc/core/avalanche/dipole_model.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::avalanche {
 namespace {
@@ -18,12 +19,9 @@ namespace {
 constexpr double kDeg = kPi / 180.0;
 
 void check(const char* key, double v, double lo, double hi, const char* why = nullptr) {
-  if (!std::isfinite(v) || v < lo || v > hi) {
-    std::ostringstream os;
-    os << "simulation." << key << " = " << v << ": must be in [" << lo << ", " << hi << "]";
-    if (why != nullptr) os << " (" << why << ")";
-    throw ConfigError(os.str());
-  }
+  require(std::isfinite(v) && v >= lo && v <= hi, std::string("simulation.") + key, v,
+          "must be in [" + config_value(lo) + ", " + config_value(hi) + "]" +
+              (why != nullptr ? std::string(" (") + why + ")" : std::string()));
 }
 
 Scenario draw_scenario(const SimulationConfig& c, std::mt19937_64& rng) {

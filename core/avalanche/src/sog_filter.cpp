@@ -11,6 +11,7 @@
 #include "sarloc/core/avalanche/rotation.hpp"
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 #include "sarloc/core/common/gaussian.hpp"
 
 namespace sarloc::avalanche {
@@ -18,9 +19,11 @@ namespace {
 
 template <typename T>
 [[noreturn]] void config_fail(const char* key, const T& value, const char* rule) {
-  std::ostringstream os;
-  os << "sog." << key << " = " << value << ": " << rule;
-  throw ConfigError(os.str());
+  detail::throw_config_error(std::string("sog.") + key, config_value(static_cast<double>(value)), rule);
+}
+
+[[noreturn]] void config_fail(const char* key, const std::string& value_text, const char* rule) {
+  detail::throw_config_error(std::string("sog.") + key, value_text, rule);
 }
 
 [[noreturn]] void input_fail(const std::string& field, const std::string& value,

@@ -3,14 +3,15 @@
 #include <cmath>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::avalanche {
 
 StallDetector::StallDetector(int window_steps, double min_improvement)
     : window_steps_(window_steps), min_improvement_(min_improvement) {
   if (window_steps_ <= 0 || !(min_improvement_ >= 0.0 && min_improvement_ < 1.0)) {
-    throw ConfigError("StallDetector: window_steps = " + std::to_string(window_steps) +
-                      ", min_improvement = " + std::to_string(min_improvement) + ": must be > 0 and in [0, 1)");
+    throw ConfigError("StallDetector: window_steps = " + config_value(window_steps) +
+                      ", min_improvement = " + config_value(min_improvement) + ": must be > 0 and in [0, 1)");
   }
 }
 

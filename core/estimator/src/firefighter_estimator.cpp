@@ -5,6 +5,7 @@
 
 #include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::estimator {
 namespace {
@@ -40,7 +41,7 @@ void FirefighterEstimatorConfig::validate() const {
   positive(max_speed_mps, "max_speed_mps", 10.0);
   if (!origin.allFinite() || origin.norm() > 1e6) throw ConfigError("building.origin: must be finite, within 1000 km");
   if (!std::isfinite(rotation_deg) || std::abs(rotation_deg) > 360.0) {
-    throw ConfigError("building.rotation_deg = " + std::to_string(rotation_deg) + ": must be in [-360, 360]");
+    throw ConfigError("building.rotation_deg = " + config_value(rotation_deg) + ": must be in [-360, 360]");
   }
   filter.validate();
   if (!building && !entry_of.empty()) {

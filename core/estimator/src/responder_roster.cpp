@@ -4,13 +4,14 @@
 #include <utility>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::estimator {
 
 void ResponderRosterConfig::validate() const {
   if (max_responders < 1) throw ConfigError("core.max_rescuers = 0: must be >= 1");
   if (!(idle_evict_s >= 1.0 && idle_evict_s <= 86400.0)) {
-    throw ConfigError("core.idle_evict_s = " + std::to_string(idle_evict_s) + ": must be in [1, 86400]");
+    throw ConfigError("core.idle_evict_s = " + config_value(idle_evict_s) + ": must be in [1, 86400]");
   }
   for (const auto& id : listed) {
     if (id.empty()) throw ConfigError("core roster: a listed responder id is empty");

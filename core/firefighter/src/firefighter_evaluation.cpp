@@ -9,6 +9,7 @@
 
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 #include "sarloc/core/common/parallel_trials.hpp"
 #include "sarloc/core/common/seeds.hpp"
 #include "sarloc/core/common/statistics.hpp"
@@ -215,12 +216,12 @@ struct RunResult {
 }  // namespace
 
 void FirefighterEvalConfig::validate() const {
-  if (runs < 1 || runs > 10000) throw ConfigError("evaluation.runs = " + std::to_string(runs) + ": must be within [1, 10000]");
+  if (runs < 1 || runs > 10000) throw ConfigError("evaluation.runs = " + config_value(runs) + ": must be within [1, 10000]");
   if (!std::isfinite(odometry_rate_hz) || odometry_rate_hz < 0.5 || odometry_rate_hz > 20.0) {
-    throw ConfigError("evaluation.odometry_rate_hz = " + std::to_string(odometry_rate_hz) + ": must be within [0.5, 20]");
+    throw ConfigError("evaluation.odometry_rate_hz = " + config_value(odometry_rate_hz) + ": must be within [0.5, 20]");
   }
   if (!std::isfinite(rmse_every_s) || rmse_every_s < 1.0 || rmse_every_s > 3600.0) {
-    throw ConfigError("evaluation.rmse_every_s = " + std::to_string(rmse_every_s) + ": must be within [1, 3600]");
+    throw ConfigError("evaluation.rmse_every_s = " + config_value(rmse_every_s) + ": must be within [1, 3600]");
   }
   walk.validate();
   imu.validate();

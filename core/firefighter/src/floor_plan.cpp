@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::firefighter {
 namespace {
@@ -202,7 +203,7 @@ void FloorPlan::bounds(Vec2& min, Vec2& max) const {
 }
 
 double move_door(FloorPlan& plan, std::size_t floor, const std::string& door, double shift_m) {
-  if (floor >= plan.floors.size()) throw ConfigError("move_door: floor " + std::to_string(floor) + " not in the plan");
+  if (floor >= plan.floors.size()) throw ConfigError("move_door: floor " + config_value(floor) + " not in the plan");
   Floor& f = plan.floors[floor];
   auto it = std::find_if(f.doors.begin(), f.doors.end(), [&](const Door& d) { return d.id == door; });
   if (it == f.doors.end()) throw ConfigError("map_error.door = '" + door + "': no such door on floor '" + f.id + "'");

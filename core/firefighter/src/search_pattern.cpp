@@ -8,6 +8,7 @@
 #include <string>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 #include "sarloc/core/firefighter/wall_index.hpp"
 
 namespace sarloc::firefighter {
@@ -237,14 +238,14 @@ std::vector<RoomSkip> room_skips(const std::vector<std::pair<int, int>>& cells, 
 
 void PatternGridConfig::validate() const {
   if (!std::isfinite(spacing_m) || spacing_m < 0.25 || spacing_m > 5.0) {
-    throw ConfigError("pattern.grid_spacing_m = " + std::to_string(spacing_m) + ": must be within [0.25, 5]");
+    throw ConfigError("pattern.grid_spacing_m = " + config_value(spacing_m) + ": must be within [0.25, 5]");
   }
   if (!std::isfinite(min_clearance_m) || min_clearance_m < 0.0 || min_clearance_m >= 0.5 * spacing_m) {
-    throw ConfigError("pattern.min_clearance_m = " + std::to_string(min_clearance_m) +
+    throw ConfigError("pattern.min_clearance_m = " + config_value(min_clearance_m) +
                       ": must be within [0, grid_spacing_m / 2)");
   }
   if (room_skip_min_nodes < 2 || room_skip_min_nodes > 1000) {
-    throw ConfigError("pattern.room_skip_min_nodes = " + std::to_string(room_skip_min_nodes) + ": must be within [2, 1000]");
+    throw ConfigError("pattern.room_skip_min_nodes = " + config_value(room_skip_min_nodes) + ": must be within [2, 1000]");
   }
 }
 

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::incident {
 namespace {
@@ -14,9 +15,7 @@ constexpr std::int64_t kStrengthCeiling = 2'000'000'000;
 constexpr std::int64_t kStrengthPerSecond = 4;            // >= kMaxCommandInstances
 
 [[noreturn]] void config_fail(const std::string& key, double value, const std::string& rule) {
-  std::ostringstream os;
-  os << key << " = " << value << ": " << rule;
-  throw ConfigError(os.str());
+  detail::throw_config_error(key, config_value(value), rule);
 }
 
 }  // namespace

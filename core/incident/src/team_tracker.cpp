@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::incident {
 namespace {
@@ -13,9 +14,7 @@ namespace {
 constexpr TimestampNs kMapAidedPreferredNs = 3'000'000'000;
 
 [[noreturn]] void config_fail(const char* key, double value, const char* rule) {
-  std::ostringstream os;
-  os << "team_tracker." << key << " = " << value << ": " << rule;
-  throw ConfigError(os.str());
+  detail::throw_config_error(std::string("team_tracker.") + key, config_value(value), rule);
 }
 
 }  // namespace

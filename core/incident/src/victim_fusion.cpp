@@ -11,6 +11,7 @@
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/gaussian.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 #include "sarloc/core/incident/assignment.hpp"
 
 namespace sarloc::incident {
@@ -20,9 +21,7 @@ using responder::compare_signatures;
 using responder::SignatureMatch;
 
 [[noreturn]] void config_fail(const char* key, double value, const char* rule) {
-  std::ostringstream os;
-  os << "fusion." << key << " = " << value << ": " << rule;
-  throw ConfigError(os.str());
+  detail::throw_config_error(std::string("fusion.") + key, config_value(value), rule);
 }
 
 bool open_unit(double p) { return std::isfinite(p) && p > 0.0 && p < 1.0; }

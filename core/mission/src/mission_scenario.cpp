@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::mission {
 namespace {
@@ -61,16 +62,16 @@ void MissionScenario::validate() const {
     if (!std::isfinite(r.heading_deg)) throw ConfigError(key + ".heading_deg must be finite");
   }
   if (!(detection_range_m >= 10.0 && detection_range_m <= 150.0)) {
-    throw ConfigError("simulation.detection_range_m = " + std::to_string(detection_range_m) + ": must be in [10, 150]");
+    throw ConfigError("simulation.detection_range_m = " + config_value(detection_range_m) + ": must be in [10, 150]");
   }
   if (!(gnss_sigma_m > 0.0 && gnss_sigma_m <= 50.0)) {
-    throw ConfigError("simulation.gnss_sigma_m = " + std::to_string(gnss_sigma_m) + ": must be in (0, 50]");
+    throw ConfigError("simulation.gnss_sigma_m = " + config_value(gnss_sigma_m) + ": must be in (0, 50]");
   }
   if (!(gnss_correlation_s > 0.0 && gnss_correlation_s <= 3600.0)) {
-    throw ConfigError("simulation.gnss_correlation_s = " + std::to_string(gnss_correlation_s) + ": must be in (0, 3600]");
+    throw ConfigError("simulation.gnss_correlation_s = " + config_value(gnss_correlation_s) + ": must be in (0, 3600]");
   }
   if (!(gnss_white_sigma_m >= 0.0 && gnss_white_sigma_m <= 50.0)) {
-    throw ConfigError("simulation.gnss_white_sigma_m = " + std::to_string(gnss_white_sigma_m) + ": must be in [0, 50]");
+    throw ConfigError("simulation.gnss_white_sigma_m = " + config_value(gnss_white_sigma_m) + ": must be in [0, 50]");
   }
 }
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::responder {
 namespace {
@@ -29,10 +30,10 @@ const char* to_string(GuidanceSource source) {
 GuidanceArbiter::GuidanceArbiter(double fallback_timeout_s, TimestampNs started, int rejoin_epochs)
     : timeout_ns_(static_cast<TimestampNs>(fallback_timeout_s * 1e9)), started_(started), rejoin_epochs_(rejoin_epochs) {
   if (!(fallback_timeout_s > 0.0 && fallback_timeout_s <= 600.0)) {
-    throw ConfigError("rescuer.fallback_timeout_s = " + std::to_string(fallback_timeout_s) + ": must be in (0, 600]");
+    throw ConfigError("rescuer.fallback_timeout_s = " + config_value(fallback_timeout_s) + ": must be in (0, 600]");
   }
   if (rejoin_epochs < 1 || rejoin_epochs > 100) {
-    throw ConfigError("rescuer.rejoin_epochs = " + std::to_string(rejoin_epochs) + ": must be in [1, 100]");
+    throw ConfigError("rescuer.rejoin_epochs = " + config_value(rejoin_epochs) + ": must be in [1, 100]");
   }
 }
 
