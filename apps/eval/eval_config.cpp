@@ -15,6 +15,7 @@ void load(YamlReader root, avalanche::EvaluationSetup& setup) {
   // The estimator's sections mean the same here as in a mission file (avalanche_yaml.hpp).
   app::read_simulation(root.child("simulation"), setup.simulation);
   app::read_sog(root.child("sog"), setup.sog);
+  app::hold_one_antenna_height(root, setup.simulation, setup.sog, nullptr);
   app::read_search(root.child("search"), setup.search);
   {
     // The particle-filter baselines (docs/estimation/baselines.md, "Parameters").

@@ -1,5 +1,11 @@
 #include "sarloc/app/avalanche_yaml.hpp"
 
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include "sarloc/core/common/validate.hpp"
+
 namespace sarloc::app {
 
 void read_transmitter_standard(YamlReader r, avalanche::TransmitterStandard& s) {
@@ -174,6 +180,26 @@ std::map<std::string, std::string> avalanche_parameters(const avalanche::Simulat
   std::map<std::string, std::string> out;
   for (const auto& [key, value] : recorder.values()) out[key] = value.text;
   return out;
+}
+
+void hold_one_antenna_height(YamlReader root, avalanche::SimulationConfig& simulation, avalanche::SogConfig& sog,
+                             double* command_height) {
+  std::vector<std::pair<std::string, double*>> keys{{"simulation", &simulation.antenna_height_m},
+                                                    {"sog", &sog.antenna_height_m}};
+  if (command_height != nullptr) keys.emplace_back("command", command_height);
+  const std::pair<std::string, double*>* first_set = nullptr;
+  for (const auto& key : keys) {
+    if (!root.child(key.first).has("antenna_height_m")) continue;
+    if (first_set == nullptr) {
+      first_set = &key;
+      continue;
+    }
+    require(*key.second == *first_set->second, key.first + ".antenna_height_m", *key.second,
+            "disagrees with " + first_set->first + ".antenna_height_m = " + config_value(*first_set->second) +
+                ": the receiver's height above the snow is one fact; set it under one key");
+  }
+  const double height = first_set != nullptr ? *first_set->second : simulation.antenna_height_m;
+  for (const auto& key : keys) *key.second = height;
 }
 
 }  // namespace sarloc::app

@@ -364,9 +364,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("position_max_age_s", c.command.position_max_age_s);
     r.read("fix_wait_s", c.command.fix_wait_s);
     r.read("fix_interpolation_max_gap_s", c.command.fix_interpolation_max_gap_s);
-    // The receiver is held as the simulated one unless the file says otherwise.
-    c.command.antenna_height_m = c.scenario.sensors.antenna_height_m;
-    r.read("antenna_height_m", c.command.antenna_height_m);
+    r.read("antenna_height_m", c.command.antenna_height_m);  // one fact with sog's: hold_one_antenna_height
     r.read("antenna_height_sigma_m", c.command.antenna_height_sigma_m);
     r.read("instances", c.command.standby.instances);
     r.read("claim_wait_s", c.command.standby.claim_wait_s);
@@ -428,6 +426,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.expect_done();
     d.validate();
   }
+  hold_one_antenna_height(root, c.scenario.sensors, c.estimators.avalanche_rescuer.sog, &c.command.antenna_height_m);
   root.expect_done();
   c.validate();
   return c;

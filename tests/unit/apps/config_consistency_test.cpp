@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <set>
 
 #include "eval_config.hpp"
@@ -129,6 +130,24 @@ TEST(ConfigConsistency, ParametersShowEveryChangeUnderItsKey) {
                                                                            "simulation.receiver.kind",
                                                                            "sog.noise_floor_A_per_m"})
                   .empty());
+}
+
+// Issue 61: the receiver's height above the snow is one fact. Set under any of its three keys, it
+// is what the simulated rescuers do, what the filter assumes and what incident command assumes
+// (two keys that disagree are refused: tests/config/invalid/*/antenna_heights_disagree.yaml).
+TEST(ConfigConsistency, TheReceiverHeightSetOnceIsHandedToEveryConsumer) {
+  const fs::path file = fs::path(::testing::TempDir()) / "one-antenna-height.yaml";
+  for (const std::string section : {"simulation", "sog", "command"}) {
+    std::ofstream(file) << section << ": {antenna_height_m: 1.3}\n"
+                        << "victims:\n  - {name: A, position: [0.0, 30.0, -1.0], moment: [0.01, 0.0, 0.005]}\n"
+                        << "rescuers:\n  - {id: r1, team: t, start: [0.0, 0.0]}\n";
+    const auto mission = load_mission_config(file.string());
+    EXPECT_EQ(mission.scenario.sensors.antenna_height_m, 1.3) << section;
+    EXPECT_EQ(mission.estimators.avalanche_rescuer.sog.antenna_height_m, 1.3) << section;
+    EXPECT_EQ(mission.core_config("").estimators.avalanche_rescuer.sog.antenna_height_m, 1.3) << section;
+    EXPECT_EQ(mission.command_config().antenna_height_m, 1.3) << section;
+  }
+  fs::remove(file);
 }
 
 }  // namespace

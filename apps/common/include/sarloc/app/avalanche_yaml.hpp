@@ -19,6 +19,15 @@ void read_search(YamlReader section, avalanche::SearchConfig& config);
 /// The rescuer_search: section (limits of the input gate, summary size).
 void read_rescuer_search(YamlReader section, avalanche::RescuerSearchConfig& config);
 
+/// The receiver's height above the snow is one fact, read under three keys:
+/// simulation.antenna_height_m (how the simulated rescuers hold it), sog.antenna_height_m (what
+/// the filter assumes) and, in a mission file, command.antenna_height_m (what incident command
+/// assumes; `command_height` null elsewhere). The value a file sets under any of them is handed
+/// to the others; two keys set to different values are a ConfigError naming both. Call it after
+/// the sections were read from `root`.
+void hold_one_antenna_height(YamlReader root, avalanche::SimulationConfig& simulation, avalanche::SogConfig& sog,
+                             double* command_height);
+
 /// Every parameter of these sections as the readers see it, key path -> value text
 /// ("search.opening_line_samples" -> "60"): what a program built from these structs runs.
 /// The same keys and texts for equal values, so two programs' parameters compare key by key.
