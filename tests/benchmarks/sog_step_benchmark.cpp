@@ -43,7 +43,7 @@ void BM_LookaheadHeading(benchmark::State& state) {
   const LookaheadConfig look;
   for (auto _ : state)
     benchmark::DoNotOptimize(
-        lookahead_heading(f.hypotheses(), look, 1.0, cfg.noise_relative, cfg.noise_floor_A_per_m));
+        lookahead_heading(f.hypotheses(), look, 1.0, cfg.noise(), cfg.noise_floor_A_per_m));
   state.counters["components"] = static_cast<double>(f.size());
 }
 

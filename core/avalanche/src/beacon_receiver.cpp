@@ -60,7 +60,7 @@ Listening BeaconReceiver::listen(const ReceiverPose& pose, const std::vector<Bea
     for (double start : beacon.timing.starts_in(t0_s - lead_s_, t0_s + duration_s)) {
       // Pulse-to-pulse fluctuation in phase with the pulse (5 % of |H| per axis, as the ideal
       // receiver's), the device's gains, then the carrier phase of this pulse.
-      const Vec3 fluctuation = config_.field_noise_relative * magnitude * normal3(rng_);
+      const Vec3 fluctuation = config_.field_noise().relative * magnitude * normal3(rng_);
       const Vec3c a = hardware_.apply(h_device + fluctuation.cast<std::complex<double>>());
       const double phi = config_.receiver.phase_coherent ? beacon.timing.phase_rad : phase(rng_);
       IncomingPulse p;
@@ -116,7 +116,7 @@ Listening BeaconReceiver::listen(const ReceiverPose& pose, const std::vector<Bea
       double plus = 0.0, minus = 0.0;
       for (int a = 0; a < 3; ++a) {
         if ((s.valid_axes & (1U << a)) == 0) continue;
-        const double sigma = s.noise[a] + config_.field_noise_relative * truth.norm();
+        const double sigma = config_.field_noise().sigma(truth.norm(), s.noise[a]);
         plus += std::pow((s.field[a] - truth[a]) / sigma, 2);
         minus += std::pow((s.field[a] + truth[a]) / sigma, 2);
       }

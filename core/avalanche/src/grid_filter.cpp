@@ -39,8 +39,6 @@ void GridFilter::add_odometry(const Odometry& odometry) {
   odometry_.add(odometry);
 }
 
-Vec3 GridFilter::noise_floor(const FieldMeasurement& m) const { return m.noise_stddev.cwiseMax(sog_.noise_floor_A_per_m); }
-
 void GridFilter::initialise(const FieldMeasurement& measurement) {
   const SogFilter::InitialRing ring = SogFilter(sog_).initial_ring(measurement);
   receiver_ = Vec3::Zero();
@@ -221,7 +219,8 @@ FilterStepResult GridFilter::update(const FieldMeasurement& measurement) {
     diffuse();
     moments_.reset();
     // P(not detected | cell) at its moment's mean (DetectionCurve), as the particle filters.
-    const Vec3 weight = noise_floor(measurement).cwiseAbs2().cwiseInverse() * sog_.miss_power_margin;
+    const Vec3 floor = sog_.noise().floor(measurement.noise_stddev);
+    const Vec3 weight = floor.cwiseAbs2().cwiseInverse() * sog_.miss_power_margin;
     const Mat3 r = rotation_from_rpy(attitude_);
     for (Cell& c : cells_) {
       const Vec3 p = c.centre - receiver_;
@@ -253,8 +252,9 @@ FilterStepResult GridFilter::update(const FieldMeasurement& measurement) {
   // The attitude's spread turns the field: a small rotation delta moves z by delta x z, about
   // |h| sigma_att sqrt(2/3) per axis, independent of the relative noise (added in quadrature).
   const double attitude_variance = std::max(0.0, error_covariance_.topLeftCorner<3, 3>().trace() / 3.0);
-  const double relative = std::sqrt(sog_.noise_relative * sog_.noise_relative + 2.0 / 3.0 * attitude_variance);
-  const Vec3 floor = noise_floor(measurement);
+  FieldNoiseModel noise = sog_.noise();
+  noise.relative = std::sqrt(noise.relative * noise.relative + 2.0 / 3.0 * attitude_variance);
+  const Vec3 floor = noise.floor(measurement.noise_stddev);
   const Vec3 z_valid = valid_axes_only(measurement.field, measurement.valid_axes);
   PredictiveMoments predictive;
   for (Cell& c : cells_) {
@@ -265,7 +265,7 @@ FilterStepResult GridFilter::update(const FieldMeasurement& measurement) {
       continue;
     }
     const MomentUpdate u = update_moment(moment_gain(r, p), c.m, c.M, z_valid, floor, measurement.valid_axes,
-                                         relative);
+                                         noise);
     if (!u.ok) {
       c.log_w = -std::numeric_limits<double>::infinity();
       continue;

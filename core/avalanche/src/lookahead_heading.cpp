@@ -59,7 +59,7 @@ void LookaheadConfig::validate() const {
 }
 
 double lookahead_heading(const std::vector<TransmitterHypothesis>& hypotheses, const LookaheadConfig& cfg,
-                         double step_length_m, double noise_relative, double noise_floor_A_per_m) {
+                         double step_length_m, const FieldNoiseModel& noise, double floor_A_per_m) {
   if (hypotheses.empty()) throw std::invalid_argument("lookahead_heading: empty mixture");
   const std::vector<Hypothesis> hyp = draw_hypotheses(hypotheses, cfg.hypotheses);
   const Eigen::Index n = static_cast<Eigen::Index>(hyp.size());
@@ -84,8 +84,8 @@ double lookahead_heading(const std::vector<TransmitterHypothesis>& hypotheses, c
         const Vec3 receiver = (t + 1) * step_length_m * dir;
         Vec3 r = receiver - hyp[i].position;
         if (r.squaredNorm() < 1e-6) r = Vec3(0.0, 0.0, 1e-3);  // walking over a hypothesis
-        const Vec3 h = DipoleField::field(r, hyp[i].moment) / noise_floor_A_per_m;
-        const double sigma = noise_relative * h.norm() + 1.0;
+        const Vec3 h = DipoleField::field(r, hyp[i].moment) / floor_A_per_m;
+        const double sigma = noise.sigma(h.norm(), 1.0);
         field.block<1, 3>(i, 3 * t) = h.transpose();
         scaled.block<1, 3>(i, 3 * t) = h.transpose() / (sigma * sigma);
         inv_var(i, t) = 1.0 / (sigma * sigma);

@@ -15,18 +15,11 @@ Mat3 moment_gain(const Mat3& rotation, const Vec3& p) {
   return rotation.transpose() * j_h_m;
 }
 
-Vec3 valid_axes_only(const Vec3& z, std::uint8_t axes) {
-  Vec3 out = z;
-  for (int a = 0; a < 3; ++a)
-    if ((axes & (1U << a)) == 0) out[a] = 0.0;
-  return out;
-}
-
 MomentUpdate update_moment(const Mat3& gain, Vec3& m, Mat3& M, const Vec3& z_valid, const Vec3& floor,
-                           std::uint8_t axes, double noise_relative) {
+                           std::uint8_t axes, const FieldNoiseModel& noise) {
   MomentUpdate u;
   Vec3 h = gain * m;
-  const Vec3 sigma = Vec3::Constant(noise_relative * h.norm()) + floor;
+  const Vec3 sigma = noise.sigma(h.norm(), floor);
   // An invalid axis is no observation: its row of C is zeroed and its variance set to 1, so its
   // innovation is 0 and S is block-diagonal (the same convention as the SOG filter).
   Mat3 c = gain;

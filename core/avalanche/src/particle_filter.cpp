@@ -69,10 +69,6 @@ void ParticleFilter::add_odometry(const Odometry& odometry) {
   odometry_.add(odometry);
 }
 
-Vec3 ParticleFilter::noise_floor(const FieldMeasurement& m) const {
-  return m.noise_stddev.cwiseMax(sog_.noise_floor_A_per_m);
-}
-
 FilterStepResult ParticleFilter::update(const FieldMeasurement& measurement) {
   check_sample(measurement, rescuer_id_, last_sequence_);
   last_sequence_ = measurement.sequence;
@@ -86,7 +82,7 @@ FilterStepResult ParticleFilter::update(const FieldMeasurement& measurement) {
     moments_.reset();
     const Mat6x root = square_root<6>(disp.covariance);
     for (Particle& q : particles_) propagate(q, disp.mean + root * standard_normal<6>(rng_));
-    weigh_miss(noise_floor(measurement));
+    weigh_miss(sog_.noise().floor(measurement.noise_stddev));
     result.resampled = normalise_and_resample();
     result.miss = true;
     result.hypotheses_after = particles_.size();
@@ -197,7 +193,8 @@ double ParticleFilter::propagate_and_weigh(const Displacement& disp, const Orien
     to_rate = world_to_euler_rate(orientation->rpy);
     info = orientation->covariance.inverse();
   }
-  const Vec3 floor = noise_floor(measurement);
+  const FieldNoiseModel noise = sog_.noise();
+  const Vec3 floor = noise.floor(measurement.noise_stddev);
   const Vec3 z_valid = valid_axes_only(measurement.field, measurement.valid_axes);
   PredictiveMoments predictive;
   for (Particle& q : particles_) {
@@ -213,7 +210,7 @@ double ParticleFilter::propagate_and_weigh(const Displacement& disp, const Orien
       continue;
     }
     const MomentUpdate u = update_moment(moment_gain(q.rotation, q.p), q.m, q.M, z_valid, floor,
-                                         measurement.valid_axes, sog_.noise_relative);
+                                         measurement.valid_axes, noise);
     if (!u.ok) {
       q.log_w = -std::numeric_limits<double>::infinity();
       continue;

@@ -140,8 +140,8 @@ double SearchController::flux_line_heading(const TransmitterFilter& filter, cons
   // sense of the running direction, the first one towards the mixture mean.
   const Vec3 h_g = rotation_from_rpy(psi) * meas.field;
   Eigen::Vector2d dir = h_g.head<2>();
-  const double sigma = filter.noise_relative() * meas.field.norm() +
-                       filter.noise_floor(meas).maxCoeff();
+  const FieldNoiseModel noise = filter.noise();
+  const double sigma = noise.sigma(meas.field.norm(), noise.floor(meas.noise_stddev).maxCoeff());
   const double snr = dir.norm() / (std::sqrt(2.0) * sigma);
   if (flux_dir_.squaredNorm() == 0.0) {
     // Start walking towards the mixture mean (or straight ahead), with a tiny weight so
@@ -276,8 +276,7 @@ Guidance SearchController::guide(const TransmitterFilter& filter, const FieldMea
         case OpeningHeading::kLookahead:
           heading = lookahead_heading(
               filter.hypotheses(), config_.lookahead, config_.step_length_m,
-              filter.noise_relative(),
-              filter.noise_floor(meas).maxCoeff());
+              filter.noise(), filter.noise().floor(meas.noise_stddev).maxCoeff());
           break;
         case OpeningHeading::kPosteriorBearing:
           heading = posterior_bearing_heading(filter);

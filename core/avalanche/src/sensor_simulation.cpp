@@ -24,7 +24,7 @@ Vec3 normal3(std::mt19937_64& rng) {
 Vec3 simulate_field(const SimulationConfig& config, const ReceiverPose& receiver, const Vec3& transmitter,
                     const Vec3& moment, std::mt19937_64& rng) {
   const Vec3 h_world = DipoleField::field(receiver.position - transmitter, moment);
-  const double sigma = config.field_noise_relative * h_world.norm() + config.field_noise_floor_A_per_m;
+  const double sigma = config.field_noise().sigma(h_world.norm());
   const Mat3 r_world = rotation_from_rpy(receiver.rpy);
   return r_world.transpose() * h_world + sigma * normal3(rng);
 }

@@ -213,10 +213,6 @@ void SogFilter::add_odometry(const Odometry& odometry) {
   odometry_.add(odometry);
 }
 
-Vec3 SogFilter::noise_floor(const FieldMeasurement& m) const {
-  return m.noise_stddev.cwiseMax(config_.noise_floor_A_per_m);
-}
-
 SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   check_sample(measurement, rescuer_id_, last_sequence_);
   SogStepResult result;
@@ -227,7 +223,7 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
     if (!initialised() || !config_.negative_information) return result;
     result.components_before = components_.size();
     last_stamp_ = measurement.stamp;  // the mixture moves to this sample's frame
-    result.log_likelihood = apply_miss(noise_floor(measurement));
+    result.log_likelihood = apply_miss(config_.noise().floor(measurement.noise_stddev));
     result.miss = true;
     result.components_after = components_.size();
     return result;
@@ -251,8 +247,8 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   move_anchor(disp);
   const OrientationObservation* orientation =
       measurement.orientation && config_.use_orientation ? &*measurement.orientation : nullptr;
-  update_field(measurement.field, noise_floor(measurement), measurement.valid_axes, disp, orientation,
-               result);
+  update_field(measurement.field, config_.noise().floor(measurement.noise_stddev), measurement.valid_axes, disp,
+               orientation, result);
   record_.add(result.min_nis, static_cast<int>(std::bitset<3>(measurement.valid_axes).count()), radius95_before);
   gate_failures_ = result.min_nis > nis_gate_ ? gate_failures_ + 1 : 0;
   bool diverged = config_.reinit_after > 0 && gate_failures_ >= config_.reinit_after;
@@ -447,7 +443,7 @@ SogFilter::InitialRing SogFilter::initial_ring(const FieldMeasurement& meas) con
   // 0 +- censored_axis_sigmas times its noise (what "not detected" says), never dropped, since
   // the moment of each hypothesis needs all three components.
   Vec3 z = meas.field;
-  const Vec3 floor = noise_floor(meas);
+  const Vec3 floor = config_.noise().floor(meas.noise_stddev);
   Vec3 censored = Vec3::Zero();
   for (int a = 0; a < 3; ++a) {
     if ((meas.valid_axes & (1U << a)) != 0) continue;
@@ -462,7 +458,7 @@ SogFilter::InitialRing SogFilter::initial_ring(const FieldMeasurement& meas) con
     psi0 = meas.orientation->rpy;
     p_psi = meas.orientation->covariance;
   }
-  Vec3 sigma_axis = Vec3::Constant(config_.noise_relative * zn) + floor;
+  Vec3 sigma_axis = config_.noise().sigma(zn, floor);
   for (int a = 0; a < 3; ++a)
     if (censored[a] > 0.0) sigma_axis[a] = censored[a];
   const double sigma_norm = sigma_axis.norm();
@@ -662,10 +658,10 @@ struct Linearisation {
 };
 
 Linearisation linearise(const StateVec& x, const MeasurementModel& measurement, const Vec3& floor, std::uint8_t axes,
-                        double rel) {
+                        const FieldNoiseModel& noise) {
   Linearisation l;
   l.h = measurement.h(x, &l.h_x, &l.h_d);
-  l.sigma = Vec3::Constant(rel * l.h.norm()) + floor;
+  l.sigma = noise.sigma(l.h.norm(), floor);
   // An invalid axis is no observation: its rows of h, H_x and H_d are zeroed and its
   // innovation variance set to 1, so S is block-diagonal, the axis's innovation is 0 and
   // the update, the NIS and the weights (up to a constant) are those of the valid axes.
@@ -717,7 +713,7 @@ std::optional<Innovation> innovate(const SogComponent& c, const Linearisation& l
 // are those of the last linearisation (the posterior covariance uses them), nis and ll stay
 // the prior-linearised ones (the component's weight is the predictive likelihood).
 Innovation iterate(const SogComponent& c, const Linearisation& at_prior, const Innovation& first, const Vec3& z_valid,
-                   const Vec3& floor, std::uint8_t axes, const DispVec& d0, const DispCov& q, double rel,
+                   const Vec3& floor, std::uint8_t axes, const DispVec& d0, const DispCov& q, const FieldNoiseModel& noise,
                    std::uint32_t max_iterations, double threshold_sigmas) {
   Innovation in = first;
   const Vec3 z = in.sign * z_valid;
@@ -727,7 +723,7 @@ Innovation iterate(const SogComponent& c, const Linearisation& at_prior, const I
   StateVec x_prev = c.x;
   DispVec d_prev = d0;
   for (std::uint32_t it = 0; it < max_iterations; ++it) {
-    const Linearisation l = linearise(x_i, MeasurementModel(d_i), floor, axes, rel);
+    const Linearisation l = linearise(x_i, MeasurementModel(d_i), floor, axes, noise);
     // How far the field at x_i is from what the last linearisation predicted there.
     const Vec3 linear = l_prev.h + l_prev.h_x * (x_i - x_prev) + l_prev.h_d * (d_i - d_prev);
     const Vec3 gap = (l.h - linear).cwiseQuotient(l.sigma);
@@ -750,13 +746,6 @@ Innovation iterate(const SogComponent& c, const Linearisation& at_prior, const I
   return in;
 }
 
-Vec3 valid_part(const Vec3& z, std::uint8_t axes) {
-  Vec3 out = z;
-  for (int a = 0; a < 3; ++a)
-    if ((axes & (1U << a)) == 0) out[a] = 0.0;
-  return out;
-}
-
 }  // namespace
 
 std::optional<FieldFit> SogFilter::predictive_fit(const Vec3& field, const Vec3& noise, std::uint8_t axes) const {
@@ -764,15 +753,15 @@ std::optional<FieldFit> SogFilter::predictive_fit(const Vec3& field, const Vec3&
     return std::nullopt;
   const Displacement disp = odometry_.pending_displacement();
   const MeasurementModel measurement(disp.mean);
-  const Vec3 floor = noise.cwiseMax(config_.noise_floor_A_per_m);
-  const Vec3 z_valid = valid_part(field, axes);
+  const Vec3 floor = config_.noise().floor(noise);
+  const Vec3 z_valid = valid_axes_only(field, axes);
   // log sum_i w_i p(z | i), accumulated stably; the log weights are normalised (every update
   // ends in normalise_and_prune, merging keeps the sum).
   double max_term = -std::numeric_limits<double>::infinity();
   double sum = 0.0;
   double min_nis = std::numeric_limits<double>::infinity();
   for (const SogComponent& c : components_) {
-    const auto in = innovate(c, linearise(c.x, measurement, floor, axes, config_.noise_relative), z_valid, axes,
+    const auto in = innovate(c, linearise(c.x, measurement, floor, axes, config_.noise()), z_valid, axes,
                              disp.covariance);
     if (!in) continue;
     min_nis = std::min(min_nis, in->nis);
@@ -794,8 +783,8 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, std::uint8_t axes
   const DispCov& q = disp.covariance;
   // h of eq. (14) linearised at the odometry mean: R(dPsi), E_w(dPsi) shared by every component.
   const MeasurementModel measurement(disp.mean);
-  const double rel = config_.noise_relative;
-  const Vec3 z_valid = valid_part(z, axes);
+  const FieldNoiseModel noise = config_.noise();
+  const Vec3 z_valid = valid_axes_only(z, axes);
   double max_ll = -std::numeric_limits<double>::infinity();
   double min_nis = std::numeric_limits<double>::infinity();
 
@@ -803,14 +792,14 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, std::uint8_t axes
   for (std::size_t i = 0; i < components_.size(); ++i) {
     SogComponent& c = components_[i];
     const StateCov& p = c.P;
-    const Linearisation at_prior = linearise(c.x, measurement, floor, axes, rel);
+    const Linearisation at_prior = linearise(c.x, measurement, floor, axes, noise);
     const auto innovation = innovate(c, at_prior, z_valid, axes, q);
     if (!innovation) {
       ++result.dropped_numerical;
       continue;
     }
     const Innovation updated = config_.iterated_update_max > 0
-                                   ? iterate(c, at_prior, *innovation, z_valid, floor, axes, disp.mean, q, rel,
+                                   ? iterate(c, at_prior, *innovation, z_valid, floor, axes, disp.mean, q, noise,
                                              config_.iterated_update_max, config_.relinearise_threshold_sigmas)
                                    : *innovation;
     const auto& [pht, qht, s_inv, s_inv_nu, sign, nis, ll] = updated;

@@ -13,7 +13,7 @@ namespace sarloc::avalanche {
 namespace {
 
 constexpr double kFloor = 2.1e-9;
-constexpr double kRelative = 0.05;
+const FieldNoiseModel kNoise{0.05, kFloor};
 
 // A hypothesis at `position` (receiver at the origin of G) whose moment explains the field
 // `field_at_receiver` exactly: every hypothesis agrees with the reading just taken.
@@ -33,7 +33,7 @@ TEST(LookaheadHeadingTest, WalksTowardsAConcentratedBearing) {
     arc.push_back(hypothesis(Vec3(45.0 * std::cos(b), 45.0 * std::sin(b), -2.5), field,
                              -std::log(11.0)));
   }
-  const double heading = lookahead_heading(arc, LookaheadConfig{}, 1.0, kRelative, kFloor);
+  const double heading = lookahead_heading(arc, LookaheadConfig{}, 1.0, kNoise, kFloor);
   EXPECT_LT(angle_between(heading, bearing), 10.0 * kPi / 180.0) << heading;
 }
 
@@ -51,9 +51,9 @@ TEST(LookaheadHeadingTest, PrefersTheWalkThatTellsHypothesesApart) {
       hypothesis(Vec3(50.0 * std::cos(b), -50.0 * std::sin(b), -2.0), field, std::log(0.5))};
   LookaheadConfig distance_only;
   distance_only.detour_weight = 0.0;
-  const double greedy = lookahead_heading(pair, distance_only, 1.0, kRelative, kFloor);
+  const double greedy = lookahead_heading(pair, distance_only, 1.0, kNoise, kFloor);
   EXPECT_LT(angle_between(greedy, 0.0), 10.0 * kPi / 180.0) << greedy;
-  const double informed = lookahead_heading(pair, LookaheadConfig{}, 1.0, kRelative, kFloor);
+  const double informed = lookahead_heading(pair, LookaheadConfig{}, 1.0, kNoise, kFloor);
   EXPECT_GT(angle_between(informed, 0.0), 15.0 * kPi / 180.0) << informed;
   EXPECT_LT(angle_between(informed, 0.0), 60.0 * kPi / 180.0) << informed;
 }
@@ -72,7 +72,7 @@ TEST(LookaheadHeadingTest, ValidationNamesTheKeyAndValue) {
   c = LookaheadConfig{};
   c.information_scale = 0.0;
   EXPECT_THROW(c.validate(), ConfigError);
-  EXPECT_THROW(lookahead_heading({}, LookaheadConfig{}, 1.0, kRelative, kFloor),
+  EXPECT_THROW(lookahead_heading({}, LookaheadConfig{}, 1.0, kNoise, kFloor),
                std::invalid_argument);
 }
 

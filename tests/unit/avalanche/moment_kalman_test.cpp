@@ -14,6 +14,8 @@
 namespace sarloc::avalanche {
 namespace {
 
+const FieldNoiseModel kNoise{0.05, 2e-9};  // relative 5 %, the floor each test states
+
 TEST(MomentKalmanTest, GainIsTheMeasurementModel) {
   const Vec3 psi(0.05, -0.03, 1.2);
   const Vec3 p(6.0, -3.0, -2.0);
@@ -35,7 +37,7 @@ TEST(MomentKalmanTest, UpdateIsTheConditionalAndLikelihoodIsSignInvariant) {
   const Vec3 z = c * Vec3(0.015, -0.002, 0.011);
   Vec3 m = m0;
   Mat3 M = m_cov;
-  const MomentUpdate plus = update_moment(c, m, M, z, floor, 0b111, 0.05);
+  const MomentUpdate plus = update_moment(c, m, M, z, floor, 0b111, kNoise);
   ASSERT_TRUE(plus.ok);
   // Brute force: the same noise, the conditional of a joint Gaussian.
   const Vec3 h = c * m0;
@@ -52,7 +54,7 @@ TEST(MomentKalmanTest, UpdateIsTheConditionalAndLikelihoodIsSignInvariant) {
   // -z explains it equally: the same likelihood, and m moves to the same place.
   Vec3 m2 = m0;
   Mat3 M2 = m_cov;
-  const MomentUpdate minus = update_moment(c, m2, M2, -z, floor, 0b111, 0.05);
+  const MomentUpdate minus = update_moment(c, m2, M2, -z, floor, 0b111, kNoise);
   EXPECT_NEAR(minus.ll, plus.ll, 1e-9);
   EXPECT_LT((m2 - m).norm(), 1e-12);
 }
@@ -65,9 +67,9 @@ TEST(MomentKalmanTest, AnInvalidAxisIsNoObservation) {
   Vec3 z = c * Vec3(0.012, 0.008, -0.011);
   Vec3 m_a = m0, m_b = m0;
   Mat3 M_a = m_cov, M_b = m_cov;
-  const MomentUpdate a = update_moment(c, m_a, M_a, valid_axes_only(z, 0b011), floor, 0b011, 0.05);
+  const MomentUpdate a = update_moment(c, m_a, M_a, valid_axes_only(z, 0b011), floor, 0b011, kNoise);
   z.z() = 1.0;  // whatever the invalid axis holds
-  const MomentUpdate b = update_moment(c, m_b, M_b, valid_axes_only(z, 0b011), floor, 0b011, 0.05);
+  const MomentUpdate b = update_moment(c, m_b, M_b, valid_axes_only(z, 0b011), floor, 0b011, kNoise);
   EXPECT_DOUBLE_EQ(a.ll, b.ll);
   EXPECT_EQ(m_a, m_b);
 }
@@ -77,7 +79,7 @@ TEST(MomentKalmanTest, AZeroCovarianceIsAPointHypothesis) {
   Vec3 m(0.01, 0.01, -0.01);
   Mat3 M = Mat3::Zero();
   const Vec3 before = m;
-  const MomentUpdate u = update_moment(c, m, M, c * Vec3(0.011, 0.01, -0.01), Vec3::Constant(2e-9), 0b111, 0.05);
+  const MomentUpdate u = update_moment(c, m, M, c * Vec3(0.011, 0.01, -0.01), Vec3::Constant(2e-9), 0b111, kNoise);
   EXPECT_TRUE(u.ok);
   EXPECT_EQ(m, before) << "a particle that samples m is weighted, not updated";
 }

@@ -283,7 +283,7 @@ TEST(SogFilterTest, StepEqualsDenseAlgorithmOnTheAugmentedState) {
   ASSERT_EQ(f.size(), before.size());
 
   using AugCov = Eigen::Matrix<double, idx::kAugDim, idx::kAugDim>;
-  const Vec3 floor = f.noise_floor(meas);
+  const Vec3 floor = f.noise().floor(meas.noise_stddev);
   std::vector<double> log_w(before.size());
   double max_log_w = -std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < before.size(); ++i) {
@@ -331,7 +331,7 @@ TEST(SogFilterTest, IteratedStepEqualsDenseGaussNewtonOnTheAugmentedState) {
   ASSERT_EQ(f.size(), before.size());
 
   using AugCov = Eigen::Matrix<double, idx::kAugDim, idx::kAugDim>;
-  const Vec3 floor = f.noise_floor(meas);
+  const Vec3 floor = f.noise().floor(meas.noise_stddev);
   auto noise = [&](const Vec3& h) {
     const Vec3 sigma = Vec3::Constant(cfg.noise_relative * h.norm()) + floor;
     return std::pair<Vec3, Mat3>(sigma, Mat3(sigma.cwiseAbs2().asDiagonal()));

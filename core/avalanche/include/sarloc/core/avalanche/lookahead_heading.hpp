@@ -17,9 +17,10 @@
 // docs/estimation/avalanche.md ("Opening heading").
 //
 //   LookaheadConfig cfg;  // defaults documented per field
-//   double heading = lookahead_heading(filter.hypotheses(), cfg, 1.0, noise_relative, floor);
+//   double heading = lookahead_heading(filter.hypotheses(), cfg, 1.0, filter.noise(), floor);
 #include <vector>
 
+#include "sarloc/core/avalanche/field_noise_model.hpp"
 #include "sarloc/core/avalanche/transmitter_hypothesis.hpp"
 
 namespace sarloc::avalanche {
@@ -35,9 +36,10 @@ struct LookaheadConfig {
   void validate() const;
 };
 
-/// Heading (rad, in G) of the candidate with the lowest expected cost. Deterministic for a
-/// given mixture. Throws std::invalid_argument for an empty mixture (call after initialising).
+/// Heading (rad, in G) of the candidate with the lowest expected cost, predicting each walk's
+/// samples with `noise` over a per-axis floor of `floor_A_per_m` (the measurement's). Deterministic
+/// for a given mixture. Throws std::invalid_argument for an empty mixture (call after initialising).
 double lookahead_heading(const std::vector<TransmitterHypothesis>& hypotheses, const LookaheadConfig& config,
-                         double step_length_m, double noise_relative, double noise_floor_A_per_m);
+                         double step_length_m, const FieldNoiseModel& noise, double floor_A_per_m);
 
 }  // namespace sarloc::avalanche

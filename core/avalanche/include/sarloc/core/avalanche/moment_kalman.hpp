@@ -6,9 +6,10 @@
 // (one per cell).
 //
 //   const Mat3 c = moment_gain(rotation_from_rpy(psi), p);
-//   MomentUpdate u = update_moment(c, m, M, z_valid, floor, axes, noise_relative);
+//   MomentUpdate u = update_moment(c, m, M, z_valid, floor, axes, sog.noise());
 #include <cstdint>
 
+#include "sarloc/core/avalanche/field_noise_model.hpp"
 #include "sarloc/core/common/types.hpp"
 
 namespace sarloc::avalanche {
@@ -46,9 +47,7 @@ class PredictiveMoments {
 /// sign that explains z best (as the SOG filter does). M = 0 gives the point likelihood of a
 /// particle that samples m.
 MomentUpdate update_moment(const Mat3& gain, Vec3& m, Mat3& M, const Vec3& z_valid, const Vec3& floor,
-                           std::uint8_t axes, double noise_relative);
+                           std::uint8_t axes, const FieldNoiseModel& noise);
 
-/// z with the invalid axes zeroed.
-Vec3 valid_axes_only(const Vec3& z, std::uint8_t axes);
 
 }  // namespace sarloc::avalanche

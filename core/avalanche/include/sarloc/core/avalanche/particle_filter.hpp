@@ -79,8 +79,7 @@ class ParticleFilter : public TransmitterFilter {
   const InnovationRecord& innovations() const override { return record_; }
   std::uint64_t mixture_samples() const override { return mixture_samples_; }
   bool moment_plausible() const override;
-  double noise_relative() const override { return sog_.noise_relative; }
-  Vec3 noise_floor(const FieldMeasurement& m) const override;
+  FieldNoiseModel noise() const override { return sog_.noise(); }
   double converged_radius_m() const override { return sog_.converged_radius_m; }
 
   /// Effective sample size after the latest update (eq. (20)), before any resampling.

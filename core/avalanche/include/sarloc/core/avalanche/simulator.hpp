@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "sarloc/core/avalanche/field_measurement.hpp"
+#include "sarloc/core/avalanche/field_noise_model.hpp"
 #include "sarloc/core/avalanche/receiver_model.hpp"
 #include "sarloc/core/common/seeds.hpp"
 #include "sarloc/core/avalanche/responder_types.hpp"
@@ -42,6 +43,8 @@ struct SimulationConfig {
   double field_noise_relative = 0.05;   ///< issue minimum: 5 % of |H| per axis
   /// Additive per-axis floor (A/m); issue minimum: strongest on-axis field at 60 m / 10.
   double field_noise_floor_A_per_m = 2.1e-9;
+  /// The field noise model of these two keys: what the simulated receiver adds.
+  FieldNoiseModel field_noise() const { return FieldNoiseModel{field_noise_relative, field_noise_floor_A_per_m}; }
   double odometry_translation_relative = 0.03;  ///< issue minimum: 3 % of the step
   double odometry_translation_floor_m = 0.01;   ///< sigma when standing still
   double odometry_yaw_sigma_deg = 1.0;          ///< issue minimum: 1 deg per step

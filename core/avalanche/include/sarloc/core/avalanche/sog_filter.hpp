@@ -31,6 +31,7 @@
 #include "sarloc/core/avalanche/dipole_model.hpp"
 #include "sarloc/core/avalanche/field_fit.hpp"
 #include "sarloc/core/avalanche/field_measurement.hpp"
+#include "sarloc/core/avalanche/field_noise_model.hpp"
 #include "sarloc/core/avalanche/responder_types.hpp"
 #include "sarloc/core/avalanche/odometry_accumulator.hpp"
 #include "sarloc/core/avalanche/receiver_model.hpp"
@@ -65,6 +66,8 @@ struct SogConfig {
   // --- measurement noise known to the filter (same model as the simulator) ---
   double noise_relative = 0.05;         ///< per-axis sigma = relative * |h(x)| + floor
   double noise_floor_A_per_m = 2.1e-9;  ///< >= strongest on-axis field at 60 m / 10
+  /// The field noise model of these two keys (every filter's, the search's).
+  FieldNoiseModel noise() const { return FieldNoiseModel{noise_relative, noise_floor_A_per_m}; }
   /// An axis the receiver reports invalid is below this many times its noise (the receiver's
   /// detection threshold, ReceiverModelConfig::detect_snr): used when initialising.
   double censored_axis_sigmas = 3.0;
@@ -225,7 +228,7 @@ class SogFilter : public TransmitterFilter {
   /// (seen: a FOUND 1.8 m off with |m| 8x the largest allowed, and one at the antenna with 1.4x).
   bool moment_plausible() const override;
   std::size_t size() const override { return components_.size(); }
-  double noise_relative() const override { return config_.noise_relative; }
+  FieldNoiseModel noise() const override { return config_.noise(); }
   double converged_radius_m() const override { return config_.converged_radius_m; }
   const std::vector<SogComponent>& components() const { return components_; }
   const SogConfig& config() const { return config_; }
@@ -257,7 +260,6 @@ class SogFilter : public TransmitterFilter {
   std::optional<FieldFit> predictive_fit(const Vec3& field, const Vec3& noise, std::uint8_t axes) const;
 
   /// Per-axis noise floor the filter applies to `m`: max(config floor, m.noise_stddev).
-  Vec3 noise_floor(const FieldMeasurement& m) const override;
 
   /// Initialise directly from a measurement (normally done by the first process()).
   void initialise(const FieldMeasurement& measurement);

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "sarloc/core/avalanche/field_measurement.hpp"
+#include "sarloc/core/avalanche/field_noise_model.hpp"
 #include "sarloc/core/avalanche/innovation_record.hpp"
 #include "sarloc/core/avalanche/responder_types.hpp"
 #include "sarloc/core/avalanche/transmitter_hypothesis.hpp"
@@ -104,9 +105,8 @@ class TransmitterFilter {
   /// The posterior's moment magnitude within the transmitter standard's bounds (2 sigma).
   virtual bool moment_plausible() const = 0;
 
-  /// The noise model the filter applies: sigma = relative |h| + floor per axis.
-  virtual double noise_relative() const = 0;
-  virtual Vec3 noise_floor(const FieldMeasurement& measurement) const = 0;
+  /// The field noise model the filter applies (field_noise_model.hpp).
+  virtual FieldNoiseModel noise() const = 0;
   /// estimate() reports kConverged below this 95 % radius.
   virtual double converged_radius_m() const = 0;
 };
