@@ -3,9 +3,10 @@
 //
 // DDS Security grants topics, not instances: every device identity may publish responder_position
 // and responder_alarm, so without this a stolen device could raise a mayday "for r1" or move r1
-// on the map. PKI-DH authentication ties bytes 0-5 of a participant's GUID prefix to SHA-256 of
-// its certificate's subject (DDS Security 1.1, 9.3.3; Fast DDS refuses a handshake whose GUID
-// does not match), and every writer's GUID starts with its participant's prefix. So a reader
+// on the map. The builtin PKI-DH authentication ties bytes 0-5 of a participant's GUID prefix to
+// SHA-256 of its certificate's subject (Fast DDS 2.9, PKIDH.cpp: the prefix is derived so, and a
+// handshake whose GUID does not match is refused), and every writer's GUID starts with its
+// participant's prefix. So a reader
 // can tell which identity wrote a sample (SampleInfo::publication_handle) without ever seeing
 // the writer's certificate: it recomputes the prefix of the identity that should have.
 //
