@@ -6,9 +6,9 @@
 // on the map. The builtin PKI-DH authentication ties bytes 0-5 of a participant's GUID prefix to
 // SHA-256 of its certificate's subject (Fast DDS 2.9, PKIDH.cpp: the prefix is derived so, and a
 // handshake whose GUID does not match is refused), and every writer's GUID starts with its
-// participant's prefix. So a reader
-// can tell which identity wrote a sample (SampleInfo::publication_handle) without ever seeing
-// the writer's certificate: it recomputes the prefix of the identity that should have.
+// participant's prefix. So a reader can tell which identity wrote a sample
+// (SampleInfo::publication_handle) without ever seeing the writer's certificate: it recomputes
+// the prefix of the identity that should have.
 //
 // sarloc identities are those deploy/security/make-certs.sh issues: subject O=sarloc, CN=<node>,
 // where a device's node is its responder id and a core daemon's its node id.
