@@ -28,7 +28,7 @@ struct ConnectionGate::Relay {
 };
 
 ConnectionGate::ConnectionGate(ConnectionLimits limits, const std::string& bind_address, int port, int backend_port)
-    : limits_(limits), backend_port_(backend_port), acceptor_(io_), sweep_timer_(io_) {
+    : limits_(limits), backend_port_(backend_port), acceptor_(io_), sweep_timer_(io_), accept_backoff_(io_) {
   boost::system::error_code ec;
   const auto address = asio::ip::make_address(bind_address, ec);
   if (ec) throw std::runtime_error("cannot listen on '" + bind_address + "': not an IP address");
@@ -56,6 +56,7 @@ void ConnectionGate::stop() {
     boost::system::error_code ignored;
     acceptor_.close(ignored);
     sweep_timer_.cancel();
+    accept_backoff_.cancel();
     std::set<std::shared_ptr<Relay>> open;
     {
       std::lock_guard<std::mutex> lock(mutex_);
@@ -79,9 +80,18 @@ ConnectionGate::Counters ConnectionGate::counters() const {
 
 void ConnectionGate::accept() {
   acceptor_.async_accept([this](const boost::system::error_code& ec, tcp::socket socket) {
-    if (!acceptor_.is_open()) return;
-    if (!ec) admit(std::move(socket));
-    accept();
+    if (!acceptor_.is_open() || stopping_) return;
+    if (!ec) {
+      admit(std::move(socket));
+      accept();
+      return;
+    }
+    // Out of file descriptors (or the like): accepting again at once would spin on the error.
+    refusals_.warn("accept", ec.message(), "dashboard: cannot accept a connection: " + ec.message());
+    accept_backoff_.expires_after(std::chrono::milliseconds(100));
+    accept_backoff_.async_wait([this](const boost::system::error_code& error) {
+      if (!error && !stopping_) accept();
+    });
   });
 }
 

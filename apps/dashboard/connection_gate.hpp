@@ -78,6 +78,7 @@ class ConnectionGate {
   boost::asio::io_context io_;
   boost::asio::ip::tcp::acceptor acceptor_;
   boost::asio::steady_timer sweep_timer_;
+  boost::asio::steady_timer accept_backoff_;  // after a failed accept
   bool stopping_ = false;  // the io thread's
   mutable std::mutex mutex_;
   std::set<std::shared_ptr<Relay>> relays_;
