@@ -320,9 +320,7 @@ bool CommandNode::admitted(const eprosima::fastrtps::rtps::InstanceHandle_t& wri
                            WriterAuthority::Speakers speakers, const char* what) {
   if (authority_.admits(writer, responder_id, speakers)) return true;
   counters_.rejected("unauthorized_writer");
-  warnings_.warn(responder_id, "unauthorized_writer",
-                 std::string(what) + " about '" + responder_id + "' written by " + authority_.writer_name(writer) +
-                     ", which may not speak for it (DDS Security identity)");
+  warnings_.warn(responder_id, "unauthorized_writer", authority_.refusal(what, writer, responder_id));
   return false;
 }
 

@@ -89,9 +89,7 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
             auto odometry = to_core(o);
             const std::string id = o.rescuer_id().to_string();
             if (!authority_.admits(info.publication_handle, id, WriterAuthority::Speakers::kDevice)) {
-              refuse(id, "unauthorized_writer",
-                     "odometry about '" + id + "' written by " + authority_.writer_name(info.publication_handle) +
-                         ", which may not speak for it (DDS Security identity)");
+              refuse(id, "unauthorized_writer", authority_.refusal("odometry", info.publication_handle, id));
               return;
             }
             enqueue(id, std::move(odometry));

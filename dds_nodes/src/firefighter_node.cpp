@@ -42,8 +42,7 @@ FirefighterNode::FirefighterNode(std::shared_ptr<Participant> participant, Firef
           if (fix.source != responder::PositionSource::kMapAided) return;
           if (!authority_.admits(info.publication_handle, config_.responder_id, WriterAuthority::Speakers::kDeviceOrCore)) {
             refusals_.warn(config_.responder_id, "unauthorized_writer",
-                           "ignoring a map-aided position for '" + config_.responder_id + "' from " +
-                               authority_.writer_name(info.publication_handle) + ": not a core daemon's identity");
+                           authority_.refusal("map-aided position", info.publication_handle, config_.responder_id));
             return;
           }
           std::lock_guard<std::mutex> lock(mutex_);

@@ -67,8 +67,7 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
         if (info.publication_handle == estimate_writer_.get()->get_instance_handle()) return;
         if (!authority_.admits(info.publication_handle, config_.rescuer_id, WriterAuthority::Speakers::kDeviceOrCore)) {
           refusals_.warn(config_.rescuer_id, "unauthorized_writer",
-                         "ignoring an estimate for '" + config_.rescuer_id + "' from " +
-                             authority_.writer_name(info.publication_handle) + ": not a core daemon's identity");
+                         authority_.refusal("estimate", info.publication_handle, config_.rescuer_id));
           return;
         }
         if (e.status() > ::sarloc::ESTIMATOR_FOUND) return;

@@ -14,9 +14,7 @@ SampleReaders::SampleReaders(std::shared_ptr<Participant> participant, const Wri
           auto sample = to_core(m);
           const std::string id = m.rescuer_id().to_string();  // an identifier: to_core checked it
           if (!authority.admits(info.publication_handle, id, WriterAuthority::Speakers::kDevice)) {
-            on_refused(id, "unauthorized_writer",
-                       "field measurement about '" + id + "' written by " + authority.writer_name(info.publication_handle) +
-                           ", which may not speak for it (DDS Security identity)");
+            on_refused(id, "unauthorized_writer", authority.refusal("field measurement", info.publication_handle, id));
             return;
           }
           on_sample(std::move(sample));

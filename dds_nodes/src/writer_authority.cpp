@@ -97,4 +97,10 @@ std::string WriterAuthority::writer_name(const eprosima::fastrtps::rtps::Instanc
   return "participant " + hex_of(writer.value, 12);
 }
 
+std::string WriterAuthority::refusal(const std::string& what, const eprosima::fastrtps::rtps::InstanceHandle_t& writer,
+                                     const std::string& responder_id) const {
+  return what + " about '" + responder_id + "' written by " + writer_name(writer) +
+         ", which may not speak for it (DDS Security identity)";
+}
+
 }  // namespace sarloc::dds

@@ -59,6 +59,10 @@ class WriterAuthority {
   /// "r2" or "core-west" when the writer's prefix is one of the identities seen so far,
   /// otherwise its participant's 24 hex digits: for the refusal's log line.
   std::string writer_name(const eprosima::fastrtps::rtps::InstanceHandle_t& writer) const;
+  /// The log line of a refusal: "<what> about 'r1' written by <writer_name>, which may not
+  /// speak for it (DDS Security identity)".
+  std::string refusal(const std::string& what, const eprosima::fastrtps::rtps::InstanceHandle_t& writer,
+                      const std::string& responder_id) const;
 
  private:
   IdentityPrefix prefix_of(const std::string& node_id) const;
