@@ -48,8 +48,8 @@ int main(int argc, char** argv) {
     node_config.validate();  // --instance within command.instances
     auto participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, node_config.node_id));
     sarloc::dds::CommandNode node(participant, node_config, options.clock(mission));
-    spdlog::info("{} running for incident '{}' (instance {} of {})", node_config.node_id, node_config.incident_id,
-                 instance, node_config.standby.instances);
+    spdlog::info("{} running for incident '{}' (instance {} of {})", node_config.node_id, node_config.incident.incident_id,
+                 instance, node_config.incident.standby.instances);
     std::size_t last_count = 0;
     // A line per victim whose state or doubt changed, with the sources behind it: enough to
     // trace afterwards which rescuers' signals confirmed what.

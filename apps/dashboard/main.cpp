@@ -135,7 +135,7 @@ int main(int argc, char** argv) {
                                     [&player] { return player.wall_now_s(); });
       building(state);
       state.set_extra("dds_security", "recording");
-      state.set_extra("incident", {{"id", mission.command.incident_id}, {"name", mission.command.incident_name}});
+      state.set_extra("incident", {{"id", mission.command.incident.incident_id}, {"name", mission.command.incident.incident_name}});
       player.attach(state);
       player.seek(0.0);
       dashboard::DashboardServer server(server_config, state, [](std::uint32_t, const std::string&) { return false; });
@@ -153,7 +153,7 @@ int main(int argc, char** argv) {
     auto participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, "sarloc-dashboard"));
     // Shown on the page's header: in red when anyone on the network could have written the picture.
     state.set_extra("dds_security", participant->secured() ? "authenticated, encrypted" : "none");
-    state.set_extra("incident", {{"id", mission.command.incident_id}, {"name", mission.command.incident_name}});
+    state.set_extra("incident", {{"id", mission.command.incident.incident_id}, {"name", mission.command.incident.incident_name}});
     if (!participant->secured()) spdlog::warn("DDS Security is off: the page says so in red (docs/operations.md, \"Security\")");
     sarloc::dds::DashboardSink sink;
     sink.on_victim = [&](const auto& v) { state.on_victim(v); };

@@ -466,6 +466,28 @@ incident::IncidentAlarm to_core(const ::sarloc::IncidentAlarm& a) {
   return out;
 }
 
+::sarloc::IncidentFrame to_idl(const incident::IncidentFrame& f) {
+  ::sarloc::IncidentFrame out;
+  out.incident_id(f.incident_id);
+  out.latitude_deg(f.origin.latitude_deg);
+  out.longitude_deg(f.origin.longitude_deg);
+  out.altitude_m(f.origin.altitude_m);
+  out.name(f.name.substr(0, ::sarloc::TEXT_MAX));
+  out.established(f.established);
+  return out;
+}
+
+incident::IncidentFrame to_core(const ::sarloc::IncidentFrame& f) {
+  incident::IncidentFrame out;
+  out.incident_id = f.incident_id().to_string();
+  out.origin.latitude_deg = f.latitude_deg();
+  out.origin.longitude_deg = f.longitude_deg();
+  out.origin.altitude_m = f.altitude_m();
+  out.name = f.name().to_string();
+  out.established = f.established();
+  return out;
+}
+
 namespace {
 
 // fastddsgen keys of at most 16 bytes are the big-endian CDR of the key: a 32-bit id first.

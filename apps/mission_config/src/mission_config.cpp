@@ -82,7 +82,7 @@ void MissionConfig::validate() const {
   for (const auto& s : sectors) core_config(s).validate();
   if (sectors.empty()) core_config("").validate();
   for (const auto& [id, role] : role_of) rescuer_config(id).validate();
-  for (unsigned k = 1; k <= std::max(1U, command.standby.instances); ++k) command_config(k).validate();
+  for (unsigned k = 1; k <= std::max(1U, command.incident.standby.instances); ++k) command_config(k).validate();
 }
 
 dds::CoreNodeConfig MissionConfig::core_config(const std::string& sector) const {
@@ -140,8 +140,8 @@ const FirefighterEntry* MissionConfig::firefighter(const std::string& responder_
 dds::CommandNodeConfig MissionConfig::command_config(unsigned instance) const {
   dds::CommandNodeConfig c = command;
   if (!sectors.empty()) c.estimate_partitions = {"*"};
-  c.standby.instance = instance;
-  if (c.standby.instances > 1) c.node_id += "-" + std::to_string(instance);
+  c.incident.standby.instance = instance;
+  if (c.incident.standby.instances > 1) c.node_id += "-" + std::to_string(instance);
   return c;
 }
 
@@ -174,13 +174,13 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
   }
   {
     auto r = root.child("incident");
-    r.read("id", c.command.incident_id);
-    r.read("name", c.command.incident_name);
-    r.read("latitude_deg", c.command.origin.latitude_deg);
-    r.read("longitude_deg", c.command.origin.longitude_deg);
-    r.read("altitude_m", c.command.origin.altitude_m);
+    r.read("id", c.command.incident.incident_id);
+    r.read("name", c.command.incident.incident_name);
+    r.read("latitude_deg", c.command.incident.origin.latitude_deg);
+    r.read("longitude_deg", c.command.incident.origin.longitude_deg);
+    r.read("altitude_m", c.command.incident.origin.altitude_m);
     r.expect_done();
-    require_identifier(c.command.incident_id, name + ": incident.id");
+    require_identifier(c.command.incident.incident_id, name + ": incident.id");
   }
   {
     auto r = root.child("dds");
@@ -361,18 +361,18 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     auto r = root.child("command");
     r.read("node_id", c.command.node_id);
     r.read("cycle_s", c.command.cycle_s);
-    r.read("position_max_age_s", c.command.position_max_age_s);
-    r.read("fix_wait_s", c.command.fix_wait_s);
-    r.read("fix_interpolation_max_gap_s", c.command.fix_interpolation_max_gap_s);
-    r.read("antenna_height_m", c.command.antenna_height_m);  // one fact with sog's: hold_one_antenna_height
-    r.read("antenna_height_sigma_m", c.command.antenna_height_sigma_m);
-    r.read("instances", c.command.standby.instances);
-    r.read("claim_wait_s", c.command.standby.claim_wait_s);
-    read_fusion(r.child("fusion"), c.command.fusion);
+    r.read("position_max_age_s", c.command.incident.position_max_age_s);
+    r.read("fix_wait_s", c.command.incident.fix_wait_s);
+    r.read("fix_interpolation_max_gap_s", c.command.incident.fix_interpolation_max_gap_s);
+    r.read("antenna_height_m", c.command.incident.antenna_height_m);  // one fact with sog's: hold_one_antenna_height
+    r.read("antenna_height_sigma_m", c.command.incident.antenna_height_sigma_m);
+    r.read("instances", c.command.incident.standby.instances);
+    r.read("claim_wait_s", c.command.incident.standby.claim_wait_s);
+    read_fusion(r.child("fusion"), c.command.incident.fusion);
     {
       auto t = r.child("teams");
-      t.read("stale_after_s", c.command.teams.stale_after_s);
-      t.read("lost_after_s", c.command.teams.lost_after_s);
+      t.read("stale_after_s", c.command.incident.teams.stale_after_s);
+      t.read("lost_after_s", c.command.incident.teams.lost_after_s);
       t.expect_done();
     }
     r.expect_done();
@@ -426,7 +426,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.expect_done();
     d.validate();
   }
-  hold_one_antenna_height(root, c.scenario.sensors, c.estimators.avalanche_rescuer.sog, &c.command.antenna_height_m);
+  hold_one_antenna_height(root, c.scenario.sensors, c.estimators.avalanche_rescuer.sog, &c.command.incident.antenna_height_m);
   root.expect_done();
   c.validate();
   return c;

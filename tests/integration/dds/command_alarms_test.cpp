@@ -24,7 +24,7 @@ TEST(CommandAlarms, AlarmsStayUntilAcknowledgedAndClearedThenAreDisposed) {
   const MissionClock clock;
   CommandNodeConfig config;
   config.node_id = "command-alarms";
-  config.incident_id = "alarms-test";
+  config.incident.incident_id = "alarms-test";
   config.cycle_s = 0.1;
   auto p = test::make_participant(test::kDomainCommandAlarms, "command");
   CommandNode command(p, config, clock);

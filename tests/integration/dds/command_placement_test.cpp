@@ -45,9 +45,9 @@ TEST(CommandPlacement, ADeviceEstimateCarryingItsFixIsPlacedWithoutAnyResponderP
   const MissionClock clock;
   CommandNodeConfig config;
   config.node_id = "command-placement";
-  config.incident_id = "placement-test";
+  config.incident.incident_id = "placement-test";
   config.cycle_s = 0.1;
-  config.fix_wait_s = 1.0;
+  config.incident.fix_wait_s = 1.0;
   auto p = test::make_participant(test::kDomainCommandPlacement, "command");
   CommandNode command(p, config, clock);
   auto device = test::make_participant(test::kDomainCommandPlacement, "rescuers");
@@ -65,7 +65,7 @@ TEST(CommandPlacement, ADeviceEstimateCarryingItsFixIsPlacedWithoutAnyResponderP
   ASSERT_EQ(v.sources.size(), 1U);
   EXPECT_EQ(v.sources[0].rescuer_id, "r1");
   // r2's estimate, without a fix of its own epoch anywhere, is never placed.
-  std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int>(config.fix_wait_s * 1000) + 500));
+  std::this_thread::sleep_for(std::chrono::milliseconds(static_cast<int>(config.incident.fix_wait_s * 1000) + 500));
   EXPECT_EQ(command.victims().size(), 1U);
 }
 

@@ -24,11 +24,11 @@ using test::eventually;
 CommandNodeConfig instance(unsigned k) {
   CommandNodeConfig c;
   c.node_id = "command-" + std::to_string(k);
-  c.incident_id = "standby-test";
+  c.incident.incident_id = "standby-test";
   c.cycle_s = 0.1;
-  c.standby.instance = k;
-  c.standby.instances = 2;
-  c.standby.claim_wait_s = 0.5;
+  c.incident.standby.instance = k;
+  c.incident.standby.instances = 2;
+  c.incident.standby.claim_wait_s = 0.5;
   return c;
 }
 

@@ -253,7 +253,7 @@ TEST(Security, ADeviceSpeaksOnlyForItsOwnResponder) {
   EXPECT_FALSE(proves_identity(*participant, "r2"));
   CommandNodeConfig command_config;
   command_config.node_id = "ic";
-  command_config.incident_id = "identity-test";
+  command_config.incident.incident_id = "identity-test";
   command_config.cycle_s = 0.1;
   CommandNode command(participant, command_config, clock);
 

@@ -66,7 +66,7 @@ TEST(SignOff, ADaemonAndIncidentCommandStoppedInOrderSaySoAndDeletedOnesDoNot) {
   core_config.status_period_s = 0.2;
   CommandNodeConfig command_config;
   command_config.node_id = "command-signing-off";
-  command_config.incident_id = "sign-off-test";
+  command_config.incident.incident_id = "sign-off-test";
   command_config.cycle_s = 0.1;
   const MissionClock clock;
   auto core = std::make_unique<CoreNode>(test::make_participant(test::kDomainSignOff, "core"), core_config);

@@ -145,7 +145,7 @@ TEST(ConfigConsistency, TheReceiverHeightSetOnceIsHandedToEveryConsumer) {
     EXPECT_EQ(mission.scenario.sensors.antenna_height_m, 1.3) << section;
     EXPECT_EQ(mission.estimators.avalanche_rescuer.sog.antenna_height_m, 1.3) << section;
     EXPECT_EQ(mission.core_config("").estimators.avalanche_rescuer.sog.antenna_height_m, 1.3) << section;
-    EXPECT_EQ(mission.command_config().antenna_height_m, 1.3) << section;
+    EXPECT_EQ(mission.command_config().incident.antenna_height_m, 1.3) << section;
   }
   fs::remove(file);
 }

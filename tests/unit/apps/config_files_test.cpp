@@ -49,10 +49,10 @@ TEST(ConfigFiles, ShippedAndValidMissionsLoad) {
 TEST(ConfigFiles, IncidentCommandInstancesHaveTheirOwnNodeIds) {
   const auto standby = load_mission_config((kSource / "tests/config/valid/mission/command_standby.yaml").string());
   EXPECT_EQ(standby.command_instances(), 3U);
-  EXPECT_DOUBLE_EQ(standby.command.standby.claim_wait_s, 6.0);
+  EXPECT_DOUBLE_EQ(standby.command.incident.standby.claim_wait_s, 6.0);
   EXPECT_EQ(standby.command_config(1).node_id, "sarloc-command-1");
   EXPECT_EQ(standby.command_config(3).node_id, "sarloc-command-3");
-  EXPECT_EQ(standby.command_config(3).standby.instance, 3U);
+  EXPECT_EQ(standby.command_config(3).incident.standby.instance, 3U);
   EXPECT_THROW(standby.command_config(4).validate(), ConfigError);
   const auto minimal = load_mission_config((kSource / "tests/config/valid/mission/minimal.yaml").string());
   EXPECT_EQ(minimal.command_instances(), 2U) << "the default: one active, one standing by";

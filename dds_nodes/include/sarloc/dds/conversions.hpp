@@ -18,6 +18,7 @@
 #include "sarloc/core/incident/fused_victim.hpp"
 #include "sarloc/core/responder/responder_position.hpp"
 #include "sarloc/core/incident/alarm_board.hpp"
+#include "sarloc/core/incident/incident_frame.hpp"
 #include "sarloc/core/incident/team_status.hpp"
 #include "sarloc/idl/avalanche.h"
 #include "sarloc/idl/responder.h"
@@ -64,6 +65,9 @@ incident::TeamStatus to_core(const ::sarloc::TeamStatus& t);
 responder::ResponderAlarm to_core(const ::sarloc::ResponderAlarm& a);
 ::sarloc::IncidentAlarm to_idl(const incident::IncidentAlarm& a);
 incident::IncidentAlarm to_core(const ::sarloc::IncidentAlarm& a);
+/// The name is cut to TEXT_MAX characters (a display name).
+::sarloc::IncidentFrame to_idl(const incident::IncidentFrame& f);
+incident::IncidentFrame to_core(const ::sarloc::IncidentFrame& f);
 /// The victim_id of a FusedVictim instance (a disposal carries only its instance handle):
 /// the key's serialised form, checked by computing the handle of that id again; nothing if
 /// the handle is not a FusedVictim's.

@@ -52,7 +52,7 @@ struct MissionConfig {
   /// one publishes the picture, the other stands by (docs/operations.md).
   dds::CommandNodeConfig command = [] {
     dds::CommandNodeConfig c;
-    c.standby.instances = 2;
+    c.incident.standby.instances = 2;
     return c;
   }();
 
@@ -80,7 +80,7 @@ struct MissionConfig {
   /// its node id gets "-<instance>" (NodeStatus keys must differ).
   dds::CommandNodeConfig command_config(unsigned instance = 1) const;
   /// How many sarloc-command processes the incident runs (command.instances).
-  unsigned command_instances() const { return command.standby.instances; }
+  unsigned command_instances() const { return command.incident.standby.instances; }
 };
 
 /// Loads and validates a mission file (relative DDS file paths resolve against its folder).
