@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "sarloc/core/avalanche/found_victim.hpp"
+#include "sarloc/core/common/time_units.hpp"
 #include "sarloc/core/common/gaussian.hpp"
 #include "sarloc/core/mission/victim_matching.hpp"
 
@@ -49,7 +50,7 @@ std::vector<std::string> finders_of(std::size_t victim, const std::map<std::stri
 
 std::optional<double> mission_seconds(TimestampNs t, TimestampNs epoch) {
   if (t == 0) return std::nullopt;
-  return static_cast<double>(t - epoch) / 1e9;
+  return ns_to_seconds(t - epoch);
 }
 
 }  // namespace
@@ -132,6 +133,29 @@ MissionSummary summarise_mission(const std::string& mission_name, const MissionS
   for (const auto& r : scenario.rescuers) s.rescuer_ids.push_back(r.id);
   s.devices = std::move(devices);
   return s;
+}
+
+MissionSummary assemble_mission_summary(const std::string& mission_name, const MissionScenario& scenario,
+                                        TimestampNs epoch, MissionEnd end) {
+  auto summary = summarise_mission(mission_name, scenario, end.picture, epoch, std::move(end.devices));
+  summary.firefighters = std::move(end.firefighters);
+  summary.firefighters_without_summary = std::move(end.firefighters_without_summary);
+  for (const auto& a : end.alarms) {
+    MissionSummary::PictureAlarm p;
+    p.alarm_id = a.alarm_id;
+    p.kind = responder::to_string(a.alarm.kind);
+    p.responder_id = a.alarm.responder_id;
+    p.raised_s = 1e-9 * static_cast<double>(a.alarm.raised_at - epoch);
+    if (!a.alarm.active) p.cleared_s = 1e-9 * static_cast<double>(a.alarm.cleared_at - epoch);
+    summary.picture_alarms.push_back(p);
+  }
+  for (const auto& [id, link] : end.links) summary.links_at_end[id] = incident::to_string(link);
+  summary.mission_s = end.mission_s;
+  summary.wall_s = end.wall_s;
+  summary.command_alive_at_end = end.command_alive_at_end;
+  summary.picture_available = end.picture_available;
+  summary.faults = std::move(end.faults);
+  return summary;
 }
 
 }  // namespace sarloc::mission

@@ -108,5 +108,46 @@ TEST(VictimMatching, AConfirmedVictimIsMatchedBeforeItsUnconfirmedTwin) {
   EXPECT_TRUE(p[1].matches_a_buried_victim);
 }
 
+// What sarloc-mission saw at its end, in the summary's terms: alarms and links as text, times
+// in mission seconds.
+TEST(MissionSummary, TheMissionsEndIsAssembledInTheSummarysTerms) {
+  MissionEnd end;
+  end.picture = {victim(1, Vec3(0.1, 30, -1), incident::VictimState::kFound, kEpoch + 20 * kSec)};
+  incident::IncidentAlarm lost;
+  lost.alarm_id = 4;
+  lost.alarm.responder_id = "r2";
+  lost.alarm.kind = responder::AlarmKind::kLinkLost;
+  lost.alarm.raised_at = kEpoch + 41 * kSec;
+  lost.alarm.active = false;
+  lost.alarm.cleared_at = kEpoch + 47500 * (kSec / 1000);
+  end.alarms = {lost};
+  end.links = {{"r1", incident::LinkState::kSignedOff}, {"r2", incident::LinkState::kLost}};
+  FaultOutcome kill;
+  kill.action = "kill";
+  kill.target = "r2";
+  end.faults = {kill};
+  end.firefighters_without_summary = {"ff1"};
+  end.mission_s = 60.0;
+  end.wall_s = 30.5;
+  end.picture_available = false;
+  const auto s = assemble_mission_summary("m", two_victims(), kEpoch, end);
+  EXPECT_TRUE(s.victims[0].found);
+  EXPECT_FALSE(s.all_found) << "B was not found";
+  ASSERT_EQ(s.picture_alarms.size(), 1U);
+  EXPECT_EQ(s.picture_alarms[0].alarm_id, 4U);
+  EXPECT_EQ(s.picture_alarms[0].kind, "link_lost");
+  EXPECT_DOUBLE_EQ(s.picture_alarms[0].raised_s, 41.0);
+  ASSERT_TRUE(s.picture_alarms[0].cleared_s);
+  EXPECT_DOUBLE_EQ(*s.picture_alarms[0].cleared_s, 47.5);
+  EXPECT_EQ(s.links_at_end, (std::map<std::string, std::string>{{"r1", "signed_off"}, {"r2", "lost"}}));
+  ASSERT_EQ(s.faults.size(), 1U);
+  EXPECT_EQ(s.faults[0].target, "r2");
+  EXPECT_EQ(s.firefighters_without_summary, std::vector<std::string>{"ff1"});
+  EXPECT_DOUBLE_EQ(s.mission_s, 60.0);
+  EXPECT_DOUBLE_EQ(s.wall_s, 30.5);
+  EXPECT_TRUE(s.command_alive_at_end);
+  EXPECT_FALSE(s.picture_available);
+}
+
 }  // namespace
 }  // namespace sarloc::mission

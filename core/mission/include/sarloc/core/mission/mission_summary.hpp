@@ -13,7 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "sarloc/core/incident/alarm_board.hpp"
 #include "sarloc/core/incident/fused_victim.hpp"
+#include "sarloc/core/incident/team_status.hpp"
 #include "sarloc/core/mission/firefighter_summary.hpp"
 #include "sarloc/core/mission/mission_scenario.hpp"
 #include "sarloc/core/responder/victim_estimate.hpp"
@@ -139,5 +141,26 @@ std::vector<PictureVictimOutcome> picture_outcomes(const MissionScenario& scenar
 MissionSummary summarise_mission(const std::string& mission_name, const MissionScenario& scenario,
                                  const std::vector<incident::FusedVictim>& picture, TimestampNs epoch,
                                  std::map<std::string, DeviceSummary> devices);
+
+/// What a mission saw when it stopped, beside its truth: the picture, the devices' summaries,
+/// the faults' outcomes, and its times (sarloc-mission).
+struct MissionEnd {
+  std::vector<incident::FusedVictim> picture;
+  std::map<std::string, DeviceSummary> devices;  ///< avalanche rescuers that wrote a summary
+  std::vector<FirefighterDeviceSummary> firefighters;
+  std::vector<std::string> firefighters_without_summary;
+  std::vector<incident::IncidentAlarm> alarms;         ///< every alarm the picture held
+  std::map<std::string, incident::LinkState> links;    ///< once the devices stopped
+  std::vector<FaultOutcome> faults;
+  double mission_s = 0.0;
+  double wall_s = 0.0;
+  bool command_alive_at_end = true;
+  bool picture_available = true;
+};
+
+/// summarise_mission, and the rest of `end` in the summary's terms (alarm kinds and link
+/// states as text, times in mission seconds since `epoch`).
+MissionSummary assemble_mission_summary(const std::string& mission_name, const MissionScenario& scenario,
+                                        TimestampNs epoch, MissionEnd end);
 
 }  // namespace sarloc::mission
