@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "sarloc/core/common/time_units.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/raw_topic_type.hpp"
@@ -80,7 +81,7 @@ std::uint64_t RecordingPlayer::log_of(double mission_s) const {
 }
 
 TimestampNs RecordingPlayer::mission_now() const {
-  return epoch_ns_ + static_cast<TimestampNs>(mission_s_of(cursor_log_ns_.load()) * 1e9);
+  return epoch_ns_ + seconds_to_ns(mission_s_of(cursor_log_ns_.load()));
 }
 
 double RecordingPlayer::wall_now_s() const { return 1e-9 * static_cast<double>(cursor_log_ns_.load()); }

@@ -15,6 +15,7 @@
 #include <fstream>
 #include <memory>
 
+#include "sarloc/core/common/time_units.hpp"
 #include "sarloc/app/child_process.hpp"
 #include "sarloc/app/command_line.hpp"
 #include "sarloc/app/logging.hpp"
@@ -81,7 +82,7 @@ int main(int argc, char** argv) {
     auto participant = std::make_shared<sarloc::dds::Participant>(participant_config);
     sarloc::dds::Replayer replayer(participant, config);
     const auto timeline = replayer.timeline();
-    const std::int64_t wall_start = sarloc::dds::MissionClock::wall_now_ns() + static_cast<std::int64_t>(startup_s * 1e9);
+    const std::int64_t wall_start = sarloc::dds::MissionClock::wall_now_ns() + seconds_to_ns(startup_s);
     const std::int64_t epoch_wall = replayer.epoch_wall_ns(wall_start);
 
     // The fresh nodes and the recorder, all on the recorded timeline.

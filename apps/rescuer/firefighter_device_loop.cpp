@@ -5,6 +5,7 @@
 #include <cmath>
 #include <thread>
 
+#include "sarloc/core/common/time_units.hpp"
 #include "sarloc/app/exit_codes.hpp"
 #include "sarloc/app/json_io.hpp"
 #include "sarloc/app/shutdown_signal.hpp"
@@ -100,7 +101,7 @@ app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const ap
     auto sample = next_sample();
     if (!sample) break;
     // The sample's moment on the (possibly accelerated) mission clock.
-    const TimestampNs at = epoch + static_cast<TimestampNs>(sample->t * 1e9);
+    const TimestampNs at = epoch + seconds_to_ns(sample->t);
     while (!app::shutdown_requested() && clock.now() < at) std::this_thread::sleep_for(std::chrono::milliseconds(2));
     try {
       device.push(*sample);

@@ -11,6 +11,7 @@
 #include <map>
 #include <thread>
 
+#include "sarloc/core/common/time_units.hpp"
 #include "sarloc/app/command_line.hpp"
 #include "sarloc/app/json_io.hpp"
 #include "sarloc/app/logging.hpp"
@@ -133,7 +134,7 @@ int main(int argc, char** argv) {
     // behind (out of range) is still one this device found.
     std::map<std::uint32_t, responder::EstimatorStatus> furthest;
     std::size_t epochs = 0;
-    const auto period_ns = static_cast<TimestampNs>(mission.period_s * 1e9);
+    const auto period_ns = seconds_to_ns(mission.period_s);
     sarloc::dds::EpochResult last;
     std::optional<responder::ResponderPosition> last_fix;
     for (std::size_t k = 0; !app::shutdown_requested(); ++k) {

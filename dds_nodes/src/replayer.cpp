@@ -1,3 +1,4 @@
+#include "sarloc/core/common/time_units.hpp"
 #include "sarloc/dds/replayer.hpp"
 
 #include <fastdds/dds/publisher/DataWriter.hpp>
@@ -112,7 +113,7 @@ Replayer::~Replayer() {
 }
 
 std::int64_t Replayer::epoch_wall_ns(std::int64_t wall_start_ns) const {
-  return wall_start_ns - static_cast<std::int64_t>(config_.start_s / timeline_.speedup / config_.rate * 1e9);
+  return wall_start_ns - seconds_to_ns(config_.start_s / timeline_.speedup / config_.rate);
 }
 
 bool Replayer::wanted(const std::string& topic, const recording::Message& message, ReplayResult& result) const {

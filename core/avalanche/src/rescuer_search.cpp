@@ -1,3 +1,4 @@
+#include "sarloc/core/common/time_units.hpp"
 #include "sarloc/core/avalanche/rescuer_search.hpp"
 
 #include <algorithm>
@@ -56,7 +57,7 @@ void RescuerSearch::log_input(TimestampNs stamp, RecentInput input) {
   if (config_.found_witness_window_s <= 0.0) return;
   recent_.emplace_back(stamp, std::move(input));
   // Kept a little longer than the window: a witness starts at its first sample inside it.
-  const auto keep = static_cast<TimestampNs>((config_.found_witness_window_s + 5.0) * 1e9);
+  const auto keep = seconds_to_ns(config_.found_witness_window_s + 5.0);
   while (!recent_.empty() && recent_.back().first - recent_.front().first > keep) recent_.pop_front();
 }
 
@@ -378,7 +379,7 @@ std::optional<SogFilter> RescuerSearch::found_witness(std::uint32_t id, Timestam
 
 bool RescuerSearch::witnessed(std::uint32_t id, SignalState& s, TimestampNs now) {
   if (config_.found_witness_window_s <= 0.0) return true;
-  const auto window = static_cast<TimestampNs>(config_.found_witness_window_s * 1e9);
+  const auto window = seconds_to_ns(config_.found_witness_window_s);
   std::optional<SogFilter> witness = found_witness(id, now - window);
   if (!witness || !witness->initialised()) return true;
   const VictimEstimate theirs = witness->estimate(config_.summary_components);
@@ -490,7 +491,7 @@ void RescuerSearch::choose_target() {
   // among those not done (the classic transceiver rule: strongest is usually nearest). A target
   // silent for target_silence_s gives way to a signal heard since (measured: coasting back and
   // forth to where a signal lost at 40 m was last heard, next to two victims heard every step).
-  const auto silence = static_cast<TimestampNs>(config_.target_silence_s * 1e9);
+  const auto silence = seconds_to_ns(config_.target_silence_s);
   auto heard_lately = [&](const SignalState& state) { return newest_stamp_ - state.last_heard_stamp < silence; };
   std::optional<std::uint32_t> keep;
   if (target_) {

@@ -1,3 +1,4 @@
+#include "sarloc/core/common/time_units.hpp"
 #include "sarloc/core/incident/standby_arbiter.hpp"
 
 #include <algorithm>
@@ -59,7 +60,7 @@ void StandbyArbiter::on_peer_lost(const std::string& writer, TimestampNs now) {
 
 std::optional<RoleChange> StandbyArbiter::decide(TimestampNs now) {
   // A peer silent for longer than its lease allows is lost, notice or not.
-  const auto silence = static_cast<TimestampNs>((config_.claim_wait_s + 2.0 * config_.peer_period_s) * 1e9);
+  const auto silence = seconds_to_ns(config_.claim_wait_s + 2.0 * config_.peer_period_s);
   bool went_silent = false;
   for (auto it = peers_.begin(); it != peers_.end();) {
     if (now - it->second > silence) {

@@ -1,3 +1,4 @@
+#include "sarloc/core/common/time_units.hpp"
 #include "sarloc/core/incident/victim_fusion.hpp"
 
 #include <Eigen/Cholesky>
@@ -198,7 +199,7 @@ bool VictimFusion::update(const SourceEstimate& estimate) {
 }
 
 void VictimFusion::check_conflict(Source& s, const SourceEstimate& estimate) {
-  const auto window = static_cast<TimestampNs>(config_.source_timeout_s * 1e9);
+  const auto window = seconds_to_ns(config_.source_timeout_s);
   auto& mine = s.by_estimator[estimate.estimator];
   if (estimate.stamp < mine.stamp) return;  // an older sample of the same estimator
   mine = estimate;
@@ -460,7 +461,7 @@ bool VictimFusion::one_transmitter(const FusedVictim& a, const FusedVictim& b) c
 std::pair<responder::RepeatState, std::uint32_t> VictimFusion::repeat_claim(const Source& s) const {
   // Only estimators heard within the source timeout of the newest: a stopped one's last word
   // (a daemon killed while it suspected a repeat) must not hold the source down for good.
-  const auto window = static_cast<TimestampNs>(config_.source_timeout_s * 1e9);
+  const auto window = seconds_to_ns(config_.source_timeout_s);
   std::pair<responder::RepeatState, std::uint32_t> claim{s.estimate.repeat, s.estimate.repeat_of_signal};
   for (const auto& [name, e] : s.by_estimator)
     if (e.repeat > claim.first && e.stamp >= s.estimate.stamp - window) claim = {e.repeat, e.repeat_of_signal};
@@ -484,7 +485,7 @@ void VictimFusion::merge_confirmed_repeats() {
 std::optional<SourceState> VictimFusion::confirming_state(const Source& s) const {
   if (repeat_claim(s).first != responder::RepeatState::kNone) return std::nullopt;  // may be another's
   if (!config_.confirm_requires_device) return s.estimate.state;
-  const auto window = static_cast<TimestampNs>(config_.source_timeout_s * 1e9);
+  const auto window = seconds_to_ns(config_.source_timeout_s);
   const SourceEstimate* device = nullptr;
   for (const auto& [name, e] : s.by_estimator)
     if (e.from_device && (device == nullptr || e.stamp > device->stamp)) device = &e;

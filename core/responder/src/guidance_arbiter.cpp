@@ -1,3 +1,4 @@
+#include "sarloc/core/common/time_units.hpp"
 #include "sarloc/core/responder/guidance_arbiter.hpp"
 
 #include <Eigen/Cholesky>
@@ -28,7 +29,7 @@ const char* to_string(GuidanceSource source) {
 }
 
 GuidanceArbiter::GuidanceArbiter(double fallback_timeout_s, TimestampNs started, int rejoin_epochs)
-    : timeout_ns_(static_cast<TimestampNs>(fallback_timeout_s * 1e9)), started_(started), rejoin_epochs_(rejoin_epochs) {
+    : timeout_ns_(seconds_to_ns(fallback_timeout_s)), started_(started), rejoin_epochs_(rejoin_epochs) {
   if (!(fallback_timeout_s > 0.0 && fallback_timeout_s <= 600.0)) {
     throw ConfigError("rescuer.fallback_timeout_s = " + config_value(fallback_timeout_s) + ": must be in (0, 600]");
   }

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdint>
 
+#include "sarloc/core/common/time_units.hpp"
 #include "sarloc/core/common/types.hpp"
 
 namespace sarloc::dds {
@@ -25,7 +26,7 @@ class MissionClock {
   }
   /// Wall duration of `mission_seconds` of mission time.
   std::chrono::nanoseconds wall_duration(double mission_seconds) const {
-    return std::chrono::nanoseconds(static_cast<std::int64_t>(mission_seconds / speedup_ * 1e9));
+    return std::chrono::nanoseconds(seconds_to_ns(mission_seconds / speedup_));
   }
   double speedup() const { return speedup_; }
   TimestampNs epoch() const { return epoch_ns_; }
