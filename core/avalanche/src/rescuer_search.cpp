@@ -1,4 +1,5 @@
 #include "sarloc/core/common/time_units.hpp"
+#include "sarloc/core/avalanche/field_measurement_check.hpp"
 #include "sarloc/core/avalanche/rescuer_search.hpp"
 
 #include <algorithm>

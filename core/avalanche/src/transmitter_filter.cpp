@@ -1,3 +1,4 @@
+#include "sarloc/core/avalanche/field_measurement_check.hpp"
 #include "sarloc/core/avalanche/transmitter_filter.hpp"
 
 #include <algorithm>

@@ -330,7 +330,4 @@ class SogFilter : public TransmitterFilter {
   double leap_gate_ = 0.0;          ///< chi2_3(leap_gate_probability); 0 = off
 };
 
-/// Validation shared by the filter and tools: throws InputError naming the field.
-void validate_field_measurement(const FieldMeasurement& m);
-
 }  // namespace sarloc::avalanche
