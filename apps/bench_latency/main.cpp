@@ -21,6 +21,7 @@
 // at `--intruder-rate` samples per second, while the real rescuers are measured.
 #include <CLI/CLI.hpp>
 
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/validate.hpp"
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
@@ -151,7 +152,7 @@ mission::MissionScenario bench_scenario(const app::MissionConfig& mission, std::
   const Vec3 centre = centre_of_victims(s);
   for (std::size_t i = 0; i < n; ++i) {
     const double r = 25.0 + 25.0 * u(rng);
-    const double a = 2.0 * M_PI * u(rng);
+    const double a = 2.0 * sarloc::kPi * u(rng);
     s.rescuers.push_back({prefix + std::to_string(i), "bench",
                           Vec3(centre.x() + r * std::cos(a), centre.y() + r * std::sin(a), 0.0), 360.0 * u(rng)});
   }
@@ -349,7 +350,7 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
         double bearing = 0.0;  // east
         if (setup.circle) {  // tangent to the circle around the debris: counter-clockwise
           const Vec3 d = sim.pose().position - centre;
-          bearing = std::atan2(d.y(), d.x()) + M_PI / 2.0;
+          bearing = std::atan2(d.y(), d.x()) + sarloc::kPi / 2.0;
         }
         if (odometry.write(sarloc::dds::to_idl(sim.walk(bearing, 1.0 / rate_hz, stamp_of(k - 1), stamp)))) {
           ++result.published;

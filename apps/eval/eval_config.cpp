@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/app/avalanche_yaml.hpp"
+#include "sarloc/app/firefighter_yaml.hpp"
 #include "sarloc/app/yaml_reader.hpp"
 
 namespace sarloc::eval {
@@ -54,7 +56,6 @@ void load(YamlReader root, avalanche::EvaluationSetup& setup) {
   setup.validate();
 }
 
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
 // Reads `key` given in degrees (or deg/s, deg/s/sqrt(Hz), deg/h, mg, ug) into SI units. A value
 // equal to the default but for the conversion's rounding keeps the default bit for bit: the
@@ -132,38 +133,7 @@ void load_firefighter(YamlReader root, firefighter::FirefighterEvalConfig& c) {
     r.read("prune_margin_m", c.pattern.prune_margin_m);
     r.expect_done();
   }
-  {
-    auto r = root.child("filter");
-    auto& f = c.filter;
-    r.read("particles", f.particles);
-    r.read("particles_max", f.particles_max);
-    r.read("kld_epsilon", f.kld_epsilon);
-    r.read("kld_confidence", f.kld_confidence);
-    r.read("kld_bin_m", f.kld_bin_m);
-    r.read("kld_bin_deg", f.kld_bin_deg);
-    r.read("position_noise_m", f.position_noise_m);
-    r.read("heading_noise_deg_per_m", f.heading_noise_deg_per_m);
-    r.read("moving_threshold_m", f.moving_threshold_m);
-    r.read("likelihood_sigma", f.likelihood_sigma);
-    r.read("likelihood_sigma_converged", f.likelihood_sigma_converged);
-    r.read("weight_floor_factor", f.weight_floor_factor);
-    r.read("replace_fraction", f.replace_fraction);
-    r.read("replace_position_sigma_m", f.replace_position_sigma_m);
-    r.read("replace_heading_sigma_deg", f.replace_heading_sigma_deg);
-    std::string resampling = firefighter::to_string(f.resampling);
-    r.read("resampling", resampling);
-    f.resampling = firefighter::parse_pseudo_resampling(resampling, r.source() + ": filter.resampling");
-    r.read("converged_variance_m2", f.converged_variance_m2);
-    r.read("entry_radius_m", f.entry_radius_m);
-    r.read("confirm_entry_share", f.confirm_entry_share);
-    r.read("confirm_after_steps", f.confirm_after_steps);
-    r.read("known_position_sigma_m", f.known_position_sigma_m);
-    r.read("known_heading_sigma_deg", f.known_heading_sigma_deg);
-    r.read("floor_tolerance_m", f.floor_tolerance_m);
-    r.read("map_error_removed_fraction", f.map_error_removed_fraction);
-    r.read("map_error_clear_updates", f.map_error_clear_updates);
-    r.expect_done();
-  }
+  read_map_filter(root.child("filter"), c.filter);
   {
     auto r = root.child("evaluation");
     r.read("runs", c.runs);

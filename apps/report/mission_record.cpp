@@ -8,6 +8,7 @@
 #include <set>
 
 #include "sarloc/app/floor_plan_yaml.hpp"
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/raw_topic_type.hpp"
@@ -23,16 +24,6 @@ std::string fmt1(double v) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.1f", v);
   return buffer;
-}
-
-const char* link_text(incident::LinkState link) {
-  switch (link) {
-    case incident::LinkState::kAlive: return "alive";
-    case incident::LinkState::kStale: return "stale";
-    case incident::LinkState::kLost: return "LOST";
-    case incident::LinkState::kSignedOff: return "signed off";
-  }
-  return "?";
 }
 
 const char* accountability_text(incident::AccountabilityState state) {
@@ -191,7 +182,7 @@ class Loader {
         const bool regained = m.link == incident::LinkState::kAlive;
         const std::string change = m.link == incident::LinkState::kSignedOff
                                        ? std::string("signed off (the device stopped in order)")
-                                       : std::string("link ") + link_text(m.link) + (regained ? " again (regained)" : "");
+                                       : std::string("link ") + incident::display_name(m.link) + (regained ? " again (regained)" : "");
         r_.events.push_back({t_s, "link", m.responder_id + " (" + t.team_id + "): " + change});
       }
       if (last.seen && last.accountability != m.accountability) {
@@ -360,7 +351,7 @@ class Loader {
         b.plan = app::load_floor_plan_text(md["building_plan_yaml"], "the recording's building_plan_yaml");
         const auto origin = root["building"]["origin"].as<std::vector<double>>(std::vector<double>{0.0, 0.0});
         if (origin.size() == 2) b.origin = Eigen::Vector2d(origin[0], origin[1]);
-        b.rotation_rad = root["building"]["rotation_deg"].as<double>(0.0) * M_PI / 180.0;
+        b.rotation_rad = root["building"]["rotation_deg"].as<double>(0.0) * kPi / 180.0;
         r_.building = std::move(b);
       }
       r_.notes.push_back("firefighters' true tracks are not recorded (they live in the simulated devices): no RMSE for them");

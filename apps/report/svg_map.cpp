@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "sarloc/core/common/angle.hpp"
+
 namespace sarloc::report {
 
 namespace {
@@ -81,7 +83,7 @@ void SvgMap::ellipse95(const Eigen::Vector2d& centre, const Eigen::Matrix2d& cov
   const double b = std::sqrt(kChi2_2_95 * std::max(0.0, eigen.eigenvalues()(0))) * scale_;
   const Eigen::Vector2d major = eigen.eigenvectors().col(1);
   // SVG's y points down: the angle flips sign.
-  const double angle_deg = -std::atan2(major.y(), major.x()) * 180.0 / M_PI;
+  const double angle_deg = -std::atan2(major.y(), major.x()) * 180.0 / kPi;
   const auto q = px(centre);
   body_ += "<ellipse cx=\"" + num(q.x()) + "\" cy=\"" + num(q.y()) + "\" rx=\"" + num(std::max(a, 0.5)) + "\" ry=\"" +
            num(std::max(b, 0.5)) + "\" transform=\"rotate(" + num(angle_deg) + " " + num(q.x()) + " " + num(q.y()) +

@@ -11,6 +11,7 @@
 #include <map>
 #include <thread>
 
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/time_units.hpp"
 #include "sarloc/app/command_line.hpp"
 #include "sarloc/app/json_io.hpp"
@@ -56,7 +57,7 @@ std::string display_line(const std::string& id, const sarloc::dds::EpochResult& 
     line += "no signal: walk straight ahead (primary search)";
   } else {
     const auto& g = *r.guidance;
-    const double deg = g.bearing_rad * 180.0 / M_PI;
+    const double deg = g.bearing_rad * 180.0 / sarloc::kPi;
     char buf[200];
     std::snprintf(buf, sizeof(buf), "signal %u | %-18s | turn %3.0f deg %-5s | walk %.1f m | dist %.1f m +- %.1f m",
                   g.signal_id, mode_name(g.mode), std::fabs(deg), deg >= 0 ? "left" : "right", g.step_m,

@@ -1,5 +1,6 @@
 #include "sarloc/app/floor_plan_yaml.hpp"
 
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/validate.hpp"
 
 #include <cmath>
@@ -10,7 +11,6 @@ namespace sarloc::app {
 namespace {
 
 using firefighter::Vec2;
-constexpr double kPi = 3.14159265358979323846;
 
 Vec2 read_point(YamlReader& y, const std::string& key) {
   std::vector<double> v;

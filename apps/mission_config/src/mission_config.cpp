@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "sarloc/app/avalanche_yaml.hpp"
+#include "sarloc/app/firefighter_yaml.hpp"
 #include "sarloc/app/floor_plan_yaml.hpp"
 #include "sarloc/app/yaml_reader.hpp"
 #include "sarloc/core/common/identifier.hpp"
@@ -320,8 +321,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("entry_position_sigma_m", f.entry_position_sigma_m);
     r.read("entry_heading_sigma_deg", f.entry_heading_sigma_deg);
     r.read("max_speed_mps", f.max_speed_mps);
-    r.read("particles", f.filter.particles);
-    r.read("particles_max", f.filter.particles_max);
+    read_map_filter(r.child("filter"), f.filter);  // every key the evaluation tunes, one reader
     r.expect_done();
   }
   auto& avalanche = c.estimators.avalanche_rescuer;

@@ -14,6 +14,7 @@
 #include "sarloc/core/avalanche/found_victim.hpp"
 #include "sarloc/core/common/parallel_trials.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
+#include "sarloc/core/avalanche/sensor_simulation.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/gaussian.hpp"
 
@@ -50,12 +51,10 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
   for (std::uint32_t v = 0; v < setup.victims; ++v) {
     const double r = 0.5 * setup.spread_m * std::sqrt(u01(rng));
     const double a = 2.0 * kPi * u01(rng);
-    const double depth = std::max(sim.min_burial_depth_m, std::fabs(n01(rng)) * sim.burial_depth_p95_m / 1.96);
+    const double depth = draw_burial_depth(sim, rng, n01);
     Beacon b;
     b.position = centre + Vec3(r * std::cos(a), r * std::sin(a), -depth);
-    Vec3 dir = normal3(rng);
-    const double mag = sim.standard.moment_min() + (sim.standard.moment_max() - sim.standard.moment_min()) * u01(rng);
-    b.moment = mag * dir.normalized();
+    b.moment = draw_moment(sim, rng, u01);
     b.timing = TransmitterTiming::draw(sim.receiver, rng);
     if (setup.period_spread > 0.0) {
       b.timing.period_s = std::clamp(common.period_s * (1.0 + setup.period_spread * (2.0 * u01(rng) - 1.0)),

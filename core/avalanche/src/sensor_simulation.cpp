@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/avalanche/dipole_model.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
 
 namespace sarloc::avalanche {
 namespace {
 
-constexpr double kDeg = kPi / 180.0;
 
 }  // namespace
 
@@ -19,6 +19,19 @@ Vec3 normal3(std::mt19937_64& rng) {
   const double y = n01(rng);
   const double z = n01(rng);
   return Vec3(x, y, z);
+}
+
+double draw_burial_depth(const SimulationConfig& config, std::mt19937_64& rng, std::normal_distribution<double>& n01) {
+  constexpr double kZ975 = 1.959963984540054;  // the standard normal's 97.5 % quantile
+  return std::max(config.min_burial_depth_m, std::fabs(n01(rng)) * config.burial_depth_p95_m / kZ975);
+}
+
+Vec3 draw_moment(const SimulationConfig& config, std::mt19937_64& rng, std::uniform_real_distribution<double>& u01) {
+  Vec3 dir = normal3(rng);
+  while (dir.norm() < 1e-9) dir = normal3(rng);
+  const double magnitude =
+      config.standard.moment_min() + (config.standard.moment_max() - config.standard.moment_min()) * u01(rng);
+  return magnitude * dir.normalized();
 }
 
 Vec3 simulate_field(const SimulationConfig& config, const ReceiverPose& receiver, const Vec3& transmitter,

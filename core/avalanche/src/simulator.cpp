@@ -1,5 +1,6 @@
 #include "sarloc/core/avalanche/simulator.hpp"
 
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/avalanche/sensor_simulation.hpp"
 
 #include "sarloc/core/avalanche/beacon_receiver.hpp"
@@ -16,7 +17,6 @@
 namespace sarloc::avalanche {
 namespace {
 
-constexpr double kDeg = kPi / 180.0;
 
 void check(const char* key, double v, double lo, double hi, const char* why = nullptr) {
   require(std::isfinite(v) && v >= lo && v <= hi, std::string("simulation.") + key, v,
@@ -30,13 +30,9 @@ Scenario draw_scenario(const SimulationConfig& c, std::mt19937_64& rng) {
   Scenario s;
   const double dist = c.start_distance_min_m + (c.start_distance_max_m - c.start_distance_min_m) * u01(rng);
   const double az = 2.0 * kPi * u01(rng);
-  const double depth =
-      std::max(c.min_burial_depth_m, std::fabs(n01(rng)) * c.burial_depth_p95_m / 1.959963984540054);
+  const double depth = draw_burial_depth(c, rng, n01);
   s.transmitter = Vec3(dist * std::cos(az), dist * std::sin(az), -depth);
-  Vec3 dir = normal3(rng);
-  while (dir.norm() < 1e-9) dir = normal3(rng);
-  const double mag = c.standard.moment_min() + (c.standard.moment_max() - c.standard.moment_min()) * u01(rng);
-  s.moment = mag * dir.normalized();
+  s.moment = draw_moment(c, rng, u01);
   s.receiver = Vec3(0.0, 0.0, c.antenna_height_m);
   const double sway_roll = c.sway_roll_pitch_deg * kDeg * n01(rng);
   const double sway_pitch = c.sway_roll_pitch_deg * kDeg * n01(rng);

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sarloc/core/common/angle.hpp"
+
 namespace sarloc {
 
 double radius95_3d(const Mat3& covariance) {
@@ -22,7 +24,6 @@ double radius95_2d(const Mat3& covariance) {
 }
 
 double log_normal_cdf(double u) {
-  constexpr double kPi = 3.14159265358979323846;
   return u > -30.0 ? std::log(0.5 * std::erfc(-u / std::sqrt(2.0)))
                    : -0.5 * u * u - std::log(-u * std::sqrt(2.0 * kPi));
 }

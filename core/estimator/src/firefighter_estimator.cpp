@@ -80,11 +80,9 @@ void FirefighterEstimator::start(std::uint64_t first_sequence) {
   // firefighter somewhere inside, and starting it at the door would be a confident wrong place.
   const auto it = config_.entry_of.find(id_);
   if (!entry_.empty() && first_sequence == 1) {
-    const auto& plan = config_.building->plan();
-    for (const auto& e : plan.entries) {
-      if (e.id != entry_) continue;
-      // The crew aligns the boot INS standing just inside the door, turned to its wall.
-      localizer_.start_at(e.position, plan.floor_index(e.floor), wrap_angle(firefighter::stance_heading(e, it->second.hand)));
+    // The crew aligns the boot INS standing just inside the door, turned to its wall.
+    if (const auto stance = firefighter::entry_stance(config_.building->plan(), entry_, it->second.hand)) {
+      localizer_.start_at(stance->position, stance->floor, wrap_angle(stance->heading_rad));
     }
   } else {
     started_mid_search_ = !entry_.empty();

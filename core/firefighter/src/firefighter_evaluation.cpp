@@ -7,6 +7,7 @@
 #include <optional>
 #include <set>
 
+#include "sarloc/core/common/gaussian.hpp"
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/validate.hpp"
@@ -143,7 +144,6 @@ double compare_for(const MapParticleFilter& pf, const PatternMatcher& matcher, M
 }
 
 // chi2_2(0.99): outside a converged estimate's own 99 % ellipse.
-constexpr double kChi2TwoDof99 = 9.2103;
 
 struct VariantTrace {
   std::vector<double> error;         // per update
@@ -195,7 +195,7 @@ VariantTrace run_filter(const FloorPlan& plan, const NavigableGrid& grid, const 
     if (e.converged) {
       const Eigen::Matrix2d P = e.covariance + 1e-9 * Eigen::Matrix2d::Identity();
       const double nees = err.dot(P.ldlt().solve(err));
-      const bool outside = nees > kChi2TwoDof99;
+      const bool outside = nees > kChi2_2_99;
       ++trace.converged;
       trace.converged_wrong += outside ? 1 : 0;
       trace.confirmed += e.confirmed ? 1 : 0;
@@ -339,7 +339,7 @@ FirefighterSummary FirefighterEvaluation::run(const std::function<void()>& on_ru
         if (tr.nees_end >= 0.0) nees_end.push_back(tr.nees_end);
         for (double n : tr.nees_late) {
           ++late_n;
-          if (n <= 5.991) ++late_inside;  // chi2_2(0.95)
+          if (n <= kChi2_2_95) ++late_inside;
         }
         step_ms.insert(step_ms.end(), tr.step_ms.begin(), tr.step_ms.end());
         variant_comparison_ms.insert(variant_comparison_ms.end(), tr.comparison_ms.begin(), tr.comparison_ms.end());

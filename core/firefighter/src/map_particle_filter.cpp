@@ -17,8 +17,6 @@
 namespace sarloc::firefighter {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
 constexpr double kHeightLeak = 0.05;
 // The count adapts every 4 moving steps (2 s of walking at 2 Hz): often enough to shed
 // particles soon after the cloud concentrates, rarely enough not to deplete it by redrawing.

@@ -8,13 +8,13 @@
 #include <string>
 #include <tuple>
 
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::firefighter {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 Eigen::Matrix2d rotation(double a) {
   return Eigen::Rotation2Dd(a).toRotationMatrix();

@@ -7,6 +7,7 @@
 #include <numeric>
 #include <string>
 
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/validate.hpp"
 #include "sarloc/core/firefighter/wall_index.hpp"
@@ -19,7 +20,7 @@ constexpr int kDx[4] = {1, 0, -1, 0};
 constexpr int kDy[4] = {0, 1, 0, -1};
 
 int direction_of(double heading) {
-  const double q = std::round(heading / (0.5 * 3.14159265358979));
+  const double q = std::round(heading / (0.5 * kPi));
   return static_cast<int>(((static_cast<long>(q) % 4) + 4) % 4);
 }
 

@@ -12,8 +12,6 @@
 namespace sarloc::firefighter {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = kPi / 180.0;
 constexpr double kStepM = 0.05;        // the walker's control step
 constexpr double kSensorRangeM = 3.0;  // how far it feels for walls
 constexpr double kMinClearanceM = 0.15;
@@ -334,6 +332,13 @@ SearchWalk generate_search_walk(const FloorPlan& plan, const SearchWalkConfig& c
 double stance_heading(const Entry& entry, Hand hand) {
   // The door's wall is then on the searching hand.
   return entry.heading_rad + (hand == Hand::kRight ? -0.5 : 0.5) * kPi;
+}
+
+std::optional<EntryStance> entry_stance(const FloorPlan& plan, const std::string& entry_id, Hand hand) {
+  for (const auto& e : plan.entries) {
+    if (e.id == entry_id) return EntryStance{e.position, plan.floor_index(e.floor), stance_heading(e, hand)};
+  }
+  return std::nullopt;
 }
 
 double path_length(const std::vector<Footfall>& footfalls) {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/skew.hpp"
 #include "sarloc/core/common/validate.hpp"
@@ -14,7 +15,7 @@ using Mat3 = Eigen::Matrix3d;
 using Vec3 = Eigen::Vector3d;
 
 constexpr double kMaxSpecificForce = 16.0 * kGravity;         // the MTi-3's range
-constexpr double kMaxAngularRate = 2000.0 * 3.14159265358979 / 180.0;
+constexpr double kMaxAngularRate = 2000.0 * kPi / 180.0;
 
 Eigen::Quaterniond exp_q(const Vec3& phi) {
   const double a = phi.norm();
@@ -26,7 +27,7 @@ Vec3 log_q(const Eigen::Quaterniond& q) {
   const Eigen::AngleAxisd aa(q.normalized());
   double a = aa.angle();
   Vec3 axis = aa.axis();
-  if (a > 3.14159265358979) a -= 2.0 * 3.14159265358979;
+  if (a > kPi) a -= 2.0 * kPi;
   return a * axis;
 }
 
@@ -245,7 +246,7 @@ StepDisplacement ZuptIns::take_displacement() {
   if (!aligned_) return d;
   d.delta = x_.p - interval_p0_;
   d.yaw_at_start = interval_yaw0_;
-  d.yaw_change = std::remainder(yaw() - interval_yaw0_, 2.0 * 3.14159265358979);
+  d.yaw_change = std::remainder(yaw() - interval_yaw0_, 2.0 * kPi);
   // cov(p1 - p0) from the joint covariance of the position and its clone.
   Eigen::Matrix<double, 3, kStates> J = Eigen::Matrix<double, 3, kStates>::Zero();
   J.block<3, 3>(0, kP) = Mat3::Identity();

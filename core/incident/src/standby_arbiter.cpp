@@ -15,25 +15,21 @@ constexpr std::int64_t kStrengthEpochS = 1'735'689'600;  // 2025-01-01T00:00:00Z
 constexpr std::int64_t kStrengthCeiling = 2'000'000'000;
 constexpr std::int64_t kStrengthPerSecond = 4;            // >= kMaxCommandInstances
 
-[[noreturn]] void config_fail(const std::string& key, double value, const std::string& rule) {
-  detail::throw_config_error(key, config_value(value), rule);
-}
-
 }  // namespace
 
 const char* to_string(CommandRole role) { return role == CommandRole::kActive ? "active" : "standby"; }
 
 void StandbyConfig::validate() const {
-  if (instances < 1 || instances > kMaxCommandInstances)
-    config_fail("command.instances", instances, "must be in [1, " + std::to_string(kMaxCommandInstances) + "]");
-  if (instance < 1 || instance > instances)
-    config_fail("--instance", instance, "must be in [1, command.instances = " + std::to_string(instances) + "]");
-  if (!std::isfinite(claim_wait_s) || claim_wait_s < 0.0 || claim_wait_s > 600.0)
-    config_fail("command.claim_wait_s", claim_wait_s, "must be in [0, 600]");
-  if (!std::isfinite(claim_stagger_s) || claim_stagger_s < 0.0 || claim_stagger_s > 60.0)
-    config_fail("command.claim_stagger_s", claim_stagger_s, "must be in [0, 60]");
-  if (!std::isfinite(peer_period_s) || peer_period_s <= 0.0 || peer_period_s > 60.0)
-    config_fail("command.cycle_s", peer_period_s, "must be in (0, 60]");
+  require(instances >= 1 && instances <= kMaxCommandInstances, "command.instances", instances,
+          "must be in [1, " + std::to_string(kMaxCommandInstances) + "]");
+  require(instance >= 1 && instance <= instances, "--instance", instance,
+          "must be in [1, command.instances = " + std::to_string(instances) + "]");
+  require(std::isfinite(claim_wait_s) && claim_wait_s >= 0.0 && claim_wait_s <= 600.0, "command.claim_wait_s",
+          claim_wait_s, "must be in [0, 600]");
+  require(std::isfinite(claim_stagger_s) && claim_stagger_s >= 0.0 && claim_stagger_s <= 60.0,
+          "command.claim_stagger_s", claim_stagger_s, "must be in [0, 60]");
+  require(std::isfinite(peer_period_s) && peer_period_s > 0.0 && peer_period_s <= 60.0, "command.cycle_s",
+          peer_period_s, "must be in (0, 60]");
 }
 
 StandbyArbiter::StandbyArbiter(StandbyConfig config, TimestampNs start_wall_ns)

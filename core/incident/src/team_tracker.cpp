@@ -13,17 +13,13 @@ namespace {
 // A dead-reckoned position does not replace a map-aided one younger than this (device stamps).
 constexpr TimestampNs kMapAidedPreferredNs = 3'000'000'000;
 
-[[noreturn]] void config_fail(const char* key, double value, const char* rule) {
-  detail::throw_config_error(std::string("team_tracker.") + key, config_value(value), rule);
-}
-
 }  // namespace
 
 void TeamTrackerConfig::validate() const {
-  if (!std::isfinite(stale_after_s) || stale_after_s <= 0.0)
-    config_fail("stale_after_s", stale_after_s, "must be > 0");
-  if (!std::isfinite(lost_after_s) || lost_after_s <= stale_after_s)
-    config_fail("lost_after_s", lost_after_s, "must be > stale_after_s");
+  require(std::isfinite(stale_after_s) && stale_after_s > 0.0, "team_tracker.stale_after_s", stale_after_s,
+          "must be > 0");
+  require(std::isfinite(lost_after_s) && lost_after_s > stale_after_s, "team_tracker.lost_after_s", lost_after_s,
+          "must be > stale_after_s");
 }
 
 const char* to_string(LinkState link) {
@@ -34,6 +30,20 @@ const char* to_string(LinkState link) {
     case LinkState::kSignedOff: return "signed_off";
   }
   return "lost";
+}
+
+const char* display_name(LinkState link) {
+  switch (link) {
+    case LinkState::kAlive:
+      return "alive";
+    case LinkState::kStale:
+      return "stale";
+    case LinkState::kLost:
+      return "LOST";
+    case LinkState::kSignedOff:
+      return "signed off";
+  }
+  return "LOST";
 }
 
 AccountabilityState accountability_of(LinkState link) {

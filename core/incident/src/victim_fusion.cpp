@@ -21,10 +21,6 @@ namespace {
 using responder::compare_signatures;
 using responder::SignatureMatch;
 
-[[noreturn]] void config_fail(const char* key, double value, const char* rule) {
-  detail::throw_config_error(std::string("fusion.") + key, config_value(value), rule);
-}
-
 bool open_unit(double p) { return std::isfinite(p) && p > 0.0 && p < 1.0; }
 
 // Squared Mahalanobis distance with summed covariances (independence assumed only for the gate:
@@ -72,19 +68,18 @@ TimestampNs earliest_set(TimestampNs a, TimestampNs b) {
 }  // namespace
 
 void VictimFusionConfig::validate() const {
-  if (!open_unit(gate_probability)) config_fail("gate_probability", gate_probability, "must be in (0, 1)");
-  if (!open_unit(keep_gate_probability))
-    config_fail("keep_gate_probability", keep_gate_probability, "must be in (0, 1)");
-  if (keep_gate_probability < gate_probability)
-    config_fail("keep_gate_probability", keep_gate_probability, "must be >= gate_probability");
-  if (!open_unit(merge_gate_probability))
-    config_fail("merge_gate_probability", merge_gate_probability, "must be in (0, 1)");
-  if (!std::isfinite(source_timeout_s) || source_timeout_s <= 0.0 || source_timeout_s > 3600.0)
-    config_fail("source_timeout_s", source_timeout_s, "must be in (0, 3600]");
-  if (!std::isfinite(located_radius_m) || located_radius_m <= 0.0 || located_radius_m > 100.0)
-    config_fail("located_radius_m", located_radius_m, "must be in (0, 100]");
-  if (weighting != CiWeighting::kInverseTrace && weighting != CiWeighting::kMinTrace)
-    config_fail("weighting", static_cast<double>(weighting), "must be inverse_trace or min_trace");
+  require(open_unit(gate_probability), "fusion.gate_probability", gate_probability, "must be in (0, 1)");
+  require(open_unit(keep_gate_probability), "fusion.keep_gate_probability", keep_gate_probability, "must be in (0, 1)");
+  require(keep_gate_probability >= gate_probability, "fusion.keep_gate_probability", keep_gate_probability,
+          "must be >= gate_probability");
+  require(open_unit(merge_gate_probability), "fusion.merge_gate_probability", merge_gate_probability,
+          "must be in (0, 1)");
+  require(std::isfinite(source_timeout_s) && source_timeout_s > 0.0 && source_timeout_s <= 3600.0,
+          "fusion.source_timeout_s", source_timeout_s, "must be in (0, 3600]");
+  require(std::isfinite(located_radius_m) && located_radius_m > 0.0 && located_radius_m <= 100.0,
+          "fusion.located_radius_m", located_radius_m, "must be in (0, 100]");
+  require(weighting == CiWeighting::kInverseTrace || weighting == CiWeighting::kMinTrace, "fusion.weighting",
+          static_cast<double>(weighting), "must be inverse_trace or min_trace");
 }
 
 VictimFusion::VictimFusion(VictimFusionConfig config) : config_(config) {

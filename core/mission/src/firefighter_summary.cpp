@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sarloc/core/common/gaussian.hpp"
+
 namespace sarloc::mission {
 
 FirefighterScore::FirefighterScore(std::string responder_id, std::string team, double enter_at_s) {
@@ -24,7 +26,7 @@ void FirefighterScore::on_fix(double t, const responder::ResponderPosition& fix,
   if (fix.confirmed) {
     ++confirmed_;
     const Eigen::Matrix2d P = fix.position.covariance.topLeftCorner<2, 2>() + 1e-9 * Eigen::Matrix2d::Identity();
-    if (err.dot(P.ldlt().solve(err)) > 9.2103) ++summary_.confirmed_outside_99;  // chi2_2(0.99)
+    if (err.dot(P.ldlt().solve(err)) > kChi2_2_99) ++summary_.confirmed_outside_99;
   }
   if (!summary_.converged_at_s && fix.converged && t >= summary_.enter_at_s) {
     summary_.converged_at_s = t;

@@ -13,7 +13,7 @@ SimulatedRescuer::SimulatedRescuer(const MissionScenario& scenario, const std::s
       spec_(scenario.rescuers.at(scenario.rescuer_index(rescuer_id))),
       rng_(derive_seed(scenario.seed, scenario.rescuer_index(rescuer_id))) {
   pose_.position = Vec3(spec_.start.x(), spec_.start.y(), scenario.sensors.antenna_height_m);
-  pose_.rpy = Vec3(0.0, 0.0, spec_.heading_deg * avalanche::kPi / 180.0);
+  pose_.rpy = Vec3(0.0, 0.0, spec_.heading_deg * kPi / 180.0);
   if (scenario.sensors.receiver.kind != avalanche::ReceiverKind::kRealistic) return;
   // The transmitters are the victims': every rescuer hears the same timing (from the mission
   // seed), each through its own device (hardware errors and noise from its own seed).

@@ -133,6 +133,10 @@ TEST(ConfigDocs, MissionKeysDocumentedAreExactlyThoseTheLoaderReads) {
   for (const auto& key : documented_model_keys()) {
     if (key.rfind("evaluation.", 0) != 0) documented.insert(key);  // sog, search, simulation
   }
+  // firefighter.filter: every key of the firefighter evaluation's filter: section.
+  for (const auto& key : documented_table_keys(kSource / "docs/estimation/firefighter.md", "## Parameters")) {
+    if (key.rfind("filter.", 0) == 0) documented.insert("firefighter." + key);
+  }
   YamlReader::KeyRecorder recorder;
   // Every shipped and test mission: together they hold every list (victims, rescuers, sectors).
   std::vector<fs::path> files = yaml_files(kSource / "config/missions");

@@ -7,6 +7,7 @@
 
 #include "sarloc/core/avalanche/dipole_model.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
+#include "sarloc/core/avalanche/sensor_simulation.hpp"
 #include "sarloc/core/common/errors.hpp"
 
 namespace sarloc::avalanche {
@@ -47,6 +48,31 @@ TEST(SimulatorTest, ScenarioDistributionsMatchTheIssue) {
     if (-s.transmitter.z() < 3.0) ++shallow;
   }
   EXPECT_NEAR(shallow / static_cast<double>(n), 0.95, 0.02);
+}
+
+// One burial draw for the single-victim simulator and the multiple burials: 95 % of the
+// depths within burial_depth_p95_m, none above min_burial_depth_m; moments within the
+// standard's range, in every direction.
+TEST(SimulatorTest, BurialDepthsAndMomentsFollowTheirDistributions) {
+  SimulationConfig c;
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> n01(0.0, 1.0);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  constexpr int kDraws = 20000;
+  int within_p95 = 0;
+  Vec3 direction_sum = Vec3::Zero();
+  for (int k = 0; k < kDraws; ++k) {
+    const double depth = draw_burial_depth(c, rng, n01);
+    ASSERT_GE(depth, c.min_burial_depth_m);
+    if (depth <= c.burial_depth_p95_m) ++within_p95;
+    const Vec3 m = draw_moment(c, rng, u01);
+    ASSERT_GE(m.norm(), c.standard.moment_min() - 1e-12);
+    ASSERT_LE(m.norm(), c.standard.moment_max() + 1e-12);
+    direction_sum += m.normalized();
+  }
+  // Binomial(20000, 0.95): sd 0.0015.
+  EXPECT_NEAR(static_cast<double>(within_p95) / kDraws, 0.95, 0.006);
+  EXPECT_LT(direction_sum.norm() / kDraws, 0.03) << "no preferred direction";
 }
 
 TEST(SimulatorTest, FieldNoiseIsAtLeastTheRelativePlusFloorModel) {

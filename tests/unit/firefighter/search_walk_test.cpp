@@ -4,6 +4,7 @@
 
 #include <random>
 
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/firefighter/search_walk.hpp"
 #include "sarloc/core/firefighter/wall_index.hpp"
 #include "test_buildings.hpp"
@@ -35,6 +36,19 @@ TEST(SearchWalk, NeverWalksThroughAWallAndLastsTheSearchTime) {
       EXPECT_NEAR(walk.follower.back().t_land - walk.leader.back().t_land, SearchWalkConfig{}.follower_delay_s, 1e-9);
     }
   }
+}
+
+// The simulated device's first fix and the live filter's known start: the entry, its floor,
+// turned to the wall the search follows (a right-hand search turns right from walking in).
+TEST(SearchWalk, TheEntryStanceIsTheDoorTurnedToTheFollowedWall) {
+  const FloorPlan plan = test::building("house-125");
+  const auto right = entry_stance(plan, "front", Hand::kRight);
+  ASSERT_TRUE(right);
+  EXPECT_NEAR((right->position - Vec2(0.5, 5.0)).norm(), 0.0, 1e-12);
+  EXPECT_EQ(right->floor, 0U);
+  EXPECT_NEAR(right->heading_rad, -0.5 * kPi, 1e-12) << "walking in east, the right hand is south";
+  EXPECT_NEAR(entry_stance(plan, "front", Hand::kLeft)->heading_rad, 0.5 * kPi, 1e-12);
+  EXPECT_FALSE(entry_stance(plan, "back", Hand::kRight));
 }
 
 TEST(SearchWalk, ClimbsTheStairsOfTheTwoStoreyOffice) {

@@ -22,6 +22,7 @@
 //   for (...) z_pred_i = model.h(x_i, &H_x, &H_d);            // quantities computed once
 //   CompositionJacobians J;                                   // F_x, F_d by blocks
 //   StateVec x_next = CompositionModel::f(x, d, &J);
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/types.hpp"
 
 namespace sarloc::avalanche {
@@ -43,8 +44,6 @@ using StateCov = Eigen::Matrix<double, idx::kStateDim, idx::kStateDim>;
 using DispVec = Vec6;
 using DispCov = Mat6;
 using AugVec = Eigen::Matrix<double, idx::kAugDim, 1>;
-
-inline constexpr double kPi = 3.14159265358979323846;
 
 /// Field of a point magnetic dipole, eq. (12)-(13): H = A(r) m / (4 pi r^5).
 struct DipoleField {

@@ -22,6 +22,14 @@ struct ReceiverPose {
 /// must give the same trial with every compiler.
 Vec3 normal3(std::mt19937_64& rng);
 
+/// A burial: depth |N(0, s)| with s = burial_depth_p95_m / z_0.975 (95 % shallower than
+/// burial_depth_p95_m), at least min_burial_depth_m. The caller's distributions, so that a trial
+/// draws the same stream whoever draws (std::normal_distribution keeps a second value).
+double draw_burial_depth(const SimulationConfig& config, std::mt19937_64& rng, std::normal_distribution<double>& n01);
+/// A transmitter's moment: a direction uniform on the sphere (normal3; a zero draw is drawn
+/// again), a magnitude uniform within the standard's range.
+Vec3 draw_moment(const SimulationConfig& config, std::mt19937_64& rng, std::uniform_real_distribution<double>& u01);
+
 /// Noisy field of a transmitter (position, moment in the world) at the receiver, in frame R:
 /// per axis sigma = field_noise_relative * |H| + field_noise_floor.
 Vec3 simulate_field(const SimulationConfig& config, const ReceiverPose& receiver, const Vec3& transmitter,

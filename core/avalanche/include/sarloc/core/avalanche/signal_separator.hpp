@@ -45,6 +45,7 @@
 #include <optional>
 #include <vector>
 
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/avalanche/field_fit.hpp"
 #include "sarloc/core/avalanche/field_measurement.hpp"
 #include "sarloc/core/avalanche/pulse_detector.hpp"
@@ -74,7 +75,7 @@ struct SeparatorConfig {
   /// strongest transmitter of the standard at that strength (0.1 at 50 m, 0.004 at 20 m); the
   /// device's three channels add channel_ellipticity (their phases matched to about 1.7 deg).
   double channel_ellipticity = 0.03;
-  double wavenumber_rad_per_m = 2.0 * 3.14159265358979323846 * 457000.0 / 299792458.0;
+  double wavenumber_rad_per_m = 2.0 * kPi * 457000.0 / 299792458.0;
   double moment_max_A_m2 = TransmitterStandard{}.moment_max();
   double lost_after_s = 5.0;             ///< declared lost after this silence
   double forget_after_s = 600.0;         ///< a track silent this long is dropped (its id retired)

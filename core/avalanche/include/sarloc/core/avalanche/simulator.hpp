@@ -5,7 +5,7 @@
 // World frame W: ENU, snow surface at z = 0, the rescuer's antenna starts at (0, 0, h).
 // Per trial (all draws from the RNG seeded by the caller):
 //   - transmitter at horizontal distance U(start_distance_min_m, start_distance_max_m), uniform
-//     azimuth, burial depth |N(0, s)| with s = burial_depth_p95_m / 1.96 (95 % shallower than
+//     azimuth, burial depth |N(0, s)| with s = burial_depth_p95_m / 1.95996 (95 % shallower than
 //     burial_depth_p95_m), clamped to >= min_burial_depth_m;
 //   - moment direction uniform on the sphere, magnitude U(m_min, m_max) of the standard;
 //   - rescuer heading uniform; roll/pitch sway N(0, sway) redrawn at every step.

@@ -23,6 +23,7 @@
 #include <map>
 #include <memory>
 
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/estimator/responder_estimator.hpp"
 #include "sarloc/core/firefighter/indoor_localizer.hpp"
 #include "sarloc/core/firefighter/search_walk.hpp"
@@ -37,7 +38,7 @@ struct FirefighterEstimatorConfig {
   firefighter::Vec2 origin = firefighter::Vec2::Zero();
   double rotation_deg = 0.0;
   /// The plan's rotation into the incident frame (rad), and a plan point there (horizontal).
-  double rotation_rad() const { return rotation_deg * 3.14159265358979323846 / 180.0; }
+  double rotation_rad() const { return rotation_deg * kPi / 180.0; }
   firefighter::Vec2 to_incident(const firefighter::Vec2& plan_point) const {
     return origin + firefighter::rotate(plan_point, rotation_rad());
   }

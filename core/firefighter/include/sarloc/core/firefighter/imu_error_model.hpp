@@ -10,6 +10,7 @@
 //   ImuSample measured = errors.apply(ideal, rng);   // one 100 Hz sample
 #include <random>
 
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/firefighter/imu_sample.hpp"
 
 namespace sarloc::firefighter {
@@ -22,9 +23,9 @@ struct ImuErrorConfig {
   double accel_turn_on_bias = 5e-3 * kGravity;         ///< m/s^2, 1 sigma (assumed)
   double accel_scale_factor = 2e-3;                    ///< 1 sigma, fraction (assumed)
   // Gyroscope (MTi 1-series: 0.007 deg/s/sqrt(Hz), in-run bias stability 10 deg/h).
-  double gyro_noise_density = 0.007 * 3.14159265358979 / 180.0;      ///< rad/s/sqrt(Hz)
-  double gyro_bias_instability = 10.0 / 3600.0 * 3.14159265358979 / 180.0;  ///< rad/s
-  double gyro_turn_on_bias = 0.2 * 3.14159265358979 / 180.0;         ///< rad/s, 1 sigma (assumed)
+  double gyro_noise_density = 0.007 * kPi / 180.0;      ///< rad/s/sqrt(Hz)
+  double gyro_bias_instability = 10.0 / 3600.0 * kPi / 180.0;  ///< rad/s
+  double gyro_turn_on_bias = 0.2 * kPi / 180.0;         ///< rad/s, 1 sigma (assumed)
   double gyro_scale_factor = 1e-3;                                   ///< 1 sigma (assumed)
   double bias_correlation_time_s = 100.0;  ///< of the Gauss-Markov in-run bias
   void validate() const;

@@ -11,6 +11,7 @@
 //
 //   std::mt19937_64 rng(seed);
 //   SearchWalk walk = generate_search_walk(plan, SearchWalkConfig{}, Hand::kRight, rng);
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -66,6 +67,17 @@ SearchWalk generate_search_walk(const FloorPlan& plan, const SearchWalkConfig& c
 /// (rad, map frame) the simulated walk starts with, and the one the live filter assumes for the
 /// boot INS that aligned there.
 double stance_heading(const Entry& entry, Hand hand);
+
+/// Where a crew aligns its boot INS before a `hand` search from the plan's entry `entry_id`:
+/// the entry's position (map frame), its floor's index, and stance_heading (not wrapped). The
+/// simulated device's first fix and the live filter's known start are both this pose.
+struct EntryStance {
+  Vec2 position = Vec2::Zero();
+  std::size_t floor = 0;
+  double heading_rad = 0.0;
+};
+/// Nothing when the plan has no entry of that id.
+std::optional<EntryStance> entry_stance(const FloorPlan& plan, const std::string& entry_id, Hand hand);
 
 /// Horizontal length of the footfall path.
 double path_length(const std::vector<Footfall>& footfalls);

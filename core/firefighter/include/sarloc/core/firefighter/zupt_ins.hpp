@@ -18,6 +18,7 @@
 #include <Eigen/Geometry>
 #include <deque>
 
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/firefighter/imu_sample.hpp"
 
 namespace sarloc::firefighter {
@@ -29,7 +30,7 @@ struct ZuptInsConfig {
   double initial_yaw_rad = 0.0;
   // Process noise (the MTi 1-series figures, imu_error_model.hpp, inflated x2 for the unmodelled).
   double accel_noise_density = 2.0 * 120e-6 * kGravity;
-  double gyro_noise_density = 2.0 * 0.007 * 3.14159265358979 / 180.0;
+  double gyro_noise_density = 2.0 * 0.007 * kPi / 180.0;
   double accel_bias_walk = 1e-4;  ///< m/s^2/sqrt(s)
   double gyro_bias_walk = 1e-5;   ///< rad/s/sqrt(s)
   double initial_accel_bias_sigma = 0.1;    ///< m/s^2
@@ -43,7 +44,7 @@ struct ZuptInsConfig {
   // 10 deg/s at their ends) count as motion; at rest T is about 5 with MTi-3 noise.
   std::uint32_t detector_window = 5;
   double detector_sigma_accel = 0.01;                          ///< m/s^2
-  double detector_sigma_gyro = 0.1 * 3.14159265358979 / 180.0;  ///< rad/s
+  double detector_sigma_gyro = 0.1 * kPi / 180.0;  ///< rad/s
   double detector_threshold = 1e4;
   /// No swing phase for this long: the firefighter has not moved (a PASS device's alarm).
   double motionless_after_s = 30.0;

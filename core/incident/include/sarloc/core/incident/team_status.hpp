@@ -14,6 +14,8 @@ namespace sarloc::incident {
 enum class LinkState : std::uint8_t { kAlive = 0, kStale = 1, kLost = 2, kSignedOff = 3 };
 /// "alive", "stale", "lost", "signed_off" (the picture's JSON and the mission summary).
 const char* to_string(LinkState link);
+/// What a person reads: "alive", "stale", "LOST", "signed off" (the post-mission report).
+const char* display_name(LinkState link);
 
 enum class AccountabilityState : std::uint8_t { kAccounted = 0, kPending = 1, kMissing = 2 };
 
