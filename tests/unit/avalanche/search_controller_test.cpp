@@ -1,7 +1,6 @@
 // The search controller's decisions: its config, the LOCATED and FOUND criteria and the
 // evidence they weigh, the bearing, confirmations beside the estimate, the located radius.
 #include "sarloc/core/avalanche/search_controller.hpp"
-#include "sarloc/core/avalanche/sog_filter.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,9 +12,11 @@
 #include "sarloc/core/avalanche/bearing_density.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
 #include "sarloc/core/avalanche/simulator.hpp"
+#include "sarloc/core/avalanche/sog_filter.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/gaussian.hpp"
 #include "search_scenarios.hpp"
+#include "support/config_messages.hpp"
 
 namespace sarloc::avalanche {
 namespace {
@@ -26,12 +27,8 @@ TEST(SearchConfigTest, ValidatesWithKeyAndValue) {
   EXPECT_NO_THROW(SearchConfig{}.validate());
   SearchConfig c;
   c.located_radius_m = 0.0;
-  try {
-    c.validate();
-    FAIL();
-  } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("search.located_radius_m = 0"), std::string::npos);
-  }
+  EXPECT_NE(sarloc::test::validation_error(c).find("search.located_radius_m = 0"), std::string::npos)
+      << sarloc::test::validation_error(c);
 }
 
 TEST(SearchControllerTest, AssessAppliesLocatedAndFoundCriteria) {

@@ -6,6 +6,7 @@
 
 #include "incident_commands.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "support/config_messages.hpp"
 
 namespace sarloc::incident {
 namespace {
@@ -18,15 +19,6 @@ using test::estimate_of;
 using test::gnss_fix;
 using test::has_event;
 using Kind = IncidentEvent::Kind;
-
-std::string message_of(const IncidentCommandConfig& c) {
-  try {
-    c.validate();
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 const IncidentAlarm* alarm_of(const CommandCycle& out, const std::string& responder, AlarmKind kind) {
   for (const auto& a : out.alarms) {
@@ -48,19 +40,19 @@ TEST(IncidentCommand, ConfigMessagesNameTheKey) {
   EXPECT_NO_THROW(IncidentCommandConfig{}.validate());
   auto c = command_config();
   c.fix_wait_s = 0.0;
-  EXPECT_EQ(message_of(c), "command.fix_wait_s = 0: must be in (0, 600]");
+  EXPECT_EQ(sarloc::test::validation_error(c), "command.fix_wait_s = 0: must be in (0, 600]");
   c = command_config();
   c.antenna_height_m = 7.5;
-  EXPECT_EQ(message_of(c), "command.antenna_height_m = 7.5: must be in [0, 5]");
+  EXPECT_EQ(sarloc::test::validation_error(c), "command.antenna_height_m = 7.5: must be in [0, 5]");
   c = command_config();
   c.origin.latitude_deg = 91.0;
-  EXPECT_EQ(message_of(c), "incident.latitude_deg = 91: must be in [-90, 90]");
+  EXPECT_EQ(sarloc::test::validation_error(c), "incident.latitude_deg = 91: must be in [-90, 90]");
   c = command_config();
   c.incident_id = "";
-  EXPECT_EQ(message_of(c), "incident.id = '': must be 1-64 characters");
+  EXPECT_EQ(sarloc::test::validation_error(c), "incident.id = '': must be 1-64 characters");
   c = command_config();
   c.fusion.gate_probability = 1.5;  // the parts' own checks too
-  EXPECT_EQ(message_of(c), "fusion.gate_probability = 1.5: must be in (0, 1)");
+  EXPECT_EQ(sarloc::test::validation_error(c), "fusion.gate_probability = 1.5: must be in (0, 1)");
   EXPECT_THROW(IncidentCommand(c, at(0)), ConfigError);
 }
 

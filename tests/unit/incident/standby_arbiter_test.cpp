@@ -1,7 +1,9 @@
+#include "sarloc/core/incident/standby_arbiter.hpp"
+
 #include <gtest/gtest.h>
 
 #include "sarloc/core/common/errors.hpp"
-#include "sarloc/core/incident/standby_arbiter.hpp"
+#include "support/config_messages.hpp"
 
 namespace sarloc::incident {
 namespace {
@@ -16,30 +18,21 @@ StandbyConfig two(unsigned instance) {
   return c;  // claim_wait_s 4, claim_stagger_s 1
 }
 
-std::string message_of(const StandbyConfig& c) {
-  try {
-    c.validate();
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(StandbyArbiter, ConfigValidation) {
   EXPECT_NO_THROW(StandbyConfig{}.validate());
   StandbyConfig c;
   c.instances = 0;
-  EXPECT_EQ(message_of(c), "command.instances = 0: must be in [1, 4]");
+  EXPECT_EQ(sarloc::test::validation_error(c), "command.instances = 0: must be in [1, 4]");
   c.instances = 5;
-  EXPECT_EQ(message_of(c), "command.instances = 5: must be in [1, 4]");
+  EXPECT_EQ(sarloc::test::validation_error(c), "command.instances = 5: must be in [1, 4]");
   c = two(3);
-  EXPECT_EQ(message_of(c), "--instance = 3: must be in [1, command.instances = 2]");
+  EXPECT_EQ(sarloc::test::validation_error(c), "--instance = 3: must be in [1, command.instances = 2]");
   c = two(1);
   c.claim_wait_s = -1.0;
-  EXPECT_EQ(message_of(c), "command.claim_wait_s = -1: must be in [0, 600]");
+  EXPECT_EQ(sarloc::test::validation_error(c), "command.claim_wait_s = -1: must be in [0, 600]");
   c = two(1);
   c.peer_period_s = 0.0;
-  EXPECT_EQ(message_of(c), "command.cycle_s = 0: must be in (0, 60]");
+  EXPECT_EQ(sarloc::test::validation_error(c), "command.cycle_s = 0: must be in (0, 60]");
   EXPECT_THROW(StandbyArbiter(c, kStart), ConfigError);
 }
 

@@ -1,7 +1,9 @@
+#include "sarloc/core/incident/team_tracker.hpp"
+
 #include <gtest/gtest.h>
 
 #include "sarloc/core/common/errors.hpp"
-#include "sarloc/core/incident/team_tracker.hpp"
+#include "support/config_messages.hpp"
 
 namespace sarloc::incident {
 namespace {
@@ -28,20 +30,10 @@ TEST(TeamTracker, ConfigValidation) {
   EXPECT_NO_THROW(TeamTrackerConfig{}.validate());
   TeamTrackerConfig c;
   c.stale_after_s = 0.0;
-  try {
-    c.validate();
-    FAIL();
-  } catch (const ConfigError& e) {
-    EXPECT_STREQ(e.what(), "team_tracker.stale_after_s = 0: must be > 0");
-  }
+  EXPECT_EQ(sarloc::test::validation_error(c), "team_tracker.stale_after_s = 0: must be > 0");
   c = {};
   c.lost_after_s = 5.0;
-  try {
-    c.validate();
-    FAIL();
-  } catch (const ConfigError& e) {
-    EXPECT_STREQ(e.what(), "team_tracker.lost_after_s = 5: must be > stale_after_s");
-  }
+  EXPECT_EQ(sarloc::test::validation_error(c), "team_tracker.lost_after_s = 5: must be > stale_after_s");
   EXPECT_THROW(TeamTracker{c}, ConfigError);
 }
 

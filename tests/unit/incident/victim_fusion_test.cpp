@@ -1,12 +1,14 @@
 // VictimFusion: its config, bad input, sources and their estimators (device and daemon),
 // conflicts, and which sources make one victim.
+#include "sarloc/core/incident/victim_fusion.hpp"
+
 #include <gtest/gtest.h>
 
 #include <set>
 
 #include "sarloc/core/common/errors.hpp"
-#include "sarloc/core/incident/victim_fusion.hpp"
 #include "source_estimates.hpp"
+#include "support/config_messages.hpp"
 
 namespace sarloc::incident {
 namespace {
@@ -15,32 +17,23 @@ using responder::EstimatorStatus;
 using test::kSec;
 using test::src;
 
-std::string message_of(const VictimFusionConfig& c) {
-  try {
-    c.validate();
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(VictimFusion, ConfigDefaultsValidAndMessages) {
   EXPECT_NO_THROW(VictimFusionConfig{}.validate());
   VictimFusionConfig c;
   c.gate_probability = 1.5;
-  EXPECT_EQ(message_of(c), "fusion.gate_probability = 1.5: must be in (0, 1)");
+  EXPECT_EQ(sarloc::test::validation_error(c), "fusion.gate_probability = 1.5: must be in (0, 1)");
   c = {};
   c.keep_gate_probability = 0.9;
-  EXPECT_EQ(message_of(c), "fusion.keep_gate_probability = 0.9: must be >= gate_probability");
+  EXPECT_EQ(sarloc::test::validation_error(c), "fusion.keep_gate_probability = 0.9: must be >= gate_probability");
   c = {};
   c.source_timeout_s = 0.0;
-  EXPECT_EQ(message_of(c), "fusion.source_timeout_s = 0: must be in (0, 3600]");
+  EXPECT_EQ(sarloc::test::validation_error(c), "fusion.source_timeout_s = 0: must be in (0, 3600]");
   c = {};
   c.located_radius_m = -1.0;
-  EXPECT_EQ(message_of(c), "fusion.located_radius_m = -1: must be in (0, 100]");
+  EXPECT_EQ(sarloc::test::validation_error(c), "fusion.located_radius_m = -1: must be in (0, 100]");
   c = {};
   c.merge_gate_probability = 0.0;
-  EXPECT_EQ(message_of(c), "fusion.merge_gate_probability = 0: must be in (0, 1)");
+  EXPECT_EQ(sarloc::test::validation_error(c), "fusion.merge_gate_probability = 0: must be in (0, 1)");
   EXPECT_THROW(VictimFusion{c}, ConfigError);
 }
 
