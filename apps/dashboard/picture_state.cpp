@@ -1,6 +1,7 @@
 #include "picture_state.hpp"
 
 #include "sarloc/core/common/gaussian.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -46,8 +47,18 @@ double cm(double metres) { return std::round(metres * 100.0) / 100.0; }
 
 }  // namespace
 
+void PictureStateConfig::validate() const {
+  require(track_length >= 1 && track_length <= 10000, "dashboard.track_length", track_length, "must be 1-10000");
+  require(event_log_length >= 1 && event_log_length <= 100000, "picture_state.event_log_length", event_log_length,
+          "must be 1-100000");
+  require(std::isfinite(par_interval_s) && par_interval_s >= 10.0 && par_interval_s <= 86400.0,
+          "dashboard.par_interval_s", par_interval_s, "must be in [10, 86400]");
+  require(std::isfinite(stale_after_s) && stale_after_s >= 0.5 && stale_after_s <= 3600.0, "dashboard.stale_after_s",
+          stale_after_s, "must be in [0.5, 3600]");
+}
+
 PictureState::PictureState(PictureStateConfig config, MissionClock mission_now, TimestampNs epoch_ns, WallClock wall_now)
-    : config_(config),
+    : config_((config.validate(), config)),
       mission_now_(std::move(mission_now)),
       epoch_ns_(epoch_ns),
       wall_now_(wall_now ? std::move(wall_now) : WallClock(system_wall_s)) {}

@@ -34,6 +34,9 @@ struct PictureStateConfig {
   double par_interval_s = 600.0;
   /// The "no data" banner after this long without any DDS sample (wall s).
   double stale_after_s = 5.0;
+
+  /// Throws ConfigError naming the key (the dashboard: section's, or picture_state.<key>).
+  void validate() const;
 };
 
 /// A building plan placed in the incident frame (the mission's building: section).

@@ -3,10 +3,12 @@
 #include <CLI/CLI.hpp>
 
 #include "sarloc/app/command_line.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::app {
 
 dds::ParticipantConfig participant_config(const MissionConfig& mission, int domain, const std::string& name) {
+  require(domain >= -1 && domain <= 232, "--domain", domain, "must be in [0, 232] (absent: dds.domain_id)");
   dds::ParticipantConfig config = mission.dds;
   if (domain >= 0) config.domain_id = static_cast<std::uint32_t>(domain);
   config.name = name;
@@ -14,11 +16,21 @@ dds::ParticipantConfig participant_config(const MissionConfig& mission, int doma
   return config;
 }
 
+void NodeOptions::validate() const {
+  require(domain >= -1 && domain <= 232, "--domain", domain, "must be in [0, 232] (absent: dds.domain_id)");
+  require(epoch_ns >= 0, "--epoch-ns", epoch_ns, "must be >= 0 (absent: now)");
+  require(epoch_wall_ns >= 0, "--epoch-wall-ns", epoch_wall_ns, "must be >= 0 (absent: --epoch-ns)");
+  require(speedup == 0.0 || (speedup >= 0.1 && speedup <= 100.0), "--speedup", speedup,
+          "must be in [0.1, 100] (as mission.speedup)");
+}
+
 dds::ParticipantConfig NodeOptions::participant(const MissionConfig& mission, const std::string& name) const {
+  validate();
   return participant_config(mission, domain, name);
 }
 
 dds::MissionClock NodeOptions::clock(const MissionConfig& mission) const {
+  validate();
   const TimestampNs epoch = epoch_ns > 0 ? epoch_ns : dds::MissionClock::wall_now_ns();
   return dds::MissionClock(epoch, speedup > 0.0 ? speedup : mission.speedup, epoch_wall_ns > 0 ? epoch_wall_ns : epoch);
 }

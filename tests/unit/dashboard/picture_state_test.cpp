@@ -4,6 +4,7 @@
 
 #include "picture_state.hpp"
 #include "support/sample_messages.hpp"
+#include "support/config_messages.hpp"
 
 namespace sarloc::dashboard {
 namespace {
@@ -140,6 +141,20 @@ TEST(PictureState, AnOlderPositionOrADeadReckoningOverAFreshMapAidedFixIsNotShow
   const auto r = state.snapshot()["responders"][0];
   EXPECT_DOUBLE_EQ(r["x"].get<double>(), 1.0);
   EXPECT_EQ(r["source"], "map-aided");
+}
+
+// The picture's limits are checked where the state is made, whoever fills them.
+TEST(PictureState, ItsConfigIsCheckedNamingTheKey) {
+  EXPECT_EQ(sarloc::test::validation_error(PictureStateConfig{}), "");
+  PictureStateConfig c;
+  c.track_length = 0;
+  EXPECT_EQ(sarloc::test::validation_error(c), "dashboard.track_length = 0: must be 1-10000");
+  c = {};
+  c.stale_after_s = 0.1;
+  EXPECT_EQ(sarloc::test::validation_error(c), "dashboard.stale_after_s = 0.1: must be in [0.5, 3600]");
+  c = {};
+  c.event_log_length = 0;
+  EXPECT_THROW(PictureState(c, [] { return TimestampNs{0}; }, 0), ConfigError);
 }
 
 }  // namespace

@@ -25,6 +25,9 @@ struct NodeOptions {
   std::int64_t epoch_wall_ns = 0;
   double speedup = 0.0;       ///< 0: the mission file's
 
+  /// Throws ConfigError naming the option ("--domain = 300: must be in [0, 232] ...").
+  /// participant() and clock() check it first.
+  void validate() const;
   /// The mission's participant settings with this node's name and the domain override.
   dds::ParticipantConfig participant(const MissionConfig& mission, const std::string& name) const;
   /// The mission clock from --epoch-ns (default: starting now) and the mission's speedup.
