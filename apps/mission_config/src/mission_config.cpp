@@ -21,10 +21,6 @@ void require_identifier(const std::string& value, const std::string& where, bool
   if (auto problem = identifier_problem(value, where, empty_allowed); !problem.empty()) throw ConfigError(problem);
 }
 
-void fail(const std::string& key, double value, const std::string& rule) {
-  detail::throw_config_error(key, config_value(value), rule);
-}
-
 std::string resolve(const std::string& path, const std::string& base_dir) {
   if (path.empty() || std::filesystem::path(path).is_absolute()) return path;
   return (std::filesystem::path(base_dir) / path).lexically_normal().string();
@@ -58,9 +54,10 @@ std::vector<std::string> MissionConfig::partitions_of_sector(const std::string& 
 }
 
 void MissionConfig::validate() const {
-  if (!(time_limit_s > 0.0 && time_limit_s <= 24 * 3600.0)) fail("mission.time_limit_s", time_limit_s, "must be in (0, 86400]");
-  if (!(speedup >= 0.1 && speedup <= 100.0)) fail("mission.speedup", speedup, "must be in [0.1, 100]");
-  if (!(period_s >= 0.1 && period_s <= 10.0)) fail("mission.period_s", period_s, "must be in [0.1, 10]");
+  require(time_limit_s > 0.0 && time_limit_s <= 24 * 3600.0, "mission.time_limit_s", time_limit_s,
+          "must be in (0, 86400]");
+  require(speedup >= 0.1 && speedup <= 100.0, "mission.speedup", speedup, "must be in [0.1, 100]");
+  require(period_s >= 0.1 && period_s <= 10.0, "mission.period_s", period_s, "must be in [0.1, 10]");
   dds.validate();
   // A building mission may have no avalanche victims or rescuers, but some responder.
   if (!scenario.victims.empty() || !scenario.rescuers.empty() || firefighters.empty()) scenario.validate();

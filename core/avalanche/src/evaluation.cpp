@@ -4,36 +4,32 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <numeric>
-#include <sstream>
-#include <mutex>
-#include <optional>
 #include <limits>
 #include <map>
+#include <mutex>
+#include <numeric>
+#include <optional>
 #include <set>
+#include <sstream>
 #include <thread>
 
-#include "sarloc/core/common/parallel_trials.hpp"
-#include "sarloc/core/common/chi_square.hpp"
-#include "sarloc/core/common/errors.hpp"
-#include "sarloc/core/common/gaussian.hpp"
 #include "sarloc/core/avalanche/grid_filter.hpp"
 #include "sarloc/core/avalanche/particle_filter.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
+#include "sarloc/core/common/chi_square.hpp"
+#include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/gaussian.hpp"
+#include "sarloc/core/common/parallel_trials.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::avalanche {
 
 void EvaluationConfig::validate() const {
-  auto fail = [](const char* key, std::uint64_t v, const char* rule) {
-    std::ostringstream os;
-    os << "evaluation." << key << " = " << v << ": " << rule;
-    throw ConfigError(os.str());
-  };
-  if (trials == 0) fail("trials", trials, "must be > 0");
-  if (trials > 1000000) fail("trials", trials, "must be <= 1000000");
-  if (threads > 1024) fail("threads", threads, "must be <= 1024");
-  if (step_budget == 0) fail("step_budget", step_budget, "must be > 0");
-  if (step_budget > 100000) fail("step_budget", step_budget, "must be <= 100000");
+  require(trials != 0, "evaluation.trials", trials, "must be > 0");
+  require(trials <= 1000000, "evaluation.trials", trials, "must be <= 1000000");
+  require(threads <= 1024, "evaluation.threads", threads, "must be <= 1024");
+  require(step_budget != 0, "evaluation.step_budget", step_budget, "must be > 0");
+  require(step_budget <= 100000, "evaluation.step_budget", step_budget, "must be <= 100000");
 }
 
 void EvaluationSetup::validate() const {

@@ -9,6 +9,7 @@
 
 #include "sarloc/core/avalanche/dipole_model.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::avalanche {
 namespace {
@@ -43,19 +44,14 @@ double horizontal_distance(const Vec3& a, const Vec3& b) { return (a - b).head<2
 }  // namespace
 
 void LookaheadConfig::validate() const {
-  auto fail = [](const char* key, double v, const char* rule) {
-    std::ostringstream os;
-    os << "search.lookahead_" << key << " = " << v << ": " << rule;
-    throw ConfigError(os.str());
-  };
-  if (hypotheses < 2 || hypotheses > 1000) fail("hypotheses", hypotheses, "must be in [2, 1000]");
-  if (headings < 2 || headings > 360) fail("headings", headings, "must be in [2, 360]");
-  if (horizon_steps < 1 || horizon_steps > 100)
-    fail("horizon_steps", horizon_steps, "must be in [1, 100]");
-  if (!(detour_weight >= 0.0 && detour_weight <= 10.0))
-    fail("detour_weight", detour_weight, "must be in [0, 10]");
-  if (!(information_scale > 0.0 && information_scale <= 10.0))
-    fail("information_scale", information_scale, "must be in (0, 10]");
+  require(hypotheses >= 2 && hypotheses <= 1000, "search.lookahead_hypotheses", hypotheses, "must be in [2, 1000]");
+  require(headings >= 2 && headings <= 360, "search.lookahead_headings", headings, "must be in [2, 360]");
+  require(horizon_steps >= 1 && horizon_steps <= 100, "search.lookahead_horizon_steps", horizon_steps,
+          "must be in [1, 100]");
+  require(detour_weight >= 0.0 && detour_weight <= 10.0, "search.lookahead_detour_weight", detour_weight,
+          "must be in [0, 10]");
+  require(information_scale > 0.0 && information_scale <= 10.0, "search.lookahead_information_scale", information_scale,
+          "must be in (0, 10]");
 }
 
 double lookahead_heading(const std::vector<TransmitterHypothesis>& hypotheses, const LookaheadConfig& cfg,

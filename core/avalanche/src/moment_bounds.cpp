@@ -5,6 +5,7 @@
 #include "sarloc/core/avalanche/dipole_model.hpp"
 #include "sarloc/core/avalanche/transmitter_standard.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::avalanche {
 
@@ -29,19 +30,12 @@ bool TransmitterStandard::allows(const Vec3& m, const Mat3& covariance, double m
 }
 
 void TransmitterStandard::validate(const std::string& prefix) const {
-  auto fail = [&](const char* key, double v, const char* rule) {
-    std::ostringstream os;
-    os << prefix << "." << key << " = " << v << ": " << rule;
-    throw ConfigError(os.str());
-  };
-  if (!std::isfinite(field_min_A_per_m) || field_min_A_per_m <= 0.0 || field_min_A_per_m > 1e-3)
-    fail("field_min_A_per_m", field_min_A_per_m, "must be in (0, 1e-3]");
-  if (!std::isfinite(field_max_A_per_m) || field_max_A_per_m < field_min_A_per_m ||
-      field_max_A_per_m > 1e-3)
-    fail("field_max_A_per_m", field_max_A_per_m, "must be in [field_min_A_per_m, 1e-3]");
-  if (!std::isfinite(reference_distance_m) || reference_distance_m <= 0.0 ||
-      reference_distance_m > 1000.0)
-    fail("reference_distance_m", reference_distance_m, "must be in (0, 1000]");
+  require(std::isfinite(field_min_A_per_m) && field_min_A_per_m > 0.0 && field_min_A_per_m <= 1e-3,
+          prefix + ".field_min_A_per_m", field_min_A_per_m, "must be in (0, 1e-3]");
+  require(std::isfinite(field_max_A_per_m) && field_max_A_per_m >= field_min_A_per_m && field_max_A_per_m <= 1e-3,
+          prefix + ".field_max_A_per_m", field_max_A_per_m, "must be in [field_min_A_per_m, 1e-3]");
+  require(std::isfinite(reference_distance_m) && reference_distance_m > 0.0 && reference_distance_m <= 1000.0,
+          prefix + ".reference_distance_m", reference_distance_m, "must be in (0, 1000]");
 }
 
 }  // namespace sarloc::avalanche

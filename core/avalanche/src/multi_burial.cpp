@@ -12,11 +12,12 @@
 #include "sarloc/core/avalanche/beacon_receiver.hpp"
 #include "sarloc/core/avalanche/dipole_model.hpp"
 #include "sarloc/core/avalanche/found_victim.hpp"
-#include "sarloc/core/common/parallel_trials.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
 #include "sarloc/core/avalanche/sensor_simulation.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/gaussian.hpp"
+#include "sarloc/core/common/parallel_trials.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::avalanche {
 
@@ -24,16 +25,12 @@ void MultiBurialSetup::validate() const {
   simulation.validate();
   rescuer.validate();
   evaluation.validate();
-  auto fail = [](const char* key, double v, const char* rule) {
-    std::ostringstream os;
-    os << "multi_burial." << key << " = " << v << ": " << rule;
-    throw ConfigError(os.str());
-  };
   if (simulation.receiver.kind != ReceiverKind::kRealistic)
     throw ConfigError("simulation.receiver.kind = ideal: multiple burials need the realistic receiver");
-  if (victims < 1 || victims > 8) fail("victims", victims, "must be in [1, 8]");
-  if (!(spread_m >= 0.5 && spread_m <= 100.0)) fail("spread_m", spread_m, "must be in [0.5, 100]");
-  if (!(period_spread >= 0.0 && period_spread <= 0.3)) fail("period_spread", period_spread, "must be in [0, 0.3]");
+  require(victims >= 1 && victims <= 8, "multi_burial.victims", victims, "must be in [1, 8]");
+  require(spread_m >= 0.5 && spread_m <= 100.0, "multi_burial.spread_m", spread_m, "must be in [0.5, 100]");
+  require(period_spread >= 0.0 && period_spread <= 0.3, "multi_burial.period_spread", period_spread,
+          "must be in [0, 0.3]");
 }
 
 MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint32_t index,

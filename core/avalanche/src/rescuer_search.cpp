@@ -1,5 +1,3 @@
-#include "sarloc/core/common/time_units.hpp"
-#include "sarloc/core/avalanche/field_measurement_check.hpp"
 #include "sarloc/core/avalanche/rescuer_search.hpp"
 
 #include <algorithm>
@@ -7,11 +5,14 @@
 #include <sstream>
 #include <utility>
 
+#include "sarloc/core/avalanche/field_measurement_check.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
 #include "sarloc/core/avalanche/same_transmitter.hpp"
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/gaussian.hpp"
+#include "sarloc/core/common/time_units.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::avalanche {
 using responder::reject;
@@ -19,33 +20,30 @@ using responder::reject;
 void RescuerSearchConfig::validate() const {
   sog.validate();
   search.validate();
-  auto fail = [](const std::string& key, double value, const std::string& rule) {
-    std::ostringstream os;
-    os << "rescuer_search." << key << " = " << value << ": " << rule;
-    throw ConfigError(os.str());
-  };
-  if (summary_components < 1 || summary_components > 8) fail("summary_components", summary_components, "must be in [1, 8]");
-  if (max_signals < 1 || max_signals > 64) fail("max_signals", max_signals, "must be in [1, 64]");
-  if (!(max_step_m > 0.0 && max_step_m <= 1000.0)) fail("max_step_m", max_step_m, "must be in (0, 1000]");
-  if (!(max_rotation_rad > 0.0 && max_rotation_rad <= 7.0)) fail("max_rotation_rad", max_rotation_rad, "must be in (0, 7]");
-  if (!(unknown_motion_speed_m_per_s > 0.0 && unknown_motion_speed_m_per_s <= 5.0))
-    fail("unknown_motion_speed_m_per_s", unknown_motion_speed_m_per_s, "must be in (0, 5]");
-  if (!(measurement_lag_tolerance_s >= 0.0 && measurement_lag_tolerance_s <= 10.0))
-    fail("measurement_lag_tolerance_s", measurement_lag_tolerance_s, "must be in [0, 10]");
-  if (!(unknown_motion_turn_rad_per_s > 0.0 && unknown_motion_turn_rad_per_s <= 3.0))
-    fail("unknown_motion_turn_rad_per_s", unknown_motion_turn_rad_per_s, "must be in (0, 3]");
-  if (!(target_silence_s >= 1.0 && target_silence_s <= 600.0))
-    fail("target_silence_s", target_silence_s, "must be in [1, 600]");
-  if (!(same_transmitter_gate_probability > 0.0 && same_transmitter_gate_probability < 1.0))
-    fail("same_transmitter_gate_probability", same_transmitter_gate_probability, "must be in (0, 1)");
-  if (!(same_transmitter_moment_spread > 0.0 && same_transmitter_moment_spread <= 1.0))
-    fail("same_transmitter_moment_spread", same_transmitter_moment_spread, "must be in (0, 1]");
-  if (!(found_witness_window_s >= 0.0 && found_witness_window_s <= 600.0))
-    fail("found_witness_window_s", found_witness_window_s, "must be in [0, 600]");
-  if (!(found_witness_gate_probability > 0.0 && found_witness_gate_probability < 1.0))
-    fail("found_witness_gate_probability", found_witness_gate_probability, "must be in (0, 1)");
-  if (!(found_witness_radius_factor >= 1.0 && found_witness_radius_factor <= 100.0))
-    fail("found_witness_radius_factor", found_witness_radius_factor, "must be in [1, 100]");
+  require(summary_components >= 1 && summary_components <= 8, "rescuer_search.summary_components", summary_components,
+          "must be in [1, 8]");
+  require(max_signals >= 1 && max_signals <= 64, "rescuer_search.max_signals", max_signals, "must be in [1, 64]");
+  require(max_step_m > 0.0 && max_step_m <= 1000.0, "rescuer_search.max_step_m", max_step_m, "must be in (0, 1000]");
+  require(max_rotation_rad > 0.0 && max_rotation_rad <= 7.0, "rescuer_search.max_rotation_rad", max_rotation_rad,
+          "must be in (0, 7]");
+  require(unknown_motion_speed_m_per_s > 0.0 && unknown_motion_speed_m_per_s <= 5.0,
+          "rescuer_search.unknown_motion_speed_m_per_s", unknown_motion_speed_m_per_s, "must be in (0, 5]");
+  require(measurement_lag_tolerance_s >= 0.0 && measurement_lag_tolerance_s <= 10.0,
+          "rescuer_search.measurement_lag_tolerance_s", measurement_lag_tolerance_s, "must be in [0, 10]");
+  require(unknown_motion_turn_rad_per_s > 0.0 && unknown_motion_turn_rad_per_s <= 3.0,
+          "rescuer_search.unknown_motion_turn_rad_per_s", unknown_motion_turn_rad_per_s, "must be in (0, 3]");
+  require(target_silence_s >= 1.0 && target_silence_s <= 600.0, "rescuer_search.target_silence_s", target_silence_s,
+          "must be in [1, 600]");
+  require(same_transmitter_gate_probability > 0.0 && same_transmitter_gate_probability < 1.0,
+          "rescuer_search.same_transmitter_gate_probability", same_transmitter_gate_probability, "must be in (0, 1)");
+  require(same_transmitter_moment_spread > 0.0 && same_transmitter_moment_spread <= 1.0,
+          "rescuer_search.same_transmitter_moment_spread", same_transmitter_moment_spread, "must be in (0, 1]");
+  require(found_witness_window_s >= 0.0 && found_witness_window_s <= 600.0, "rescuer_search.found_witness_window_s",
+          found_witness_window_s, "must be in [0, 600]");
+  require(found_witness_gate_probability > 0.0 && found_witness_gate_probability < 1.0,
+          "rescuer_search.found_witness_gate_probability", found_witness_gate_probability, "must be in (0, 1)");
+  require(found_witness_radius_factor >= 1.0 && found_witness_radius_factor <= 100.0,
+          "rescuer_search.found_witness_radius_factor", found_witness_radius_factor, "must be in [1, 100]");
 }
 
 RescuerSearch::RescuerSearch(std::string rescuer_id, RescuerSearchConfig config)

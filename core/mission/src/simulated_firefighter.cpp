@@ -4,23 +4,24 @@
 #include <sstream>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::mission {
 
 void FirefighterSpec::validate(const std::string& key) const {
-  const auto fail = [&](const char* field, double v, const char* rule) {
-    std::ostringstream os;
-    os << key << "." << field << " = " << v << ": " << rule;
-    throw ConfigError(os.str());
-  };
-  if (member > 1) fail("member", member, "must be 0 (leads) or 1 (follows)");
-  if (!std::isfinite(enter_at_s) || enter_at_s < 0.0 || enter_at_s > 86400.0) fail("enter_at_s", enter_at_s, "must be in [0, 86400]");
-  if (!std::isfinite(search_s) || search_s < 30.0 || search_s > 86400.0) fail("search_s", search_s, "must be in [30, 86400]");
-  if (!std::isfinite(stop_at_s) || stop_at_s > 86400.0) fail("stop_at_s", stop_at_s, "must be finite, at most 86400");
-  if (!std::isfinite(stop_s) || stop_s < 0.0 || stop_s > 3600.0) fail("stop_s", stop_s, "must be in [0, 3600]");
-  if (stop_at_s >= 0.0 && stop_s <= 0.0) fail("stop_s", stop_s, "must be > 0 with a stop_at_s");
-  if (!std::isfinite(mayday_at_s) || mayday_at_s > 86400.0) fail("mayday_at_s", mayday_at_s, "must be finite, at most 86400");
-  if (!std::isfinite(reset_at_s) || reset_at_s > 86400.0) fail("reset_at_s", reset_at_s, "must be finite, at most 86400");
+  require(member <= 1, key + ".member", member, "must be 0 (leads) or 1 (follows)");
+  require(std::isfinite(enter_at_s) && enter_at_s >= 0.0 && enter_at_s <= 86400.0, key + ".enter_at_s", enter_at_s,
+          "must be in [0, 86400]");
+  require(std::isfinite(search_s) && search_s >= 30.0 && search_s <= 86400.0, key + ".search_s", search_s,
+          "must be in [30, 86400]");
+  require(std::isfinite(stop_at_s) && stop_at_s <= 86400.0, key + ".stop_at_s", stop_at_s,
+          "must be finite, at most 86400");
+  require(std::isfinite(stop_s) && stop_s >= 0.0 && stop_s <= 3600.0, key + ".stop_s", stop_s, "must be in [0, 3600]");
+  require(!(stop_at_s >= 0.0 && stop_s <= 0.0), key + ".stop_s", stop_s, "must be > 0 with a stop_at_s");
+  require(std::isfinite(mayday_at_s) && mayday_at_s <= 86400.0, key + ".mayday_at_s", mayday_at_s,
+          "must be finite, at most 86400");
+  require(std::isfinite(reset_at_s) && reset_at_s <= 86400.0, key + ".reset_at_s", reset_at_s,
+          "must be finite, at most 86400");
 }
 
 SimulatedFirefighter::SimulatedFirefighter(const firefighter::FloorPlan& world, const FirefighterSpec& spec,
