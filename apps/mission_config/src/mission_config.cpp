@@ -318,7 +318,18 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("entry_position_sigma_m", f.entry_position_sigma_m);
     r.read("entry_heading_sigma_deg", f.entry_heading_sigma_deg);
     r.read("max_speed_mps", f.max_speed_mps);
+    // Recordings carry their mission file: the two filter keys a mission set before it had
+    // firefighter.filter are still read, as the same facts; set both ways, they must agree.
+    r.read("particles", f.filter.particles);
+    r.read("particles_max", f.filter.particles_max);
+    const firefighter::MapFilterConfig direct = f.filter;
     read_map_filter(r.child("filter"), f.filter);  // every key the evaluation tunes, one reader
+    if (f.filter.particles != direct.particles || f.filter.particles_max != direct.particles_max) {
+      if (r.has("particles") || r.has("particles_max")) {
+        throw ConfigError(name + ": firefighter.particles / particles_max and firefighter.filter.particles / "
+                          "particles_max disagree: set them in filter: only");
+      }
+    }
     r.expect_done();
   }
   auto& avalanche = c.estimators.avalanche_rescuer;

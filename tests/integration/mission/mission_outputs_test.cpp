@@ -141,7 +141,7 @@ TEST(Mission, ReplayingItsInputsIntoFreshNodesReproducesTheRecordedPicture) {
   std::string text = file_text(std::string(SARLOC_MISSION_DIR) + "/mixed.yaml");
   const std::string relative = "../../../config/buildings/house-125.yaml";
   text.replace(text.find(relative), relative.size(), std::string(SARLOC_SOURCE_DIR) + "/config/buildings/house-125.yaml");
-  text += "firefighter: {particles: 500, particles_max: 500}\n";
+  text += "firefighter: {filter: {particles: 500, particles_max: 500}}\n";
   const fs::path changed = run.run_dir / "changed.yaml";
   std::ofstream(changed) << text;
   const auto other = replay(changed.string(), "changed");
