@@ -52,7 +52,8 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
         try {
           const auto guidance = to_core(g);
           std::lock_guard<std::mutex> lock(mutex_);
-          arbiter_.on_daemon_guidance(guidance, g.measurement_sequence(), clock_.now(), MissionClock::wall_now_ns());
+          hear([guidance, sequence = g.measurement_sequence(), now = clock_.now(), wall = MissionClock::wall_now_ns()](
+                   responder::GuidanceArbiter& arbiter) { arbiter.on_daemon_guidance(guidance, sequence, now, wall); });
         } catch (const InputError& e) {
           spdlog::warn("ignoring guidance from the daemon: {}", e.what());
         }
@@ -73,8 +74,11 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
         if (e.status() > ::sarloc::ESTIMATOR_FOUND) return;
         {
           std::lock_guard<std::mutex> lock(mutex_);
-          arbiter_.on_daemon_estimate(e.signal_id(), static_cast<responder::EstimatorStatus>(e.status()),
-                                      e.measurement_sequence(), clock_.now(), to_core(e.relative()));
+          hear([signal = e.signal_id(), status = static_cast<responder::EstimatorStatus>(e.status()),
+                sequence = e.measurement_sequence(), now = clock_.now(),
+                relative = to_core(e.relative())](responder::GuidanceArbiter& arbiter) {
+            arbiter.on_daemon_estimate(signal, status, sequence, now, relative);
+          });
         }
         cv_.notify_all();
       },
@@ -95,7 +99,9 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
     std::lock_guard<std::mutex> lock(mutex_);
     auto& live = live_core_writers_;
     live.erase(std::remove(live.begin(), live.end(), handle), live.end());
-    if (live.empty()) arbiter_.on_daemons_lost();
+    if (live.empty()) {
+      hear([](responder::GuidanceArbiter& arbiter) { arbiter.on_daemons_lost(); });
+    }
   };
   // A daemon that stops in order disposes its status first (sign_off.hpp): said as a stop.
   core_events.on_instance_gone = [this](const auto& info) {
@@ -105,7 +111,9 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
     if (std::find(live.begin(), live.end(), info.publication_handle) == live.end()) return;
     spdlog::info("{}: a core daemon stopped in order (signed off)", config_.rescuer_id);
     live.erase(std::remove(live.begin(), live.end(), info.publication_handle), live.end());
-    if (live.empty()) arbiter_.on_daemons_lost();
+    if (live.empty()) {
+      hear([](responder::GuidanceArbiter& arbiter) { arbiter.on_daemons_lost(); });
+    }
   };
   core_status_reader_ = std::make_unique<Reader<::sarloc::NodeStatus>>(
       participant_,
@@ -116,7 +124,7 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
         if (std::find(live.begin(), live.end(), info.publication_handle) == live.end()) {
           live.push_back(info.publication_handle);
         }
-        arbiter_.on_daemon_seen();
+        hear([](responder::GuidanceArbiter& arbiter) { arbiter.on_daemon_seen(); });
       },
       EndpointOptions{}, core_events);
 }
@@ -193,9 +201,12 @@ EpochResult RescuerNode::epoch(const std::vector<responder::Odometry>& odometry,
   // Wait for the daemon's answer to this epoch (same sample sequence).
   const std::uint64_t sequence = samples.empty() ? 0 : estimator::sequence_of(samples.front());
   std::unique_lock<std::mutex> lock(mutex_);
+  apply_arbiter_inbox();
   if (!samples.empty() && arbiter_.worth_waiting()) {
-    cv_.wait_for(lock, std::chrono::milliseconds(static_cast<std::int64_t>(config_.guidance_wait_s * 1000.0)),
-                 [&] { return arbiter_.answered(sequence); });
+    cv_.wait_for(lock, std::chrono::milliseconds(static_cast<std::int64_t>(config_.guidance_wait_s * 1000.0)), [&] {
+      apply_arbiter_inbox();
+      return arbiter_.answered(sequence);
+    });
   }
   responder::ArbiterInput input;
   input.now = clock_.now();
@@ -252,6 +263,21 @@ EpochResult RescuerNode::epoch(const std::vector<responder::Odometry>& odometry,
     if (!estimate_writer_.write(message)) spdlog::error("DDS refused the device's estimate of signal {}", e.signal_id);
   }
   return result;
+}
+
+void RescuerNode::hear(std::function<void(responder::GuidanceArbiter&)> heard) {
+  // A second of epochs brings a handful; only a flood reaches this, and it drops the newest.
+  if (arbiter_inbox_.size() >= kArbiterInboxLimit) {
+    refusals_.warn(config_.rescuer_id, "inbox_full",
+                   config_.rescuer_id + ": the daemon's messages arrive faster than epochs: dropped");
+    return;
+  }
+  arbiter_inbox_.push_back(std::move(heard));
+}
+
+void RescuerNode::apply_arbiter_inbox() {
+  for (auto& heard : arbiter_inbox_) heard(arbiter_);
+  arbiter_inbox_.clear();
 }
 
 std::optional<responder::ResponderPosition> RescuerNode::own_fix_nearest(TimestampNs stamp) const {

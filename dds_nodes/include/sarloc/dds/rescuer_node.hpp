@@ -12,6 +12,7 @@
 // converts, publishes and feeds the arbiter; the decisions are core's.
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -101,7 +102,14 @@ class RescuerNode {
   Writer<::sarloc::ResponderPosition> position_writer_;
   mutable std::mutex mutex_;
   std::condition_variable cv_;
-  responder::GuidanceArbiter arbiter_;               // under mutex_
+  responder::GuidanceArbiter arbiter_;  // under mutex_, epoch thread only
+  /// What the listeners heard for the arbiter (the daemon's guidance and estimates, daemons seen
+  /// or lost), in arrival order; the epoch thread applies it before the arbiter decides, and
+  /// while it waits for the daemon's answer. Under mutex_.
+  std::vector<std::function<void(responder::GuidanceArbiter&)>> arbiter_inbox_;
+  static constexpr std::size_t kArbiterInboxLimit = 4096;
+  void hear(std::function<void(responder::GuidanceArbiter&)> heard);  // under mutex_
+  void apply_arbiter_inbox();                                         // under mutex_
   std::set<std::uint32_t> found_elsewhere_;          // signals incident command reports found; under mutex_
   std::set<std::uint32_t> reported_conflicts_;       // conflicts already logged (epoch thread only)
   /// The device's own fixes, oldest first (epoch thread only): each estimate it publishes
