@@ -2,6 +2,10 @@
 // refused naming the option and the value before any participant or clock is made.
 #include <gtest/gtest.h>
 
+#include <string>
+#include <utility>
+#include <vector>
+
 #include "sarloc/app/node_options.hpp"
 #include "support/config_messages.hpp"
 
@@ -10,17 +14,17 @@ namespace {
 
 TEST(NodeOptions, EachOptionIsCheckedNamingItsValue) {
   EXPECT_EQ(sarloc::test::validation_error(NodeOptions{}), "");
-  NodeOptions o;
-  o.domain = 300;
-  EXPECT_EQ(sarloc::test::validation_error(o), "--domain = 300: must be in [0, 232] (absent: dds.domain_id)");
-  o = {};
-  o.epoch_ns = -5;
-  EXPECT_EQ(sarloc::test::validation_error(o), "--epoch-ns = -5: must be >= 0 (absent: now)");
-  o = {};
-  o.speedup = 250.0;
-  EXPECT_EQ(sarloc::test::validation_error(o), "--speedup = 250: must be in [0.1, 100] (as mission.speedup)");
-  o.speedup = 2.5;
-  EXPECT_EQ(sarloc::test::validation_error(o), "");
+  const std::vector<std::pair<void (*)(NodeOptions&), std::string>> cases = {
+      {[](NodeOptions& o) { o.domain = 300; }, "--domain = 300: must be in [0, 232] (absent: dds.domain_id)"},
+      {[](NodeOptions& o) { o.epoch_ns = -5; }, "--epoch-ns = -5: must be >= 0 (absent: now)"},
+      {[](NodeOptions& o) { o.speedup = 250.0; }, "--speedup = 250: must be in [0.1, 100] (as mission.speedup)"},
+      {[](NodeOptions& o) { o.speedup = 2.5; }, ""},
+  };
+  for (const auto& [change, message] : cases) {
+    NodeOptions options;
+    change(options);
+    EXPECT_EQ(sarloc::test::validation_error(options), message);
+  }
 }
 
 }  // namespace

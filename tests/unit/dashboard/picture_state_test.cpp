@@ -146,15 +146,15 @@ TEST(PictureState, AnOlderPositionOrADeadReckoningOverAFreshMapAidedFixIsNotShow
 // The picture's limits are checked where the state is made, whoever fills them.
 TEST(PictureState, ItsConfigIsCheckedNamingTheKey) {
   EXPECT_EQ(sarloc::test::validation_error(PictureStateConfig{}), "");
-  PictureStateConfig c;
-  c.track_length = 0;
-  EXPECT_EQ(sarloc::test::validation_error(c), "dashboard.track_length = 0: must be 1-10000");
-  c = {};
-  c.stale_after_s = 0.1;
-  EXPECT_EQ(sarloc::test::validation_error(c), "dashboard.stale_after_s = 0.1: must be in [0.5, 3600]");
-  c = {};
-  c.event_log_length = 0;
-  EXPECT_THROW(PictureState(c, [] { return TimestampNs{0}; }, 0), ConfigError);
+  PictureStateConfig no_track;
+  no_track.track_length = 0;
+  EXPECT_EQ(sarloc::test::validation_error(no_track), "dashboard.track_length = 0: must be 1-10000");
+  PictureStateConfig jittery;
+  jittery.stale_after_s = 0.1;
+  EXPECT_EQ(sarloc::test::validation_error(jittery), "dashboard.stale_after_s = 0.1: must be in [0.5, 3600]");
+  PictureStateConfig no_log;
+  no_log.event_log_length = 0;
+  EXPECT_THROW(PictureState(no_log, [] { return TimestampNs{0}; }, 0), ConfigError);
 }
 
 }  // namespace
