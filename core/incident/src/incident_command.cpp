@@ -312,6 +312,12 @@ CommandCycle IncidentCommand::cycle(TimestampNs now, TimestampNs wall_now) {
   }
   if (took_over) take_over(now);
   fusion_.step(now);
+  for (const auto& w : fusion_.take_withdrawn()) {
+    say(IncidentEvent::Kind::kWarning,
+        "victim " + std::to_string(w.victim_id) + ": LOCATED withdrawn, now unconfirmed with evidence conflict: " +
+            "the signal that located it (rescuer '" + w.rescuer_id + "' signal " + std::to_string(w.signal_id) +
+            ") is now estimated at victim " + std::to_string(w.now_bound_to) + " and nothing else stands by it");
+  }
   out.victims = fusion_.victims();
   if (out.active) {
     for (const auto& v : out.victims) largest_id_seen_ = std::max(largest_id_seen_, v.victim_id);

@@ -119,6 +119,9 @@ void VictimFusion::adopt(const std::vector<FusedVictim>& picture, std::uint32_t 
   orphaned_.clear();
   adopted_bindings_.clear();
   adopted_ids_.clear();
+  contradicted_.clear();
+  withdrawals_.clear();
+  withdrawn_.clear();
   for (FusedVictim& v : sorted) {
     adopted_ids_.insert(v.victim_id);
     if (const auto own = advanced.find(v.victim_id); own != advanced.end() && own->second.state > v.state) {
@@ -128,6 +131,8 @@ void VictimFusion::adopt(const std::vector<FusedVictim>& picture, std::uint32_t 
     }
     std::vector<VictimSource> listed;
     listed.swap(v.sources);
+    // A withdrawn victim as published: unconfirmed, flagged, nothing bound.
+    if (listed.empty() && v.evidence_conflict && v.state == VictimState::kUnconfirmed) withdrawn_.insert(v.victim_id);
     for (const VictimSource& vs : listed) {
       const SourceKey key{vs.rescuer_id, vs.signal_id};
       const auto it = sources_.find(key);
@@ -243,6 +248,24 @@ std::vector<std::uint32_t> VictimFusion::take_removed() {
   return out;
 }
 
+std::vector<VictimFusion::Withdrawal> VictimFusion::take_withdrawn() {
+  std::vector<Withdrawal> out;
+  out.swap(withdrawals_);
+  return out;
+}
+
+void VictimFusion::withdraw_contradicted() {
+  for (const Withdrawal& w : contradicted_) {
+    FusedVictim* v = find_victim(w.victim_id);
+    if (v == nullptr || !v->sources.empty() || v->state != VictimState::kLocated) continue;
+    v->state = VictimState::kUnconfirmed;
+    v->located_at = 0;
+    withdrawn_.insert(v->victim_id);
+    withdrawals_.push_back(w);
+  }
+  contradicted_.clear();
+}
+
 FusedVictim* VictimFusion::find_victim(std::uint32_t id) {
   auto it = std::lower_bound(victims_.begin(), victims_.end(), id,
                              [](const FusedVictim& v, std::uint32_t i) { return v.victim_id < i; });
@@ -261,6 +284,8 @@ std::vector<GaussianPosition> VictimFusion::bound_positions(const FusedVictim& v
 }
 
 void VictimFusion::bind(Source& s, FusedVictim& v) {
+  if (s.last_victim_id != 0 && s.last_victim_id != v.victim_id)
+    contradicted_.push_back({s.last_victim_id, s.estimate.rescuer_id, s.estimate.signal_id, v.victim_id});
   s.victim_id = v.victim_id;
   s.last_victim_id = v.victim_id;
   VictimSource vs{s.estimate.rescuer_id, s.estimate.signal_id, s.estimate.stamp, s.estimate.signal_event,
@@ -420,6 +445,7 @@ void VictimFusion::merge_into(std::uint32_t keep_id, std::uint32_t gone_id) {
                                     [&](const FusedVictim& v) { return v.victim_id == gone_id; });
   FusedVictim gone = *gone_it;
   victims_.erase(gone_it);
+  withdrawn_.erase(gone_id);
   FusedVictim& keep = *find_victim(keep_id);
   for (const VictimSource& vs : gone.sources) {
     Source& s = sources_.at({vs.rescuer_id, vs.signal_id});
@@ -507,9 +533,11 @@ const FusedVictim* VictimFusion::indistinct_twin(const FusedVictim& v) const {
 
 void VictimFusion::update_states(TimestampNs now) {
   for (FusedVictim& v : victims_) {
-    v.evidence_conflict = std::any_of(sources_.begin(), sources_.end(), [&](const auto& kv) {
-      return kv.second.last_victim_id == v.victim_id && now < kv.second.conflict_until;
-    });
+    if (!v.sources.empty()) withdrawn_.erase(v.victim_id);  // judged afresh on what binds now
+    v.evidence_conflict =
+        withdrawn_.count(v.victim_id) != 0 || std::any_of(sources_.begin(), sources_.end(), [&](const auto& kv) {
+          return kv.second.last_victim_id == v.victim_id && now < kv.second.conflict_until;
+        });
     // Confirmed by nothing but conflicted sources: the picture cannot stand by it.
     if (v.evidence_conflict && v.sources.empty() && v.state != VictimState::kUnconfirmed) {
       v.state = VictimState::kUnconfirmed;
@@ -589,6 +617,13 @@ void VictimFusion::step(TimestampNs now) {
                repeat_claim(s).first != responder::RepeatState::kConfirmed;
     if (!s.active) unbind(s, Unbind::kInactive);
   }
+  // A LOCATED victim's only source that jumped outside the keep gate of where it located the
+  // victim no longer stands by it: re-associated (see Withdrawal), not followed 29 m.
+  for (FusedVictim& v : victims_) {
+    if (v.state != VictimState::kLocated || v.sources.size() != 1) continue;
+    Source& s = sources_.at({v.sources[0].rescuer_id, v.sources[0].signal_id});
+    if (mahalanobis2(s.estimate.position, v.position) > keep_gate_) unbind(s, Unbind::kReassociated);
+  }
   for (FusedVictim& v : victims_) refuse(v);
 
   // 2. keep test: drop the worst source outside the keep gate, one at a time.
@@ -627,10 +662,13 @@ void VictimFusion::step(TimestampNs now) {
                    [](const auto& a, const auto& b) { return a.first > b.first; });
   for (const auto& [count, id] : order) associate_rescuer(id, now);
 
-  // Ghosts of a wrong association: unconfirmed, and their last source went elsewhere.
+  withdraw_contradicted();
+  // Ghosts of a wrong association: unconfirmed, and their last source went elsewhere (a
+  // withdrawn victim stays: a device once stood by it).
   for (std::uint32_t id : orphaned_) {
     FusedVictim* v = find_victim(id);
     if (v == nullptr || !v->sources.empty() || v->state != VictimState::kUnconfirmed) continue;
+    if (withdrawn_.count(id) != 0) continue;
     removed_.push_back(id);
     victims_.erase(victims_.begin() + (v - victims_.data()));
   }

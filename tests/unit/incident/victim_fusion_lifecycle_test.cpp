@@ -203,5 +203,79 @@ TEST(VictimFusion, TwoFoundVictimsNeverMerge) {
   EXPECT_LT((f.victims()[0].position.position - a).norm(), 1e-9);
 }
 
+// r2's device LOCATED its signal 3 at 39 m range (95 % radius 3.9 m), 29 m from any victim; its
+// filter then re-opened and the same signal converged on the victim. Nothing stands by the first
+// victim any more and its own evidence says elsewhere: the picture withdraws the confirmation
+// and flags it, keeping it as an unconfirmed contact (seen in CI under the hand-over test: a
+// confirmed victim with no source left, where nobody was buried).
+TEST(VictimFusion, ALocatedVictimWhoseSignalIsNowEstimatedElsewhereIsWithdrawn) {
+  for (const bool reopened : {true, false}) {
+    SCOPED_TRACE(reopened ? "the filter re-opened in between" : "the estimate jumped");
+    VictimFusionConfig c;
+    c.source_timeout_s = 5.0;
+    VictimFusion f(c);
+    const Vec3 claimed(28.9, 34.6, -3.7), buried(18.0, 62.0, -1.2);
+    f.update(src("r2", 3, 0, claimed, 1.4, EstimatorStatus::kLocated));
+    f.step(0);
+    ASSERT_EQ(f.victims().size(), 1u);
+    ASSERT_EQ(f.victims()[0].state, VictimState::kLocated);
+    if (reopened) {
+      f.update(src("r2", 3, kSec, claimed, 1.4, EstimatorStatus::kMultimodal));
+      f.step(kSec);
+      EXPECT_EQ(f.victims()[0].state, VictimState::kLocated) << "an inactive source changes nothing";
+      EXPECT_TRUE(f.take_withdrawn().empty());
+    }
+    f.update(src("r2", 3, 2 * kSec, buried, 0.5));
+    f.step(2 * kSec);
+    ASSERT_EQ(f.victims().size(), 2u) << "withdrawn, not removed";
+    EXPECT_TRUE(f.take_removed().empty());
+    const FusedVictim& withdrawn = f.victims()[0];
+    EXPECT_EQ(withdrawn.state, VictimState::kUnconfirmed);
+    EXPECT_EQ(withdrawn.located_at, 0);
+    EXPECT_TRUE(withdrawn.evidence_conflict);
+    EXPECT_TRUE(withdrawn.sources.empty());
+    ASSERT_EQ(f.victims()[1].sources.size(), 1u);
+    const auto said = f.take_withdrawn();
+    ASSERT_EQ(said.size(), 1u);
+    EXPECT_EQ(said[0].victim_id, 1u);
+    EXPECT_EQ(said[0].rescuer_id, "r2");
+    EXPECT_EQ(said[0].signal_id, 3u);
+    EXPECT_EQ(said[0].now_bound_to, 2u);
+    f.update(src("r2", 3, 3 * kSec, buried, 0.5));
+    f.step(3 * kSec);
+    EXPECT_TRUE(f.victims()[0].evidence_conflict) << "flagged while nothing binds to it";
+    EXPECT_TRUE(f.take_withdrawn().empty()) << "said once";
+    // Another rescuer's device locates a victim there after all: confirmed again, unflagged.
+    f.update(src("r1", 1, 4 * kSec, claimed, 0.3, EstimatorStatus::kLocated));
+    f.update(src("r2", 3, 4 * kSec, buried, 0.5));
+    f.step(4 * kSec);
+    ASSERT_EQ(f.victims().size(), 2u);
+    EXPECT_EQ(f.victims()[0].state, VictimState::kLocated);
+    EXPECT_FALSE(f.victims()[0].evidence_conflict);
+  }
+}
+
+// What is not withdrawn: a FOUND victim (a dig site its finder stood over) whose signal moves on,
+// and a LOCATED victim another rescuer's source still stands by.
+TEST(VictimFusion, AFoundVictimOrOneStillCorroboratedIsNotWithdrawn) {
+  VictimFusionConfig c;
+  c.source_timeout_s = 5.0;
+  VictimFusion f(c);
+  const Vec3 a(0.0, 30.0, -1.0), b(20.0, 30.0, -1.5), far(0.0, 70.0, -1.0);
+  f.update(src("r1", 1, 0, a, 0.15, EstimatorStatus::kFound));
+  f.update(src("r2", 1, 0, b, 0.3, EstimatorStatus::kLocated));
+  f.update(src("r3", 1, 0, b + Vec3(0.2, 0.0, 0.0), 0.3, EstimatorStatus::kLocated));
+  f.step(0);
+  ASSERT_EQ(f.victims().size(), 2u);
+  f.update(src("r1", 1, kSec, far, 0.5));
+  f.update(src("r2", 1, kSec, far + Vec3(1.0, 0.0, 0.0), 0.5));
+  f.update(src("r3", 1, kSec, b + Vec3(0.2, 0.0, 0.0), 0.3, EstimatorStatus::kLocated));
+  f.step(kSec);
+  EXPECT_TRUE(f.take_withdrawn().empty());
+  EXPECT_EQ(f.victims()[0].state, VictimState::kFound);
+  EXPECT_EQ(f.victims()[1].state, VictimState::kLocated);
+  EXPECT_FALSE(f.victims()[1].evidence_conflict);
+}
+
 }  // namespace
 }  // namespace sarloc::incident

@@ -13,7 +13,8 @@
 //      position and state;
 //   2. keep: a bound source stays bound while its Mahalanobis d^2 to the CI fusion of the
 //      victim's OTHER sources, with summed covariances, is inside the keep gate
-//      (chi2_3(keep_gate_probability)); otherwise it is unbound;
+//      (chi2_3(keep_gate_probability)); otherwise it is unbound. A LOCATED victim's only
+//      source is held to the victim's last fused position the same way;
 //   3. associate: for each rescuer with an unbound active source (most active sources first,
 //      then by id), ALL its active sources are re-solved together against every victim,
 //      fused without that rescuer: cost d^2 (summed covariances) if inside the gate
@@ -44,6 +45,14 @@
 //      one).
 //      An unconfirmed victim that lost all its sources to re-association (never
 //      to a timeout) is a ghost of a wrong association and is removed the same way;
+//   Withdrawal: a LOCATED (never a FOUND) victim left without sources, one of whose former
+//      sources is now bound to another victim (its own reporter estimates that signal
+//      elsewhere), goes back to kUnconfirmed and carries evidence_conflict until a source binds
+//      to it again: nothing stands by it and its own evidence says elsewhere, so the picture
+//      says so rather than keep confirming it (seen in CI: a device LOCATED a signal 39 m away
+//      with a 3.9 m radius, 29 m from any victim, then found the victim with that signal; the
+//      picture kept a confirmed victim where nobody was buried). It is kept as an unconfirmed
+//      contact, not removed: a device once stood by it. take_withdrawn() names each one once;
 //   Repeats (one transmitter split into two signals by a reporter's separation: the reporter
 //      says so, VictimEstimate::repeat, from the latest estimate of any of its estimators):
 //      a SUSPECTED repeat fuses as usual but confirms nothing; a victim whose every bound source
@@ -172,6 +181,16 @@ class VictimFusion {
   /// Ids removed (merged away or ghosts) since the last call; the caller disposes of them.
   std::vector<std::uint32_t> take_removed();
 
+  /// A LOCATED victim withdrawn (see "Withdrawal" above) and the source that now says elsewhere.
+  struct Withdrawal {
+    std::uint32_t victim_id = 0;
+    std::string rescuer_id;
+    std::uint32_t signal_id = 0;
+    std::uint32_t now_bound_to = 0;  ///< the victim that source is bound to now
+  };
+  /// The withdrawals since the last call.
+  std::vector<Withdrawal> take_withdrawn();
+
   const VictimFusionConfig& config() const { return config_; }
   std::size_t source_count() const { return sources_.size(); }
 
@@ -212,6 +231,8 @@ class VictimFusion {
   /// within source_timeout_s of its newest.
   std::pair<responder::RepeatState, std::uint32_t> repeat_claim(const Source& s) const;
   void update_states(TimestampNs now);
+  /// Withdrawal (see the overview) of the victims that contradicted_ names.
+  void withdraw_contradicted();
   /// The closest other victim inside v's merge gate (one the same-rescuer rule keeps apart), or
   /// nullptr.
   const FusedVictim* indistinct_twin(const FusedVictim& v) const;
@@ -227,6 +248,9 @@ class VictimFusion {
   std::vector<FusedVictim> victims_;          ///< sorted by id
   std::vector<std::uint32_t> removed_;
   std::vector<std::uint32_t> orphaned_;       ///< lost their last source to re-association
+  std::vector<Withdrawal> contradicted_;      ///< a former source now bound elsewhere (this step)
+  std::set<std::uint32_t> withdrawn_;         ///< withdrawn, no source bound since
+  std::vector<Withdrawal> withdrawals_;       ///< not yet taken
   std::map<SourceKey, std::uint32_t> adopted_bindings_;  ///< adopted, source not heard yet
   std::set<std::uint32_t> adopted_ids_;      ///< victims of the last adopted picture
   std::set<std::uint32_t> by_radius_only_;   ///< confirmed by the fused radius, no device's word
