@@ -68,6 +68,27 @@ void read_scaled(YamlReader& r, const std::string& key, double& value, double un
   if (std::abs(v - shown) > 1e-12 * std::abs(shown)) value = v * unit;
 }
 
+}  // namespace
+
+void read_ins(YamlReader r, firefighter::ZuptInsConfig& n) {
+  r.read("alignment_s", n.alignment_s);
+  r.read("alignment_min_s", n.alignment_min_s);
+  r.read("zupt_sigma_mps", n.zupt_sigma_mps);
+  read_scaled(r, "zaru_sigma_deg_per_s", n.zaru_sigma_radps, kDeg);
+  r.read("zaru_after_s", n.zaru_after_s);
+  r.read("level_step_m", n.level_step_m);
+  r.read("level_sigma_m", n.level_sigma_m);
+  r.read("detector_window", n.detector_window);
+  r.read("detector_sigma_accel", n.detector_sigma_accel);
+  read_scaled(r, "detector_sigma_gyro_deg_per_s", n.detector_sigma_gyro, kDeg);
+  r.read("detector_threshold", n.detector_threshold);
+  r.read("adaptive_stance", n.adaptive_stance);
+  r.read("motionless_after_s", n.motionless_after_s);
+  r.expect_done();
+}
+
+namespace {
+
 void load_firefighter(YamlReader root, firefighter::FirefighterEvalConfig& c) {
   {
     auto r = root.child("walk");
@@ -106,18 +127,7 @@ void load_firefighter(YamlReader root, firefighter::FirefighterEvalConfig& c) {
     r.read("bias_correlation_time_s", m.bias_correlation_time_s);
     r.expect_done();
   }
-  {
-    auto r = root.child("ins");
-    auto& n = c.ins;
-    r.read("alignment_s", n.alignment_s);
-    r.read("zupt_sigma_mps", n.zupt_sigma_mps);
-    r.read("detector_window", n.detector_window);
-    r.read("detector_sigma_accel", n.detector_sigma_accel);
-    read_scaled(r, "detector_sigma_gyro_deg_per_s", n.detector_sigma_gyro, kDeg);
-    r.read("detector_threshold", n.detector_threshold);
-    r.read("motionless_after_s", n.motionless_after_s);
-    r.expect_done();
-  }
+  read_ins(root.child("ins"), c.ins);
   {
     auto r = root.child("pattern");
     r.read("grid_spacing_m", c.grid.spacing_m);

@@ -2,6 +2,7 @@
 // YAML -> EvaluationSetup for sarloc-eval (config/eval/avalanche.yaml documents every key).
 #include <string>
 
+#include "sarloc/app/yaml_reader.hpp"
 #include "sarloc/core/avalanche/evaluation.hpp"
 #include "sarloc/core/avalanche/multi_burial.hpp"
 #include "sarloc/core/firefighter/firefighter_evaluation.hpp"
@@ -19,6 +20,9 @@ void load_avalanche_config_text(const std::string& text, const std::string& name
 /// of 200 per victim at least. Not validated (the caller may change it first).
 avalanche::MultiBurialSetup multi_burial_setup(const avalanche::EvaluationSetup& base, std::uint32_t victims,
                                                double spread_m, std::uint32_t trials);
+
+/// The ins: section (config/eval/firefighter.yaml, `sarloc-eval ins -c`) over `config`.
+void read_ins(app::YamlReader section, firefighter::ZuptInsConfig& config);
 
 /// Reads the sections walk:, imu:, ins:, pattern:, filter:, evaluation: of
 /// config/eval/firefighter.yaml over the defaults of `config` (angles in degrees there).

@@ -6,7 +6,9 @@
 //   sarloc-eval multi-burial --victims 3 --spread 5 [--trials N] [--seed S] [--json FILE]
 //                            [--trace-trial N]
 //   sarloc-eval firefighter --building FILE --runs N --seed S [--json FILE] [--plot FILE.svg]
-//   sarloc-eval detector [--scenario single|nested-pair|together|lockstep-pair|all] [--draws N] [--seed S] [--json FILE]
+//   sarloc-eval ins FILE [--source config/imu/X.yaml] [--loop] [--footprints TRUTH.csv] [--out TRACK.csv] [--plot
+//   F.svg] sarloc-eval detector [--scenario single|nested-pair|together|lockstep-pair|all] [--draws N] [--seed S]
+//   [--json FILE]
 //
 // Prints a table in the layout of seed 000, Table I, plus timing and NEES consistency, and the
 // same figures as JSON. Exit codes (sarloc::app::ExitCode): 0 all accuracy/consistency targets
@@ -14,30 +16,30 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <optional>
-#include <thread>
-#include <algorithm>
 #include <string>
+#include <thread>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "eval_config.hpp"
-#include "error_histogram.hpp"
 #include "detector_command.hpp"
+#include "error_histogram.hpp"
+#include "eval_config.hpp"
 #include "firefighter_command.hpp"
-#include "trial_trace.hpp"
+#include "ins_command.hpp"
 #include "sarloc/app/command_line.hpp"
-#include "sarloc/app/exit_codes.hpp"
 #include "sarloc/app/evaluation_json.hpp"
+#include "sarloc/app/exit_codes.hpp"
 #include "sarloc/app/logging.hpp"
 #include "sarloc/app/progress_bar.hpp"
 #include "sarloc/app/shutdown_signal.hpp"
 #include "sarloc/core/avalanche/multi_burial.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "trial_trace.hpp"
 
 namespace {
 
@@ -278,6 +280,8 @@ int main(int argc, char** argv) {
   auto* firefighter = sarloc::eval::add_firefighter_command(app, firefighter_options);
   sarloc::eval::DetectorOptions detector_options;
   auto* detector = sarloc::eval::add_detector_command(app, detector_options);
+  sarloc::eval::InsOptions ins_options;
+  auto* ins = sarloc::eval::add_ins_command(app, ins_options);
   if (auto code = sarloc::app::parse_command_line(app, argc, argv)) return *code;
   try {
     sarloc::app::setup_logging(log_level, "sarloc-eval");
@@ -289,6 +293,7 @@ int main(int argc, char** argv) {
 
   if (firefighter->parsed()) return sarloc::eval::run_firefighter_command(firefighter_options);
   if (detector->parsed()) return sarloc::eval::run_detector_command(detector_options);
+  if (ins->parsed()) return sarloc::eval::run_ins_command(ins_options);
   if (multi->parsed()) {
     av::EvaluationSetup base;
     try {

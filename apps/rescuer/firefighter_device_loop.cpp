@@ -38,7 +38,8 @@ const char* source_name(responder::PositionSource s) {
 
 app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const app::FirefighterEntry& ff,
                                      const app::NodeOptions& options, const std::string& source,
-                                     const std::string& summary_path, bool quiet) {
+                                     const firefighter::ImuSourceFormat& format, const std::string& summary_path,
+                                     bool quiet) {
   const auto& placement = mission.estimators.firefighter;
   if (!mission.world || !placement.building) {
     throw ConfigError("rescuers[" + ff.id + "].role = firefighter: the mission has no building: section");
@@ -52,12 +53,17 @@ app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const ap
   if (source == "sim") {
     sim.emplace(*mission.world, ff.spec, seed_of_name(mission.scenario.seed, ff.team), seed_of_name(mission.scenario.seed, ff.id));
   } else {
-    file.emplace(source);  // ConfigError naming the file for a missing one or a wrong header
+    file.emplace(source, format);  // ConfigError naming the file for a missing one or a wrong header
   }
   const auto next_sample = [&]() -> std::optional<firefighter::ImuSample> {
     return sim ? sim->next_sample() : file->next();
   };
   estimator::FirefighterDeviceConfig device_config;
+  if (file) {  // the recording's sensor: its rate and its stance detector (config/imu/)
+    if (format.rate_hz > 0.0) device_config.ins.rate_hz = format.rate_hz;
+    if (format.stance_threshold) device_config.ins.detector_threshold = *format.stance_threshold;
+    if (format.adaptive_stance) device_config.ins.adaptive_stance = *format.adaptive_stance;
+  }
   estimator::FirefighterDevice device(ff.id, ff.team, device_config, epoch);
   auto participant = std::make_shared<dds::Participant>(options.participant(mission, "rescuer-" + ff.id));
   dds::FirefighterNodeConfig node_config;

@@ -8,13 +8,16 @@
 #include "sarloc/app/exit_codes.hpp"
 #include "sarloc/app/mission_config.hpp"
 #include "sarloc/app/node_options.hpp"
+#include "sarloc/core/firefighter/imu_source.hpp"
 
 namespace sarloc::rescuer {
 
 /// Runs until the IMU source ends (`source`: "sim", the simulated search, or a recorded IMU
-/// file, imu_file.hpp) or shutdown is requested.
+/// file in `format`, imu_file.hpp, whose rate and stance settings the INS takes) or shutdown is
+/// requested.
 app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const app::FirefighterEntry& firefighter,
                                      const app::NodeOptions& options, const std::string& source,
-                                     const std::string& summary_path, bool quiet);
+                                     const firefighter::ImuSourceFormat& format, const std::string& summary_path,
+                                     bool quiet);
 
 }  // namespace sarloc::rescuer

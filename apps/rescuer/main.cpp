@@ -3,26 +3,27 @@
 // the device when the core daemon is unreachable (dds/rescuer_node.hpp). A firefighter's runs
 // the boot INS, publishes odometry and alarms, and dead reckons when the daemon is silent
 // (firefighter_device_loop.hpp).
-#include <CLI/CLI.hpp>
 #include <spdlog/spdlog.h>
 
+#include <CLI/CLI.hpp>
 #include <cmath>
 #include <limits>
 #include <map>
 #include <thread>
 
-#include "sarloc/core/common/angle.hpp"
-#include "sarloc/core/common/time_units.hpp"
+#include "firefighter_device_loop.hpp"
 #include "sarloc/app/command_line.hpp"
+#include "sarloc/app/imu_source_yaml.hpp"
 #include "sarloc/app/json_io.hpp"
 #include "sarloc/app/logging.hpp"
-#include "sarloc/core/avalanche/found_victim.hpp"
-#include "sarloc/core/common/gaussian.hpp"
-#include "sarloc/core/common/statistics.hpp"
 #include "sarloc/app/node_options.hpp"
 #include "sarloc/app/run_main.hpp"
 #include "sarloc/app/shutdown_signal.hpp"
-#include "firefighter_device_loop.hpp"
+#include "sarloc/core/avalanche/found_victim.hpp"
+#include "sarloc/core/common/angle.hpp"
+#include "sarloc/core/common/gaussian.hpp"
+#include "sarloc/core/common/statistics.hpp"
+#include "sarloc/core/common/time_units.hpp"
 #include "sensor_source.hpp"
 
 namespace {
@@ -88,6 +89,11 @@ int main(int argc, char** argv) {
   cli.add_option("--source", source,
                  "'sim' (mission simulator) or a recorded file: JSON-lines sensor file (avalanche rescuer), "
                  "boot IMU CSV (firefighter)");
+  std::string imu_source;
+  cli.add_option("--imu-source", imu_source,
+                 "a firefighter's recorded boot IMU file is in this IMU source's format (config/imu/*.yaml; "
+                 "default: the sarloc boot IMU CSV)")
+      ->check(CLI::ExistingFile);
   cli.add_option("--summary", summary_path, "write a JSON summary here on exit");
   cli.add_flag("--quiet", quiet, "do not print the guidance line every epoch");
   if (auto code = app::parse_command_line(cli, argc, argv)) return *code;
@@ -96,7 +102,8 @@ int main(int argc, char** argv) {
     app::setup_logging(options.log_level, rescuer_id);
     const auto mission = app::load_mission_config(options.config_path);
     if (const auto* firefighter = mission.firefighter(rescuer_id)) {
-      return rescuer::run_firefighter_device(mission, *firefighter, options, source, summary_path, quiet);
+      const auto format = imu_source.empty() ? firefighter::sarloc_csv() : app::load_imu_source(imu_source);
+      return rescuer::run_firefighter_device(mission, *firefighter, options, source, format, summary_path, quiet);
     }
     const auto node_config = mission.rescuer_config(rescuer_id);  // throws ConfigError for an unknown id
     const sarloc::dds::MissionClock clock = options.clock(mission);

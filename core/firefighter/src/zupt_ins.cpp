@@ -16,6 +16,10 @@ using Vec3 = Eigen::Vector3d;
 
 constexpr double kMaxSpecificForce = 16.0 * kGravity;         // the MTi-3's range
 constexpr double kMaxAngularRate = 2000.0 * kPi / 180.0;
+// A footfall for the level floor lasts at least this (a walking stance: 0.15-0.4 s).
+constexpr double kLevelMinStanceS = 0.08;
+// A footfall sample turning slower than this many ZARU sigmas reads its bias too.
+constexpr double kZaruGate = 5.0;
 
 Eigen::Quaterniond exp_q(const Vec3& phi) {
   const double a = phi.norm();
@@ -49,7 +53,12 @@ double yaw_of(const Eigen::Quaterniond& q) {
 void ZuptInsConfig::validate() const {
   auto check = [](const char* key, double v, double lo, double hi) { check_range("ins", key, v, lo, hi); };
   check("rate_hz", rate_hz, 20.0, 2000.0);
-  check("alignment_s", alignment_s, 0.5, 600.0);
+  check("alignment_s", alignment_s, 0.1, 600.0);
+  check("alignment_min_s", alignment_min_s, 0.01, alignment_s);
+  check("zaru_sigma_radps", zaru_sigma_radps, 0.0, 1.0);
+  check("zaru_after_s", zaru_after_s, 0.0, 60.0);
+  check("level_step_m", level_step_m, 0.0, 1.0);
+  check("level_sigma_m", level_sigma_m, 1e-4, 1.0);
   check("initial_yaw_rad", initial_yaw_rad, -10.0, 10.0);
   check("accel_noise_density", accel_noise_density, 1e-6, 1.0);
   check("gyro_noise_density", gyro_noise_density, 1e-7, 0.1);
@@ -67,7 +76,13 @@ void ZuptInsConfig::validate() const {
   check("motionless_after_s", motionless_after_s, 1.0, 3600.0);
 }
 
-ZuptIns::ZuptIns(ZuptInsConfig config) : config_((config.validate(), config)) {}
+ZuptIns::ZuptIns(ZuptInsConfig config)
+    : config_((config.validate(), config)), stance_threshold_([&] {
+        StanceThresholdConfig c = config_.stance;
+        c.floor = config_.detector_threshold;
+        c.ceiling = std::max(c.ceiling, c.floor);
+        return c;
+      }()) {}
 
 double ZuptIns::yaw() const { return yaw_of(x_.q); }
 
@@ -150,19 +165,31 @@ void ZuptIns::push(const ImuSample& s) {
   t_ = s.t;
   window_.push_back(s);
   while (window_.size() > config_.detector_window) window_.pop_front();
+  const bool was_stationary = stationary_;
   stationary_ = detect();
   motionless_s_ = stationary_ ? motionless_s_ + dt : 0.0;
 
   if (!aligned_) {
     if (!stationary_) {
-      alignment_.clear();  // moved during alignment: start again
+      // The walk started: a still spell long enough is the first stance, aligned on.
+      if (still_s_ >= config_.alignment_min_s && !alignment_.empty()) {
+        align();
+        // This sample is the first of the swing: propagated from the stance's last.
+      } else {
+        alignment_.clear();
+        still_s_ = 0.0;
+        return;
+      }
+    } else {
+      alignment_.push_back(s);
+      previous_ = s;
+      still_s_ = static_cast<double>(alignment_.size()) / config_.rate_hz;  // samples, as rate_hz paces them
+      if (still_s_ + 1e-9 >= config_.alignment_s) align();
       return;
     }
-    alignment_.push_back(s);
-    previous_ = s;
-    if (static_cast<double>(alignment_.size()) >= config_.alignment_s * config_.rate_hz) align();
-    return;
   }
+  stance_s_ = stationary_ ? (was_stationary ? stance_s_ + dt : 0.0) : stance_s_;
+  if (stationary_ && !was_stationary) level_floor_update();
 
   const Eigen::Matrix<double, 15, 15> F = transition(x_, previous_, s, dt);
   x_ = propagate(x_, previous_, s, dt);
@@ -180,7 +207,14 @@ void ZuptIns::push(const ImuSample& s) {
   Q.block<3, 3>(kBa, kBa) = Mat3::Identity() * config_.accel_bias_walk * config_.accel_bias_walk * dt;
   Q.block<3, 3>(kBg, kBg) = Mat3::Identity() * config_.gyro_bias_walk * config_.gyro_bias_walk * dt;
   P_ = Fa * P_ * Fa.transpose() + Q;
-  if (stationary_) zero_velocity_update();
+  if (stationary_) {
+    zero_velocity_update();
+    // Standing, not a walking footfall: a heel-to-toe roll turns the boot at 10-30 deg/s.
+    if (stance_s_ >= config_.zaru_after_s || (s.angular_rate - x_.bg).norm() < kZaruGate * config_.zaru_sigma_radps)
+      zero_angular_rate_update(s);
+  }
+  // A stance ends: a real one (not a pause inside a swing) is a footfall on some floor.
+  if (!stationary_ && was_stationary && stance_s_ >= kLevelMinStanceS) last_stance_z_ = x_.p.z();
 }
 
 bool ZuptIns::detect() {
@@ -196,7 +230,8 @@ bool ZuptIns::detect() {
     T += (w.specific_force - g_dir).squaredNorm() * ia + w.angular_rate.squaredNorm() * ig;
   }
   T /= static_cast<double>(window_.size());
-  return T < config_.detector_threshold;
+  if (!config_.adaptive_stance) return T < config_.detector_threshold;
+  return stance_threshold_.push(T, config_.rate_hz);
 }
 
 void ZuptIns::align() {
@@ -212,31 +247,58 @@ void ZuptIns::align() {
   x_.q = Eigen::Quaterniond(Eigen::AngleAxisd(config_.initial_yaw_rad, Vec3::UnitZ()) *
                             Eigen::AngleAxisd(pitch, Vec3::UnitY()) * Eigen::AngleAxisd(roll, Vec3::UnitX()));
   x_.bg = w;  // at rest the gyros read their bias
+  // A spell shorter than alignment_s averaged fewer samples (and a stance's small motions).
+  const double spell = std::max(still_s_, 1.0 / config_.rate_hz);
+  const double bias_sigma = config_.initial_gyro_bias_sigma * std::sqrt(std::max(1.0, config_.alignment_s / spell));
   P_.setZero();
   P_.block<3, 3>(kV, kV) = Mat3::Identity() * config_.zupt_sigma_mps * config_.zupt_sigma_mps;
   P_(kTheta, kTheta) = P_(kTheta + 1, kTheta + 1) = config_.initial_tilt_sigma_rad * config_.initial_tilt_sigma_rad;
   P_(kTheta + 2, kTheta + 2) = config_.initial_yaw_sigma_rad * config_.initial_yaw_sigma_rad;
   P_.block<3, 3>(kBa, kBa) = Mat3::Identity() * config_.initial_accel_bias_sigma * config_.initial_accel_bias_sigma;
-  P_.block<3, 3>(kBg, kBg) = Mat3::Identity() * config_.initial_gyro_bias_sigma * config_.initial_gyro_bias_sigma;
+  P_.block<3, 3>(kBg, kBg) = Mat3::Identity() * bias_sigma * bias_sigma;
   aligned_ = true;
+  aligned_after_s_ = spell;
   alignment_.clear();
+  still_s_ = 0.0;
   interval_t0_ = t_;
   interval_p0_ = x_.p;
   interval_yaw0_ = yaw();
 }
 
-void ZuptIns::zero_velocity_update() {
-  Eigen::Matrix<double, 3, kStates> H = Eigen::Matrix<double, 3, kStates>::Zero();
-  H.block<3, 3>(0, kV) = Mat3::Identity();
-  const Mat3 Rz = Mat3::Identity() * config_.zupt_sigma_mps * config_.zupt_sigma_mps;
-  const Mat3 S = H * P_ * H.transpose() + Rz;
-  const Eigen::Matrix<double, kStates, 3> K = P_ * H.transpose() * S.inverse();
-  const Eigen::Matrix<double, kStates, 1> dx = K * (-x_.v);
+template <int N>
+void ZuptIns::correct(const Eigen::Matrix<double, N, kStates>& H, const Eigen::Matrix<double, N, 1>& r,
+                      const Eigen::Matrix<double, N, N>& R) {
+  const Eigen::Matrix<double, N, N> S = H * P_ * H.transpose() + R;
+  const Eigen::Matrix<double, kStates, N> K = P_ * H.transpose() * S.inverse();
+  const Eigen::Matrix<double, kStates, 1> dx = K * r;
   x_ = inject(x_, dx.head<15>());
   // The clone is the start-of-interval position: correct it as well.
   interval_p0_ += dx.segment<3>(kClone);
   const StateCov I_KH = StateCov::Identity() - K * H;
-  P_ = I_KH * P_ * I_KH.transpose() + K * Rz * K.transpose();
+  P_ = I_KH * P_ * I_KH.transpose() + K * R * K.transpose();
+}
+
+void ZuptIns::zero_velocity_update() {
+  Eigen::Matrix<double, 3, kStates> H = Eigen::Matrix<double, 3, kStates>::Zero();
+  H.block<3, 3>(0, kV) = Mat3::Identity();
+  correct<3>(H, -x_.v, Mat3::Identity() * config_.zupt_sigma_mps * config_.zupt_sigma_mps);
+}
+
+void ZuptIns::zero_angular_rate_update(const ImuSample& s) {
+  if (config_.zaru_sigma_radps <= 0.0) return;
+  Eigen::Matrix<double, 3, kStates> H = Eigen::Matrix<double, 3, kStates>::Zero();
+  H.block<3, 3>(0, kBg) = Mat3::Identity();
+  correct<3>(H, s.angular_rate - x_.bg, Mat3::Identity() * config_.zaru_sigma_radps * config_.zaru_sigma_radps);
+}
+
+void ZuptIns::level_floor_update() {
+  if (!last_stance_z_ || config_.level_step_m <= 0.0) return;
+  const double dz = x_.p.z() - *last_stance_z_;
+  if (std::abs(dz) > config_.level_step_m) return;  // a stair (or a step up): no constraint
+  Eigen::Matrix<double, 1, kStates> H = Eigen::Matrix<double, 1, kStates>::Zero();
+  H(0, kP + 2) = 1.0;
+  correct<1>(H, Eigen::Matrix<double, 1, 1>(-dz),
+             Eigen::Matrix<double, 1, 1>(config_.level_sigma_m * config_.level_sigma_m));
 }
 
 StepDisplacement ZuptIns::take_displacement() {

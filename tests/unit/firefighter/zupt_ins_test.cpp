@@ -1,6 +1,8 @@
 // ZUPT-aided INS: the error-state transition against the propagation it linearises, standing
 // still, the motionless alarm, bad samples, drift over a simulated walk, and a Monte Carlo
 // consistency check of the displacement covariance.
+#include "sarloc/core/firefighter/zupt_ins.hpp"
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -9,8 +11,8 @@
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/firefighter/foot_trajectory.hpp"
 #include "sarloc/core/firefighter/imu_error_model.hpp"
-#include "sarloc/core/firefighter/zupt_ins.hpp"
 #include "support/numeric_jacobian.hpp"
+#include "test_walks.hpp"
 
 namespace sarloc::firefighter {
 namespace {
@@ -91,27 +93,7 @@ TEST(ZuptIns, RefusesBadSamplesNamingTheField) {
   EXPECT_EQ(ins.time(), 1.01);
 }
 
-// A walk of straight strides and 90-degree turns, as footfalls.
-std::vector<Footfall> square_walk(int strides) {
-  std::vector<Footfall> feet;
-  Footfall start;
-  start.stance_s = 8.0;
-  feet.push_back(start);
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  double yaw = 0.0, t = 8.0;
-  for (int k = 0; k < strides; ++k) {
-    if (k % 10 == 9) yaw += 0.5 * 3.14159265358979;
-    p += 0.8 * Eigen::Vector3d(std::cos(yaw), std::sin(yaw), 0.0);
-    Footfall f;
-    f.t_land = t + 0.7;
-    f.stance_s = 0.9;
-    f.position = p;
-    f.yaw = yaw;
-    feet.push_back(f);
-    t = f.t_land + f.stance_s;
-  }
-  return feet;
-}
+using walks::square_walk;
 
 TEST(ZuptIns, DriftsLessThanOnePercentOverASimulatedWalkWithMti3Errors) {
   const FootTrajectory foot(square_walk(120));  // 96 m, about 200 s
@@ -122,6 +104,41 @@ TEST(ZuptIns, DriftsLessThanOnePercentOverASimulatedWalkWithMti3Errors) {
     for (const ImuSample& s : foot.imu_samples(100.0)) ins.push(errors.apply(s, rng));
     const Eigen::Vector3d truth = foot.footfalls().back().position;
     EXPECT_LT((ins.nominal().p - truth).head<2>().norm(), 0.01 * 96.0) << "seed " << seed;
+  }
+}
+
+// A real boot is switched on and walked at once: 0.3 s of standing is its first stance, aligned
+// on (the gyro bias then comes from the standing parts of later stances); one that stands a
+// second aligns at 1 s.
+TEST(ZuptIns, AlignsOnASecondOfStillnessOrOnItsFirstStance) {
+  for (const double standing_s : {0.3, 1.5}) {
+    const FootTrajectory foot(square_walk(120, standing_s));
+    std::mt19937_64 rng(7);
+    ImuErrors errors(ImuErrorConfig{}, rng);
+    ZuptIns ins(ZuptInsConfig{});
+    double aligned_at = -1.0;
+    for (const ImuSample& s : foot.imu_samples(100.0)) {
+      ins.push(errors.apply(s, rng));
+      if (ins.aligned() && aligned_at < 0.0) aligned_at = s.t;
+    }
+    ASSERT_GE(aligned_at, 0.0) << "standing " << standing_s << " s: never aligned";
+    EXPECT_LE(aligned_at, std::min(standing_s, 1.0) + 0.1) << "standing " << standing_s << " s";
+    const Eigen::Vector3d truth = foot.footfalls().back().position;
+    EXPECT_LT((ins.nominal().p - truth).head<2>().norm(), 0.02 * 96.0) << "standing " << standing_s << " s";
+  }
+}
+
+// The level floor holds the height of a flat walk, and a flight of stairs (0.34 m per stride)
+// still climbs: a stance that far above the last is no level floor.
+TEST(ZuptIns, HeightHoldsOnALevelFloorAndStairsStillClimb) {
+  for (const double rise : {0.0, 0.34}) {
+    const FootTrajectory foot(square_walk(40, 8.0, rise, 30));  // the last 10 strides climb
+    std::mt19937_64 rng(11);
+    ImuErrors errors(ImuErrorConfig{}, rng);
+    ZuptIns ins(ZuptInsConfig{});
+    for (const ImuSample& s : foot.imu_samples(100.0)) ins.push(errors.apply(s, rng));
+    const double truth_z = foot.footfalls().back().position.z();
+    EXPECT_NEAR(ins.nominal().p.z(), truth_z, rise > 0.0 ? 0.1 : 0.03) << "rise " << rise;
   }
 }
 

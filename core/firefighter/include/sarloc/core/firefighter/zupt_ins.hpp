@@ -17,16 +17,22 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <deque>
+#include <optional>
 
 #include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/firefighter/imu_sample.hpp"
+#include "sarloc/core/firefighter/stance_threshold.hpp"
 
 namespace sarloc::firefighter {
 
 struct ZuptInsConfig {
   double rate_hz = 100.0;
   /// Stand still this long at power-up: roll, pitch and the gyro biases are taken from it.
-  double alignment_s = 5.0;
+  double alignment_s = 1.0;
+  /// A still spell at least this long that ends before alignment_s (the walk started) aligns on
+  /// itself: a recording that starts walking gets a track from its first stance phase, with a
+  /// gyro-bias uncertainty widened by sqrt(alignment_s / spell); the ZUPTs refine the tilt.
+  double alignment_min_s = 0.15;
   double initial_yaw_rad = 0.0;
   // Process noise (the MTi 1-series figures, imu_error_model.hpp, inflated x2 for the unmodelled).
   double accel_noise_density = 2.0 * 120e-6 * kGravity;
@@ -46,6 +52,21 @@ struct ZuptInsConfig {
   double detector_sigma_accel = 0.01;                          ///< m/s^2
   double detector_sigma_gyro = 0.1 * kPi / 180.0;  ///< rad/s
   double detector_threshold = 1e4;
+  /// Adapts the threshold above detector_threshold (its floor) to the sensor and the gait
+  /// (stance_threshold.hpp); off: detector_threshold alone.
+  bool adaptive_stance = false;
+  StanceThresholdConfig stance;
+  /// Zero angular rate in stance: the gyros read their bias, with this noise (the foot's own
+  /// small rotations in a stance included). 0 turns it off.
+  double zaru_sigma_radps = 0.5 * kPi / 180.0;
+  /// ... once the stance has lasted this long: standing, not a walking footfall, whose heel-to-
+  /// toe roll turns the boot at 10-30 deg/s (a ZARU there bent the gait-driven tracks by 2-10 %).
+  double zaru_after_s = 0.5;
+  /// Level floor: a stance whose height is within level_step_m of the previous stance's is on
+  /// the same floor (a stair riser is about 0.17 m, two per stride): one pseudo-observation of
+  /// the height difference, zero, with level_sigma_m. 0 turns it off.
+  double level_step_m = 0.1;
+  double level_sigma_m = 0.005;
   /// No swing phase for this long: the firefighter has not moved (a PASS device's alarm).
   double motionless_after_s = 30.0;
   void validate() const;
@@ -79,6 +100,8 @@ class ZuptIns {
   void push(const ImuSample& sample);
 
   bool aligned() const { return aligned_; }
+  /// The still spell alignment averaged (s): alignment_s, or a shorter first stance.
+  double alignment_spell_s() const { return aligned_after_s_; }
   bool stationary() const { return stationary_; }
   /// Seconds since the last swing phase (0 while moving).
   double motionless_s() const { return motionless_s_; }
@@ -106,11 +129,18 @@ class ZuptIns {
   void align();
   bool detect();
   void zero_velocity_update();
+  void level_floor_update();
+  void zero_angular_rate_update(const ImuSample& s);
+  /// The Kalman correction of the error state for residual r = H dx + noise(R).
+  template <int N>
+  void correct(const Eigen::Matrix<double, N, kStates>& H, const Eigen::Matrix<double, N, 1>& r,
+               const Eigen::Matrix<double, N, N>& R);
 
   ZuptInsConfig config_;
   Nominal x_;
   StateCov P_ = StateCov::Zero();
   std::deque<ImuSample> window_;
+  StanceThreshold stance_threshold_;
   ImuSample previous_;
   std::deque<ImuSample> alignment_;
   bool aligned_ = false;
@@ -118,6 +148,10 @@ class ZuptIns {
   bool have_time_ = false;
   double t_ = 0.0;
   double motionless_s_ = 0.0;
+  double aligned_after_s_ = 0.0;
+  double stance_s_ = 0.0;                ///< the current stance so far
+  double still_s_ = 0.0;                 ///< the current still spell (before alignment)
+  std::optional<double> last_stance_z_;  ///< height at the end of the previous stance
   double interval_t0_ = 0.0;
   Eigen::Vector3d interval_p0_ = Eigen::Vector3d::Zero();
   double interval_yaw0_ = 0.0;
