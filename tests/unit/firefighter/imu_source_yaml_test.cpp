@@ -4,7 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <functional>
+#include <set>
 
 #include "sarloc/core/common/errors.hpp"
 
@@ -64,6 +68,48 @@ TEST(ImuSourceYaml, ABadDescriptionIsRefusedNamingKeyAndValue) {
       "  header: false\n  accel: {columns: ['0', '1', '2'], unit: g}\n  gyro: {columns: ['3', '4', '5'], unit: "
       "rad/s}\n",
       "imu_source.rate_hz = 0: must be > 0 without a time column");
+}
+
+// docs/configuration.md's example under "## IMU sources" is a valid description, and it shows
+// exactly the keys the loader reads.
+TEST(ImuSourceYaml, TheDocumentedKeysAreExactlyThoseTheLoaderReads) {
+  std::ifstream in(fs::path(SARLOC_SOURCE_DIR) / "docs/configuration.md");
+  std::string line, block;
+  bool section = false, inside = false;
+  while (std::getline(in, line)) {
+    if (line.rfind("## ", 0) == 0) section = line.rfind("## IMU sources", 0) == 0;
+    if (!section) continue;
+    if (line.rfind("```", 0) == 0) {
+      if (inside) break;
+      inside = true;
+      continue;
+    }
+    if (inside) block += line + "\n";
+  }
+  ASSERT_FALSE(block.empty()) << "docs/configuration.md: no example under ## IMU sources";
+  std::set<std::string> documented;
+  std::function<void(const YAML::Node&, const std::string&)> flatten = [&](const YAML::Node& n, const std::string& at) {
+    for (const auto& kv : n) {
+      const std::string key = at.empty() ? kv.first.as<std::string>() : at + "." + kv.first.as<std::string>();
+      if (kv.second.IsMap()) flatten(kv.second, key);
+      else documented.insert(key);
+    }
+  };
+  flatten(YAML::Load(block), "");
+  YamlReader::KeyRecorder recorder;
+  auto yaml = YamlReader::from_string(block, "docs/configuration.md");
+  EXPECT_NO_THROW(read_imu_source(yaml));
+  std::set<std::string> read;
+  for (const auto& k : recorder.keys())
+    if (!k.empty() && k != "imu_source") read.insert(k);
+  for (const auto& k : read) {
+    // A section the loader opens (noise, stance) is documented through its keys.
+    const bool section_only = std::any_of(read.begin(), read.end(), [&](const std::string& o) { return o.rfind(k + ".", 0) == 0; });
+    if (!section_only) {
+      EXPECT_EQ(documented.count(k), 1u) << k << ": read by the loader but not documented";
+    }
+  }
+  for (const auto& k : documented) EXPECT_EQ(read.count(k), 1u) << k << ": documented but not read";
 }
 
 }  // namespace
