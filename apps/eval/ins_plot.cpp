@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 
 namespace sarloc::eval {
@@ -51,6 +52,9 @@ std::string ins_plot_svg(const firefighter::InsRecording& input, const std::stri
   auto mx = [&](double x) { return kLeft + kMap * (0.5 + (x - mid.x()) / span); };
   auto my = [&](double y) { return kTop + kMap * (0.5 - (y - mid.y()) / span); };
   std::ostringstream svg;
+  svg << std::fixed << std::setprecision(2);
+  // At most about 1500 points a curve: a readable picture, a small file.
+  const std::size_t every = std::max<std::size_t>(1, run.track.size() / 1500);
   svg << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << kLeft + kMap + kGap + kHeightW + 40 << "\" height=\""
       << kTop + kMap + 60 << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
   svg << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
@@ -60,7 +64,7 @@ std::string ins_plot_svg(const firefighter::InsRecording& input, const std::stri
   svg << "<text x=\"" << kLeft << "\" y=\"" << kTop - 8 << "\">top view (x, y; " << std::lround(span)
       << " m across)</text>\n";
   svg << "<polyline fill=\"none\" stroke=\"#1f77b4\" stroke-width=\"1.5\" points=\"";
-  for (std::size_t i = 0; i < run.track.size(); i += 4)
+  for (std::size_t i = 0; i < run.track.size(); i += every)
     svg << mx(run.track[i].p.x()) << "," << my(run.track[i].p.y()) << " ";
   svg << "\"/>\n";
   for (const auto& s : run.stances)
@@ -95,7 +99,7 @@ std::string ins_plot_svg(const firefighter::InsRecording& input, const std::stri
       << x0 + kHeightW << "\" y=\"" << kTop + kHeightH + 16 << "\" text-anchor=\"end\">" << std::round(t1)
       << "</text>\n";
   svg << "<polyline fill=\"none\" stroke=\"#2ca02c\" stroke-width=\"1.2\" points=\"";
-  for (std::size_t i = 0; i < run.track.size(); i += 4)
+  for (std::size_t i = 0; i < run.track.size(); i += every)
     svg << hx(run.track[i].t) << "," << hy(run.track[i].p.z()) << " ";
   svg << "\"/>\n</svg>\n";
   return svg.str();
