@@ -142,6 +142,8 @@ app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const ap
       if (sim) {
         const auto [truth, floor] = truth_incident(t);
         score.on_fix(t, fix, truth, floor);
+      } else {
+        score.on_fix_without_truth(t, fix);
       }
       try {
         device.on_fix(fix);

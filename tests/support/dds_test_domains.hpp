@@ -20,6 +20,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainSecurityRoles = 167,
   kDomainSignOff = 168,
   kDomainSecurityIdentity = 169,
+  kDomainRecordedBoot = 170,
   kDomainDiscoveryServer = 140,
   kDomainBenchEchoListener = 141,
   kDomainBenchEchoQueue = 142,
@@ -43,13 +44,13 @@ enum DdsTestDomain : std::uint32_t {
   kDomainRecorderRotate = 162,
   kDomainBenchRecorder = 163,  // sarloc-bench-recorder's default --domain
   kDomainReplayer = 164,
-  kDomainMissionDashboard = 165,  // tests/integration/mission/dashboard.yaml names it too
+  kDomainMissionDashboard = 165,        // tests/integration/mission/dashboard.yaml names it too
   kDomainAccuracyDefaultMission = 166,  // tests/accuracy: config/missions/default.yaml
-  kDomainMissionSmall = 130,  // mission_test: 130..139, and:
+  kDomainMissionSmall = 130,            // mission_test: 130..139, and:
   kDomainMissionCommandKill = 134,
   kDomainMissionCommandRestart = 136,
   kDomainMissionNoCommand = 137,
-  kDomainMissionLossy = 138,   // lossy.yaml names it too
+  kDomainMissionLossy = 138,  // lossy.yaml names it too
   kDomainMissionFades = 139,
   // tests/interop/cyclone_interop_test.sh (a script: the ids are passed by its CMakeLists.txt)
   kDomainCycloneSubscribe = 150,

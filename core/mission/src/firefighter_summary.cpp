@@ -13,24 +13,33 @@ FirefighterScore::FirefighterScore(std::string responder_id, std::string team, d
   summary_.enter_at_s = enter_at_s;
 }
 
-void FirefighterScore::on_fix(double t, const responder::ResponderPosition& fix, const firefighter::Vec2& truth,
-                              std::int32_t truth_floor) {
+namespace {
+
+void note_floor(std::vector<std::int32_t>& floors, std::int32_t floor) {
+  if (std::find(floors.begin(), floors.end(), floor) == floors.end()) floors.push_back(floor);
+}
+
+}  // namespace
+
+void FirefighterScore::on_fix_without_truth(double t, const responder::ResponderPosition& fix) {
   ++summary_.fixes;
   map_error_ += fix.map_error_suspected ? 1 : 0;
-  const auto note = [](std::vector<std::int32_t>& floors, std::int32_t floor) {
-    if (std::find(floors.begin(), floors.end(), floor) == floors.end()) floors.push_back(floor);
-  };
-  note(summary_.floors_visited, truth_floor);
-  note(summary_.floors_reported, fix.floor);
-  const Eigen::Vector2d err = fix.position.position.head<2>() - truth;
-  if (fix.confirmed) {
-    ++confirmed_;
-    const Eigen::Matrix2d P = fix.position.covariance.topLeftCorner<2, 2>() + 1e-9 * Eigen::Matrix2d::Identity();
-    if (err.dot(P.ldlt().solve(err)) > kChi2_2_99) ++summary_.confirmed_outside_99;
-  }
+  confirmed_ += fix.confirmed ? 1 : 0;
+  note_floor(summary_.floors_reported, fix.floor);
   if (!summary_.converged_at_s && fix.converged && t >= summary_.enter_at_s) {
     summary_.converged_at_s = t;
     summary_.time_to_converge_s = t - summary_.enter_at_s;
+  }
+}
+
+void FirefighterScore::on_fix(double t, const responder::ResponderPosition& fix, const firefighter::Vec2& truth,
+                              std::int32_t truth_floor) {
+  on_fix_without_truth(t, fix);
+  note_floor(summary_.floors_visited, truth_floor);
+  const Eigen::Vector2d err = fix.position.position.head<2>() - truth;
+  if (fix.confirmed) {
+    const Eigen::Matrix2d P = fix.position.covariance.topLeftCorner<2, 2>() + 1e-9 * Eigen::Matrix2d::Identity();
+    if (err.dot(P.ldlt().solve(err)) > kChi2_2_99) ++summary_.confirmed_outside_99;
   }
   if (summary_.converged_at_s) {
     sum_sq_ += err.squaredNorm();

@@ -51,6 +51,9 @@ class FirefighterScore {
   FirefighterScore(std::string responder_id, std::string team, double enter_at_s);
   /// A map-aided position at mission second `t` (incident frame) and the truth then.
   void on_fix(double t, const responder::ResponderPosition& fix, const firefighter::Vec2& truth, std::int32_t truth_floor);
+  /// A map-aided position received on a recorded walk, which has no truth: counted, its flags
+  /// and floor noted, nothing scored.
+  void on_fix_without_truth(double t, const responder::ResponderPosition& fix);
   /// An alarm raised or cleared (mission seconds from its stamps with `epoch`).
   void on_alarm(const responder::ResponderAlarm& alarm, TimestampNs epoch);
   void add_dead_reckoning(double seconds) { summary_.dead_reckoning_s += seconds; }
