@@ -165,11 +165,16 @@ function ellipse(x, y, cov, cls, minimum = 0) {
 
 // Labels placed where they overlap no label placed before: the first free one of eight spots
 // around the point, then further out. Sizes in map units (px = map units per screen pixel).
+// The box is the text's as drawn (12 px sans-serif, up to 7.5 px a character, 17 px high with
+// its descenders), so that two boxes apart are two labels apart (the e2e test measures them).
 function labeller(px) {
   const placed = [];
   return (x, y, text) => {
-    const w = (7 * text.length + 4) * px, h = 14 * px;
-    const spots = [[7, -7], [7, 14], [-7 - w / px, -7], [-7 - w / px, 14], [-w / px / 2, -12], [-w / px / 2, 24], [7, -21], [7, 28]];
+    const w = (7.5 * text.length + 6) * px, h = 17 * px;
+    const near = [[7, -7], [7, 17], [-7 - w / px, -7], [-7 - w / px, 17], [-w / px / 2, -14], [-w / px / 2, 30]];
+    // Then rings further out, one label height at a time: a crowd's labels stack beside it.
+    const spots = [...near];
+    for (let ring = 1; ring <= 8; ++ring) for (const side of [1, -1]) spots.push([7, -7 + side * ring * 18], [-7 - w / px, -7 + side * ring * 18]);
     let box = null;
     for (const [dx, dy] of spots) {
       const candidate = { x: x + dx * px, y: -y + dy * px, w, h };
@@ -178,7 +183,7 @@ function labeller(px) {
         break;
       }
     }
-    box = box || { x: x + 7 * px, y: -y - 7 * px - placed.length % 4 * 14 * px, w, h };
+    box = box || { x: x + 7 * px, y: -y - 7 * px - (placed.length % 8) * 18 * px, w, h };
     placed.push(box);
     return `<text x="${box.x}" y="${box.y}" font-size="${12 * px}" stroke-width="${3 * px}">${esc(text)}</text>`;
   };
