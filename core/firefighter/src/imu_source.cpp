@@ -1,5 +1,6 @@
 #include "sarloc/core/firefighter/imu_source.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -63,7 +64,9 @@ void ImuSourceFormat::validate() const {
   require(accel_scale_mps2 > 0.0, "imu_source.accel.unit scale", accel_scale_mps2, "must be > 0");
   require(gyro_scale_radps > 0.0, "imu_source.gyro.unit scale", gyro_scale_radps, "must be > 0");
   const double orthogonality = (axes * axes.transpose() - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-  require(axes.allFinite() && orthogonality < 1e-6 && axes.determinant() > 0.0, "imu_source.axes", "the given rows",
+  // Right-handed: the third row is the cross product of the first two (a determinant of +1).
+  const bool right_handed = axes.row(0).cross(axes.row(1)).dot(axes.row(2)) > 0.0;
+  require(axes.allFinite() && orthogonality < 1e-6 && right_handed, "imu_source.axes", "the given rows",
           "must be a rotation (orthonormal rows, right-handed)");
   require(accel_range_mps2 > 0.0, "imu_source.range.accel", accel_range_mps2, "must be > 0");
   require(gyro_range_radps > 0.0, "imu_source.range.gyro", gyro_range_radps, "must be > 0");
