@@ -257,7 +257,6 @@ void ZuptIns::align() {
   P_.block<3, 3>(kBa, kBa) = Mat3::Identity() * config_.initial_accel_bias_sigma * config_.initial_accel_bias_sigma;
   P_.block<3, 3>(kBg, kBg) = Mat3::Identity() * bias_sigma * bias_sigma;
   aligned_ = true;
-  aligned_after_s_ = spell;
   alignment_.clear();
   still_s_ = 0.0;
   interval_t0_ = t_;

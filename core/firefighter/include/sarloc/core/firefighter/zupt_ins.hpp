@@ -100,8 +100,6 @@ class ZuptIns {
   void push(const ImuSample& sample);
 
   bool aligned() const { return aligned_; }
-  /// The still spell alignment averaged (s): alignment_s, or a shorter first stance.
-  double alignment_spell_s() const { return aligned_after_s_; }
   bool stationary() const { return stationary_; }
   /// Seconds since the last swing phase (0 while moving).
   double motionless_s() const { return motionless_s_; }
@@ -148,7 +146,6 @@ class ZuptIns {
   bool have_time_ = false;
   double t_ = 0.0;
   double motionless_s_ = 0.0;
-  double aligned_after_s_ = 0.0;
   double stance_s_ = 0.0;                ///< the current stance so far
   double still_s_ = 0.0;                 ///< the current still spell (before alignment)
   std::optional<double> last_stance_z_;  ///< height at the end of the previous stance
