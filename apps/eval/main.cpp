@@ -177,6 +177,9 @@ void print_multi_burial(const av::MultiBurialSummary& s, const av::EvaluationSum
   std::printf("%-34s %u of %u (%.1f %%, an honest radius leaves 5 %%)   worst error / radius %.2f\n",
               "FOUNDs outside their 95 % radius", s.founds_outside_radius, s.founds,
               s.founds > 0 ? 100.0 * s.founds_outside_radius / s.founds : 0.0, s.worst_found_error_to_radius);
+  std::printf("%-34s %u of %u signals LOCATED   trials with any %u   farthest %.1f m from the antenna\n",
+              "LOCATED near no victim", s.false_located, s.located_signals, s.trials_with_false_located,
+              s.worst_false_located_range_m);
   std::printf("%-34s %u   of another transmitter %u   suspected %u   trials with any %u\n",
               "Repeats retired (same transmitter)", s.repeats_retired, s.repeats_wrong, s.repeats_suspected,
               s.trials_with_repeats);
@@ -192,6 +195,8 @@ void print_multi_burial(const av::MultiBurialSummary& s, const av::EvaluationSum
               static_cast<unsigned long long>(s.unattributed_pulses));
   std::printf("%-34s %10s %10s %10s\n", "", "MAX", "MEAN", "MEDIAN");
   std::printf("%-34s %10.1f %10.1f %10.1f\n", "Steps (s) to find all", s.steps.max, s.steps.mean, s.steps.median);
+  std::printf("%-34s %10.1f %10.1f %10.1f\n", "First LOCATED (m from the antenna)", s.first_located_range_m.max,
+              s.first_located_range_m.mean, s.first_located_range_m.median);
   std::printf("%-34s %10.1f %10.1f %10.1f\n", "Distance (m) to find all", s.distance_m.max, s.distance_m.mean,
               s.distance_m.median);
   std::printf("%-34s %10s %10.1f %10.1f   (single burial, same seed and trials, x %u)\n", "N x single-burial steps", "",
@@ -200,11 +205,14 @@ void print_multi_burial(const av::MultiBurialSummary& s, const av::EvaluationSum
   // The trials to look at, each traceable with --trace-trial N.
   bool any = false;
   for (const auto& t : s.per_trial) {
-    if (t.all_found && t.ghosts == 0 && t.duplicates == 0) continue;
+    if (t.all_found && t.ghosts == 0 && t.duplicates == 0 && t.false_located == 0) continue;
     if (!any) std::printf("Trials to trace (--trace-trial N):\n");
     any = true;
-    std::printf("  trial %3u: found %u of %u, ghosts %u, twice %u, %u signals, carriers %.2f Hz apart at least, in lockstep %.0f s\n",
-                t.index, t.found, s.victims, t.ghosts, t.duplicates, t.signals, t.min_carrier_gap_hz, t.lockstep_s);
+    std::printf(
+        "  trial %3u: found %u of %u, ghosts %u, twice %u, LOCATED near no victim %u (%.1f m away), %u signals, "
+        "carriers %.2f Hz apart at least, in lockstep %.0f s\n",
+        t.index, t.found, s.victims, t.ghosts, t.duplicates, t.false_located, t.worst_false_located_range_m, t.signals,
+        t.min_carrier_gap_hz, t.lockstep_s);
   }
 }
 

@@ -113,6 +113,7 @@ void read_search(YamlReader r, avalanche::SearchConfig& c) {
   r.read("fine_search_radius_m", c.fine_search_radius_m);
   r.read("located_radius_m", c.located_radius_m);
   r.read("located_radius_per_range", c.located_radius_per_range);
+  r.read("located_radius_max_m", c.located_radius_max_m);
   r.read("found_distance_m", c.found_distance_m);
   r.read("confirm_min_samples", c.confirm_min_samples);
   r.read("confirm_max_innovation_ratio", c.confirm_max_innovation_ratio);

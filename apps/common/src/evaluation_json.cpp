@@ -21,6 +21,11 @@ nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
   j["founds"] = s.founds;
   j["founds_outside_radius"] = s.founds_outside_radius;
   j["worst_found_error_to_radius"] = s.worst_found_error_to_radius;
+  j["located_signals"] = s.located_signals;
+  j["false_located"] = s.false_located;
+  j["trials_with_false_located"] = s.trials_with_false_located;
+  j["worst_false_located_range_m"] = s.worst_false_located_range_m;
+  j["first_located_range_m"] = stats_json(s.first_located_range_m);
   j["repeats_retired"] = s.repeats_retired;
   j["repeats_wrong"] = s.repeats_wrong;
   j["repeats_suspected"] = s.repeats_suspected;
@@ -53,6 +58,10 @@ nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
                               {"founds", t.founds},
                               {"founds_outside_radius", t.founds_outside_radius},
                               {"worst_found_error_to_radius", t.worst_found_error_to_radius},
+                              {"located_signals", t.located_signals},
+                              {"false_located", t.false_located},
+                              {"worst_false_located_range_m", t.worst_false_located_range_m},
+                              {"first_located_range_m", t.first_located_range_m},
                               {"repeats_retired", t.repeats_retired},
                               {"repeats_wrong", t.repeats_wrong},
                               {"repeats_suspected", t.repeats_suspected},

@@ -88,7 +88,7 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
   tr.lockstep_s = lockstep_s;
   std::vector<FoundClaim> founds;
   std::vector<std::pair<std::uint32_t, Vec3>> found_at;  // step and antenna position of each FOUND
-  std::set<std::uint32_t> reported, signals, retired, suspected;
+  std::set<std::uint32_t> reported, signals, retired, suspected, located, falsely_located;
   std::map<std::uint32_t, std::size_t> victim_found_by;  // signal -> the victim its FOUND was scored as
   std::uint64_t odometry_sequence = 0;
   if (trace && trace->victims) {
@@ -139,6 +139,16 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
       }
       if (update == nullptr) continue;
       if (update->guidance) guidance = update->guidance;
+      if (update->estimate && update->estimate->status == EstimatorStatus::kLocated) {
+        const VictimEstimate& e = *update->estimate;
+        if (located.insert(m.signal_id).second) tr.first_located_range_m.push_back(e.relative.position.norm());
+        const Vec3 where = pose.position + e.relative.position;
+        if (!victim_of_found(where, found_reach(e.relative.covariance), victim_positions,
+                             receiver.majority_beacon_of_signal(m.signal_id))) {
+          falsely_located.insert(m.signal_id);
+          tr.worst_false_located_range_m = std::max(tr.worst_false_located_range_m, e.relative.position.norm());
+        }
+      }
       if (update->estimate && update->estimate->repeat == responder::RepeatState::kSuspected &&
           suspected.insert(m.signal_id).second)
         ++tr.repeats_suspected;
@@ -220,6 +230,8 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
     tr.worst_found_error_to_radius = std::max(tr.worst_found_error_to_radius, ratio);
   }
   tr.signals = static_cast<std::uint32_t>(signals.size());
+  tr.located_signals = static_cast<std::uint32_t>(located.size());
+  tr.false_located = static_cast<std::uint32_t>(falsely_located.size());
   tr.leaps = static_cast<std::uint32_t>(search.leaps());
   tr.implausible_rebuilds = static_cast<std::uint32_t>(search.implausible_rebuilds());
   tr.withdrawn_founds = static_cast<std::uint32_t>(search.withdrawn_founds());
@@ -238,7 +250,7 @@ MultiBurialSummary run_multi_burial(const MultiBurialSetup& setup, const std::fu
   s.victims = setup.victims;
   s.spread_m = setup.spread_m;
   s.seed = setup.evaluation.seed;
-  std::vector<double> steps, distance;
+  std::vector<double> steps, distance, first_located;
   for (const auto& r : run.results) {
     ++s.trials;
     if (r.all_found) {
@@ -251,6 +263,11 @@ MultiBurialSummary run_multi_burial(const MultiBurialSetup& setup, const std::fu
     s.founds += r.founds;
     s.founds_outside_radius += r.founds_outside_radius;
     s.worst_found_error_to_radius = std::max(s.worst_found_error_to_radius, r.worst_found_error_to_radius);
+    s.located_signals += r.located_signals;
+    first_located.insert(first_located.end(), r.first_located_range_m.begin(), r.first_located_range_m.end());
+    s.false_located += r.false_located;
+    if (r.false_located > 0) ++s.trials_with_false_located;
+    s.worst_false_located_range_m = std::max(s.worst_false_located_range_m, r.worst_false_located_range_m);
     s.repeats_retired += r.repeats_retired;
     s.repeats_wrong += r.repeats_wrong;
     s.repeats_suspected += r.repeats_suspected;
@@ -268,6 +285,7 @@ MultiBurialSummary run_multi_burial(const MultiBurialSetup& setup, const std::fu
     s.per_trial.push_back(r);
   }
   s.steps = compute_stats(steps);
+  s.first_located_range_m = compute_stats(first_located);
   s.distance_m = compute_stats(distance);
   s.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return s;

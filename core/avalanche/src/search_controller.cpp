@@ -50,6 +50,9 @@ void SearchConfig::validate() const {
   check("fine_search_radius_m", fine_search_radius_m, 0.0, 50.0, false);
   check("located_radius_m", located_radius_m, 0.0, 50.0, true);
   check("located_radius_per_range", located_radius_per_range, 0.0, 1.0, false);
+  check("located_radius_max_m", located_radius_max_m, 0.0, 50.0, true);
+  require(located_radius_max_m >= located_radius_m, "search.located_radius_max_m", located_radius_max_m,
+          "must be at least search.located_radius_m (" + config_value(located_radius_m) + ")");
   check("found_distance_m", found_distance_m, 0.0, 50.0, true);
   check("confirm_min_samples", confirm_min_samples, 1.0, 1000.0, false);
   check("confirm_max_innovation_ratio", confirm_max_innovation_ratio, 0.0, 100.0, true);
@@ -99,7 +102,9 @@ double SearchController::located_radius(const Vec3& relative_position) const {
   // Position precision degrades with range (|H| ~ 1/r^3: a relative field error gives a
   // relative range error), so a deep burial can never reach a fixed radius that suits a
   // shallow one (measured: a 5.6 m burial estimated to 0.15 m, 95 % radius stalled at 0.48 m).
-  return std::max(config_.located_radius_m, config_.located_radius_per_range * relative_position.norm());
+  // Capped: far off, a radius that large is a guess, not a place to dig.
+  return std::min(config_.located_radius_max_m,
+                  std::max(config_.located_radius_m, config_.located_radius_per_range * relative_position.norm()));
 }
 
 ConfirmationEvidence SearchController::evidence(const TransmitterFilter& filter, const Vec3& relative_position) const {

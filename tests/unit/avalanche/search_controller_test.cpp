@@ -355,5 +355,25 @@ TEST(SearchControllerLocated, RadiusScalesWithRangeAboveTheNearRangeFloor) {
   EXPECT_THROW(fixed.validate(), ConfigError);
 }
 
+// ... but never beyond located_radius_max_m: far off, a radius of 10 % of the range is a guess,
+// not a place to dig (seen live: LOCATED 39 m away with a 3.9 m radius, 29 m from any victim).
+TEST(SearchControllerLocated, NoFarEstimateIsLocatedWithARadiusAboveTheCap) {
+  VictimEstimate e;
+  e.status = EstimatorStatus::kConverged;
+  e.relative.covariance = Mat3::Identity() * (3.5 * 3.5 / 7.8147);  // a 95 % radius of 3.5 m
+  e.relative.position = Vec3(38.0, 0.0, -9.0);                      // 39 m away
+  EXPECT_EQ(SearchController().assess(e, {100}), EstimatorStatus::kConverged);
+  SearchConfig uncapped;
+  uncapped.located_radius_max_m = 50.0;
+  EXPECT_EQ(SearchController(uncapped).assess(e, {100}), EstimatorStatus::kLocated) << "the cap decides it";
+  // 14 m away with a 0.95 m radius is located: within the cap and 10 % of the range.
+  e.relative.covariance = Mat3::Identity() * (0.95 * 0.95 / 7.8147);
+  e.relative.position = Vec3(13.0, 0.0, -5.0);
+  EXPECT_EQ(SearchController().assess(e, {100}), EstimatorStatus::kLocated);
+  SearchConfig inverted;
+  inverted.located_radius_max_m = 0.3;  // under located_radius_m
+  EXPECT_THROW(inverted.validate(), ConfigError);
+}
+
 }  // namespace
 }  // namespace sarloc::avalanche

@@ -63,6 +63,15 @@ struct MultiBurialTrial {
   /// The largest distance to that victim over the stated 95 % radius (1: on the radius).
   double worst_found_error_to_radius = 0.0;
   std::vector<FoundRecord> found_records;
+  /// Signals the device published LOCATED at some epoch (a confirmation incident command shows
+  /// as a victim), and of those, the ones whose LOCATED estimate once lay farther than
+  /// found_reach from every victim: a victim confirmed where none is. With the largest antenna
+  /// to estimate distance at which such a false LOCATED was published.
+  std::uint32_t located_signals = 0;
+  std::uint32_t false_located = 0;
+  double worst_false_located_range_m = 0.0;
+  /// Antenna to estimate when each LOCATED signal was first published LOCATED (m).
+  std::vector<double> first_located_range_m;
   /// Signals retired as confirmed repeats of a found one (RescuerSearchConfig::same_transmitter_*),
   /// and of those, how many carried mostly another transmitter than the victim found (a victim
   /// the test hid).
@@ -106,6 +115,11 @@ struct MultiBurialSummary {
   std::uint32_t founds = 0;
   std::uint32_t founds_outside_radius = 0;
   double worst_found_error_to_radius = 0.0;
+  std::uint32_t located_signals = 0;
+  std::uint32_t false_located = 0;
+  std::uint32_t trials_with_false_located = 0;
+  double worst_false_located_range_m = 0.0;
+  Stats first_located_range_m;  ///< over every LOCATED signal of every trial
   std::uint32_t repeats_retired = 0;
   std::uint32_t repeats_wrong = 0;
   std::uint32_t repeats_suspected = 0;

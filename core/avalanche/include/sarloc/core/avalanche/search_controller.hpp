@@ -38,8 +38,8 @@
 // reached at any step, it ends the search as before, so runs that reach it are unchanged.
 // Criteria (applied identically in every trial):
 //   located: 95 % radius of the mixture position, sqrt(chi2_3(0.95) lambda_max(P_p)),
-//            <= max(located_radius_m, located_radius_per_range * |p_mean|) (eq. (18) includes the spread between modes, so a multimodal
-//            mixture is never "located");
+//            <= min(located_radius_max_m, max(located_radius_m, located_radius_per_range * |p_mean|)) (eq. (18)
+//            includes the spread between modes, so a multimodal mixture is never "located");
 //   found:   located and horizontal |p_mean| <= found_distance_m (G_k is rescuer-centred);
 //   neither while the estimate is not below the receiver (z + 2 sigma_z < 0): a victim is
 //   buried, so an estimate above is a filter's mirror solution (H(r) = H(-r)); nor without
@@ -79,6 +79,11 @@ struct SearchConfig {
   /// ... or this fraction of the antenna-to-victim distance, whichever is larger: precision
   /// scales with range, so deep burials are located at a proportionally larger radius.
   double located_radius_per_range = 0.10;
+  /// ... but never more than this: LOCATED means "precise enough to walk onto", the radius under
+  /// which incident command calls a fused victim located (fusion.located_radius_m). Seen live: a
+  /// device LOCATED a signal 39 m away with a 3.9 m radius, 29 m from any victim, and the picture
+  /// confirmed it (docs/estimation/incident-fusion.md, "Withdrawal").
+  double located_radius_max_m = 1.0;
   double found_distance_m = 0.5;       ///< horizontal distance to the estimate for "found"
   /// kLocated and kFound need at least this many samples of the signal's current mixture
   /// (TransmitterFilter::mixture_samples, counted again after a rebuild): a filter started next to a
