@@ -78,6 +78,7 @@ void read_ins(YamlReader r, firefighter::ZuptInsConfig& n) {
   r.read("zaru_after_s", n.zaru_after_s);
   r.read("level_step_m", n.level_step_m);
   r.read("level_sigma_m", n.level_sigma_m);
+  r.read("stride_noise_m2_per_m", n.stride_noise_m2_per_m);
   r.read("detector_window", n.detector_window);
   r.read("detector_sigma_accel", n.detector_sigma_accel);
   read_scaled(r, "detector_sigma_gyro_deg_per_s", n.detector_sigma_gyro, kDeg);

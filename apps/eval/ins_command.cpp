@@ -184,6 +184,14 @@ int run_ins_command(const InsOptions& options) {
                   100.0 * f->final_m / d, f->rms_m, f->max_m);
       std::printf("  rigid-aligned   final %.3f m, rms %.3f m (%.2f %%), max %.3f m\n", f->rigid_final_m,
                   f->rigid_rms_m, 100.0 * f->rigid_rms_m / d, f->rigid_max_m);
+      const bool inside = f->stride_nees_mean >= f->stride_nees_lower && f->stride_nees_mean <= f->stride_nees_upper;
+      std::printf(
+          "  stride NEES     %.2f over %zu strides (%zu of them grouped), 95 %% bounds [%.2f, %.2f] %s; variance "
+          "missing %.4f m^2 per m walked\n",
+          f->stride_nees_mean, f->stride_pairs, f->stride_groups, f->stride_nees_lower, f->stride_nees_upper,
+          inside ? "inside" : "OUTSIDE", f->missing_variance_per_m);
+      std::printf("  heading wander  %.2f deg per stride of %.2f m (RMS change of the heading offset)\n",
+                  f->heading_wander_rad / kDeg, f->mean_stride_m);
       out["footprints"] = {{"strides_truth", f->strides_truth},
                            {"strides_track", f->strides_track},
                            {"compared", f->compared},
@@ -193,7 +201,15 @@ int run_ins_command(const InsOptions& options) {
                            {"max_m", f->max_m},
                            {"rigid_final_m", f->rigid_final_m},
                            {"rigid_rms_m", f->rigid_rms_m},
-                           {"rigid_max_m", f->rigid_max_m}};
+                           {"rigid_max_m", f->rigid_max_m},
+                           {"stride_nees_mean", f->stride_nees_mean},
+                           {"stride_nees_lower", f->stride_nees_lower},
+                           {"stride_nees_upper", f->stride_nees_upper},
+                           {"missing_variance_per_m", f->missing_variance_per_m},
+                           {"stride_pairs", f->stride_pairs},
+                           {"stride_groups", f->stride_groups},
+                           {"heading_wander_deg", f->heading_wander_rad / kDeg},
+                           {"mean_stride_m", f->mean_stride_m}};
     } else {
       std::printf("  footprints      none compared: fewer than two stance phases\n");
     }

@@ -59,6 +59,7 @@ void ZuptInsConfig::validate() const {
   check("zaru_after_s", zaru_after_s, 0.0, 60.0);
   check("level_step_m", level_step_m, 0.0, 1.0);
   check("level_sigma_m", level_sigma_m, 1e-4, 1.0);
+  check("stride_noise_m2_per_m", stride_noise_m2_per_m, 0.0, 1.0);
   check("initial_yaw_rad", initial_yaw_rad, -10.0, 10.0);
   check("accel_noise_density", accel_noise_density, 1e-6, 1.0);
   check("gyro_noise_density", gyro_noise_density, 1e-7, 0.1);
@@ -313,6 +314,8 @@ StepDisplacement ZuptIns::take_displacement() {
   J.block<3, 3>(0, kP) = Mat3::Identity();
   J.block<3, 3>(0, kClone) = -Mat3::Identity();
   d.covariance = J * P_ * J.transpose();
+  d.covariance.topLeftCorner<2, 2>() +=
+      config_.stride_noise_m2_per_m * d.delta.head<2>().norm() * Eigen::Matrix2d::Identity();
   // New clone: the current position error.
   P_.block<3, kStates>(kClone, 0) = P_.block<3, kStates>(kP, 0);
   P_.block<kStates, 3>(0, kClone) = P_.block<kStates, 3>(0, kP);

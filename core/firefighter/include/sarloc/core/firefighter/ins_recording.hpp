@@ -23,10 +23,14 @@ struct TrackPoint {
   bool stationary = false;
 };
 
-/// One stance phase after alignment: where the foot stood (its mean position) and when.
+/// One stance phase after alignment: where the foot stood (its mean position) and when, and the
+/// INS's displacement since the previous stance (ZuptIns::take_displacement at each stance's end,
+/// so its covariance is the one the device publishes for that stride).
 struct Stance {
   double t0 = 0.0, t1 = 0.0;
   Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  Eigen::Vector3d stride = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d stride_covariance = Eigen::Matrix3d::Zero();
 };
 
 struct InsRecording {
@@ -63,6 +67,22 @@ struct FootprintErrors {
   double rigid_final_m = 0.0, rigid_rms_m = 0.0, rigid_max_m = 0.0;
   double truth_distance_m = 0.0;  ///< along the footprints
   double turn_rad = 0.0;          ///< the stride alignment: truth = truth[0] + Rot(turn) track
+  /// Consistency of the stride covariances (item 5 of issue 62), over the strides paired by
+  /// match_strides (stride_pairs; stride_groups of them pair a split or missed footfall). Each
+  /// pair's 2-D error in a local frame: the INS's stride turned by the median heading offset of the
+  /// neighbouring strides (kStrideNeighbours each side, itself left out), so that the slow yaw
+  /// drift the map-aided filter tracks as a heading is not counted as stride error. Against the
+  /// INS's stated covariance of that stride: the mean NEES (2 degrees of freedom) and its
+  /// two-sided 95 % bounds for that many strides.
+  double stride_nees_mean = 0.0, stride_nees_lower = 0.0, stride_nees_upper = 0.0;
+  /// The horizontal variance per metre walked that the stated covariance lacks, by the method of
+  /// moments: sum(|e|^2 - trace C) / (2 sum |stride|) (m^2/m; negative: the covariance is wider).
+  double missing_variance_per_m = 0.0;
+  /// The heading offset's change from one stride to the next, RMS (rad): the yaw the INS loses
+  /// per stride, with the truth's own foot placement.
+  double heading_wander_rad = 0.0;
+  double mean_stride_m = 0.0;  ///< along the INS's compared strides
+  std::size_t stride_pairs = 0, stride_groups = 0;
 };
 /// `truth[k]`: footprint of stride k (0 = the start pose). Compared over the strides both have.
 std::optional<FootprintErrors> footprint_errors(const InsRecording& run, const std::vector<Eigen::Vector2d>& truth);
