@@ -102,8 +102,12 @@ int main(int argc, char** argv) {
     app::setup_logging(options.log_level, rescuer_id);
     const auto mission = app::load_mission_config(options.config_path);
     if (const auto* firefighter = mission.firefighter(rescuer_id)) {
-      const auto format = imu_source.empty() ? firefighter::sarloc_csv() : app::load_imu_source(imu_source);
-      return rescuer::run_firefighter_device(mission, *firefighter, options, source, format, summary_path, quiet);
+      // A recording the mission names plays unless the command line names another source.
+      const bool from_mission = source == "sim" && !firefighter->recording.empty();
+      const std::string boot = from_mission ? firefighter->recording : source;
+      const std::string format_path = !imu_source.empty() ? imu_source : from_mission ? firefighter->imu_source : "";
+      const auto format = format_path.empty() ? firefighter::sarloc_csv() : app::load_imu_source(format_path);
+      return rescuer::run_firefighter_device(mission, *firefighter, options, boot, format, summary_path, quiet);
     }
     const auto node_config = mission.rescuer_config(rescuer_id);  // throws ConfigError for an unknown id
     const sarloc::dds::MissionClock clock = options.clock(mission);

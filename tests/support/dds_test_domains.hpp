@@ -21,6 +21,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainSignOff = 168,
   kDomainSecurityIdentity = 169,
   kDomainRecordedBoot = 170,
+  kDomainRecordedBootMission = 171,  // tests/integration/mission/recorded-boot.yaml names it too
   kDomainDiscoveryServer = 140,
   kDomainBenchEchoListener = 141,
   kDomainBenchEchoQueue = 142,

@@ -239,8 +239,19 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
       r.read("stop_s", f.spec.stop_s);
       r.read("mayday_at_s", f.spec.mayday_at_s);
       r.read("reset_at_s", f.spec.reset_at_s);
+      r.read("recording", f.recording);
+      r.read("imu_source", f.imu_source);
       r.expect_done();
       f.spec.validate(r.path());
+      // A recording plays on the device as the boot's samples (sarloc-rescuer --source).
+      for (auto [key, path] :
+           {std::pair<const char*, std::string*>{"recording", &f.recording}, {"imu_source", &f.imu_source}}) {
+        *path = resolve(*path, base_dir);
+        if (!path->empty() && !std::filesystem::is_regular_file(*path))
+          throw ConfigError(name + ": " + r.path() + "." + key + " = '" + *path + "': no such file");
+      }
+      if (f.recording.empty() && !f.imu_source.empty())
+        throw ConfigError(name + ": " + r.path() + ".imu_source = '" + f.imu_source + "': needs a recording");
       // The daemon starts the filter from the entry the team reports; none: unknown start.
       if (!f.spec.entry.empty()) c.estimators.firefighter.entry_of[id] = {f.spec.entry, f.spec.hand};
       c.firefighters.push_back(f);

@@ -25,6 +25,11 @@ struct FirefighterEntry {
   std::string id;
   std::string team;
   mission::FirefighterSpec spec;
+  /// A recorded boot IMU file the device plays instead of the simulated walk ("" = simulated),
+  /// and its IMU source description (config/imu/*.yaml; "" = the sarloc boot IMU CSV), both
+  /// resolved against the mission file's folder.
+  std::string recording;
+  std::string imu_source;
 };
 
 struct MissionConfig {
