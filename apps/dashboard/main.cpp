@@ -75,7 +75,9 @@ int main(int argc, char** argv) {
     state_config.track_length = static_cast<std::size_t>(settings.track_length);
     state_config.par_interval_s = settings.par_interval_s;
     state_config.stale_after_s = settings.stale_after_s;
-    auto building = [&](dashboard::PictureState& state) {
+    // Where the picture sits: its WGS-84 origin, and the building placed in it.
+    auto place = [&](dashboard::PictureState& state) {
+      state.set_geodetic_origin(mission.command.incident.origin);
       if (!mission.world) return;
       const auto& f = mission.estimators.firefighter;
       state.set_building({*mission.world, f.origin.x(), f.origin.y(), f.rotation_rad()});
@@ -133,7 +135,7 @@ int main(int argc, char** argv) {
       if (!player.damage().empty()) spdlog::warn("the recording is damaged: {}; showing what could be read", player.damage());
       dashboard::PictureState state(state_config, [&player] { return player.mission_now(); }, player.epoch_ns(),
                                     [&player] { return player.wall_now_s(); });
-      building(state);
+      place(state);
       state.set_extra("dds_security", "recording");
       state.set_extra("incident", {{"id", mission.command.incident.incident_id}, {"name", mission.command.incident.incident_name}});
       player.attach(state);
@@ -149,7 +151,7 @@ int main(int argc, char** argv) {
     }
 
     dashboard::PictureState state(state_config, [clock] { return clock.now(); }, clock.epoch());
-    building(state);
+    place(state);
     auto participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, "sarloc-dashboard"));
     // Shown on the page's header: in red when anyone on the network could have written the picture.
     state.set_extra("dds_security", participant->secured() ? "authenticated, encrypted" : "none");

@@ -63,6 +63,11 @@ PictureState::PictureState(PictureStateConfig config, MissionClock mission_now, 
       epoch_ns_(epoch_ns),
       wall_now_(wall_now ? std::move(wall_now) : WallClock(system_wall_s)) {}
 
+void PictureState::set_geodetic_origin(const GeodeticOrigin& origin) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  geodetic_.emplace(origin);  // ConfigError for an origin out of range: the mission loader's check
+}
+
 void PictureState::set_building(PlacedPlan b) {
   std::lock_guard<std::mutex> lock(mutex_);
   json floors = json::array();
@@ -228,19 +233,22 @@ json PictureState::victim_json(const incident::FusedVictim& v) const {
   const auto& c = v.position.covariance;
   std::vector<std::string> sources;
   for (const auto& s : v.sources) sources.push_back(s.rescuer_id + "/" + std::to_string(s.signal_id));
-  return {{"id", v.victim_id},
-          {"state", incident::to_string(v.state)},
-          {"x", v.position.position.x()},
-          {"y", v.position.position.y()},
-          {"z", v.position.position.z()},
-          {"cov", {c(0, 0), c(0, 1), c(1, 1)}},
-          {"radius95_m", radius95_2d(c)},
-          {"floor", v.floor},
-          {"located_ns", v.located_at},
-          {"found_ns", v.found_at},
-          {"sources", sources},
-          {"conflict", v.evidence_conflict},
-          {"possibly_same_as", v.possibly_same_as}};
+  json out = {{"id", v.victim_id},
+              {"state", incident::to_string(v.state)},
+              {"x", v.position.position.x()},
+              {"y", v.position.position.y()},
+              {"z", v.position.position.z()},
+              {"cov", {c(0, 0), c(0, 1), c(1, 1)}},
+              {"radius95_m", radius95_2d(c)},
+              {"floor", v.floor},
+              {"located_ns", v.located_at},
+              {"found_ns", v.found_at},
+              {"sources", sources},
+              {"conflict", v.evidence_conflict},
+              {"possibly_same_as", v.possibly_same_as}};
+  if (geodetic_ && v.position.position.allFinite())
+    out["wgs84"] = incident::format_wgs84(geodetic_->to_wgs84(v.position.position));
+  return out;
 }
 
 json PictureState::responder_json(const std::string& id, const Responder& r, bool with_track) const {

@@ -5,20 +5,20 @@
 //
 // Times shown to people are mission seconds (the clock given to it); link freshness, the PAR
 // timers and the "no data" banner go by the wall clock, like the people watching.
-#include <nlohmann/json.hpp>
-
 #include <chrono>
 #include <cstdint>
 #include <deque>
 #include <functional>
 #include <map>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
 #include "sarloc/core/firefighter/floor_plan.hpp"
 #include "sarloc/core/incident/alarm_board.hpp"
 #include "sarloc/core/incident/fused_victim.hpp"
+#include "sarloc/core/incident/geodetic_frame.hpp"
 #include "sarloc/core/incident/team_status.hpp"
 #include "sarloc/core/responder/guidance.hpp"
 #include "sarloc/core/responder/responder_position.hpp"
@@ -54,6 +54,8 @@ class PictureState {
   PictureState(PictureStateConfig config, MissionClock mission_now, TimestampNs epoch_ns, WallClock wall_now = {});
 
   void set_building(PlacedPlan building);
+  /// The incident frame's WGS-84 origin: victims then carry their latitude and longitude.
+  void set_geodetic_origin(const GeodeticOrigin& origin);
 
   void on_victim(const incident::FusedVictim& v);
   void on_victim_gone(std::uint32_t id);
@@ -132,6 +134,7 @@ class PictureState {
   std::string picture_writer_;
   std::map<std::string, std::uint64_t> rejected_;
   nlohmann::json building_;
+  std::optional<incident::GeodeticFrame> geodetic_;
 };
 
 }  // namespace sarloc::dashboard

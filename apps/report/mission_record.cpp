@@ -70,6 +70,8 @@ class Loader {
         on_alarm(dds::to_core(decode<::sarloc::IncidentAlarm>(m)));
       } else if (topic == "sarloc/node_status") {
         on_node_status(decode<::sarloc::NodeStatus>(m), m);
+      } else if (topic == "sarloc/incident_frame") {
+        r_.incident_origin = dds::to_core(decode<::sarloc::IncidentFrame>(m)).origin;
       } else if (dds::find_catalog_topic(topic) != nullptr) {
         // Decoded only to check it is whole: the report draws nothing else from it.
         check_decodes(topic, m);

@@ -92,6 +92,8 @@ struct MissionRecord {
   std::vector<Event> events;  ///< sorted by time
   std::vector<TruthVictim> truth_victims;
   std::optional<PlacedBuilding> building;
+  /// The incident frame's WGS-84 origin, as incident command last published it (IncidentFrame).
+  std::optional<GeodeticOrigin> incident_origin;
   std::vector<std::string> notes;  ///< what the report could not do, and why
   std::map<std::string, TopicQuality> quality;
   /// Node id -> reject reason -> count, as each node last reported (NodeStatus).

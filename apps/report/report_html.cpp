@@ -5,9 +5,12 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "record_comparison.hpp"
+#include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/incident/geodetic_frame.hpp"
 #include "svg_map.hpp"
 
 namespace sarloc::report {
@@ -228,20 +231,34 @@ double track_length(const std::vector<PositionSample>& samples, responder::Posit
 }
 
 std::string victims_table(const MissionRecord& r) {
-  std::string html = "<table><tr><th>victim</th><th>state</th><th>located (s)</th><th>found (s)</th><th>final 95 % radius (m)</th>"
-                     "<th>final position E, N, U (m)</th><th>nearest true victim</th><th>error (m)</th><th>sources</th></tr>\n";
+  std::string html =
+      "<table><tr><th>victim</th><th>state</th><th>located (s)</th><th>found (s)</th><th>final 95 % radius (m)</th>"
+      "<th>final position E, N, U (m)</th><th>WGS-84</th><th>nearest true victim</th><th>error "
+      "(m)</th><th>sources</th></tr>\n";
+  // Latitude and longitude for those who navigate by them (a helicopter, another team's GNSS).
+  std::optional<incident::GeodeticFrame> frame;
+  if (r.incident_origin) {
+    try {
+      frame.emplace(*r.incident_origin);
+    } catch (const ConfigError&) {  // a recorded origin out of range: ENU only
+    }
+  }
   for (const auto& [id, v] : r.victims) {
     if (v.samples.empty()) continue;
     const auto& last = v.samples.back();
     const auto [truth, error] = nearest_truth(r, last.position.position);
     std::string sources;
     for (const auto& s : v.sources) sources += (sources.empty() ? "" : ", ") + s;
-    html += "<tr><td>" + std::to_string(id) + (v.evidence_conflict ? " <b class=\"warn\">conflict</b>" : "") +
-            "</td><td style=\"color:" + state_colour(last.state) + "\">" + state_text(last.state) + "</td><td>" + opt(v.located_s) +
-            "</td><td>" + opt(v.found_s) + "</td><td>" + f(radius95_2d(last.position.covariance), 2) + "</td><td>" +
-            f(last.position.position.x()) + ", " + f(last.position.position.y()) + ", " + f(last.position.position.z()) + "</td><td>" +
-            (truth ? escape_html(truth->name) : "—") + "</td><td>" + (truth ? f(error, 2) : "—") + "</td><td>" +
-            escape_html(sources) + "</td></tr>\n";
+    html +=
+        "<tr><td>" + std::to_string(id) + (v.evidence_conflict ? " <b class=\"warn\">conflict</b>" : "") +
+        "</td><td style=\"color:" + state_colour(last.state) + "\">" + state_text(last.state) + "</td><td>" +
+        opt(v.located_s) + "</td><td>" + opt(v.found_s) + "</td><td>" + f(radius95_2d(last.position.covariance), 2) +
+        "</td><td>" + f(last.position.position.x()) + ", " + f(last.position.position.y()) + ", " +
+        f(last.position.position.z()) + "</td><td>" +
+        (frame && last.position.position.allFinite() ? incident::format_wgs84(frame->to_wgs84(last.position.position))
+                                                     : "—") +
+        "</td><td>" + (truth ? escape_html(truth->name) : "—") + "</td><td>" + (truth ? f(error, 2) : "—") +
+        "</td><td>" + escape_html(sources) + "</td></tr>\n";
   }
   html += "</table>\n";
   // True victims never in the picture.

@@ -291,12 +291,17 @@ function renderLists() {
   const now = picture.missionNs;
   const victims = [...picture.victims.values()].sort((a, b) => a.id - b.id);
   $("victim-count").textContent = victims.length;
-  $("victims").tBodies[0].innerHTML = victims.map((v) =>
-    `<tr data-victim="${v.id}"><td>${v.id}${v.conflict ? ' <b class="error">conflict</b>' : ""}</td>` +
-    `<td class="state state-${esc(v.state)}">${esc(v.state)}</td><td>${v.radius95_m.toFixed(2)}</td>` +
-    `<td>${v.located_ns ? `${((now - v.located_ns) / 1e9).toFixed(0)} s ago` : "—"}</td>` +
-    `<td class="found">${v.state === "FOUND" && v.found_ns ? `at ${missionS(v.found_ns)}` : "—"}</td>` +
-    `<td title="${esc(v.sources.join(", "))}">${esc(heardBy(v.sources))}</td></tr>`).join("");
+  $('victims').tBodies[0].innerHTML =
+      victims
+          .map(
+              (v) => `<tr data-victim="${v.id}"><td>${v.id}${v.conflict ? ' <b class="error">conflict</b>' : ''}</td>` +
+                  `<td class="state state-${esc(v.state)}">${esc(v.state)}</td><td>${v.radius95_m.toFixed(2)}</td>` +
+                  `<td class="where">${v.x.toFixed(1)} E, ${v.y.toFixed(1)} N${
+                         v.wgs84 ? `<br><small>${esc(v.wgs84)}</small>` : ''}</td>` +
+                  `<td>${v.located_ns ? `${((now - v.located_ns) / 1e9).toFixed(0)} s ago` : '—'}</td>` +
+                  `<td class="found">${v.state === 'FOUND' && v.found_ns ? `at ${missionS(v.found_ns)}` : '—'}</td>` +
+                  `<td title="${esc(v.sources.join(', '))}">${esc(heardBy(v.sources))}</td></tr>`)
+          .join('');
 
   const wallNow = picture.wallMs + (Date.now() - picture.receivedAtMs);
   $("teams").innerHTML = [...picture.teams.values()].sort((a, b) => a.id.localeCompare(b.id)).map((t) => {

@@ -25,6 +25,23 @@ bool has_event(const nlohmann::json& message, const std::string& text) {
   return false;
 }
 
+// With the incident's WGS-84 origin, every victim carries its latitude and longitude (without
+// one, none: the page shows ENU only).
+TEST(PictureState, VictimsCarryTheirLatitudeAndLongitudeOnceTheOriginIsKnown) {
+  Clocks c;
+  auto state = make(c);
+  auto v = test::sample_fused_victim();
+  v.victim_id = 4;
+  v.position.position = Vec3(100.0, -50.0, -1.5);
+  state.on_victim(v);
+  EXPECT_FALSE(state.snapshot()["victims"][0].contains("wgs84"));
+  const GeodeticOrigin origin{46.5567, 7.9262, 2100.0};
+  state.set_geodetic_origin(origin);
+  const std::string expected = incident::format_wgs84(incident::GeodeticFrame(origin).to_wgs84(v.position.position));
+  EXPECT_EQ(state.snapshot()["victims"][0]["wgs84"], expected);
+  EXPECT_EQ(expected.rfind("46.5562", 0), 0u) << expected << ": 50 m south of 46.5567 N";
+}
+
 TEST(PictureState, DeltasCarryOnlyWhatChangedAndEventsMarkTransitions) {
   Clocks c;
   auto state = make(c);

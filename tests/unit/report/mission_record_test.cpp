@@ -1,12 +1,14 @@
 // The report's reading of a recording, on a recording made here with known content: victims
 // located and found, a link lost and regained, an alarm raised, acknowledged and cleared, a map
 // error flagged, an incident-command failover; and the same file cut short.
+#include "mission_record.hpp"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
-#include "mission_record.hpp"
 #include "report_html.hpp"
+#include "sarloc/core/incident/geodetic_frame.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/idl_schemas.hpp"
 #include "sarloc/dds/raw_topic_type.hpp"
@@ -86,6 +88,12 @@ void write_mission(Recording& rec) {
     v.possibly_same_as = 0;
     rec.write(dds::to_idl(v), v.last_update);
   }
+  // The incident frame's WGS-84 origin, as incident command publishes it.
+  incident::IncidentFrame frame;
+  frame.incident_id = "synthetic";
+  frame.origin = {46.9480, 7.4474, 540.0};
+  frame.established = kEpoch + 3 * kSec;
+  rec.write(dds::to_idl(frame), kEpoch + 3 * kSec);
   // ff1's link: alive, lost at 12 s, alive again at 18 s.
   for (int k = 10; k <= 20; k += 2) {
     auto t = test::sample_team_status();
@@ -200,6 +208,12 @@ TEST(MissionRecord, ReadsTracksVictimsAndEveryKindOfEventFromARecording) {
   EXPECT_EQ(html.find("<script"), std::string::npos);
   EXPECT_EQ(html.find("http://"), html.find("http://www.w3.org/2000/svg"));
   EXPECT_EQ(html.find("https://"), std::string::npos);
+  // The victim's latitude and longitude beside its ENU position, from the recorded origin.
+  ASSERT_TRUE(r.incident_origin.has_value());
+  const std::string wgs84 =
+      incident::format_wgs84(incident::GeodeticFrame(*r.incident_origin).to_wgs84(Vec3(10.3, 20.4, -1.0)));
+  EXPECT_EQ(wgs84.rfind("46.948", 0), 0u) << wgs84;
+  EXPECT_NE(html.find("<td>" + wgs84 + "</td>"), std::string::npos) << wgs84;
   fs::remove(path);
 }
 
