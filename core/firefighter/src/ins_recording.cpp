@@ -28,6 +28,55 @@ std::string reason_of(const std::string& message) {
   return message.substr(0, message.find(" = ")) + ": " + reason;
 }
 
+// The stride NEES of FootprintErrors: each stride (or group, stride_matching.hpp) in a local
+// frame, turned by its neighbours' heading offset. Over all stances and footprints: the pairing
+// finds where the detector missed or split a footfall.
+void stride_consistency(const InsRecording& run, const std::vector<Eigen::Vector2d>& truth, FootprintErrors& f) {
+  std::vector<Eigen::Vector2d> track_strides, truth_strides;
+  for (std::size_t k = 1; k < run.stances.size(); ++k) track_strides.push_back(run.stances[k].stride.head<2>());
+  for (std::size_t k = 1; k < truth.size(); ++k) truth_strides.push_back(truth[k] - truth[k - 1]);
+  const std::vector<StridePair> pairs = match_strides(track_strides, truth_strides);
+  if (pairs.empty()) return;
+  std::vector<Eigen::Vector2d> a(pairs.size(), Eigen::Vector2d::Zero()), b(pairs.size(), Eigen::Vector2d::Zero());
+  std::vector<Eigen::Matrix2d> c(pairs.size(), Eigen::Matrix2d::Zero());
+  std::vector<double> offset(pairs.size());  // truth heading minus the track's
+  for (std::size_t p = 0; p < pairs.size(); ++p) {
+    for (std::size_t i = pairs[p].track_begin; i < pairs[p].track_end; ++i) {
+      a[p] += track_strides[i];
+      c[p] += run.stances[i + 1].stride_covariance.topLeftCorner<2, 2>();
+    }
+    for (std::size_t j = pairs[p].truth_begin; j < pairs[p].truth_end; ++j) b[p] += truth_strides[j];
+    offset[p] = std::remainder(std::atan2(b[p].y(), b[p].x()) - std::atan2(a[p].y(), a[p].x()), 2.0 * kPi);
+  }
+  double nees_sum = 0.0, excess = 0.0, walked = 0.0, wander2 = 0.0;
+  for (std::size_t p = 0; p < pairs.size(); ++p) {
+    std::vector<double> around;  // unwrapped about this pair's own offset
+    for (std::size_t q = p > kStrideNeighbours ? p - kStrideNeighbours : 0;
+         q < std::min(pairs.size(), p + kStrideNeighbours + 1); ++q)
+      if (q != p) around.push_back(offset[p] + std::remainder(offset[q] - offset[p], 2.0 * kPi));
+    if (around.empty()) around.push_back(offset[p]);
+    std::nth_element(around.begin(), around.begin() + around.size() / 2, around.end());
+    const Eigen::Matrix2d local = Eigen::Rotation2Dd(around[around.size() / 2]).toRotationMatrix();
+    const Eigen::Vector2d e = local * a[p] - b[p];
+    const Eigen::Matrix2d cl = local * c[p] * local.transpose();
+    nees_sum += e.dot(cl.ldlt().solve(e));
+    excess += e.squaredNorm() - cl.trace();
+    walked += a[p].norm();
+    if (p > 0) wander2 += std::pow(std::remainder(offset[p] - offset[p - 1], 2.0 * kPi), 2);
+  }
+  const double count = static_cast<double>(pairs.size());
+  f.stride_pairs = pairs.size();
+  f.stride_groups = static_cast<std::size_t>(std::count_if(pairs.begin(), pairs.end(), [](const StridePair& p) {
+    return p.track_end - p.track_begin != 1 || p.truth_end - p.truth_begin != 1;
+  }));
+  f.stride_nees_mean = nees_sum / count;
+  f.stride_nees_lower = chi_square_quantile(0.025, 2.0 * count) / count;
+  f.stride_nees_upper = chi_square_quantile(0.975, 2.0 * count) / count;
+  f.missing_variance_per_m = walked > 0.0 ? excess / (2.0 * walked) : 0.0;
+  f.heading_wander_rad = pairs.size() > 1 ? std::sqrt(wander2 / (count - 1.0)) : 0.0;
+  f.mean_stride_m = walked / count;
+}
+
 }  // namespace
 
 InsRecording run_ins(const std::vector<ImuSample>& samples, const ZuptInsConfig& config) {
@@ -165,52 +214,7 @@ std::optional<FootprintErrors> footprint_errors(const InsRecording& run, const s
   }
   for (std::size_t k = 0; k < n; ++k) aligned[k] = mg + rot * (track[k] - mt);
   errors(aligned, f.rigid_final_m, f.rigid_rms_m, f.rigid_max_m);
-  // Stride consistency, each stride (or group, stride_matching.hpp) in a local frame: turned by
-  // its neighbours' heading offset. Over all stances and footprints: the pairing finds where the
-  // detector missed or split a footfall.
-  std::vector<Eigen::Vector2d> track_strides, truth_strides;
-  for (std::size_t k = 1; k < run.stances.size(); ++k) track_strides.push_back(run.stances[k].stride.head<2>());
-  for (std::size_t k = 1; k < truth.size(); ++k) truth_strides.push_back(truth[k] - truth[k - 1]);
-  const std::vector<StridePair> pairs = match_strides(track_strides, truth_strides);
-  if (pairs.empty()) return f;
-  std::vector<Eigen::Vector2d> a(pairs.size(), Eigen::Vector2d::Zero()), b(pairs.size(), Eigen::Vector2d::Zero());
-  std::vector<Eigen::Matrix2d> c(pairs.size(), Eigen::Matrix2d::Zero());
-  std::vector<double> offset(pairs.size());  // truth heading minus the track's
-  for (std::size_t p = 0; p < pairs.size(); ++p) {
-    for (std::size_t i = pairs[p].track_begin; i < pairs[p].track_end; ++i) {
-      a[p] += track_strides[i];
-      c[p] += run.stances[i + 1].stride_covariance.topLeftCorner<2, 2>();
-    }
-    for (std::size_t j = pairs[p].truth_begin; j < pairs[p].truth_end; ++j) b[p] += truth_strides[j];
-    offset[p] = std::remainder(std::atan2(b[p].y(), b[p].x()) - std::atan2(a[p].y(), a[p].x()), 2.0 * kPi);
-  }
-  double nees_sum = 0.0, excess = 0.0, walked = 0.0, wander2 = 0.0;
-  for (std::size_t p = 0; p < pairs.size(); ++p) {
-    std::vector<double> around;  // unwrapped about this pair's own offset
-    for (std::size_t q = p > kStrideNeighbours ? p - kStrideNeighbours : 0;
-         q < std::min(pairs.size(), p + kStrideNeighbours + 1); ++q)
-      if (q != p) around.push_back(offset[p] + std::remainder(offset[q] - offset[p], 2.0 * kPi));
-    if (around.empty()) around.push_back(offset[p]);
-    std::nth_element(around.begin(), around.begin() + around.size() / 2, around.end());
-    const Eigen::Matrix2d local = Eigen::Rotation2Dd(around[around.size() / 2]).toRotationMatrix();
-    const Eigen::Vector2d e = local * a[p] - b[p];
-    const Eigen::Matrix2d cl = local * c[p] * local.transpose();
-    nees_sum += e.dot(cl.ldlt().solve(e));
-    excess += e.squaredNorm() - cl.trace();
-    walked += a[p].norm();
-    if (p > 0) wander2 += std::pow(std::remainder(offset[p] - offset[p - 1], 2.0 * kPi), 2);
-  }
-  const double count = static_cast<double>(pairs.size());
-  f.stride_pairs = pairs.size();
-  f.stride_groups = static_cast<std::size_t>(std::count_if(pairs.begin(), pairs.end(), [](const StridePair& p) {
-    return p.track_end - p.track_begin != 1 || p.truth_end - p.truth_begin != 1;
-  }));
-  f.stride_nees_mean = nees_sum / count;
-  f.stride_nees_lower = chi_square_quantile(0.025, 2.0 * count) / count;
-  f.stride_nees_upper = chi_square_quantile(0.975, 2.0 * count) / count;
-  f.missing_variance_per_m = walked > 0.0 ? excess / (2.0 * walked) : 0.0;
-  f.heading_wander_rad = pairs.size() > 1 ? std::sqrt(wander2 / (count - 1.0)) : 0.0;
-  f.mean_stride_m = walked / count;
+  stride_consistency(run, truth, f);
   return f;
 }
 
