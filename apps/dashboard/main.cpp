@@ -75,9 +75,10 @@ int main(int argc, char** argv) {
     state_config.track_length = static_cast<std::size_t>(settings.track_length);
     state_config.par_interval_s = settings.par_interval_s;
     state_config.stale_after_s = settings.stale_after_s;
-    // Where the picture sits: its WGS-84 origin, and the building placed in it.
+    // Where the picture sits: its WGS-84 origin, the avalanche deposit and the building placed in it.
     auto place = [&](dashboard::PictureState& state) {
       state.set_geodetic_origin(mission.command.incident.origin);
+      if (mission.deposit) state.set_deposit(mission.deposit->vertices());
       if (!mission.world) return;
       const auto& f = mission.estimators.firefighter;
       state.set_building({*mission.world, f.origin.x(), f.origin.y(), f.rotation_rad()});

@@ -68,6 +68,13 @@ void PictureState::set_geodetic_origin(const GeodeticOrigin& origin) {
   geodetic_.emplace(origin);  // ConfigError for an origin out of range: the mission loader's check
 }
 
+void PictureState::set_deposit(const std::vector<Eigen::Vector2d>& outline) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  json points = json::array();
+  for (const auto& p : outline) points.push_back({cm(p.x()), cm(p.y())});
+  deposit_ = points;
+}
+
 void PictureState::set_building(PlacedPlan b) {
   std::lock_guard<std::mutex> lock(mutex_);
   json floors = json::array();
@@ -367,6 +374,7 @@ json PictureState::snapshot() const {
   out["type"] = "snapshot";
   out["removed"] = json::array();
   out["building"] = building_;
+  out["deposit"] = deposit_;
   out["rejected"] = rejected_;
   out["par_interval_s"] = config_.par_interval_s;
   return out;

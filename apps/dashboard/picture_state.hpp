@@ -56,6 +56,8 @@ class PictureState {
   void set_building(PlacedPlan building);
   /// The incident frame's WGS-84 origin: victims then carry their latitude and longitude.
   void set_geodetic_origin(const GeodeticOrigin& origin);
+  /// The avalanche deposit's outline (incident frame), drawn under everything else.
+  void set_deposit(const std::vector<Eigen::Vector2d>& outline);
 
   void on_victim(const incident::FusedVictim& v);
   void on_victim_gone(std::uint32_t id);
@@ -134,6 +136,7 @@ class PictureState {
   std::string picture_writer_;
   std::map<std::string, std::uint64_t> rejected_;
   nlohmann::json building_;
+  nlohmann::json deposit_ = nlohmann::json::array();  ///< [[x, y], ...] in the incident frame
   std::optional<incident::GeodeticFrame> geodetic_;
 };
 

@@ -111,6 +111,7 @@ function connect() {
     for (const kind of ["victims", "responders", "teams", "alarms"]) picture[kind].clear();
     picture.events = [];
     picture.building = s.building && s.building.floors ? s.building : null;
+    picture.deposit = Array.isArray(s.deposit) ? s.deposit : [];
     picture.parIntervalS = s.par_interval_s;
     fillFloors();
     merge(s);
@@ -198,6 +199,8 @@ function areas() {
   picture.victims.forEach((v) => add(v.x, v.y));
   picture.responders.forEach((r) => add(r.x, r.y));
   if (picture.building && !points.length) for (const w of picture.building.floors[0].walls) { add(w[0], w[1]); add(w[2], w[3]); }
+  if (!points.length)
+    for (const p of picture.deposit || []) add(p[0], p[1]);
   // Single linkage: a point within AREA_GAP_M of an area joins it.
   const groups = [];
   for (const p of points) {
@@ -235,6 +238,12 @@ function renderMap() {
   const px = view.w / Math.max(1, $("map").getBoundingClientRect().width);  // metres per pixel
   let svg = "";
   const label = labeller(px);
+  // The avalanche deposit under everything: where the primary search must go.
+  if (picture.deposit && picture.deposit.length >= 3) {
+    const points = picture.deposit.map((p) => `${p[0]},${- p[1]}`).join(' ');
+    svg += `<polygon points="${points}" fill="#cfe3f7" fill-opacity="0.45" stroke="#5b8db8" stroke-width="${
+        1.5 * px}" stroke-dasharray="${6 * px},${4 * px}"/>`;
+  }
   if (picture.building && picture.building.floors[floor]) {
     for (const w of picture.building.floors[floor].walls) {
       svg += `<line x1="${w[0]}" y1="${-w[1]}" x2="${w[2]}" y2="${-w[3]}" stroke="#333" stroke-width="${3 * px}"/>`;

@@ -10,8 +10,10 @@
 #include "sarloc/app/firefighter_yaml.hpp"
 #include "sarloc/app/floor_plan_yaml.hpp"
 #include "sarloc/app/yaml_reader.hpp"
+#include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/identifier.hpp"
 #include "sarloc/core/common/validate.hpp"
+#include "sarloc/core/incident/geodetic_frame.hpp"
 
 namespace sarloc::app {
 namespace {
@@ -177,6 +179,24 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("latitude_deg", c.command.incident.origin.latitude_deg);
     r.read("longitude_deg", c.command.incident.origin.longitude_deg);
     r.read("altitude_m", c.command.incident.origin.altitude_m);
+    std::vector<incident::Vec2> outline;
+    if (r.has("deposit")) {
+      // The deposit's outline in WGS-84, into the incident frame about the incident's origin.
+      const incident::GeodeticFrame frame(c.command.incident.origin);
+      for (auto& vertex : r.child_list("deposit")) {
+        incident::Geodetic g;
+        g.altitude_m = c.command.incident.origin.altitude_m;
+        vertex.require("latitude_deg", g.latitude_deg);
+        vertex.require("longitude_deg", g.longitude_deg);
+        vertex.expect_done();
+        try {
+          outline.push_back(frame.to_enu(g).head<2>());
+        } catch (const InputError& e) {
+          throw ConfigError(name + ": " + vertex.path() + ": " + e.what());
+        }
+      }
+      c.deposit.emplace(outline, name + ": incident.deposit");
+    }
     r.expect_done();
     require_identifier(c.command.incident.incident_id, name + ": incident.id");
   }

@@ -44,6 +44,20 @@ TEST(ConfigFiles, ShippedAndValidMissionsLoad) {
   }
 }
 
+// The default mission's deposit, given in WGS-84, lands in the incident frame where its comments
+// say (flat-earth values written to the file: GeographicLib puts them within 0.5 m).
+TEST(ConfigFiles, TheDefaultMissionsDepositIsInTheIncidentFrame) {
+  const auto mission = load_mission_config((kSource / "config/missions/default.yaml").string());
+  ASSERT_TRUE(mission.deposit.has_value());
+  const auto& v = mission.deposit->vertices();
+  ASSERT_EQ(v.size(), 4u);
+  bool found = false;
+  for (const auto& p : v) found = found || (p - incident::Vec2(70.0, 70.0)).norm() < 0.5;
+  EXPECT_TRUE(found) << "a vertex 70 m east, 70 m north: " << v[0].transpose() << "; " << v[1].transpose() << "; "
+                     << v[2].transpose() << "; " << v[3].transpose();
+  EXPECT_TRUE(mission.deposit->contains({-20.0, 42.0})) << "victim A is in the deposit";
+}
+
 // Incident command runs as a hot-standby pair unless the mission says otherwise; each
 // instance has its own NodeStatus key.
 TEST(ConfigFiles, IncidentCommandInstancesHaveTheirOwnNodeIds) {

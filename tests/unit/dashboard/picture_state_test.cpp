@@ -26,8 +26,8 @@ bool has_event(const nlohmann::json& message, const std::string& text) {
 }
 
 // With the incident's WGS-84 origin, every victim carries its latitude and longitude (without
-// one, none: the page shows ENU only).
-TEST(PictureState, VictimsCarryTheirLatitudeAndLongitudeOnceTheOriginIsKnown) {
+// one, none: the page shows ENU only); a mission's deposit is in every snapshot.
+TEST(PictureState, VictimsCarryTheirLatitudeAndLongitudeAndTheDepositIsDrawnOnceKnown) {
   Clocks c;
   auto state = make(c);
   auto v = test::sample_fused_victim();
@@ -40,6 +40,10 @@ TEST(PictureState, VictimsCarryTheirLatitudeAndLongitudeOnceTheOriginIsKnown) {
   const std::string expected = incident::format_wgs84(incident::GeodeticFrame(origin).to_wgs84(v.position.position));
   EXPECT_EQ(state.snapshot()["victims"][0]["wgs84"], expected);
   EXPECT_EQ(expected.rfind("46.5562", 0), 0u) << expected << ": 50 m south of 46.5567 N";
+  // The deposit's outline goes with every snapshot, as the building does.
+  EXPECT_TRUE(state.snapshot()["deposit"].empty());
+  state.set_deposit({{-45.0, 10.0}, {60.0, 0.0}, {70.0, 70.0}});
+  EXPECT_EQ(state.snapshot()["deposit"], nlohmann::json::parse("[[-45.0, 10.0], [60.0, 0.0], [70.0, 70.0]]"));
 }
 
 TEST(PictureState, DeltasCarryOnlyWhatChangedAndEventsMarkTransitions) {

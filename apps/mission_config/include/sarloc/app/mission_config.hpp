@@ -4,17 +4,19 @@
 // sarloc-command the incident, sarloc-mission all of it. docs/configuration.md lists the keys;
 // config/missions/default.yaml is the annotated default.
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "sarloc/app/dashboard_config.hpp"
 #include "sarloc/core/estimator/make_estimator.hpp"
+#include "sarloc/core/incident/deposit.hpp"
 #include "sarloc/core/mission/mission_scenario.hpp"
 #include "sarloc/core/mission/simulated_firefighter.hpp"
-#include "sarloc/app/dashboard_config.hpp"
-#include "sarloc/dds/recorder.hpp"
 #include "sarloc/dds/command_node.hpp"
 #include "sarloc/dds/core_node.hpp"
 #include "sarloc/dds/participant.hpp"
+#include "sarloc/dds/recorder.hpp"
 #include "sarloc/dds/rescuer_node.hpp"
 
 namespace sarloc::app {
@@ -51,6 +53,8 @@ struct MissionConfig {
   std::string map_error_door;                         ///< building.map_error.door ("" = none)
   double map_error_shift_m = 0.0;                     ///< as applied (clamped to the wall)
   std::vector<FirefighterEntry> firefighters;         ///< rescuers[] with role firefighter
+  /// The avalanche deposit (incident.deposit, WGS-84 in the file), in the incident frame.
+  std::optional<incident::Deposit> deposit;
   dds::CoreNodeConfig core;
   dds::RescuerNodeConfig rescuer;                     ///< template: id/team/partitions filled per rescuer
   /// Two instances of incident command unless the file says otherwise (command.instances):
