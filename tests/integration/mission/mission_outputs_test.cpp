@@ -238,7 +238,7 @@ TEST(Mission, TheDashboardShowsTheMissionLiveInABrowser) {
   for (const auto& cell : glance["foundCells"]) EXPECT_EQ(cell.get<std::string>().rfind("at T+", 0), 0U) << "a FOUND victim without its time: " << cell;
   EXPECT_EQ(glance["incident"], "test-incident") << "the header names the incident";
   EXPECT_NE(glance["wall"].get<std::string>().find(':'), std::string::npos) << "the header shows the wall-clock time";
-  EXPECT_EQ(glance["legendItems"], 6);
+  EXPECT_EQ(glance["legendItems"], 7) << "six symbols and the avalanche deposit";
   EXPECT_EQ(glance["areas"], 3) << "everything, the avalanche field, the house 80 m east: " << glance.dump();
   ASSERT_FALSE(browser["labelHeightsPx"].empty()) << said;
   for (const auto& height : browser["labelHeightsPx"]) {
