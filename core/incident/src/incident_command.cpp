@@ -9,6 +9,7 @@
 #include "sarloc/core/common/identifier.hpp"
 #include "sarloc/core/common/time_units.hpp"
 #include "sarloc/core/common/validate.hpp"
+#include "sarloc/core/incident/geodetic_frame.hpp"
 #include "sarloc/core/incident/source_estimate.hpp"
 
 namespace sarloc::incident {
@@ -27,10 +28,7 @@ void IncidentCommandConfig::validate() const {
           "must be in [0, 5]");
   require(antenna_height_sigma_m > 0.0 && antenna_height_sigma_m <= 5.0, "command.antenna_height_sigma_m",
           antenna_height_sigma_m, "must be in (0, 5]");
-  require(origin.latitude_deg >= -90.0 && origin.latitude_deg <= 90.0, "incident.latitude_deg", origin.latitude_deg,
-          "must be in [-90, 90]");
-  require(origin.longitude_deg >= -180.0 && origin.longitude_deg <= 180.0, "incident.longitude_deg",
-          origin.longitude_deg, "must be in [-180, 180]");
+  (void)GeodeticFrame(origin);  // the one check of a WGS-84 origin (ConfigError naming incident.<field>)
 }
 
 IncidentCommand::IncidentCommand(IncidentCommandConfig config, TimestampNs start_wall_ns)
