@@ -180,6 +180,16 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
     if (!may_view(req)) return error(res, 401, "sign in first: the view token, or a session");
     res.set_content(json_text(state_.snapshot()), "application/json");
   });
+  s.Get("/api/geojson", [this](const httplib::Request& req, httplib::Response& res) {
+    // For a GIS tool or another agency's map: the view token as a bearer, like /api/state.
+    if (!may_view(req)) return error(res, 401, "sign in first: the view token, or a session");
+    const auto collection = state_.geojson();
+    if (!collection)
+      return error(res, 404,
+                   "no WGS-84 origin for this incident (the mission's incident: latitude_deg, longitude_deg)");
+    res.set_header("Cache-Control", "no-store");
+    res.set_content(json_text(*collection), "application/geo+json");
+  });
   s.Get("/events", [this](const httplib::Request& req, httplib::Response& res) {
     // Checked before a stream is counted: clients without a credential can never use up the
     // streams that the commander's own browser needs.

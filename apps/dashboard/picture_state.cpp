@@ -1,10 +1,11 @@
 #include "picture_state.hpp"
 
-#include "sarloc/core/common/gaussian.hpp"
-#include "sarloc/core/common/validate.hpp"
-
 #include <cmath>
 #include <cstdio>
+
+#include "sarloc/app/incident_geojson.hpp"
+#include "sarloc/core/common/gaussian.hpp"
+#include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::dashboard {
 
@@ -73,6 +74,7 @@ void PictureState::set_deposit(const std::vector<Eigen::Vector2d>& outline) {
   json points = json::array();
   for (const auto& p : outline) points.push_back({cm(p.x()), cm(p.y())});
   deposit_ = points;
+  deposit_outline_ = outline;
 }
 
 void PictureState::set_building(PlacedPlan b) {
@@ -414,6 +416,32 @@ std::uint64_t PictureState::version() const {
 std::size_t PictureState::victim_count() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return victims_.size();
+}
+
+std::optional<json> PictureState::geojson() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!geodetic_) return std::nullopt;
+  app::IncidentGeoJson picture;
+  picture.epoch_ns = epoch_ns_;
+  if (!deposit_outline_.empty()) picture.deposit = deposit_outline_;
+  for (const auto& [id, r] : responders_) {
+    const bool outdoors =
+        r.last.source == responder::PositionSource::kGnss || r.last.source == responder::PositionSource::kManual;
+    app::GeoJsonTrack track{id, r.last.team_id, outdoors ? "avalanche rescuer" : "firefighter", {}};
+    for (const auto& p : r.track) track.points.emplace_back(p[0], p[1]);
+    picture.tracks.push_back(std::move(track));
+  }
+  const auto mission_s = [&](TimestampNs t) {
+    return t == 0 ? std::optional<double>() : std::optional<double>(static_cast<double>(t - epoch_ns_) * 1e-9);
+  };
+  for (const auto& [id, entry] : victims_) {
+    const incident::FusedVictim& v = entry.first;
+    std::vector<std::string> sources;
+    for (const auto& s : v.sources) sources.push_back(s.rescuer_id + "/" + std::to_string(s.signal_id));
+    picture.victims.push_back({id, incident::to_string(v.state), v.position, mission_s(v.located_at),
+                               mission_s(v.found_at), sources, v.evidence_conflict});
+  }
+  return app::to_geojson(picture, *geodetic_);
 }
 
 }  // namespace sarloc::dashboard

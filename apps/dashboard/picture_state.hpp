@@ -91,6 +91,10 @@ class PictureState {
   nlohmann::json heartbeat() const;
   std::uint64_t version() const;
   std::size_t victim_count() const;
+  /// The picture as GeoJSON in WGS-84 (app::to_geojson): the deposit, the tracks kept for the map
+  /// (track_length positions each) and the victims. Strips come once incident command publishes
+  /// its plan. Nullopt without a WGS-84 origin (set_geodetic_origin).
+  std::optional<nlohmann::json> geojson() const;
 
  private:
   struct Versioned {
@@ -137,6 +141,7 @@ class PictureState {
   std::map<std::string, std::uint64_t> rejected_;
   nlohmann::json building_;
   nlohmann::json deposit_ = nlohmann::json::array();  ///< [[x, y], ...] in the incident frame
+  std::vector<Eigen::Vector2d> deposit_outline_;      ///< the same, for GeoJSON
   std::optional<incident::GeodeticFrame> geodetic_;
 };
 

@@ -3,15 +3,17 @@
 //
 // Exit codes: 0 report written from a whole recording; 1 report written, but the recording is
 // damaged (the report says what could not be read); 2 bad command line; 4 not an MCAP file,
-// unreadable, or the report cannot be written.
-#include <CLI/CLI.hpp>
+// unreadable, or the report (or the GeoJSON: also when the recording has no WGS-84 origin)
+// cannot be written.
 #include <spdlog/spdlog.h>
 
+#include <CLI/CLI.hpp>
 #include <fstream>
 #include <memory>
 #include <string>
 
 #include "mission_record.hpp"
+#include "report_geojson.hpp"
 #include "report_html.hpp"
 #include "sarloc/app/command_line.hpp"
 #include "sarloc/app/logging.hpp"
@@ -21,10 +23,12 @@
 int main(int argc, char** argv) {
   using namespace sarloc;
   CLI::App cli{"sarloc-report: a mission recording (.mcap) to a self-contained HTML report"};
-  std::string recording, output = "report.html", compare, log_level = "info";
+  std::string recording, output = "report.html", compare, geojson, log_level = "info";
   cli.add_option("recording", recording, "the .mcap file")->required();
   cli.add_option("-o,--output", output, "the HTML file to write")->capture_default_str();
   cli.add_option("--compare", compare, "another recording of the same inputs: the report shows how this one differs from it");
+  cli.add_option("--geojson", geojson,
+                 "also write the deposit, strips, tracks and victims as GeoJSON (RFC 7946, WGS-84) to this file");
   app::add_log_level_option(cli, log_level);
   cli.set_version_flag("--version", SARLOC_VERSION);
   if (auto code = app::parse_command_line(cli, argc, argv)) return *code;
@@ -54,6 +58,14 @@ int main(int argc, char** argv) {
     if (!out) throw recording::RecordingError("cannot write the report to '" + output + "'");
     spdlog::info("report of '{}' ({} victims, {} responders, {} events) written to '{}'", recording, record.victims.size(),
                  record.responders.size(), record.events.size(), output);
+    if (!geojson.empty()) {
+      const nlohmann::json collection = report::render_geojson(record);
+      std::ofstream geo(geojson, std::ios::binary | std::ios::trunc);
+      geo << collection.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
+      geo.close();
+      if (!geo) throw recording::RecordingError("cannot write the GeoJSON to '" + geojson + "'");
+      spdlog::info("GeoJSON ({} features) written to '{}'", collection["features"].size(), geojson);
+    }
     if (!record.read.damage.empty()) {
       spdlog::warn("the recording is damaged: {}; the report shows what could be read", record.read.damage);
       return app::ExitCode::kFailure;

@@ -10,6 +10,7 @@
 #include "sarloc/app/floor_plan_yaml.hpp"
 #include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/incident/geodetic_frame.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/raw_topic_type.hpp"
 #include "sarloc/dds/replayer.hpp"
@@ -336,6 +337,7 @@ class Loader {
     }
     try {
       const YAML::Node root = YAML::Load(md["mission_yaml"]);
+      finish_deposit(root["incident"]);
       for (const auto& v : root["victims"]) {
         const auto p = v["position"].as<std::vector<double>>();
         if (p.size() == 3) r_.truth_victims.push_back({v["name"].as<std::string>(""), Vec3(p[0], p[1], p[2])});
@@ -359,6 +361,33 @@ class Loader {
       r_.notes.push_back("firefighters' true tracks are not recorded (they live in the simulated devices): no RMSE for them");
     } catch (const std::exception& error) {
       r_.notes.push_back(std::string("the recorded mission file does not parse: ") + error.what());
+    }
+  }
+
+  // The origin and the deposit as the mission loader read them (mission_config.cpp): the deposit's
+  // WGS-84 outline at the origin's altitude, into the incident frame. A recording whose incident
+  // command published no IncidentFrame takes the origin from the file too.
+  void finish_deposit(const YAML::Node& incident_node) {
+    if (!incident_node) return;
+    GeodeticOrigin origin;
+    origin.latitude_deg = incident_node["latitude_deg"].as<double>(origin.latitude_deg);
+    origin.longitude_deg = incident_node["longitude_deg"].as<double>(origin.longitude_deg);
+    origin.altitude_m = incident_node["altitude_m"].as<double>(origin.altitude_m);
+    if (!r_.incident_origin) r_.incident_origin = origin;
+    if (!incident_node["deposit"]) return;
+    try {
+      const incident::GeodeticFrame frame(origin);
+      std::vector<incident::Vec2> outline;
+      for (const auto& vertex : incident_node["deposit"]) {
+        incident::Geodetic g;
+        g.latitude_deg = vertex["latitude_deg"].as<double>();
+        g.longitude_deg = vertex["longitude_deg"].as<double>();
+        g.altitude_m = origin.altitude_m;
+        outline.push_back(frame.to_enu(g).head<2>());
+      }
+      r_.deposit.emplace(outline, "the recorded mission file's incident.deposit");
+    } catch (const std::exception& error) {
+      r_.notes.push_back(std::string("the recorded deposit is not usable: ") + error.what());
     }
   }
 

@@ -15,6 +15,7 @@
 #include "sarloc/core/common/gaussian.hpp"
 #include "sarloc/core/common/types.hpp"
 #include "sarloc/core/firefighter/floor_plan.hpp"
+#include "sarloc/core/incident/deposit.hpp"
 #include "sarloc/core/incident/fused_victim.hpp"
 #include "sarloc/core/responder/responder_position.hpp"
 #include "sarloc/recording/mcap_reader.hpp"
@@ -92,8 +93,11 @@ struct MissionRecord {
   std::vector<Event> events;  ///< sorted by time
   std::vector<TruthVictim> truth_victims;
   std::optional<PlacedBuilding> building;
-  /// The incident frame's WGS-84 origin, as incident command last published it (IncidentFrame).
+  /// The incident frame's WGS-84 origin, as incident command last published it (IncidentFrame),
+  /// else as the recorded mission file gives it.
   std::optional<GeodeticOrigin> incident_origin;
+  /// The avalanche deposit (incident frame), from the recorded mission file's incident.deposit.
+  std::optional<incident::Deposit> deposit;
   std::vector<std::string> notes;  ///< what the report could not do, and why
   std::map<std::string, TopicQuality> quality;
   /// Node id -> reject reason -> count, as each node last reported (NodeStatus).

@@ -78,7 +78,11 @@ std::string avalanche_map(const MissionRecord& r) {
   }
   for (const auto& t : r.truth_victims) bounds.add(xy(t.position));
   if (bounds.empty()) return "";
+  if (r.deposit) {
+    for (const auto& p : r.deposit->vertices()) bounds.add(p);
+  }
   SvgMap map(bounds.min, bounds.max, 760.0, 5.0, "Avalanche field (incident frame, m)");
+  if (r.deposit) map.polygon(r.deposit->vertices(), "#4a90c2", 0.12);  // under everything else
   std::size_t k = 0;
   for (const auto& [id, track] : r.responders) {
     if (track.firefighter) continue;
@@ -436,9 +440,11 @@ svg { display: block; margin: 0.5em 0; }
   html += "<section id=\"maps\"><h2>Maps</h2>\n";
   const std::string field = avalanche_map(r);
   if (!field.empty()) {
-    html += field + "<p class=\"legend\">Lines: rescuers' tracks (dot: start). Dashed grey: each victim's estimate over time; "
-                    "ellipses: 95 % when located, when found (thin) and at the end (filled), green found, orange located, grey "
-                    "unconfirmed. Black crosses: true positions (simulation).</p>\n";
+    html += field +
+            "<p class=\"legend\">Lines: rescuers' tracks (dot: start). Dashed grey: each victim's estimate over time; "
+            "ellipses: 95 % when located, when found (thin) and at the end (filled), green found, orange located, grey "
+            "unconfirmed. Black crosses: true positions (simulation). Pale blue area: the avalanche deposit "
+            "(the mission's incident.deposit).</p>\n";
   }
   for (const auto& map : building_maps(r)) {
     html += map + "<p class=\"legend\">Walls black, doors green. Solid: map-aided track, with its 95 % ellipse every 30 s "

@@ -64,6 +64,17 @@ void SvgMap::polyline(const std::vector<Eigen::Vector2d>& points, const std::str
   body_ += "\"/>\n";
 }
 
+void SvgMap::polygon(const std::vector<Eigen::Vector2d>& points, const std::string& colour, double fill_opacity) {
+  if (points.size() < 3) return;
+  body_ += "<polygon stroke=\"" + colour + "\" stroke-width=\"1.5\" fill=\"" + colour + "\" fill-opacity=\"" +
+           num(fill_opacity) + "\" points=\"";
+  for (const auto& p : points) {
+    const auto q = px(p);
+    body_ += num(q.x()) + "," + num(q.y()) + " ";
+  }
+  body_ += "\"/>\n";
+}
+
 void SvgMap::line(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const std::string& colour, double width_px) {
   const auto p = px(a), q = px(b);
   body_ += "<line x1=\"" + num(p.x()) + "\" y1=\"" + num(p.y()) + "\" x2=\"" + num(q.x()) + "\" y2=\"" + num(q.y()) +
@@ -78,12 +89,10 @@ void SvgMap::dot(const Eigen::Vector2d& p, double radius_px, const std::string& 
 
 void SvgMap::ellipse95(const Eigen::Vector2d& centre, const Eigen::Matrix2d& covariance, const std::string& colour,
                        double opacity, bool filled) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen(covariance);
-  const double a = std::sqrt(kChi2_2_95 * std::max(0.0, eigen.eigenvalues()(1))) * scale_;
-  const double b = std::sqrt(kChi2_2_95 * std::max(0.0, eigen.eigenvalues()(0))) * scale_;
-  const Eigen::Vector2d major = eigen.eigenvectors().col(1);
+  const Ellipse95 e = sarloc::ellipse95(covariance);  // the free function, not this member
+  const double a = e.semi_major_m * scale_, b = e.semi_minor_m * scale_;
   // SVG's y points down: the angle flips sign.
-  const double angle_deg = -std::atan2(major.y(), major.x()) * 180.0 / kPi;
+  const double angle_deg = -e.major_angle_rad * 180.0 / kPi;
   const auto q = px(centre);
   body_ += "<ellipse cx=\"" + num(q.x()) + "\" cy=\"" + num(q.y()) + "\" rx=\"" + num(std::max(a, 0.5)) + "\" ry=\"" +
            num(std::max(b, 0.5)) + "\" transform=\"rotate(" + num(angle_deg) + " " + num(q.x()) + " " + num(q.y()) +

@@ -14,6 +14,8 @@ class SvgMap {
 
   void polyline(const std::vector<Eigen::Vector2d>& points, const std::string& colour, double width_px,
                 const std::string& dash = "", double opacity = 1.0);
+  /// A closed outline, filled (an area: the avalanche deposit).
+  void polygon(const std::vector<Eigen::Vector2d>& points, const std::string& colour, double fill_opacity);
   void line(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const std::string& colour, double width_px);
   void dot(const Eigen::Vector2d& p, double radius_px, const std::string& colour, double opacity = 1.0);
   /// The 95 % ellipse of a horizontal covariance around `centre`.

@@ -81,7 +81,11 @@ std::vector<Strip> plan_strips(const Deposit& deposit, const StripPlanConfig& co
     if ((entry - centre).dot(axis) > 0.0) downhill += kPi;
   }
   const auto [lo_u, hi_u, lo_v, hi_v] = extent(vertices, downhill);
-  const auto count = static_cast<std::size_t>(std::max(1.0, std::ceil((hi_v - lo_v) / config.strip_width_m - 1e-9)));
+  // 1 cm of slack: an outline that went through WGS-84 comes back micrometres wider, and an 80 m
+  // deposit must still be two strips of 40 m, not three of 26.7 m.
+  constexpr double kSlack_m = 0.01;
+  const auto count =
+      static_cast<std::size_t>(std::max(1.0, std::ceil((hi_v - lo_v - kSlack_m) / config.strip_width_m)));
   const double width = (hi_v - lo_v) / static_cast<double>(count);
   const geometry::Polygon area = geometry::to_polygon(vertices);
   std::vector<Strip> strips;

@@ -8,22 +8,108 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 #include <string>
 #include <thread>
-
-#include "mission_record.hpp"
-#include "record_comparison.hpp"
 #include <vector>
 
+#include "mission_record.hpp"
+#include "mission_runs.hpp"
+#include "record_comparison.hpp"
+#include "sarloc/core/incident/geodetic_frame.hpp"
 #include "support/dds_test_domains.hpp"
 #include "support/required_program.hpp"
-#include "mission_runs.hpp"
 
 namespace sarloc::test {
 namespace {
+
+// One feature as GDAL's ogrinfo printed it: its "kind" and its geometry as WKT.
+struct OgrFeature {
+  std::string kind, wkt;
+};
+
+std::vector<OgrFeature> ogr_features(const std::string& ogrinfo_text) {
+  std::vector<OgrFeature> out;
+  std::istringstream lines(ogrinfo_text);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("OGRFeature(", 0) == 0) out.emplace_back();
+    if (out.empty()) continue;
+    if (line.rfind("  kind (String) = ", 0) == 0) out.back().kind = line.substr(18);
+    for (const char* type : {"  POINT", "  LINESTRING", "  POLYGON"})
+      if (line.rfind(type, 0) == 0) out.back().wkt = line.substr(2);
+  }
+  return out;
+}
+
+// The numbers of a WKT geometry as (longitude, latitude) pairs (a third, altitude, skipped).
+std::vector<std::pair<double, double>> wkt_positions(const std::string& wkt) {
+  std::vector<std::pair<double, double>> out;
+  const bool has_z = wkt.find(" Z ") != std::string::npos;
+  std::string numbers = wkt.substr(wkt.find('('));
+  std::replace_if(
+      numbers.begin(), numbers.end(), [](char c) { return c == '(' || c == ')' || c == ','; }, ' ');
+  std::istringstream in(numbers);
+  for (double lon, lat; in >> lon >> lat;) {
+    out.emplace_back(lon, lat);
+    if (has_z) in >> lon;
+  }
+  return out;
+}
+
+// sarloc-report --geojson on the mission's recording, read by an independent GIS reader (GDAL's
+// ogrinfo): every feature there, the deposit where mixed.yaml puts it, each victim within 1.5 m
+// of a true one once converted back into the incident frame.
+void expect_geojson_reads_in_gdal(const std::string& recording, const fs::path& run_dir) {
+  ASSERT_TRUE(sarloc::test::has_program("ogrinfo", "gdal-bin"));
+  const fs::path geojson = run_dir / "mission.geojson";
+  const int reported = std::system((std::string(SARLOC_BIN_DIR) + "/sarloc-report '" + recording + "' -o " +
+                                    (run_dir / "report-geo.html").string() + " --geojson " + geojson.string() + " > " +
+                                    (run_dir / "report-geo.out").string() + " 2>&1")
+                                       .c_str());
+  ASSERT_EQ(WEXITSTATUS(reported), 0) << file_text(run_dir / "report-geo.out");
+  const json written = json::parse(file_text(geojson));
+  const fs::path read = run_dir / "ogrinfo.txt";
+  const int ogr =
+      std::system(("ogrinfo -ro -al -geom=YES " + geojson.string() + " > " + read.string() + " 2>&1").c_str());
+  const std::string text = file_text(read);
+  ASSERT_EQ(WEXITSTATUS(ogr), 0) << text;
+  EXPECT_NE(text.find("Feature Count: " + std::to_string(written["features"].size())), std::string::npos)
+      << text.substr(0, 2000);
+  EXPECT_NE(text.find("WGS 84"), std::string::npos) << "RFC 7946 GeoJSON is WGS-84: " << text.substr(0, 2000);
+  const auto features = ogr_features(text);
+  std::map<std::string, int> count;
+  for (const auto& f : features) ++count[f.kind];
+  EXPECT_EQ(count["deposit"], 1);
+  EXPECT_GE(count["strip"], 2) << "60 m across at 40 m";
+  EXPECT_EQ(count["track"], 4) << "r1, r2, ff1, ff2";
+  EXPECT_EQ(count["victim"], 2);
+  EXPECT_EQ(count["victim_ellipse_95"], 2);
+  const incident::GeodeticFrame frame({46.5563, 7.9263, 2320.0});  // mixed.yaml's incident origin
+  const auto enu = [&](const std::pair<double, double>& lon_lat) {
+    return frame.to_enu({lon_lat.second, lon_lat.first, 2320.0}).head<2>().eval();
+  };
+  const std::vector<Eigen::Vector2d> corners{{-30.0, -5.0}, {30.0, -5.0}, {30.0, 70.0}, {-30.0, 70.0}};
+  const std::vector<Eigen::Vector2d> victims{{-6.0, 35.0}, {3.0, 36.0}};
+  for (const auto& f : features) {
+    const auto positions = wkt_positions(f.wkt);
+    ASSERT_FALSE(positions.empty()) << f.kind << ": " << f.wkt;
+    const auto nearest = [&](const std::vector<Eigen::Vector2d>& to, const Eigen::Vector2d& p) {
+      double d = 1e9;
+      for (const auto& q : to) d = std::min(d, (p - q).norm());
+      return d;
+    };
+    if (f.kind == "deposit") {
+      EXPECT_EQ(positions.size(), 5u) << f.wkt;
+      for (const auto& p : positions) EXPECT_LT(nearest(corners, enu(p)), 0.05) << f.wkt;
+    }
+    if (f.kind == "victim") {
+      EXPECT_LT(nearest(victims, enu(positions[0])), 1.5) << f.wkt;
+    }
+  }
+}
 
 // The mission's recording, read by independent readers: the MCAP project's own reader with
 // Foxglove's IDL decoder (every topic, the counts the recorder wrote, every CRC), then the
@@ -78,6 +164,7 @@ TEST(Mission, ItsRecordingReadsInAnIndependentReaderAndItsReportOpensInChromium)
   EXPECT_GE(shot_report["svgs"].get<int>(), 3) << "two maps and the timeline";
   EXPECT_GT(shot_report["inkFraction"].get<double>(), 0.01) << "blank screenshot: " << browser_said;
   EXPECT_GT(shot_report["colours"].get<int>(), 20) << browser_said;
+  expect_geojson_reads_in_gdal(recording, run.run_dir);
 
   // The same recording on the dashboard's debrief view: the timeline scrubs and plays.
   const fs::path url_file = run.run_dir / "replay.url";

@@ -2,15 +2,15 @@
 // the server stays up), the token on every action, and 50 event streams at once without the
 // server's memory growing.
 #include <gtest/gtest.h>
-
-#include <atomic>
-#include <fstream>
-#include <thread>
-
 #include <malloc.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#include <atomic>
+#include <fstream>
+#include <set>
+#include <thread>
 
 // Eigen before httplib.h: the resolver header httplib pulls in defines `_res`, a name Eigen uses.
 #include "dashboard_server.hpp"
@@ -30,7 +30,6 @@ class Server : public ::testing::Test {
     DashboardServerConfig config;
     config.port = 0;
     config.token = kToken;
-  config.view_token = kViewToken;
     config.view_token = kViewToken;
     config.max_streams = 60;
     config.push_period_s = 0.05;
@@ -71,6 +70,31 @@ TEST_F(Server, ServesThePageItsAssetsAndThePictureWithNothingFromElsewhere) {
   auto state_json = client->Get("/api/state", bearer(kViewToken));
   ASSERT_TRUE(state_json);
   EXPECT_EQ(nlohmann::json::parse(state_json->body)["alarms"][0]["id"], 7);
+}
+
+// GET /api/geojson for a GIS tool: the view token like /api/state, a 404 naming the missing
+// origin before the incident has one, then the picture in WGS-84 (app::to_geojson's own test
+// checks the coordinates).
+TEST_F(Server, GeoJsonNeedsTheViewTokenAndTheIncidentsOrigin) {
+  EXPECT_EQ(client->Get("/api/geojson")->status, 401);
+  auto none = client->Get("/api/geojson", bearer(kViewToken));
+  ASSERT_TRUE(none);
+  EXPECT_EQ(none->status, 404);
+  EXPECT_NE(none->body.find("WGS-84 origin"), std::string::npos) << none->body;
+  state.set_geodetic_origin({46.5563, 7.9263, 2320.0});
+  state.set_deposit({{-45.0, 10.0}, {60.0, 0.0}, {70.0, 70.0}});
+  auto victim = test::sample_fused_victim();
+  victim.position.position = Vec3(5.0, 30.0, -1.0);
+  victim.position.covariance = Vec3(0.3, 0.2, 0.1).asDiagonal();
+  state.on_victim(victim);
+  auto geo = client->Get("/api/geojson", bearer(kViewToken));
+  ASSERT_TRUE(geo);
+  EXPECT_EQ(geo->status, 200);
+  EXPECT_EQ(geo->get_header_value("Content-Type"), "application/geo+json");
+  const auto collection = nlohmann::json::parse(geo->body);
+  std::set<std::string> kinds;
+  for (const auto& f : collection["features"]) kinds.insert(f["properties"]["kind"].get<std::string>());
+  EXPECT_TRUE(kinds.count("deposit") && kinds.count("victim") && kinds.count("victim_ellipse_95")) << geo->body;
 }
 
 TEST_F(Server, BadRequestsGetA4xxAndTheServerStaysUp) {

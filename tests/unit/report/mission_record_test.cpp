@@ -5,9 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
+#include <map>
 
+#include "report_geojson.hpp"
 #include "report_html.hpp"
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/incident/geodetic_frame.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/idl_schemas.hpp"
@@ -24,15 +28,18 @@ namespace fs = std::filesystem;
 constexpr std::int64_t kEpoch = 1'800'000'000'000'000'000LL;
 constexpr std::int64_t kSec = 1'000'000'000LL;
 
+const std::string kMissionYaml =
+    "victims:\n  - {name: A, position: [10.0, 20.0, -1.0]}\n"
+    "rescuers:\n  - {id: r1, team: north}\n  - {id: ff1, team: alpha, role: firefighter}\n";
+
 class Recording {
  public:
-  explicit Recording(const std::string& path) : writer_(path, {}) {
+  explicit Recording(const std::string& path, const std::string& mission_yaml = kMissionYaml) : writer_(path, {}) {
     writer_.write_metadata({"sarloc.recording",
                             {{"mission", "synthetic"},
                              {"epoch_ns", std::to_string(kEpoch)},
                              {"speedup", "1"},
-                             {"mission_yaml", "victims:\n  - {name: A, position: [10.0, 20.0, -1.0]}\n"
-                                              "rescuers:\n  - {id: r1, team: north}\n  - {id: ff1, team: alpha, role: firefighter}\n"}}});
+                             {"mission_yaml", mission_yaml}}});
     for (const auto& topic : dds::topic_catalog()) {
       const auto schema = writer_.add_schema(topic.type_name, "omgidl", dds::self_contained_idl(topic.idl_file));
       channels_[topic.name] = writer_.add_channel(topic.name, schema, "cdr", {});
@@ -215,6 +222,94 @@ TEST(MissionRecord, ReadsTracksVictimsAndEveryKindOfEventFromARecording) {
   EXPECT_EQ(wgs84.rfind("46.948", 0), 0u) << wgs84;
   EXPECT_NE(html.find("<td>" + wgs84 + "</td>"), std::string::npos) << wgs84;
   fs::remove(path);
+}
+
+// --geojson: the recorded mission's deposit (WGS-84 in the file) cut into the planner's strips,
+// each with the share r1's walk covered; r1's track; the victim with its ellipse. In WGS-84
+// about the recorded origin, read back to the incident frame here.
+TEST(MissionRecord, ItsGeoJsonPlacesTheDepositStripsTracksAndVictimsOnTheEarth) {
+  using Vec2 = Eigen::Vector2d;
+  const GeodeticOrigin origin{46.9480, 7.4474, 540.0};  // write_mission's IncidentFrame
+  const incident::GeodeticFrame frame(origin);
+  // 80 m across, 120 m along the long axis (north); r1 starts at its south edge.
+  const std::vector<Vec2> corners{{-30.0, 0.0}, {50.0, 0.0}, {50.0, 120.0}, {-30.0, 120.0}};
+  std::string yaml =
+      kMissionYaml + "incident:\n  latitude_deg: 46.9480\n  longitude_deg: 7.4474\n  altitude_m: 540\n  deposit:\n";
+  for (const auto& c : corners) {
+    const auto g = frame.to_wgs84(Vec3(c.x(), c.y(), 0.0));
+    char line[120];
+    std::snprintf(line, sizeof line, "    - {latitude_deg: %.9f, longitude_deg: %.9f}\n", g.latitude_deg,
+                  g.longitude_deg);
+    yaml += line;
+  }
+  const std::string path = (fs::temp_directory_path() / "sarloc_report_geojson.mcap").string();
+  {
+    Recording rec(path, yaml);
+    write_mission(rec);
+    rec.writer().close();
+  }
+  const MissionRecord r = load_mission_record(path);
+  ASSERT_TRUE(r.deposit.has_value()) << (r.notes.empty() ? "" : r.notes.back());
+  EXPECT_NEAR(r.deposit->area_m2(), 80.0 * 120.0, 0.5);
+  EXPECT_NE(render_report(r).find("<polygon"), std::string::npos) << "the deposit on the report's avalanche map";
+  const nlohmann::json collection = render_geojson(r);
+  ASSERT_EQ(collection["type"], "FeatureCollection");
+  std::map<std::string, std::vector<nlohmann::json>> by_kind;
+  for (const auto& f : collection["features"]) by_kind[f["properties"]["kind"]].push_back(f);
+  const auto enu = [&](const nlohmann::json& position) {
+    return frame.to_enu({position[1].get<double>(), position[0].get<double>(), origin.altitude_m});
+  };
+  ASSERT_EQ(by_kind["deposit"].size(), 1u);
+  const auto& ring = by_kind["deposit"][0]["geometry"]["coordinates"][0];
+  ASSERT_EQ(ring.size(), 5u) << "four corners, closed";
+  EXPECT_EQ(ring.front(), ring.back());
+  for (std::size_t k = 0; k < 4; ++k) {
+    double nearest = 1e9;
+    for (const auto& c : corners) nearest = std::min(nearest, (enu(ring[k]).head<2>() - c).norm());
+    EXPECT_LT(nearest, 0.02) << ring[k];
+  }
+  // Two 40 m strips along the long axis, split at x = 10, where r1 walked from y = 0 to 20:
+  // each has half of the 20 m reach around that walk (800 + 628 m^2) / 2 of its 4800 m^2.
+  ASSERT_EQ(by_kind["strip"].size(), 2u);
+  for (const auto& strip : by_kind["strip"]) {
+    EXPECT_DOUBLE_EQ(strip["properties"]["width_m"].get<double>(), 40.0);
+    EXPECT_NEAR(strip["properties"]["searched_fraction"].get<double>(), (800.0 + 200.0 * kPi) / 2.0 / 4800.0, 0.01)
+        << strip;
+  }
+  ASSERT_EQ(by_kind["track"].size(), 2u) << "r1 and ff1";
+  for (const auto& track : by_kind["track"]) {
+    if (track["properties"]["responder_id"] != "r1") continue;
+    ASSERT_EQ(track["geometry"]["type"], "LineString");
+    ASSERT_EQ(track["geometry"]["coordinates"].size(), 51u);
+    EXPECT_LT((enu(track["geometry"]["coordinates"][50]).head<2>() - Vec2(10.0, 20.0)).norm(), 0.02);
+    EXPECT_EQ(track["properties"]["role"], "avalanche rescuer");
+  }
+  ASSERT_EQ(by_kind["victim"].size(), 1u);
+  const auto& victim = by_kind["victim"][0];
+  EXPECT_LT((enu(victim["geometry"]["coordinates"]).head<2>() - Vec2(10.3, 20.4)).norm(), 0.02);
+  EXPECT_NEAR(victim["geometry"]["coordinates"][2].get<double>(), 539.0, 0.01) << "altitude: 1 m below the origin";
+  EXPECT_EQ(victim["properties"]["state"], "FOUND");
+  EXPECT_DOUBLE_EQ(victim["properties"]["found_s"].get<double>(), 40.0);
+  EXPECT_EQ(victim["properties"]["found_utc"], "2027-01-15T08:00:40.000Z");
+  ASSERT_EQ(by_kind["victim_ellipse_95"].size(), 1u);
+  EXPECT_EQ(by_kind["victim_ellipse_95"][0]["geometry"]["coordinates"][0].size(), 37u);
+  fs::remove(path);
+
+  // No origin anywhere (no IncidentFrame, no mission file): nothing can be placed; said so.
+  const std::string bare = (fs::temp_directory_path() / "sarloc_report_geojson_bare.mcap").string();
+  {
+    Recording rec(bare, "rescuers: []\n");
+    auto p = test::sample_responder_position();
+    rec.write(dds::to_idl(p), kEpoch);
+    rec.writer().close();
+  }
+  try {
+    render_geojson(load_mission_record(bare));
+    ADD_FAILURE() << "a GeoJSON without an origin";
+  } catch (const recording::RecordingError& e) {
+    EXPECT_NE(std::string(e.what()).find("no WGS-84 origin"), std::string::npos) << e.what();
+  }
+  fs::remove(bare);
 }
 
 TEST(MissionRecord, ACutRecordingStillReportsWhatWasReadAndSaysWhatWasNot) {

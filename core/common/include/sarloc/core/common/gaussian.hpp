@@ -14,6 +14,7 @@
 //   });
 #include <cmath>
 #include <cstddef>
+#include <vector>
 
 #include "sarloc/core/common/types.hpp"
 
@@ -32,6 +33,19 @@ double radius95_3d(const Mat3& covariance);
 /// 95 % radius (m) of the horizontal (x, y) marginal of a 3-D position covariance along its
 /// worst axis: sqrt(chi2_2(0.95) lambda_max of the top-left 2x2 block).
 double radius95_2d(const Mat3& covariance);
+
+/// The 95 % ellipse of a horizontal (x, y) covariance C, {d : d^T C^-1 d <= chi2_2(0.95)}:
+/// semi-axes sqrt(chi2_2(0.95) lambda) (a negative lambda, round-off, counts as 0) and the major
+/// axis's angle from x (east), counter-clockwise. Drawn on the report's map, exported as GeoJSON.
+struct Ellipse95 {
+  double semi_major_m = 0.0;
+  double semi_minor_m = 0.0;
+  double major_angle_rad = 0.0;
+};
+Ellipse95 ellipse95(const Eigen::Matrix2d& covariance);
+/// `points` (>= 3) points on the ellipse about `centre`, counter-clockwise, not closed.
+std::vector<Eigen::Vector2d> ellipse95_outline(const Eigen::Vector2d& centre, const Eigen::Matrix2d& covariance,
+                                               int points = 36);
 
 /// log Phi(u), Phi the standard-normal CDF: log(erfc(-u / sqrt 2) / 2), and below u = -30
 /// (where erfc underflows) its asymptote -u^2/2 - log(-u sqrt(2 pi)).

@@ -1,0 +1,16 @@
+#pragma once
+// A recording as GeoJSON in WGS-84 (sarloc-report --geojson): the deposit and the primary strips
+// incident command's planner cuts it into (`search.strip_width_m` at its default), each with the
+// share the recorded avalanche rescuers' tracks passed within half a strip width of; every
+// responder's track; every victim's last estimate with its 95 % ellipse, state and times.
+#include <nlohmann/json.hpp>
+
+#include "mission_record.hpp"
+
+namespace sarloc::report {
+
+/// Throws recording::RecordingError when the recording has no WGS-84 origin (no IncidentFrame
+/// sample and no mission file): without one nothing can be placed on the earth.
+nlohmann::json render_geojson(const MissionRecord& record);
+
+}  // namespace sarloc::report
