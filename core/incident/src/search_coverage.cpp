@@ -75,6 +75,14 @@ void SearchCoverage::add_walk(const Vec2& a, const Vec2& b, double reach_m) {
     }
 }
 
+bool SearchCoverage::searched_at(const Vec2& p) const {
+  if (!p.allFinite()) return true;
+  const double c = std::floor((p.x() - origin_.x()) / cell_m_), r = std::floor((p.y() - origin_.y()) / cell_m_);
+  if (c < 0.0 || r < 0.0 || c >= static_cast<double>(columns_) || r >= static_cast<double>(rows_)) return true;
+  const std::int32_t k = index_[static_cast<std::size_t>(r) * columns_ + static_cast<std::size_t>(c)];
+  return k < 0 || searched_[static_cast<std::size_t>(k)] != 0;
+}
+
 double SearchCoverage::searched() const {
   return centres_.empty() ? 1.0 : static_cast<double>(searched_count_) / static_cast<double>(centres_.size());
 }

@@ -67,7 +67,8 @@ double long_axis(const std::vector<Vec2>& vertices) {
 
 }  // namespace
 
-std::vector<Strip> plan_strips(const Deposit& deposit, const StripPlanConfig& config, const Vec2& entry) {
+std::vector<Strip> plan_strips(const Deposit& deposit, const StripPlanConfig& config, const Vec2& entry,
+                               std::size_t at_least) {
   config.validate();
   const std::vector<Vec2>& vertices = deposit.vertices();
   // Downhill along +u after turning by -downhill; across is v.
@@ -84,8 +85,11 @@ std::vector<Strip> plan_strips(const Deposit& deposit, const StripPlanConfig& co
   // 1 cm of slack: an outline that went through WGS-84 comes back micrometres wider, and an 80 m
   // deposit must still be two strips of 40 m, not three of 26.7 m.
   constexpr double kSlack_m = 0.01;
-  const auto count =
-      static_cast<std::size_t>(std::max(1.0, std::ceil((hi_v - lo_v - kSlack_m) / config.strip_width_m)));
+  auto count = static_cast<std::size_t>(std::max(1.0, std::ceil((hi_v - lo_v - kSlack_m) / config.strip_width_m)));
+  // One strip per rescuer when there are more rescuers: all search at once, none idle.
+  const auto narrowest =
+      static_cast<std::size_t>(std::max(1.0, std::floor((hi_v - lo_v + kSlack_m) / kMinStripWidth_m)));
+  count = std::max(count, std::min(at_least, narrowest));
   const double width = (hi_v - lo_v) / static_cast<double>(count);
   const geometry::Polygon area = geometry::to_polygon(vertices);
   std::vector<Strip> strips;

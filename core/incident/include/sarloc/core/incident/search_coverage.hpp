@@ -24,6 +24,9 @@ class SearchCoverage {
   /// non-finite point or reach.
   void add_walk(const Vec2& a, const Vec2& b, double reach_m);
 
+  /// Whether the cell holding `p` is searched (a point outside the deposit counts as searched:
+  /// nothing there to search).
+  bool searched_at(const Vec2& p) const;
   double searched() const;                   ///< fraction of the deposit's cells searched
   double searched(std::size_t strip) const;  ///< ... of one strip's cells (1 for a strip with none)
   std::size_t cells() const { return centres_.size(); }

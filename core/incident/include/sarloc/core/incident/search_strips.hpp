@@ -4,12 +4,11 @@
 // width on either side (the standard practice: rescuers abreast at the search-strip width).
 //
 // The strips: the deposit's extent across the fall line is divided into the fewest strips no
-// wider than `strip_width_m`, all of one width; each strip is the deposit's part between two
-// parallel lines (a concave deposit can give a strip in pieces: each piece is a strip). A strip's
-// centreline runs from its top (the end the rescuers enter from) to its bottom.
-// The fall line: `fall_line_deg` (ENU bearing, 0 = east, 90 = north, of downhill) when given,
-// else the deposit's long axis (its minimum-area bounding rectangle), entered from the end nearer
-// the rescuers.
+// wider than `strip_width_m` (or one per rescuer, if more), all of one width; each strip is the deposit's part between
+// two parallel lines (a concave deposit can give a strip in pieces: each piece is a strip). A strip's centreline runs
+// from its top (the end the rescuers enter from) to its bottom. The fall line: `fall_line_deg` (ENU bearing, 0 = east,
+// 90 = north, of downhill) when given, else the deposit's long axis (its minimum-area bounding rectangle), entered from
+// the end nearer the rescuers.
 //
 // Assignment: each rescuer to one strip, the pairs that minimise the summed walk to the strips'
 // tops (solve_assignment); more strips than rescuers leaves strips open for the next one free,
@@ -42,9 +41,16 @@ struct Strip {
   double area_m2 = 0.0;
 };
 
+/// Narrower than this, strips are not cut for more rescuers (m): at 10 m apart their hearing
+/// ranges overlap four times over; a rescuer more probes or digs instead.
+inline constexpr double kMinStripWidth_m = 10.0;
+
 /// `entry`: where the rescuers are (their mean position); with no fall line configured, the
-/// strips are entered from the end of the long axis nearer to it.
-std::vector<Strip> plan_strips(const Deposit& deposit, const StripPlanConfig& config, const Vec2& entry);
+/// strips are entered from the end of the long axis nearer to it. `at_least`: the rescuers who
+/// will search; with more of them than the fewest strips, as many strips (none narrower than
+/// kMinStripWidth_m), so that nobody waits while the deposit is still unsearched.
+std::vector<Strip> plan_strips(const Deposit& deposit, const StripPlanConfig& config, const Vec2& entry,
+                               std::size_t at_least = 1);
 
 /// For each rescuer (by position), the strip it walks, or nullopt (free). Only strips with
 /// `open[i]` true are assigned (`open` empty: all).

@@ -1,0 +1,105 @@
+#pragma once
+// Incident command's primary-search plan (issue 63, item 2): the deposit cut into strips
+// (plan_strips), one searching rescuer per strip (assign_strips), and what every rescuer's walk
+// has searched so far (SearchCoverage), kept as positions arrive.
+//
+// The rules, each with its unit test (tests/unit/incident/search_plan_test.cpp):
+//   - the strips are cut at the first update with a rescuer's position, entered from where the
+//     rescuers are, one per searching rescuer if there are more rescuers than the fewest strips;
+//     while less than `recut_below_searched` of the deposit is searched, rescuers who arrive
+//     later re-cut them (what was walked already still counts);
+//   - every walk between two fixes of a rescuer counts, searching or not (its transceiver keeps
+//     listening), up to `max_walk_step_m`: a longer step is a gap in the fixes, not a walk;
+//   - a strip is done once `strip_done_fraction` of it is searched or no row across it is left
+//     unsearched, and its rescuer is free;
+//   - free searching rescuers take open strips (not done, nobody's): the pairs that minimise the
+//     summed walk to the strips' tops; a released rescuer's strip is open again;
+//   - the revision counts changes of strips or assignments, so readers can tell a new plan.
+//
+//   SearchPlanner planner(deposit, config);
+//   planner.on_position("r1", fix);  ...  if (planner.update()) publish(planner.plan());
+//   const auto target = planner.next_point("r1");   // where r1 walks next
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "sarloc/core/incident/deposit.hpp"
+#include "sarloc/core/incident/search_coverage.hpp"
+#include "sarloc/core/incident/search_strips.hpp"
+
+namespace sarloc::incident {
+
+struct SearchPlanConfig {
+  StripPlanConfig strips;        ///< search.strip_width_m, search.fall_line_deg
+  double coverage_cell_m = 1.0;  ///< search.coverage_cell_m, [0.5, 5]
+  /// search.strip_done_fraction, [0.5, 1]: a strip's last cells are often a corner nobody needs
+  /// to walk to (heard from the centreline at an angle the grid does not credit).
+  double strip_done_fraction = 0.98;
+  /// search.max_walk_step_m, [2, 100]: 25 m is 25 s of walking, longer than any fade's gap.
+  double max_walk_step_m = 25.0;
+  /// search.recut_below_searched, [0, 0.5]: rescuers who arrive while less than this share of
+  /// the deposit is searched re-cut the strips; later ones wait for a strip to come free.
+  double recut_below_searched = 0.05;
+  void validate() const;  ///< ConfigError naming the key
+};
+
+struct PlannedStrip {
+  Strip strip;
+  double searched = 0.0;   ///< share of the strip's cells
+  std::string rescuer_id;  ///< who walks it; empty: nobody
+  bool done = false;
+};
+
+struct SearchPlan {
+  std::uint32_t revision = 0;
+  std::vector<PlannedStrip> strips;
+  double searched = 0.0;  ///< share of the deposit's cells
+};
+
+class SearchPlanner {
+ public:
+  /// ConfigError (config.validate()).
+  SearchPlanner(Deposit deposit, SearchPlanConfig config);
+
+  /// A rescuer's fix (incident frame, east/north). InputError for a non-finite one.
+  void on_position(const std::string& rescuer_id, const Vec2& position);
+  /// It no longer searches (link lost, signed off, on a signal, digging): its strip is open.
+  void release(const std::string& rescuer_id);
+  /// It searches again (its signal FOUND or handed over, link back): a strip at the next update.
+  void resume(const std::string& rescuer_id);
+
+  /// Applies the rules (file comment); true when the strips or the assignments changed.
+  bool update();
+
+  const SearchPlan& plan() const { return plan_; }
+  const Deposit& deposit() const { return deposit_; }
+  std::optional<std::size_t> strip_of(const std::string& rescuer_id) const;
+  /// Where the rescuer walks next: the first point down its strip's centreline, from the top
+  /// in cell steps, whose row across the strip is not all searched yet. Nullopt without a strip
+  /// or when none is left.
+  std::optional<Vec2> next_point(const std::string& rescuer_id) const;
+
+ private:
+  struct Rescuer {
+    std::optional<Vec2> last;
+    bool searching = true;
+  };
+  void cut(std::size_t searching_rescuers);
+  std::optional<Vec2> first_unsearched(std::size_t strip) const;
+  std::size_t searching_with_fix() const;
+
+  Deposit deposit_;
+  SearchPlanConfig config_;
+  std::map<std::string, Rescuer> rescuers_;
+  std::optional<SearchCoverage> coverage_;
+  /// Walks kept while the strips may still be re-cut (coverage is per strip); dropped after.
+  std::vector<std::pair<Vec2, Vec2>> walks_;
+  bool may_recut_ = true;
+  SearchPlan plan_;
+  mutable std::vector<std::size_t> first_open_row_;  ///< per strip: rows before it are searched
+};
+
+}  // namespace sarloc::incident

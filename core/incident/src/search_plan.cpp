@@ -1,0 +1,159 @@
+#include "sarloc/core/incident/search_plan.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/validate.hpp"
+
+namespace sarloc::incident {
+
+void SearchPlanConfig::validate() const {
+  strips.validate();
+  require(std::isfinite(coverage_cell_m) && coverage_cell_m >= 0.5 && coverage_cell_m <= 5.0, "search.coverage_cell_m",
+          coverage_cell_m, "must be in [0.5, 5]");
+  require(std::isfinite(strip_done_fraction) && strip_done_fraction >= 0.5 && strip_done_fraction <= 1.0,
+          "search.strip_done_fraction", strip_done_fraction, "must be in [0.5, 1]");
+  require(std::isfinite(max_walk_step_m) && max_walk_step_m >= 2.0 && max_walk_step_m <= 100.0,
+          "search.max_walk_step_m", max_walk_step_m, "must be in [2, 100]");
+  require(std::isfinite(recut_below_searched) && recut_below_searched >= 0.0 && recut_below_searched <= 0.5,
+          "search.recut_below_searched", recut_below_searched, "must be in [0, 0.5]");
+}
+
+SearchPlanner::SearchPlanner(Deposit deposit, SearchPlanConfig config)
+    : deposit_(std::move(deposit)), config_((config.validate(), config)) {}
+
+void SearchPlanner::on_position(const std::string& rescuer_id, const Vec2& position) {
+  if (!position.allFinite()) throw InputError("search plan: " + rescuer_id + "'s position is not finite");
+  Rescuer& r = rescuers_[rescuer_id];
+  if (r.last && (position - *r.last).norm() <= config_.max_walk_step_m) {
+    // Half the strip width the plan was made for: the hearing range it assumes (not the width
+    // of strips cut narrower for more rescuers).
+    const double reach = 0.5 * config_.strips.strip_width_m;
+    if (coverage_) coverage_->add_walk(*r.last, position, reach);
+    if (may_recut_) walks_.emplace_back(*r.last, position);
+  }
+  r.last = position;
+}
+
+void SearchPlanner::release(const std::string& rescuer_id) {
+  rescuers_[rescuer_id].searching = false;
+  for (auto& s : plan_.strips) {
+    if (s.rescuer_id != rescuer_id) continue;
+    s.rescuer_id.clear();
+    ++plan_.revision;
+  }
+}
+
+void SearchPlanner::resume(const std::string& rescuer_id) { rescuers_[rescuer_id].searching = true; }
+
+std::size_t SearchPlanner::searching_with_fix() const {
+  std::size_t n = 0;
+  for (const auto& [id, r] : rescuers_) n += r.searching && r.last ? 1 : 0;
+  return n;
+}
+
+void SearchPlanner::cut(std::size_t searching_rescuers) {
+  Vec2 entry = Vec2::Zero();
+  for (const auto& [id, r] : rescuers_)
+    if (r.searching && r.last) entry += *r.last;
+  entry /= static_cast<double>(searching_rescuers);
+  const auto strips = plan_strips(deposit_, config_.strips, entry, searching_rescuers);
+  coverage_.emplace(deposit_, strips, config_.coverage_cell_m);
+  const double reach = 0.5 * config_.strips.strip_width_m;
+  for (const auto& [a, b] : walks_) coverage_->add_walk(a, b, reach);
+  plan_.strips.clear();
+  for (const Strip& s : strips) plan_.strips.push_back({s, 0.0, "", false});
+  first_open_row_.assign(strips.size(), 0);
+}
+
+bool SearchPlanner::update() {
+  const std::uint32_t before = plan_.revision;
+  const std::size_t searching = searching_with_fix();
+  if (searching == 0 && !coverage_) return false;
+  // Cut, or re-cut for rescuers who arrived while the search had barely begun.
+  if (may_recut_ && searching > 0 && (!coverage_ || coverage_->searched() < config_.recut_below_searched)) {
+    const bool first = !coverage_;
+    if (first || searching > plan_.strips.size()) {
+      const std::size_t had = plan_.strips.size();
+      cut(searching);
+      if (first || plan_.strips.size() != had) ++plan_.revision;
+    }
+  }
+  if (coverage_ && coverage_->searched() >= config_.recut_below_searched) {
+    may_recut_ = false;
+    walks_.clear();
+    walks_.shrink_to_fit();
+  }
+  for (std::size_t i = 0; i < plan_.strips.size(); ++i) {
+    PlannedStrip& s = plan_.strips[i];
+    s.searched = coverage_->searched(i);
+    // Done, or no row across it left unsearched (its last cells: slivers off its band).
+    const bool done = s.searched >= config_.strip_done_fraction || !first_unsearched(i);
+    if (done && !s.done) {
+      s.done = true;
+      if (!s.rescuer_id.empty()) s.rescuer_id.clear();  // free for an open strip
+      ++plan_.revision;
+    }
+  }
+  plan_.searched = coverage_->searched();
+  // Free searching rescuers to open strips.
+  std::vector<std::string> free_ids;
+  std::vector<Vec2> free_at;
+  for (const auto& [id, r] : rescuers_) {
+    if (!r.searching || !r.last || strip_of(id)) continue;
+    free_ids.push_back(id);
+    free_at.push_back(*r.last);
+  }
+  std::vector<bool> open;
+  std::vector<Strip> strips;
+  for (const auto& s : plan_.strips) {
+    open.push_back(!s.done && s.rescuer_id.empty());
+    strips.push_back(s.strip);
+  }
+  if (!free_ids.empty() && std::find(open.begin(), open.end(), true) != open.end()) {
+    const auto chosen = assign_strips(strips, free_at, open);
+    for (std::size_t k = 0; k < free_ids.size(); ++k) {
+      if (!chosen[k]) continue;
+      plan_.strips[*chosen[k]].rescuer_id = free_ids[k];
+      ++plan_.revision;
+    }
+  }
+  return plan_.revision != before;
+}
+
+std::optional<std::size_t> SearchPlanner::strip_of(const std::string& rescuer_id) const {
+  for (std::size_t i = 0; i < plan_.strips.size(); ++i)
+    if (plan_.strips[i].rescuer_id == rescuer_id) return i;
+  return std::nullopt;
+}
+
+std::optional<Vec2> SearchPlanner::next_point(const std::string& rescuer_id) const {
+  const auto strip = strip_of(rescuer_id);
+  if (!strip) return std::nullopt;
+  return first_unsearched(*strip);
+}
+
+std::optional<Vec2> SearchPlanner::first_unsearched(std::size_t strip) const {
+  if (!coverage_) return std::nullopt;
+  // Down the centreline in cell steps, the first point whose row across the strip still holds
+  // an unsearched cell: walking to it searches that row, the bottom corners included (the
+  // centreline's own end is heard a reach before them). Coverage only grows, so the search
+  // starts at the row found last time.
+  const Strip& s = plan_.strips[strip].strip;
+  const double cell = config_.coverage_cell_m;
+  const double length = (s.bottom - s.top).norm();
+  const Vec2 along = length > 0.0 ? Vec2((s.bottom - s.top) / length) : Vec2(0.0, -1.0);
+  const Vec2 across(-along.y(), along.x());
+  const auto steps = static_cast<std::size_t>(std::ceil(length / cell));
+  const auto half_cells = static_cast<int>(std::floor(0.5 * s.width_m / cell));
+  std::size_t& k = first_open_row_[strip];
+  for (; k <= steps; ++k) {
+    const Vec2 p = s.top + along * std::min(length, cell * static_cast<double>(k));
+    for (int j = -half_cells; j <= half_cells; ++j)
+      if (!coverage_->searched_at(p + across * (cell * static_cast<double>(j)))) return p;  // outside: searched
+  }
+  return std::nullopt;
+}
+
+}  // namespace sarloc::incident

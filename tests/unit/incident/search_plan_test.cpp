@@ -1,0 +1,194 @@
+// Incident command's primary-search plan (search_plan.hpp): rescuers who walk where the plan
+// sends them search the whole deposit with nobody idle; a strip done frees its rescuer for an
+// open one; a released rescuer's strip opens; late arrivals re-cut the strips only while the
+// search has barely begun; a gap in the fixes is not a walk; bad keys are named.
+#include "sarloc/core/incident/search_plan.hpp"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "sarloc/core/common/errors.hpp"
+
+namespace sarloc::incident {
+namespace {
+
+// 150 m east-west, 200 m north-south; rescuers arrive at its north edge.
+Deposit rectangle() { return Deposit({{0, 0}, {150, 0}, {150, 200}, {0, 200}}, "deposit"); }
+
+// Every rescuer with a strip walks 1 m towards its next point; true while any walked.
+bool step(SearchPlanner& planner, std::map<std::string, Vec2>& at) {
+  bool walked = false;
+  for (auto& [id, p] : at) {
+    const auto target = planner.next_point(id);
+    if (!target) continue;
+    const Vec2 d = *target - p;
+    p += d.norm() <= 1.0 ? d : d.normalized();
+    planner.on_position(id, p);
+    walked = true;
+  }
+  planner.update();
+  return walked;
+}
+
+// Rescuers without a strip while a strip is open (not done, nobody's).
+std::size_t idle_while_open(const SearchPlanner& planner, const std::map<std::string, Vec2>& at) {
+  bool open = false;
+  for (const auto& s : planner.plan().strips) open = open || (!s.done && s.rescuer_id.empty());
+  if (!open) return 0;
+  std::size_t n = 0;
+  for (const auto& [id, p] : at) n += planner.strip_of(id) ? 0 : 1;
+  return n;
+}
+
+// Seven rescuers together at the top of a 150 m wide deposit: seven strips of 21.4 m (not the
+// fewest, four of 37.5 m, which would leave three waiting), one each; walking where the plan
+// says searches all of it, and nobody is idle while a strip is open. (One whose strip is done
+// first waits while the others finish theirs: helping on another's strip is not planned yet.)
+TEST(SearchPlanner, SevenRescuersFromTheTopSearchTheWholeDepositWithNobodyIdle) {
+  SearchPlanner planner(rectangle(), SearchPlanConfig{});
+  std::map<std::string, Vec2> at;
+  for (int k = 0; k < 7; ++k) {
+    const std::string id = "r" + std::to_string(k + 1);
+    at[id] = Vec2(66.0 + 2.0 * k, 205.0);
+    planner.on_position(id, at[id]);
+  }
+  EXPECT_TRUE(planner.update());
+  const SearchPlan& plan = planner.plan();
+  ASSERT_EQ(plan.strips.size(), 7u);
+  std::set<std::string> walkers;
+  for (const auto& s : plan.strips) {
+    EXPECT_NEAR(s.strip.width_m, 150.0 / 7.0, 1e-6);
+    EXPECT_NEAR(s.strip.top.y(), 200.0, 1e-6) << "entered from the rescuers' end";
+    walkers.insert(s.rescuer_id);
+  }
+  EXPECT_EQ(walkers.size(), 7u) << "each strip its own rescuer";
+  // The leftmost rescuer (west) takes a western strip: no two cross each other's paths.
+  for (int k = 0; k + 1 < 7; ++k) {
+    const auto a = planner.strip_of("r" + std::to_string(k + 1)), b = planner.strip_of("r" + std::to_string(k + 2));
+    ASSERT_TRUE(a && b);
+    EXPECT_LT(plan.strips[*a].strip.top.x(), plan.strips[*b].strip.top.x());
+  }
+  int seconds = 0;
+  std::size_t idle = 0;
+  while (step(planner, at) && seconds < 2000) {
+    ++seconds;
+    idle += idle_while_open(planner, at);
+  }
+  EXPECT_GE(planner.plan().searched, 0.98);
+  for (const auto& s : planner.plan().strips) EXPECT_TRUE(s.done) << s.strip.index << ": " << s.searched;
+  EXPECT_EQ(idle, 0u) << "rescuer-seconds idle while a strip was open";
+  // About the 200 m strip plus the walk to its top: every rescuer walked its strip once.
+  EXPECT_LT(seconds, 260) << "walking 200 m strips side by side";
+}
+
+// Three rescuers, a deposit 200 m across (300 m long) at 40 m: five strips. A rescuer whose strip is done
+// takes an open one; at the end all five are searched.
+TEST(SearchPlanner, ARescuerWhoseStripIsDoneTakesAnOpenOne) {
+  SearchPlanner planner(Deposit({{0, 0}, {200, 0}, {200, 300}, {0, 300}}, "deposit"), SearchPlanConfig{});
+  std::map<std::string, Vec2> at{{"a", {20, 305}}, {"b", {100, 305}}, {"c", {180, 305}}};
+  for (const auto& [id, p] : at) planner.on_position(id, p);
+  ASSERT_TRUE(planner.update());
+  ASSERT_EQ(planner.plan().strips.size(), 5u);
+  std::size_t assigned = 0;
+  for (const auto& s : planner.plan().strips) assigned += s.rescuer_id.empty() ? 0 : 1;
+  EXPECT_EQ(assigned, 3u);
+  std::set<std::size_t> walked_by_a;
+  std::size_t idle = 0;
+  for (int seconds = 0; seconds < 3000 && step(planner, at); ++seconds) {
+    if (const auto s = planner.strip_of("a")) walked_by_a.insert(*s);
+    idle += idle_while_open(planner, at);
+  }
+  EXPECT_EQ(idle, 0u) << "rescuer-seconds idle while a strip was open";
+  for (const auto& s : planner.plan().strips) EXPECT_TRUE(s.done) << s.strip.index;
+  EXPECT_GE(planner.plan().searched, 0.98);
+  EXPECT_GE(walked_by_a.size(), 2u) << "a took another strip after its first";
+}
+
+// A released rescuer (on a signal, link lost) gives its strip back; the next free rescuer takes
+// it; resumed, it gets a strip again.
+TEST(SearchPlanner, AReleasedRescuersStripOpensForTheNextFreeOne) {
+  SearchPlanner planner(rectangle(), SearchPlanConfig{});
+  planner.on_position("a", {40, 205});
+  planner.on_position("b", {110, 205});
+  ASSERT_TRUE(planner.update());
+  // Two rescuers, four strips (37.5 m): two open.
+  const auto strip_a = planner.strip_of("a");
+  ASSERT_TRUE(strip_a);
+  const std::uint32_t revision = planner.plan().revision;
+  planner.release("a");
+  EXPECT_GT(planner.plan().revision, revision);
+  EXPECT_FALSE(planner.strip_of("a"));
+  EXPECT_TRUE(planner.plan().strips[*strip_a].rescuer_id.empty());
+  planner.update();
+  EXPECT_FALSE(planner.strip_of("a")) << "not searching: no strip";
+  planner.resume("a");
+  EXPECT_TRUE(planner.update());
+  EXPECT_TRUE(planner.strip_of("a"));
+}
+
+// A lone first rescuer gets the fewest strips; five more arriving before anything is searched
+// re-cut them into six; after the search has begun, a late one only waits for a free strip.
+TEST(SearchPlanner, LateArrivalsRecutTheStripsOnlyWhileTheSearchHasBarelyBegun) {
+  SearchPlanner planner(Deposit({{0, 0}, {200, 0}, {200, 300}, {0, 300}}, "deposit"), SearchPlanConfig{});
+  planner.on_position("r1", {100, 305});
+  ASSERT_TRUE(planner.update());
+  EXPECT_EQ(planner.plan().strips.size(), 5u);
+  for (int k = 2; k <= 6; ++k) planner.on_position("r" + std::to_string(k), {90.0 + 4.0 * k, 305.0});
+  ASSERT_TRUE(planner.update());
+  EXPECT_EQ(planner.plan().strips.size(), 6u);
+  for (const auto& s : planner.plan().strips) EXPECT_FALSE(s.rescuer_id.empty());
+  // r1 walks 120 m down its strip: 120 x 40 m of 60 000 m^2 is beyond 5 %.
+  const Vec2 start = *planner.next_point("r1");
+  for (int k = 0; k <= 120; ++k) planner.on_position("r1", start + Vec2(0, -k));
+  planner.update();
+  EXPECT_GT(planner.plan().searched, 0.05);
+  planner.on_position("r7", {150, 305});
+  planner.update();
+  EXPECT_EQ(planner.plan().strips.size(), 6u) << "not re-cut once the search is under way";
+  EXPECT_FALSE(planner.strip_of("r7")) << "every strip taken: r7 waits for one";
+}
+
+// A jump between fixes longer than max_walk_step_m is a gap (a fade), not a walk across the
+// deposit; what a rescuer walked before the strips were cut still counts after.
+TEST(SearchPlanner, AGapInTheFixesIsNotAWalk) {
+  SearchPlanner planner(rectangle(), SearchPlanConfig{});
+  planner.on_position("a", {75, 200});
+  planner.on_position("a", {75, 100});  // 100 m in one step
+  planner.update();
+  EXPECT_EQ(planner.plan().searched, 0.0);
+  SearchPlanner walked(rectangle(), SearchPlanConfig{});
+  for (int y = 200; y >= 180; --y) walked.on_position("a", {75.0, static_cast<double>(y)});
+  walked.update();
+  EXPECT_GT(walked.plan().searched, 0.02) << "20 m walked before the first update counts";
+  EXPECT_THROW(walked.on_position("a", {NAN, 0.0}), InputError);
+}
+
+TEST(SearchPlanner, BadConfigurationNamesTheKey) {
+  const auto message = [](SearchPlanConfig c) {
+    try {
+      SearchPlanner(rectangle(), c);
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  SearchPlanConfig c;
+  c.coverage_cell_m = 0.1;
+  EXPECT_NE(message(c).find("search.coverage_cell_m"), std::string::npos) << message(c);
+  c = {};
+  c.strip_done_fraction = 1.5;
+  EXPECT_NE(message(c).find("search.strip_done_fraction"), std::string::npos) << message(c);
+  c = {};
+  c.max_walk_step_m = NAN;
+  EXPECT_NE(message(c).find("search.max_walk_step_m"), std::string::npos) << message(c);
+  c = {};
+  c.recut_below_searched = -1;
+  EXPECT_NE(message(c).find("search.recut_below_searched"), std::string::npos) << message(c);
+  c = {};
+  c.strips.strip_width_m = 200;
+  EXPECT_NE(message(c).find("search.strip_width_m"), std::string::npos) << message(c);
+}
+
+}  // namespace
+}  // namespace sarloc::incident
