@@ -1,8 +1,7 @@
 #pragma once
-// A recording as GeoJSON in WGS-84 (sarloc-report --geojson): the deposit and the primary strips
-// incident command's planner cuts it into (`search.strip_width_m` at its default), each with the
-// share the recorded avalanche rescuers' tracks passed within half a strip width of; every
-// responder's track; every victim's last estimate with its 95 % ellipse, state and times.
+// A recording as GeoJSON in WGS-84 (sarloc-report --geojson): the deposit and its strips with
+// what the recorded tracks searched of each (recorded_coverage.hpp); every responder's track;
+// every victim's last estimate with its 95 % ellipse, state and times.
 #include <nlohmann/json.hpp>
 
 #include "mission_record.hpp"

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "record_comparison.hpp"
+#include "recorded_coverage.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/incident/geodetic_frame.hpp"
 #include "svg_map.hpp"
@@ -232,6 +233,22 @@ double track_length(const std::vector<PositionSample>& samples, responder::Posit
     last = &s;
   }
   return length;
+}
+
+// The primary search as walked: how much of the deposit, and of each strip the planner would cut
+// it into for these rescuers, their recorded tracks passed within hearing (half a strip) of.
+std::string coverage_table(const MissionRecord& r) {
+  const auto coverage = recorded_coverage(r);
+  if (!coverage) return "";
+  std::string html =
+      "<p>The deposit: <b>" + f(100.0 * coverage->deposit_searched, 1) +
+      " %</b> searched by the avalanche rescuers' recorded tracks (every cell a track passed within " +
+      "20 m of, half the default 40 m strip).</p>\n<table><tr><th>strip (from the left looking downhill)</th>" +
+      "<th>width (m)</th><th>searched</th></tr>\n";
+  for (const auto& s : coverage->strips)
+    html += "<tr><td>" + std::to_string(s.index) + "</td><td>" + f(s.width_m, 1) + "</td><td>" +
+            f(100.0 * s.searched_fraction, 1) + " %</td></tr>\n";
+  return html + "</table>\n";
 }
 
 std::string victims_table(const MissionRecord& r) {
@@ -460,6 +477,7 @@ svg { display: block; margin: 0.5em 0; }
   }
   html += "</table></section>\n";
   html += "<section id=\"victims\"><h2>Victims</h2>\n" + victims_table(r) + "</section>\n";
+  if (r.deposit) html += "<section id=\"coverage\"><h2>Search coverage</h2>\n" + coverage_table(r) + "</section>\n";
   html += "<section id=\"responders\"><h2>Teams and responders</h2>\n" + teams_table(r) + responders_table(r) + "</section>\n";
   html += "<section id=\"quality\"><h2>Data quality</h2>\n" + quality_table(r) + "</section>\n";
   if (baseline != nullptr) html += comparison(r, *baseline);

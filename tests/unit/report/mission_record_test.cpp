@@ -251,7 +251,9 @@ TEST(MissionRecord, ItsGeoJsonPlacesTheDepositStripsTracksAndVictimsOnTheEarth) 
   const MissionRecord r = load_mission_record(path);
   ASSERT_TRUE(r.deposit.has_value()) << (r.notes.empty() ? "" : r.notes.back());
   EXPECT_NEAR(r.deposit->area_m2(), 80.0 * 120.0, 0.5);
-  EXPECT_NE(render_report(r).find("<polygon"), std::string::npos) << "the deposit on the report's avalanche map";
+  const std::string html = render_report(r);
+  EXPECT_NE(html.find("<polygon"), std::string::npos) << "the deposit on the report's avalanche map";
+  EXPECT_NE(html.find("<h2>Search coverage</h2>"), std::string::npos);
   const nlohmann::json collection = render_geojson(r);
   ASSERT_EQ(collection["type"], "FeatureCollection");
   std::map<std::string, std::vector<nlohmann::json>> by_kind;
