@@ -36,6 +36,7 @@ CommandNode::CommandNode(std::shared_ptr<Participant> participant, CommandNodeCo
       team_writer_(participant_),
       summary_writer_(participant_),
       frame_writer_(participant_),
+      plan_writer_(participant_),
       alarm_writer_(participant_),
       status_writer_(participant_) {
   create_input_readers();
@@ -357,6 +358,13 @@ void CommandNode::publish(const incident::CommandCycle& out) {
   // Every cycle: a reader that still counted the previous active instance alive when this one
   // took over dropped its first frame.
   frame_writer_.write(to_idl(out.frame));
+  if (out.search_plan) {
+    try {
+      plan_writer_.write(to_idl(*out.search_plan));
+    } catch (const InputError& e) {
+      spdlog::error("{}: cannot publish the search plan: {}", config_.node_id, e.what());
+    }
+  }
   assert_picture_liveliness();
 }
 
@@ -366,6 +374,7 @@ void CommandNode::apply(const incident::RoleChange& change) {
     team_writer_.set_ownership_strength(change.strength);
     summary_writer_.set_ownership_strength(change.strength);
     frame_writer_.set_ownership_strength(change.strength);
+    plan_writer_.set_ownership_strength(change.strength);
     alarm_writer_.set_ownership_strength(change.strength);
   } catch (const DdsError& error) {  // publishes anyway: readers take it once no stronger one is alive
     spdlog::error("{}: {}", config_.node_id, error.what());
@@ -378,6 +387,7 @@ void CommandNode::assert_picture_liveliness() {
   team_writer_.assert_liveliness();
   summary_writer_.assert_liveliness();
   frame_writer_.assert_liveliness();
+  plan_writer_.assert_liveliness();
   alarm_writer_.assert_liveliness();
 }
 
@@ -406,7 +416,7 @@ CommandNode::~CommandNode() {
   const auto wait = std::chrono::milliseconds(500);
   if (!victim_writer_.wait_for_acknowledgments(wait) || !team_writer_.wait_for_acknowledgments(wait) ||
       !summary_writer_.wait_for_acknowledgments(wait) || !frame_writer_.wait_for_acknowledgments(wait) ||
-      !alarm_writer_.wait_for_acknowledgments(wait)) {
+      !plan_writer_.wait_for_acknowledgments(wait) || !alarm_writer_.wait_for_acknowledgments(wait)) {
     spdlog::warn("{}: stopping before every reader acknowledged the last picture", config_.node_id);
   }
 }

@@ -1,6 +1,7 @@
 #include "sarloc/dds/conversions.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "sarloc/core/common/errors.hpp"
@@ -485,6 +486,95 @@ incident::IncidentFrame to_core(const ::sarloc::IncidentFrame& f) {
   out.origin.altitude_m = f.altitude_m();
   out.name = f.name().to_string();
   out.established = f.established();
+  return out;
+}
+
+namespace {
+
+using Vec2 = incident::Vec2;
+
+::sarloc::PlanePoint plane_point(const Vec2& v) {
+  ::sarloc::PlanePoint out;
+  out.x(v.x());
+  out.y(v.y());
+  return out;
+}
+
+Vec2 plane_point(const ::sarloc::PlanePoint& p, const char* field) {
+  const Vec2 v(p.x(), p.y());
+  if (!v.allFinite()) throw InputError(std::string(field) + ": not finite");
+  return v;
+}
+
+std::vector<::sarloc::PlanePoint> outline_to_idl(const std::vector<Vec2>& outline, const char* field) {
+  if (outline.size() > ::sarloc::OUTLINE_POINTS_MAX)
+    throw InputError(std::string(field) + ": " + std::to_string(outline.size()) + " points, at most " +
+                     std::to_string(::sarloc::OUTLINE_POINTS_MAX));
+  std::vector<::sarloc::PlanePoint> out;
+  for (const auto& v : outline) out.push_back(plane_point(v));
+  return out;
+}
+
+double fraction(double f, const char* field) {
+  if (!(f >= 0.0 && f <= 1.0)) throw InputError(std::string(field) + " = " + std::to_string(f) + ": must be in [0, 1]");
+  return f;
+}
+
+}  // namespace
+
+::sarloc::SearchPlan to_idl(const incident::SearchPlanPicture& p) {
+  ::sarloc::SearchPlan out;
+  out.incident_id(to_identifier(p.incident_id, "search_plan.incident_id"));
+  out.stamp(p.stamp);
+  out.revision(p.plan.revision);
+  out.deposit(outline_to_idl(p.deposit, "search_plan.deposit"));
+  if (p.plan.strips.size() > ::sarloc::SEARCH_STRIPS_MAX)
+    throw InputError("search_plan.strips: " + std::to_string(p.plan.strips.size()) + " strips, at most " +
+                     std::to_string(::sarloc::SEARCH_STRIPS_MAX));
+  for (std::size_t i = 0; i < p.plan.strips.size(); ++i) {
+    const auto& s = p.plan.strips[i];
+    ::sarloc::SearchStrip strip;
+    strip.strip_index(static_cast<std::uint32_t>(s.strip.index));
+    strip.outline(outline_to_idl(s.strip.outline, "search_plan.strips.outline"));
+    strip.top(plane_point(s.strip.top));
+    strip.bottom(plane_point(s.strip.bottom));
+    strip.width_m(s.strip.width_m);
+    strip.searched_fraction(s.searched);
+    strip.done(s.done);
+    strip.rescuer_id(to_identifier(s.rescuer_id, "search_plan.strips.rescuer_id"));
+    const bool has_next = i < p.next_points.size() && p.next_points[i].has_value();
+    strip.has_next_point(has_next);
+    if (has_next) strip.next_point(plane_point(*p.next_points[i]));
+    out.strips().push_back(strip);
+  }
+  out.searched_fraction(p.plan.searched);
+  return out;
+}
+
+incident::SearchPlanPicture to_core(const ::sarloc::SearchPlan& p) {
+  incident::SearchPlanPicture out;
+  out.incident_id = from_identifier(p.incident_id(), "search_plan.incident_id");
+  out.stamp = p.stamp();
+  out.plan.revision = p.revision();
+  for (const auto& v : p.deposit()) out.deposit.push_back(plane_point(v, "search_plan.deposit"));
+  for (const auto& s : p.strips()) {
+    incident::PlannedStrip strip;
+    strip.strip.index = s.strip_index();
+    for (const auto& v : s.outline()) strip.strip.outline.push_back(plane_point(v, "search_plan.strips.outline"));
+    strip.strip.top = plane_point(s.top(), "search_plan.strips.top");
+    strip.strip.bottom = plane_point(s.bottom(), "search_plan.strips.bottom");
+    strip.strip.width_m = s.width_m();
+    if (!(std::isfinite(strip.strip.width_m) && strip.strip.width_m > 0.0))
+      throw InputError("search_plan.strips.width_m: not a positive number");
+    strip.searched = fraction(s.searched_fraction(), "search_plan.strips.searched_fraction");
+    strip.done = s.done();
+    strip.rescuer_id = from_identifier(s.rescuer_id(), "search_plan.strips.rescuer_id", true);
+    out.next_points.push_back(s.has_next_point()
+                                  ? std::optional<Vec2>(plane_point(s.next_point(), "search_plan.strips.next_point"))
+                                  : std::nullopt);
+    out.plan.strips.push_back(std::move(strip));
+  }
+  out.plan.searched = fraction(p.searched_fraction(), "search_plan.searched_fraction");
   return out;
 }
 

@@ -10,7 +10,7 @@
 #   e.g. make-certs.sh /etc/sarloc/security command:command-1 command:command-2 core:core-west r1 r2
 # A node's role decides the topics it may publish (every role may subscribe to every topic):
 #   command    the incident picture: incident_frame, fused_victim, team_status, incident_summary,
-#              incident_alarm (so no other identity can inject a victim, a team or an alarm)
+#              incident_alarm, search_plan (so no other identity can inject a victim, a team or an alarm)
 #   core       victim_estimate, guidance, responder_position (map-aided fixes)
 #   device     (the default) a rescuer's or firefighter's device: field_measurement, odometry,
 #              responder_position, victim_estimate (while its core daemon is unreachable),
@@ -38,7 +38,7 @@ not_after=$(date -u -d '+10 years' +%Y-%m-%dT%H:%M:%S)
 # The topics a role may publish (DDS Security permission topic expressions).
 role_topics() {
   case "$1" in
-    command) echo "sarloc/incident_frame sarloc/fused_victim sarloc/team_status sarloc/incident_summary sarloc/incident_alarm" ;;
+    command) echo "sarloc/incident_frame sarloc/fused_victim sarloc/team_status sarloc/incident_summary sarloc/incident_alarm sarloc/search_plan" ;;
     core) echo "sarloc/victim_estimate sarloc/guidance sarloc/responder_position" ;;
     device) echo "sarloc/field_measurement sarloc/odometry sarloc/responder_position sarloc/victim_estimate sarloc/responder_alarm" ;;
     dashboard) echo "sarloc/alarm_acknowledgement" ;;

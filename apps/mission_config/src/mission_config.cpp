@@ -196,6 +196,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
         }
       }
       c.deposit.emplace(outline, name + ": incident.deposit");
+      c.command.incident.deposit = c.deposit;  // incident command plans the search over it
     }
     r.expect_done();
     require_identifier(c.command.incident.incident_id, name + ": incident.id");

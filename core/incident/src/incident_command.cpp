@@ -29,6 +29,11 @@ void IncidentCommandConfig::validate() const {
   require(antenna_height_sigma_m > 0.0 && antenna_height_sigma_m <= 5.0, "command.antenna_height_sigma_m",
           antenna_height_sigma_m, "must be in (0, 5]");
   (void)GeodeticFrame(origin);  // the one check of a WGS-84 origin (ConfigError naming incident.<field>)
+  if (deposit) {
+    require(deposit->vertices().size() <= kDepositVerticesMax, "incident.deposit", deposit->vertices().size(),
+            "at most " + std::to_string(kDepositVerticesMax) + " vertices");
+    search_plan.validate();
+  }
 }
 
 IncidentCommand::IncidentCommand(IncidentCommandConfig config, TimestampNs start_wall_ns)
@@ -39,6 +44,7 @@ IncidentCommand::IncidentCommand(IncidentCommandConfig config, TimestampNs start
   frame_.incident_id = config_.incident_id;
   frame_.origin = config_.origin;
   frame_.name = config_.incident_name;
+  if (config_.deposit) planner_.emplace(*config_.deposit, config_.search_plan);
 }
 
 void IncidentCommand::say(IncidentEvent::Kind kind, std::string text) {
@@ -75,6 +81,9 @@ void IncidentCommand::on_position(const responder::ResponderPosition& position, 
   // GNSS heights become the antenna's above the snow; indoor positions keep theirs.
   fixes_[position.responder_id].add(
       position.stamp, reporter_fix_of(position, config_.antenna_height_m, config_.antenna_height_sigma_m));
+  // An avalanche rescuer's walk searches the deposit (firefighters' positions are indoors).
+  if (planner_ && position.source == responder::PositionSource::kGnss)
+    planner_->on_position(position.responder_id, position.position.position.head<2>());
 }
 
 void IncidentCommand::on_writer_liveliness(const std::string& writer, bool alive, TimestampNs now) {
@@ -282,6 +291,43 @@ void IncidentCommand::raise_conditions(const std::vector<TeamStatus>& teams, Tim
   }
 }
 
+std::optional<SearchPlanPicture> IncidentCommand::plan_search(const std::vector<TeamStatus>& teams, TimestampNs now) {
+  if (!planner_) return std::nullopt;
+  for (const auto& t : teams)
+    for (const auto& m : t.members) {
+      if (m.source != responder::PositionSource::kGnss) continue;
+      const bool gone = m.link == LinkState::kLost || tracker_.signed_off(m.responder_id);
+      const auto had = planner_->strip_of(m.responder_id);
+      if (gone) {
+        planner_->release(m.responder_id);
+        if (had)
+          say(IncidentEvent::Kind::kWarning, "search plan: strip " + std::to_string(*had) + " open again (" +
+                                                 m.responder_id + " no longer searching)");
+      } else {
+        planner_->resume(m.responder_id);
+      }
+    }
+  const std::uint32_t revision = planner_->plan().revision;
+  planner_->update();
+  SearchPlanPicture picture;
+  picture.incident_id = config_.incident_id;
+  picture.stamp = now;
+  picture.deposit = planner_->deposit().vertices();
+  picture.plan = planner_->plan();
+  for (const auto& s : picture.plan.strips)
+    picture.next_points.push_back(s.rescuer_id.empty() ? std::nullopt : planner_->next_point(s.rescuer_id));
+  if (picture.plan.revision != revision) {
+    std::string who;
+    for (const auto& s : picture.plan.strips)
+      who += " " + std::to_string(s.strip.index) + ":" +
+             (s.rescuer_id.empty() ? (s.done ? "done" : "open") : s.rescuer_id);
+    say(IncidentEvent::Kind::kInfo, "search plan revision " + std::to_string(picture.plan.revision) + ", " +
+                                        std::to_string(static_cast<int>(100.0 * picture.plan.searched)) +
+                                        " % of the deposit searched; strips" + who);
+  }
+  return picture;
+}
+
 CommandCycle IncidentCommand::cycle(TimestampNs now, TimestampNs wall_now) {
   CommandCycle out;
   out.stamp = now;
@@ -337,6 +383,7 @@ CommandCycle IncidentCommand::cycle(TimestampNs now, TimestampNs wall_now) {
   out.teams = tracker_.evaluate(now);
   last_teams_ = out.teams;
   raise_conditions(out.teams, now);
+  out.search_plan = plan_search(out.teams, now);
   out.alarms = alarm_board_.alarms();
   out.disposed_alarms = alarm_board_.take_removed();
 

@@ -130,9 +130,10 @@ TEST(Mission, ItsRecordingReadsInAnIndependentReaderAndItsReportOpensInChromium)
   EXPECT_EQ(WEXITSTATUS(checked), 0) << report["errors"].dump();
   EXPECT_TRUE(report["errors"].empty()) << report["errors"].dump();
   const json& written = report["metadata"]["sarloc.recorder_counters"];
-  for (const char* topic : {"sarloc/field_measurement", "sarloc/odometry", "sarloc/victim_estimate", "sarloc/guidance",
-                            "sarloc/responder_position", "sarloc/fused_victim", "sarloc/team_status",
-                            "sarloc/incident_summary", "sarloc/node_status", "sarloc/incident_frame"}) {
+  for (const char* topic :
+       {"sarloc/field_measurement", "sarloc/odometry", "sarloc/victim_estimate", "sarloc/guidance",
+        "sarloc/responder_position", "sarloc/fused_victim", "sarloc/team_status", "sarloc/incident_summary",
+        "sarloc/node_status", "sarloc/incident_frame", "sarloc/search_plan"}) {
     const json& channel = report["channels"][topic];
     EXPECT_GT(channel["count"].get<int>(), 0) << topic << " missing from the recording";
     EXPECT_EQ(channel["decodeFailures"], 0) << topic;

@@ -258,6 +258,63 @@ TEST(Conversions, ASignedOffMemberIsLostAndAccountedOnTheWireWithItsFlag) {
   EXPECT_EQ(out.members[1].link, incident::LinkState::kLost);
 }
 
+// The search plan: every strip with its outline, ends, coverage, rescuer and next point; the
+// IDL's bounds and a NaN from the wire refused by name.
+TEST(Conversions, SearchPlanRoundTrips) {
+  incident::SearchPlanPicture p;
+  p.incident_id = "avalanche-large";
+  p.stamp = 1'800'000'000'000'000'000LL;
+  p.deposit = {{0, 0}, {150, 0}, {150, 200}, {0, 200}};
+  p.plan.revision = 7;
+  p.plan.searched = 0.25;
+  incident::PlannedStrip a;
+  a.strip.index = 0;
+  a.strip.outline = {{0, 0}, {75, 0}, {75, 200}, {0, 200}};
+  a.strip.top = {37.5, 200};
+  a.strip.bottom = {37.5, 0};
+  a.strip.width_m = 75;
+  a.searched = 0.5;
+  a.rescuer_id = "r1";
+  incident::PlannedStrip b = a;
+  b.strip.index = 1;
+  b.rescuer_id.clear();
+  b.done = true;
+  b.searched = 1.0;
+  p.plan.strips = {a, b};
+  p.next_points = {incident::Vec2(37.5, 120.0), std::nullopt};
+  const auto back = to_core(to_idl(p));
+  EXPECT_EQ(back.incident_id, p.incident_id);
+  EXPECT_EQ(back.stamp, p.stamp);
+  EXPECT_EQ(back.deposit, p.deposit);
+  EXPECT_EQ(back.plan.revision, 7u);
+  EXPECT_DOUBLE_EQ(back.plan.searched, 0.25);
+  ASSERT_EQ(back.plan.strips.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(back.plan.strips[i].strip.index, p.plan.strips[i].strip.index);
+    EXPECT_EQ(back.plan.strips[i].strip.outline, p.plan.strips[i].strip.outline);
+    EXPECT_EQ(back.plan.strips[i].strip.top, p.plan.strips[i].strip.top);
+    EXPECT_EQ(back.plan.strips[i].strip.bottom, p.plan.strips[i].strip.bottom);
+    EXPECT_EQ(back.plan.strips[i].strip.width_m, p.plan.strips[i].strip.width_m);
+    EXPECT_EQ(back.plan.strips[i].searched, p.plan.strips[i].searched);
+    EXPECT_EQ(back.plan.strips[i].done, p.plan.strips[i].done);
+    EXPECT_EQ(back.plan.strips[i].rescuer_id, p.plan.strips[i].rescuer_id);
+    EXPECT_EQ(back.next_points[i], p.next_points[i]);
+  }
+  auto wire = to_idl(p);
+  wire.strips()[0].next_point().x(std::nan(""));
+  try {
+    to_core(wire);
+    ADD_FAILURE() << "a NaN next point accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("search_plan.strips.next_point"), std::string::npos) << e.what();
+  }
+  wire = to_idl(p);
+  wire.searched_fraction(1.5);
+  EXPECT_THROW(to_core(wire), InputError);
+  p.deposit.assign(::sarloc::OUTLINE_POINTS_MAX + 1, incident::Vec2(1, 1));
+  EXPECT_THROW(to_idl(p), InputError) << "beyond the IDL's bound";
+}
+
 TEST(Conversions, IdentifierLongerThanTheBoundIsRefusedByName) {
   auto in = test::sample_field_measurement();
   in.rescuer_id = std::string(::sarloc::ID_MAX + 1, 'x');

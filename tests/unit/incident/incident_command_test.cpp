@@ -198,6 +198,63 @@ TEST(IncidentCommand, ALostDeviceWriterRaisesLinkLostUntilAcknowledgedAndBack) {
   EXPECT_TRUE(has_event(out, Kind::kInfo, "alarm " + std::to_string(id) + " acknowledged by 'ic-1'"));
 }
 
+// With a deposit, incident command plans the primary search from the avalanche rescuers' fixes:
+// one strip each (two rescuers on 150 m: four strips of 37.5 m, two taken), entered from their
+// side, every cycle in its output; a rescuer whose link is lost gives its strip back, said.
+// Without a deposit, no plan; a deposit with too many vertices is refused by its key.
+TEST(IncidentCommand, WithADepositItPlansTheSearchAndALostRescuersStripOpens) {
+  EXPECT_FALSE(IncidentCommand(command_config(), at(0)).cycle(at(1), at(1)).search_plan);
+  auto config = command_config();
+  config.deposit.emplace(std::vector<Vec2>{{0, 0}, {150, 0}, {150, 200}, {0, 200}}, "incident.deposit");
+  IncidentCommand command(config, at(0));
+  command.on_position(gnss_fix("r1", at(1), Vec3(40, 205, 0)), "w-r1", at(1));
+  command.on_position(gnss_fix("r2", at(1), Vec3(110, 205, 0)), "w-r2", at(1));
+  auto out = command.cycle(at(1.5), at(1.5));
+  ASSERT_TRUE(out.search_plan);
+  const SearchPlanPicture& plan = *out.search_plan;
+  EXPECT_EQ(plan.incident_id, config.incident_id);
+  EXPECT_EQ(plan.deposit.size(), 4u);
+  ASSERT_EQ(plan.plan.strips.size(), 4u);
+  ASSERT_EQ(plan.next_points.size(), 4u);
+  std::size_t taken = 0;
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto& s = plan.plan.strips[i];
+    EXPECT_NEAR(s.strip.top.y(), 200.0, 1e-6) << "entered from the rescuers' (north) side";
+    if (s.rescuer_id.empty()) continue;
+    ++taken;
+    ASSERT_TRUE(plan.next_points[i]) << "where " << s.rescuer_id << " walks next";
+  }
+  EXPECT_EQ(taken, 2u);
+  EXPECT_TRUE(has_event(out, Kind::kInfo, "search plan revision"));
+  const auto r1_strip = command.search_planner()->strip_of("r1");
+  ASSERT_TRUE(r1_strip);
+  // A firefighter's map-aided fix indoors searches nothing of the deposit.
+  auto indoors = gnss_fix("ff1", at(2), Vec3(75, 100, 0));
+  indoors.source = responder::PositionSource::kMapAided;
+  command.on_position(indoors, "w-core", at(2));
+  command.on_writer_liveliness("w-r1", false, at(2));
+  out = command.cycle(at(2.5), at(2.5));
+  ASSERT_TRUE(out.search_plan);
+  EXPECT_TRUE(out.search_plan->plan.strips[*r1_strip].rescuer_id.empty()) << "r1's strip open again";
+  EXPECT_TRUE(has_event(out, Kind::kWarning, "strip " + std::to_string(*r1_strip) + " open again (r1"));
+  EXPECT_FALSE(command.search_planner()->strip_of("ff1"));
+
+  auto too_many = command_config();
+  std::vector<Vec2> circle;
+  for (int k = 0; k < 300; ++k) circle.emplace_back(100.0 * std::cos(k * 0.02094), 100.0 * std::sin(k * 0.02094));
+  too_many.deposit.emplace(circle, "incident.deposit");
+  EXPECT_THROW(
+      {
+        try {
+          IncidentCommand(too_many, at(0));
+        } catch (const ConfigError& e) {
+          EXPECT_NE(std::string(e.what()).find("incident.deposit"), std::string::npos) << e.what();
+          throw;
+        }
+      },
+      ConfigError);
+}
+
 TEST(IncidentCommand, ADeviceThatDisposesItsPositionSignedOffAndRaisesNothing) {
   IncidentCommand command(command_config(), at(0));
   command.on_position(gnss_fix("r1", at(1), Vec3(5, 5, 0)), "w-r1", at(1));

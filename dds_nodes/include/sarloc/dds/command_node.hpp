@@ -107,6 +107,7 @@ class CommandNode {
   Writer<::sarloc::TeamStatus> team_writer_;
   Writer<::sarloc::IncidentSummary> summary_writer_;
   Writer<::sarloc::IncidentFrame> frame_writer_;
+  Writer<::sarloc::SearchPlan> plan_writer_;
   Writer<::sarloc::IncidentAlarm> alarm_writer_;
   Writer<::sarloc::NodeStatus> status_writer_;
   std::atomic<bool> stopping_{false};

@@ -11,19 +11,20 @@
 #include <optional>
 
 #include "sarloc/core/avalanche/field_measurement.hpp"
+#include "sarloc/core/incident/alarm_board.hpp"
+#include "sarloc/core/incident/fused_victim.hpp"
+#include "sarloc/core/incident/incident_frame.hpp"
+#include "sarloc/core/incident/search_plan.hpp"
+#include "sarloc/core/incident/team_status.hpp"
 #include "sarloc/core/responder/alarm.hpp"
 #include "sarloc/core/responder/guidance.hpp"
 #include "sarloc/core/responder/odometry.hpp"
-#include "sarloc/core/responder/victim_estimate.hpp"
-#include "sarloc/core/incident/fused_victim.hpp"
 #include "sarloc/core/responder/responder_position.hpp"
-#include "sarloc/core/incident/alarm_board.hpp"
-#include "sarloc/core/incident/incident_frame.hpp"
-#include "sarloc/core/incident/team_status.hpp"
+#include "sarloc/core/responder/victim_estimate.hpp"
 #include "sarloc/idl/avalanche.h"
-#include "sarloc/idl/responder.h"
 #include "sarloc/idl/common.h"
 #include "sarloc/idl/incident.h"
+#include "sarloc/idl/responder.h"
 
 namespace sarloc::dds {
 
@@ -68,6 +69,10 @@ incident::IncidentAlarm to_core(const ::sarloc::IncidentAlarm& a);
 /// The name is cut to TEXT_MAX characters (a display name).
 ::sarloc::IncidentFrame to_idl(const incident::IncidentFrame& f);
 incident::IncidentFrame to_core(const ::sarloc::IncidentFrame& f);
+/// InputError when the plan exceeds the IDL's bounds (OUTLINE_POINTS_MAX, SEARCH_STRIPS_MAX).
+::sarloc::SearchPlan to_idl(const incident::SearchPlanPicture& p);
+/// InputError naming the field for a non-finite point or fraction, a bad rescuer id.
+incident::SearchPlanPicture to_core(const ::sarloc::SearchPlan& p);
 /// The victim_id of a FusedVictim instance (a disposal carries only its instance handle):
 /// the key's serialised form, checked by computing the handle of that id again; nothing if
 /// the handle is not a FusedVictim's.

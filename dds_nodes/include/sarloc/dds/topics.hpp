@@ -30,6 +30,7 @@ SARLOC_DDS_TOPIC(IncidentFrame, "incident_frame");
 SARLOC_DDS_TOPIC(FusedVictim, "fused_victim");
 SARLOC_DDS_TOPIC(TeamStatus, "team_status");
 SARLOC_DDS_TOPIC(IncidentSummary, "incident_summary");
+SARLOC_DDS_TOPIC(SearchPlan, "search_plan");
 SARLOC_DDS_TOPIC(ResponderAlarm, "responder_alarm");
 SARLOC_DDS_TOPIC(IncidentAlarm, "incident_alarm");
 SARLOC_DDS_TOPIC(AlarmAcknowledgement, "alarm_acknowledgement");

@@ -17,6 +17,8 @@
 //   - hot standby (StandbyArbiter): a standby adopts each new picture of the active instance
 //     (on_peer_*), fuses on top of it without publishing, and takes over with the same ids;
 //     acknowledgements go to the active instance only;
+//   - with a deposit, the primary search is planned (SearchPlanner) from avalanche rescuers'
+//     GNSS fixes; a rescuer whose link is lost or who signed off gives its strip back;
 //   - on taking over, every victim id up to the largest seen that the picture no longer holds
 //     is disposed again for kRedisposeWindowNs (a reader may have missed a predecessor's
 //     disposal during a fade).
@@ -38,6 +40,7 @@
 #include "sarloc/core/incident/alarm_board.hpp"
 #include "sarloc/core/incident/incident_frame.hpp"
 #include "sarloc/core/incident/responder_track.hpp"
+#include "sarloc/core/incident/search_plan.hpp"
 #include "sarloc/core/incident/standby_arbiter.hpp"
 #include "sarloc/core/incident/team_tracker.hpp"
 #include "sarloc/core/incident/victim_fusion.hpp"
@@ -71,6 +74,11 @@ struct IncidentCommandConfig {
   /// Hot standby: this instance's number, how many the incident runs, when to claim, and the
   /// active one's summary period (the node's cycle).
   StandbyConfig standby;
+  /// The avalanche deposit (incident.deposit): with one, incident command plans the primary
+  /// search over it (SearchPlanner) and publishes the plan. At most kDepositVerticesMax vertices.
+  std::optional<Deposit> deposit;
+  SearchPlanConfig search_plan;
+  static constexpr std::size_t kDepositVerticesMax = 250;  ///< a strip's piece has a few more (IDL: 256)
 
   /// Throws ConfigError naming the key ("command.fix_wait_s = 0: must be in (0, 600]").
   void validate() const;
@@ -107,6 +115,7 @@ struct CommandCycle {
   std::vector<std::uint32_t> disposed_alarms;
   IncidentCounts counts;
   IncidentFrame frame;
+  std::optional<SearchPlanPicture> search_plan;  ///< with a deposit
   std::size_t estimates_fused = 0;
   std::vector<IncidentEvent> events;  ///< in order, the inputs' since the last cycle first
 };
@@ -152,6 +161,8 @@ class IncidentCommand {
   std::vector<IncidentAlarm> alarms() const { return alarm_board_.alarms(); }
   CommandRole role() const { return arbiter_.role(); }
   const IncidentCommandConfig& config() const { return config_; }
+  /// The primary-search planner (with a deposit).
+  const SearchPlanner* search_planner() const { return planner_ ? &*planner_ : nullptr; }
   /// Estimates waiting for their fix.
   std::size_t estimates_waiting() const { return pending_estimates_.size(); }
 
@@ -172,12 +183,15 @@ class IncidentCommand {
   /// Ids up to the largest seen that neither the picture holds nor `removed` disposes now.
   std::vector<std::uint32_t> retired_ids(const std::vector<std::uint32_t>& removed) const;
   void raise_conditions(const std::vector<TeamStatus>& teams, TimestampNs now);
+  /// Rescuers whose link is lost or who signed off search no more; the plan updated.
+  std::optional<SearchPlanPicture> plan_search(const std::vector<TeamStatus>& teams, TimestampNs now);
   /// A signal's separation event and repeat state as the log should say them, once each.
   void note_separation_event(const responder::VictimEstimate& e, bool from_device);
   void say(IncidentEvent::Kind kind, std::string text);
   void reject(std::string subject, std::string reason, std::string text);
 
   IncidentCommandConfig config_;
+  std::optional<SearchPlanner> planner_;
   VictimFusion fusion_;
   TeamTracker tracker_;
   AlarmBoard alarm_board_;

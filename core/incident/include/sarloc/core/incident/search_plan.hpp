@@ -59,6 +59,15 @@ struct SearchPlan {
   double searched = 0.0;  ///< share of the deposit's cells
 };
 
+/// The plan as incident command publishes it (SearchPlan topic).
+struct SearchPlanPicture {
+  std::string incident_id;
+  std::int64_t stamp = 0;     ///< mission time (ns)
+  std::vector<Vec2> deposit;  ///< counter-clockwise
+  SearchPlan plan;
+  std::vector<std::optional<Vec2>> next_points;  ///< per strip: where its rescuer walks next
+};
+
 class SearchPlanner {
  public:
   /// ConfigError (config.validate()).
