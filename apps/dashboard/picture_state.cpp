@@ -311,6 +311,33 @@ json PictureState::alarm_json(const incident::IncidentAlarm& a) const {
           {"floor", a.alarm.floor}};
 }
 
+void PictureState::on_search_plan(const incident::SearchPlanPicture& plan) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  touch_data();
+  const bool changed =
+      !plan_ || plan_->plan.revision != plan.plan.revision || plan_->plan.searched != plan.plan.searched;
+  plan_ = plan;
+  if (changed) plan_version_ = ++version_;
+}
+
+json PictureState::plan_json() const {
+  json strips = json::array();
+  for (std::size_t i = 0; i < plan_->plan.strips.size(); ++i) {
+    const auto& s = plan_->plan.strips[i];
+    json outline = json::array();
+    for (const auto& p : s.strip.outline) outline.push_back({cm(p.x()), cm(p.y())});
+    const auto& next = i < plan_->next_points.size() ? plan_->next_points[i] : std::nullopt;
+    strips.push_back({{"index", s.strip.index},
+                      {"outline", outline},
+                      {"top", {cm(s.strip.top.x()), cm(s.strip.top.y())}},
+                      {"searched", s.searched},
+                      {"done", s.done},
+                      {"rescuer", s.rescuer_id},
+                      {"next", next ? json{cm(next->x()), cm(next->y())} : json(nullptr)}});
+  }
+  return {{"revision", plan_->plan.revision}, {"searched", plan_->plan.searched}, {"strips", strips}};
+}
+
 json PictureState::collect(std::uint64_t since, bool with_tracks) const {
   json out = {{"version", version_},
               {"mission_ns", mission_now_()},
@@ -342,6 +369,7 @@ json PictureState::collect(std::uint64_t since, bool with_tracks) const {
   out["alarms"] = alarms;
   out["events"] = events;
   out["removed"] = removed;
+  if (plan_ && plan_version_ > since) out["plan"] = plan_json();
   return out;
 }
 
@@ -355,6 +383,7 @@ void PictureState::reset() {
   removed_.clear();
   picture_writer_.clear();
   rejected_.clear();
+  plan_.reset();
   last_data_wall_s_ = -1.0;
   reset_version_ = ++version_;
 }
@@ -424,6 +453,10 @@ std::optional<json> PictureState::geojson() const {
   app::IncidentGeoJson picture;
   picture.epoch_ns = epoch_ns_;
   if (!deposit_outline_.empty()) picture.deposit = deposit_outline_;
+  if (plan_) {
+    for (const auto& s : plan_->plan.strips)
+      picture.strips.push_back({s.strip.index, s.strip.outline, s.strip.width_m, s.searched});
+  }
   for (const auto& [id, r] : responders_) {
     const bool outdoors =
         r.last.source == responder::PositionSource::kGnss || r.last.source == responder::PositionSource::kManual;

@@ -19,6 +19,7 @@
 #include "sarloc/core/incident/alarm_board.hpp"
 #include "sarloc/core/incident/fused_victim.hpp"
 #include "sarloc/core/incident/geodetic_frame.hpp"
+#include "sarloc/core/incident/search_plan.hpp"
 #include "sarloc/core/incident/team_status.hpp"
 #include "sarloc/core/responder/guidance.hpp"
 #include "sarloc/core/responder/responder_position.hpp"
@@ -66,6 +67,8 @@ class PictureState {
   void on_alarm_gone(std::uint32_t id);
   void on_position(const responder::ResponderPosition& p);
   void on_guidance(const responder::Guidance& g);
+  /// Incident command's primary-search plan: the strips on the map, shaded by what is searched.
+  void on_search_plan(const incident::SearchPlanPicture& plan);
   void on_picture_writer(const std::string& participant);
   void on_rejected(const std::string& topic);
   /// An operator reported the team's PAR: its timer starts again. False for an unknown team.
@@ -92,8 +95,8 @@ class PictureState {
   std::uint64_t version() const;
   std::size_t victim_count() const;
   /// The picture as GeoJSON in WGS-84 (app::to_geojson): the deposit, the tracks kept for the map
-  /// (track_length positions each) and the victims. Strips come once incident command publishes
-  /// its plan. Nullopt without a WGS-84 origin (set_geodetic_origin).
+  /// (track_length positions each), the plan's strips and the victims. Nullopt without a WGS-84
+  /// origin (set_geodetic_origin).
   std::optional<nlohmann::json> geojson() const;
 
  private:
@@ -120,6 +123,7 @@ class PictureState {
   nlohmann::json responder_json(const std::string& id, const Responder& r, bool with_track) const;
   nlohmann::json team_json(const Team& t) const;
   nlohmann::json alarm_json(const incident::IncidentAlarm& a) const;
+  nlohmann::json plan_json() const;
   nlohmann::json collect(std::uint64_t since, bool with_tracks) const;
 
   PictureStateConfig config_;
@@ -142,6 +146,8 @@ class PictureState {
   nlohmann::json building_;
   nlohmann::json deposit_ = nlohmann::json::array();  ///< [[x, y], ...] in the incident frame
   std::vector<Eigen::Vector2d> deposit_outline_;      ///< the same, for GeoJSON
+  std::optional<incident::SearchPlanPicture> plan_;
+  std::uint64_t plan_version_ = 0;
   std::optional<incident::GeodeticFrame> geodetic_;
 };
 

@@ -17,8 +17,9 @@ namespace sarloc::dashboard {
 namespace {
 
 // The topics the dashboard shows, in the order of Sample::topic.
-const char* const kTopics[] = {"sarloc/fused_victim", "sarloc/team_status", "sarloc/incident_alarm", "sarloc/responder_position",
-                               "sarloc/guidance", "sarloc/recorder_events"};
+const char* const kTopics[] = {"sarloc/fused_victim",       "sarloc/team_status", "sarloc/incident_alarm",
+                               "sarloc/responder_position", "sarloc/guidance",    "sarloc/recorder_events",
+                               "sarloc/search_plan"};
 
 std::int64_t steady_ns() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -118,6 +119,11 @@ void RecordingPlayer::apply(const Sample& s) {
       case 5: {
         const auto event = nlohmann::json::parse(s.bytes.begin(), s.bytes.end());
         if (event.value("topic", "") == "sarloc/incident_summary") state.on_picture_writer(event.value("participant", ""));
+        break;
+      }
+      case 6: {
+        ::sarloc::SearchPlan p;
+        if (decode(s.bytes, p)) state.on_search_plan(dds::to_core(p));
         break;
       }
       default:

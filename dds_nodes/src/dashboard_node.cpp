@@ -26,6 +26,7 @@ struct DashboardNode::Impl {
   std::unique_ptr<Reader<::sarloc::IncidentSummary>> summary;
   std::unique_ptr<Reader<::sarloc::ResponderPosition>> positions;
   std::unique_ptr<Reader<::sarloc::Guidance>> guidance;
+  std::unique_ptr<Reader<::sarloc::SearchPlan>> plan;
   std::unique_ptr<Writer<::sarloc::AlarmAcknowledgement>> acknowledgements;
 
   template <class F>
@@ -114,6 +115,12 @@ DashboardNode::DashboardNode(std::shared_ptr<Participant> participant, Dashboard
       if (d.sink.on_guidance) d.sink.on_guidance(to_core(g));
     });
   });
+  d.plan =
+      std::make_unique<Reader<::sarloc::SearchPlan>>(d.participant, [&d](const ::sarloc::SearchPlan& p, const auto&) {
+        d.guarded("search_plan", [&] {
+          if (d.sink.on_search_plan) d.sink.on_search_plan(to_core(p));
+        });
+      });
   d.acknowledgements = std::make_unique<Writer<::sarloc::AlarmAcknowledgement>>(d.participant);
 }
 

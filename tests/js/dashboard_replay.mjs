@@ -27,6 +27,9 @@ try {
   };
   await scrub("end");
   result.atEnd = await victims();
+  // Incident command's search plan over the deposit: its strips drawn, labelled.
+  result.stripsAtEnd = await page.evaluate(() => document.querySelectorAll("#map polygon.strip").length);
+  result.stripLabels = await page.evaluate(() => [...document.querySelectorAll("#map text")].map((t) => t.textContent).filter((t) => t.startsWith("strip ")));
   await scrub("start");
   result.atStart = await victims();
   const before = Number(await page.inputValue("#scrub"));

@@ -2,13 +2,14 @@
 // Core messages filled with distinctive, non-default values (every field differs from its
 // default, so a conversion that drops a field fails the round-trip comparison).
 #include "sarloc/core/avalanche/field_measurement.hpp"
+#include "sarloc/core/incident/alarm_board.hpp"
+#include "sarloc/core/incident/fused_victim.hpp"
+#include "sarloc/core/incident/search_plan.hpp"
+#include "sarloc/core/incident/team_status.hpp"
 #include "sarloc/core/responder/guidance.hpp"
 #include "sarloc/core/responder/odometry.hpp"
-#include "sarloc/core/responder/victim_estimate.hpp"
-#include "sarloc/core/incident/fused_victim.hpp"
 #include "sarloc/core/responder/responder_position.hpp"
-#include "sarloc/core/incident/alarm_board.hpp"
-#include "sarloc/core/incident/team_status.hpp"
+#include "sarloc/core/responder/victim_estimate.hpp"
 
 namespace sarloc::test {
 
@@ -160,6 +161,36 @@ inline incident::IncidentAlarm sample_incident_alarm() {
   a.acknowledged_by = "ic-chief";
   a.acknowledged_at = 1763731340000000000LL;
   return a;
+}
+
+/// An 80 x 100 m deposit's plan: strip 0 (the western 40 m) walked by r1, next at (20, 80);
+/// strip 1 done, nobody's.
+inline incident::SearchPlanPicture sample_search_plan() {
+  incident::SearchPlanPicture p;
+  p.incident_id = "avalanche-large";
+  p.stamp = 1763731340000000000LL;
+  p.deposit = {{0, 0}, {80, 0}, {80, 100}, {0, 100}};
+  p.plan.revision = 7;
+  p.plan.searched = 0.25;
+  incident::PlannedStrip a;
+  a.strip.index = 0;
+  a.strip.outline = {{0, 0}, {40, 0}, {40, 100}, {0, 100}};
+  a.strip.top = {20, 100};
+  a.strip.bottom = {20, 0};
+  a.strip.width_m = 40;
+  a.searched = 0.5;
+  a.rescuer_id = "r1";
+  incident::PlannedStrip b = a;
+  b.strip.index = 1;
+  b.strip.outline = {{40, 0}, {80, 0}, {80, 100}, {40, 100}};
+  b.strip.top = {60, 100};
+  b.strip.bottom = {60, 0};
+  b.rescuer_id.clear();
+  b.done = true;
+  b.searched = 1.0;
+  p.plan.strips = {a, b};
+  p.next_points = {incident::Vec2(20, 80), std::nullopt};
+  return p;
 }
 
 }  // namespace sarloc::test

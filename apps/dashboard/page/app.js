@@ -71,6 +71,7 @@ function merge(message) {
     picture.responders.set(String(r.id), r);
   }
   for (const r of message.removed || []) picture[r.kind === "victim" ? "victims" : "alarms"].delete(String(r.id));
+  if (message.plan) picture.plan = message.plan;
   for (const e of message.events || []) picture.events.push(e);
   if (picture.events.length > 500) picture.events.splice(0, picture.events.length - 500);
   picture.missionNs = message.mission_ns;
@@ -112,6 +113,7 @@ function connect() {
     picture.events = [];
     picture.building = s.building && s.building.floors ? s.building : null;
     picture.deposit = Array.isArray(s.deposit) ? s.deposit : [];
+    picture.plan = s.plan || null;
     picture.parIntervalS = s.par_interval_s;
     fillFloors();
     merge(s);
@@ -244,6 +246,22 @@ function renderMap() {
     svg += `<polygon points="${points}" fill="#cfe3f7" fill-opacity="0.45" stroke="#5b8db8" stroke-width="${
         1.5 * px}" stroke-dasharray="${6 * px},${4 * px}"/>`;
   }
+  // Incident command's search plan over it: each strip shaded by what is searched, its rescuer
+  // and share at its top, and a ring where its rescuer walks next.
+  const planLabels = [];
+  for (const strip of (picture.plan && picture.plan.strips) || []) {
+    if (!Array.isArray(strip.outline) || strip.outline.length < 3) continue;
+    const points = strip.outline.map((p) => `${p[0]},${- p[1]}`).join(' ');
+    svg += `<polygon class="strip" points="${points}" fill="#2e8b57" fill-opacity="${
+        (0.05 + 0.3 * strip.searched).toFixed(3)}" stroke="#5b8db8" stroke-width="${px}"/>`;
+    if (Array.isArray(strip.next)) {
+      svg += `<circle cx="${strip.next[0]}" cy="${- strip.next[1]}" r="${
+          4 * px}" fill="none" stroke="#2e8b57" stroke-width="${1.5 * px}"/>`;
+    }
+    const who = strip.rescuer ? strip.rescuer : strip.done ? 'done' : 'open';
+    planLabels.push(
+        [strip.top[0], strip.top[1], `strip ${strip.index}: ${who}, ${Math.round(100 * strip.searched)} %`]);
+  }
   if (picture.building && picture.building.floors[floor]) {
     for (const w of picture.building.floors[floor].walls) {
       svg += `<line x1="${w[0]}" y1="${-w[1]}" x2="${w[2]}" y2="${-w[3]}" stroke="#333" stroke-width="${3 * px}"/>`;
@@ -281,7 +299,7 @@ function renderMap() {
   }
   // Victims' labels first: they matter most where labels crowd.
   labels.sort((a, b) => String(b[2]).startsWith("victim") - String(a[2]).startsWith("victim"));
-  for (const [x, y, text] of labels) svg += label(x, y, text);
+  for (const [x, y, text] of [...labels, ...planLabels]) svg += label(x, y, text);
   // Scale bar: a round length near a fifth of the view.
   const target = view.w / 5, base = 10 ** Math.floor(Math.log10(target));
   const bar = [5, 2, 1].map((f) => f * base).find((b) => b <= target);

@@ -191,6 +191,9 @@ TEST(Mission, ItsRecordingReadsInAnIndependentReaderAndItsReportOpensInChromium)
   const json replay = json::parse(replay_said);
   EXPECT_TRUE(replay["errors"].empty()) << replay_said;
   EXPECT_EQ(replay["atEnd"], json::array({"FOUND", "FOUND"})) << replay_said;
+  // mixed.yaml's 60 m deposit: incident command's plan of two strips, on the map with labels.
+  EXPECT_EQ(replay["stripsAtEnd"], 2) << replay_said;
+  EXPECT_EQ(replay["stripLabels"].size(), 2U) << replay_said;
   EXPECT_TRUE(replay["atStart"].empty()) << "no victim at the recording's start: " << replay_said;
   EXPECT_GT(replay["advancedS"].get<double>(), 5.0) << "playing moves the timeline: " << replay_said;
 }
@@ -326,7 +329,7 @@ TEST(Mission, TheDashboardShowsTheMissionLiveInABrowser) {
   for (const auto& cell : glance["foundCells"]) EXPECT_EQ(cell.get<std::string>().rfind("at T+", 0), 0U) << "a FOUND victim without its time: " << cell;
   EXPECT_EQ(glance["incident"], "test-incident") << "the header names the incident";
   EXPECT_NE(glance["wall"].get<std::string>().find(':'), std::string::npos) << "the header shows the wall-clock time";
-  EXPECT_EQ(glance["legendItems"], 7) << "six symbols and the avalanche deposit";
+  EXPECT_EQ(glance["legendItems"], 8) << "six symbols, the avalanche deposit and a search strip";
   EXPECT_EQ(glance["areas"], 3) << "everything, the avalanche field, the house 80 m east: " << glance.dump();
   ASSERT_FALSE(browser["labelHeightsPx"].empty()) << said;
   for (const auto& height : browser["labelHeightsPx"]) {

@@ -46,6 +46,36 @@ TEST(PictureState, VictimsCarryTheirLatitudeAndLongitudeAndTheDepositIsDrawnOnce
   EXPECT_EQ(state.snapshot()["deposit"], nlohmann::json::parse("[[-45.0, 10.0], [60.0, 0.0], [70.0, 70.0]]"));
 }
 
+// Incident command's search plan: in every snapshot, in a delta only when it changed (a new
+// revision or more searched), and its strips in the GeoJSON.
+TEST(PictureState, TheSearchPlanIsInSnapshotsAndInDeltasWhenItChanged) {
+  Clocks c;
+  auto state = make(c);
+  EXPECT_FALSE(state.snapshot().contains("plan"));
+  auto plan = test::sample_search_plan();
+  state.on_search_plan(plan);
+  const auto snapshot = state.snapshot();
+  ASSERT_TRUE(snapshot.contains("plan"));
+  EXPECT_EQ(snapshot["plan"]["strips"][0]["rescuer"], "r1");
+  EXPECT_EQ(snapshot["plan"]["strips"][0]["next"], nlohmann::json::parse("[20.0, 80.0]"));
+  const auto version = state.version();
+  state.on_search_plan(plan);
+  EXPECT_FALSE(state.delta(version).contains("plan")) << "the same plan again: nothing to send";
+  plan.plan.searched = 0.3;
+  plan.plan.strips[0].searched = 0.6;
+  state.on_search_plan(plan);
+  const auto delta = state.delta(version);
+  ASSERT_TRUE(delta.contains("plan"));
+  EXPECT_DOUBLE_EQ(delta["plan"]["strips"][0]["searched"].get<double>(), 0.6);
+  EXPECT_TRUE(delta["plan"]["strips"][1]["next"].is_null()) << "strip 1 is done";
+  state.set_geodetic_origin({46.5563, 7.9263, 2320.0});
+  const auto geo = state.geojson();
+  ASSERT_TRUE(geo);
+  bool strip_seen = false;
+  for (const auto& f : (*geo)["features"]) strip_seen = strip_seen || f["properties"]["kind"] == "strip";
+  EXPECT_TRUE(strip_seen) << geo->dump();
+}
+
 TEST(PictureState, DeltasCarryOnlyWhatChangedAndEventsMarkTransitions) {
   Clocks c;
   auto state = make(c);

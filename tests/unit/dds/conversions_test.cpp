@@ -261,33 +261,13 @@ TEST(Conversions, ASignedOffMemberIsLostAndAccountedOnTheWireWithItsFlag) {
 // The search plan: every strip with its outline, ends, coverage, rescuer and next point; the
 // IDL's bounds and a NaN from the wire refused by name.
 TEST(Conversions, SearchPlanRoundTrips) {
-  incident::SearchPlanPicture p;
-  p.incident_id = "avalanche-large";
-  p.stamp = 1'800'000'000'000'000'000LL;
-  p.deposit = {{0, 0}, {150, 0}, {150, 200}, {0, 200}};
-  p.plan.revision = 7;
-  p.plan.searched = 0.25;
-  incident::PlannedStrip a;
-  a.strip.index = 0;
-  a.strip.outline = {{0, 0}, {75, 0}, {75, 200}, {0, 200}};
-  a.strip.top = {37.5, 200};
-  a.strip.bottom = {37.5, 0};
-  a.strip.width_m = 75;
-  a.searched = 0.5;
-  a.rescuer_id = "r1";
-  incident::PlannedStrip b = a;
-  b.strip.index = 1;
-  b.rescuer_id.clear();
-  b.done = true;
-  b.searched = 1.0;
-  p.plan.strips = {a, b};
-  p.next_points = {incident::Vec2(37.5, 120.0), std::nullopt};
+  auto p = test::sample_search_plan();
   const auto back = to_core(to_idl(p));
   EXPECT_EQ(back.incident_id, p.incident_id);
   EXPECT_EQ(back.stamp, p.stamp);
   EXPECT_EQ(back.deposit, p.deposit);
-  EXPECT_EQ(back.plan.revision, 7u);
-  EXPECT_DOUBLE_EQ(back.plan.searched, 0.25);
+  EXPECT_EQ(back.plan.revision, p.plan.revision);
+  EXPECT_DOUBLE_EQ(back.plan.searched, p.plan.searched);
   ASSERT_EQ(back.plan.strips.size(), 2u);
   for (std::size_t i = 0; i < 2; ++i) {
     EXPECT_EQ(back.plan.strips[i].strip.index, p.plan.strips[i].strip.index);

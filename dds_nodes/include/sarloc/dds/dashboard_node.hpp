@@ -10,6 +10,7 @@
 
 #include "sarloc/core/incident/alarm_board.hpp"
 #include "sarloc/core/incident/fused_victim.hpp"
+#include "sarloc/core/incident/search_plan.hpp"
 #include "sarloc/core/incident/team_status.hpp"
 #include "sarloc/core/responder/guidance.hpp"
 #include "sarloc/core/responder/responder_position.hpp"
@@ -25,6 +26,7 @@ struct DashboardSink {
   std::function<void(std::uint32_t alarm_id)> on_alarm_gone;  ///< acknowledged and cleared
   std::function<void(const responder::ResponderPosition&)> on_position;
   std::function<void(const responder::Guidance&)> on_guidance;
+  std::function<void(const incident::SearchPlanPicture&)> on_search_plan;
   /// The incident picture heard from a participant (first 24 hex digits of its writer's GUID).
   std::function<void(const std::string& participant)> on_picture_writer;
   /// A sample that does not convert (named by topic): counted, never shown.
