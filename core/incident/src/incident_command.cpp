@@ -33,6 +33,11 @@ void IncidentCommandConfig::validate() const {
     require(deposit->vertices().size() <= kDepositVerticesMax, "incident.deposit", deposit->vertices().size(),
             "at most " + std::to_string(kDepositVerticesMax) + " vertices");
     search_plan.validate();
+    // The fewest strips it takes (entered from anywhere: the count does not depend on it).
+    const auto strips = plan_strips(*deposit, search_plan.strips, deposit->vertices().front()).size();
+    require(strips <= kSearchStripsMax, "incident.deposit", strips,
+            "strips at search.strip_width_m; at most " + std::to_string(kSearchStripsMax) +
+                ": a smaller deposit or wider strips");
   }
 }
 

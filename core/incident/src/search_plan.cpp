@@ -32,6 +32,11 @@ void SearchPlanner::on_position(const std::string& rescuer_id, const Vec2& posit
     const double reach = 0.5 * config_.strips.strip_width_m;
     if (coverage_) coverage_->add_walk(*r.last, position, reach);
     if (may_recut_) walks_.emplace_back(*r.last, position);
+    if (walks_.size() > kRecutWalksMax) {  // memory stays bounded; the strips stay as cut
+      may_recut_ = false;
+      walks_.clear();
+      walks_.shrink_to_fit();
+    }
   }
   r.last = position;
 }
@@ -58,7 +63,7 @@ void SearchPlanner::cut(std::size_t searching_rescuers) {
   for (const auto& [id, r] : rescuers_)
     if (r.searching && r.last) entry += *r.last;
   entry /= static_cast<double>(searching_rescuers);
-  const auto strips = plan_strips(deposit_, config_.strips, entry, searching_rescuers);
+  const auto strips = plan_strips(deposit_, config_.strips, entry, std::min(searching_rescuers, kSearchStripsMax));
   coverage_.emplace(deposit_, strips, config_.coverage_cell_m);
   const double reach = 0.5 * config_.strips.strip_width_m;
   for (const auto& [a, b] : walks_) coverage_->add_walk(a, b, reach);

@@ -253,6 +253,16 @@ TEST(IncidentCommand, WithADepositItPlansTheSearchAndALostRescuersStripOpens) {
         }
       },
       ConfigError);
+  // 3 km across at 40 m: 75 strips, beyond the SearchPlan topic's 64.
+  auto too_wide = command_config();
+  too_wide.deposit.emplace(std::vector<Vec2>{{0, 0}, {3000, 0}, {3000, 3000}, {0, 3000}}, "incident.deposit");
+  try {
+    IncidentCommand(too_wide, at(0));
+    ADD_FAILURE() << "75 strips accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("incident.deposit = 75: strips at search.strip_width_m"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST(IncidentCommand, ADeviceThatDisposesItsPositionSignedOffAndRaisesNothing) {

@@ -32,6 +32,11 @@
 
 namespace sarloc::incident {
 
+/// At most this many strips are cut (the SearchPlan topic's bound): more rescuers share them.
+inline constexpr std::size_t kSearchStripsMax = 64;
+/// Walks kept for a re-cut (a deposit nobody reaches keeps none beyond this: no re-cut then).
+inline constexpr std::size_t kRecutWalksMax = 100000;
+
 struct SearchPlanConfig {
   StripPlanConfig strips;        ///< search.strip_width_m, search.fall_line_deg
   double coverage_cell_m = 1.0;  ///< search.coverage_cell_m, [0.5, 5]
