@@ -79,9 +79,10 @@ bool SearchPlanner::update() {
   // Cut, or re-cut for rescuers who arrived while the search had barely begun.
   if (may_recut_ && searching > 0 && (!coverage_ || coverage_->searched() < config_.recut_below_searched)) {
     const bool first = !coverage_;
-    if (first || searching > plan_.strips.size()) {
+    if (first || searching > cut_for_) {  // more rescuers than the strips were cut for
       const std::size_t had = plan_.strips.size();
       cut(searching);
+      cut_for_ = searching;
       if (first || plan_.strips.size() != had) ++plan_.revision;
     }
   }

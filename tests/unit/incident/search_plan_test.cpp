@@ -149,6 +149,18 @@ TEST(SearchPlanner, LateArrivalsRecutTheStripsOnlyWhileTheSearchHasBarelyBegun) 
   EXPECT_FALSE(planner.strip_of("r7")) << "every strip taken: r7 waits for one";
 }
 
+// Twenty rescuers on a 150 m deposit: fifteen strips of 10 m (none narrower), cut once; the
+// plan does not change from one update to the next while nobody moves.
+TEST(SearchPlanner, MoreRescuersThanStripsCanHoldCutOnceAndShare) {
+  SearchPlanner planner(rectangle(), SearchPlanConfig{});
+  for (int k = 0; k < 20; ++k) planner.on_position("r" + std::to_string(k), {40.0 + 3.0 * k, 205.0});
+  ASSERT_TRUE(planner.update());
+  EXPECT_EQ(planner.plan().strips.size(), 15u);
+  const std::uint32_t revision = planner.plan().revision;
+  EXPECT_FALSE(planner.update());
+  EXPECT_EQ(planner.plan().revision, revision) << "no re-cut, no re-assignment";
+}
+
 // A jump between fixes longer than max_walk_step_m is a gap (a fade), not a walk across the
 // deposit; what a rescuer walked before the strips were cut still counts after.
 TEST(SearchPlanner, AGapInTheFixesIsNotAWalk) {

@@ -112,6 +112,7 @@ class SearchPlanner {
   /// Walks kept while the strips may still be re-cut (coverage is per strip); dropped after.
   std::vector<std::pair<Vec2, Vec2>> walks_;
   bool may_recut_ = true;
+  std::size_t cut_for_ = 0;  ///< searching rescuers the strips were last cut for
   SearchPlan plan_;
   mutable std::vector<std::size_t> first_open_row_;  ///< per strip: rows before it are searched
 };
