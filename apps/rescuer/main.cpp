@@ -36,6 +36,8 @@ const char* mode_name(responder::GuidanceMode mode) {
     case responder::GuidanceMode::kApproach: return "APPROACH";
     case responder::GuidanceMode::kFineSearch: return "FINE SEARCH";
     case responder::GuidanceMode::kFound: return "FOUND - PROBE HERE";
+    case responder::GuidanceMode::kPrimarySearch:
+      return "PRIMARY SEARCH";
   }
   return "?";
 }
@@ -56,6 +58,13 @@ std::string display_line(const std::string& id, const sarloc::dds::EpochResult& 
   std::string line = id + " | ";
   if (!r.guidance) {
     line += "no signal: walk straight ahead (primary search)";
+  } else if (r.guidance->mode == responder::GuidanceMode::kPrimarySearch) {
+    const auto& g = *r.guidance;
+    const double deg = g.bearing_rad * 180.0 / sarloc::kPi;
+    char buf[160];
+    std::snprintf(buf, sizeof(buf), "no signal: search plan's strip | turn %3.0f deg %-5s | next point %.0f m ahead",
+                  std::fabs(deg), deg >= 0 ? "left" : "right", g.distance_m);
+    line += buf;
   } else {
     const auto& g = *r.guidance;
     const double deg = g.bearing_rad * 180.0 / sarloc::kPi;

@@ -254,6 +254,10 @@ responder::VictimEstimate to_core(const ::sarloc::VictimEstimate& e) {
   out.signal_id(g.signal_id);
   out.stamp(g.stamp);
   out.measurement_sequence(measurement_sequence);
+  // The plan's strip guidance is the device's own (strip_guidance.hpp): no IDL value for it.
+  if (g.mode > responder::GuidanceMode::kFound) {
+    throw InputError("guidance.mode = " + std::to_string(static_cast<int>(g.mode)) + ": not a daemon's guidance");
+  }
   out.mode(static_cast<::sarloc::GuidanceMode>(g.mode));
   out.bearing_rad(g.bearing_rad);
   out.heading_rad(g.heading_rad);

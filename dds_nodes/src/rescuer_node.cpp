@@ -1,11 +1,11 @@
 #include "sarloc/dds/rescuer_node.hpp"
 
-#include "sarloc/core/common/validate.hpp"
-
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 
+#include "sarloc/core/common/validate.hpp"
+#include "sarloc/core/incident/strip_guidance.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/sign_off.hpp"
 
@@ -14,6 +14,8 @@ namespace {
 // The device's own fixes kept for its estimates: 3600 epochs, an hour at one epoch a second (a
 // FOUND estimate keeps the stamp it was found at for the rest of the search).
 constexpr std::size_t kOwnFixesKept = 3600;
+// The plan's strip is walked from a fix at most this old (mission time).
+constexpr TimestampNs kStripFixAgeNs = 5'000'000'000;
 }  // namespace
 
 void RescuerNodeConfig::validate() const {
@@ -127,6 +129,17 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
         hear([](responder::GuidanceArbiter& arbiter) { arbiter.on_daemon_seen(); });
       },
       EndpointOptions{}, core_events);
+  // Only incident command may write the plan (the command role, deploy/security/make-certs.sh).
+  plan_reader_ =
+      std::make_unique<Reader<::sarloc::SearchPlan>>(participant_, [this](const ::sarloc::SearchPlan& p, const auto&) {
+        try {
+          auto plan = to_core(p);
+          std::lock_guard<std::mutex> lock(mutex_);
+          plan_ = std::move(plan);
+        } catch (const InputError& e) {
+          refusals_.warn(config_.rescuer_id, "search_plan", std::string("ignoring a search plan: ") + e.what());
+        }
+      });
 }
 
 bool RescuerNode::wait_for_daemon(std::chrono::milliseconds timeout) const {
@@ -153,6 +166,7 @@ RescuerNode::~RescuerNode() {
   estimate_reader_.reset();
   victim_reader_.reset();
   core_status_reader_.reset();
+  plan_reader_.reset();
 }
 
 void RescuerNode::move(const std::vector<responder::Odometry>& odometry) {
@@ -219,11 +233,18 @@ EpochResult RescuerNode::epoch(const std::vector<responder::Odometry>& odometry,
     return e ? e->status : responder::EstimatorStatus::kInitialising;
   };
   const auto decision = arbiter_.decide(input);
+  std::optional<responder::Guidance> strip;
+  // A fix older than a few steps would walk the rescuer somewhere it no longer is.
+  if (!decision.guidance && plan_ && !own_fixes_.empty() && input.now - own_fixes_.back().stamp <= kStripFixAgeNs) {
+    incident::StripGuidanceConfig walk;
+    walk.step_m = config_.estimators.avalanche_rescuer.search.step_length_m;
+    strip = incident::strip_guidance(*plan_, config_.rescuer_id, own_fixes_.back(), walk);
+  }
   lock.unlock();
 
   EpochResult result;
-  result.guidance = decision.guidance;
-  result.source = decision.source;
+  result.guidance = strip ? strip : decision.guidance;
+  result.source = strip ? responder::GuidanceSource::kPlan : decision.source;
   result.daemon_reachable = decision.daemon_reachable;
   result.latency_ms = decision.latency_ms;
   result.signals = decision.daemon_signals;

@@ -106,7 +106,19 @@ void read_sog(YamlReader r, avalanche::SogConfig& c) {
   r.expect_done();
 }
 
-void read_search(YamlReader r, avalanche::SearchConfig& c) {
+void read_search(YamlReader r, avalanche::SearchConfig& c, incident::SearchPlanConfig* plan) {
+  if (plan != nullptr) {  // a mission's: incident command's primary-search plan (search_plan.hpp)
+    r.read("strip_width_m", plan->strips.strip_width_m);
+    if (r.has("fall_line_deg")) {
+      double deg = 0.0;
+      r.read("fall_line_deg", deg);
+      plan->strips.fall_line_deg = deg;
+    }
+    r.read("coverage_cell_m", plan->coverage_cell_m);
+    r.read("strip_done_fraction", plan->strip_done_fraction);
+    r.read("max_walk_step_m", plan->max_walk_step_m);
+    r.read("recut_below_searched", plan->recut_below_searched);
+  }
   r.read("step_length_m", c.step_length_m);
   r.read("approach_mahalanobis", c.approach_mahalanobis);
   r.read("approach_radius_fraction", c.approach_radius_fraction);

@@ -366,7 +366,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
   }
   auto& avalanche = c.estimators.avalanche_rescuer;
   read_sog(root.child("sog"), avalanche.sog);
-  read_search(root.child("search"), avalanche.search);
+  read_search(root.child("search"), avalanche.search, &c.command.incident.search_plan);
   read_rescuer_search(root.child("rescuer_search"), avalanche);
   {
     auto r = root.child("core");

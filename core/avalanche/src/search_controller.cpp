@@ -289,6 +289,7 @@ Guidance SearchController::guide(const TransmitterFilter& filter, const FieldMea
       }
       break;
     case GuidanceMode::kApproach:
+    case GuidanceMode::kPrimarySearch:  // never a signal's mode (strip_guidance.hpp)
       break;
     case GuidanceMode::kFineSearch:
       if (confirming) {

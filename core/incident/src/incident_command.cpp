@@ -314,13 +314,7 @@ std::optional<SearchPlanPicture> IncidentCommand::plan_search(const std::vector<
     }
   const std::uint32_t revision = planner_->plan().revision;
   planner_->update();
-  SearchPlanPicture picture;
-  picture.incident_id = config_.incident_id;
-  picture.stamp = now;
-  picture.deposit = planner_->deposit().vertices();
-  picture.plan = planner_->plan();
-  for (const auto& s : picture.plan.strips)
-    picture.next_points.push_back(s.rescuer_id.empty() ? std::nullopt : planner_->next_point(s.rescuer_id));
+  SearchPlanPicture picture = planner_->picture(config_.incident_id, now);
   if (picture.plan.revision != revision) {
     std::string who;
     for (const auto& s : picture.plan.strips)

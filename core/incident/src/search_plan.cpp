@@ -140,6 +140,17 @@ std::optional<Vec2> SearchPlanner::next_point(const std::string& rescuer_id) con
   return first_unsearched(*strip);
 }
 
+SearchPlanPicture SearchPlanner::picture(const std::string& incident_id, std::int64_t stamp) const {
+  SearchPlanPicture out;
+  out.incident_id = incident_id;
+  out.stamp = stamp;
+  out.deposit = deposit_.vertices();
+  out.plan = plan_;
+  for (const auto& s : plan_.strips)
+    out.next_points.push_back(s.rescuer_id.empty() ? std::nullopt : next_point(s.rescuer_id));
+  return out;
+}
+
 std::optional<Vec2> SearchPlanner::first_unsearched(std::size_t strip) const {
   if (!coverage_) return std::nullopt;
   // Down the centreline in cell steps, the first point whose row across the strip still holds

@@ -24,6 +24,8 @@ const char* to_string(GuidanceSource source) {
     case GuidanceSource::kNone: return "none";
     case GuidanceSource::kDaemon: return "daemon";
     case GuidanceSource::kLocal: return "local";
+    case GuidanceSource::kPlan:
+      return "plan";
   }
   return "unknown";
 }

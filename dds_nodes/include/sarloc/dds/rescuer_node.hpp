@@ -20,6 +20,7 @@
 #include <set>
 
 #include "sarloc/core/estimator/make_estimator.hpp"
+#include "sarloc/core/incident/search_plan.hpp"
 #include "sarloc/core/responder/guidance_arbiter.hpp"
 #include "sarloc/dds/mission_clock.hpp"
 #include "sarloc/dds/participant.hpp"
@@ -50,7 +51,9 @@ struct RescuerNodeConfig {
 };
 
 struct EpochResult {
-  std::optional<responder::Guidance> guidance;  ///< what to do now (nullopt: no signal yet)
+  /// What to do now: a signal's guidance, else the plan's strip (source kPlan), else nullopt
+  /// (no signal and no plan: straight ahead).
+  std::optional<responder::Guidance> guidance;
   responder::GuidanceSource source = responder::GuidanceSource::kNone;
   bool daemon_reachable = false;
   std::map<std::uint32_t, responder::EstimatorStatus> signals;  ///< status of every signal (followed source)
@@ -122,6 +125,8 @@ class RescuerNode {
   std::unique_ptr<Reader<::sarloc::VictimEstimate>> estimate_reader_;
   std::unique_ptr<Reader<::sarloc::FusedVictim>> victim_reader_;
   std::unique_ptr<Reader<::sarloc::NodeStatus>> core_status_reader_;
+  std::optional<incident::SearchPlanPicture> plan_;  // incident command's latest; under mutex_
+  std::unique_ptr<Reader<::sarloc::SearchPlan>> plan_reader_;
 };
 
 }  // namespace sarloc::dds

@@ -8,6 +8,7 @@
 #include "sarloc/app/yaml_reader.hpp"
 #include "sarloc/core/avalanche/rescuer_search.hpp"
 #include "sarloc/core/avalanche/simulator.hpp"
+#include "sarloc/core/incident/search_plan.hpp"
 
 namespace sarloc::app {
 
@@ -15,7 +16,10 @@ void read_transmitter_standard(YamlReader section, avalanche::TransmitterStandar
 void read_receiver(YamlReader section, avalanche::ReceiverModelConfig& config);
 void read_simulation(YamlReader section, avalanche::SimulationConfig& config);
 void read_sog(YamlReader section, avalanche::SogConfig& config);
-void read_search(YamlReader section, avalanche::SearchConfig& config);
+/// `plan`: a mission file's search: section also holds incident command's primary-search plan
+/// (strip_width_m, fall_line_deg, coverage_cell_m, strip_done_fraction, max_walk_step_m,
+/// recut_below_searched); null elsewhere (an evaluation plans nothing: the keys are refused).
+void read_search(YamlReader section, avalanche::SearchConfig& config, incident::SearchPlanConfig* plan = nullptr);
 /// The rescuer_search: section (limits of the input gate, summary size).
 void read_rescuer_search(YamlReader section, avalanche::RescuerSearchConfig& config);
 

@@ -95,6 +95,8 @@ class SearchPlanner {
   /// in cell steps, whose row across the strip is not all searched yet. Nullopt without a strip
   /// or when none is left.
   std::optional<Vec2> next_point(const std::string& rescuer_id) const;
+  /// The plan as published: strips, the deposit and every strip's next point.
+  SearchPlanPicture picture(const std::string& incident_id, std::int64_t stamp) const;
 
  private:
   struct Rescuer {

@@ -7,10 +7,13 @@
 namespace sarloc::responder {
 
 enum class GuidanceMode : std::uint8_t {
-  kOpening = 0,  ///< opening (coarse) search: posterior bearing or flux line (SearchConfig)
-  kApproach = 1,        ///< walk toward the mixture mean
-  kFineSearch = 2,      ///< close in: small steps onto the mean
-  kFound = 3,           ///< stop and probe
+  kOpening = 0,     ///< opening (coarse) search: posterior bearing or flux line (SearchConfig)
+  kApproach = 1,    ///< walk toward the mixture mean
+  kFineSearch = 2,  ///< close in: small steps onto the mean
+  kFound = 3,       ///< stop and probe
+  /// No signal to follow: walk the search plan's strip (incident::strip_guidance). The
+  /// device's own guidance, never on the Guidance topic (its IDL enum stops at FOUND).
+  kPrimarySearch = 4,
 };
 
 struct Guidance {

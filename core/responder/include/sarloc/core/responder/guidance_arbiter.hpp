@@ -45,7 +45,9 @@
 
 namespace sarloc::responder {
 
-enum class GuidanceSource : std::uint8_t { kNone = 0, kDaemon = 1, kLocal = 2 };
+/// kPlan: no signal to follow, the search plan's strip (incident::strip_guidance; the device
+/// node chooses it after the arbiter).
+enum class GuidanceSource : std::uint8_t { kNone = 0, kDaemon = 1, kLocal = 2, kPlan = 3 };
 const char* to_string(GuidanceSource source);
 
 struct ArbiterInput {
