@@ -314,8 +314,13 @@ json PictureState::alarm_json(const incident::IncidentAlarm& a) const {
 void PictureState::on_search_plan(const incident::SearchPlanPicture& plan) {
   std::lock_guard<std::mutex> lock(mutex_);
   touch_data();
-  const bool changed =
-      !plan_ || plan_->plan.revision != plan.plan.revision || plan_->plan.searched != plan.plan.searched;
+  const auto pursuers = [](const incident::SearchPlanPicture& p) {
+    std::map<std::uint32_t, std::string> out;
+    for (const auto& h : p.handed_over) out[h.victim_id] = h.pursued_by;
+    return out;
+  };
+  const bool changed = !plan_ || plan_->plan.revision != plan.plan.revision ||
+                       plan_->plan.searched != plan.plan.searched || pursuers(*plan_) != pursuers(plan);
   plan_ = plan;
   if (changed) plan_version_ = ++version_;
 }
@@ -335,7 +340,13 @@ json PictureState::plan_json() const {
                       {"rescuer", s.rescuer_id},
                       {"next", next ? json{cm(next->x()), cm(next->y())} : json(nullptr)}});
   }
-  return {{"revision", plan_->plan.revision}, {"searched", plan_->plan.searched}, {"strips", strips}};
+  // One rescuer per victim: who incident command sends to each victim heard by several.
+  json pursuers = json::object();
+  for (const auto& h : plan_->handed_over) pursuers[std::to_string(h.victim_id)] = h.pursued_by;
+  return {{"revision", plan_->plan.revision},
+          {"searched", plan_->plan.searched},
+          {"strips", strips},
+          {"pursuers", pursuers}};
 }
 
 json PictureState::collect(std::uint64_t since, bool with_tracks) const {

@@ -552,6 +552,17 @@ double fraction(double f, const char* field) {
     out.strips().push_back(strip);
   }
   out.searched_fraction(p.plan.searched);
+  if (p.handed_over.size() > ::sarloc::SEARCH_HANDOVERS_MAX)
+    throw InputError("search_plan.handed_over: " + std::to_string(p.handed_over.size()) + " hand-overs, at most " +
+                     std::to_string(::sarloc::SEARCH_HANDOVERS_MAX));
+  for (const auto& h : p.handed_over) {
+    ::sarloc::SignalHandOver m;
+    m.rescuer_id(to_identifier(h.rescuer_id, "search_plan.handed_over.rescuer_id"));
+    m.signal_id(h.signal_id);
+    m.victim_id(h.victim_id);
+    m.pursued_by(to_identifier(h.pursued_by, "search_plan.handed_over.pursued_by"));
+    out.handed_over().push_back(m);
+  }
   return out;
 }
 
@@ -579,6 +590,10 @@ incident::SearchPlanPicture to_core(const ::sarloc::SearchPlan& p) {
     out.plan.strips.push_back(std::move(strip));
   }
   out.plan.searched = fraction(p.searched_fraction(), "search_plan.searched_fraction");
+  for (const auto& h : p.handed_over()) {
+    out.handed_over.push_back({from_identifier(h.rescuer_id(), "search_plan.handed_over.rescuer_id"), h.signal_id(),
+                               h.victim_id(), from_identifier(h.pursued_by(), "search_plan.handed_over.pursued_by")});
+  }
   return out;
 }
 

@@ -1,17 +1,17 @@
 #include "sarloc/dds/core_node.hpp"
 
-#include "sarloc/core/common/validate.hpp"
-
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <functional>
 
 #include "sarloc/core/common/identifier.hpp"
+#include "sarloc/core/common/validate.hpp"
+#include "sarloc/core/incident/signal_pursuit.hpp"
 #include "sarloc/dds/conversions.hpp"
-#include "sarloc/dds/sign_off.hpp"
 #include "sarloc/dds/mission_clock.hpp"
 #include "sarloc/dds/process_stats.hpp"
+#include "sarloc/dds/sign_off.hpp"
 
 namespace sarloc::dds {
 
@@ -107,6 +107,27 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
             if (!is_identifier(id)) continue;  // no rescuer of ours: nothing to stop
             enqueue(id, MarkDone{id, source.signal_id()});
           }
+        });
+    // Victims incident command sends another rescuer to (one rescuer per victim): the same
+    // rule as on the device, so that daemon and device guide alike.
+    plan_reader_ = std::make_unique<Reader<::sarloc::SearchPlan>>(
+        participant_, [this](const ::sarloc::SearchPlan& p, const auto&) {
+          incident::SearchPlanPicture plan;
+          try {
+            plan = to_core(p);
+          } catch (const InputError& e) {
+            reject("incident command", "invalid_value", std::string("search plan: ") + e.what());
+            return;
+          }
+          std::set<std::string> now_handed;
+          for (const auto& h : plan.handed_over) now_handed.insert(h.rescuer_id);
+          std::set<std::string> affected = now_handed;
+          affected.insert(handed_over_rescuers_.begin(), handed_over_rescuers_.end());
+          for (const auto& id : affected) {
+            enqueue(id, LeaveToOthers{id, incident::signals_left_to_others(plan.handed_over, id),
+                                      plan.stamp + incident::kHandOverLapseNs});
+          }
+          handed_over_rescuers_ = std::move(now_handed);
         });
   } catch (...) {
     stop_threads();
@@ -248,6 +269,12 @@ void CoreNode::handle(Worker& worker, Work& work) {
   if (auto* done = std::get_if<MarkDone>(&work)) {
     if (auto it = worker.responders.find(done->rescuer_id); it != worker.responders.end()) {
       it->second.estimator().mark_done(done->signal_id);
+    }
+    return;
+  }
+  if (auto* leave = std::get_if<LeaveToOthers>(&work)) {
+    if (auto it = worker.responders.find(leave->rescuer_id); it != worker.responders.end()) {
+      it->second.estimator().leave_to_others(leave->signal_ids, leave->until);
     }
     return;
   }

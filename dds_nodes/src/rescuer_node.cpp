@@ -185,6 +185,11 @@ EpochResult RescuerNode::epoch(const std::vector<responder::Odometry>& odometry,
   {
     std::lock_guard<std::mutex> lock(mutex_);
     for (const std::uint32_t signal : found_elsewhere_) local_->mark_done(signal);
+    // Victims incident command sends another rescuer to (one rescuer per victim).
+    if (plan_) {
+      local_->leave_to_others(incident::signals_left_to_others(plan_->handed_over, config_.rescuer_id),
+                              plan_->stamp + incident::kHandOverLapseNs);
+    }
   }
   move(odometry);  // motion first: the daemon must apply the step before this epoch's samples
   position_writer_.assert_liveliness();  // the link is alive while the device runs, fix or not

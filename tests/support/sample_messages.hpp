@@ -190,6 +190,7 @@ inline incident::SearchPlanPicture sample_search_plan() {
   b.searched = 1.0;
   p.plan.strips = {a, b};
   p.next_points = {incident::Vec2(20, 80), std::nullopt};
+  p.handed_over = {{"r2", 3, 7, "r1"}};
   return p;
 }
 

@@ -118,6 +118,7 @@ void read_search(YamlReader r, avalanche::SearchConfig& c, incident::SearchPlanC
     r.read("strip_done_fraction", plan->strip_done_fraction);
     r.read("max_walk_step_m", plan->max_walk_step_m);
     r.read("recut_below_searched", plan->recut_below_searched);
+    r.read("pursuit_timeout_s", plan->pursuit_timeout_s);
   }
   r.read("step_length_m", c.step_length_m);
   r.read("approach_mahalanobis", c.approach_mahalanobis);

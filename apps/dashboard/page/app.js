@@ -314,6 +314,9 @@ function renderMap() {
 // "r1/1", "r2/1" -> "r1, r2": who heard the victim (the signal numbers are in the tooltip).
 const heardBy = (sources) => [...new Set(sources.map((s) => s.split("/")[0]))].join(", ") || "—";
 
+// The one rescuer incident command sends to a victim heard by several (the search plan).
+const pursuer = (victimId) => (picture.plan && picture.plan.pursuers && picture.plan.pursuers[victimId]) || '';
+
 function renderLists() {
   const now = picture.missionNs;
   const victims = [...picture.victims.values()].sort((a, b) => a.id - b.id);
@@ -321,13 +324,15 @@ function renderLists() {
   $('victims').tBodies[0].innerHTML =
       victims
           .map(
-              (v) => `<tr data-victim="${v.id}"><td>${v.id}${v.conflict ? ' <b class="error">conflict</b>' : ''}</td>` +
+              (v) =>
+                  `<tr data-victim="${v.id}"><td>${v.id}${v.conflict ? ' <b class="error">conflict</b>' : ''}</td>` +
                   `<td class="state state-${esc(v.state)}">${esc(v.state)}</td><td>${v.radius95_m.toFixed(2)}</td>` +
                   `<td class="where">${v.x.toFixed(1)} E, ${v.y.toFixed(1)} N${
-                         v.wgs84 ? `<br><small>${esc(v.wgs84)}</small>` : ''}</td>` +
+                      v.wgs84 ? `<br><small>${esc(v.wgs84)}</small>` : ''}</td>` +
                   `<td>${v.located_ns ? `${((now - v.located_ns) / 1e9).toFixed(0)} s ago` : '—'}</td>` +
                   `<td class="found">${v.state === 'FOUND' && v.found_ns ? `at ${missionS(v.found_ns)}` : '—'}</td>` +
-                  `<td title="${esc(v.sources.join(', '))}">${esc(heardBy(v.sources))}</td></tr>`)
+                  `<td title="${esc(v.sources.join(', '))}">${esc(heardBy(v.sources))}${
+                      pursuer(v.id) ? `<br><small class="pursuer">sent: ${esc(pursuer(v.id))}</small>` : ''}</td></tr>`)
           .join('');
 
   const wallNow = picture.wallMs + (Date.now() - picture.receivedAtMs);

@@ -265,7 +265,7 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
   estimate.stamp = m.stamp;
   SearchUpdate update;
   bool found_now = false;
-  if (target_ ? *target_ == m.signal_id : !s.done) {
+  if (target_ ? *target_ == m.signal_id : may_guide_to(m.signal_id, s)) {
     // Guidance only for the signal being searched (one direction at a time for the rescuer),
     // never towards a victim already found.
     Guidance g = s.controller.guide(s.filter, m);
@@ -466,6 +466,13 @@ void RescuerSearch::mark_done(std::uint32_t signal_id) {
   choose_target();
 }
 
+void RescuerSearch::leave_to_others(std::set<std::uint32_t> signal_ids, TimestampNs until) {
+  left_until_ = until;
+  if (signal_ids == left_to_others_) return;
+  left_to_others_ = std::move(signal_ids);
+  choose_target();
+}
+
 std::optional<VictimEstimate> RescuerSearch::estimate(std::uint32_t signal_id) const {
   const auto it = signals_.find(signal_id);
   if (it == signals_.end()) return std::nullopt;
@@ -485,6 +492,10 @@ std::optional<FieldFit> RescuerSearch::field_fit(std::uint32_t signal_id, const 
   return fit;
 }
 
+bool RescuerSearch::may_guide_to(std::uint32_t signal_id, const SignalState& s) const {
+  return !s.done && (left_to_others_.count(signal_id) == 0 || newest_stamp_ > left_until_);
+}
+
 void RescuerSearch::choose_target() {
   // Sticky: keep walking to the current victim until it is found; then the strongest signal
   // among those not done (the classic transceiver rule: strongest is usually nearest). A target
@@ -495,7 +506,7 @@ void RescuerSearch::choose_target() {
   std::optional<std::uint32_t> keep;
   if (target_) {
     const auto it = signals_.find(*target_);
-    if (it != signals_.end() && !it->second.done) {
+    if (it != signals_.end() && may_guide_to(it->first, it->second)) {
       if (heard_lately(it->second)) return;
       keep = target_;
     }
@@ -503,7 +514,7 @@ void RescuerSearch::choose_target() {
   target_.reset();
   double strongest = -1.0;
   for (const auto& [signal, state] : signals_) {
-    if (state.done || !state.filter.initialised() || (keep && !heard_lately(state))) continue;
+    if (!may_guide_to(signal, state) || !state.filter.initialised() || (keep && !heard_lately(state))) continue;
     if (state.last_field_norm > strongest) {
       strongest = state.last_field_norm;
       target_ = signal;

@@ -49,7 +49,10 @@ IncidentCommand::IncidentCommand(IncidentCommandConfig config, TimestampNs start
   frame_.incident_id = config_.incident_id;
   frame_.origin = config_.origin;
   frame_.name = config_.incident_name;
-  if (config_.deposit) planner_.emplace(*config_.deposit, config_.search_plan);
+  if (config_.deposit) {
+    planner_.emplace(*config_.deposit, config_.search_plan);
+    pursuits_.emplace(config_.search_plan.pursuit_timeout_s);
+  }
 }
 
 void IncidentCommand::say(IncidentEvent::Kind kind, std::string text) {
@@ -296,12 +299,17 @@ void IncidentCommand::raise_conditions(const std::vector<TeamStatus>& teams, Tim
   }
 }
 
-std::optional<SearchPlanPicture> IncidentCommand::plan_search(const std::vector<TeamStatus>& teams, TimestampNs now) {
+std::optional<SearchPlanPicture> IncidentCommand::plan_search(const std::vector<TeamStatus>& teams,
+                                                              const std::vector<FusedVictim>& victims,
+                                                              TimestampNs now) {
   if (!planner_) return std::nullopt;
+  std::map<std::string, Vec2> searching;  // who may pursue a victim, where
   for (const auto& t : teams)
     for (const auto& m : t.members) {
       if (m.source != responder::PositionSource::kGnss) continue;
       const bool gone = m.link == LinkState::kLost || tracker_.signed_off(m.responder_id);
+      if (!gone && m.has_position && m.link == LinkState::kAlive)
+        searching.emplace(m.responder_id, m.last_position.position.head<2>());
       const auto had = planner_->strip_of(m.responder_id);
       if (gone) {
         planner_->release(m.responder_id);
@@ -315,6 +323,9 @@ std::optional<SearchPlanPicture> IncidentCommand::plan_search(const std::vector<
   const std::uint32_t revision = planner_->plan().revision;
   planner_->update();
   SearchPlanPicture picture = planner_->picture(config_.incident_id, now);
+  picture.handed_over = pursuits_->update(victims, searching, now);
+  for (const auto& e : pursuits_->events())
+    say(e.warning ? IncidentEvent::Kind::kWarning : IncidentEvent::Kind::kInfo, "search plan: " + e.text);
   if (picture.plan.revision != revision) {
     std::string who;
     for (const auto& s : picture.plan.strips)
@@ -382,7 +393,7 @@ CommandCycle IncidentCommand::cycle(TimestampNs now, TimestampNs wall_now) {
   out.teams = tracker_.evaluate(now);
   last_teams_ = out.teams;
   raise_conditions(out.teams, now);
-  out.search_plan = plan_search(out.teams, now);
+  out.search_plan = plan_search(out.teams, out.victims, now);
   out.alarms = alarm_board_.alarms();
   out.disposed_alarms = alarm_board_.take_removed();
 

@@ -18,6 +18,8 @@ void SearchPlanConfig::validate() const {
           "search.max_walk_step_m", max_walk_step_m, "must be in [2, 100]");
   require(std::isfinite(recut_below_searched) && recut_below_searched >= 0.0 && recut_below_searched <= 0.5,
           "search.recut_below_searched", recut_below_searched, "must be in [0, 0.5]");
+  require(std::isfinite(pursuit_timeout_s) && pursuit_timeout_s >= 30.0 && pursuit_timeout_s <= 3600.0,
+          "search.pursuit_timeout_s", pursuit_timeout_s, "must be in [30, 3600]");
 }
 
 SearchPlanner::SearchPlanner(Deposit deposit, SearchPlanConfig config)

@@ -189,6 +189,38 @@ TEST(RescuerSearch, MarkDoneMovesTheTargetAndNeverGuidesToAFoundVictim) {
   }
 }
 
+// One rescuer per victim: a signal whose victim incident command sends another rescuer to is not
+// guided to while handed over; lifted, or lapsed once a sample is stamped after `until` (a plan
+// from a silent incident command), it is again.
+TEST(RescuerSearch, SignalsLeftToOthersAreNotGuidedToUntilTheHandOverLiftsOrLapses) {
+  const auto s = scenario();
+  mission::SimulatedRescuer sim(s, "r");
+  RescuerSearch search("r", quick());
+  feed(search, sim, 4);
+  ASSERT_TRUE(search.target_signal().has_value());
+  const auto first = *search.target_signal();
+  search.leave_to_others({first}, 60 * kSecond);
+  ASSERT_TRUE(search.target_signal().has_value()) << "another victim is heard";
+  const auto second = *search.target_signal();
+  EXPECT_NE(second, first);
+  search.leave_to_others({first, second}, 60 * kSecond);
+  EXPECT_FALSE(search.target_signal().has_value());
+  ASSERT_FALSE(search.add_odometry(sim.walk(0.0, 0.5, 4 * kSecond, 5 * kSecond)).has_value());
+  for (const auto& m : sim.measure(5 * kSecond)) {
+    auto out = search.process(m);
+    ASSERT_TRUE(std::holds_alternative<SearchUpdate>(out));
+    EXPECT_FALSE(std::get<SearchUpdate>(out).guidance.has_value()) << "guided towards a victim handed over";
+  }
+  EXPECT_FALSE(search.target_signal().has_value());
+  search.leave_to_others({}, 60 * kSecond);
+  EXPECT_TRUE(search.target_signal().has_value()) << "lifted";
+  search.leave_to_others({first, second}, 5 * kSecond);
+  EXPECT_FALSE(search.target_signal().has_value());
+  ASSERT_FALSE(search.add_odometry(sim.walk(0.0, 0.5, 5 * kSecond, 6 * kSecond)).has_value());
+  for (const auto& m : sim.measure(6 * kSecond)) (void)search.process(m);
+  EXPECT_TRUE(search.target_signal().has_value()) << "lapsed: a sample after `until`";
+}
+
 TEST(RescuerSearch, CoastingMovesTheTargetByTheStepsTakenSinceItWasHeard) {
   const auto s = scenario();
   mission::SimulatedRescuer sim(s, "r");

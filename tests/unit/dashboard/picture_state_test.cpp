@@ -58,6 +58,7 @@ TEST(PictureState, TheSearchPlanIsInSnapshotsAndInDeltasWhenItChanged) {
   ASSERT_TRUE(snapshot.contains("plan"));
   EXPECT_EQ(snapshot["plan"]["strips"][0]["rescuer"], "r1");
   EXPECT_EQ(snapshot["plan"]["strips"][0]["next"], nlohmann::json::parse("[20.0, 80.0]"));
+  EXPECT_EQ(snapshot["plan"]["pursuers"]["7"], "r1") << "victim 7 is r1's; r2's signal of it handed over";
   const auto version = state.version();
   state.on_search_plan(plan);
   EXPECT_FALSE(state.delta(version).contains("plan")) << "the same plan again: nothing to send";

@@ -280,6 +280,11 @@ TEST(Conversions, SearchPlanRoundTrips) {
     EXPECT_EQ(back.plan.strips[i].rescuer_id, p.plan.strips[i].rescuer_id);
     EXPECT_EQ(back.next_points[i], p.next_points[i]);
   }
+  ASSERT_EQ(back.handed_over.size(), 1u);
+  EXPECT_EQ(back.handed_over[0].rescuer_id, "r2");
+  EXPECT_EQ(back.handed_over[0].signal_id, 3u);
+  EXPECT_EQ(back.handed_over[0].victim_id, 7u);
+  EXPECT_EQ(back.handed_over[0].pursued_by, "r1");
   auto wire = to_idl(p);
   wire.strips()[0].next_point().x(std::nan(""));
   try {

@@ -50,6 +50,7 @@ class RecordingEstimator final : public ResponderEstimator {
   }
   std::optional<responder::Guidance> coast(TimestampNs) override { return std::nullopt; }
   void mark_done(std::uint32_t) override {}
+  void leave_to_others(std::set<std::uint32_t>, TimestampNs) override {}
   std::optional<responder::VictimEstimate> estimate_of(std::uint32_t) const override { return std::nullopt; }
   std::size_t active_filters() const override { return 0; }
 

@@ -82,7 +82,13 @@ class CoreNode {
   struct Evict {
     std::string rescuer_id;
   };
-  using Work = std::variant<responder::Odometry, estimator::SensorSample, MarkDone, Evict>;
+  /// Signals whose victims incident command sends another rescuer to (the search plan).
+  struct LeaveToOthers {
+    std::string rescuer_id;
+    std::set<std::uint32_t> signal_ids;
+    TimestampNs until = 0;
+  };
+  using Work = std::variant<responder::Odometry, estimator::SensorSample, MarkDone, Evict, LeaveToOthers>;
   struct Worker {
     std::thread thread;
     std::mutex mutex;
@@ -128,6 +134,10 @@ class CoreNode {
   std::unique_ptr<SampleReaders> sample_readers_;
   std::unique_ptr<Reader<::sarloc::Odometry>> odometry_reader_;
   std::unique_ptr<Reader<::sarloc::FusedVictim>> victim_reader_;
+  std::unique_ptr<Reader<::sarloc::SearchPlan>> plan_reader_;
+  /// Rescuers with signals handed over in the last plan (plan reader thread only): those no
+  /// longer in it get an empty set.
+  std::set<std::string> handed_over_rescuers_;
 };
 
 }  // namespace sarloc::dds

@@ -122,6 +122,12 @@ class RescuerSearch {
   /// The signal is a victim already found (by this rescuer or reported by incident command):
   /// stop guiding to it.
   void mark_done(std::uint32_t signal_id);
+  /// These signals' victims are pursued by other rescuers (incident command's search plan,
+  /// incident/signal_pursuit.hpp): not guided to while in the set; the filters keep listening.
+  /// Replaces the previous set (a hand-over lifted gives the signal back). The hand-over lapses
+  /// once a sample is stamped after `until` (the plan's stamp plus a margin): a plan from an
+  /// incident command that fell silent hides no victim for long.
+  void leave_to_others(std::set<std::uint32_t> signal_ids, TimestampNs until);
 
   /// Signal the rescuer is guided to (nullopt before any measurement or when all are done).
   std::optional<std::uint32_t> target_signal() const { return target_; }
@@ -183,6 +189,8 @@ class RescuerSearch {
   /// where another signal's victim was found and both moments are known, else suspected.
   void test_repeat(std::uint32_t id, SignalState& s, EstimatorStatus status, bool found_now);
   void choose_target();
+  /// Neither done nor handed over to another rescuer (leave_to_others, not lapsed).
+  bool may_guide_to(std::uint32_t signal_id, const SignalState& s) const;
   void restart_unfound_filters();
   /// The found witness of signal `id` (see found_witness_window_s): a filter replayed from the
   /// inputs logged since `since`; nullopt when the replay refused an input.
@@ -195,6 +203,8 @@ class RescuerSearch {
   RescuerSearchConfig config_;
   std::map<std::uint32_t, SignalState> signals_;
   std::set<std::uint32_t> done_;
+  std::set<std::uint32_t> left_to_others_;
+  TimestampNs left_until_ = 0;
   std::optional<std::uint32_t> target_;
   TimestampNs newest_stamp_ = 0;  ///< of any signal's last measurement
   std::optional<std::uint64_t> last_odometry_sequence_;

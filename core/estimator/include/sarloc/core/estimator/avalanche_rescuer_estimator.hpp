@@ -18,6 +18,9 @@ class AvalancheRescuerEstimator final : public ResponderEstimator {
   Outcome process(const SensorSample& sample) override;
   std::optional<responder::Guidance> coast(TimestampNs stamp) override;
   void mark_done(std::uint32_t signal_id) override { search_.mark_done(signal_id); }
+  void leave_to_others(std::set<std::uint32_t> signal_ids, TimestampNs until) override {
+    search_.leave_to_others(std::move(signal_ids), until);
+  }
   std::optional<responder::VictimEstimate> estimate_of(std::uint32_t signal_id) const override {
     return search_.estimate(signal_id);
   }

@@ -12,6 +12,7 @@
 // motion in place of odometry that never came) are SampleSequencer's, not the estimator's.
 #include <cstdint>
 #include <optional>
+#include <set>
 #include <string>
 #include <variant>
 #include <vector>
@@ -57,6 +58,10 @@ class ResponderEstimator {
   /// The victim behind `signal_id` was found (here or as incident command reports): stop
   /// guiding to it.
   virtual void mark_done(std::uint32_t signal_id) = 0;
+  /// These signals' victims are pursued by other responders (incident command's search plan):
+  /// do not guide to them while in the set, until a sample is stamped after `until`; it
+  /// replaces the previous one (avalanche::RescuerSearch::leave_to_others).
+  virtual void leave_to_others(std::set<std::uint32_t> signal_ids, TimestampNs until) = 0;
   /// Latest estimate of a victim signal, in the current frame (nullopt if never measured).
   virtual std::optional<responder::VictimEstimate> estimate_of(std::uint32_t signal_id) const = 0;
   /// How well a beacon field sample would fit a signal's filter, without updating it: the

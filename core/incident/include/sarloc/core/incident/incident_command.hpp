@@ -183,8 +183,10 @@ class IncidentCommand {
   /// Ids up to the largest seen that neither the picture holds nor `removed` disposes now.
   std::vector<std::uint32_t> retired_ids(const std::vector<std::uint32_t>& removed) const;
   void raise_conditions(const std::vector<TeamStatus>& teams, TimestampNs now);
-  /// Rescuers whose link is lost or who signed off search no more; the plan updated.
-  std::optional<SearchPlanPicture> plan_search(const std::vector<TeamStatus>& teams, TimestampNs now);
+  /// Rescuers whose link is lost or who signed off search no more; the plan updated, with the
+  /// signals handed over to each victim's one pursuer.
+  std::optional<SearchPlanPicture> plan_search(const std::vector<TeamStatus>& teams,
+                                               const std::vector<FusedVictim>& victims, TimestampNs now);
   /// A signal's separation event and repeat state as the log should say them, once each.
   void note_separation_event(const responder::VictimEstimate& e, bool from_device);
   void say(IncidentEvent::Kind kind, std::string text);
@@ -192,6 +194,7 @@ class IncidentCommand {
 
   IncidentCommandConfig config_;
   std::optional<SearchPlanner> planner_;
+  std::optional<SignalPursuits> pursuits_;  ///< with the planner
   VictimFusion fusion_;
   TeamTracker tracker_;
   AlarmBoard alarm_board_;

@@ -29,6 +29,7 @@
 #include "sarloc/core/incident/deposit.hpp"
 #include "sarloc/core/incident/search_coverage.hpp"
 #include "sarloc/core/incident/search_strips.hpp"
+#include "sarloc/core/incident/signal_pursuit.hpp"
 
 namespace sarloc::incident {
 
@@ -48,6 +49,10 @@ struct SearchPlanConfig {
   /// search.recut_below_searched, [0, 0.5]: rescuers who arrive while less than this share of
   /// the deposit is searched re-cut the strips; later ones wait for a strip to come free.
   double recut_below_searched = 0.05;
+  /// search.pursuit_timeout_s, [30, 3600]: a victim's pursuer who has not found it by then gives
+  /// it up to every rescuer who hears it (signal_pursuit.hpp). 240 s: four times the default
+  /// mission's median search from first signal to FOUND, short of the 35 min survival cliff.
+  double pursuit_timeout_s = 240.0;
   void validate() const;  ///< ConfigError naming the key
 };
 
@@ -71,6 +76,8 @@ struct SearchPlanPicture {
   std::vector<Vec2> deposit;  ///< counter-clockwise
   SearchPlan plan;
   std::vector<std::optional<Vec2>> next_points;  ///< per strip: where its rescuer walks next
+  /// Signals of victims another rescuer pursues (signal_pursuit.hpp): not to be guided to.
+  std::vector<SignalHandOver> handed_over;
 };
 
 class SearchPlanner {

@@ -1,0 +1,82 @@
+#pragma once
+// One rescuer per victim (issue 63, item 3): when several rescuers hear one victim, incident
+// command sends the nearest and hands the others' signals of it over, so that they go back to
+// their strips (the standard practice: when one rescuer takes a signal, the others continue).
+// The hand-overs travel in the search plan; each device and the core daemon stop guiding their
+// rescuer to a signal handed over (avalanche::RescuerSearch::leave_to_others).
+//
+// Rules, each with its unit test (tests/unit/incident/signal_pursuit_test.cpp):
+//   - only a victim not found, without conflicting evidence and not possibly the same as
+//     another (incident command cannot tell which is which: everyone keeps searching), heard
+//     by at least two searching rescuers (link alive, GNSS fix);
+//   - the pursuer is the one of them nearest to the victim when it is first handed out, and
+//     stays the pursuer while it searches and hears the victim (no flapping between two
+//     rescuers who walk about equally near);
+//   - a pursuer who has not found the victim within `pursuit_timeout_s` gives it up for good:
+//     every rescuer who hears it may pursue it again (a wrong filter must not hide a victim);
+//   - every other rescuer's signal of the victim is handed over.
+//
+//   SignalPursuits pursuits(240.0);
+//   picture.handed_over = pursuits.update(fusion.victims(), searching_positions, now);
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "sarloc/core/incident/deposit.hpp"
+#include "sarloc/core/incident/fused_victim.hpp"
+
+namespace sarloc::incident {
+
+/// At most this many hand-overs (the SearchPlan topic's bound); beyond it the rest are left
+/// out: those rescuers keep pursuing (the safe side).
+inline constexpr std::size_t kSignalHandOversMax = 256;
+
+/// A rescuer's signal of a victim that another rescuer pursues: not to be guided to.
+struct SignalHandOver {
+  std::string rescuer_id;  ///< whose signal
+  std::uint32_t signal_id = 0;
+  std::uint32_t victim_id = 0;
+  std::string pursued_by;  ///< the rescuer incident command sends
+};
+
+/// A plan's hand-overs hold this long after its stamp (mission time) without a newer plan: a
+/// silent incident command (and no standby) hides no victim for long.
+inline constexpr TimestampNs kHandOverLapseNs = 30'000'000'000;
+
+/// The signals of `rescuer_id` that `handed_over` gives to others.
+std::set<std::uint32_t> signals_left_to_others(const std::vector<SignalHandOver>& handed_over,
+                                               const std::string& rescuer_id);
+
+class SignalPursuits {
+ public:
+  /// `pursuit_timeout_s`: search.pursuit_timeout_s (SearchPlanConfig validates it).
+  explicit SignalPursuits(double pursuit_timeout_s);
+
+  /// The hand-overs now. `searching`: the searching rescuers' latest positions (incident
+  /// frame). What changed since the last call is in events().
+  std::vector<SignalHandOver> update(const std::vector<FusedVictim>& victims,
+                                     const std::map<std::string, Vec2>& searching, TimestampNs now);
+  std::optional<std::string> pursuer_of(std::uint32_t victim_id) const;
+  /// For incident command's log, of the last update: a pursuit begun or moved (info), given up
+  /// (a warning: the pursuer did not find it).
+  struct Event {
+    bool warning = false;
+    std::string text;
+  };
+  const std::vector<Event>& events() const { return events_; }
+
+ private:
+  struct Pursuit {
+    std::string rescuer_id;
+    TimestampNs since = 0;
+  };
+  TimestampNs timeout_ns_;
+  std::map<std::uint32_t, Pursuit> pursuits_;  ///< by victim id
+  std::set<std::uint32_t> given_up_;           ///< victims every rescuer may pursue again
+  std::vector<Event> events_;
+};
+
+}  // namespace sarloc::incident
