@@ -209,6 +209,17 @@ void CommandNode::create_picture_readers() {
         enqueue("picture",
                 [frame = to_core(f)](incident::IncidentCommand& command) { command.on_peer_frame(frame); });
       });
+  picture_plan_reader_ = std::make_unique<Reader<::sarloc::SearchPlan>>(
+      participant_, [this](const ::sarloc::SearchPlan& p, const auto& info) {
+        if (participant_->is_own_writer(info.publication_handle)) return;
+        try {
+          enqueue("picture", [plan = to_core(p)](incident::IncidentCommand& command) mutable {
+            command.on_peer_search_plan(std::move(plan));
+          });
+        } catch (const InputError& error) {
+          refuse_invalid("picture", std::string("adopted search plan: ") + error.what());
+        }
+      });
 
   ReaderEvents alarm_events;
   alarm_events.on_instance_gone = [this](const auto& info) {
@@ -405,6 +416,7 @@ CommandNode::~CommandNode() {
   picture_victim_reader_.reset();
   picture_team_reader_.reset();
   picture_frame_reader_.reset();
+  picture_plan_reader_.reset();
   picture_alarm_reader_.reset();
   responder_alarm_reader_.reset();
   acknowledgement_reader_.reset();

@@ -177,6 +177,10 @@ void IncidentCommand::on_peer_frame(const IncidentFrame& frame) {
   if (frame.incident_id == frame_.incident_id) adopted_frame_ = frame;
 }
 
+void IncidentCommand::on_peer_search_plan(SearchPlanPicture plan) {
+  if (plan.incident_id == config_.incident_id) adopted_plan_ = std::move(plan);
+}
+
 std::optional<ReporterFix> IncidentCommand::fix_for(const responder::VictimEstimate& e) const {
   const auto max_age = seconds_to_ns(config_.position_max_age_s);
   // The fix the estimate carries (a device's own), if it is of the estimate's epoch: it
@@ -260,6 +264,15 @@ void IncidentCommand::adopt_picture() {
   } catch (const InputError& error) {  // checked on arrival: not expected
     say(IncidentEvent::Kind::kError, std::string("cannot adopt the picture: ") + error.what());
   }
+  // Taking over must send no rescuer to another strip or victim.
+  if (planner_ && adopted_plan_) {
+    if (!planner_->adopt_assignments(adopted_plan_->plan) && !plan_adoption_refused_) {
+      plan_adoption_refused_ = true;
+      say(IncidentEvent::Kind::kWarning,
+          "search plan: the active incident command's strips are cut differently; keeping this one's own");
+    }
+    pursuits_->adopt(adopted_plan_->handed_over, adopted_plan_->stamp);
+  }
 }
 
 void IncidentCommand::take_over(TimestampNs now) {
@@ -269,6 +282,7 @@ void IncidentCommand::take_over(TimestampNs now) {
   adopted_teams_.clear();
   adopted_alarms_.clear();
   adopted_frame_.reset();
+  adopted_plan_.reset();
 }
 
 std::vector<std::uint32_t> IncidentCommand::retired_ids(const std::vector<std::uint32_t>& removed) const {

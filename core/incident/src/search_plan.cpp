@@ -130,6 +130,25 @@ bool SearchPlanner::update() {
   return plan_.revision != before;
 }
 
+bool SearchPlanner::adopt_assignments(const SearchPlan& active) {
+  if (active.strips.size() != plan_.strips.size()) return false;
+  for (std::size_t i = 0; i < plan_.strips.size(); ++i) {
+    const Strip& a = active.strips[i].strip;
+    const Strip& own = plan_.strips[i].strip;
+    if ((a.top - own.top).norm() > 0.5 || (a.bottom - own.bottom).norm() > 0.5) return false;
+  }
+  bool changed = false;
+  for (std::size_t i = 0; i < plan_.strips.size(); ++i) {
+    PlannedStrip& own = plan_.strips[i];
+    const PlannedStrip& a = active.strips[i];
+    if (own.rescuer_id != a.rescuer_id || (a.done && !own.done)) changed = true;
+    own.rescuer_id = a.rescuer_id;
+    own.done = own.done || a.done;
+  }
+  plan_.revision = std::max(plan_.revision + (changed ? 1U : 0U), active.revision);
+  return true;
+}
+
 std::optional<std::size_t> SearchPlanner::strip_of(const std::string& rescuer_id) const {
   for (std::size_t i = 0; i < plan_.strips.size(); ++i)
     if (plan_.strips[i].rescuer_id == rescuer_id) return i;

@@ -105,6 +105,52 @@ TEST(IncidentCommandStandby, TheStandbyTakesOverWithTheSameIdsFrameAndAlarms) {
   EXPECT_TRUE(acked.alarms[0].acknowledged);
 }
 
+// The standby takes the active one's strip assignments (here swapped by hand: two instances can
+// tie-break rescuers 2 m apart differently), so taking over sends no rescuer elsewhere; a plan of
+// strips cut differently is not adopted, with one warning.
+TEST(IncidentCommandStandby, TheStandbyTakesTheActiveOnesStripAssignments) {
+  auto config_of = [](int instance) {
+    auto c = command_config(instance, 2);
+    c.deposit.emplace(std::vector<Vec2>{{0, 0}, {150, 0}, {150, 200}, {0, 200}}, "incident.deposit");
+    return c;
+  };
+  IncidentCommand one(config_of(1), at(0));
+  IncidentCommand two(config_of(2), at(0));
+  position_both(one, two, "r1", 1, Vec3(40, 205, 0));
+  position_both(one, two, "r2", 1, Vec3(110, 205, 0));
+  one.cycle(at(1), at(1));
+  two.cycle(at(1), at(1));
+  auto last = one.cycle(at(4), at(4));
+  ASSERT_TRUE(last.active);
+  ASSERT_TRUE(last.search_plan);
+  auto& strips = last.search_plan->plan.strips;
+  const auto r1 = one.search_planner()->strip_of("r1"), r2 = one.search_planner()->strip_of("r2");
+  ASSERT_TRUE(r1 && r2);
+  std::swap(strips[*r1].rescuer_id, strips[*r2].rescuer_id);
+  deliver_picture(last, two, "summary-1", at(4));
+  two.cycle(at(4.5), at(4.5));
+  EXPECT_EQ(two.search_planner()->strip_of("r1"), r2) << "the active one's assignment";
+  EXPECT_EQ(two.search_planner()->strip_of("r2"), r1);
+  two.on_peer_lost("summary-1", at(5));
+  const auto taken = two.cycle(at(5.5), at(5.5));
+  ASSERT_TRUE(taken.active);
+  ASSERT_TRUE(taken.search_plan);
+  EXPECT_EQ(taken.search_plan->plan.strips[*r2].rescuer_id, "r1") << "kept after taking over";
+
+  IncidentCommand three(config_of(2), at(6));  // started late: it has not claimed yet
+  position_both(one, three, "r1", 6, Vec3(40, 205, 0));
+  three.on_position(gnss_fix("r2", at(6), Vec3(110, 205, 0)), "w-r2", at(6));
+  three.cycle(at(6), at(6));
+  auto cut_otherwise = one.cycle(at(6.5), at(6.5));
+  ASSERT_TRUE(cut_otherwise.search_plan);
+  cut_otherwise.search_plan->plan.strips.pop_back();
+  deliver_picture(cut_otherwise, three, "summary-1", at(6.5));
+  const auto refused = three.cycle(at(7), at(7));
+  EXPECT_TRUE(has_event(refused, Kind::kWarning, "strips are cut differently"));
+  deliver_picture(cut_otherwise, three, "summary-1", at(7.5));
+  EXPECT_FALSE(has_event(three.cycle(at(8), at(8)), Kind::kWarning, "strips are cut differently")) << "said once";
+}
+
 TEST(IncidentCommandStandby, AStandbyIgnoresAcknowledgementsItsPictureWillCarry) {
   IncidentCommand one(command_config(1, 2), at(0));
   IncidentCommand two(command_config(2, 2), at(0));

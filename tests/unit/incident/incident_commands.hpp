@@ -69,6 +69,7 @@ inline void deliver_picture(const CommandCycle& out, IncidentCommand& standby, c
   for (const auto& a : out.alarms) standby.on_peer_alarm(a);
   standby.on_peer_summary(writer, wall);
   standby.on_peer_frame(out.frame);
+  if (out.search_plan) standby.on_peer_search_plan(*out.search_plan);
 }
 
 inline bool has_event(const CommandCycle& out, IncidentEvent::Kind kind, const std::string& part) {

@@ -48,6 +48,26 @@ TEST(SignalPursuits, TheNearestIsSentAndTheOthersSignalsAreHandedOver) {
   EXPECT_EQ(signals_left_to_others(handed, "r2"), std::set<std::uint32_t>{4}) << "r2, if it comes back, leaves it";
 }
 
+// Victims close together go one to each rescuer: r1 stands nearest to both, but once it pursues
+// victim 1, victim 2 goes to r2.
+TEST(SignalPursuits, ARescuerPursuingOneVictimIsNotSentToAnother) {
+  SignalPursuits pursuits(240.0);
+  const std::map<std::string, Vec2> searching{{"r1", {0, 0}}, {"r2", {10, 0}}};
+  const std::vector<FusedVictim> victims{victim(1, {1, 0}, {{"r1", 1}, {"r2", 1}}),
+                                         victim(2, {2, 0}, {{"r1", 2}, {"r2", 2}})};
+  const auto handed = pursuits.update(victims, searching, 0);
+  EXPECT_EQ(pursuits.pursuer_of(1), "r1");
+  EXPECT_EQ(pursuits.pursuer_of(2), "r2");
+  EXPECT_EQ(signals_left_to_others(handed, "r1"), std::set<std::uint32_t>{2});
+  EXPECT_EQ(signals_left_to_others(handed, "r2"), std::set<std::uint32_t>{1});
+  // A third victim with both busy: the nearest after all.
+  auto three = victims;
+  three.push_back(victim(3, {9, 0}, {{"r1", 3}, {"r2", 3}}));
+  pursuits.update(three, searching, kSecond);
+  EXPECT_EQ(pursuits.pursuer_of(3), "r2");
+  EXPECT_EQ(pursuits.pursuer_of(1), "r1") << "pursuits under way stay";
+}
+
 TEST(SignalPursuits, APursuerWhoDoesNotFindItInTimeGivesItBackToAll) {
   SignalPursuits pursuits(60.0);
   const std::vector<FusedVictim> victims{victim(5, {0, 0}, {{"r1", 1}, {"r2", 1}})};

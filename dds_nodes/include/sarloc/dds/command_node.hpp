@@ -120,6 +120,7 @@ class CommandNode {
   std::unique_ptr<Reader<::sarloc::FusedVictim>> picture_victim_reader_;
   std::unique_ptr<Reader<::sarloc::TeamStatus>> picture_team_reader_;
   std::unique_ptr<Reader<::sarloc::IncidentFrame>> picture_frame_reader_;
+  std::unique_ptr<Reader<::sarloc::SearchPlan>> picture_plan_reader_;
   std::unique_ptr<Reader<::sarloc::IncidentAlarm>> picture_alarm_reader_;
   std::unique_ptr<Reader<::sarloc::ResponderAlarm>> responder_alarm_reader_;
   std::unique_ptr<Reader<::sarloc::AlarmAcknowledgement>> acknowledgement_reader_;

@@ -18,7 +18,9 @@
 //     (on_peer_*), fuses on top of it without publishing, and takes over with the same ids;
 //     acknowledgements go to the active instance only;
 //   - with a deposit, the primary search is planned (SearchPlanner) from avalanche rescuers'
-//     GNSS fixes; a rescuer whose link is lost or who signed off gives its strip back;
+//     GNSS fixes; a rescuer whose link is lost or who signed off gives its strip back; of the
+//     rescuers who hear a victim, the nearest is sent (SignalPursuits); a standby takes the
+//     active one's assignments and pursuits;
 //   - on taking over, every victim id up to the largest seen that the picture no longer holds
 //     is disposed again for kRedisposeWindowNs (a reader may have missed a predecessor's
 //     disposal during a fade).
@@ -152,6 +154,9 @@ class IncidentCommand {
   void on_peer_alarm(IncidentAlarm alarm);
   void on_peer_alarm_disposed(std::uint32_t alarm_id);
   void on_peer_frame(const IncidentFrame& frame);  ///< another incident's is ignored
+  /// The active one's search plan: a standby takes its assignments and pursuits (another
+  /// incident's is ignored).
+  void on_peer_search_plan(SearchPlanPicture plan);
 
   /// Role, estimates placed and fused, standby adoption, teams, alarms: see the file comment.
   CommandCycle cycle(TimestampNs now, TimestampNs wall_now);
@@ -212,6 +217,8 @@ class IncidentCommand {
   std::map<std::string, TeamStatus> adopted_teams_;
   std::map<std::uint32_t, IncidentAlarm> adopted_alarms_;
   std::optional<IncidentFrame> adopted_frame_;
+  std::optional<SearchPlanPicture> adopted_plan_;
+  bool plan_adoption_refused_ = false;  ///< said once: the strips were cut differently
   bool fresh_picture_ = false;  ///< a summary of the active one arrived since the last adoption
 
   TimestampNs redispose_until_ = 0;    ///< wall

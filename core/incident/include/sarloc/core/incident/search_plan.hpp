@@ -94,6 +94,11 @@ class SearchPlanner {
 
   /// Applies the rules (file comment); true when the strips or the assignments changed.
   bool update();
+  /// A standby takes the active incident command's assignments (who walks which, done), so
+  /// that no rescuer is sent to another strip when it takes over. Only onto strips cut alike
+  /// (same count, ends within 0.5 m: both cut from the same fixes); false, nothing changed,
+  /// otherwise.
+  bool adopt_assignments(const SearchPlan& active);
 
   const SearchPlan& plan() const { return plan_; }
   const Deposit& deposit() const { return deposit_; }

@@ -9,9 +9,10 @@
 //   - only a victim not found, without conflicting evidence and not possibly the same as
 //     another (incident command cannot tell which is which: everyone keeps searching), heard
 //     by at least two searching rescuers (link alive, GNSS fix);
-//   - the pursuer is the one of them nearest to the victim when it is first handed out, and
-//     stays the pursuer while it searches and hears the victim (no flapping between two
-//     rescuers who walk about equally near);
+//   - the pursuer is the one of them nearest to the victim when it is first handed out, among
+//     those not pursuing another victim if any (victims close together go one to each rescuer,
+//     not all to whoever stands nearest the cluster), and stays the pursuer while it searches and
+//     hears the victim (no flapping between two rescuers who walk about equally near);
 //   - a pursuer who has not found the victim within `pursuit_timeout_s` gives it up for good:
 //     every rescuer who hears it may pursue it again (a wrong filter must not hide a victim);
 //   - every other rescuer's signal of the victim is handed over.
@@ -60,6 +61,10 @@ class SignalPursuits {
   std::vector<SignalHandOver> update(const std::vector<FusedVictim>& victims,
                                      const std::map<std::string, Vec2>& searching, TimestampNs now);
   std::optional<std::string> pursuer_of(std::uint32_t victim_id) const;
+  /// A standby takes the active incident command's pursuits (its hand-overs), so that taking
+  /// over sends nobody else; a pursuit new to it counts from `now` (the active one's start is
+  /// not on the wire).
+  void adopt(const std::vector<SignalHandOver>& active, TimestampNs now);
   /// For incident command's log, of the last update: a pursuit begun or moved (info), given up
   /// (a warning: the pursuer did not find it).
   struct Event {
