@@ -311,16 +311,22 @@ json PictureState::alarm_json(const incident::IncidentAlarm& a) const {
           {"floor", a.alarm.floor}};
 }
 
+namespace {
+
+// One rescuer per victim: who incident command sends to each victim heard by several.
+std::map<std::uint32_t, std::string> pursuers_of(const incident::SearchPlanPicture& plan) {
+  std::map<std::uint32_t, std::string> out;
+  for (const auto& h : plan.handed_over) out[h.victim_id] = h.pursued_by;
+  return out;
+}
+
+}  // namespace
+
 void PictureState::on_search_plan(const incident::SearchPlanPicture& plan) {
   std::lock_guard<std::mutex> lock(mutex_);
   touch_data();
-  const auto pursuers = [](const incident::SearchPlanPicture& p) {
-    std::map<std::uint32_t, std::string> out;
-    for (const auto& h : p.handed_over) out[h.victim_id] = h.pursued_by;
-    return out;
-  };
   const bool changed = !plan_ || plan_->plan.revision != plan.plan.revision ||
-                       plan_->plan.searched != plan.plan.searched || pursuers(*plan_) != pursuers(plan);
+                       plan_->plan.searched != plan.plan.searched || pursuers_of(*plan_) != pursuers_of(plan);
   plan_ = plan;
   if (changed) plan_version_ = ++version_;
 }
@@ -342,7 +348,7 @@ json PictureState::plan_json() const {
   }
   // One rescuer per victim: who incident command sends to each victim heard by several.
   json pursuers = json::object();
-  for (const auto& h : plan_->handed_over) pursuers[std::to_string(h.victim_id)] = h.pursued_by;
+  for (const auto& [victim, rescuer] : pursuers_of(*plan_)) pursuers[std::to_string(victim)] = rescuer;
   return {{"revision", plan_->plan.revision},
           {"searched", plan_->plan.searched},
           {"strips", strips},
