@@ -122,12 +122,6 @@ TEST(Mission, ItsRecordingReadsInAnIndependentReaderAndItsReportOpensInChromium)
   ASSERT_TRUE(run.summary.contains("recording")) << run_report(run);
   const std::string recording = run.summary["recording"];
   ASSERT_TRUE(fs::exists(recording)) << recording;
-  // With no signal to follow (before the first, after the last FOUND) the avalanche rescuers
-  // walk the strips of incident command's plan, which reached them over DDS.
-  std::size_t plan_epochs = 0;
-  for (const auto& r : run.summary["rescuers"])
-    if (r.contains("guided_by")) plan_epochs += r["guided_by"].value("plan", std::size_t{0});
-  EXPECT_GT(plan_epochs, 0u) << run_report(run);
 
   const fs::path check = run.run_dir / "check.json";
   const int checked = std::system(("node " SARLOC_SOURCE_DIR "/tests/js/check_mcap.mjs '" + recording + "' > " + check.string()).c_str());
