@@ -320,13 +320,24 @@ std::map<std::uint32_t, std::string> pursuers_of(const incident::SearchPlanPictu
   return out;
 }
 
+// What the dig order shows: victims in order, their diggers and survival in whole percent (the
+// minutes buried grow every cycle; the page need not be sent each time).
+std::string dig_order_key(const incident::SearchPlanPicture& plan) {
+  std::string key;
+  for (const auto& d : plan.digs.digs)
+    key +=
+        std::to_string(d.victim_id) + ":" + d.digger_id + ":" + std::to_string(std::lround(100.0 * d.survival)) + ";";
+  return key;
+}
+
 }  // namespace
 
 void PictureState::on_search_plan(const incident::SearchPlanPicture& plan) {
   std::lock_guard<std::mutex> lock(mutex_);
   touch_data();
   const bool changed = !plan_ || plan_->plan.revision != plan.plan.revision ||
-                       plan_->plan.searched != plan.plan.searched || pursuers_of(*plan_) != pursuers_of(plan);
+                       plan_->plan.searched != plan.plan.searched || pursuers_of(*plan_) != pursuers_of(plan) ||
+                       dig_order_key(*plan_) != dig_order_key(plan);
   plan_ = plan;
   if (changed) plan_version_ = ++version_;
 }
@@ -349,10 +360,22 @@ json PictureState::plan_json() const {
   // One rescuer per victim: who incident command sends to each victim heard by several.
   json pursuers = json::object();
   for (const auto& [victim, rescuer] : pursuers_of(*plan_)) pursuers[std::to_string(victim)] = rescuer;
+  // Triage: the FOUND victims in the order incident command would dig them out.
+  json digs = json::array();
+  for (const auto& d : plan_->digs.digs)
+    digs.push_back({{"victim", d.victim_id},
+                    {"depth_m", d.depth_m},
+                    {"buried_min", d.buried_min},
+                    {"start_min", d.start_min},
+                    {"done_min", d.done_min},
+                    {"survival", d.survival},
+                    {"digger", d.digger_id}});
   return {{"revision", plan_->plan.revision},
           {"searched", plan_->plan.searched},
           {"strips", strips},
-          {"pursuers", pursuers}};
+          {"pursuers", pursuers},
+          {"digs", digs},
+          {"expected_survivors", plan_->digs.expected_survivors}};
 }
 
 json PictureState::collect(std::uint64_t since, bool with_tracks) const {

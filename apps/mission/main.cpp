@@ -8,18 +8,17 @@
 // processes), FaultPlan (--kill, --restart and what the picture showed after each),
 // PictureWatcher (the picture over DDS), mission::assemble_mission_summary (core/mission) and
 // print_summary. This file only orchestrates them.
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "fault_plan.hpp"
 #include "mission_options.hpp"
 #include "picture_watcher.hpp"
 #include "process_table.hpp"
-#include "summary_table.hpp"
 #include "sarloc/app/command_line.hpp"
 #include "sarloc/app/json_io.hpp"
 #include "sarloc/app/logging.hpp"
@@ -28,8 +27,10 @@
 #include "sarloc/app/run_main.hpp"
 #include "sarloc/app/shutdown_signal.hpp"
 #include "sarloc/core/common/time_units.hpp"
+#include "sarloc/core/mission/survival_outlook.hpp"
 #include "sarloc/core/mission/victim_matching.hpp"
 #include "sarloc/dds/recorder.hpp"
+#include "summary_table.hpp"
 
 namespace {
 
@@ -210,7 +211,10 @@ int main(int argc, char** argv) {
     end.alarms = picture.alarms();
     end.links = picture.links();
     end.faults = faults.outcomes(mission.scenario, table.epoch_ns);
-    const auto summary = mission::assemble_mission_summary(mission.name, mission.scenario, table.epoch_ns, std::move(end));
+    auto summary = mission::assemble_mission_summary(mission.name, mission.scenario, table.epoch_ns, std::move(end));
+    if (!summary.victims.empty())
+      mission::add_survival_outlook(summary, mission.command.incident.triage,
+                                    mission.command.incident.buried_before_start_min);
     app::print_summary(summary, table.run_dir.string());
     if (!recording.empty()) std::printf("recording: %s\n", recording.c_str());
     if (!options.json_path.empty()) {

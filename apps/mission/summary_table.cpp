@@ -33,13 +33,24 @@ std::string finders_text(const mission::VictimOutcome& v) {
 }  // namespace
 
 void print_summary(const mission::MissionSummary& s, const std::string& run_dir) {
-  std::printf("\n%-10s %-26s %-26s %8s %10s %12s %6s  %s\n", "victim", "true position (E N U) m", "fused estimate m",
-              "error m", "finder m", "located s", "found", "found by");
+  std::printf("\n%-10s %-26s %-26s %8s %10s %10s %8s %6s %-10s %8s %9s\n", "victim", "true position (E N U) m",
+              "fused estimate m", "error m", "finder m", "located s", "found s", "found", "found by", "dug min",
+              "survival");
   for (const auto& v : s.victims) {
-    std::printf("%-10s %-26s %-26s %8s %10s %12s %6s  %s\n", v.name.c_str(), position_text(v.true_position).c_str(),
-                v.estimate ? position_text(*v.estimate).c_str() : "-", optional_text(v.error_m, "%.2f").c_str(),
-                optional_text(v.relative_error_m, "%.2f").c_str(), optional_text(v.time_to_locate_s, "%.0f").c_str(),
-                found_text(v), finders_text(v).c_str());
+    std::printf(
+        "%-10s %-26s %-26s %8s %10s %10s %8s %6s %-10s %8s %9s\n", v.name.c_str(),
+        position_text(v.true_position).c_str(), v.estimate ? position_text(*v.estimate).c_str() : "-",
+        optional_text(v.error_m, "%.2f").c_str(), optional_text(v.relative_error_m, "%.2f").c_str(),
+        optional_text(v.time_to_locate_s, "%.0f").c_str(), optional_text(v.found_at_s, "%.0f").c_str(), found_text(v),
+        finders_text(v).c_str(), optional_text(v.dug_out_min, "%.1f").c_str(),
+        optional_text(v.survival ? std::optional<double>(100.0 * *v.survival) : std::nullopt, "%.0f %%").c_str());
+  }
+  if (s.expected_survivors) {
+    std::printf("\nexpected survivors (survival curve at each FOUND victim's dig-out, dug from its FOUND): %.2f of %zu",
+                *s.expected_survivors, s.victims.size());
+    if (s.unfound_count > 0)
+      std::printf("; %zu not found, who could add at most %.2f", s.unfound_count, s.unfound_survival_at_most);
+    std::printf("\n");
   }
   std::printf("\n%-10s %18s %10s %18s %22s\n", "rescuer", "distance walked m", "fallbacks", "guidance switches",
               "latency p50/p99 ms");

@@ -519,6 +519,13 @@ std::vector<::sarloc::PlanePoint> outline_to_idl(const std::vector<Vec2>& outlin
   return out;
 }
 
+// A non-negative, finite count of minutes or metres (a dig's depth and times: at most a week).
+double minutes_or_metres(double v, const char* field) {
+  if (!(std::isfinite(v) && v >= 0.0 && v <= 10080.0))
+    throw InputError(std::string(field) + " = " + std::to_string(v) + ": must be in [0, 10080]");
+  return v;
+}
+
 double fraction(double f, const char* field) {
   if (!(f >= 0.0 && f <= 1.0)) throw InputError(std::string(field) + " = " + std::to_string(f) + ": must be in [0, 1]");
   return f;
@@ -563,6 +570,22 @@ double fraction(double f, const char* field) {
     m.pursued_by(to_identifier(h.pursued_by, "search_plan.handed_over.pursued_by"));
     out.handed_over().push_back(m);
   }
+  if (p.digs.digs.size() > ::sarloc::SEARCH_DIGS_MAX)
+    throw InputError("search_plan.digs: " + std::to_string(p.digs.digs.size()) + " digs, at most " +
+                     std::to_string(::sarloc::SEARCH_DIGS_MAX));
+  for (const auto& d : p.digs.digs) {
+    ::sarloc::VictimDig m;
+    m.victim_id(d.victim_id);
+    m.depth_m(d.depth_m);
+    m.buried_min(d.buried_min);
+    m.start_min(d.start_min);
+    m.done_min(d.done_min);
+    m.survival(d.survival);
+    m.digger_id(to_identifier(d.digger_id, "search_plan.digs.digger_id"));
+    out.digs().push_back(m);
+  }
+  out.expected_survivors(p.digs.expected_survivors);
+  out.incident_start(p.incident_start);
   return out;
 }
 
@@ -594,6 +617,19 @@ incident::SearchPlanPicture to_core(const ::sarloc::SearchPlan& p) {
     out.handed_over.push_back({from_identifier(h.rescuer_id(), "search_plan.handed_over.rescuer_id"), h.signal_id(),
                                h.victim_id(), from_identifier(h.pursued_by(), "search_plan.handed_over.pursued_by")});
   }
+  for (const auto& d : p.digs()) {
+    incident::VictimDig dig;
+    dig.victim_id = d.victim_id();
+    dig.depth_m = minutes_or_metres(d.depth_m(), "search_plan.digs.depth_m");
+    dig.buried_min = minutes_or_metres(d.buried_min(), "search_plan.digs.buried_min");
+    dig.start_min = minutes_or_metres(d.start_min(), "search_plan.digs.start_min");
+    dig.done_min = minutes_or_metres(d.done_min(), "search_plan.digs.done_min");
+    dig.survival = fraction(d.survival(), "search_plan.digs.survival");
+    dig.digger_id = from_identifier(d.digger_id(), "search_plan.digs.digger_id", true);
+    out.digs.digs.push_back(std::move(dig));
+  }
+  out.digs.expected_survivors = minutes_or_metres(p.expected_survivors(), "search_plan.expected_survivors");
+  out.incident_start = p.incident_start();
   return out;
 }
 

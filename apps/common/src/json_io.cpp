@@ -212,6 +212,9 @@ nlohmann::json to_json(const mission::MissionSummary& s) {
     j["error_m"] = optional_json(v.error_m);
     j["time_to_locate_s"] = optional_json(v.time_to_locate_s);
     j["found"] = v.found;
+    j["found_at_s"] = optional_json(v.found_at_s);
+    j["dug_out_min"] = optional_json(v.dug_out_min);
+    j["survival"] = optional_json(v.survival);
     j["relative_error_m"] = optional_json(v.relative_error_m);
     j["false_found"] = v.false_found;
     j["found_by_finder"] = v.found_by_finder();
@@ -219,6 +222,9 @@ nlohmann::json to_json(const mission::MissionSummary& s) {
     out["victims"].push_back(j);
   }
   out["all_found"] = s.all_found;
+  out["expected_survivors"] = optional_json(s.expected_survivors);
+  out["unfound_count"] = s.unfound_count;
+  out["unfound_survival_at_most"] = s.unfound_survival_at_most;
   out["found_by_finder_count"] = s.found_by_finder_count();
   out["command_alive_at_end"] = s.command_alive_at_end;
   out["picture_available"] = s.picture_available;

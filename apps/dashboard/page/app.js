@@ -335,6 +335,19 @@ function renderLists() {
                       pursuer(v.id) ? `<br><small class="pursuer">sent: ${esc(pursuer(v.id))}</small>` : ''}</td></tr>`)
           .join('');
 
+  // Triage: incident command's dig order over the FOUND victims (survival at each dig-out).
+  const digs = (picture.plan && picture.plan.digs) || [];
+  $('dig-survivors').textContent = digs.length ? picture.plan.expected_survivors.toFixed(2) : '—';
+  $('digs').tBodies[0].innerHTML =
+      digs.map(
+              (d, i) =>
+                  `<tr data-dig="${d.victim}"><td>${i + 1}</td><td>${d.victim}</td><td>${d.depth_m.toFixed(1)}</td>` +
+                  `<td>${d.done_min.toFixed(0)} min${
+                      d.start_min > 0 ? ` <small>(starts in ${d.start_min.toFixed(0)})</small>` : ''}</td>` +
+                  `<td>${Math.round(100 * d.survival)} %</td><td>${
+                      d.digger ? esc(d.digger) : '<i>none free</i>'}</td></tr>`)
+          .join('');
+
   const wallNow = picture.wallMs + (Date.now() - picture.receivedAtMs);
   $("teams").innerHTML = [...picture.teams.values()].sort((a, b) => a.id.localeCompare(b.id)).map((t) => {
     const left = (t.par_due_wall_ms - wallNow) / 1000;

@@ -1,6 +1,7 @@
 #include "sarloc/app/mission_config.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -368,6 +369,23 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
   read_sog(root.child("sog"), avalanche.sog);
   read_search(root.child("search"), avalanche.search, &c.command.incident.search_plan);
   read_rescuer_search(root.child("rescuer_search"), avalanche);
+  {
+    auto r = root.child("triage");
+    if (r.has("survival_curve")) {
+      c.command.incident.triage.survival_curve.clear();
+      for (auto& point : r.child_list("survival_curve")) {
+        std::pair<double, double> p;
+        point.require("minutes", p.first);
+        point.require("probability", p.second);
+        point.expect_done();
+        c.command.incident.triage.survival_curve.push_back(p);
+      }
+    }
+    r.read("dig_min_per_m", c.command.incident.triage.dig_min_per_m);
+    r.read("dig_min_per_m2", c.command.incident.triage.dig_min_per_m2);
+    r.read("buried_before_start_min", c.command.incident.buried_before_start_min);
+    r.expect_done();
+  }
   {
     auto r = root.child("core");
     r.read("node_id", c.core.node_id);

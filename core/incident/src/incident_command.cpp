@@ -1,6 +1,8 @@
 #include "sarloc/core/incident/incident_command.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <set>
 #include <utility>
@@ -28,6 +30,9 @@ void IncidentCommandConfig::validate() const {
           "must be in [0, 5]");
   require(antenna_height_sigma_m > 0.0 && antenna_height_sigma_m <= 5.0, "command.antenna_height_sigma_m",
           antenna_height_sigma_m, "must be in (0, 5]");
+  triage.validate();
+  require(std::isfinite(buried_before_start_min) && buried_before_start_min >= 0.0 && buried_before_start_min <= 600.0,
+          "triage.buried_before_start_min", buried_before_start_min, "must be in [0, 600]");
   (void)GeodeticFrame(origin);  // the one check of a WGS-84 origin (ConfigError naming incident.<field>)
   if (deposit) {
     require(deposit->vertices().size() <= kDepositVerticesMax, "incident.deposit", deposit->vertices().size(),
@@ -178,7 +183,10 @@ void IncidentCommand::on_peer_frame(const IncidentFrame& frame) {
 }
 
 void IncidentCommand::on_peer_search_plan(SearchPlanPicture plan) {
-  if (plan.incident_id == config_.incident_id) adopted_plan_ = std::move(plan);
+  if (plan.incident_id != config_.incident_id) return;
+  if (plan.incident_start != 0 && (!incident_start_ || plan.incident_start < *incident_start_))
+    incident_start_ = plan.incident_start;
+  adopted_plan_ = std::move(plan);
 }
 
 std::optional<ReporterFix> IncidentCommand::fix_for(const responder::VictimEstimate& e) const {
@@ -340,6 +348,22 @@ std::optional<SearchPlanPicture> IncidentCommand::plan_search(const std::vector<
   picture.handed_over = pursuits_->update(victims, searching, now);
   for (const auto& e : pursuits_->events())
     say(e.warning ? IncidentEvent::Kind::kWarning : IncidentEvent::Kind::kInfo, "search plan: " + e.text);
+  // The dig order: free rescuers walk no strip and pursue no victim.
+  std::map<std::string, Vec2> free = searching;
+  for (const auto& h : picture.handed_over) free.erase(h.pursued_by);
+  for (auto it = free.begin(); it != free.end();) it = planner_->strip_of(it->first) ? free.erase(it) : std::next(it);
+  picture.incident_start = *incident_start_;
+  const double buried_min = config_.buried_before_start_min + ns_to_seconds(now - *incident_start_) / 60.0;
+  picture.digs = plan_victim_digs(victims, free, buried_min, config_.triage);
+  std::string order;
+  for (const auto& d : picture.digs.digs) order += " " + std::to_string(d.victim_id);
+  if (order != dig_order_logged_) {
+    dig_order_logged_ = order;
+    char survivors[32];
+    std::snprintf(survivors, sizeof(survivors), "%.2f", picture.digs.expected_survivors);
+    if (!order.empty())
+      say(IncidentEvent::Kind::kInfo, "dig order: victims" + order + " (expected survivors " + survivors + ")");
+  }
   if (picture.plan.revision != revision) {
     std::string who;
     for (const auto& s : picture.plan.strips)
@@ -355,6 +379,7 @@ std::optional<SearchPlanPicture> IncidentCommand::plan_search(const std::vector<
 CommandCycle IncidentCommand::cycle(TimestampNs now, TimestampNs wall_now) {
   CommandCycle out;
   out.stamp = now;
+  if (!incident_start_) incident_start_ = now;
   out.role_change = arbiter_.decide(wall_now);
   const bool took_over = out.role_change && out.role_change->role == CommandRole::kActive;
   if (out.role_change) {

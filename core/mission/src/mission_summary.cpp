@@ -122,6 +122,7 @@ MissionSummary summarise_mission(const std::string& mission_name, const MissionS
       v.sources = f.sources.size();
       v.found = incident::is_found(f.state);
       v.time_to_locate_s = mission_seconds(f.located_at, epoch);
+      if (v.found) v.found_at_s = mission_seconds(f.found_at, epoch);
     }
     v.relative_error_m = relative_error_of(i, devices);
     v.false_found = false_found_of(i, devices);

@@ -59,6 +59,11 @@ TEST(PictureState, TheSearchPlanIsInSnapshotsAndInDeltasWhenItChanged) {
   EXPECT_EQ(snapshot["plan"]["strips"][0]["rescuer"], "r1");
   EXPECT_EQ(snapshot["plan"]["strips"][0]["next"], nlohmann::json::parse("[20.0, 80.0]"));
   EXPECT_EQ(snapshot["plan"]["pursuers"]["7"], "r1") << "victim 7 is r1's; r2's signal of it handed over";
+  ASSERT_EQ(snapshot["plan"]["digs"].size(), 2u);
+  EXPECT_EQ(snapshot["plan"]["digs"][0]["victim"], 7) << "dig order: victim 7 first";
+  EXPECT_EQ(snapshot["plan"]["digs"][0]["digger"], "r3");
+  EXPECT_EQ(snapshot["plan"]["digs"][1]["digger"], "") << "no free rescuer for victim 9 yet";
+  EXPECT_DOUBLE_EQ(snapshot["plan"]["expected_survivors"].get<double>(), 1.35);
   const auto version = state.version();
   state.on_search_plan(plan);
   EXPECT_FALSE(state.delta(version).contains("plan")) << "the same plan again: nothing to send";
@@ -69,6 +74,10 @@ TEST(PictureState, TheSearchPlanIsInSnapshotsAndInDeltasWhenItChanged) {
   ASSERT_TRUE(delta.contains("plan"));
   EXPECT_DOUBLE_EQ(delta["plan"]["strips"][0]["searched"].get<double>(), 0.6);
   EXPECT_TRUE(delta["plan"]["strips"][1]["next"].is_null()) << "strip 1 is done";
+  const auto before_dig = state.version();
+  plan.digs.digs[1].digger_id = "r2";  // a rescuer free for victim 9 now
+  state.on_search_plan(plan);
+  EXPECT_EQ(state.delta(before_dig)["plan"]["digs"][1]["digger"], "r2") << "a new digger is sent";
   state.set_geodetic_origin({46.5563, 7.9263, 2320.0});
   const auto geo = state.geojson();
   ASSERT_TRUE(geo);

@@ -285,7 +285,30 @@ TEST(Conversions, SearchPlanRoundTrips) {
   EXPECT_EQ(back.handed_over[0].signal_id, 3u);
   EXPECT_EQ(back.handed_over[0].victim_id, 7u);
   EXPECT_EQ(back.handed_over[0].pursued_by, "r1");
+  ASSERT_EQ(back.digs.digs.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(back.digs.digs[i].victim_id, p.digs.digs[i].victim_id);
+    EXPECT_EQ(back.digs.digs[i].depth_m, p.digs.digs[i].depth_m);
+    EXPECT_EQ(back.digs.digs[i].buried_min, p.digs.digs[i].buried_min);
+    EXPECT_EQ(back.digs.digs[i].start_min, p.digs.digs[i].start_min);
+    EXPECT_EQ(back.digs.digs[i].done_min, p.digs.digs[i].done_min);
+    EXPECT_EQ(back.digs.digs[i].survival, p.digs.digs[i].survival);
+    EXPECT_EQ(back.digs.digs[i].digger_id, p.digs.digs[i].digger_id);
+  }
+  EXPECT_EQ(back.digs.expected_survivors, p.digs.expected_survivors);
+  EXPECT_EQ(back.incident_start, p.incident_start);
   auto wire = to_idl(p);
+  wire.digs()[1].survival(std::nan(""));
+  try {
+    to_core(wire);
+    ADD_FAILURE() << "a NaN survival accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("search_plan.digs.survival"), std::string::npos) << e.what();
+  }
+  wire = to_idl(p);
+  wire.digs()[0].depth_m(-1.0);
+  EXPECT_THROW(to_core(wire), InputError) << "a negative depth";
+  wire = to_idl(p);
   wire.strips()[0].next_point().x(std::nan(""));
   try {
     to_core(wire);

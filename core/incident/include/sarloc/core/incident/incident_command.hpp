@@ -45,6 +45,7 @@
 #include "sarloc/core/incident/search_plan.hpp"
 #include "sarloc/core/incident/standby_arbiter.hpp"
 #include "sarloc/core/incident/team_tracker.hpp"
+#include "sarloc/core/incident/victim_digs.hpp"
 #include "sarloc/core/incident/victim_fusion.hpp"
 #include "sarloc/core/responder/victim_estimate.hpp"
 
@@ -80,6 +81,10 @@ struct IncidentCommandConfig {
   /// search over it (SearchPlanner) and publishes the plan. At most kDepositVerticesMax vertices.
   std::optional<Deposit> deposit;
   SearchPlanConfig search_plan;
+  /// triage: the survival curve and dig time of the dig order (victim_digs.hpp), and the
+  /// minutes the victims were buried before incident command's first cycle.
+  TriageConfig triage;
+  double buried_before_start_min = 0.0;
   static constexpr std::size_t kDepositVerticesMax = 250;  ///< a strip's piece has a few more (IDL: 256)
 
   /// Throws ConfigError naming the key ("command.fix_wait_s = 0: must be in (0, 600]").
@@ -199,6 +204,10 @@ class IncidentCommand {
 
   IncidentCommandConfig config_;
   std::optional<SearchPlanner> planner_;
+  /// The mission time the victims count as buried from (minus buried_before_start_min): this
+  /// instance's first cycle, or the active one's if earlier (a standby started late).
+  std::optional<TimestampNs> incident_start_;
+  std::string dig_order_logged_;            ///< the victim ids in dig order, as last logged
   std::optional<SignalPursuits> pursuits_;  ///< with the planner
   VictimFusion fusion_;
   TeamTracker tracker_;

@@ -30,6 +30,7 @@
 #include "sarloc/core/incident/search_coverage.hpp"
 #include "sarloc/core/incident/search_strips.hpp"
 #include "sarloc/core/incident/signal_pursuit.hpp"
+#include "sarloc/core/incident/victim_digs.hpp"
 
 namespace sarloc::incident {
 
@@ -78,6 +79,10 @@ struct SearchPlanPicture {
   std::vector<std::optional<Vec2>> next_points;  ///< per strip: where its rescuer walks next
   /// Signals of victims another rescuer pursues (signal_pursuit.hpp): not to be guided to.
   std::vector<SignalHandOver> handed_over;
+  /// The dig order over the FOUND victims (victim_digs.hpp), and the mission time the victims
+  /// count as buried from (0: unknown).
+  VictimDigs digs;
+  TimestampNs incident_start = 0;
 };
 
 class SearchPlanner {

@@ -58,6 +58,10 @@ struct VictimOutcome {
   std::size_t sources = 0;
   std::optional<double> time_to_locate_s;        ///< mission seconds
   bool found = false;                            ///< FOUND in the incident picture
+  std::optional<double> found_at_s;              ///< mission seconds, as the picture says
+  /// survival_outlook.hpp: minutes buried when dug out from its FOUND, and the survival curve there.
+  std::optional<double> dug_out_min;
+  std::optional<double> survival;
   std::optional<double> relative_error_m;        ///< best finder device's own error (no GNSS)
   /// Finders whose FOUND was farther from the victim than their stated 95 % radius + 0.5 m.
   std::size_t false_found = 0;
@@ -124,6 +128,11 @@ struct MissionSummary {
   /// tells what the picture knew before it was lost, and `finders` what the devices know.
   bool command_alive_at_end = true;
   bool picture_available = true;
+  /// survival_outlook.hpp (absent until added): the sum of the FOUND victims' survival, and for
+  /// the victims never FOUND, how many and the most they could still get together.
+  std::optional<double> expected_survivors;
+  double unfound_survival_at_most = 0.0;
+  std::size_t unfound_count = 0;
 
   std::size_t confirmed_fused_victim_count() const;
   std::size_t found_count() const;               ///< FOUND in the picture
@@ -156,6 +165,11 @@ struct MissionEnd {
   double wall_s = 0.0;
   bool command_alive_at_end = true;
   bool picture_available = true;
+  /// survival_outlook.hpp (absent until added): the sum of the FOUND victims' survival, and for
+  /// the victims never FOUND, how many and the most they could still get together.
+  std::optional<double> expected_survivors;
+  double unfound_survival_at_most = 0.0;
+  std::size_t unfound_count = 0;
 };
 
 /// summarise_mission, and the rest of `end` in the summary's terms (alarm kinds and link
