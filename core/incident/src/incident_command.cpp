@@ -354,7 +354,11 @@ std::optional<SearchPlanPicture> IncidentCommand::plan_search(const std::vector<
   for (auto it = free.begin(); it != free.end();) it = planner_->strip_of(it->first) ? free.erase(it) : std::next(it);
   picture.incident_start = *incident_start_;
   const double buried_min = config_.buried_before_start_min + ns_to_seconds(now - *incident_start_) / 60.0;
-  picture.digs = plan_victim_digs(victims, free, buried_min, config_.triage);
+  try {
+    picture.digs = plan_victim_digs(victims, free, buried_min, config_.triage);
+  } catch (const InputError& e) {  // the picture's positions are finite: not expected
+    say(IncidentEvent::Kind::kError, std::string("dig order: ") + e.what());
+  }
   std::string order;
   for (const auto& d : picture.digs.digs) order += " " + std::to_string(d.victim_id);
   if (order != dig_order_logged_) {
