@@ -30,6 +30,10 @@ try {
   // Incident command's search plan over the deposit: its strips drawn, labelled.
   result.stripsAtEnd = await page.evaluate(() => document.querySelectorAll("#map polygon.strip").length);
   result.stripLabels = await page.evaluate(() => [...document.querySelectorAll("#map text")].map((t) => t.textContent).filter((t) => t.startsWith("strip ")));
+  // Triage: the FOUND victims in incident command's dig order, and its expected survivors.
+  result.digsAtEnd = await page.evaluate(() => [...document.querySelectorAll("#digs tbody tr")].map((tr) => tr.dataset.dig));
+  result.digSurvivors = await page.textContent("#dig-survivors");
+  await page.screenshot({ path: path.join(outdir, "dashboard-replay-end.png") });
   await scrub("start");
   result.atStart = await victims();
   const before = Number(await page.inputValue("#scrub"));

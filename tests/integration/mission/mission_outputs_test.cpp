@@ -194,6 +194,9 @@ TEST(Mission, ItsRecordingReadsInAnIndependentReaderAndItsReportOpensInChromium)
   // mixed.yaml's 60 m deposit: incident command's plan of two strips, on the map with labels.
   EXPECT_EQ(replay["stripsAtEnd"], 2) << replay_said;
   EXPECT_EQ(replay["stripLabels"].size(), 2U) << replay_said;
+  // Both FOUND victims in the plan's dig order, with its expected survivors.
+  EXPECT_EQ(replay["digsAtEnd"].size(), 2U) << replay_said;
+  EXPECT_NE(replay["digSurvivors"], "—") << replay_said;
   EXPECT_TRUE(replay["atStart"].empty()) << "no victim at the recording's start: " << replay_said;
   EXPECT_GT(replay["advancedS"].get<double>(), 5.0) << "playing moves the timeline: " << replay_said;
 }
