@@ -73,6 +73,8 @@ class Loader {
         on_node_status(decode<::sarloc::NodeStatus>(m), m);
       } else if (topic == "sarloc/incident_frame") {
         r_.incident_origin = dds::to_core(decode<::sarloc::IncidentFrame>(m)).origin;
+      } else if (topic == "sarloc/search_plan") {
+        r_.search_plan = dds::to_core(decode<::sarloc::SearchPlan>(m));
       } else if (dds::find_catalog_topic(topic) != nullptr) {
         // Decoded only to check it is whole: the report draws nothing else from it.
         check_decodes(topic, m);

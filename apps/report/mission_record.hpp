@@ -17,6 +17,7 @@
 #include "sarloc/core/firefighter/floor_plan.hpp"
 #include "sarloc/core/incident/deposit.hpp"
 #include "sarloc/core/incident/fused_victim.hpp"
+#include "sarloc/core/incident/search_plan.hpp"
 #include "sarloc/core/responder/responder_position.hpp"
 #include "sarloc/recording/mcap_reader.hpp"
 
@@ -98,6 +99,8 @@ struct MissionRecord {
   std::optional<GeodeticOrigin> incident_origin;
   /// The avalanche deposit (incident frame), from the recorded mission file's incident.deposit.
   std::optional<incident::Deposit> deposit;
+  /// Incident command's search plan as last recorded (strips, coverage, hand-overs, dig order).
+  std::optional<incident::SearchPlanPicture> search_plan;
   std::vector<std::string> notes;  ///< what the report could not do, and why
   std::map<std::string, TopicQuality> quality;
   /// Node id -> reject reason -> count, as each node last reported (NodeStatus).

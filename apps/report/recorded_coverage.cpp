@@ -6,6 +6,16 @@
 namespace sarloc::report {
 
 std::optional<RecordedCoverage> recorded_coverage(const MissionRecord& r) {
+  if (r.search_plan && !r.search_plan->plan.strips.empty()) {
+    RecordedCoverage out;
+    out.from_plan = true;
+    for (const auto& s : r.search_plan->plan.strips) {
+      out.strips.push_back({s.strip.index, s.strip.outline, s.strip.width_m, s.searched});
+      out.rescuers.push_back(s.rescuer_id);
+    }
+    out.deposit_searched = r.search_plan->plan.searched;
+    return out;
+  }
   if (!r.deposit) return std::nullopt;
   const incident::Deposit& deposit = *r.deposit;
   // Entered from where the avalanche rescuers started (the planner's rule without a fall line).

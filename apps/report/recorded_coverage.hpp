@@ -1,8 +1,9 @@
 #pragma once
-// How much of the recorded avalanche deposit the rescuers' recorded walks searched: the strips
-// incident command's planner cuts it into for them (search_strips.hpp, default width, one per
-// rescuer when more), each with the share of its cells a track passed within half a strip width
-// of (SearchCoverage), and the deposit's. For the report's table and its GeoJSON.
+// How much of the recorded avalanche deposit was searched: incident command's strips and
+// coverage as its last recorded search plan had them; for a recording without one (made before
+// the plan was published), the strips the planner would cut (search_strips.hpp, default width,
+// one per rescuer when more), each with the share of its cells the recorded tracks passed within
+// half a strip width of (SearchCoverage). For the report's table and its GeoJSON.
 #include <vector>
 
 #include "mission_record.hpp"
@@ -13,6 +14,8 @@ namespace sarloc::report {
 struct RecordedCoverage {
   std::vector<app::GeoJsonStrip> strips;
   double deposit_searched = 0.0;  ///< share of the deposit's cells
+  bool from_plan = false;         ///< incident command's recorded plan, not recomputed
+  std::vector<std::string> rescuers;  ///< per strip, from the plan: who walked it last ("" nobody)
 };
 
 /// Nullopt without a recorded deposit.

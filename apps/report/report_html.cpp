@@ -237,18 +237,61 @@ double track_length(const std::vector<PositionSample>& samples, responder::Posit
 
 // The primary search as walked: how much of the deposit, and of each strip the planner would cut
 // it into for these rescuers, their recorded tracks passed within hearing (half a strip) of.
+// From incident command's last recorded plan: who it sent to each victim heard by several, and
+// the dig order over the FOUND victims.
+std::string plan_outcome(const MissionRecord& r) {
+  if (!r.search_plan) return "";
+  const auto& plan = *r.search_plan;
+  std::string html;
+  std::map<std::uint32_t, std::string> sent;
+  for (const auto& h : plan.handed_over) sent[h.victim_id] = h.pursued_by;
+  if (!sent.empty()) {
+    html += "<p>One rescuer per victim, at the end: ";
+    std::string list;
+    for (const auto& [victim, rescuer] : sent)
+      list += (list.empty() ? "" : "; ") + std::string("victim ") + std::to_string(victim) +
+              " sent: " + escape_html(rescuer);
+    html += list + ".</p>\n";
+  }
+  if (plan.digs.digs.empty()) return html;
+  html +=
+      "<h3>Dig order at the end</h3>\n<p>Incident command's order over the FOUND victims (survival curve at "
+      "each dig-out; expected survivors <b>" +
+      f(plan.digs.expected_survivors, 2) +
+      "</b>).</p>\n<table><tr><th>#</th><th>victim</th><th>depth (m)</th><th>buried (min)</th>"
+      "<th>dug out in (min)</th><th>survival</th><th>digger</th></tr>\n";
+  for (std::size_t i = 0; i < plan.digs.digs.size(); ++i) {
+    const auto& d = plan.digs.digs[i];
+    html += "<tr><td>" + std::to_string(i + 1) + "</td><td>" + std::to_string(d.victim_id) + "</td><td>" +
+            f(d.depth_m, 1) + "</td><td>" + f(d.buried_min, 1) + "</td><td>" + f(d.done_min, 1) + "</td><td>" +
+            f(100.0 * d.survival, 0) + " %</td><td>" +
+            (d.digger_id.empty() ? std::string("none free") : escape_html(d.digger_id)) + "</td></tr>\n";
+  }
+  return html + "</table>\n";
+}
+
 std::string coverage_table(const MissionRecord& r) {
   const auto coverage = recorded_coverage(r);
   if (!coverage) return "";
   std::string html =
-      "<p>The deposit: <b>" + f(100.0 * coverage->deposit_searched, 1) +
-      " %</b> searched by the avalanche rescuers' recorded tracks (every cell a track passed within " +
-      "20 m of, half the default 40 m strip).</p>\n<table><tr><th>strip (from the left looking downhill)</th>" +
-      "<th>width (m)</th><th>searched</th></tr>\n";
-  for (const auto& s : coverage->strips)
+      "<p>The deposit: <b>" + f(100.0 * coverage->deposit_searched, 1) + " %</b> searched" +
+      (coverage->from_plan
+           ? std::string(", as incident command's last recorded search plan had it (its strips, and every cell a "
+                         "rescuer's walk passed within half a strip's width of).")
+           : std::string(" by the avalanche rescuers' recorded tracks (every cell a track passed within 20 m of, "
+                         "half the default 40 m strip; the recording holds no search plan).")) +
+      "</p>\n<table><tr><th>strip (from the left looking downhill)</th><th>width (m)</th><th>searched</th>" +
+      (coverage->from_plan ? "<th>rescuer at the end</th>" : "") + "</tr>\n";
+  for (std::size_t i = 0; i < coverage->strips.size(); ++i) {
+    const auto& s = coverage->strips[i];
     html += "<tr><td>" + std::to_string(s.index) + "</td><td>" + f(s.width_m, 1) + "</td><td>" +
-            f(100.0 * s.searched_fraction, 1) + " %</td></tr>\n";
-  return html + "</table>\n";
+            f(100.0 * s.searched_fraction, 1) + " %</td>";
+    if (coverage->from_plan)
+      html +=
+          "<td>" + (coverage->rescuers[i].empty() ? std::string("-") : escape_html(coverage->rescuers[i])) + "</td>";
+    html += "</tr>\n";
+  }
+  return html + "</table>\n" + plan_outcome(r);
 }
 
 std::string victims_table(const MissionRecord& r) {
@@ -477,7 +520,8 @@ svg { display: block; margin: 0.5em 0; }
   }
   html += "</table></section>\n";
   html += "<section id=\"victims\"><h2>Victims</h2>\n" + victims_table(r) + "</section>\n";
-  if (r.deposit) html += "<section id=\"coverage\"><h2>Search coverage</h2>\n" + coverage_table(r) + "</section>\n";
+  if (r.deposit || r.search_plan)
+    html += "<section id=\"coverage\"><h2>Search coverage</h2>\n" + coverage_table(r) + "</section>\n";
   html += "<section id=\"responders\"><h2>Teams and responders</h2>\n" + teams_table(r) + responders_table(r) + "</section>\n";
   html += "<section id=\"quality\"><h2>Data quality</h2>\n" + quality_table(r) + "</section>\n";
   if (baseline != nullptr) html += comparison(r, *baseline);

@@ -334,5 +334,35 @@ TEST(MissionRecord, ACutRecordingStillReportsWhatWasReadAndSaysWhatWasNot) {
   fs::remove(path);
 }
 
+// A recording with incident command's search plan: the report's coverage is the plan's (its
+// strips, their coverage and rescuers), and it shows who was sent to which victim and the dig
+// order with its expected survivors, as the last recorded plan had them.
+TEST(MissionRecord, ItsReportShowsTheRecordedPlansCoverageHandOversAndDigOrder) {
+  const std::string path = (fs::temp_directory_path() / "sarloc_report_plan.mcap").string();
+  {
+    Recording rec(path);
+    write_mission(rec);
+    auto early = test::sample_search_plan();
+    early.plan.searched = 0.1;
+    early.digs = {};
+    rec.write(dds::to_idl(early), kEpoch + 10 * kSec);
+    rec.write(dds::to_idl(test::sample_search_plan()), kEpoch + 45 * kSec);
+    rec.writer().close();
+  }
+  const MissionRecord r = load_mission_record(path);
+  ASSERT_TRUE(r.search_plan.has_value());
+  EXPECT_EQ(r.quality.at("sarloc/search_plan").undecodable, 0u);
+  const std::string html = render_report(r);
+  EXPECT_NE(html.find("<b>25.0 %</b> searched, as incident command's last recorded search plan had it"),
+            std::string::npos)
+      << "the last plan's 25 %, not the first's 10 %";
+  EXPECT_NE(html.find("<td>50.0 %</td><td>r1</td>"), std::string::npos) << "strip 0: half searched, r1's";
+  EXPECT_NE(html.find("victim 7 sent: r1"), std::string::npos);
+  EXPECT_NE(html.find("expected survivors <b>1.35</b>"), std::string::npos);
+  EXPECT_NE(html.find("<td>1</td><td>7</td><td>0.6</td>"), std::string::npos) << "victim 7 dug first";
+  EXPECT_NE(html.find("<td>none free</td>"), std::string::npos) << "victim 9 waits for a digger";
+  fs::remove(path);
+}
+
 }  // namespace
 }  // namespace sarloc::report
