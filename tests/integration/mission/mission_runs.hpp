@@ -92,6 +92,22 @@ inline void expect_complete(const MissionRun& run, double max_incident_error_m =
     EXPECT_LE(v["relative_error_m"].get<double>(), 0.5) << v.dump();
     EXPECT_FALSE(v["time_to_locate_s"].is_null()) << v.dump();
   }
+  // Every victim FOUND in the picture has its FOUND time and a survival at its dig-out (the
+  // survival curve, docs/operations/search-planning.md); the expected survivors sum them.
+  double survivors = 0.0;
+  for (const auto& v : run.summary["victims"]) {
+    if (!v["found"].get<bool>()) continue;
+    ASSERT_FALSE(v["found_at_s"].is_null()) << v.dump();
+    ASSERT_FALSE(v["survival"].is_null()) << v.dump();
+    EXPECT_GE(v["found_at_s"].get<double>(), v["time_to_locate_s"].get<double>()) << v.dump();
+    EXPECT_GT(v["survival"].get<double>(), 0.0) << v.dump();
+    EXPECT_LE(v["survival"].get<double>(), 1.0) << v.dump();
+    survivors += v["survival"].get<double>();
+  }
+  if (!run.summary["victims"].empty()) {
+    ASSERT_FALSE(run.summary["expected_survivors"].is_null()) << run.summary.dump();
+    EXPECT_NEAR(run.summary["expected_survivors"].get<double>(), survivors, 1e-9);
+  }
 }
 
 // A mission over the UDP-only profile inside a namespace of its own that degrades every UDP

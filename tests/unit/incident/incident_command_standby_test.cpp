@@ -107,7 +107,8 @@ TEST(IncidentCommandStandby, TheStandbyTakesOverWithTheSameIdsFrameAndAlarms) {
 
 // The standby takes the active one's strip assignments (here swapped by hand: two instances can
 // tie-break rescuers 2 m apart differently), so taking over sends no rescuer elsewhere; a plan of
-// strips cut differently is not adopted, with one warning.
+// strips cut differently is not adopted, with one warning; one started late takes the active
+// one's incident start (the dig order's minutes buried).
 TEST(IncidentCommandStandby, TheStandbyTakesTheActiveOnesStripAssignments) {
   auto config_of = [](int instance) {
     auto c = command_config(instance, 2);
@@ -147,6 +148,9 @@ TEST(IncidentCommandStandby, TheStandbyTakesTheActiveOnesStripAssignments) {
   deliver_picture(cut_otherwise, three, "summary-1", at(6.5));
   const auto refused = three.cycle(at(7), at(7));
   EXPECT_TRUE(has_event(refused, Kind::kWarning, "strips are cut differently"));
+  // Started late, it counts the victims as buried from the active one's first cycle, not its own.
+  ASSERT_TRUE(refused.search_plan);
+  EXPECT_EQ(refused.search_plan->incident_start, at(1));
   deliver_picture(cut_otherwise, three, "summary-1", at(7.5));
   EXPECT_FALSE(has_event(three.cycle(at(8), at(8)), Kind::kWarning, "strips are cut differently")) << "said once";
 }
