@@ -230,6 +230,26 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
     res.status = 202;
     res.set_content(json_text(nlohmann::json{{"acknowledged", id}, {"operator", config_.operator_id}}), "application/json");
   });
+  s.Post(R"(/api/victims/(\d{1,10})/dug-out)", [this](const httplib::Request& req, httplib::Response& res) {
+    if (!dug_out_) return error(res, 404, "not live: a replay marks nothing dug out");
+    const auto id = std::stoull(req.matches[1]);
+    if (id > 0xFFFFFFFFull) return error(res, 400, "no such victim id");
+    std::string victim_state;
+    const auto victims = state_.snapshot()["victims"];  // a copy: the snapshot is a temporary
+    for (const auto& v : victims)
+      if (v["id"].get<std::uint64_t>() == id) victim_state = v["state"].get<std::string>();
+    if (victim_state.empty()) return error(res, 404, "victim " + std::to_string(id) + " is not in the picture");
+    // Incident command refuses it too; saying so here spares the operator a silent no.
+    if (victim_state != "FOUND") {
+      return error(res, 409,
+                   "victim " + std::to_string(id) + " is " + victim_state + ": only a FOUND victim is dug out");
+    }
+    if (!dug_out_(static_cast<std::uint32_t>(id), config_.operator_id))
+      return error(res, 503, "DDS refused the report");
+    state_.note("victim", "victim " + std::to_string(id) + " reported dug out by " + config_.operator_id);
+    res.status = 202;
+    res.set_content(json_text(nlohmann::json{{"dug_out", id}, {"operator", config_.operator_id}}), "application/json");
+  });
   s.Post(R"(/api/teams/([A-Za-z0-9_.\-]{1,64})/par)", [this](const httplib::Request& req, httplib::Response& res) {
     if (!state_.par_reported(req.matches[1], config_.operator_id)) return error(res, 404, "no such team");
     res.set_content(json_text(nlohmann::json{{"par_reported", std::string(req.matches[1])}}), "application/json");
@@ -265,6 +285,10 @@ DashboardServer::~DashboardServer() { stop(); }
 
 void DashboardServer::set_replay_control(std::function<nlohmann::json(const nlohmann::json&)> control) {
   replay_control_ = std::move(control);
+}
+
+void DashboardServer::set_dug_out_action(std::function<bool(std::uint32_t, const std::string&)> dug_out) {
+  dug_out_ = std::move(dug_out);
 }
 
 std::shared_ptr<const std::string> DashboardServer::message_for(std::uint64_t since, bool first, std::uint64_t& version) {

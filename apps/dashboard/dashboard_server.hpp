@@ -1,7 +1,7 @@
 #pragma once
 // sarloc-dashboard's HTTP side (Debian's cpp-httplib): the page and its assets, the picture as
 // JSON, a server-sent event stream of changes, and the operator's actions (acknowledge an
-// alarm, report a team's PAR). Looking needs the view token (or the operator token, or a
+// alarm, report a team's PAR, mark a victim dug out). Looking needs the view token (or the operator token, or a
 // session opened with either); acting needs the operator token.
 //
 //   GET  /                      the page (index.html, app.js, style.css: no data, no external asset)
@@ -11,6 +11,8 @@
 //   GET  /events                text/event-stream: "snapshot" once, then "delta" and "heartbeat" [view]
 //   POST /api/alarms/ID/ack     acknowledge alarm ID   (Authorization: Bearer OPERATOR_TOKEN)
 //   POST /api/teams/ID/par      a team's PAR reported  (Authorization: Bearer OPERATOR_TOKEN)
+//   POST /api/victims/ID/dug-out  FOUND victim ID dug out (Authorization: Bearer OPERATOR_TOKEN;
+//                               live only: 404 in a replay)
 //   POST /api/replay            a replay's play, pause, seek [view; application/json only, so
 //                               that no other site's form can post it]
 // [view]: Authorization: Bearer VIEW_TOKEN (or the operator's), or the session cookie.
@@ -82,6 +84,9 @@ class DashboardServer {
   /// to `control` and answers what it returns; std::invalid_argument becomes a 400. Set before
   /// start(). Without it, /api/replay is 404.
   void set_replay_control(std::function<nlohmann::json(const nlohmann::json&)> control);
+  /// `dug_out(victim_id, operator_id)` publishes that a FOUND victim is dug out (false: DDS
+  /// refused). Set before start(); without it (a replay), POST /api/victims/ID/dug-out is 404.
+  void set_dug_out_action(std::function<bool(std::uint32_t, const std::string&)> dug_out);
 
   /// Binds (throws std::runtime_error naming the address when it cannot) and serves on a thread.
   void start();
@@ -112,6 +117,7 @@ class DashboardServer {
   PictureState& state_;
   std::function<bool(std::uint32_t, const std::string&)> acknowledge_;
   std::function<nlohmann::json(const nlohmann::json&)> replay_control_;
+  std::function<bool(std::uint32_t, const std::string&)> dug_out_;
   std::shared_ptr<SessionStore> sessions_;
   std::unique_ptr<httplib::Server> server_;  ///< on a loopback port: clients reach it through gate_
   std::unique_ptr<ConnectionGate> gate_;     ///< the public port

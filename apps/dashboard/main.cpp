@@ -174,6 +174,8 @@ int main(int argc, char** argv) {
     dashboard::DashboardServer server(server_config, state, [&](std::uint32_t id, const std::string& op) {
       return node.acknowledge(id, op, clock.now());
     });
+    server.set_dug_out_action(
+        [&](std::uint32_t id, const std::string& op) { return node.report_dug_out(id, op, clock.now()); });
     server.start();
 
     // The Foxglove feed: every topic's payloads as they arrive, on a participant of its own

@@ -212,9 +212,7 @@ int main(int argc, char** argv) {
     end.links = picture.links();
     end.faults = faults.outcomes(mission.scenario, table.epoch_ns);
     auto summary = mission::assemble_mission_summary(mission.name, mission.scenario, table.epoch_ns, std::move(end));
-    if (!summary.victims.empty())
-      mission::add_survival_outlook(summary, mission.command.incident.triage,
-                                    mission.command.incident.buried_before_start_min);
+    if (!summary.victims.empty()) mission::add_survival_outlook(summary, mission.command.incident.triage);
     app::print_summary(summary, table.run_dir.string());
     if (!recording.empty()) std::printf("recording: %s\n", recording.c_str());
     if (!options.json_path.empty()) {

@@ -75,6 +75,11 @@ class Loader {
         r_.incident_origin = dds::to_core(decode<::sarloc::IncidentFrame>(m)).origin;
       } else if (topic == "sarloc/search_plan") {
         r_.search_plan = dds::to_core(decode<::sarloc::SearchPlan>(m));
+      } else if (topic == "sarloc/victim_recovery") {
+        const auto recovery = decode<::sarloc::VictimRecovery>(m);
+        r_.events.push_back({stamp_to_mission(recovery.stamp()), "victim",
+                             "victim " + std::to_string(recovery.victim_id()) + " reported dug out by " +
+                                 dds::printable_id(recovery.reported_by())});
       } else if (dds::find_catalog_topic(topic) != nullptr) {
         // Decoded only to check it is whole: the report draws nothing else from it.
         check_decodes(topic, m);

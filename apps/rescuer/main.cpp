@@ -25,6 +25,7 @@
 #include "sarloc/core/common/statistics.hpp"
 #include "sarloc/core/common/time_units.hpp"
 #include "sensor_source.hpp"
+#include "simulated_digs.hpp"
 
 namespace {
 
@@ -154,6 +155,7 @@ int main(int argc, char** argv) {
     // Every signal heard, with the furthest status it reached: a victim found and then left
     // behind (out of range) is still one this device found.
     std::map<std::uint32_t, responder::EstimatorStatus> furthest;
+    rescuer::SimulatedDigs digs;
     std::size_t epochs = 0;
     const auto period_ns = seconds_to_ns(mission.period_s);
     sarloc::dds::EpochResult last;
@@ -201,6 +203,7 @@ int main(int argc, char** argv) {
         error_when_found[signal] = (where - victims[*victim]).norm();
         radius_when_found[signal] = radius95_3d(estimate->relative.covariance);
       }
+      if (source == "sim") rescuer::simulate_digs(node, *sensors, mission.scenario, last, stamp, digs);
       if (!quiet) spdlog::info("{}", display_line(rescuer_id, last));
     }
 

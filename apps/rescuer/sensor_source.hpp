@@ -42,6 +42,11 @@ class SensorSource {
   virtual std::vector<Vec3> true_victims_relative() const { return {}; }
   /// Truth for reports (simulation only): the antenna's true position in the incident frame.
   virtual std::optional<Vec3> true_antenna() const { return std::nullopt; }
+  /// Simulation only: a victim dug out at `where` (the picture's position); its transmitter,
+  /// if one is within `radius_m`, is switched off. Returns its index.
+  virtual std::optional<std::size_t> switch_off_transmitter_near(const Vec3& /*where*/, double /*radius_m*/) {
+    return std::nullopt;
+  }
 };
 
 /// The mission simulator: one step per epoch along the followed guidance (no guidance yet:
@@ -64,6 +69,9 @@ class SimulatedSource : public SensorSource {
     return out;
   }
   std::optional<Vec3> true_antenna() const override { return sim_.pose().position; }
+  std::optional<std::size_t> switch_off_transmitter_near(const Vec3& where, double radius_m) override {
+    return sim_.switch_off_transmitter_near(where, radius_m);
+  }
 
  private:
   mission::SimulatedRescuer sim_;

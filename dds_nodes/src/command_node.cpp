@@ -147,6 +147,14 @@ void CommandNode::create_input_readers() {
                   command.on_acknowledgement(alarm_id, operator_id, now);
                 });
       });
+  // An operator's or a finder device's word that a victim is dug out. Under DDS Security the
+  // governance lets only dashboards and devices write it (deploy/security/make-certs.sh).
+  recovery_reader_ = std::make_unique<Reader<::sarloc::VictimRecovery>>(
+      participant_, [this](const ::sarloc::VictimRecovery& r, const auto&) {
+        enqueue(printable_id(r.reported_by()),
+                [victim_id = r.victim_id(), reported_by = r.reported_by().to_string()](
+                    incident::IncidentCommand& command) { command.on_recovery(victim_id, reported_by); });
+      });
 }
 
 void CommandNode::create_picture_readers() {
@@ -420,6 +428,7 @@ CommandNode::~CommandNode() {
   picture_alarm_reader_.reset();
   responder_alarm_reader_.reset();
   acknowledgement_reader_.reset();
+  recovery_reader_.reset();
   stopping_.store(true);
   if (thread_.joinable()) thread_.join();
   if (role() != incident::CommandRole::kActive) return;

@@ -28,6 +28,7 @@ struct DashboardNode::Impl {
   std::unique_ptr<Reader<::sarloc::Guidance>> guidance;
   std::unique_ptr<Reader<::sarloc::SearchPlan>> plan;
   std::unique_ptr<Writer<::sarloc::AlarmAcknowledgement>> acknowledgements;
+  std::unique_ptr<Writer<::sarloc::VictimRecovery>> recoveries;
 
   template <class F>
   void guarded(const char* topic, F&& convert_and_deliver) {
@@ -122,6 +123,7 @@ DashboardNode::DashboardNode(std::shared_ptr<Participant> participant, Dashboard
         });
       });
   d.acknowledgements = std::make_unique<Writer<::sarloc::AlarmAcknowledgement>>(d.participant);
+  d.recoveries = std::make_unique<Writer<::sarloc::VictimRecovery>>(d.participant);
 }
 
 DashboardNode::~DashboardNode() = default;
@@ -132,6 +134,14 @@ bool DashboardNode::acknowledge(std::uint32_t alarm_id, const std::string& opera
   ack.operator_id(operator_id);
   ack.stamp(stamp);
   return impl_->acknowledgements->write(ack);
+}
+
+bool DashboardNode::report_dug_out(std::uint32_t victim_id, const std::string& operator_id, TimestampNs stamp) {
+  ::sarloc::VictimRecovery recovery;
+  recovery.victim_id(victim_id);
+  recovery.reported_by(operator_id);
+  recovery.stamp(stamp);
+  return impl_->recoveries->write(recovery);
 }
 
 }  // namespace sarloc::dds

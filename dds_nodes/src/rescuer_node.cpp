@@ -46,7 +46,8 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
       odometry_writer_(participant_, EndpointOptions::in(config_.partitions)),
       estimate_writer_(participant_, EndpointOptions::in(config_.partitions)),
       position_writer_(participant_, device_position_options()),
-      arbiter_(config_.fallback_timeout_s, clock_.now(), config_.rejoin_epochs) {
+      arbiter_(config_.fallback_timeout_s, clock_.now(), config_.rejoin_epochs),
+      recovery_writer_(participant_) {
   guidance_reader_ = std::make_unique<Reader<::sarloc::Guidance>>(
       participant_,
       [this](const ::sarloc::Guidance& g, const auto&) {
@@ -90,7 +91,13 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
         if (v.state() != ::sarloc::VICTIM_FOUND && v.state() != ::sarloc::VICTIM_RECOVERED) return;
         std::lock_guard<std::mutex> lock(mutex_);
         for (const auto& s : v.sources()) {
-          if (s.rescuer_id().to_string() == config_.rescuer_id) found_elsewhere_.insert(s.signal_id());
+          if (s.rescuer_id().to_string() != config_.rescuer_id) continue;
+          found_elsewhere_.insert(s.signal_id());
+          picture_victim_of_[s.signal_id()] = v.victim_id();
+        }
+        if (v.state() == ::sarloc::VICTIM_RECOVERED && recovered_seen_.insert(v.victim_id()).second) {
+          const Vec3 where = to_core(v.position()).position;
+          if (where.allFinite()) recovered_.emplace_back(v.victim_id(), where);
         }
       });
   // A core daemon's NodeStatus writer losing liveliness means the daemon is gone: fall back
@@ -149,6 +156,28 @@ bool RescuerNode::wait_for_daemon(std::chrono::milliseconds timeout) const {
   };
   return sample_writers_.wait_for_readers(1, timeout) && odometry_writer_.wait_for_readers(1, remaining()) &&
          guidance_reader_->wait_for_writers(1, remaining());
+}
+
+std::optional<std::uint32_t> RescuerNode::picture_victim_of(std::uint32_t signal) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = picture_victim_of_.find(signal);
+  if (it == picture_victim_of_.end()) return std::nullopt;
+  return it->second;
+}
+
+bool RescuerNode::report_dug_out(std::uint32_t victim_id) {
+  ::sarloc::VictimRecovery recovery;
+  recovery.victim_id(victim_id);
+  recovery.reported_by(config_.rescuer_id);
+  recovery.stamp(clock_.now());
+  return recovery_writer_.write(recovery);
+}
+
+std::vector<std::pair<std::uint32_t, Vec3>> RescuerNode::take_recovered() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::vector<std::pair<std::uint32_t, Vec3>> out;
+  out.swap(recovered_);
+  return out;
 }
 
 int RescuerNode::fallbacks() const {

@@ -14,8 +14,8 @@
 #   core       victim_estimate, guidance, responder_position (map-aided fixes)
 #   device     (the default) a rescuer's or firefighter's device: field_measurement, odometry,
 #              responder_position, victim_estimate (while its core daemon is unreachable),
-#              responder_alarm
-#   dashboard  alarm_acknowledgement
+#              responder_alarm, victim_recovery (the finder marks a victim dug out)
+#   dashboard  alarm_acknowledgement, victim_recovery
 #   recorder   nothing but its node_status
 # Every role publishes node_status. Keep OUT/ca.key offline once the nodes are issued.
 # Re-running adds nodes with the same CA.
@@ -40,8 +40,8 @@ role_topics() {
   case "$1" in
     command) echo "sarloc/incident_frame sarloc/fused_victim sarloc/team_status sarloc/incident_summary sarloc/incident_alarm sarloc/search_plan" ;;
     core) echo "sarloc/victim_estimate sarloc/guidance sarloc/responder_position" ;;
-    device) echo "sarloc/field_measurement sarloc/odometry sarloc/responder_position sarloc/victim_estimate sarloc/responder_alarm" ;;
-    dashboard) echo "sarloc/alarm_acknowledgement" ;;
+    device) echo "sarloc/field_measurement sarloc/odometry sarloc/responder_position sarloc/victim_estimate sarloc/responder_alarm sarloc/victim_recovery" ;;
+    dashboard) echo "sarloc/alarm_acknowledgement sarloc/victim_recovery" ;;
     recorder) echo "" ;;
     *) return 1 ;;
   esac

@@ -22,6 +22,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainSecurityIdentity = 169,
   kDomainRecordedBoot = 170,
   kDomainRecordedBootMission = 171,  // tests/integration/mission/recorded-boot.yaml names it too
+  kDomainMissionDugOut = 172,        // tests/integration/mission/dug-out.yaml names it too
   kDomainDiscoveryServer = 140,
   kDomainBenchEchoListener = 141,
   kDomainBenchEchoQueue = 142,

@@ -26,6 +26,7 @@ nlohmann::json picture_json(const std::vector<mission::PictureVictimOutcome>& pi
                    {"position", to_json(f.position)},
                    {"confirmed", f.confirmed},
                    {"found", f.found},
+                   {"dug_out", f.dug_out},
                    {"sources", f.source_names.size()},
                    {"source_names", f.source_names},
                    {"possibly_same_as", f.possibly_same_as},

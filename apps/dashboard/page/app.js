@@ -288,10 +288,15 @@ function renderMap() {
     labels.push([r.x, r.y, r.id]);
   }
   for (const v of picture.victims.values()) {
-    const colour = v.state === "FOUND" ? "#1b7f1b" : v.state === "LOCATED" ? "#c96a00" : "#777";
+    const colour = v.state === 'FOUND' ? '#1b7f1b' :
+        v.state === 'recovered'        ? '#1f5fa8' :
+        v.state === 'LOCATED'          ? '#c96a00' :
+                                         '#777';
     svg += ellipse(v.x, v.y, v.cov, "", 4 * px).replace("<ellipse", `<ellipse data-victim="${v.id}" fill="${colour}" fill-opacity="0.18" stroke="${colour}" stroke-width="${2 * px}"`);
     svg += `<path d="M${v.x - 5 * px} ${-v.y - 5 * px} L${v.x + 5 * px} ${-v.y + 5 * px} M${v.x - 5 * px} ${-v.y + 5 * px} L${v.x + 5 * px} ${-v.y - 5 * px}" stroke="${colour}" stroke-width="${2.5 * px}"/>`;
-    labels.push([v.x, v.y, `victim ${v.id} ±${v.radius95_m.toFixed(1)} m`]);
+    labels.push([
+      v.x, v.y, v.state === 'recovered' ? `victim ${v.id} dug out` : `victim ${v.id} ±${v.radius95_m.toFixed(1)} m`
+    ]);
   }
   for (const a of picture.alarms.values()) {
     if (!a.position_known || !a.active) continue;
@@ -310,6 +315,8 @@ function renderMap() {
   $("map").setAttribute("viewBox", `${view.x} ${view.y} ${view.w} ${view.h}`);
   $("map").innerHTML = defs + svg;
 }
+
+const isFound = (state) => state === 'FOUND' || state === 'recovered';
 
 // "r1/1", "r2/1" -> "r1, r2": who heard the victim (the signal numbers are in the tooltip).
 const heardBy = (sources) => [...new Set(sources.map((s) => s.split("/")[0]))].join(", ") || "—";
@@ -330,7 +337,8 @@ function renderLists() {
                   `<td class="where">${v.x.toFixed(1)} E, ${v.y.toFixed(1)} N${
                       v.wgs84 ? `<br><small>${esc(v.wgs84)}</small>` : ''}</td>` +
                   `<td>${v.located_ns ? `${((now - v.located_ns) / 1e9).toFixed(0)} s ago` : '—'}</td>` +
-                  `<td class="found">${v.state === 'FOUND' && v.found_ns ? `at ${missionS(v.found_ns)}` : '—'}</td>` +
+                  `<td class="found">${isFound(v.state) && v.found_ns ? `at ${missionS(v.found_ns)}` : '—'}${
+                      v.state === 'recovered' ? ', dug out' : ''}</td>` +
                   `<td title="${esc(v.sources.join(', '))}">${esc(heardBy(v.sources))}${
                       pursuer(v.id) ? `<br><small class="pursuer">sent: ${esc(pursuer(v.id))}</small>` : ''}</td></tr>`)
           .join('');
@@ -345,7 +353,8 @@ function renderLists() {
                   `<td>${d.done_min.toFixed(0)} min${
                       d.start_min > 0 ? ` <small>(starts in ${d.start_min.toFixed(0)})</small>` : ''}</td>` +
                   `<td>${Math.round(100 * d.survival)} %</td><td>${
-                      d.digger ? esc(d.digger) : '<i>none free</i>'}</td></tr>`)
+                      d.digger ? esc(d.digger) : '<i>none free</i>'}</td>` +
+                  `<td><button type="button" class="dug-out" data-victim="${d.victim}">dug out</button></td></tr>`)
           .join('');
 
   const wallNow = picture.wallMs + (Date.now() - picture.receivedAtMs);
@@ -396,6 +405,8 @@ window.sarlocAct = act;
 document.addEventListener("click", (e) => {
   const ack = e.target.closest("button.ack");
   if (ack) act(`/api/alarms/${ack.dataset.alarm}/ack`, `acknowledging alarm ${ack.dataset.alarm}`);
+  const dug = e.target.closest('button.dug-out');
+  if (dug) act(`/api/victims/${dug.dataset.victim}/dug-out`, `victim ${dug.dataset.victim} dug out`);
   const par = e.target.closest("button.par-report");
   if (par) act(`/api/teams/${encodeURIComponent(par.dataset.team)}/par`, `PAR of ${par.dataset.team}`);
 });

@@ -307,6 +307,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("gnss_sigma_m", c.scenario.gnss_sigma_m);
     r.read("gnss_correlation_s", c.scenario.gnss_correlation_s);
     r.read("gnss_white_sigma_m", c.scenario.gnss_white_sigma_m);
+    r.read("dig_out_after_s", c.scenario.dig_out_after_s);
     read_simulation(r, c.scenario.sensors);
   }
   if (root.has("building")) {
@@ -383,7 +384,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     }
     r.read("dig_min_per_m", c.command.incident.triage.dig_min_per_m);
     r.read("dig_min_per_m2", c.command.incident.triage.dig_min_per_m2);
-    r.read("buried_before_start_min", c.command.incident.buried_before_start_min);
+    r.read("buried_before_start_min", c.command.incident.triage.buried_before_start_min);
     r.expect_done();
   }
   {

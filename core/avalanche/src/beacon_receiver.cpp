@@ -56,6 +56,7 @@ Listening BeaconReceiver::listen(const ReceiverPose& pose, const std::vector<Bea
     const Vec3c h_world = full_dipole_field(pose.position - beacon.position, beacon.moment, k_);
     Vec3c h_device = r_world.transpose().cast<std::complex<double>>() * h_world;
     ideal[b] = h_device.real();
+    if (!beacon.transmitting) continue;
     const double magnitude = h_device.norm();
     for (double start : beacon.timing.starts_in(t0_s - lead_s_, t0_s + duration_s)) {
       // Pulse-to-pulse fluctuation in phase with the pulse (5 % of |H| per axis, as the ideal

@@ -29,6 +29,8 @@ void TriageConfig::validate() const {
           dig_min_per_m, "must be in [0, 120]");
   require(std::isfinite(dig_min_per_m2) && dig_min_per_m2 >= 0.0 && dig_min_per_m2 <= 120.0, "triage.dig_min_per_m2",
           dig_min_per_m2, "must be in [0, 120]");
+  require(std::isfinite(buried_before_start_min) && buried_before_start_min >= 0.0 && buried_before_start_min <= 600.0,
+          "triage.buried_before_start_min", buried_before_start_min, "must be in [0, 600]");
 }
 
 double TriageConfig::survival(double minutes_buried) const {

@@ -31,8 +31,6 @@ void IncidentCommandConfig::validate() const {
   require(antenna_height_sigma_m > 0.0 && antenna_height_sigma_m <= 5.0, "command.antenna_height_sigma_m",
           antenna_height_sigma_m, "must be in (0, 5]");
   triage.validate();
-  require(std::isfinite(buried_before_start_min) && buried_before_start_min >= 0.0 && buried_before_start_min <= 600.0,
-          "triage.buried_before_start_min", buried_before_start_min, "must be in [0, 600]");
   (void)GeodeticFrame(origin);  // the one check of a WGS-84 origin (ConfigError naming incident.<field>)
   if (deposit) {
     require(deposit->vertices().size() <= kDepositVerticesMax, "incident.deposit", deposit->vertices().size(),
@@ -143,6 +141,27 @@ void IncidentCommand::on_acknowledgement(std::uint32_t alarm_id, const std::stri
     reject(operator_id, "unknown_alarm", "acknowledgement of alarm " + std::to_string(alarm_id) + ": no such alarm");
   } else if (result == AckResult::kAcknowledged) {
     say(IncidentEvent::Kind::kInfo, "alarm " + std::to_string(alarm_id) + " acknowledged by '" + operator_id + "'");
+  }
+}
+
+void IncidentCommand::on_recovery(std::uint32_t victim_id, const std::string& reported_by) {
+  if (!is_identifier(reported_by)) {
+    reject(printable_excerpt(reported_by), "invalid_value", "victim recovery: reported_by is not an identifier");
+    return;
+  }
+  // Both instances apply it: a standby that takes over before the active one published the
+  // recovered victim still has it (one that has not seen the victim FOUND yet adopts it so).
+  try {
+    if (fusion_.recover(victim_id)) {
+      say(IncidentEvent::Kind::kInfo, "victim " + std::to_string(victim_id) + " dug out (reported by '" + reported_by +
+                                          "'): its signal is no longer expected");
+    }
+  } catch (const InputError& error) {
+    if (arbiter_.role() != CommandRole::kActive) return;
+    const auto& victims = fusion_.victims();
+    const bool known =
+        std::any_of(victims.begin(), victims.end(), [&](const FusedVictim& v) { return v.victim_id == victim_id; });
+    reject(reported_by, known ? "not_found" : "unknown_victim", error.what());
   }
 }
 
@@ -353,7 +372,7 @@ std::optional<SearchPlanPicture> IncidentCommand::plan_search(const std::vector<
   for (const auto& h : picture.handed_over) free.erase(h.pursued_by);
   for (auto it = free.begin(); it != free.end();) it = planner_->strip_of(it->first) ? free.erase(it) : std::next(it);
   picture.incident_start = *incident_start_;
-  const double buried_min = config_.buried_before_start_min + ns_to_seconds(now - *incident_start_) / 60.0;
+  const double buried_min = config_.triage.buried_before_start_min + ns_to_seconds(now - *incident_start_) / 60.0;
   try {
     picture.digs = plan_victim_digs(victims, free, buried_min, config_.triage);
   } catch (const InputError& e) {  // the picture's positions are finite: not expected

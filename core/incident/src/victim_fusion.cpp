@@ -129,6 +129,11 @@ void VictimFusion::adopt(const std::vector<FusedVictim>& picture, std::uint32_t 
       if (v.located_at == 0) v.located_at = own->second.located_at;
       if (v.found_at == 0) v.found_at = own->second.found_at;
     }
+    if (v.state == VictimState::kRecovered) {  // dug out: its sources are retired, its list kept
+      for (const VictimSource& vs : v.sources) retire({vs.rescuer_id, vs.signal_id});
+      victims_.push_back(std::move(v));
+      continue;
+    }
     std::vector<VictimSource> listed;
     listed.swap(v.sources);
     // A withdrawn victim as published: unconfirmed, flagged, nothing bound.
@@ -154,6 +159,41 @@ void VictimFusion::adopt(const std::vector<FusedVictim>& picture, std::uint32_t 
   next_id_ = std::max(largest, largest_id_seen) + 1;
 }
 
+void VictimFusion::retire(const SourceKey& key) {
+  retired_.insert(key);
+  if (const auto it = sources_.find(key); it != sources_.end()) {
+    unbind(it->second, Unbind::kInactive);
+    sources_.erase(it);
+  }
+  adopted_bindings_.erase(key);
+}
+
+bool VictimFusion::recover(std::uint32_t victim_id) {
+  FusedVictim* v = find_victim(victim_id);
+  if (v == nullptr) throw InputError("victim_recovery.victim_id = " + std::to_string(victim_id) + ": no such victim");
+  if (v->state == VictimState::kRecovered) return false;
+  if (v->state != VictimState::kFound) {
+    throw InputError("victim_recovery.victim_id = " + std::to_string(victim_id) + ": the victim is " +
+                     to_string(v->state) + ", not FOUND: only a found victim is dug out");
+  }
+  // Its list stays as published (who found it); the sources themselves hear a switched-off
+  // transmitter no more, and any that did would be another transmitter.
+  const std::vector<VictimSource> listed = v->sources;
+  std::vector<SourceKey> retiring;
+  for (const VictimSource& vs : listed) retiring.emplace_back(vs.rescuer_id, vs.signal_id);
+  for (const auto& [key, s] : sources_)
+    if (s.last_victim_id == victim_id) retiring.push_back(key);
+  for (const SourceKey& key : retiring) retire(key);
+  v = find_victim(victim_id);
+  v->sources = listed;
+  v->state = VictimState::kRecovered;
+  v->evidence_conflict = false;
+  v->possibly_same_as = 0;
+  by_radius_only_.erase(victim_id);
+  withdrawn_.erase(victim_id);
+  return true;
+}
+
 bool VictimFusion::update(const SourceEstimate& estimate) {
   const std::string where =
       "source_estimate[" + estimate.rescuer_id + "/" + std::to_string(estimate.signal_id) + "]";
@@ -173,6 +213,7 @@ bool VictimFusion::update(const SourceEstimate& estimate) {
   }
 
   const SourceKey key{estimate.rescuer_id, estimate.signal_id};
+  if (retired_.count(key) != 0) return false;  // a recovered victim's: its transmitter is off
   auto it = sources_.find(key);
   if (it == sources_.end()) {
     it = sources_.emplace(key, Source{}).first;
@@ -325,7 +366,8 @@ std::vector<GaussianPosition> VictimFusion::finder_positions(const FusedVictim& 
 }
 
 void VictimFusion::refuse(FusedVictim& v) {
-  if (v.sources.empty()) return;  // keeps its last fused position
+  // Without sources, or dug out: keeps its last fused position.
+  if (v.sources.empty() || v.state == VictimState::kRecovered) return;
   // A FOUND victim is where the devices standing over it say, and stays there when they walk
   // on: another rescuer's source (a split or mixed signal) must not drag the dig site (seen
   // live under load: a FOUND victim moved 2.4 m, 2.1 m too deep, by later sources).
@@ -363,6 +405,7 @@ void VictimFusion::associate_rescuer(const std::string& rescuer_id, TimestampNs 
   const std::size_t nv = victims_.size(), k = rows.size();
   std::vector<GaussianPosition> excl(nv);
   for (std::size_t j = 0; j < nv; ++j) {
+    if (victims_[j].state == VictimState::kRecovered) continue;  // takes no source (excl unused)
     const std::vector<GaussianPosition> others = victims_[j].state == VictimState::kFound
                                                      ? finder_positions(victims_[j], rescuer_id)
                                                      : bound_positions(victims_[j], rescuer_id);
@@ -379,7 +422,7 @@ void VictimFusion::associate_rescuer(const std::string& rescuer_id, TimestampNs 
     const bool located = st && *st >= SourceState::kLocated;
     bool stays = false;
     for (std::size_t j = 0; j < nv; ++j) {
-      if (rows[i]->estimate.floor != victims_[j].floor) continue;
+      if (rows[i]->estimate.floor != victims_[j].floor || victims_[j].state == VictimState::kRecovered) continue;
       const double d2 = mahalanobis2(rows[i]->estimate.position, excl[j]);
       if (previous[i] == victims_[j].victim_id && d2 <= keep_gate_) {
         cost(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = located ? 0.0 : d2 * gate_ / keep_gate_;
@@ -421,6 +464,7 @@ void VictimFusion::merge_victims() {
     for (std::size_t i = 0; i < victims_.size(); ++i)
       for (std::size_t j = i + 1; j < victims_.size(); ++j) {
         if (victims_[i].floor != victims_[j].floor) continue;
+        if (victims_[i].state == VictimState::kRecovered || victims_[j].state == VictimState::kRecovered) continue;
         if (kept_apart(victims_[i], victims_[j])) continue;
         // Two FOUND victims are two dig sites, each stood over by a device: merged only when
         // every pair of their sources names one transmitter (a merge by position alone sent the
@@ -521,7 +565,7 @@ const FusedVictim* VictimFusion::indistinct_twin(const FusedVictim& v) const {
   const FusedVictim* twin = nullptr;
   double closest = merge_gate_;
   for (const FusedVictim& u : victims_) {
-    if (u.victim_id == v.victim_id || u.floor != v.floor) continue;
+    if (u.victim_id == v.victim_id || u.floor != v.floor || u.state == VictimState::kRecovered) continue;
     const double d2 = mahalanobis2(v.position, u.position);
     if (d2 <= closest) {
       closest = d2;
@@ -533,6 +577,7 @@ const FusedVictim* VictimFusion::indistinct_twin(const FusedVictim& v) const {
 
 void VictimFusion::update_states(TimestampNs now) {
   for (FusedVictim& v : victims_) {
+    if (v.state == VictimState::kRecovered) continue;       // final
     if (!v.sources.empty()) withdrawn_.erase(v.victim_id);  // judged afresh on what binds now
     v.evidence_conflict =
         withdrawn_.count(v.victim_id) != 0 || std::any_of(sources_.begin(), sources_.end(), [&](const auto& kv) {
@@ -628,7 +673,7 @@ void VictimFusion::step(TimestampNs now) {
 
   // 2. keep test: drop the worst source outside the keep gate, one at a time.
   for (FusedVictim& v : victims_) {
-    while (v.sources.size() >= 2) {
+    while (v.sources.size() >= 2 && v.state != VictimState::kRecovered) {
       double worst = -1.0;
       Source* worst_src = nullptr;
       for (const VictimSource& vs : v.sources) {

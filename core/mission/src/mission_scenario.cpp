@@ -73,6 +73,9 @@ void MissionScenario::validate() const {
   if (!(gnss_white_sigma_m >= 0.0 && gnss_white_sigma_m <= 50.0)) {
     throw ConfigError("simulation.gnss_white_sigma_m = " + config_value(gnss_white_sigma_m) + ": must be in [0, 50]");
   }
+  if (!(dig_out_after_s >= 0.0 && dig_out_after_s <= 3600.0)) {
+    throw ConfigError("simulation.dig_out_after_s = " + config_value(dig_out_after_s) + ": must be in [0, 3600]");
+  }
 }
 
 std::size_t MissionScenario::rescuer_index(const std::string& id) const {

@@ -73,6 +73,7 @@ std::vector<PictureVictimOutcome> outcomes_of(const std::vector<incident::FusedV
     p.position = f.position.position;
     p.confirmed = f.state != incident::VictimState::kUnconfirmed;
     p.found = incident::is_found(f.state);
+    p.dug_out = f.state == incident::VictimState::kRecovered;
     for (const auto& vs : f.sources) p.source_names.push_back(vs.rescuer_id + "/" + std::to_string(vs.signal_id));
     p.possibly_same_as = f.possibly_same_as;
     p.radius95_m = radius95_3d(f.position.covariance);

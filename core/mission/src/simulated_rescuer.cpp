@@ -11,7 +11,8 @@ namespace sarloc::mission {
 SimulatedRescuer::SimulatedRescuer(const MissionScenario& scenario, const std::string& rescuer_id)
     : scenario_(scenario),
       spec_(scenario.rescuers.at(scenario.rescuer_index(rescuer_id))),
-      rng_(derive_seed(scenario.seed, scenario.rescuer_index(rescuer_id))) {
+      rng_(derive_seed(scenario.seed, scenario.rescuer_index(rescuer_id))),
+      switched_off_(scenario.victims.size(), false) {
   pose_.position = Vec3(spec_.start.x(), spec_.start.y(), scenario.sensors.antenna_height_m);
   pose_.rpy = Vec3(0.0, 0.0, spec_.heading_deg * kPi / 180.0);
   if (scenario.sensors.receiver.kind != avalanche::ReceiverKind::kRealistic) return;
@@ -54,7 +55,7 @@ std::vector<avalanche::FieldMeasurement> SimulatedRescuer::measure_ideal(
   std::vector<avalanche::FieldMeasurement> out;
   for (std::size_t v = 0; v < scenario_.victims.size(); ++v) {
     const auto& victim = scenario_.victims[v];
-    if ((victim.position - pose_.position).norm() > scenario_.detection_range_m) continue;
+    if (switched_off_[v] || (victim.position - pose_.position).norm() > scenario_.detection_range_m) continue;
     auto it = signal_of_victim_.find(v);
     if (it == signal_of_victim_.end()) {
       it = signal_of_victim_.emplace(v, static_cast<std::uint32_t>(signal_of_victim_.size() + 1)).first;
@@ -111,6 +112,22 @@ responder::ResponderPosition SimulatedRescuer::gnss(TimestampNs stamp) {
 
 void SimulatedRescuer::set_consistency(avalanche::FieldConsistency consistency) {
   if (receiver_) receiver_->separator().set_consistency(std::move(consistency));
+}
+
+std::optional<std::size_t> SimulatedRescuer::switch_off_transmitter_near(const Vec3& where, double radius_m) {
+  std::optional<std::size_t> nearest;
+  double best = radius_m;
+  for (std::size_t v = 0; v < scenario_.victims.size(); ++v) {
+    const double d = (scenario_.victims[v].position - where).norm();
+    if (!switched_off_[v] && d <= best) {
+      best = d;
+      nearest = v;
+    }
+  }
+  if (!nearest) return std::nullopt;
+  switched_off_[*nearest] = true;
+  if (receiver_) beacons_[*nearest].transmitting = false;
+  return nearest;
 }
 
 std::optional<std::size_t> SimulatedRescuer::victim_of_signal(std::uint32_t signal_id) const {

@@ -7,10 +7,9 @@
 
 namespace sarloc::mission {
 
-void add_survival_outlook(MissionSummary& s, const incident::TriageConfig& triage, double buried_before_start_min) {
+void add_survival_outlook(MissionSummary& s, const incident::TriageConfig& triage) {
   triage.validate();
-  require(std::isfinite(buried_before_start_min) && buried_before_start_min >= 0.0 && buried_before_start_min <= 600.0,
-          "triage.buried_before_start_min", buried_before_start_min, "must be in [0, 600]");
+  const double buried_before_start_min = triage.buried_before_start_min;
   double survivors = 0.0;
   s.unfound_survival_at_most = 0.0;
   s.unfound_count = 0;

@@ -142,5 +142,13 @@ TEST(DdsRoundTrip, AlarmAcknowledgement) {
   expect_round_trip<::sarloc::AlarmAcknowledgement>(kBase + 12, {ack});
 }
 
+TEST(DdsRoundTrip, VictimRecovery) {
+  ::sarloc::VictimRecovery recovery;
+  recovery.victim_id(3);
+  recovery.reported_by("r2");
+  recovery.stamp(1763731350000000000LL);
+  expect_round_trip<::sarloc::VictimRecovery>(kBase + 13, {recovery});
+}
+
 }  // namespace
 }  // namespace sarloc::dds

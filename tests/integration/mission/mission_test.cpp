@@ -88,6 +88,31 @@ TEST(Mission, FourVictimsWithinFiveMetresNeverGiveAGhostOrAVictimTwice) {
   EXPECT_GE(confirmed, 3) << run_report(run);
 }
 
+// Issue 63, item 5: A's finder reports it dug out; incident command keeps it, recovered, where it
+// was found; every device switches A's transmitter off; B is still found, and nothing opens
+// where A was.
+TEST(Mission, AVictimDugOutStaysInThePictureAndItsTransmitterFallsSilent) {
+  const auto run = run_mission("dug-out.yaml", kDomainMissionDugOut, "--log-level info");
+  expect_complete(run);
+  ASSERT_FALSE(run.summary.is_null()) << run_report(run);
+  int dug_out = 0;
+  for (const auto& v : run.summary["fused_victims"]) {
+    if (!v["dug_out"].get<bool>()) continue;
+    ++dug_out;
+    EXPECT_TRUE(v["found"].get<bool>()) << v.dump();
+    EXPECT_TRUE(v["matches_a_buried_victim"].get<bool>()) << v.dump();
+    EXPECT_LT(v["position"][1].get<double>(), 20.0) << "A is the one found first: " << v.dump();
+  }
+  EXPECT_EQ(dug_out, 1) << run_report(run);
+  EXPECT_EQ(run.summary["confirmed_fused_victim_count"], 2) << "nothing new where A was: " << run_report(run);
+  EXPECT_NE(file_text(run.run_dir / "command-1.log").find("dug out (reported by 'r"), std::string::npos)
+      << run_report(run);
+  for (const char* device : {"rescuer-r1.log", "rescuer-r2.log"}) {
+    EXPECT_NE(file_text(run.run_dir / device).find("the transmitter of 'A' is switched off"), std::string::npos)
+        << device;
+  }
+}
+
 TEST(Mission, KilledRescuerIsReportedLinkLostWithinTheLease) {
   const auto run = run_mission("small.yaml", kDomainMissionSmall + 1, "--kill r2@12");
   ASSERT_FALSE(run.summary.is_null()) << file_text(run.run_dir / "mission.out");

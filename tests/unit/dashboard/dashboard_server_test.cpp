@@ -37,6 +37,10 @@ class Server : public ::testing::Test {
       acknowledged.push_back({id, op});
       return true;
     });
+    server->set_dug_out_action([this](std::uint32_t id, const std::string& op) {
+      dug_out.push_back({id, op});
+      return true;
+    });
     server->start();
     client = std::make_unique<httplib::Client>("127.0.0.1", server->port());
     auto alarm = test::sample_incident_alarm();
@@ -49,6 +53,7 @@ class Server : public ::testing::Test {
   TimestampNs mission = 5'000'000'000LL;
   PictureState state{PictureStateConfig{}, [this] { return mission; }, 0};
   std::vector<std::pair<std::uint32_t, std::string>> acknowledged;
+  std::vector<std::pair<std::uint32_t, std::string>> dug_out;
   std::unique_ptr<DashboardServer> server;
   std::unique_ptr<httplib::Client> client;
 };
@@ -122,6 +127,31 @@ TEST_F(Server, ActionsNeedTheTokenAndAcknowledgementsArePublished) {
   ASSERT_EQ(acknowledged.size(), 1u);
   EXPECT_EQ(acknowledged[0].first, 7u);
   EXPECT_EQ(acknowledged[0].second, "dashboard");
+}
+
+// An operator marks a FOUND victim dug out: the operator token, a victim in the picture, and
+// FOUND (incident command would refuse anything else; the page says why at once).
+TEST_F(Server, AVictimIsReportedDugOutWithTheOperatorTokenOnlyWhenFound) {
+  auto victim = test::sample_fused_victim();
+  victim.victim_id = 3;
+  victim.state = incident::VictimState::kLocated;
+  state.on_victim(victim);
+  EXPECT_EQ(client->Post("/api/victims/3/dug-out", "", "text/plain")->status, 401) << "no token";
+  EXPECT_EQ(client->Post("/api/victims/3/dug-out", bearer(kViewToken), "", "text/plain")->status, 401);
+  EXPECT_EQ(client->Post("/api/victims/4/dug-out", bearer(kToken), "", "text/plain")->status, 404);
+  EXPECT_EQ(client->Post("/api/victims/4294967296/dug-out", bearer(kToken), "", "text/plain")->status, 400);
+  const auto located = client->Post("/api/victims/3/dug-out", bearer(kToken), "", "text/plain");
+  ASSERT_TRUE(located);
+  EXPECT_EQ(located->status, 409);
+  EXPECT_NE(located->body.find("only a FOUND victim is dug out"), std::string::npos) << located->body;
+  EXPECT_TRUE(dug_out.empty());
+  victim.state = incident::VictimState::kFound;
+  state.on_victim(victim);
+  const auto ok = client->Post("/api/victims/3/dug-out", bearer(kToken), "", "text/plain");
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(ok->status, 202);
+  ASSERT_EQ(dug_out.size(), 1u);
+  EXPECT_EQ(dug_out[0], std::make_pair(3u, std::string("dashboard")));
 }
 
 // The server alone in a child process (the clients' threads would blur its memory), fed 200

@@ -63,7 +63,7 @@ TEST(VictimDigs, WithNobodyFreeTheOrderStandsAndWaitsForADigger) {
 TEST(VictimDigs, IncidentCommandPublishesTheDigOrderInItsPlan) {
   auto config = test::command_config();
   config.deposit.emplace(std::vector<Vec2>{{0, 0}, {150, 0}, {150, 200}, {0, 200}}, "incident.deposit");
-  config.buried_before_start_min = 5.0;
+  config.triage.buried_before_start_min = 5.0;
   IncidentCommand command(config, at(0));
   command.on_position(test::gnss_fix("r1", at(1), Vec3(40, 205, 0)), "w-r1", at(1));
   auto out = command.cycle(at(1.5), at(1.5));

@@ -99,6 +99,31 @@ TEST(SimulatedRescuer, RealisticReceiverSeparatesEveryVictimItHearsIntoOneSignal
   EXPECT_EQ(sim.wrong_attributions(), 0U);
 }
 
+// A victim dug out: its transmitter is switched off, and neither receiver hears it again; the
+// other victim beside it is still heard.
+TEST(SimulatedRescuer, ASwitchedOffTransmitterIsHeardNoMore) {
+  MissionScenario s = scenario(3);
+  s.victims.insert(s.victims.begin() + 1,
+                   VictimSpec{"beside", Vec3(4.0, 20.0, -1.5), Vec3(-0.004, 0.003, 0.015), {}, {}});
+  for (const auto kind : {avalanche::ReceiverKind::kRealistic, avalanche::ReceiverKind::kIdeal}) {
+    s.sensors.receiver.kind = kind;
+    SimulatedRescuer sim(s, "r");
+    std::map<std::size_t, int> before, after;
+    for (int k = 1; k <= 20; ++k)
+      for (const auto& m : sim.measure(k * kSecond)) ++before[sim.victim_of_signal(m.signal_id).value_or(9)];
+    EXPECT_FALSE(sim.switch_off_transmitter_near(Vec3(2.0, 40.0, -1.0), 3.0)) << "no transmitter within 3 m";
+    ASSERT_EQ(sim.switch_off_transmitter_near(Vec3(4.5, 20.3, -1.2), 3.0), std::optional<std::size_t>(1));
+    EXPECT_FALSE(sim.switch_off_transmitter_near(Vec3(4.5, 20.3, -1.2), 3.0)) << "off already; the other is 4 m away";
+    sim.measure(21 * kSecond);  // the window that straddles the switch-off
+    for (int k = 22; k <= 41; ++k)
+      for (const auto& m : sim.measure(k * kSecond))
+        if (m.valid_axes != 0) ++after[sim.victim_of_signal(m.signal_id).value_or(9)];  // 0: a pulse due, not heard
+    EXPECT_GE(before[1], 10) << "heard before";
+    EXPECT_EQ(after.count(1), 0U) << "heard after it was switched off";
+    EXPECT_GE(after[0], 10) << "the victim beside it is still heard";
+  }
+}
+
 TEST(SimulatedRescuer, VictimTimingOutsideTheStandardIsRefusedByName) {
   MissionScenario s = scenario(1);
   s.victims[1].period_ms = 500.0;

@@ -23,7 +23,9 @@ TEST(SurvivalOutlook, EachFoundVictimAtItsDigOutMinute) {
   // 1 m deep, FOUND at 5 min: dug out at 5 + 10 = 15 min (0.92). 2 m deep, FOUND at 10 min,
   // buried 3 min before the search: 3 + 10 + 30 = 43 min, between (35, 0.30) and (90, 0.27).
   s.victims = {victim(1.0, true, 300.0), victim(2.0, true, 600.0), victim(1.0, false, std::nullopt)};
-  add_survival_outlook(s, incident::TriageConfig{}, 3.0);
+  incident::TriageConfig triage;
+  triage.buried_before_start_min = 3.0;
+  add_survival_outlook(s, triage);
   ASSERT_TRUE(s.victims[0].survival && s.victims[1].survival);
   EXPECT_DOUBLE_EQ(*s.victims[0].dug_out_min, 18.0);
   EXPECT_NEAR(*s.victims[0].survival, 0.92 + (3.0 / 20.0) * (0.30 - 0.92), 1e-12) << "18 min: past the plateau";
@@ -41,7 +43,7 @@ TEST(SurvivalOutlook, FoundSoonerKeepsMoreAlive) {
     MissionSummary s;
     s.mission_s = 3600.0;
     s.victims = {victim(1.5, true, found_at_s)};
-    add_survival_outlook(s, incident::TriageConfig{}, 0.0);
+    add_survival_outlook(s, incident::TriageConfig{});
     return *s.expected_survivors;
   };
   EXPECT_GT(survivors_when_found_at(240.0), survivors_when_found_at(600.0));
@@ -53,9 +55,11 @@ TEST(SurvivalOutlook, RefusesAnInvalidCurveOrBurialTime) {
   s.victims = {victim(1.0, true, 60.0)};
   incident::TriageConfig rising;
   rising.survival_curve = {{0.0, 0.5}, {10.0, 0.6}};
-  EXPECT_THROW(add_survival_outlook(s, rising, 0.0), ConfigError);
+  EXPECT_THROW(add_survival_outlook(s, rising), ConfigError);
   try {
-    add_survival_outlook(s, incident::TriageConfig{}, -1.0);
+    incident::TriageConfig buried_later;
+    buried_later.buried_before_start_min = -1.0;
+    add_survival_outlook(s, buried_later);
     FAIL() << "a negative burial time was accepted";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("triage.buried_before_start_min"), std::string::npos) << e.what();

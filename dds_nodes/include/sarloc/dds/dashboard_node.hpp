@@ -2,7 +2,7 @@
 // The DDS side of sarloc-dashboard: reads the incident picture (fused victims, teams, alarms,
 // the picture summary) and, for detail, responders' positions and guidance; converts each to
 // the core's types and hands it to the dashboard's sink; publishes an operator's alarm
-// acknowledgement. Listener threads only convert and call the sink (which must be quick).
+// acknowledgement and a victim dug out. Listener threads only convert and call the sink (which must be quick).
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -43,6 +43,9 @@ class DashboardNode {
   /// Publishes an AlarmAcknowledgement (incident command applies it and records it in the
   /// picture); false when DDS refused the write.
   bool acknowledge(std::uint32_t alarm_id, const std::string& operator_id, TimestampNs stamp);
+  /// Publishes a VictimRecovery: the operator reports a FOUND victim dug out (incident command
+  /// keeps it as recovered); false when DDS refused the write.
+  bool report_dug_out(std::uint32_t victim_id, const std::string& operator_id, TimestampNs stamp);
 
  private:
   struct Impl;

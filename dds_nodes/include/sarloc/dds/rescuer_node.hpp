@@ -86,6 +86,14 @@ class RescuerNode {
   /// incident command to have it. Not called on a crash or an error: that is a lost device.
   bool sign_off(std::chrono::milliseconds timeout);
 
+  /// The FOUND (or recovered) victim of the picture that holds this device's `signal`, if any.
+  std::optional<std::uint32_t> picture_victim_of(std::uint32_t signal) const;
+  /// Reports a victim dug out (VictimRecovery, reported by this rescuer); false when DDS refused.
+  bool report_dug_out(std::uint32_t victim_id);
+  /// Victims the picture says are dug out since the last call (each once), with their final
+  /// position (incident frame): a simulation switches their transmitters off.
+  std::vector<std::pair<std::uint32_t, Vec3>> take_recovered();
+
   /// Times the responder switched from daemon to local guidance.
   int fallbacks() const;
   /// Epochs whose guidance source (daemon or device) differs from the epoch before.
@@ -114,6 +122,10 @@ class RescuerNode {
   void hear(std::function<void(responder::GuidanceArbiter&)> heard);  // under mutex_
   void apply_arbiter_inbox();                                         // under mutex_
   std::set<std::uint32_t> found_elsewhere_;          // signals incident command reports found; under mutex_
+  std::map<std::uint32_t, std::uint32_t> picture_victim_of_;  // own signal -> FOUND victim id; under mutex_
+  std::set<std::uint32_t> recovered_seen_;                    // under mutex_
+  std::vector<std::pair<std::uint32_t, Vec3>> recovered_;     // not yet taken; under mutex_
+  Writer<::sarloc::VictimRecovery> recovery_writer_;
   std::set<std::uint32_t> reported_conflicts_;       // conflicts already logged (epoch thread only)
   /// The device's own fixes, oldest first (epoch thread only): each estimate it publishes
   /// carries the one of its stamp, so that incident command can place a FOUND estimate

@@ -34,6 +34,7 @@ SARLOC_DDS_TOPIC(SearchPlan, "search_plan");
 SARLOC_DDS_TOPIC(ResponderAlarm, "responder_alarm");
 SARLOC_DDS_TOPIC(IncidentAlarm, "incident_alarm");
 SARLOC_DDS_TOPIC(AlarmAcknowledgement, "alarm_acknowledgement");
+SARLOC_DDS_TOPIC(VictimRecovery, "victim_recovery");
 SARLOC_DDS_TOPIC(NodeStatus, "node_status");
 
 #undef SARLOC_DDS_TOPIC

@@ -26,6 +26,7 @@ struct Beacon {
   Vec3 position = Vec3::Zero();  ///< world (m)
   Vec3 moment = Vec3::Zero();    ///< world (A m^2)
   TransmitterTiming timing;
+  bool transmitting = true;  ///< false: switched off (its victim dug out), no pulse is sent
 };
 
 struct HeardSample {

@@ -28,8 +28,12 @@ struct TriageConfig {
       {0.0, 0.92}, {15.0, 0.92}, {35.0, 0.30}, {90.0, 0.27}, {130.0, 0.07}};
   double dig_min_per_m = 5.0;
   double dig_min_per_m2 = 5.0;
+  /// Minutes the victims were buried before the search began (incident command's first cycle,
+  /// a simulated mission's first second).
+  double buried_before_start_min = 0.0;
   /// ConfigError naming triage.survival_curve (at least 2 points, minutes increasing from 0,
-  /// probabilities in [0, 1] never rising) or triage.dig_min_per_m / dig_min_per_m2 ([0, 120]).
+  /// probabilities in [0, 1] never rising), triage.dig_min_per_m / dig_min_per_m2 ([0, 120])
+  /// or triage.buried_before_start_min ([0, 600]).
   void validate() const;
   double survival(double minutes_buried) const;
   double dig_minutes(double depth_m) const;

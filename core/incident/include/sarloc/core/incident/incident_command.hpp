@@ -21,6 +21,8 @@
 //     GNSS fixes; a rescuer whose link is lost or who signed off gives its strip back; of the
 //     rescuers who hear a victim, the nearest is sent (SignalPursuits); a standby takes the
 //     active one's assignments and pursuits;
+//   - a FOUND victim reported dug out (an operator, the finder's device) stays as recovered, its
+//     signal expected no more;
 //   - on taking over, every victim id up to the largest seen that the picture no longer holds
 //     is disposed again for kRedisposeWindowNs (a reader may have missed a predecessor's
 //     disposal during a fade).
@@ -84,7 +86,6 @@ struct IncidentCommandConfig {
   /// triage: the survival curve and dig time of the dig order (victim_digs.hpp), and the
   /// minutes the victims were buried before incident command's first cycle.
   TriageConfig triage;
-  double buried_before_start_min = 0.0;
   static constexpr std::size_t kDepositVerticesMax = 250;  ///< a strip's piece has a few more (IDL: 256)
 
   /// Throws ConfigError naming the key ("command.fix_wait_s = 0: must be in (0, 600]").
@@ -149,6 +150,10 @@ class IncidentCommand {
   void on_writer_disposed(const std::string& writer, TimestampNs now);
   void on_device_alarm(const responder::ResponderAlarm& alarm, TimestampNs now);
   void on_acknowledgement(std::uint32_t alarm_id, const std::string& operator_id, TimestampNs now);
+  /// An operator or the finder's device reports a FOUND victim dug out: it stays in the picture
+  /// as kRecovered (VictimFusion::recover). Refused (an event, on the active instance) for an
+  /// unknown victim, one not FOUND, or a reporter that is not an identifier.
+  void on_recovery(std::uint32_t victim_id, const std::string& reported_by);
 
   // --- the active instance's picture, as received (another instance's writers) ------------
   void on_peer_summary(const std::string& writer, TimestampNs wall_now);
@@ -204,7 +209,7 @@ class IncidentCommand {
 
   IncidentCommandConfig config_;
   std::optional<SearchPlanner> planner_;
-  /// The mission time the victims count as buried from (minus buried_before_start_min): this
+  /// The mission time the victims count as buried from (minus triage.buried_before_start_min): this
   /// instance's first cycle, or the active one's if earlier (a standby started late).
   std::optional<TimestampNs> incident_start_;
   std::string dig_order_logged_;            ///< the victim ids in dig order, as last logged

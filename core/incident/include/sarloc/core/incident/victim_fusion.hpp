@@ -59,6 +59,11 @@
 //      is one goes back to kUnconfirmed and names the victim of the signal it may repeat
 //      (possibly_same_as). A CONFIRMED repeat is inactive; the victim it leaves without sources
 //      is merged into the victim of the signal it repeats (the reporter stood over both).
+//   Dug out (recover()): a FOUND victim becomes kRecovered and keeps its last fused position and
+//      the sources it lists (who found it). Every source bound to it, or last bound to it, is
+//      retired: its estimates are ignored from then on (its transmitter is off; a device may
+//      still republish its last FOUND). A recovered victim takes no source, never merges and
+//      is nobody's twin: a signal still heard there is a new, unknown victim.
 //   Sources and victims on different floors never associate or merge (a victim's floor is
 //      that of its first source).
 //   Conflicts: a source is estimated by more than one estimator (a rescuer's device and the
@@ -162,7 +167,15 @@ class VictimFusion {
   /// Associate, fuse, merge and update states (see the overview above).
   void step(TimestampNs now);
 
-  /// Makes `picture` (another incident command's published victims) this fusion's victims:
+  /// Marks a FOUND victim dug out (see "Dug out" above). Throws InputError, changing nothing,
+  /// for an unknown id or a victim that is not FOUND; a victim already recovered stays so
+  /// (returns false).
+  bool recover(std::uint32_t victim_id);
+  /// Sources retired by recover() (or adopted as a recovered victim's).
+  std::size_t retired_count() const { return retired_.size(); }
+
+  /// Makes `picture` (another incident command's published victims) this fusion's victims
+  /// (a recovered one's sources retired):
   /// ids, positions, floors, states, first_seen / last_update / located_at / found_at and
   /// evidence_conflict as published, except that a victim of the previous adopted picture that
   /// step() has since advanced further keeps its further state (and the time it got there):
@@ -211,6 +224,8 @@ class VictimFusion {
   std::vector<GaussianPosition> bound_positions(const FusedVictim& v,
                                                 const std::string& except_rescuer) const;
   void bind(Source& s, FusedVictim& v);
+  /// A recovered victim's source: forgotten, and its estimates ignored from now on.
+  void retire(const SourceKey& key);
   void unbind(Source& s, Unbind reason);
   /// Bound sources of other rescuers whose device stands over the victim (confirming state
   /// kFound).
@@ -254,6 +269,7 @@ class VictimFusion {
   std::map<SourceKey, std::uint32_t> adopted_bindings_;  ///< adopted, source not heard yet
   std::set<std::uint32_t> adopted_ids_;      ///< victims of the last adopted picture
   std::set<std::uint32_t> by_radius_only_;   ///< confirmed by the fused radius, no device's word
+  std::set<SourceKey> retired_;              ///< a recovered victim's: ignored for good
   std::uint32_t next_id_ = 1;
 };
 

@@ -45,6 +45,11 @@ struct MissionScenario {
   double gnss_correlation_s = 60.0;     ///< time constant of the drifting bias (s)
   double gnss_white_sigma_m = 0.05;     ///< epoch-to-epoch jitter on top of the bias (m)
   std::uint64_t seed = 1;               ///< every rescuer's noise derives from it
+  /// A simulated device that FOUND a victim reports it dug out this many mission seconds later
+  /// (VictimRecovery), and every simulated receiver stops hearing its transmitter once the
+  /// picture says so. Compressed: a real dig takes 10-40 minutes (triage.dig_min_per_m). 0: no
+  /// victim is dug out.
+  double dig_out_after_s = 0.0;
 
   /// Throws ConfigError naming the entry ("victims[1].position = ...: must be below the surface").
   void validate() const;

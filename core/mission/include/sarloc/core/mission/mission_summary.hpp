@@ -77,6 +77,7 @@ struct PictureVictimOutcome {
   Vec3 position = Vec3::Zero();
   bool confirmed = false;                        ///< LOCATED or FOUND
   bool found = false;
+  bool dug_out = false;                          ///< recovered: reported dug out
   std::vector<std::string> source_names;         ///< "rescuer/signal", for tracing a twin or a ghost
   std::uint32_t possibly_same_as = 0;            ///< FusedVictim::possibly_same_as
   double radius95_m = 0.0;                       ///< the fused position's 95 % radius (worst axis)

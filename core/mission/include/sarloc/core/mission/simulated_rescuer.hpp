@@ -33,6 +33,10 @@ class SimulatedRescuer {
   /// A noisy GNSS fix of the antenna in the incident frame.
   responder::ResponderPosition gnss(TimestampNs stamp);
 
+  /// A victim dug out: the transmitter of the victim nearest `where` (truth), if within
+  /// `radius_m`, is switched off, as rescuers do on a real dig. Returns its index, or nullopt.
+  std::optional<std::size_t> switch_off_transmitter_near(const Vec3& where, double radius_m);
+
   /// The realistic receiver's separation asks the device's filters through this
   /// (avalanche::SignalSeparator::set_consistency); the ideal receiver separates nothing.
   void set_consistency(avalanche::FieldConsistency consistency);
@@ -55,6 +59,7 @@ class SimulatedRescuer {
   avalanche::ReceiverPose pose_;
   std::mt19937_64 rng_;
   std::map<std::size_t, std::uint32_t> signal_of_victim_;  // ideal receiver
+  std::vector<bool> switched_off_;                         // by victim index
   std::optional<avalanche::BeaconReceiver> receiver_;      // realistic receiver
   std::vector<avalanche::Beacon> beacons_;
   std::optional<TimestampNs> last_listened_;

@@ -9,16 +9,14 @@
 // sooner). Comparing two missions' expected survivors (the plan against none) is what this is
 // for; the curve and the dig time are assumptions (docs/operations/search-planning.md).
 //
-//   add_survival_outlook(summary, TriageConfig{}, 0.0);
+//   add_survival_outlook(summary, TriageConfig{});
 #include "sarloc/core/incident/dig_order.hpp"
 #include "sarloc/core/mission/mission_summary.hpp"
 
 namespace sarloc::mission {
 
 /// Fills each victim's dug_out_min and survival, and the summary's expected_survivors and
-/// unfound_survival_at_most. ConfigError naming the key for an invalid `triage` or a
-/// `buried_before_start_min` outside [0, 600].
-void add_survival_outlook(MissionSummary& summary, const incident::TriageConfig& triage,
-                          double buried_before_start_min);
+/// unfound_survival_at_most. ConfigError naming the key for an invalid `triage`.
+void add_survival_outlook(MissionSummary& summary, const incident::TriageConfig& triage);
 
 }  // namespace sarloc::mission
