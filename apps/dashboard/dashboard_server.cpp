@@ -250,6 +250,30 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
     res.status = 202;
     res.set_content(json_text(nlohmann::json{{"dug_out", id}, {"operator", config_.operator_id}}), "application/json");
   });
+  s.Post(R"(/api/victims/(\d{1,10})/dig-first)", [this](const httplib::Request& req, httplib::Response& res) {
+    if (!dig_order_) return error(res, 404, "not live: a replay changes no dig order");
+    const auto id = std::stoull(req.matches[1]);
+    if (id > 0xFFFFFFFFull) return error(res, 400, "no such victim id");
+    const auto snapshot = state_.snapshot();
+    // The operator's victim first, then the order as the page shows it.
+    std::vector<std::uint32_t> order{static_cast<std::uint32_t>(id)};
+    bool listed = false;
+    if (snapshot.contains("plan"))
+      for (const auto& d : snapshot["plan"]["digs"]) {
+        const auto victim = d["victim"].get<std::uint32_t>();
+        if (victim == id)
+          listed = true;
+        else
+          order.push_back(victim);
+      }
+    if (!listed)
+      return error(res, 409, "victim " + std::to_string(id) + " is not in the dig order: only FOUND victims are dug");
+    if (!dig_order_(order, config_.operator_id)) return error(res, 503, "DDS refused the dig order");
+    state_.note("victim", "dig order: victim " + std::to_string(id) + " first, sent by " + config_.operator_id);
+    res.status = 202;
+    res.set_content(json_text(nlohmann::json{{"dig_order", order}, {"operator", config_.operator_id}}),
+                    "application/json");
+  });
   s.Post(R"(/api/teams/([A-Za-z0-9_.\-]{1,64})/par)", [this](const httplib::Request& req, httplib::Response& res) {
     if (!state_.par_reported(req.matches[1], config_.operator_id)) return error(res, 404, "no such team");
     res.set_content(json_text(nlohmann::json{{"par_reported", std::string(req.matches[1])}}), "application/json");
@@ -289,6 +313,11 @@ void DashboardServer::set_replay_control(std::function<nlohmann::json(const nloh
 
 void DashboardServer::set_dug_out_action(std::function<bool(std::uint32_t, const std::string&)> dug_out) {
   dug_out_ = std::move(dug_out);
+}
+
+void DashboardServer::set_dig_order_action(
+    std::function<bool(const std::vector<std::uint32_t>&, const std::string&)> dig_order) {
+  dig_order_ = std::move(dig_order);
 }
 
 std::shared_ptr<const std::string> DashboardServer::message_for(std::uint64_t since, bool first, std::uint64_t& version) {

@@ -13,6 +13,8 @@
 //   POST /api/teams/ID/par      a team's PAR reported  (Authorization: Bearer OPERATOR_TOKEN)
 //   POST /api/victims/ID/dug-out  FOUND victim ID dug out (Authorization: Bearer OPERATOR_TOKEN;
 //                               live only: 404 in a replay)
+//   POST /api/victims/ID/dig-first  dig victim ID first, the rest of the order as shown
+//                               (Authorization: Bearer OPERATOR_TOKEN; live only)
 //   POST /api/replay            a replay's play, pause, seek [view; application/json only, so
 //                               that no other site's form can post it]
 // [view]: Authorization: Bearer VIEW_TOKEN (or the operator's), or the session cookie.
@@ -87,6 +89,9 @@ class DashboardServer {
   /// `dug_out(victim_id, operator_id)` publishes that a FOUND victim is dug out (false: DDS
   /// refused). Set before start(); without it (a replay), POST /api/victims/ID/dug-out is 404.
   void set_dug_out_action(std::function<bool(std::uint32_t, const std::string&)> dug_out);
+  /// `dig_order(victim_ids, operator_id)` publishes an operator's dig order (false: DDS refused).
+  /// Set before start(); without it, POST /api/victims/ID/dig-first is 404.
+  void set_dig_order_action(std::function<bool(const std::vector<std::uint32_t>&, const std::string&)> dig_order);
 
   /// Binds (throws std::runtime_error naming the address when it cannot) and serves on a thread.
   void start();
@@ -118,6 +123,7 @@ class DashboardServer {
   std::function<bool(std::uint32_t, const std::string&)> acknowledge_;
   std::function<nlohmann::json(const nlohmann::json&)> replay_control_;
   std::function<bool(std::uint32_t, const std::string&)> dug_out_;
+  std::function<bool(const std::vector<std::uint32_t>&, const std::string&)> dig_order_;
   std::shared_ptr<SessionStore> sessions_;
   std::unique_ptr<httplib::Server> server_;  ///< on a loopback port: clients reach it through gate_
   std::unique_ptr<ConnectionGate> gate_;     ///< the public port

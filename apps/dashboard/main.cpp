@@ -176,6 +176,9 @@ int main(int argc, char** argv) {
     });
     server.set_dug_out_action(
         [&](std::uint32_t id, const std::string& op) { return node.report_dug_out(id, op, clock.now()); });
+    server.set_dig_order_action([&](const std::vector<std::uint32_t>& ids, const std::string& op) {
+      return node.set_dig_order(mission.command.incident.incident_id, ids, op, clock.now());
+    });
     server.start();
 
     // The Foxglove feed: every topic's payloads as they arrive, on a participant of its own

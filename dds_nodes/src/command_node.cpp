@@ -155,6 +155,14 @@ void CommandNode::create_input_readers() {
                 [victim_id = r.victim_id(), reported_by = r.reported_by().to_string()](
                     incident::IncidentCommand& command) { command.on_recovery(victim_id, reported_by); });
       });
+  dig_order_reader_ =
+      std::make_unique<Reader<::sarloc::DigOrder>>(participant_, [this](const ::sarloc::DigOrder& order, const auto&) {
+        enqueue(printable_id(order.operator_id()),
+                [incident_id = order.incident_id().to_string(), victim_ids = order.victim_ids(),
+                 operator_id = order.operator_id().to_string()](incident::IncidentCommand& command) {
+                  command.on_dig_order(incident_id, victim_ids, operator_id);
+                });
+      });
 }
 
 void CommandNode::create_picture_readers() {
@@ -429,6 +437,7 @@ CommandNode::~CommandNode() {
   responder_alarm_reader_.reset();
   acknowledgement_reader_.reset();
   recovery_reader_.reset();
+  dig_order_reader_.reset();
   stopping_.store(true);
   if (thread_.joinable()) thread_.join();
   if (role() != incident::CommandRole::kActive) return;

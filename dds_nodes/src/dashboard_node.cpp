@@ -29,6 +29,7 @@ struct DashboardNode::Impl {
   std::unique_ptr<Reader<::sarloc::SearchPlan>> plan;
   std::unique_ptr<Writer<::sarloc::AlarmAcknowledgement>> acknowledgements;
   std::unique_ptr<Writer<::sarloc::VictimRecovery>> recoveries;
+  std::unique_ptr<Writer<::sarloc::DigOrder>> dig_orders;
 
   template <class F>
   void guarded(const char* topic, F&& convert_and_deliver) {
@@ -124,6 +125,7 @@ DashboardNode::DashboardNode(std::shared_ptr<Participant> participant, Dashboard
       });
   d.acknowledgements = std::make_unique<Writer<::sarloc::AlarmAcknowledgement>>(d.participant);
   d.recoveries = std::make_unique<Writer<::sarloc::VictimRecovery>>(d.participant);
+  d.dig_orders = std::make_unique<Writer<::sarloc::DigOrder>>(d.participant);
 }
 
 DashboardNode::~DashboardNode() = default;
@@ -142,6 +144,16 @@ bool DashboardNode::report_dug_out(std::uint32_t victim_id, const std::string& o
   recovery.reported_by(operator_id);
   recovery.stamp(stamp);
   return impl_->recoveries->write(recovery);
+}
+
+bool DashboardNode::set_dig_order(const std::string& incident_id, const std::vector<std::uint32_t>& victim_ids,
+                                  const std::string& operator_id, TimestampNs stamp) {
+  ::sarloc::DigOrder order;
+  order.incident_id(incident_id);
+  order.victim_ids(victim_ids);
+  order.operator_id(operator_id);
+  order.stamp(stamp);
+  return impl_->dig_orders->write(order);
 }
 
 }  // namespace sarloc::dds

@@ -36,6 +36,7 @@ const std::vector<CatalogTopic>& topic_catalog() {
       entry<IncidentAlarm>("incident.idl"),
       entry<AlarmAcknowledgement>("incident.idl"),
       entry<VictimRecovery>("incident.idl"),
+      entry<DigOrder>("incident.idl"),
       entry<NodeStatus>("status.idl"),
   };
   return catalog;

@@ -354,7 +354,10 @@ function renderLists() {
                       d.start_min > 0 ? ` <small>(starts in ${d.start_min.toFixed(0)})</small>` : ''}</td>` +
                   `<td>${Math.round(100 * d.survival)} %</td><td>${
                       d.digger ? esc(d.digger) : '<i>none free</i>'}</td>` +
-                  `<td><button type="button" class="dug-out" data-victim="${d.victim}">dug out</button></td></tr>`)
+                  `<td>${
+                      i > 0 ? `<button type="button" class="dig-first" data-victim="${d.victim}">dig first</button> ` :
+                              ''}` +
+                  `<button type="button" class="dug-out" data-victim="${d.victim}">dug out</button></td></tr>`)
           .join('');
 
   const wallNow = picture.wallMs + (Date.now() - picture.receivedAtMs);
@@ -405,6 +408,8 @@ window.sarlocAct = act;
 document.addEventListener("click", (e) => {
   const ack = e.target.closest("button.ack");
   if (ack) act(`/api/alarms/${ack.dataset.alarm}/ack`, `acknowledging alarm ${ack.dataset.alarm}`);
+  const first = e.target.closest('button.dig-first');
+  if (first) act(`/api/victims/${first.dataset.victim}/dig-first`, `digging victim ${first.dataset.victim} first`);
   const dug = e.target.closest('button.dug-out');
   if (dug) act(`/api/victims/${dug.dataset.victim}/dug-out`, `victim ${dug.dataset.victim} dug out`);
   const par = e.target.closest("button.par-report");

@@ -78,7 +78,8 @@ double last_done(const DigPlan& p) {
 
 }  // namespace
 
-DigPlan plan_digs(const std::vector<DigCandidate>& victims, std::size_t teams, const TriageConfig& config) {
+DigPlan plan_digs(const std::vector<DigCandidate>& victims, std::size_t teams, const TriageConfig& config,
+                  const std::vector<std::string>& first) {
   config.validate();
   if (teams == 0) throw InputError("dig plan: no digging team");
   std::set<std::string> ids;
@@ -91,16 +92,26 @@ DigPlan plan_digs(const std::vector<DigCandidate>& victims, std::size_t teams, c
       throw InputError("dig plan: victim " + v.victim_id + " buried_min = " + config_value(v.buried_min) +
                        ": must be >= 0");
   }
-  std::vector<std::size_t> order(victims.size());
-  std::iota(order.begin(), order.end(), 0);
+  // The operator's victims first, as given; the rest is what is planned.
+  std::vector<std::size_t> fixed, order;
+  for (const std::string& id : first)
+    for (std::size_t i = 0; i < victims.size(); ++i)
+      if (victims[i].victim_id == id && std::find(fixed.begin(), fixed.end(), i) == fixed.end()) fixed.push_back(i);
+  for (std::size_t i = 0; i < victims.size(); ++i)
+    if (std::find(fixed.begin(), fixed.end(), i) == fixed.end()) order.push_back(i);
+  auto with_fixed = [&](const std::vector<std::size_t>& rest) {
+    std::vector<std::size_t> all = fixed;
+    all.insert(all.end(), rest.begin(), rest.end());
+    return schedule(victims, all, teams, config);
+  };
   // Shortest dig first: the order beyond kExhaustiveVictims, and the first one tried below it.
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return victims[a].depth_m < victims[b].depth_m; });
-  DigPlan best = schedule(victims, order, teams, config);
-  if (victims.size() > kExhaustiveVictims) return best;
+  DigPlan best = with_fixed(order);
+  if (order.size() > kExhaustiveVictims) return best;
   std::sort(order.begin(), order.end());
   do {
-    DigPlan p = schedule(victims, order, teams, config);
+    DigPlan p = with_fixed(order);
     if (p.expected_survivors > best.expected_survivors + 1e-12 ||
         (std::abs(p.expected_survivors - best.expected_survivors) <= 1e-12 && last_done(p) < last_done(best) - 1e-12))
       best = std::move(p);

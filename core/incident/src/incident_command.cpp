@@ -165,6 +165,38 @@ void IncidentCommand::on_recovery(std::uint32_t victim_id, const std::string& re
   }
 }
 
+void IncidentCommand::on_dig_order(const std::string& incident_id, const std::vector<std::uint32_t>& victim_ids,
+                                   const std::string& operator_id) {
+  if (incident_id != config_.incident_id) return;
+  // Both instances take it; a standby that has not seen a victim FOUND yet keeps quiet (the
+  // active one says why it refused).
+  auto refuse_order = [&](std::string subject, std::string reason, std::string text) {
+    if (arbiter_.role() == CommandRole::kActive) reject(std::move(subject), std::move(reason), std::move(text));
+  };
+  if (!is_identifier(operator_id)) {
+    return refuse_order(printable_excerpt(operator_id), "invalid_value", "dig order: operator_id is not an identifier");
+  }
+  const std::string from = "dig order from '" + operator_id + "'";
+  if (victim_ids.empty()) return refuse_order(operator_id, "invalid_value", from + ": no victim");
+  std::set<std::uint32_t> found, given;
+  for (const FusedVictim& v : fusion_.victims())
+    if (v.state == VictimState::kFound) found.insert(v.victim_id);
+  std::string ids;
+  for (const std::uint32_t id : victim_ids) {
+    const std::string name = from + ": victim " + std::to_string(id);
+    if (!given.insert(id).second) return refuse_order(operator_id, "invalid_value", name + " is listed twice");
+    if (found.count(id) == 0) {
+      const auto& all = fusion_.victims();
+      const bool known = std::any_of(all.begin(), all.end(), [&](const FusedVictim& v) { return v.victim_id == id; });
+      return refuse_order(operator_id, known ? "not_found" : "unknown_victim",
+                          name + (known ? " is not FOUND: only found victims are dug" : ": no such victim"));
+    }
+    ids += " " + std::to_string(id);
+  }
+  operator_dig_order_ = OperatorDigOrder{victim_ids, operator_id, found};
+  say(IncidentEvent::Kind::kInfo, from + ": victims" + ids + " first");
+}
+
 void IncidentCommand::on_peer_summary(const std::string& writer, TimestampNs wall_now) {
   arbiter_.on_peer_sample(writer, wall_now);
   fresh_picture_ = true;  // written after that cycle's victims and teams
@@ -373,8 +405,21 @@ std::optional<SearchPlanPicture> IncidentCommand::plan_search(const std::vector<
   for (auto it = free.begin(); it != free.end();) it = planner_->strip_of(it->first) ? free.erase(it) : std::next(it);
   picture.incident_start = *incident_start_;
   const double buried_min = config_.triage.buried_before_start_min + ns_to_seconds(now - *incident_start_) / 60.0;
+  // An operator's order holds for the FOUND victims it was given for; once they change, this
+  // re-plan is the last writer.
+  std::set<std::uint32_t> found;
+  for (const FusedVictim& v : victims)
+    if (v.state == VictimState::kFound) found.insert(v.victim_id);
+  if (operator_dig_order_ && operator_dig_order_->found != found) {
+    say(IncidentEvent::Kind::kInfo,
+        "dig order: the FOUND victims changed, incident command re-plans; the order from '" +
+            operator_dig_order_->operator_id + "' no longer holds");
+    operator_dig_order_.reset();
+  }
   try {
-    picture.digs = plan_victim_digs(victims, free, buried_min, config_.triage);
+    picture.digs =
+        plan_victim_digs(victims, free, buried_min, config_.triage,
+                         operator_dig_order_ ? operator_dig_order_->victim_ids : std::vector<std::uint32_t>{});
   } catch (const InputError& e) {  // the picture's positions are finite: not expected
     say(IncidentEvent::Kind::kError, std::string("dig order: ") + e.what());
   }

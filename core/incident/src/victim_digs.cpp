@@ -7,7 +7,7 @@
 namespace sarloc::incident {
 
 VictimDigs plan_victim_digs(const std::vector<FusedVictim>& victims, const std::map<std::string, Vec2>& free_rescuers,
-                            double buried_min, const TriageConfig& triage) {
+                            double buried_min, const TriageConfig& triage, const std::vector<std::uint32_t>& first) {
   std::vector<DigCandidate> candidates;
   std::map<std::string, const FusedVictim*> by_name;
   for (const auto& v : victims) {
@@ -19,7 +19,9 @@ VictimDigs plan_victim_digs(const std::vector<FusedVictim>& victims, const std::
   VictimDigs out;
   if (candidates.empty()) return out;
   const std::size_t teams = std::clamp<std::size_t>(free_rescuers.size(), 1, candidates.size());
-  const DigPlan plan = plan_digs(candidates, teams, triage);
+  std::vector<std::string> first_names;
+  for (const std::uint32_t id : first) first_names.push_back(std::to_string(id));
+  const DigPlan plan = plan_digs(candidates, teams, triage, first_names);
   std::map<std::size_t, std::string> digger_of_team;
   std::set<std::string> taken;
   for (const Dig& d : plan.digs) {

@@ -150,5 +150,14 @@ TEST(DdsRoundTrip, VictimRecovery) {
   expect_round_trip<::sarloc::VictimRecovery>(kBase + 13, {recovery});
 }
 
+TEST(DdsRoundTrip, DigOrder) {
+  ::sarloc::DigOrder order;
+  order.incident_id("avalanche-large");
+  order.victim_ids({9, 7, 12});
+  order.operator_id("ic-chief");
+  order.stamp(1763731360000000000LL);
+  expect_round_trip<::sarloc::DigOrder>(kBase + 14, {order});
+}
+
 }  // namespace
 }  // namespace sarloc::dds

@@ -41,6 +41,10 @@ class Server : public ::testing::Test {
       dug_out.push_back({id, op});
       return true;
     });
+    server->set_dig_order_action([this](const std::vector<std::uint32_t>& ids, const std::string& op) {
+      dig_orders.push_back({ids, op});
+      return true;
+    });
     server->start();
     client = std::make_unique<httplib::Client>("127.0.0.1", server->port());
     auto alarm = test::sample_incident_alarm();
@@ -54,6 +58,7 @@ class Server : public ::testing::Test {
   PictureState state{PictureStateConfig{}, [this] { return mission; }, 0};
   std::vector<std::pair<std::uint32_t, std::string>> acknowledged;
   std::vector<std::pair<std::uint32_t, std::string>> dug_out;
+  std::vector<std::pair<std::vector<std::uint32_t>, std::string>> dig_orders;
   std::unique_ptr<DashboardServer> server;
   std::unique_ptr<httplib::Client> client;
 };
@@ -152,6 +157,25 @@ TEST_F(Server, AVictimIsReportedDugOutWithTheOperatorTokenOnlyWhenFound) {
   EXPECT_EQ(ok->status, 202);
   ASSERT_EQ(dug_out.size(), 1u);
   EXPECT_EQ(dug_out[0], std::make_pair(3u, std::string("dashboard")));
+}
+
+// An operator puts a victim of the dig order first: the rest follows as the page shows it.
+TEST_F(Server, AVictimOfTheDigOrderIsPutFirstWithTheOperatorToken) {
+  EXPECT_EQ(client->Post("/api/victims/9/dig-first", bearer(kToken), "", "text/plain")->status, 409) << "no plan yet";
+  state.on_search_plan(test::sample_search_plan());  // digs: victim 7, then 9
+  EXPECT_EQ(client->Post("/api/victims/9/dig-first", "", "text/plain")->status, 401) << "no token";
+  EXPECT_EQ(client->Post("/api/victims/9/dig-first", bearer(kViewToken), "", "text/plain")->status, 401);
+  const auto absent = client->Post("/api/victims/8/dig-first", bearer(kToken), "", "text/plain");
+  ASSERT_TRUE(absent);
+  EXPECT_EQ(absent->status, 409);
+  EXPECT_NE(absent->body.find("not in the dig order"), std::string::npos) << absent->body;
+  EXPECT_TRUE(dig_orders.empty());
+  const auto ok = client->Post("/api/victims/9/dig-first", bearer(kToken), "", "text/plain");
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(ok->status, 202);
+  ASSERT_EQ(dig_orders.size(), 1u);
+  EXPECT_EQ(dig_orders[0].first, (std::vector<std::uint32_t>{9, 7}));
+  EXPECT_EQ(dig_orders[0].second, "dashboard");
 }
 
 // The server alone in a child process (the clients' threads would blur its memory), fed 200

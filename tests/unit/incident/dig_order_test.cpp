@@ -49,6 +49,26 @@ TEST(DigOrder, DigsTheShallowVictimFirstWhenThatSavesMore) {
   EXPECT_GT(two.expected_survivors, one.expected_survivors);
 }
 
+// An operator's victims go first, in the operator's order; the rest is still the best order of
+// what is left (after the deep one, 40 min buried: shallow then mid keeps 0.2952 + 0.2898, mid
+// then shallow 0.2918 + 0.2898).
+TEST(DigOrder, AnOperatorsVictimsGoFirstAndTheRestIsPlanned) {
+  const std::vector<DigCandidate> victims{{"deep", 2.0, 10.0}, {"shallow", 0.5, 10.0}, {"mid", 1.0, 10.0}};
+  const DigPlan own = plan_digs(victims, 1, TriageConfig{});
+  ASSERT_EQ(own.digs[0].victim_id, "shallow");
+  const DigPlan given = plan_digs(victims, 1, TriageConfig{}, {"deep", "nobody"});
+  ASSERT_EQ(given.digs.size(), 3u);
+  EXPECT_EQ(given.digs[0].victim_id, "deep") << "an id that is not a candidate is skipped";
+  EXPECT_DOUBLE_EQ(given.digs[0].done_min, 30.0);
+  EXPECT_EQ(given.digs[1].victim_id, "shallow") << "the rest as planned: shortest first here";
+  EXPECT_DOUBLE_EQ(given.digs[1].start_min, 30.0);
+  EXPECT_LT(given.expected_survivors, own.expected_survivors) << "the operator's call costs what it costs";
+  const DigPlan both = plan_digs(victims, 1, TriageConfig{}, {"mid", "deep"});
+  EXPECT_EQ(both.digs[0].victim_id, "mid");
+  EXPECT_EQ(both.digs[1].victim_id, "deep");
+  EXPECT_EQ(both.digs[2].victim_id, "shallow");
+}
+
 // Beyond seven victims the order is shortest dig first; below, no order the search skips keeps
 // more alive than the one it returns.
 TEST(DigOrder, NoOtherOrderKeepsMoreAlive) {

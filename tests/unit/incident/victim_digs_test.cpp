@@ -86,5 +86,51 @@ TEST(VictimDigs, IncidentCommandPublishesTheDigOrderInItsPlan) {
   EXPECT_TRUE(test::has_event(out, IncidentEvent::Kind::kInfo, "dig order: victims"));
 }
 
+// The operator's order holds while the FOUND victims are those it was given for; a new FOUND
+// makes incident command re-plan, and its order is the last writer. Both are events.
+TEST(VictimDigs, AnOperatorsOrderHoldsUntilTheFoundVictimsChange) {
+  auto config = test::command_config();
+  config.deposit.emplace(std::vector<Vec2>{{0, 0}, {150, 0}, {150, 200}, {0, 200}}, "incident.deposit");
+  IncidentCommand command(config, at(0));
+  // Victims 2 m and 4 m below the antennas, which are 1 m above the snow: 1 m and 3 m deep.
+  auto found = [&](const std::string& rescuer, double t, const Vec3& fix, double depth_below_antenna) {
+    command.on_position(test::gnss_fix(rescuer, at(t), fix), "w-" + rescuer, at(t));
+    auto e = test::estimate_of(rescuer, 1, at(t), responder::EstimatorStatus::kFound);
+    e.relative.position.z() = -depth_below_antenna;
+    command.on_estimate(e, "w-" + rescuer, true, at(t));
+  };
+  found("r1", 1, Vec3(40, 190, 0), 2.0);
+  found("r2", 1, Vec3(100, 190, 0), 4.0);
+  auto out = command.cycle(at(1.5), at(1.5));
+  ASSERT_EQ(out.victims.size(), 2u);
+  ASSERT_EQ(out.search_plan->digs.digs.size(), 2u);
+  const std::uint32_t shallow = out.search_plan->digs.digs[0].victim_id, deep = out.search_plan->digs.digs[1].victim_id;
+  ASSERT_LT(out.search_plan->digs.digs[0].depth_m, out.search_plan->digs.digs[1].depth_m)
+      << "the plan's own: shallow first";
+
+  command.on_dig_order("another-incident", {deep}, "ic-chief");
+  command.on_dig_order(config.incident_id, {deep, deep}, "ic-chief");
+  command.on_dig_order(config.incident_id, {deep, 99}, "ic-chief");
+  out = command.cycle(at(2), at(2));
+  EXPECT_TRUE(test::has_event(out, IncidentEvent::Kind::kRejected, "is listed twice"));
+  EXPECT_TRUE(test::has_event(out, IncidentEvent::Kind::kRejected, "victim 99: no such victim"));
+  EXPECT_EQ(out.search_plan->digs.digs[0].victim_id, shallow) << "refused orders change nothing";
+
+  command.on_dig_order(config.incident_id, {deep}, "ic-chief");
+  out = command.cycle(at(3), at(3));
+  EXPECT_TRUE(test::has_event(out, IncidentEvent::Kind::kInfo,
+                              "dig order from 'ic-chief': victims " + std::to_string(deep) + " first"));
+  ASSERT_EQ(out.search_plan->digs.digs.size(), 2u);
+  EXPECT_EQ(out.search_plan->digs.digs[0].victim_id, deep) << "the operator's order";
+  out = command.cycle(at(4), at(4));
+  EXPECT_EQ(out.search_plan->digs.digs[0].victim_id, deep) << "it holds over cycles";
+
+  found("r3", 5, Vec3(130, 190, 0), 1.5);  // a third victim FOUND: incident command re-plans
+  out = command.cycle(at(5.5), at(5.5));
+  ASSERT_EQ(out.search_plan->digs.digs.size(), 3u);
+  EXPECT_TRUE(test::has_event(out, IncidentEvent::Kind::kInfo, "the order from 'ic-chief' no longer holds"));
+  EXPECT_NE(out.search_plan->digs.digs[0].victim_id, deep) << "the plan's own again: the deep one is not first";
+}
+
 }  // namespace
 }  // namespace sarloc::incident

@@ -10,10 +10,10 @@
 // Inputs: every rescuer's VictimEstimate (all sectors), every responder's ResponderPosition
 // (with its writer's liveliness: a crashed device is "link lost" within the lease; only a
 // device's own writer stands for its link, not the core daemon's map-aided positions, whose
-// writer serves many responders), devices' ResponderAlarm, operators' AlarmAcknowledgement, and VictimRecovery from
-// operators or finders. The picture is published TRANSIENT_LOCAL (FusedVictim per victim, TeamStatus per team,
-// IncidentAlarm, IncidentSummary, IncidentFrame), so a dashboard that subscribes late has it
-// at once.
+// writer serves many responders), devices' ResponderAlarm, operators' AlarmAcknowledgement and
+// DigOrder, and VictimRecovery from operators or finders. The picture is published TRANSIENT_LOCAL (FusedVictim per
+// victim, TeamStatus per team, IncidentAlarm, IncidentSummary, IncidentFrame), so a dashboard that subscribes late has
+// it at once.
 //
 // Hot standby (docs/operations.md): an incident runs `standby.instances` of these. The picture
 // topics are OWNERSHIP EXCLUSIVE, so a standby's picture readers deliver the active one's
@@ -125,6 +125,7 @@ class CommandNode {
   std::unique_ptr<Reader<::sarloc::ResponderAlarm>> responder_alarm_reader_;
   std::unique_ptr<Reader<::sarloc::AlarmAcknowledgement>> acknowledgement_reader_;
   std::unique_ptr<Reader<::sarloc::VictimRecovery>> recovery_reader_;
+  std::unique_ptr<Reader<::sarloc::DigOrder>> dig_order_reader_;
 };
 
 }  // namespace sarloc::dds

@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "sarloc/core/incident/alarm_board.hpp"
 #include "sarloc/core/incident/fused_victim.hpp"
@@ -46,6 +47,10 @@ class DashboardNode {
   /// Publishes a VictimRecovery: the operator reports a FOUND victim dug out (incident command
   /// keeps it as recovered); false when DDS refused the write.
   bool report_dug_out(std::uint32_t victim_id, const std::string& operator_id, TimestampNs stamp);
+  /// Publishes the operator's DigOrder for `incident_id` (these victims first, in this order);
+  /// false when DDS refused the write.
+  bool set_dig_order(const std::string& incident_id, const std::vector<std::uint32_t>& victim_ids,
+                     const std::string& operator_id, TimestampNs stamp);
 
  private:
   struct Impl;

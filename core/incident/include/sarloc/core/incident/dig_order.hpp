@@ -61,6 +61,9 @@ struct DigPlan {
 static constexpr std::size_t kExhaustiveVictims = 7;
 
 /// InputError for no team, a negative or non-finite depth or time, or an empty or repeated id.
-DigPlan plan_digs(const std::vector<DigCandidate>& victims, std::size_t teams, const TriageConfig& config);
+/// `first`: victims an operator wants dug first, in this order (ids not among `victims` are
+/// skipped); the rest follow as planned.
+DigPlan plan_digs(const std::vector<DigCandidate>& victims, std::size_t teams, const TriageConfig& config,
+                  const std::vector<std::string>& first = {});
 
 }  // namespace sarloc::incident

@@ -21,6 +21,7 @@
 //     GNSS fixes; a rescuer whose link is lost or who signed off gives its strip back; of the
 //     rescuers who hear a victim, the nearest is sent (SignalPursuits); a standby takes the
 //     active one's assignments and pursuits;
+//   - an operator's dig order holds until the FOUND victims change (then the plan's own);
 //   - a FOUND victim reported dug out (an operator, the finder's device) stays as recovered, its
 //     signal expected no more;
 //   - on taking over, every victim id up to the largest seen that the picture no longer holds
@@ -38,6 +39,7 @@
 #include <deque>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -154,6 +156,13 @@ class IncidentCommand {
   /// as kRecovered (VictimFusion::recover). Refused (an event, on the active instance) for an
   /// unknown victim, one not FOUND, or a reporter that is not an identifier.
   void on_recovery(std::uint32_t victim_id, const std::string& reported_by);
+  /// An operator's dig order: these FOUND victims first, in this order. It holds until the
+  /// FOUND victims change; then incident command's own order replaces it (the last writer wins;
+  /// both are events). Refused (an event, changing nothing) when empty, with a repeated id, an
+  /// unknown or not FOUND victim, or an operator id that is not an identifier. Another
+  /// incident's is ignored.
+  void on_dig_order(const std::string& incident_id, const std::vector<std::uint32_t>& victim_ids,
+                    const std::string& operator_id);
 
   // --- the active instance's picture, as received (another instance's writers) ------------
   void on_peer_summary(const std::string& writer, TimestampNs wall_now);
@@ -213,6 +222,12 @@ class IncidentCommand {
   /// instance's first cycle, or the active one's if earlier (a standby started late).
   std::optional<TimestampNs> incident_start_;
   std::string dig_order_logged_;            ///< the victim ids in dig order, as last logged
+  struct OperatorDigOrder {
+    std::vector<std::uint32_t> victim_ids;
+    std::string operator_id;
+    std::set<std::uint32_t> found;  ///< the FOUND victims it was given for
+  };
+  std::optional<OperatorDigOrder> operator_dig_order_;
   std::optional<SignalPursuits> pursuits_;  ///< with the planner
   VictimFusion fusion_;
   TeamTracker tracker_;

@@ -42,7 +42,9 @@ struct VictimDigs {
 
 /// The dig order of `victims` in state FOUND (recovered ones are dug out already), all buried
 /// `buried_min` minutes. `free_rescuers`: the free rescuers' positions (incident frame).
+/// `first`: an operator's victims to dig first, in that order (plan_digs).
 VictimDigs plan_victim_digs(const std::vector<FusedVictim>& victims, const std::map<std::string, Vec2>& free_rescuers,
-                            double buried_min, const TriageConfig& triage);
+                            double buried_min, const TriageConfig& triage,
+                            const std::vector<std::uint32_t>& first = {});
 
 }  // namespace sarloc::incident
