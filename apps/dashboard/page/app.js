@@ -338,7 +338,10 @@ function renderLists() {
                       v.wgs84 ? `<br><small>${esc(v.wgs84)}</small>` : ''}</td>` +
                   `<td>${v.located_ns ? `${((now - v.located_ns) / 1e9).toFixed(0)} s ago` : '—'}</td>` +
                   `<td class="found">${isFound(v.state) && v.found_ns ? `at ${missionS(v.found_ns)}` : '—'}${
-                      v.state === 'recovered' ? ', dug out' : ''}</td>` +
+                      v.state === 'recovered' ? ', dug out' : ''}${
+                      v.state === 'FOUND' ?
+                          ` <button type="button" class="dug-out" data-victim="${v.id}">dug out</button>` :
+                          ''}</td>` +
                   `<td title="${esc(v.sources.join(', '))}">${esc(heardBy(v.sources))}${
                       pursuer(v.id) ? `<br><small class="pursuer">sent: ${esc(pursuer(v.id))}</small>` : ''}</td></tr>`)
           .join('');
@@ -355,9 +358,8 @@ function renderLists() {
                   `<td>${Math.round(100 * d.survival)} %</td><td>${
                       d.digger ? esc(d.digger) : '<i>none free</i>'}</td>` +
                   `<td>${
-                      i > 0 ? `<button type="button" class="dig-first" data-victim="${d.victim}">dig first</button> ` :
-                              ''}` +
-                  `<button type="button" class="dug-out" data-victim="${d.victim}">dug out</button></td></tr>`)
+                      i > 0 ? `<button type="button" class="dig-first" data-victim="${d.victim}">dig first</button>` :
+                              ''}</td></tr>`)
           .join('');
 
   const wallNow = picture.wallMs + (Date.now() - picture.receivedAtMs);
