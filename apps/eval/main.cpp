@@ -190,6 +190,8 @@ void print_multi_burial(const av::MultiBurialSummary& s, const av::EvaluationSum
               s.trials_with_withdrawn_founds);
   std::printf("%-34s %u   trials with any %u\n", "FOUNDs waiting for their witness", s.deferred_founds,
               s.trials_with_deferred_founds);
+  std::printf("%-34s %u   trials with any %u\n", "Lost, nothing heard: line again", s.line_resumptions,
+              s.trials_with_line_resumptions);
   std::printf("%-34s %llu   unattributed pulses %llu\n", "Wrong attributions (pulses)",
               static_cast<unsigned long long>(s.wrong_attributions),
               static_cast<unsigned long long>(s.unattributed_pulses));

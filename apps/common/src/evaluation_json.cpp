@@ -36,6 +36,8 @@ nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
   j["trials_with_implausible_rebuilds"] = s.trials_with_implausible_rebuilds;
   j["withdrawn_founds"] = s.withdrawn_founds;
   j["trials_with_withdrawn_founds"] = s.trials_with_withdrawn_founds;
+  j["line_resumptions"] = s.line_resumptions;
+  j["trials_with_line_resumptions"] = s.trials_with_line_resumptions;
   j["deferred_founds"] = s.deferred_founds;
   j["trials_with_deferred_founds"] = s.trials_with_deferred_founds;
   j["wrong_attributions"] = s.wrong_attributions;
@@ -68,6 +70,7 @@ nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
                               {"leaps", t.leaps},
                               {"implausible_rebuilds", t.implausible_rebuilds},
                               {"withdrawn_founds", t.withdrawn_founds},
+                              {"line_resumptions", t.line_resumptions},
                               {"deferred_founds", t.deferred_founds},
                               {"wrong_attributions", t.wrong_attributions},
                               {"unattributed_pulses", t.unattributed_pulses},

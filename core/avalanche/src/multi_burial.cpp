@@ -235,6 +235,7 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
   tr.leaps = static_cast<std::uint32_t>(search.leaps());
   tr.implausible_rebuilds = static_cast<std::uint32_t>(search.implausible_rebuilds());
   tr.withdrawn_founds = static_cast<std::uint32_t>(search.withdrawn_founds());
+  tr.line_resumptions = static_cast<std::uint32_t>(search.line_resumptions());
   tr.deferred_founds = static_cast<std::uint32_t>(search.deferred_founds());
   return tr;
 }
@@ -278,6 +279,8 @@ MultiBurialSummary run_multi_burial(const MultiBurialSetup& setup, const std::fu
     if (r.implausible_rebuilds > 0) ++s.trials_with_implausible_rebuilds;
     s.withdrawn_founds += r.withdrawn_founds;
     if (r.withdrawn_founds > 0) ++s.trials_with_withdrawn_founds;
+    s.line_resumptions += r.line_resumptions;
+    if (r.line_resumptions > 0) ++s.trials_with_line_resumptions;
     s.deferred_founds += r.deferred_founds;
     if (r.deferred_founds > 0) ++s.trials_with_deferred_founds;
     s.wrong_attributions += r.wrong_attributions;

@@ -224,6 +224,7 @@ std::optional<Rejection> RescuerSearch::gate(const FieldMeasurement& m) const {
 std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurement& m) {
   if (auto rejected = gate(m)) return *rejected;
   if (m.valid_axes == 0) return process_miss(m);
+  quiet_epochs_ = 0;  // a pulse heard, of any signal (found ones too): the device is within range
   auto it = signals_.find(m.signal_id);
   if (it == signals_.end()) {
     it = signals_
@@ -453,7 +454,7 @@ std::optional<Guidance> RescuerSearch::coast(TimestampNs stamp) {
   const auto it = signals_.find(*target_);
   if (it == signals_.end() || !it->second.filter.initialised()) return std::nullopt;
   SignalState& s = it->second;
-  Guidance g = s.controller.coast(s.filter);
+  Guidance g = s.controller.coast(s.filter, ++quiet_epochs_);
   g.rescuer_id = rescuer_id_;
   g.signal_id = *target_;
   g.stamp = stamp;
@@ -471,6 +472,12 @@ void RescuerSearch::leave_to_others(std::set<std::uint32_t> signal_ids, Timestam
   if (signal_ids == left_to_others_) return;
   left_to_others_ = std::move(signal_ids);
   choose_target();
+}
+
+std::size_t RescuerSearch::line_resumptions() const {
+  std::size_t n = 0;
+  for (const auto& [id, s] : signals_) n += s.controller.line_resumptions();
+  return n;
 }
 
 std::optional<VictimEstimate> RescuerSearch::estimate(std::uint32_t signal_id) const {

@@ -367,7 +367,7 @@ void SearchController::drop_pattern() {
   if (stall_) stall_->reset();
 }
 
-Guidance SearchController::coast(const TransmitterFilter& filter) {
+Guidance SearchController::coast(const TransmitterFilter& filter, std::uint32_t device_quiet_epochs) {
   const MixtureMoments mm = filter.predicted_moments();
   const Vec3 p = mm.mean.segment<3>(idx::kPos);
   Guidance g;
@@ -397,7 +397,7 @@ Guidance SearchController::coast(const TransmitterFilter& filter) {
   const double yaw = mm.mean[idx::kAtt + 2];
   const bool wide = radius95_3d(mm.covariance.block<3, 3>(idx::kPos, idx::kPos)) > filter.converged_radius_m();
   if (config_.lost_signal_steps > 0 && primary_heading_ && wide && !resuming_line_ &&
-      coasts_since_sample_ >= config_.lost_signal_steps) {
+      std::min(coasts_since_sample_, device_quiet_epochs) >= config_.lost_signal_steps) {
     resuming_line_ = true;
     returning_ = false;
     line_heading_ = *primary_heading_;

@@ -120,3 +120,47 @@ TEST(RescuerSearch, TwoTransmittersHalfAMetreApartAreBothFound) {
 
 }  // namespace
 }  // namespace sarloc::avalanche
+
+namespace sarloc::avalanche {
+namespace {
+
+// The lost-signal re-plan (search.lost_signal_steps) walks the primary line again only when the
+// device hears nothing at all: a target silent beside a found victim still heard every epoch is
+// masked, not out of range (sweeping away from a cluster cost multiple burials their misses).
+TEST(RescuerSearchLostSignal, TheLineIsWalkedAgainOnlyWhenNoSignalAtAllIsHeard) {
+  mission::SimulatedRescuer sim(test::scenario(), "r");
+  RescuerSearchConfig config = test::quick();
+  ASSERT_GT(config.search.lost_signal_steps, 0U) << "shipped on";
+  RescuerSearch search("r", config);
+  const std::vector<FieldMeasurement> first = test::feed(search, sim, 1);
+  ASSERT_EQ(first.size(), 2U);
+  const std::uint32_t target = *search.target_signal();
+  const std::uint32_t other = first[0].signal_id == target ? first[1].signal_id : first[0].signal_id;
+  search.mark_done(other);  // found: heard, never guided to
+  const auto wide = search.estimate(target);
+  ASSERT_TRUE(wide);
+  ASSERT_GT(radius95_3d(wide->relative.covariance), config.sog.converged_radius_m) << "a wide ring";
+  auto epoch = [&](int k, bool other_heard) {
+    const TimestampNs t = (k + 1) * test::kSecond;
+    ASSERT_FALSE(search.add_odometry(sim.walk(0.0, 0.5, t - test::kSecond, t)).has_value());
+    for (FieldMeasurement m : sim.measure(t)) {
+      if (m.signal_id == target || !other_heard) {
+        m.valid_axes = 0;  // a pulse due and not heard
+        m.field = Vec3::Zero();
+      }
+      ASSERT_TRUE(std::holds_alternative<SearchUpdate>(search.process(m))) << "epoch " << k;
+    }
+  };
+  const int quiet = static_cast<int>(config.search.lost_signal_steps);
+  int k = 1;
+  for (; k < 1 + 3 * quiet; ++k) epoch(k, true);
+  EXPECT_EQ(search.target_signal(), target);
+  EXPECT_EQ(search.line_resumptions(), 0U) << "the found neighbour is heard: the target is masked";
+  for (int n = 1; n < quiet; ++n, ++k) epoch(k, false);
+  EXPECT_EQ(search.line_resumptions(), 0U) << "not yet quiet long enough";
+  epoch(k++, false);
+  EXPECT_EQ(search.line_resumptions(), 1U) << "nothing heard for lost_signal_steps epochs";
+}
+
+}  // namespace
+}  // namespace sarloc::avalanche

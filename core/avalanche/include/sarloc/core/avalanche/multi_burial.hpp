@@ -87,6 +87,9 @@ struct MultiBurialTrial {
   /// FOUNDs withdrawn because their witness filter converged elsewhere
   /// (RescuerSearchConfig::found_witness_window_s).
   std::uint32_t withdrawn_founds = 0;
+  /// Times a signal's search walked the primary line again, the device hearing nothing
+  /// (SearchConfig::lost_signal_steps).
+  std::uint32_t line_resumptions = 0;
   /// FOUND claims that waited for the witness to locate the victim too.
   std::uint32_t deferred_founds = 0;
   std::uint32_t wrong_attributions = 0;
@@ -130,6 +133,8 @@ struct MultiBurialSummary {
   std::uint32_t trials_with_implausible_rebuilds = 0;
   std::uint32_t withdrawn_founds = 0;
   std::uint32_t trials_with_withdrawn_founds = 0;
+  std::uint32_t line_resumptions = 0;
+  std::uint32_t trials_with_line_resumptions = 0;
   std::uint32_t deferred_founds = 0;
   std::uint32_t trials_with_deferred_founds = 0;
   std::uint64_t wrong_attributions = 0;

@@ -139,6 +139,8 @@ class RescuerSearch {
   std::size_t leaps() const { return leaps_; }
   /// Filters rebuilt after converging on no plausible transmitter (SogConfig::implausible_rebuild_steps).
   std::size_t implausible_rebuilds() const { return implausible_rebuilds_; }
+  /// Times a signal's search walked the primary line again, lost while wide (SearchConfig::lost_signal_steps).
+  std::size_t line_resumptions() const;
   /// Latest estimate of a signal (nullopt if never measured).
   std::optional<VictimEstimate> estimate(std::uint32_t signal_id) const;
   /// Signals retired as confirmed repeats of another (the same transmitter, found twice).
@@ -207,6 +209,8 @@ class RescuerSearch {
   TimestampNs left_until_ = 0;
   std::optional<std::uint32_t> target_;
   TimestampNs newest_stamp_ = 0;  ///< of any signal's last measurement
+  /// Coasted epochs since the device last heard a pulse of any signal (SearchConfig::lost_signal_steps).
+  std::uint32_t quiet_epochs_ = 0;
   std::optional<std::uint64_t> last_odometry_sequence_;
   TimestampNs last_odometry_end_ = 0;
   TimestampNs superseded_until_ = 0;  ///< end of the last unknown-motion stand-in

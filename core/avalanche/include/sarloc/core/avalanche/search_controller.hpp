@@ -50,15 +50,16 @@
 //   Guidance g = ctl.guide(filter, measurement);   // after filter.process(measurement)
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "sarloc/core/avalanche/field_measurement.hpp"
-#include "sarloc/core/avalanche/responder_types.hpp"
 #include "sarloc/core/avalanche/lookahead_heading.hpp"
-#include "sarloc/core/avalanche/transmitter_filter.hpp"
+#include "sarloc/core/avalanche/responder_types.hpp"
 #include "sarloc/core/avalanche/stall_detector.hpp"
+#include "sarloc/core/avalanche/transmitter_filter.hpp"
 
 namespace sarloc::avalanche {
 
@@ -156,11 +157,12 @@ struct SearchConfig {
   /// until the signal is heard again, where the opening search starts over (a primary strip
   /// passes within its half width of every victim, where the ring narrows).
   /// Walking to the wide mixture's mean and back to where the signal was last heard, he shuttled
-  /// at the edge of range for the rest of the search (seed 12, trial 0). 0 = off, as shipped:
-  /// with 15 (the value evaluated), the live hand-over mission under load ended twice with an
-  /// unconfirmed contact 7-9 m deep that matched no victim; off until that is traced
-  /// (docs/estimation/avalanche.md, "Every search ends").
-  std::uint32_t lost_signal_steps = 0;
+  /// at the edge of range for the rest of the search (seed 12, trial 0). It waits for the
+  /// device to hear nothing at all as long (coast's device_quiet_epochs): a signal masked by
+  /// found neighbours' pulses, next to a cluster, is not out of range, and sweeping away from
+  /// the cluster cost multiple burials their misses. 0 = off (docs/estimation/avalanche.md,
+  /// "Every search ends").
+  std::uint32_t lost_signal_steps = 15;
   /// The re-planned sweep stays within this distance of where the signal was last heard: past
   /// it, with that place behind him, the rescuer turns round on the line. The victim was heard
   /// from there, so it lies within the receiver's range of it (40-70 m for the realistic
@@ -210,7 +212,12 @@ class SearchController {
   /// arrives). Otherwise, in the opening search, keep walking straight on (the ring's mean says little
   /// yet); after it, head for the mixture moved by the odometry since
   /// (TransmitterFilter::predicted_moments). Ids and stamp are left for the caller.
-  Guidance coast(const TransmitterFilter& filter);
+  /// `device_quiet_epochs`: epochs in a row in which the device heard no signal at all. The
+  /// lost-signal re-plan waits for both this signal's silence and the device's: a signal masked
+  /// by its neighbours' pulses is not out of range (a single transmitter's silence is the
+  /// device's, hence the default).
+  Guidance coast(const TransmitterFilter& filter,
+                 std::uint32_t device_quiet_epochs = std::numeric_limits<std::uint32_t>::max());
   /// kLocated / kFound refinement of a filter estimate, given what its filter says (same
   /// criteria as guide(), except that guide() also needs found_confirmations in a row for kFound).
   EstimatorStatus assess(const VictimEstimate& estimate, const ConfirmationEvidence& evidence) const;
