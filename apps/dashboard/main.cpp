@@ -4,14 +4,13 @@
 //
 // Exit codes: 0 stopped by SIGINT/SIGTERM; 2 bad command line; 3 bad mission file or options;
 // 4 could not run (DDS, the address in use).
-#include <CLI/CLI.hpp>
-#include <spdlog/spdlog.h>
-
 #include <fcntl.h>
 #include <malloc.h>
+#include <spdlog/spdlog.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -19,8 +18,8 @@
 #include <fstream>
 
 #include "dashboard_server.hpp"
-#include "picture_state.hpp"
 #include "foxglove_bridge.hpp"
+#include "picture_state.hpp"
 #include "recording_player.hpp"
 #include "sarloc/app/command_line.hpp"
 #include "sarloc/app/logging.hpp"
@@ -29,7 +28,9 @@
 #include "sarloc/app/shutdown_signal.hpp"
 #include "sarloc/dds/dashboard_node.hpp"
 #include "sarloc/dds/idl_schemas.hpp"
+#include "sarloc/dds/rate_limited_log.hpp"
 #include "sarloc/dds/raw_topic_readers.hpp"
+#include "sarloc/dds/speaker_claim.hpp"
 #include "sarloc/dds/topic_catalog.hpp"
 
 int main(int argc, char** argv) {
@@ -205,7 +206,21 @@ int main(int argc, char** argv) {
       foxglove->start();
       raw_participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, "sarloc-dashboard-foxglove"));
       sarloc::dds::RawReaderEvents events;
-      events.on_sample = [&foxglove](std::size_t k, sarloc::dds::RawSample&& sample, const eprosima::fastdds::dds::SampleInfo& info) {
+      // A sample about a responder is relayed only from a writer that may speak for it, as the
+      // picture is built (under DDS Security a stolen device's mayday "for r1" reached the feed).
+      std::vector<std::string> topic_names;
+      for (const auto* topic : topics) topic_names.push_back(topic->name);
+      auto feed_authority = std::make_shared<sarloc::dds::RawSampleAuthority>(raw_participant);
+      auto feed_refusals = std::make_shared<sarloc::dds::RateLimitedLog>(std::chrono::seconds(10));
+      events.on_sample = [&foxglove, &state, topic_names, feed_authority, feed_refusals](
+                             std::size_t k, sarloc::dds::RawSample&& sample,
+                             const eprosima::fastdds::dds::SampleInfo& info) {
+        if (const std::string why = feed_authority->refusal(topic_names[k], sample.bytes, info.publication_handle);
+            !why.empty()) {
+          state.on_rejected("feed " + topic_names[k]);
+          feed_refusals->warn(topic_names[k], "feed_refused", "Foxglove feed: not relayed: " + why);
+          return;
+        }
         const std::int64_t stamp = info.source_timestamp.to_ns();
         foxglove->publish(static_cast<std::uint32_t>(k + 1), stamp > 0 ? static_cast<std::uint64_t>(stamp) : 0, sample.bytes.data(),
                           sample.bytes.size());

@@ -65,10 +65,7 @@ void CommandNode::create_input_readers() {
       [this](const ::sarloc::VictimEstimate& e, const auto& info) {
         try {
           auto estimate = to_core(e);
-          if (!admitted(info.publication_handle, estimate.rescuer_id, WriterAuthority::Speakers::kDeviceOrCore,
-                        "victim estimate")) {
-            return;
-          }
+          if (!admitted(info.publication_handle, speaker_claim(e))) return;
           // The writer tells the daemon's estimates from a device's own: two estimators of one
           // source, which VictimFusion holds to agreeing with each other.
           std::string writer = handle_text(info.publication_handle);
@@ -103,11 +100,7 @@ void CommandNode::create_input_readers() {
   const auto on_position = [this](const ::sarloc::ResponderPosition& p, const auto& info) {
     try {
       auto position = to_core(p);
-      // Map-aided fixes come from the core daemon; any other kind only from the device itself.
-      const auto speakers = position.source == responder::PositionSource::kMapAided
-                                ? WriterAuthority::Speakers::kDeviceOrCore
-                                : WriterAuthority::Speakers::kDevice;
-      if (!admitted(info.publication_handle, position.responder_id, speakers, "responder position")) return;
+      if (!admitted(info.publication_handle, speaker_claim(p))) return;
       const std::string subject = position.responder_id;
       enqueue(subject, [position = std::move(position), writer = handle_text(info.publication_handle),
                         now = clock_.now()](incident::IncidentCommand& command) {
@@ -128,9 +121,7 @@ void CommandNode::create_input_readers() {
         try {
           auto alarm = to_core(a);
           // A mayday "for r1" counts only from r1's own device.
-          if (!admitted(info.publication_handle, alarm.responder_id, WriterAuthority::Speakers::kDevice, "responder alarm")) {
-            return;
-          }
+          if (!admitted(info.publication_handle, speaker_claim(a))) return;
           const std::string subject = alarm.responder_id;
           enqueue(subject, [alarm = std::move(alarm), now = clock_.now()](incident::IncidentCommand& command) {
             command.on_device_alarm(alarm, now);
@@ -273,11 +264,10 @@ void CommandNode::enqueue(const std::string& subject, Input input) {
                  config_.node_id + ": " + std::to_string(kInboxLimit) + " inputs wait for the next cycle: sample dropped");
 }
 
-bool CommandNode::admitted(const eprosima::fastrtps::rtps::InstanceHandle_t& writer, const std::string& responder_id,
-                           WriterAuthority::Speakers speakers, const char* what) {
-  if (authority_.admits(writer, responder_id, speakers)) return true;
+bool CommandNode::admitted(const eprosima::fastrtps::rtps::InstanceHandle_t& writer, const SpeakerClaim& claim) {
+  if (admits(authority_, writer, claim)) return true;
   counters_.rejected("unauthorized_writer");
-  warnings_.warn(responder_id, "unauthorized_writer", authority_.refusal(what, writer, responder_id));
+  warnings_.warn(claim.responder_id, "unauthorized_writer", authority_.refusal(claim.what, writer, claim.responder_id));
   return false;
 }
 

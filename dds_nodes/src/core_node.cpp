@@ -12,6 +12,7 @@
 #include "sarloc/dds/mission_clock.hpp"
 #include "sarloc/dds/process_stats.hpp"
 #include "sarloc/dds/sign_off.hpp"
+#include "sarloc/dds/speaker_claim.hpp"
 
 namespace sarloc::dds {
 
@@ -87,12 +88,13 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
         [this, refuse](const ::sarloc::Odometry& o, const auto& info) {
           try {
             auto odometry = to_core(o);
-            const std::string id = o.rescuer_id().to_string();
-            if (!authority_.admits(info.publication_handle, id, WriterAuthority::Speakers::kDevice)) {
-              refuse(id, "unauthorized_writer", authority_.refusal("odometry", info.publication_handle, id));
+            const SpeakerClaim claim = speaker_claim(o);
+            if (!admits(authority_, info.publication_handle, claim)) {
+              refuse(claim.responder_id, "unauthorized_writer",
+                     authority_.refusal(claim.what, info.publication_handle, claim.responder_id));
               return;
             }
-            enqueue(id, std::move(odometry));
+            enqueue(claim.responder_id, std::move(odometry));
           } catch (const InputError& e) {
             refuse(printable_id(o.rescuer_id()), "invalid_value", e.what());
           }

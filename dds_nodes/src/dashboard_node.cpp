@@ -5,8 +5,8 @@
 
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/reader.hpp"
+#include "sarloc/dds/speaker_claim.hpp"
 #include "sarloc/dds/writer.hpp"
-#include "sarloc/dds/writer_authority.hpp"
 
 namespace sarloc::dds {
 
@@ -102,10 +102,7 @@ DashboardNode::DashboardNode(std::shared_ptr<Participant> participant, Dashboard
       d.participant, [&d](const ::sarloc::ResponderPosition& p, const auto& info) {
         d.guarded("responder_position", [&] {
           auto position = to_core(p);
-          const auto speakers = position.source == responder::PositionSource::kMapAided
-                                    ? WriterAuthority::Speakers::kDeviceOrCore
-                                    : WriterAuthority::Speakers::kDevice;
-          if (!d.authority->admits(info.publication_handle, position.responder_id, speakers)) {
+          if (!admits(*d.authority, info.publication_handle, speaker_claim(p))) {
             if (d.sink.on_rejected) d.sink.on_rejected("responder_position");
             return;
           }

@@ -6,6 +6,7 @@
 #include "sarloc/core/common/validate.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/sign_off.hpp"
+#include "sarloc/dds/speaker_claim.hpp"
 
 namespace sarloc::dds {
 namespace {
@@ -40,7 +41,7 @@ FirefighterNode::FirefighterNode(std::shared_ptr<Participant> participant, Firef
         try {
           auto fix = to_core(p);
           if (fix.source != responder::PositionSource::kMapAided) return;
-          if (!authority_.admits(info.publication_handle, config_.responder_id, WriterAuthority::Speakers::kDeviceOrCore)) {
+          if (!admits(authority_, info.publication_handle, speaker_claim(p))) {
             refusals_.warn(config_.responder_id, "unauthorized_writer",
                            authority_.refusal("map-aided position", info.publication_handle, config_.responder_id));
             return;

@@ -8,6 +8,7 @@
 #include "sarloc/core/incident/strip_guidance.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/sign_off.hpp"
+#include "sarloc/dds/speaker_claim.hpp"
 
 namespace sarloc::dds {
 namespace {
@@ -69,7 +70,7 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
         if (e.rescuer_id().to_string() != config_.rescuer_id) return;
         // Our own fallback estimates come back to us too: only the daemon's count.
         if (info.publication_handle == estimate_writer_.get()->get_instance_handle()) return;
-        if (!authority_.admits(info.publication_handle, config_.rescuer_id, WriterAuthority::Speakers::kDeviceOrCore)) {
+        if (!admits(authority_, info.publication_handle, speaker_claim(e))) {
           refusals_.warn(config_.rescuer_id, "unauthorized_writer",
                          authority_.refusal("estimate", info.publication_handle, config_.rescuer_id));
           return;

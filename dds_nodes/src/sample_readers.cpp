@@ -2,6 +2,7 @@
 
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/dds/conversions.hpp"
+#include "sarloc/dds/speaker_claim.hpp"
 
 namespace sarloc::dds {
 
@@ -12,9 +13,10 @@ SampleReaders::SampleReaders(std::shared_ptr<Participant> participant, const Wri
       [&authority, on_sample, on_refused](const ::sarloc::FieldMeasurement& m, const auto& info) {
         try {
           auto sample = to_core(m);
-          const std::string id = m.rescuer_id().to_string();  // an identifier: to_core checked it
-          if (!authority.admits(info.publication_handle, id, WriterAuthority::Speakers::kDevice)) {
-            on_refused(id, "unauthorized_writer", authority.refusal("field measurement", info.publication_handle, id));
+          const SpeakerClaim claim = speaker_claim(m);  // an identifier: to_core checked it
+          if (!admits(authority, info.publication_handle, claim)) {
+            on_refused(claim.responder_id, "unauthorized_writer",
+                       authority.refusal(claim.what, info.publication_handle, claim.responder_id));
             return;
           }
           on_sample(std::move(sample));

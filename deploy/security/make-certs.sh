@@ -56,6 +56,10 @@ for spec in "$@"; do
     echo "make-certs.sh: $spec: a node id is 1-64 of A-Z a-z 0-9 _ . -" >&2
     exit 64
   fi
+  # Partitions route (sectors: sector-<name>; incident command, the recorder and the Foxglove
+  # feed read "*"), topics are the grant: without this list Fast DDS allows only the default
+  # partition, and a secured sector daemon or dashboard feed could not create its endpoints.
+  partitions="<partitions><partition/><partition>*</partition></partitions>"
   publish="<topic>sarloc/node_status</topic>"
   for topic in $(role_topics "$role"); do publish+="<topic>${topic}</topic>"; done
   dir="$out/$node"
@@ -76,8 +80,8 @@ for spec in "$@"; do
       <validity><not_before>${not_before}</not_before><not_after>${not_after}</not_after></validity>
       <allow_rule>
         <domains><id_range><min>0</min><max>232</max></id_range></domains>
-        <publish><topics>${publish}</topics></publish>
-        <subscribe><topics><topic>sarloc/*</topic></topics></subscribe>
+        <publish><topics>${publish}</topics>${partitions}</publish>
+        <subscribe><topics><topic>sarloc/*</topic></topics>${partitions}</subscribe>
       </allow_rule>
       <default>DENY</default>
     </grant>

@@ -7,12 +7,19 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 
 #include "sarloc/dds/command_node.hpp"
 #include "sarloc/dds/conversions.hpp"
+#include "sarloc/dds/raw_topic_readers.hpp"
+#include "sarloc/dds/raw_topic_type.hpp"
 #include "sarloc/dds/reader.hpp"
+#include "sarloc/dds/speaker_claim.hpp"
+#include "sarloc/dds/topic_catalog.hpp"
 #include "sarloc/dds/writer.hpp"
 #include "sarloc/dds/writer_authority.hpp"
 #include "support/dds_test_domains.hpp"
@@ -217,6 +224,50 @@ pid_t speak_in_child(const fs::path& dir, const std::string& node, bool device, 
   _exit(code);
 }
 
+// The dashboard's Foxglove feed relays raw payloads (RawSampleAuthority), in a process of its own
+// with the dashboard's identity, for up to 30 s. Exit bits: 1 a mayday for r1 relayed (r2 wrote
+// it), 2 r2's own mayday never relayed, 4 a fix of r1 that r2 wrote relayed, 8 the core daemon's
+// fix of r1 never relayed, 16 r2's own fix never relayed; 64 an error.
+pid_t relay_feed_in_child(const fs::path& dir) {
+  const pid_t child = fork();
+  if (child != 0) return child;
+  int code = 64;
+  try {
+    auto config = secure_config(dir, "dash", test::kDomainSecurityIdentity);
+    config.core_node_ids = {"core-a"};
+    auto participant = std::make_shared<Participant>(config);
+    const RawSampleAuthority authority(participant);
+    const std::vector<const CatalogTopic*> topics = {find_catalog_topic("sarloc/responder_alarm"),
+                                                     find_catalog_topic("sarloc/responder_position")};
+    std::atomic<int> r1_mayday{0}, r2_mayday{0}, r1_spoofed{0}, r1_core{0}, r2_fix{0};
+    RawReaderEvents events;
+    events.on_sample = [&](std::size_t k, RawSample&& sample, const eprosima::fastdds::dds::SampleInfo& info) {
+      if (!authority.refusal(topics[k]->name, sample.bytes, info.publication_handle).empty()) return;
+      if (k == 0) {
+        ::sarloc::ResponderAlarm a;
+        if (decode_payload<::sarloc::ResponderAlarmPubSubType>(sample.bytes, a))
+          ++(a.responder_id() == "r1" ? r1_mayday : r2_mayday);
+        return;
+      }
+      ::sarloc::ResponderPosition p;
+      if (!decode_payload<::sarloc::ResponderPositionPubSubType>(sample.bytes, p)) return;
+      const responder::ResponderPosition fix = to_core(p);
+      if (fix.responder_id == "r2") ++r2_fix;
+      if (fix.responder_id == "r1") ++(std::abs(fix.position.position.x() - 5.0) < 1e-6 ? r1_core : r1_spoofed);
+    };
+    RawTopicReaders readers(participant, topics, {"*"}, events);
+    // r2 writes its own fix last in each round: five of them, and its spoofs were all seen.
+    for (int waited = 0; waited < 300 && r2_fix < 5; ++waited) std::this_thread::sleep_for(100ms);
+    std::this_thread::sleep_for(500ms);
+    readers.close();
+    code = (r1_mayday > 0 ? 1 : 0) | (r2_mayday == 0 ? 2 : 0) | (r1_spoofed > 0 ? 4 : 0) | (r1_core == 0 ? 8 : 0) |
+           (r2_fix == 0 ? 16 : 0);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "the feed's process: %s\n", e.what());
+  }
+  _exit(code);
+}
+
 // Issue 59: DDS Security grants topics, not instances, so every device identity may publish
 // responder_position and responder_alarm. Incident command now checks each sample's writer
 // against the responder it is about (WriterAuthority): device r2 can raise neither a mayday
@@ -226,9 +277,11 @@ TEST(Security, ADeviceSpeaksOnlyForItsOwnResponder) {
   const fs::path dir = fs::temp_directory_path() / ("sarloc-security-identity-" + std::to_string(getpid()));
   fs::remove_all(dir);
   const std::string make = std::string(SARLOC_SECURITY_DIR) + "/make-certs.sh " + dir.string() +
-                           " command:ic core:core-a r2 > /dev/null";
+                           " command:ic core:core-a dashboard:dash r2 > /dev/null";
   ASSERT_EQ(std::system(make.c_str()), 0) << make;
   const MissionClock clock;  // one epoch for every process: the children inherit it
+  const pid_t feed = relay_feed_in_child(dir);
+  ASSERT_GT(feed, 0);
 
   // The core daemon places r1 first; device r2 speaks (for itself and for r1) once it is done,
   // so a spoof that got through would be r1's last position.
@@ -279,6 +332,15 @@ TEST(Security, ADeviceSpeaksOnlyForItsOwnResponder) {
   EXPECT_NEAR(members["r1"].last_position.position.y(), 5.0, 1e-6);
   ASSERT_EQ(members.count("r2"), 1U) << "r2's own position was lost";
   EXPECT_NEAR(members["r2"].last_position.position.x(), 1.0, 1e-6);
+  waitpid(feed, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status)) << "the feed's process died";
+  const int feed_code = WEXITSTATUS(status);
+  EXPECT_NE(feed_code, 64) << "the feed's process failed to run";
+  EXPECT_EQ(feed_code & 1, 0) << "the Foxglove feed relayed r2's mayday for r1";
+  EXPECT_EQ(feed_code & 2, 0) << "the Foxglove feed lost r2's own mayday";
+  EXPECT_EQ(feed_code & 4, 0) << "the Foxglove feed relayed r2's fixes of r1";
+  EXPECT_EQ(feed_code & 8, 0) << "the Foxglove feed lost the core daemon's fix of r1";
+  EXPECT_EQ(feed_code & 16, 0) << "the Foxglove feed lost r2's own fix";
   fs::remove_all(dir);
 }
 

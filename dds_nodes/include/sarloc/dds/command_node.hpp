@@ -34,6 +34,7 @@
 #include "sarloc/dds/rate_limited_log.hpp"
 #include "sarloc/dds/reader.hpp"
 #include "sarloc/dds/reject_counters.hpp"
+#include "sarloc/dds/speaker_claim.hpp"
 #include "sarloc/dds/writer.hpp"
 #include "sarloc/dds/writer_authority.hpp"
 
@@ -85,10 +86,9 @@ class CommandNode {
   void log(const incident::CommandCycle& out);
   /// Keeps the picture writers' MANUAL_BY_TOPIC liveliness (3 s lease) while active.
   void assert_picture_liveliness();
-  /// False (counted and logged as unauthorized_writer) when `writer` may not write `what`
-  /// about `responder_id` (WriterAuthority).
-  bool admitted(const eprosima::fastrtps::rtps::InstanceHandle_t& writer, const std::string& responder_id,
-                WriterAuthority::Speakers speakers, const char* what);
+  /// False (counted and logged as unauthorized_writer) when `writer` may not write a sample
+  /// making `claim` (WriterAuthority).
+  bool admitted(const eprosima::fastrtps::rtps::InstanceHandle_t& writer, const SpeakerClaim& claim);
   void refuse_invalid(const std::string& subject, const std::string& what);
 
   CommandNodeConfig config_;
