@@ -158,10 +158,7 @@ void IncidentCommand::on_recovery(std::uint32_t victim_id, const std::string& re
     }
   } catch (const InputError& error) {
     if (arbiter_.role() != CommandRole::kActive) return;
-    const auto& victims = fusion_.victims();
-    const bool known =
-        std::any_of(victims.begin(), victims.end(), [&](const FusedVictim& v) { return v.victim_id == victim_id; });
-    reject(reported_by, known ? "not_found" : "unknown_victim", error.what());
+    reject(reported_by, fusion_.victim(victim_id) != nullptr ? "not_found" : "unknown_victim", error.what());
   }
 }
 
@@ -178,16 +175,14 @@ void IncidentCommand::on_dig_order(const std::string& incident_id, const std::ve
   }
   const std::string from = "dig order from '" + operator_id + "'";
   if (victim_ids.empty()) return refuse_order(operator_id, "invalid_value", from + ": no victim");
-  std::set<std::uint32_t> found, given;
-  for (const FusedVictim& v : fusion_.victims())
-    if (v.state == VictimState::kFound) found.insert(v.victim_id);
+  const std::set<std::uint32_t> found = fusion_.found_ids();
+  std::set<std::uint32_t> given;
   std::string ids;
   for (const std::uint32_t id : victim_ids) {
     const std::string name = from + ": victim " + std::to_string(id);
     if (!given.insert(id).second) return refuse_order(operator_id, "invalid_value", name + " is listed twice");
     if (found.count(id) == 0) {
-      const auto& all = fusion_.victims();
-      const bool known = std::any_of(all.begin(), all.end(), [&](const FusedVictim& v) { return v.victim_id == id; });
+      const bool known = fusion_.victim(id) != nullptr;
       return refuse_order(operator_id, known ? "not_found" : "unknown_victim",
                           name + (known ? " is not FOUND: only found victims are dug" : ": no such victim"));
     }
@@ -407,10 +402,7 @@ std::optional<SearchPlanPicture> IncidentCommand::plan_search(const std::vector<
   const double buried_min = config_.triage.buried_before_start_min + ns_to_seconds(now - *incident_start_) / 60.0;
   // An operator's order holds for the FOUND victims it was given for; once they change, this
   // re-plan is the last writer.
-  std::set<std::uint32_t> found;
-  for (const FusedVictim& v : victims)
-    if (v.state == VictimState::kFound) found.insert(v.victim_id);
-  if (operator_dig_order_ && operator_dig_order_->found != found) {
+  if (operator_dig_order_ && operator_dig_order_->found != fusion_.found_ids()) {
     say(IncidentEvent::Kind::kInfo,
         "dig order: the FOUND victims changed, incident command re-plans; the order from '" +
             operator_dig_order_->operator_id + "' no longer holds");

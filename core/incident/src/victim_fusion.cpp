@@ -1,4 +1,3 @@
-#include "sarloc/core/common/time_units.hpp"
 #include "sarloc/core/incident/victim_fusion.hpp"
 
 #include <Eigen/Cholesky>
@@ -8,10 +7,12 @@
 #include <set>
 #include <sstream>
 #include <tuple>
+#include <utility>
 
 #include "sarloc/core/common/chi_square.hpp"
-#include "sarloc/core/common/gaussian.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/gaussian.hpp"
+#include "sarloc/core/common/time_units.hpp"
 #include "sarloc/core/common/validate.hpp"
 #include "sarloc/core/incident/assignment.hpp"
 
@@ -307,10 +308,21 @@ void VictimFusion::withdraw_contradicted() {
   contradicted_.clear();
 }
 
-FusedVictim* VictimFusion::find_victim(std::uint32_t id) {
+const FusedVictim* VictimFusion::victim(std::uint32_t id) const {
   auto it = std::lower_bound(victims_.begin(), victims_.end(), id,
                              [](const FusedVictim& v, std::uint32_t i) { return v.victim_id < i; });
   return (it != victims_.end() && it->victim_id == id) ? &*it : nullptr;
+}
+
+FusedVictim* VictimFusion::find_victim(std::uint32_t id) {
+  return const_cast<FusedVictim*>(std::as_const(*this).victim(id));  // the one lookup, for the owner
+}
+
+std::set<std::uint32_t> VictimFusion::found_ids() const {
+  std::set<std::uint32_t> found;
+  for (const FusedVictim& v : victims_)
+    if (v.state == VictimState::kFound) found.insert(v.victim_id);
+  return found;
 }
 
 std::vector<GaussianPosition> VictimFusion::bound_positions(const FusedVictim& v,

@@ -191,6 +191,10 @@ class VictimFusion {
 
   /// Current victims, stable ids (from 1), sorted by id.
   const std::vector<FusedVictim>& victims() const { return victims_; }
+  /// The victim of that id, nullptr when there is none.
+  const FusedVictim* victim(std::uint32_t id) const;
+  /// The ids of the victims FOUND now (not dug out yet).
+  std::set<std::uint32_t> found_ids() const;
   /// Ids removed (merged away or ghosts) since the last call; the caller disposes of them.
   std::vector<std::uint32_t> take_removed();
 
