@@ -267,7 +267,7 @@ void CommandNode::enqueue(const std::string& subject, Input input) {
 bool CommandNode::admitted(const eprosima::fastrtps::rtps::InstanceHandle_t& writer, const SpeakerClaim& claim) {
   if (admits(authority_, writer, claim)) return true;
   counters_.rejected("unauthorized_writer");
-  warnings_.warn(claim.responder_id, "unauthorized_writer", authority_.refusal(claim.what, writer, claim.responder_id));
+  warnings_.warn(claim.responder_id, "unauthorized_writer", refusal(authority_, writer, claim));
   return false;
 }
 

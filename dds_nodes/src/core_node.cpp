@@ -90,8 +90,7 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
             auto odometry = to_core(o);
             const SpeakerClaim claim = speaker_claim(o);
             if (!admits(authority_, info.publication_handle, claim)) {
-              refuse(claim.responder_id, "unauthorized_writer",
-                     authority_.refusal(claim.what, info.publication_handle, claim.responder_id));
+              refuse(claim.responder_id, "unauthorized_writer", refusal(authority_, info.publication_handle, claim));
               return;
             }
             enqueue(claim.responder_id, std::move(odometry));

@@ -41,9 +41,9 @@ FirefighterNode::FirefighterNode(std::shared_ptr<Participant> participant, Firef
         try {
           auto fix = to_core(p);
           if (fix.source != responder::PositionSource::kMapAided) return;
-          if (!admits(authority_, info.publication_handle, speaker_claim(p))) {
-            refusals_.warn(config_.responder_id, "unauthorized_writer",
-                           authority_.refusal("map-aided position", info.publication_handle, config_.responder_id));
+          if (const SpeakerClaim claim = speaker_claim(p); !admits(authority_, info.publication_handle, claim)) {
+            refusals_.warn(claim.responder_id, "unauthorized_writer",
+                           refusal(authority_, info.publication_handle, claim));
             return;
           }
           std::lock_guard<std::mutex> lock(mutex_);

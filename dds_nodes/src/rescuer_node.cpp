@@ -70,9 +70,9 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
         if (e.rescuer_id().to_string() != config_.rescuer_id) return;
         // Our own fallback estimates come back to us too: only the daemon's count.
         if (info.publication_handle == estimate_writer_.get()->get_instance_handle()) return;
-        if (!admits(authority_, info.publication_handle, speaker_claim(e))) {
-          refusals_.warn(config_.rescuer_id, "unauthorized_writer",
-                         authority_.refusal("estimate", info.publication_handle, config_.rescuer_id));
+        if (const SpeakerClaim claim = speaker_claim(e); !admits(authority_, info.publication_handle, claim)) {
+          refusals_.warn(claim.responder_id, "unauthorized_writer",
+                         refusal(authority_, info.publication_handle, claim));
           return;
         }
         if (e.status() > ::sarloc::ESTIMATOR_FOUND) return;

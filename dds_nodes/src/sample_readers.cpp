@@ -15,8 +15,7 @@ SampleReaders::SampleReaders(std::shared_ptr<Participant> participant, const Wri
           auto sample = to_core(m);
           const SpeakerClaim claim = speaker_claim(m);  // an identifier: to_core checked it
           if (!admits(authority, info.publication_handle, claim)) {
-            on_refused(claim.responder_id, "unauthorized_writer",
-                       authority.refusal(claim.what, info.publication_handle, claim.responder_id));
+            on_refused(claim.responder_id, "unauthorized_writer", refusal(authority, info.publication_handle, claim));
             return;
           }
           on_sample(std::move(sample));

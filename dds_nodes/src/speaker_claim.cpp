@@ -65,7 +65,7 @@ std::string RawSampleAuthority::refusal(const std::string& topic, const std::vec
   try {
     const std::optional<SpeakerClaim> claim = raw_speaker_claim(topic, bytes);
     if (!claim || admits(authority_, writer, *claim)) return {};
-    return authority_.refusal(claim->what, writer, claim->responder_id);
+    return dds::refusal(authority_, writer, *claim);
   } catch (const InputError& e) {
     return e.what();
   }

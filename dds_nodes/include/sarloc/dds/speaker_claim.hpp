@@ -39,6 +39,11 @@ inline bool admits(const WriterAuthority& authority, const eprosima::fastrtps::r
                    const SpeakerClaim& claim) {
   return authority.admits(writer, claim.responder_id, claim.speakers);
 }
+/// authority.refusal's log line for a claim it did not admit.
+inline std::string refusal(const WriterAuthority& authority, const eprosima::fastrtps::rtps::InstanceHandle_t& writer,
+                           const SpeakerClaim& claim) {
+  return authority.refusal(claim.what, writer, claim.responder_id);
+}
 
 /// The check of a raw relay (the dashboard's Foxglove feed): a payload of a responder's topic
 /// passes only when its writer may speak for the responder it names, as in the picture, and one
