@@ -126,6 +126,7 @@ std::optional<Rejection> RescuerSearch::add_odometry(const Odometry& o) {
     if (gap > static_cast<std::uint64_t>(kMaxUnknownMotionNs)) restart_unfound_filters();
   }
   for (auto& [signal, state] : signals_) state.filter.add_odometry(o);
+  if (line_bearing_) line_bearing_ = wrap_angle(*line_bearing_ - o.rotation_rpy.z());
   log_input(o.interval_end, o);
   last_odometry_sequence_ = o.sequence;
   last_odometry_end_ = o.interval_end;
@@ -141,6 +142,7 @@ void RescuerSearch::restart_unfound_filters() {
     state.estimate.reset();
   }
   recent_.clear();  // the frame they were given in is lost
+  line_bearing_.reset();
   ++restarts_;
   choose_target();
 }
@@ -259,6 +261,7 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
     return unchanged;
   }
   if (auto rejected = update_filter(s, m)) return *rejected;
+  if (!line_bearing_) line_bearing_ = 0.0;  // no guidance yet: he is walking the primary line
   s.last_heard_stamp = m.stamp;
   s.last_field_norm = m.field.norm();
 
@@ -269,6 +272,7 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
   if (target_ ? *target_ == m.signal_id : may_guide_to(m.signal_id, s)) {
     // Guidance only for the signal being searched (one direction at a time for the rescuer),
     // never towards a victim already found.
+    s.controller.primary_line_at(*line_bearing_);
     Guidance g = s.controller.guide(s.filter, m);
     g.rescuer_id = rescuer_id_;
     g.signal_id = m.signal_id;
@@ -454,6 +458,7 @@ std::optional<Guidance> RescuerSearch::coast(TimestampNs stamp) {
   const auto it = signals_.find(*target_);
   if (it == signals_.end() || !it->second.filter.initialised()) return std::nullopt;
   SignalState& s = it->second;
+  if (line_bearing_) s.controller.primary_line_at(*line_bearing_);
   Guidance g = s.controller.coast(s.filter, ++quiet_epochs_);
   g.rescuer_id = rescuer_id_;
   g.signal_id = *target_;

@@ -32,6 +32,11 @@ constexpr double kPatternRegrowth = 1.5;
 /// as long as the longest recent gap, up to SearchConfig::confirm_max_waits epochs.
 constexpr std::uint32_t kConfirmWaits = 3;
 
+/// A rescuer heading within this of the primary line walks on straight: steering onto it at
+/// every attitude update would make him dither, and walking straight is what makes the field
+/// magnitude informative.
+constexpr double kOnPrimaryLine = 20.0 * kPi / 180.0;
+
 /// Within this distance (m) of a probe point the rescuer stands on it: no step is needed.
 constexpr double kOnProbePoint = 0.01;
 
@@ -205,7 +210,7 @@ Guidance SearchController::guide(const TransmitterFilter& filter, const FieldMea
   const Eigen::Vector2d mean_h = mean.head<2>();
   const double dist = mean_h.norm();
   const double r95_h = radius95_2d(cov);
-  if (!primary_heading_) primary_heading_ = yaw;  // the rescuer was walking the primary search's line
+  adopt_primary_line(yaw);
   g.distance_m = dist;
   g.uncertainty_radius_m = r95_h;
 
@@ -271,7 +276,7 @@ Guidance SearchController::guide(const TransmitterFilter& filter, const FieldMea
       // A pulse or two at the edge of range is no direction yet (the ring is still whole and
       // the next pulse may not be heard): keep walking the primary search's line.
       if (++opening_samples_ <= config_.opening_line_samples) {
-        heading = yaw;
+        heading = along_primary_line(yaw);
         break;
       }
       switch (config_.opening_heading) {
@@ -367,6 +372,16 @@ void SearchController::drop_pattern() {
   if (stall_) stall_->reset();
 }
 
+void SearchController::adopt_primary_line(double yaw) {
+  // Without a line from the rescuer's search, he was walking it when this signal was first heard.
+  if (!primary_heading_) primary_heading_ = primary_line_bearing_ ? wrap_angle(yaw + *primary_line_bearing_) : yaw;
+}
+
+double SearchController::along_primary_line(double yaw) const {
+  if (!primary_heading_ || std::abs(wrap_angle(*primary_heading_ - yaw)) <= kOnPrimaryLine) return yaw;
+  return *primary_heading_;
+}
+
 Guidance SearchController::coast(const TransmitterFilter& filter, std::uint32_t device_quiet_epochs) {
   const MixtureMoments mm = filter.predicted_moments();
   const Vec3 p = mm.mean.segment<3>(idx::kPos);
@@ -395,6 +410,7 @@ Guidance SearchController::coast(const TransmitterFilter& filter, std::uint32_t 
     return g;
   }
   const double yaw = mm.mean[idx::kAtt + 2];
+  adopt_primary_line(yaw);
   const bool wide = radius95_3d(mm.covariance.block<3, 3>(idx::kPos, idx::kPos)) > filter.converged_radius_m();
   if (config_.lost_signal_steps > 0 && primary_heading_ && wide && !resuming_line_ &&
       std::min(coasts_since_sample_, device_quiet_epochs) >= config_.lost_signal_steps) {
@@ -421,7 +437,7 @@ Guidance SearchController::coast(const TransmitterFilter& filter, std::uint32_t 
     g.bearing_rad = wrap_angle(std::atan2(heard.y(), heard.x()) - mm.mean[idx::kAtt + 2]);
     g.step_m = std::min(config_.step_length_m, heard.head<2>().norm());
   } else if (mode_ == GuidanceMode::kOpening) {
-    g.bearing_rad = 0.0;
+    g.bearing_rad = wrap_angle(along_primary_line(yaw) - yaw);
     g.step_m = config_.step_length_m;
   } else {
     g.bearing_rad = wrap_angle(g.heading_rad - mm.mean[idx::kAtt + 2]);

@@ -162,5 +162,47 @@ TEST(RescuerSearchLostSignal, TheLineIsWalkedAgainOnlyWhenNoSignalAtAllIsHeard) 
   EXPECT_EQ(search.line_resumptions(), 1U) << "nothing heard for lost_signal_steps epochs";
 }
 
+// A signal searched after another's victim opens along the primary search's line, not wherever
+// the previous search left the rescuer facing (seen live: a third victim 26 m ahead of the first
+// two unfound in 300 s, the rescuers walking off east and south from the second).
+TEST(RescuerSearchPrimaryLine, ASignalSearchedAfterAnotherOpensAlongThePrimaryLine) {
+  mission::SimulatedRescuer sim(test::scenario(), "r");
+  RescuerSearch search("r", test::quick());
+  const std::vector<FieldMeasurement> first = test::feed(search, sim, 1);  // walking north
+  ASSERT_EQ(first.size(), 2U);
+  const std::uint32_t target = *search.target_signal();
+  const std::uint32_t other = first[0].signal_id == target ? first[1].signal_id : first[0].signal_id;
+  // The first search turns him round (its fine search could leave him facing anywhere).
+  for (int k = 1; k <= 3; ++k) {
+    const TimestampNs t = (k + 1) * test::kSecond;
+    ASSERT_FALSE(search.add_odometry(sim.walk(k == 1 ? kPi : 0.0, 0.5, t - test::kSecond, t)).has_value());
+    for (const FieldMeasurement& m : sim.measure(t))
+      ASSERT_TRUE(std::holds_alternative<SearchUpdate>(search.process(m)));
+  }
+  search.mark_done(target);  // found
+  ASSERT_EQ(search.target_signal(), other);
+  const TimestampNs t = 5 * test::kSecond;
+  ASSERT_FALSE(search.add_odometry(sim.walk(0.0, 0.5, t - test::kSecond, t)).has_value());
+  std::optional<Guidance> g;
+  for (const FieldMeasurement& m : sim.measure(t)) {
+    auto outcome = search.process(m);
+    ASSERT_TRUE(std::holds_alternative<SearchUpdate>(outcome));
+    if (std::get<SearchUpdate>(outcome).guidance) g = std::get<SearchUpdate>(outcome).guidance;
+  }
+  ASSERT_TRUE(g) << "the other signal heard and guided to";
+  ASSERT_EQ(g->mode, GuidanceMode::kOpening) << "still a wide ring";
+  EXPECT_GT(std::abs(g->bearing_rad), 0.9 * kPi) << "he faces south: the primary line (north) is behind him";
+  // Walked on that way, he stays on it (no dithering on attitude noise).
+  ASSERT_FALSE(search.add_odometry(sim.walk(g->bearing_rad, g->step_m, t, t + test::kSecond)).has_value());
+  for (const FieldMeasurement& m : sim.measure(t + test::kSecond)) {
+    auto outcome = search.process(m);
+    ASSERT_TRUE(std::holds_alternative<SearchUpdate>(outcome));
+    const auto& next = std::get<SearchUpdate>(outcome).guidance;
+    if (next && next->mode == GuidanceMode::kOpening) {
+      EXPECT_EQ(next->bearing_rad, 0.0);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace sarloc::avalanche

@@ -209,6 +209,11 @@ class RescuerSearch {
   TimestampNs left_until_ = 0;
   std::optional<std::uint32_t> target_;
   TimestampNs newest_stamp_ = 0;  ///< of any signal's last measurement
+  /// The primary search's line, as a bearing from the rescuer's heading now: 0 when the device
+  /// first heard a pulse (he was walking it), turned by every odometry sample's yaw since, and
+  /// given to each signal's controller (SearchController::primary_line_at). Unknown again after a
+  /// gap that restarts the filters (the turns made in it are lost).
+  std::optional<double> line_bearing_;
   /// Coasted epochs since the device last heard a pulse of any signal (SearchConfig::lost_signal_steps).
   std::uint32_t quiet_epochs_ = 0;
   std::optional<std::uint64_t> last_odometry_sequence_;

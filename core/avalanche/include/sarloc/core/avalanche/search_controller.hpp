@@ -204,6 +204,13 @@ class SearchController {
  public:
   explicit SearchController(SearchConfig config = {});
 
+  /// The primary search's line lies `bearing_rad` from the rescuer's heading now (RescuerSearch
+  /// turns it with the odometry from the first pulse the device heard). A controller that has
+  /// not guided yet takes it as its line; without it, the line is the heading at its first
+  /// guidance. A signal searched after another's victim opens along the primary line, not
+  /// wherever the previous fine search left the rescuer facing (seen live: a third victim 26 m
+  /// ahead of the first two unfound after 300 s, the rescuers walking off east and south).
+  void primary_line_at(double bearing_rad) { primary_line_bearing_ = bearing_rad; }
   /// Guidance after the filter processed `measurement` (the same signal).
   Guidance guide(const TransmitterFilter& filter, const FieldMeasurement& measurement);
   /// Guidance for a step in which the signal was not heard (a pulse period up to 1.3 s, a pulse
@@ -253,7 +260,8 @@ class SearchController {
   std::optional<double> opening_heading_;  ///< posterior-bearing heading held in G
   std::uint32_t opening_samples_ = 0;      ///< samples guided in the opening search so far
   bool returning_ = false;                 ///< coasting back to where the signal was last heard
-  std::optional<double> primary_heading_;  ///< heading (G) of the primary search when first heard
+  std::optional<double> primary_heading_;  ///< heading (G) of the primary search's line
+  std::optional<double> primary_line_bearing_;  ///< primary_line_at(): the line from the heading now
   bool resuming_line_ = false;             ///< signal lost while wide: sweeping the primary line again
   double line_heading_ = 0.0;              ///< heading (G) of the sweep: the primary line's, or its reverse
   std::uint32_t line_resumptions_ = 0;
@@ -269,6 +277,10 @@ class SearchController {
   std::array<std::uint32_t, 8> recent_gaps_{};  ///< epochs coasted between the last 8 guided samples
   std::size_t gap_slot_ = 0;
 
+  /// Takes the primary line (primary_line_at, or `yaw`) if it has none yet.
+  void adopt_primary_line(double yaw);
+  /// Heading along the primary line: the rescuer's own `yaw` while within kOnPrimaryLine of it.
+  double along_primary_line(double yaw) const;
   /// Adaptive end, in fine search: feeds the stall watch, lays out, walks or drops the probe
   /// pattern. Sets `heading`/`step` while a pattern is walked; true once it is complete.
   bool adaptive_end(const Eigen::Vector2d& mean_h, const Mat3& cov, double r95, double converged_radius,
