@@ -192,6 +192,7 @@ Guidance SearchController::guide(const TransmitterFilter& filter, const FieldMea
     resuming_line_ = false;
     mode_ = GuidanceMode::kOpening;
     opening_samples_ = 0;
+    left_opening_ = false;  // a new opening, on the line
     initial_r95h_.reset();
     opening_heading_.reset();
   }
@@ -263,6 +264,7 @@ Guidance SearchController::guide(const TransmitterFilter& filter, const FieldMea
     else mode_ = dist < config_.fine_search_radius_m ? GuidanceMode::kFineSearch
                                                      : GuidanceMode::kApproach;
   }
+  if (mode_ != GuidanceMode::kOpening) left_opening_ = true;
   // The stall watch covers consecutive fine-search steps only.
   if (mode_ != GuidanceMode::kFineSearch && stall_) stall_->reset();
 
@@ -378,7 +380,10 @@ void SearchController::adopt_primary_line(double yaw) {
 }
 
 double SearchController::along_primary_line(double yaw) const {
-  if (!primary_heading_ || std::abs(wrap_angle(*primary_heading_ - yaw)) <= kOnPrimaryLine) return yaw;
+  // An opening re-entered after the approach (the mixture spread out again) keeps the heading the
+  // approach gave: turning back to the line there walked away from the estimate (Table I's mean
+  // steps rose 1.5-3 a seed).
+  if (!primary_heading_ || left_opening_ || std::abs(wrap_angle(*primary_heading_ - yaw)) <= kOnPrimaryLine) return yaw;
   return *primary_heading_;
 }
 

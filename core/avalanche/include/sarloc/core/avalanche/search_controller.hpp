@@ -262,6 +262,7 @@ class SearchController {
   bool returning_ = false;                 ///< coasting back to where the signal was last heard
   std::optional<double> primary_heading_;  ///< heading (G) of the primary search's line
   std::optional<double> primary_line_bearing_;  ///< primary_line_at(): the line from the heading now
+  bool left_opening_ = false;                   ///< the opening search ended once (approach or closer)
   bool resuming_line_ = false;             ///< signal lost while wide: sweeping the primary line again
   double line_heading_ = 0.0;              ///< heading (G) of the sweep: the primary line's, or its reverse
   std::uint32_t line_resumptions_ = 0;
@@ -279,7 +280,8 @@ class SearchController {
 
   /// Takes the primary line (primary_line_at, or `yaw`) if it has none yet.
   void adopt_primary_line(double yaw);
-  /// Heading along the primary line: the rescuer's own `yaw` while within kOnPrimaryLine of it.
+  /// Heading along the primary line: the rescuer's own `yaw` while within kOnPrimaryLine of it,
+  /// or once the opening search has ended (an opening re-entered keeps the approach's heading).
   double along_primary_line(double yaw) const;
   /// Adaptive end, in fine search: feeds the stall watch, lays out, walks or drops the probe
   /// pattern. Sets `heading`/`step` while a pattern is walked; true once it is complete.
