@@ -3,6 +3,9 @@
 #include <spdlog/spdlog.h>
 
 #include <array>
+#include <cctype>
+#include <charconv>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -10,6 +13,47 @@ namespace sarloc::dashboard {
 
 namespace asio = boost::asio;
 using tcp = asio::ip::tcp;
+
+namespace {
+
+// The value of the head's Content-Length, nullopt without one (or with one that is not a
+// number: the server refuses that, so it may have it at once, as a head without a body).
+std::optional<std::size_t> content_length(std::string_view head) {
+  constexpr std::string_view kName = "content-length:";
+  for (std::size_t line = head.find('\n'); line != std::string_view::npos; line = head.find('\n', line + 1)) {
+    const std::string_view rest = head.substr(line + 1);
+    if (rest.size() < kName.size()) break;
+    bool match = true;
+    for (std::size_t i = 0; i < kName.size() && match; ++i) {
+      match = std::tolower(static_cast<unsigned char>(rest[i])) == kName[i];
+    }
+    if (!match) continue;
+    std::size_t i = kName.size();
+    while (i < rest.size() && (rest[i] == ' ' || rest[i] == '\t')) ++i;
+    std::size_t value = 0;
+    const auto [end, error] = std::from_chars(rest.data() + i, rest.data() + rest.size(), value);
+    if (error != std::errc() || end == rest.data() + i) return std::nullopt;
+    return value;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+bool request_ready(std::string_view held) {
+  if (held.empty()) return false;
+  if (static_cast<unsigned char>(held.front()) == 0x16) return true;  // TLS: nothing to read here
+  if (held.size() > kHeldRequestMax) return true;                     // for the server to refuse
+  std::size_t head_end = held.find("\r\n\r\n");
+  head_end = head_end == std::string_view::npos ? held.find("\n\n") : head_end;
+  if (head_end == std::string_view::npos) return false;
+  const std::string_view head = held.substr(0, head_end);
+  const std::size_t body_start = head_end + (held.compare(head_end, 4, "\r\n\r\n") == 0 ? 4 : 2);
+  const std::optional<std::size_t> length = content_length(head);
+  // A body over the server's limit is refused on its head: no need to wait for it.
+  if (!length || *length > kMaxRequestBody) return true;
+  return held.size() - body_start >= *length;
+}
 
 // One client connection and its copy towards the HTTP server. Its sockets and flags belong to
 // the gate's io thread; `deadline` and `served` are shared with the server's threads under the
@@ -20,6 +64,7 @@ struct ConnectionGate::Relay {
   tcp::socket backend;
   std::array<char, 16384> upstream_buffer{};    // client -> server
   std::array<char, 16384> downstream_buffer{};  // server -> client
+  std::string held;                             // what the client sent before its request head was whole
   std::string address;
   int relay_port = 0;  // the local port of `backend`: how the server names this connection
   Clock::time_point deadline;
@@ -126,6 +171,29 @@ void ConnectionGate::admit(tcp::socket socket) {
     relay->client.close(ec);
     return;
   }
+  hold(relay);
+}
+
+// The request stays here, where a connection costs a socket and a buffer, until it has arrived
+// whole (request_ready): only then does the connection take one of the server's threads.
+void ConnectionGate::hold(const std::shared_ptr<Relay>& relay) {
+  relay->client.async_read_some(asio::buffer(relay->upstream_buffer),
+                                [this, relay](const boost::system::error_code& ec, std::size_t n) {
+                                  if (relay->closed) return;
+                                  if (ec) {
+                                    close(relay);
+                                    return;
+                                  }
+                                  relay->held.append(relay->upstream_buffer.data(), n);
+                                  if (request_ready(relay->held)) {
+                                    connect(relay);
+                                    return;
+                                  }
+                                  hold(relay);
+                                });
+}
+
+void ConnectionGate::connect(const std::shared_ptr<Relay>& relay) {
   relay->backend.async_connect(tcp::endpoint(asio::ip::address_v4::loopback(), static_cast<unsigned short>(backend_port_)),
                                [this, relay](const boost::system::error_code& error) {
                                  if (error || relay->closed) {
@@ -138,7 +206,16 @@ void ConnectionGate::admit(tcp::socket socket) {
                                    std::lock_guard<std::mutex> lock(mutex_);
                                    by_relay_port_[relay->relay_port] = relay;
                                  }
-                                 pump(relay, true);
+                                 asio::async_write(relay->backend, asio::buffer(relay->held),
+                                                   [this, relay](const boost::system::error_code& e, std::size_t) {
+                                                     if (e || relay->closed) {
+                                                       close(relay);
+                                                       return;
+                                                     }
+                                                     relay->held.clear();
+                                                     relay->held.shrink_to_fit();
+                                                     pump(relay, true);
+                                                   });
                                  pump(relay, false);
                                });
 }

@@ -7,16 +7,19 @@
 // threads, and 200 half-sent requests did the same for 16 s (issue 59). It offers no hook at
 // accept. So the gate accepts on the public address itself and relays each connection to the
 // HTTP server, which listens on a loopback port of its own; it
+//  - holds each request until it has arrived whole (request_ready) before it connects to the
+//    server: a connection being dribbled costs a socket and a buffer here, never a server
+//    thread, so slow clients from any number of addresses cannot hold the server's threads;
 //  - refuses a client address that already has `max_per_address` connections open;
 //  - refuses connections beyond `max_total`;
 //  - closes a connection whose request has not arrived whole within `request_deadline_s` of
 //    its opening. The server reports a GET's head (request_arrived) by the port the relay's
 //    connection comes from; the GET is then served as long as it lasts (event streams). A
 //    request with a body is not reported: it must be answered by the deadline (4 KiB at most).
-// TLS passes through untouched: the server behind decrypts, and reports the same way. One
+// TLS passes through untouched, at once: the server behind decrypts, and reports the same way
+// (a slow TLS client still holds a server thread until the deadline). One
 // request per connection (the server closes after each), so the deadline covers all of it.
 #include <boost/asio.hpp>
-
 #include <chrono>
 #include <cstdint>
 #include <map>
@@ -24,11 +27,22 @@
 #include <mutex>
 #include <set>
 #include <string>
+#include <string_view>
 #include <thread>
 
 #include "sarloc/dds/rate_limited_log.hpp"
 
 namespace sarloc::dashboard {
+
+/// Held longer than this without being whole, a request passes to the server, which refuses it.
+inline constexpr std::size_t kHeldRequestMax = 16384;
+/// The server's body limit: a larger Content-Length is refused on its head, so not waited for.
+inline constexpr std::size_t kMaxRequestBody = 4096;
+
+/// The bytes a client sent may go to the server: its request head has ended and the body its
+/// Content-Length announces (at most kMaxRequestBody) has arrived, or it is TLS (first byte 0x16,
+/// a handshake record: it cannot be read here), or it is over kHeldRequestMax.
+bool request_ready(std::string_view held);
 
 struct ConnectionLimits {
   int max_per_address = 32;         ///< open connections from one client address
@@ -68,6 +82,7 @@ class ConnectionGate {
   void accept();
   void admit(boost::asio::ip::tcp::socket socket);
   void sweep();
+  void hold(const std::shared_ptr<Relay>& relay);
   void connect(const std::shared_ptr<Relay>& relay);
   void pump(const std::shared_ptr<Relay>& relay, bool upstream);
   void close(const std::shared_ptr<Relay>& relay);

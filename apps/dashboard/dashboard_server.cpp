@@ -108,7 +108,7 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
   // One thread per open stream, and some for everything else.
   const int threads = config_.max_streams + 8;
   s.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<std::size_t>(threads)); };
-  s.set_payload_max_length(4096);
+  s.set_payload_max_length(kMaxRequestBody);
   s.set_read_timeout(5, 0);
   s.set_write_timeout(5, 0);
   // One request per connection: the gate's deadline then bounds the whole of it.
