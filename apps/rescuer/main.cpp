@@ -126,9 +126,11 @@ int main(int argc, char** argv) {
     std::unique_ptr<rescuer::SensorSource> sensors;
     if (source == "sim") {
       sensors = std::make_unique<rescuer::SimulatedSource>(mission.scenario, rescuer_id,
-                                                           mission.estimators.avalanche_rescuer.search.step_length_m);
+                                                           mission.estimators.avalanche_rescuer.search.step_length_m,
+                                                           mission.command.incident.origin);
     } else {
-      sensors = std::make_unique<rescuer::RecordedSource>(source, rescuer_id, node_config.team);
+      sensors = std::make_unique<rescuer::RecordedSource>(source, rescuer_id, node_config.team,
+                                                          mission.command.incident.origin);
     }
 
     auto participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, "rescuer-" + rescuer_id));

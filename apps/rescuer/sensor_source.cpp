@@ -1,17 +1,18 @@
 #include "sensor_source.hpp"
 
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/incident/gnss_fix.hpp"
 
 namespace sarloc::rescuer {
 
 SimulatedSource::SimulatedSource(const mission::MissionScenario& scenario, const std::string& rescuer_id,
-                                 double step_length_m)
-    : sim_(scenario, rescuer_id), victims_(scenario.victims), step_length_m_(step_length_m) {}
+                                 double step_length_m, const GeodeticOrigin& origin)
+    : sim_(scenario, rescuer_id), frame_(origin), victims_(scenario.victims), step_length_m_(step_length_m) {}
 
 std::optional<SensorEpoch> SimulatedSource::next(TimestampNs stamp, const std::optional<responder::Guidance>& followed) {
   SensorEpoch epoch;
@@ -24,7 +25,10 @@ std::optional<SensorEpoch> SimulatedSource::next(TimestampNs stamp, const std::o
     else epoch.odometry.push_back(std::move(walked));
   }
   previous_stamp_ = stamp;
-  epoch.position = sim_.gnss(stamp);
+  responder::ResponderPosition fix = sim_.gnss(stamp);
+  // What the receiver reports (WGS-84), then the device's conversion of it, as on a real device.
+  fix.position = incident::in_incident_frame(frame_, incident::as_receiver_fix(frame_, stamp, fix.position));
+  epoch.position = std::move(fix);
   for (auto& m : sim_.measure(stamp)) epoch.samples.emplace_back(std::move(m));
   return epoch;
 }
@@ -73,8 +77,9 @@ avalanche::SignalEvent signal_event_field(const json& j) {
 
 }  // namespace
 
-RecordedSource::RecordedSource(const std::string& path, std::string rescuer_id, std::string team)
-    : in_(path), path_(path), rescuer_id_(std::move(rescuer_id)), team_(std::move(team)) {
+RecordedSource::RecordedSource(const std::string& path, std::string rescuer_id, std::string team,
+                               const GeodeticOrigin& origin)
+    : in_(path), frame_(origin), path_(path), rescuer_id_(std::move(rescuer_id)), team_(std::move(team)) {
   if (!in_) throw ConfigError("--source = '" + path + "': cannot open the recorded sensor file");
 }
 
@@ -141,8 +146,23 @@ bool RecordedSource::read_line(SensorEpoch& epoch, std::optional<TimestampNs>& f
       p.position.covariance = matrix_field<3>(j, "covariance");
       p.source = responder::PositionSource::kGnss;
       epoch.position = p;
+    } else if (type == "gnss") {
+      incident::GnssFix fix;
+      fix.stamp = number_field<TimestampNs>(j, "stamp_ns");
+      fix.position.latitude_deg = number_field<double>(j, "latitude_deg");
+      fix.position.longitude_deg = number_field<double>(j, "longitude_deg");
+      fix.position.altitude_m = number_field<double>(j, "altitude_m");
+      fix.horizontal_sigma_m = number_field<double>(j, "horizontal_sigma_m");
+      fix.vertical_sigma_m = number_field<double>(j, "vertical_sigma_m");
+      responder::ResponderPosition p;
+      p.responder_id = rescuer_id_;
+      p.team_id = team_;
+      p.stamp = fix.stamp;
+      p.position = incident::in_incident_frame(frame_, fix);
+      p.source = responder::PositionSource::kGnss;
+      epoch.position = p;
     } else {
-      throw InputError("type = '" + type + "': expected field, odometry or position");
+      throw InputError("type = '" + type + "': expected field, odometry, position or gnss");
     }
   } catch (const std::exception& e) {
     ++skipped_;

@@ -9,11 +9,12 @@
 #include <vector>
 
 #include "sarloc/core/avalanche/field_measurement.hpp"
-#include "sarloc/core/responder/guidance.hpp"
 #include "sarloc/core/estimator/sensor_sample.hpp"
+#include "sarloc/core/incident/geodetic_frame.hpp"
+#include "sarloc/core/mission/simulated_rescuer.hpp"
+#include "sarloc/core/responder/guidance.hpp"
 #include "sarloc/core/responder/odometry.hpp"
 #include "sarloc/core/responder/responder_position.hpp"
-#include "sarloc/core/mission/simulated_rescuer.hpp"
 
 namespace sarloc::rescuer {
 
@@ -50,10 +51,12 @@ class SensorSource {
 };
 
 /// The mission simulator: one step per epoch along the followed guidance (no guidance yet:
-/// straight ahead, the primary search).
+/// straight ahead, the primary search). Its GNSS receiver reports WGS-84 fixes, which the
+/// device converts about the incident's `origin` as it would a real receiver's (gnss_fix.hpp).
 class SimulatedSource : public SensorSource {
  public:
-  SimulatedSource(const mission::MissionScenario& scenario, const std::string& rescuer_id, double step_length_m);
+  SimulatedSource(const mission::MissionScenario& scenario, const std::string& rescuer_id, double step_length_m,
+                  const GeodeticOrigin& origin);
   std::optional<SensorEpoch> next(TimestampNs stamp, const std::optional<responder::Guidance>& followed) override;
   double distance_walked_m() const override { return sim_.distance_walked_m(); }
   void set_consistency(avalanche::FieldConsistency consistency, std::function<void(const responder::Odometry&)> move) override {
@@ -75,6 +78,7 @@ class SimulatedSource : public SensorSource {
 
  private:
   mission::SimulatedRescuer sim_;
+  incident::GeodeticFrame frame_;
   std::vector<mission::VictimSpec> victims_;
   double step_length_m_;
   std::optional<TimestampNs> previous_stamp_;
@@ -85,6 +89,9 @@ class SimulatedSource : public SensorSource {
 ///   {"type":"odometry","sequence":1,"interval_start_ns":..,"interval_end_ns":..,
 ///    "translation":[x,y,z],"rotation_rpy":[r,p,y],"covariance":[36 numbers, row-major]}
 ///   {"type":"position","stamp_ns":..,"position":[e,n,u],"covariance":[9 numbers]}
+///   {"type":"gnss","stamp_ns":..,"latitude_deg":..,"longitude_deg":..,"altitude_m":..,
+///    "horizontal_sigma_m":..,"vertical_sigma_m":..}   (a receiver's fix in WGS-84, converted
+///    about the incident's origin)
 ///   {"type":"field","signal_id":1,"sequence":1,"stamp_ns":..,"field":[x,y,z],
 ///    "noise_stddev":[x,y,z], optional "orientation_rpy":[r,p,y],"orientation_covariance":[9],
 ///    "valid_axes":0..7 (default 7; 0: a pulse due and not heard), "signal_event":"none|new|reacquired|separated"}
@@ -93,7 +100,7 @@ class SimulatedSource : public SensorSource {
 /// number and the field; nothing else is lost.
 class RecordedSource : public SensorSource {
  public:
-  RecordedSource(const std::string& path, std::string rescuer_id, std::string team);
+  RecordedSource(const std::string& path, std::string rescuer_id, std::string team, const GeodeticOrigin& origin);
   std::optional<SensorEpoch> next(TimestampNs stamp, const std::optional<responder::Guidance>& followed) override;
   double distance_walked_m() const override { return walked_m_; }
   std::size_t skipped_lines() const { return skipped_; }
@@ -102,6 +109,7 @@ class RecordedSource : public SensorSource {
   bool read_line(SensorEpoch& epoch, std::optional<TimestampNs>& field_stamp);
 
   std::ifstream in_;
+  incident::GeodeticFrame frame_;
   std::string path_;
   std::string rescuer_id_;
   std::string team_;

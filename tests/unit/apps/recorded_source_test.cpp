@@ -2,6 +2,7 @@
 // samples' stamp, malformed lines skipped without losing the rest.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <fstream>
 
 #include "sarloc/core/common/errors.hpp"
@@ -23,6 +24,8 @@ std::string write_file(const std::string& text) {
   return path;
 }
 
+const GeodeticOrigin kOrigin{46.9480, 7.4474, 2100.0};
+
 const char* kCov6 = "[1e-4,0,0,0,0,0, 0,1e-4,0,0,0,0, 0,0,1e-4,0,0,0, 0,0,0,1e-5,0,0, 0,0,0,0,1e-5,0, 0,0,0,0,0,1e-4]";
 
 TEST(RecordedSource, GroupsEpochsByFieldStampAndSkipsMalformedLines) {
@@ -38,7 +41,7 @@ TEST(RecordedSource, GroupsEpochsByFieldStampAndSkipsMalformedLines) {
   text += std::string(R"({"type":"odometry","sequence":2,"interval_start_ns":1000000000,"interval_end_ns":2000000000,"translation":[0.5,0,0],"rotation_rpy":[0,0,0],"covariance":)") + kCov6 + "}\n";
   text += R"({"type":"field","signal_id":1,"sequence":2,"stamp_ns":2000000000,"field":[2e-7,0,0],"noise_stddev":[2e-9,2e-9,2e-9]})" "\n";
 
-  RecordedSource source(write_file(text), "r9", "team-x");
+  RecordedSource source(write_file(text), "r9", "team-x", kOrigin);
   const auto first = source.next(0, std::nullopt);
   ASSERT_TRUE(first.has_value());
   EXPECT_EQ(first->stamp, 1'000'000'000);
@@ -69,7 +72,7 @@ TEST(RecordedSource, ReadsTheSeparationsAxesAndEventsAndSkipsBadOnes) {
   text += R"({"type":"field","signal_id":2,"sequence":1,"stamp_ns":1000000000,"field":[1e-7,0,0],"noise_stddev":[2e-9,2e-9,2e-9],"valid_axes":0})" "\n";
   text += R"({"type":"field","signal_id":3,"sequence":1,"stamp_ns":1000000000,"field":[1e-7,0,0],"noise_stddev":[2e-9,2e-9,2e-9],"signal_event":"swapped"})" "\n";
   text += R"({"type":"field","signal_id":4,"sequence":1,"stamp_ns":1000000000,"field":[1e-7,0,0],"noise_stddev":[2e-9,2e-9,2e-9],"valid_axes":8})" "\n";
-  RecordedSource source(write_file(text), "r9", "team-x");
+  RecordedSource source(write_file(text), "r9", "team-x", kOrigin);
   const auto epoch = source.next(0, std::nullopt);
   ASSERT_TRUE(epoch.has_value());
   ASSERT_EQ(epoch->samples.size(), 2U) << "a mask beyond the three axes and an unknown event are skipped";
@@ -79,8 +82,44 @@ TEST(RecordedSource, ReadsTheSeparationsAxesAndEventsAndSkipsBadOnes) {
   EXPECT_EQ(source.skipped_lines(), 2U);
 }
 
+// A real receiver's fixes in WGS-84: converted about the incident's origin on the device; a fix
+// out of range, far away or without an accuracy is skipped, naming the field.
+TEST(RecordedSource, ReadsGnssFixesInWgs84AndSkipsBadOnes) {
+  const incident::GeodeticFrame frame(kOrigin);
+  const incident::Geodetic fix = frame.to_wgs84(Vec3(30.0, -40.0, -12.0));
+  char good[256];
+  std::snprintf(
+      good, sizeof good,
+      R"({"type":"gnss","stamp_ns":1000000000,"latitude_deg":%.10f,"longitude_deg":%.10f,"altitude_m":%.4f,"horizontal_sigma_m":2.5,"vertical_sigma_m":5})",
+      fix.latitude_deg, fix.longitude_deg, fix.altitude_m);
+  std::string text = std::string(good) + "\n";
+  text +=
+      R"({"type":"gnss","stamp_ns":1000000000,"latitude_deg":95,"longitude_deg":7.4474,"altitude_m":2100,"horizontal_sigma_m":2.5,"vertical_sigma_m":5})"
+      "\n";
+  text +=
+      R"({"type":"gnss","stamp_ns":1000000000,"latitude_deg":47.9480,"longitude_deg":7.4474,"altitude_m":2100,"horizontal_sigma_m":2.5,"vertical_sigma_m":5})"
+      "\n";
+  text +=
+      R"({"type":"gnss","stamp_ns":1000000000,"latitude_deg":46.9480,"longitude_deg":7.4474,"altitude_m":2100,"horizontal_sigma_m":0,"vertical_sigma_m":5})"
+      "\n";
+  text +=
+      R"({"type":"gnss","stamp_ns":1000000000,"latitude_deg":46.9480,"altitude_m":2100,"horizontal_sigma_m":2.5,"vertical_sigma_m":5})"
+      "\n";
+  RecordedSource source(write_file(text), "r9", "team-x", kOrigin);
+  const auto epoch = source.next(0, std::nullopt);
+  ASSERT_TRUE(epoch.has_value());
+  ASSERT_TRUE(epoch->position.has_value());
+  EXPECT_LT((epoch->position->position.position - Vec3(30.0, -40.0, -12.0)).norm(), 1e-3);
+  EXPECT_DOUBLE_EQ(epoch->position->position.covariance(0, 0), 2.5 * 2.5);
+  EXPECT_DOUBLE_EQ(epoch->position->position.covariance(1, 1), 2.5 * 2.5);
+  EXPECT_DOUBLE_EQ(epoch->position->position.covariance(2, 2), 25.0);
+  EXPECT_EQ(epoch->position->responder_id, "r9");
+  // Latitude 95, a fix 111 km away, an accuracy of 0, no longitude.
+  EXPECT_EQ(source.skipped_lines(), 4U);
+}
+
 TEST(RecordedSource, MissingFileIsAConfigError) {
-  EXPECT_THROW(RecordedSource("/nonexistent/sensors.jsonl", "r", "t"), ConfigError);
+  EXPECT_THROW(RecordedSource("/nonexistent/sensors.jsonl", "r", "t", kOrigin), ConfigError);
 }
 
 }  // namespace

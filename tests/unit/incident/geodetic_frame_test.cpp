@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/incident/gnss_fix.hpp"
 
 namespace sarloc::incident {
 namespace {
@@ -49,6 +50,56 @@ TEST(GeodeticFrame, RefusesCoordinatesOutOfRangeNamingTheField) {
     EXPECT_NE(std::string(e.what()).find("point.longitude_deg = 181"), std::string::npos) << e.what();
   }
   EXPECT_THROW((void)frame.to_wgs84(Vec3(std::nan(""), 0, 0)), InputError);
+}
+
+// A receiver's fix, as it gives it, into the incident frame: the simulated receiver reports what
+// a real one would, and the device's conversion gets back where it was and what it claimed.
+TEST(GnssFix, AReceiversFixComesBackIntoTheIncidentFrameWithItsAccuracy) {
+  const GeodeticFrame frame(kBern);
+  GaussianPosition at;
+  at.position = Vec3(1200.0, -850.0, 35.0);
+  at.covariance = Vec3(0.09, 0.16, 0.36).asDiagonal();
+  const GnssFix fix = as_receiver_fix(frame, 7, at);
+  EXPECT_EQ(fix.stamp, 7);
+  EXPECT_DOUBLE_EQ(fix.horizontal_sigma_m, 0.4);  // the larger of east and north
+  EXPECT_DOUBLE_EQ(fix.vertical_sigma_m, 0.6);
+  EXPECT_LT(fix.position.latitude_deg, kBern.latitude_deg);    // south
+  EXPECT_GT(fix.position.longitude_deg, kBern.longitude_deg);  // east
+  const GaussianPosition back = in_incident_frame(frame, fix);
+  EXPECT_LT((back.position - at.position).norm(), 1e-3);
+  EXPECT_DOUBLE_EQ(back.covariance(0, 0), 0.16);
+  EXPECT_DOUBLE_EQ(back.covariance(1, 1), 0.16);
+  EXPECT_DOUBLE_EQ(back.covariance(2, 2), 0.36);
+  EXPECT_DOUBLE_EQ(back.covariance(0, 1), 0.0);
+}
+
+TEST(GnssFix, RefusesAFixOutOfRangeFarAwayOrWithoutAnAccuracyNamingTheField) {
+  const GeodeticFrame frame(kBern);
+  const auto message = [&](GnssFix fix) {
+    try {
+      in_incident_frame(frame, fix);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const GnssFix good{1, {kBern.latitude_deg, kBern.longitude_deg, 540.0}, 2.0, 4.0};
+  EXPECT_EQ(message(good), "accepted");
+  GnssFix f = good;
+  f.position.latitude_deg = 91.0;
+  EXPECT_NE(message(f).find("latitude_deg = 91"), std::string::npos) << message(f);
+  f = good;
+  f.position.longitude_deg = std::nan("");
+  EXPECT_NE(message(f).find("longitude_deg"), std::string::npos) << message(f);
+  f = good;
+  f.position.latitude_deg += 1.0;  // 111 km north
+  EXPECT_NE(message(f).find("from the incident's origin"), std::string::npos) << message(f);
+  f = good;
+  f.horizontal_sigma_m = 0.0;
+  EXPECT_NE(message(f).find("horizontal_sigma_m = 0"), std::string::npos) << message(f);
+  f = good;
+  f.vertical_sigma_m = 5000.0;
+  EXPECT_NE(message(f).find("vertical_sigma_m = 5000"), std::string::npos) << message(f);
 }
 
 }  // namespace
