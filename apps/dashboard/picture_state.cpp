@@ -349,13 +349,16 @@ json PictureState::plan_json() const {
     json outline = json::array();
     for (const auto& p : s.strip.outline) outline.push_back({cm(p.x()), cm(p.y())});
     const auto& next = i < plan_->next_points.size() ? plan_->next_points[i] : std::nullopt;
+    const auto& helper_next = i < plan_->helper_next_points.size() ? plan_->helper_next_points[i] : std::nullopt;
     strips.push_back({{"index", s.strip.index},
                       {"outline", outline},
                       {"top", {cm(s.strip.top.x()), cm(s.strip.top.y())}},
                       {"searched", s.searched},
                       {"done", s.done},
                       {"rescuer", s.rescuer_id},
-                      {"next", next ? json{cm(next->x()), cm(next->y())} : json(nullptr)}});
+                      {"next", next ? json{cm(next->x()), cm(next->y())} : json(nullptr)},
+                      {"helper", s.helper_id},
+                      {"helper_next", helper_next ? json{cm(helper_next->x()), cm(helper_next->y())} : json(nullptr)}});
   }
   // One rescuer per victim: who incident command sends to each victim heard by several.
   json pursuers = json::object();

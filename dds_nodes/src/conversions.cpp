@@ -556,6 +556,10 @@ double fraction(double f, const char* field) {
     const bool has_next = i < p.next_points.size() && p.next_points[i].has_value();
     strip.has_next_point(has_next);
     if (has_next) strip.next_point(plane_point(*p.next_points[i]));
+    strip.helper_id(to_identifier(s.helper_id, "search_plan.strips.helper_id"));
+    const bool has_helper_next = i < p.helper_next_points.size() && p.helper_next_points[i].has_value();
+    strip.has_helper_next_point(has_helper_next);
+    if (has_helper_next) strip.helper_next_point(plane_point(*p.helper_next_points[i]));
     out.strips().push_back(strip);
   }
   out.searched_fraction(p.plan.searched);
@@ -610,6 +614,11 @@ incident::SearchPlanPicture to_core(const ::sarloc::SearchPlan& p) {
     out.next_points.push_back(s.has_next_point()
                                   ? std::optional<Vec2>(plane_point(s.next_point(), "search_plan.strips.next_point"))
                                   : std::nullopt);
+    strip.helper_id = from_identifier(s.helper_id(), "search_plan.strips.helper_id", true);
+    out.helper_next_points.push_back(
+        s.has_helper_next_point()
+            ? std::optional<Vec2>(plane_point(s.helper_next_point(), "search_plan.strips.helper_next_point"))
+            : std::nullopt);
     out.plan.strips.push_back(std::move(strip));
   }
   out.plan.searched = fraction(p.searched_fraction(), "search_plan.searched_fraction");

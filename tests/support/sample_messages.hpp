@@ -180,16 +180,19 @@ inline incident::SearchPlanPicture sample_search_plan() {
   a.strip.width_m = 40;
   a.searched = 0.5;
   a.rescuer_id = "r1";
+  a.helper_id = "r4";
   incident::PlannedStrip b = a;
   b.strip.index = 1;
   b.strip.outline = {{40, 0}, {80, 0}, {80, 100}, {40, 100}};
   b.strip.top = {60, 100};
   b.strip.bottom = {60, 0};
   b.rescuer_id.clear();
+  b.helper_id.clear();
   b.done = true;
   b.searched = 1.0;
   p.plan.strips = {a, b};
   p.next_points = {incident::Vec2(20, 80), std::nullopt};
+  p.helper_next_points = {incident::Vec2(20, 12), std::nullopt};
   p.handed_over = {{"r2", 3, 7, "r1"}};
   // Victim 7 (0.6 m deep) dug first by r3, then victim 9 (1.8 m) when a team is free.
   p.digs.digs = {{7, 0.6, 12.0, 0.0, 4.8, 0.92, "r3"}, {9, 1.8, 12.0, 4.8, 30.0, 0.43, ""}};

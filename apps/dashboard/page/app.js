@@ -247,18 +247,20 @@ function renderMap() {
         1.5 * px}" stroke-dasharray="${6 * px},${4 * px}"/>`;
   }
   // Incident command's search plan over it: each strip shaded by what is searched, its rescuer
-  // and share at its top, and a ring where its rescuer walks next.
+  // (and a helper walking up from the bottom) and share at its top, and a ring where each walks next.
   const planLabels = [];
   for (const strip of (picture.plan && picture.plan.strips) || []) {
     if (!Array.isArray(strip.outline) || strip.outline.length < 3) continue;
     const points = strip.outline.map((p) => `${p[0]},${- p[1]}`).join(' ');
     svg += `<polygon class="strip" points="${points}" fill="#2e8b57" fill-opacity="${
         (0.05 + 0.3 * strip.searched).toFixed(3)}" stroke="#5b8db8" stroke-width="${px}"/>`;
-    if (Array.isArray(strip.next)) {
-      svg += `<circle cx="${strip.next[0]}" cy="${- strip.next[1]}" r="${
-          4 * px}" fill="none" stroke="#2e8b57" stroke-width="${1.5 * px}"/>`;
+    for (const next of [strip.next, strip.helper_next]) {
+      if (!Array.isArray(next)) continue;
+      svg += `<circle cx="${next[0]}" cy="${- next[1]}" r="${4 * px}" fill="none" stroke="#2e8b57" stroke-width="${
+          1.5 * px}"/>`;
     }
-    const who = strip.rescuer ? strip.rescuer : strip.done ? 'done' : 'open';
+    const walker = strip.rescuer ? strip.rescuer : strip.done ? 'done' : 'open';
+    const who = strip.helper ? `${walker}, helped by ${strip.helper}` : walker;
     planLabels.push(
         [strip.top[0], strip.top[1], `strip ${strip.index}: ${who}, ${Math.round(100 * strip.searched)} %`]);
   }

@@ -379,17 +379,30 @@ std::optional<SearchPlanPicture> IncidentCommand::plan_search(const std::vector<
       if (!gone && m.has_position && m.link == LinkState::kAlive)
         searching.emplace(m.responder_id, m.last_position.position.head<2>());
       const auto had = planner_->strip_of(m.responder_id);
+      const auto helped = planner_->strip_helped_by(m.responder_id);
       if (gone) {
         planner_->release(m.responder_id);
         if (had)
           say(IncidentEvent::Kind::kWarning, "search plan: strip " + std::to_string(*had) + " open again (" +
                                                  m.responder_id + " no longer searching)");
+        if (helped)
+          say(IncidentEvent::Kind::kInfo, "search plan: strip " + std::to_string(*helped) + " has no helper (" +
+                                              m.responder_id + " no longer searching)");
       } else {
         planner_->resume(m.responder_id);
       }
     }
   const std::uint32_t revision = planner_->plan().revision;
+  std::vector<std::string> helpers_before;
+  for (const auto& s : planner_->plan().strips) helpers_before.push_back(s.helper_id);
   planner_->update();
+  const auto& strips = planner_->plan().strips;
+  for (std::size_t i = 0; i < strips.size(); ++i) {
+    if (strips[i].helper_id.empty() || (i < helpers_before.size() && helpers_before[i] == strips[i].helper_id))
+      continue;
+    say(IncidentEvent::Kind::kInfo, "search plan: " + strips[i].helper_id + " helps on strip " + std::to_string(i) +
+                                        " (" + strips[i].rescuer_id + "'s) from the bottom up");
+  }
   SearchPlanPicture picture = planner_->picture(config_.incident_id, now);
   picture.handed_over = pursuits_->update(victims, searching, now);
   for (const auto& e : pursuits_->events())
@@ -397,7 +410,10 @@ std::optional<SearchPlanPicture> IncidentCommand::plan_search(const std::vector<
   // The dig order: free rescuers walk no strip and pursue no victim.
   std::map<std::string, Vec2> free = searching;
   for (const auto& h : picture.handed_over) free.erase(h.pursued_by);
-  for (auto it = free.begin(); it != free.end();) it = planner_->strip_of(it->first) ? free.erase(it) : std::next(it);
+  for (auto it = free.begin(); it != free.end();) {
+    const bool walks = planner_->strip_of(it->first) || planner_->strip_helped_by(it->first);
+    it = walks ? free.erase(it) : std::next(it);
+  }
   picture.incident_start = *incident_start_;
   const double buried_min = config_.triage.buried_before_start_min + ns_to_seconds(now - *incident_start_) / 60.0;
   // An operator's order holds for the FOUND victims it was given for; once they change, this

@@ -75,12 +75,23 @@ void SearchCoverage::add_walk(const Vec2& a, const Vec2& b, double reach_m) {
     }
 }
 
-bool SearchCoverage::searched_at(const Vec2& p) const {
-  if (!p.allFinite()) return true;
+std::int32_t SearchCoverage::cell_at(const Vec2& p) const {
+  if (!p.allFinite()) return -1;
   const double c = std::floor((p.x() - origin_.x()) / cell_m_), r = std::floor((p.y() - origin_.y()) / cell_m_);
-  if (c < 0.0 || r < 0.0 || c >= static_cast<double>(columns_) || r >= static_cast<double>(rows_)) return true;
-  const std::int32_t k = index_[static_cast<std::size_t>(r) * columns_ + static_cast<std::size_t>(c)];
+  if (c < 0.0 || r < 0.0 || c >= static_cast<double>(columns_) || r >= static_cast<double>(rows_)) return -1;
+  return index_[static_cast<std::size_t>(r) * columns_ + static_cast<std::size_t>(c)];
+}
+
+bool SearchCoverage::searched_at(const Vec2& p) const {
+  const std::int32_t k = cell_at(p);
   return k < 0 || searched_[static_cast<std::size_t>(k)] != 0;
+}
+
+bool SearchCoverage::searched_at(const Vec2& p, std::size_t strip) const {
+  const std::int32_t k = cell_at(p);
+  if (k < 0 || searched_[static_cast<std::size_t>(k)] != 0) return true;
+  const std::int32_t owner = strip_of_[static_cast<std::size_t>(k)];
+  return owner >= 0 && static_cast<std::size_t>(owner) != strip;  // a sliver in no strip: this one's
 }
 
 double SearchCoverage::searched() const {

@@ -46,9 +46,14 @@ void SearchPlanner::on_position(const std::string& rescuer_id, const Vec2& posit
 void SearchPlanner::release(const std::string& rescuer_id) {
   rescuers_[rescuer_id].searching = false;
   for (auto& s : plan_.strips) {
-    if (s.rescuer_id != rescuer_id) continue;
-    s.rescuer_id.clear();
-    ++plan_.revision;
+    if (s.rescuer_id == rescuer_id) {
+      s.rescuer_id.clear();
+      ++plan_.revision;
+    }
+    if (s.helper_id == rescuer_id) {
+      s.helper_id.clear();
+      ++plan_.revision;
+    }
   }
 }
 
@@ -70,8 +75,9 @@ void SearchPlanner::cut(std::size_t searching_rescuers) {
   const double reach = 0.5 * config_.strips.strip_width_m;
   for (const auto& [a, b] : walks_) coverage_->add_walk(a, b, reach);
   plan_.strips.clear();
-  for (const Strip& s : strips) plan_.strips.push_back({s, 0.0, "", false});
+  for (const Strip& s : strips) plan_.strips.push_back({s, 0.0, "", false, ""});
   first_open_row_.assign(strips.size(), 0);
+  last_open_row_.assign(strips.size(), 0);
 }
 
 bool SearchPlanner::update() {
@@ -100,7 +106,8 @@ bool SearchPlanner::update() {
     const bool done = s.searched >= config_.strip_done_fraction || !first_unsearched(i);
     if (done && !s.done) {
       s.done = true;
-      if (!s.rescuer_id.empty()) s.rescuer_id.clear();  // free for an open strip
+      s.rescuer_id.clear();  // both free for an open strip
+      s.helper_id.clear();
       ++plan_.revision;
     }
   }
@@ -109,7 +116,7 @@ bool SearchPlanner::update() {
   std::vector<std::string> free_ids;
   std::vector<Vec2> free_at;
   for (const auto& [id, r] : rescuers_) {
-    if (!r.searching || !r.last || strip_of(id)) continue;
+    if (!r.searching || !r.last || strip_of(id) || strip_helped_by(id)) continue;
     free_ids.push_back(id);
     free_at.push_back(*r.last);
   }
@@ -119,15 +126,62 @@ bool SearchPlanner::update() {
     open.push_back(!s.done && s.rescuer_id.empty());
     strips.push_back(s.strip);
   }
+  std::vector<std::string> still_free_ids;
+  std::vector<Vec2> still_free_at;
   if (!free_ids.empty() && std::find(open.begin(), open.end(), true) != open.end()) {
     const auto chosen = assign_strips(strips, free_at, open);
     for (std::size_t k = 0; k < free_ids.size(); ++k) {
-      if (!chosen[k]) continue;
+      if (!chosen[k]) {
+        still_free_ids.push_back(free_ids[k]);
+        still_free_at.push_back(free_at[k]);
+        continue;
+      }
       plan_.strips[*chosen[k]].rescuer_id = free_ids[k];
       ++plan_.revision;
     }
+  } else {
+    still_free_ids = std::move(free_ids);
+    still_free_at = std::move(free_at);
   }
+  assign_helpers(std::move(still_free_ids), std::move(still_free_at));
   return plan_.revision != before;
+}
+
+void SearchPlanner::assign_helpers(std::vector<std::string> free_ids, std::vector<Vec2> free_at) {
+  // Strips walked from the top, not done, without a helper: the unsearched stretch between the
+  // walker's next point and the bottom one (L).
+  struct Helpable {
+    std::size_t strip;
+    Vec2 bottom;
+    double left_m;
+  };
+  std::vector<Helpable> helpable;
+  for (std::size_t i = 0; i < plan_.strips.size(); ++i) {
+    const PlannedStrip& s = plan_.strips[i];
+    if (s.done || s.rescuer_id.empty() || !s.helper_id.empty()) continue;
+    const auto top = first_unsearched(i), bottom = first_unsearched(i, true);
+    if (top && bottom) helpable.push_back({i, *bottom, (*bottom - *top).norm()});
+  }
+  // The largest saving L - D first, while any is positive.
+  while (!free_ids.empty() && !helpable.empty()) {
+    double best = 0.0;
+    std::size_t best_rescuer = 0, best_strip = 0;
+    for (std::size_t r = 0; r < free_ids.size(); ++r)
+      for (std::size_t h = 0; h < helpable.size(); ++h) {
+        const double saving = helpable[h].left_m - (helpable[h].bottom - free_at[r]).norm();
+        if (saving > best) {
+          best = saving;
+          best_rescuer = r;
+          best_strip = h;
+        }
+      }
+    if (best <= 0.0) return;
+    plan_.strips[helpable[best_strip].strip].helper_id = free_ids[best_rescuer];
+    ++plan_.revision;
+    free_ids.erase(free_ids.begin() + static_cast<std::ptrdiff_t>(best_rescuer));
+    free_at.erase(free_at.begin() + static_cast<std::ptrdiff_t>(best_rescuer));
+    helpable.erase(helpable.begin() + static_cast<std::ptrdiff_t>(best_strip));
+  }
 }
 
 bool SearchPlanner::adopt_assignments(const SearchPlan& active) {
@@ -141,8 +195,9 @@ bool SearchPlanner::adopt_assignments(const SearchPlan& active) {
   for (std::size_t i = 0; i < plan_.strips.size(); ++i) {
     PlannedStrip& own = plan_.strips[i];
     const PlannedStrip& a = active.strips[i];
-    if (own.rescuer_id != a.rescuer_id || (a.done && !own.done)) changed = true;
+    if (own.rescuer_id != a.rescuer_id || own.helper_id != a.helper_id || (a.done && !own.done)) changed = true;
     own.rescuer_id = a.rescuer_id;
+    own.helper_id = a.helper_id;
     own.done = own.done || a.done;
   }
   plan_.revision = std::max(plan_.revision + (changed ? 1U : 0U), active.revision);
@@ -155,10 +210,16 @@ std::optional<std::size_t> SearchPlanner::strip_of(const std::string& rescuer_id
   return std::nullopt;
 }
 
+std::optional<std::size_t> SearchPlanner::strip_helped_by(const std::string& rescuer_id) const {
+  for (std::size_t i = 0; i < plan_.strips.size(); ++i)
+    if (plan_.strips[i].helper_id == rescuer_id) return i;
+  return std::nullopt;
+}
+
 std::optional<Vec2> SearchPlanner::next_point(const std::string& rescuer_id) const {
-  const auto strip = strip_of(rescuer_id);
-  if (!strip) return std::nullopt;
-  return first_unsearched(*strip);
+  if (const auto strip = strip_of(rescuer_id)) return first_unsearched(*strip);
+  if (const auto helped = strip_helped_by(rescuer_id)) return first_unsearched(*helped, true);
+  return std::nullopt;
 }
 
 SearchPlanPicture SearchPlanner::picture(const std::string& incident_id, std::int64_t stamp) const {
@@ -167,29 +228,32 @@ SearchPlanPicture SearchPlanner::picture(const std::string& incident_id, std::in
   out.stamp = stamp;
   out.deposit = deposit_.vertices();
   out.plan = plan_;
-  for (const auto& s : plan_.strips)
+  for (const auto& s : plan_.strips) {
     out.next_points.push_back(s.rescuer_id.empty() ? std::nullopt : next_point(s.rescuer_id));
+    out.helper_next_points.push_back(s.helper_id.empty() ? std::nullopt : next_point(s.helper_id));
+  }
   return out;
 }
 
-std::optional<Vec2> SearchPlanner::first_unsearched(std::size_t strip) const {
+std::optional<Vec2> SearchPlanner::first_unsearched(std::size_t strip, bool from_bottom) const {
   if (!coverage_) return std::nullopt;
-  // Down the centreline in cell steps, the first point whose row across the strip still holds
-  // an unsearched cell: walking to it searches that row, the bottom corners included (the
-  // centreline's own end is heard a reach before them). Coverage only grows, so the search
+  // Down the centreline in cell steps (a helper: up), the first point whose row across the strip
+  // still holds an unsearched cell: walking to it searches that row, the far corners included
+  // (the centreline's own end is heard a reach before them). Coverage only grows, so the search
   // starts at the row found last time.
   const Strip& s = plan_.strips[strip].strip;
+  const Vec2 start = from_bottom ? s.bottom : s.top, end = from_bottom ? s.top : s.bottom;
   const double cell = config_.coverage_cell_m;
-  const double length = (s.bottom - s.top).norm();
-  const Vec2 along = length > 0.0 ? Vec2((s.bottom - s.top) / length) : Vec2(0.0, -1.0);
+  const double length = (end - start).norm();
+  const Vec2 along = length > 0.0 ? Vec2((end - start) / length) : Vec2(0.0, from_bottom ? 1.0 : -1.0);
   const Vec2 across(-along.y(), along.x());
   const auto steps = static_cast<std::size_t>(std::ceil(length / cell));
   const auto half_cells = static_cast<int>(std::floor(0.5 * s.width_m / cell));
-  std::size_t& k = first_open_row_[strip];
+  std::size_t& k = from_bottom ? last_open_row_[strip] : first_open_row_[strip];
   for (; k <= steps; ++k) {
-    const Vec2 p = s.top + along * std::min(length, cell * static_cast<double>(k));
+    const Vec2 p = start + along * std::min(length, cell * static_cast<double>(k));
     for (int j = -half_cells; j <= half_cells; ++j)
-      if (!coverage_->searched_at(p + across * (cell * static_cast<double>(j)))) return p;  // outside: searched
+      if (!coverage_->searched_at(p + across * (cell * static_cast<double>(j)), strip)) return p;
   }
   return std::nullopt;
 }

@@ -14,19 +14,21 @@ std::optional<responder::Guidance> strip_guidance(const SearchPlanPicture& pictu
   const auto& strips = picture.plan.strips;
   for (std::size_t i = 0; i < strips.size(); ++i) {
     const PlannedStrip& s = strips[i];
-    if (s.rescuer_id != rescuer_id || s.done) continue;
-    if (i >= picture.next_points.size() || !picture.next_points[i] || !picture.next_points[i]->allFinite()) {
-      return std::nullopt;
-    }
-    const Vec2 target = *picture.next_points[i];
+    if (s.done) continue;
+    // Its rescuer walks it down from the top; a helper walks it up from the bottom.
+    const bool walker = s.rescuer_id == rescuer_id, helper = !walker && s.helper_id == rescuer_id;
+    if (!walker && !helper) continue;
+    const auto& next_points = walker ? picture.next_points : picture.helper_next_points;
+    if (i >= next_points.size() || !next_points[i] || !next_points[i]->allFinite()) return std::nullopt;
+    const Vec2 target = *next_points[i];
     Vec2 way = target - here;
     const double distance = way.norm();
     if (distance < config.arrive_m) {
-      const Vec2 axis = s.strip.bottom - s.strip.top;
-      const double length = axis.norm();
+      const Vec2 start = walker ? s.strip.top : s.strip.bottom, end = walker ? s.strip.bottom : s.strip.top;
+      const double length = (end - start).norm();
       if (length <= 0.0) return std::nullopt;
-      way = axis / length;
-      if ((here - s.strip.top).dot(way) >= length) return std::nullopt;  // past the bottom
+      way = (end - start) / length;
+      if ((here - start).dot(way) >= length) return std::nullopt;  // past its far end
     }
     responder::Guidance g;
     g.rescuer_id = rescuer_id;

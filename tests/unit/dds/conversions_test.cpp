@@ -279,6 +279,8 @@ TEST(Conversions, SearchPlanRoundTrips) {
     EXPECT_EQ(back.plan.strips[i].done, p.plan.strips[i].done);
     EXPECT_EQ(back.plan.strips[i].rescuer_id, p.plan.strips[i].rescuer_id);
     EXPECT_EQ(back.next_points[i], p.next_points[i]);
+    EXPECT_EQ(back.plan.strips[i].helper_id, p.plan.strips[i].helper_id);
+    EXPECT_EQ(back.helper_next_points[i], p.helper_next_points[i]);
   }
   ASSERT_EQ(back.handed_over.size(), 1u);
   EXPECT_EQ(back.handed_over[0].rescuer_id, "r2");

@@ -44,7 +44,8 @@ std::size_t idle_while_open(const SearchPlanner& planner, const std::map<std::st
 // Seven rescuers together at the top of a 150 m wide deposit: seven strips of 21.4 m (not the
 // fewest, four of 37.5 m, which would leave three waiting), one each; walking where the plan
 // says searches all of it, and nobody is idle while a strip is open. (One whose strip is done
-// first waits while the others finish theirs: helping on another's strip is not planned yet.)
+// first, at the bottom beside the others, helps nobody: the strips end together, and helping
+// saves no time where the others have less left than the walk to their bottoms.)
 TEST(SearchPlanner, SevenRescuersFromTheTopSearchTheWholeDepositWithNobodyIdle) {
   SearchPlanner planner(rectangle(), SearchPlanConfig{});
   std::map<std::string, Vec2> at;
@@ -103,6 +104,95 @@ TEST(SearchPlanner, ARescuerWhoseStripIsDoneTakesAnOpenOne) {
   for (const auto& s : planner.plan().strips) EXPECT_TRUE(s.done) << s.strip.index;
   EXPECT_GE(planner.plan().searched, 0.98);
   EXPECT_GE(walked_by_a.size(), 2u) << "a took another strip after its first";
+}
+
+// Three rescuers, three strips of 40 m down a 300 m deposit; c is away on a signal for the first
+// 120 s, while a and b walk on beside its open strip, and then walks its strip. a and b end theirs at the bottom, next
+// to the bottom of c's, with 160 m of it left: one of them helps from the bottom up, and the deposit is searched about
+// 50 s before c alone would have searched its strip. The helper is freed when it is done.
+TEST(SearchPlanner, WithNoStripOpenAFreeRescuerHelpsFromTheBottomOfTheStripWithTheMostLeft) {
+  SearchPlanner planner(Deposit({{0, 0}, {120, 0}, {120, 300}, {0, 300}}, "deposit"), SearchPlanConfig{});
+  std::map<std::string, Vec2> at{{"a", {20, 305}}, {"b", {60, 305}}, {"c", {100, 305}}};
+  for (const auto& [id, p] : at) planner.on_position(id, p);
+  ASSERT_TRUE(planner.update());
+  ASSERT_EQ(planner.plan().strips.size(), 3u);
+  const auto strip_c = planner.strip_of("c");
+  ASSERT_TRUE(strip_c);
+  planner.release("c");
+  std::map<std::string, Vec2> walking{{"a", at["a"]}, {"b", at["b"]}};
+  for (int seconds = 0; seconds < 120; ++seconds) step(planner, walking);
+  // Beside the open strip, its neighbours walk on: a row of theirs does not wait for the open
+  // strip's cells at their common edge (before 2026-12-04 both stopped within 11 m).
+  EXPECT_LT(walking["a"].y(), 200.0);
+  EXPECT_LT(walking["b"].y(), 200.0);
+  planner.resume("c");
+  planner.update();
+  ASSERT_EQ(planner.strip_of("c"), strip_c) << "c takes its open strip back";
+  at = walking;
+  at["c"] = Vec2(100, 305);
+  std::optional<std::string> helper;
+  double helper_lowest_y = 1e9, helper_y = 0.0;
+  bool helper_walked_up = false;
+  int seconds = 0;
+  for (; seconds < 1000 && step(planner, at); ++seconds) {
+    if (!helper) {
+      for (const char* id : {"a", "b"})
+        if (planner.strip_helped_by(id)) helper = id;
+      if (helper) {
+        EXPECT_EQ(planner.strip_helped_by(*helper), strip_c) << "the strip with the most left";
+      }
+    }
+    if (helper && planner.strip_helped_by(*helper)) {
+      helper_lowest_y = std::min(helper_lowest_y, at[*helper].y());
+      helper_walked_up = helper_walked_up || at[*helper].y() > helper_lowest_y + 10.0;
+      helper_y = at[*helper].y();
+    }
+  }
+  ASSERT_TRUE(helper) << "nobody helped on c's strip";
+  EXPECT_TRUE(helper_walked_up) << "the helper walks up from the bottom; it reached " << helper_y;
+  for (const auto& s : planner.plan().strips) {
+    EXPECT_TRUE(s.done) << s.strip.index;
+    EXPECT_TRUE(s.helper_id.empty()) << "freed when the strip is done";
+  }
+  EXPECT_GE(planner.plan().searched, 0.98);
+  // Alone, c needs about 280 s for its strip after its 120 s away.
+  // Alone, c needs about 285 s for its strip after its 120 s away (405 s in all); helped, the
+  // deposit was searched by 359 s when this test was written.
+  EXPECT_LT(120 + seconds, 385) << "the help saved nothing";
+}
+
+// A standby's planner takes the active one's helpers with its walkers.
+TEST(SearchPlanner, AdoptingTheActivePlanTakesItsHelpersToo) {
+  const Deposit deposit({{0, 0}, {80, 0}, {80, 300}, {0, 300}}, "deposit");
+  SearchPlanner active(deposit, SearchPlanConfig{}), standby(deposit, SearchPlanConfig{});
+  for (SearchPlanner* p : {&active, &standby}) {
+    p->on_position("a", {20, 305});
+    p->on_position("b", {60, 305});
+    p->update();
+  }
+  SearchPlan plan = active.plan();
+  plan.strips[0].helper_id = "c";
+  ASSERT_TRUE(standby.adopt_assignments(plan));
+  EXPECT_EQ(standby.strip_helped_by("c"), std::optional<std::size_t>(0));
+  EXPECT_EQ(standby.plan().strips[0].rescuer_id, plan.strips[0].rescuer_id);
+  standby.release("c");
+  EXPECT_FALSE(standby.strip_helped_by("c")) << "a helper released is no helper";
+}
+
+// A strip whose bottom is farther from the free rescuer than the stretch it has left is not
+// helped: the walk there would take longer than its rescuer needs. A latecomer at the top, with
+// both strips 30 m under way (too late to re-cut): each bottom is ~300 m away, ~250 m are left.
+TEST(SearchPlanner, NoHelpWhereTheWalkToTheBottomTakesLongerThanTheStripHasLeft) {
+  SearchPlanner planner(Deposit({{0, 0}, {80, 0}, {80, 300}, {0, 300}}, "deposit"), SearchPlanConfig{});
+  std::map<std::string, Vec2> at{{"a", {20, 305}}, {"b", {60, 305}}};
+  for (const auto& [id, p] : at) planner.on_position(id, p);
+  ASSERT_TRUE(planner.update());
+  for (int seconds = 0; seconds < 30; ++seconds) step(planner, at);
+  planner.on_position("c", {40, 305});
+  planner.update();
+  EXPECT_EQ(planner.plan().strips.size(), 2u) << "not re-cut";
+  EXPECT_FALSE(planner.strip_of("c"));
+  EXPECT_FALSE(planner.strip_helped_by("c"));
 }
 
 // A released rescuer (on a signal, link lost) gives its strip back; the next free rescuer takes

@@ -57,6 +57,28 @@ TEST(StripGuidance, AtTheNextPointWalksOnDownTheStripAndStopsPastItsBottom) {
   EXPECT_FALSE(strip_guidance(one_strip(Vec2(10, 0)), "r1", fix_at({10, -1}, 0.0), config)) << "past the bottom";
 }
 
+// r2 helps on r1's strip: it walks to its own next point, and from there up the strip, not down.
+TEST(StripGuidance, AHelperWalksTheStripUpFromTheBottomAndStopsPastItsTop) {
+  const StripGuidanceConfig config{1.0, 3.0};
+  auto helped = one_strip(Vec2(10, 80));
+  helped.plan.strips[0].helper_id = "r2";
+  helped.helper_next_points.push_back(Vec2(10, 20));
+  const auto to_point = strip_guidance(helped, "r2", fix_at({30, 20}, kPi), config);
+  ASSERT_TRUE(to_point);
+  EXPECT_NEAR(to_point->distance_m, 20.0, 1e-12) << "to its own next point, not r1's";
+  const auto at_point = strip_guidance(helped, "r2", fix_at({10, 21}, 0.0), config);
+  ASSERT_TRUE(at_point);
+  EXPECT_NEAR(at_point->heading_rad, 0.5 * kPi, 1e-12) << "up the strip (north)";
+  const auto walker = strip_guidance(helped, "r1", fix_at({10, 81}, 0.0), config);
+  ASSERT_TRUE(walker);
+  EXPECT_NEAR(walker->heading_rad, -0.5 * kPi, 1e-12) << "its rescuer still walks down";
+  helped.helper_next_points[0] = Vec2(10, 100);
+  EXPECT_FALSE(strip_guidance(helped, "r2", fix_at({10, 101}, 0.0), config)) << "past the top";
+  helped.helper_next_points.clear();
+  EXPECT_FALSE(strip_guidance(helped, "r2", fix_at({10, 20}, 0.0), config))
+      << "a plan without the helper's next points";
+}
+
 TEST(StripGuidance, GivesNothingForAnotherRescuersADoneOrAFinishedStripOrABadFix) {
   const StripGuidanceConfig config;
   EXPECT_FALSE(strip_guidance(one_strip(Vec2(10, 50)), "r2", fix_at({10, 60}, 0.0), config)) << "not r2's";

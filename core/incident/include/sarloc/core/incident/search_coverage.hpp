@@ -27,11 +27,16 @@ class SearchCoverage {
   /// Whether the cell holding `p` is searched (a point outside the deposit counts as searched:
   /// nothing there to search).
   bool searched_at(const Vec2& p) const;
+  /// The same for a walker of `strip`: a cell of another strip counts as searched too (its own
+  /// walker's). Without it, a row that reaches the neighbour's boundary cells waited for the
+  /// neighbour: one rescuer leaving for a signal stopped the strips on either side.
+  bool searched_at(const Vec2& p, std::size_t strip) const;
   double searched() const;                   ///< fraction of the deposit's cells searched
   double searched(std::size_t strip) const;  ///< ... of one strip's cells (1 for a strip with none)
   std::size_t cells() const { return centres_.size(); }
 
  private:
+  std::int32_t cell_at(const Vec2& p) const;  ///< centres_ index, -1 outside the deposit
   std::vector<Vec2> centres_;           // cells inside the deposit
   std::vector<std::int32_t> strip_of_;  // per cell, -1: in no strip
   std::vector<char> searched_;

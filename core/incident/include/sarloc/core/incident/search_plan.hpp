@@ -14,6 +14,11 @@
 //     unsearched, and its rescuer is free;
 //   - free searching rescuers take open strips (not done, nobody's): the pairs that minimise the
 //     summed walk to the strips' tops; a released rescuer's strip is open again;
+//   - with no strip open, a free rescuer helps on a strip still walked: it walks it from the
+//     bottom up while its rescuer walks down, one helper a strip. Only where it saves time: with
+//     L the unsearched stretch between the two walkers' next points and D the helper's walk to
+//     the bottom one, the strip is done at (L + D) / 2 instead of L; the pairs with the largest
+//     saving L - D first, none unless D < L;
 //   - the revision counts changes of strips or assignments, so readers can tell a new plan.
 //
 //   SearchPlanner planner(deposit, config);
@@ -60,8 +65,9 @@ struct SearchPlanConfig {
 struct PlannedStrip {
   Strip strip;
   double searched = 0.0;   ///< share of the strip's cells
-  std::string rescuer_id;  ///< who walks it; empty: nobody
+  std::string rescuer_id;  ///< who walks it (from the top); empty: nobody
   bool done = false;
+  std::string helper_id;  ///< who walks it from the bottom up, helping; empty: nobody
 };
 
 struct SearchPlan {
@@ -77,6 +83,7 @@ struct SearchPlanPicture {
   std::vector<Vec2> deposit;  ///< counter-clockwise
   SearchPlan plan;
   std::vector<std::optional<Vec2>> next_points;  ///< per strip: where its rescuer walks next
+  std::vector<std::optional<Vec2>> helper_next_points;  ///< per strip: where its helper walks next
   /// Signals of victims another rescuer pursues (signal_pursuit.hpp): not to be guided to.
   std::vector<SignalHandOver> handed_over;
   /// The dig order over the FOUND victims (victim_digs.hpp), and the mission time the victims
@@ -107,10 +114,13 @@ class SearchPlanner {
 
   const SearchPlan& plan() const { return plan_; }
   const Deposit& deposit() const { return deposit_; }
+  /// The strip the rescuer walks from the top.
   std::optional<std::size_t> strip_of(const std::string& rescuer_id) const;
+  /// The strip the rescuer helps on, walking it from the bottom up.
+  std::optional<std::size_t> strip_helped_by(const std::string& rescuer_id) const;
   /// Where the rescuer walks next: the first point down its strip's centreline, from the top
-  /// in cell steps, whose row across the strip is not all searched yet. Nullopt without a strip
-  /// or when none is left.
+  /// in cell steps, whose row across the strip is not all searched yet; for a helper, the same
+  /// from the bottom up. Nullopt without a strip or when none is left.
   std::optional<Vec2> next_point(const std::string& rescuer_id) const;
   /// The plan as published: strips, the deposit and every strip's next point.
   SearchPlanPicture picture(const std::string& incident_id, std::int64_t stamp) const;
@@ -121,7 +131,9 @@ class SearchPlanner {
     bool searching = true;
   };
   void cut(std::size_t searching_rescuers);
-  std::optional<Vec2> first_unsearched(std::size_t strip) const;
+  void assign_helpers(std::vector<std::string> free_ids, std::vector<Vec2> free_at);
+  /// The first row down the strip's centreline (from_bottom: up) still holding an unsearched cell.
+  std::optional<Vec2> first_unsearched(std::size_t strip, bool from_bottom = false) const;
   std::size_t searching_with_fix() const;
 
   Deposit deposit_;
@@ -134,6 +146,7 @@ class SearchPlanner {
   std::size_t cut_for_ = 0;  ///< searching rescuers the strips were last cut for
   SearchPlan plan_;
   mutable std::vector<std::size_t> first_open_row_;  ///< per strip: rows before it are searched
+  mutable std::vector<std::size_t> last_open_row_;   ///< the same counted from the bottom
 };
 
 }  // namespace sarloc::incident

@@ -5,11 +5,13 @@
 // strip while the daemon is away, and the daemon stays a per-rescuer filter.
 //
 // Rules, each with its unit test (tests/unit/incident/strip_guidance_test.cpp):
-//   - only the rescuer's own strip, while it is not done and has a next point;
+//   - only the rescuer's own strip, while it is not done and has a next point; a helper
+//     (search_plan.hpp) the strip it helps on, walked the other way: from the bottom up;
 //   - walk straight to the next point (the first row of the strip not yet searched: usually a
 //     hearing range ahead, so the target moves ahead of a rescuer on the centreline);
-//   - within `arrive_m` of it (the plan lags its walk by a cycle), walk on down the strip;
-//   - past the strip's bottom: nothing (the plan frees the rescuer; its next strip comes);
+//   - within `arrive_m` of it (the plan lags its walk by a cycle), walk on down the strip (a
+//     helper: up);
+//   - past the strip's far end: nothing (the plan frees the rescuer; its next strip comes);
 //   - a fix without a finite position or heading gives nothing.
 //
 //   if (!guidance) guidance = incident::strip_guidance(plan, "r1", fix, StripGuidanceConfig{});
