@@ -112,6 +112,8 @@ int run_ins_command(const InsOptions& options) {
   config.rate_hz = rate_hz;
   if (format.stance_threshold) config.detector_threshold = *format.stance_threshold;
   if (format.adaptive_stance) config.adaptive_stance = *format.adaptive_stance;
+  if (format.stance_detector) config.detector = *format.stance_detector;
+  if (format.stance_votes) config.stance_votes = *format.stance_votes;
   try {
     if (!options.config_path.empty()) read_ins(app::YamlReader::from_file(options.config_path).child("ins"), config);
     config.validate();

@@ -122,6 +122,18 @@ firefighter::ImuSourceFormat read_imu_source(YamlReader& yaml) {
     stance.read("adaptive", adaptive);
     f.adaptive_stance = adaptive;
   }
+  if (stance.has("detector")) {
+    std::string detector;
+    stance.read("detector", detector);
+    require(detector == "shoe" || detector == "vote", where + ".stance.detector", detector, "must be shoe or vote");
+    f.stance_detector = detector == "vote" ? firefighter::StanceDetector::kVote : firefighter::StanceDetector::kShoe;
+  }
+  if (stance.has("votes")) {
+    int votes = 0;
+    stance.read("votes", votes);
+    require(votes == 2 || votes == 3, where + ".stance.votes", std::to_string(votes), "must be 2 or 3");
+    f.stance_votes = static_cast<std::uint32_t>(votes);
+  }
   stance.expect_done();
   s.expect_done();
   try {

@@ -74,16 +74,26 @@ void ZuptInsConfig::validate() const {
   check("detector_sigma_accel", detector_sigma_accel, 1e-5, 10.0);
   check("detector_sigma_gyro", detector_sigma_gyro, 1e-6, 1.0);
   check("detector_threshold", detector_threshold, 1.0, 1e9);
+  check("stance_votes", stance_votes, 2.0, 3.0);
   check("motionless_after_s", motionless_after_s, 1.0, 3600.0);
 }
 
+namespace {
+
+StanceThresholdConfig adapted_stance(const ZuptInsConfig& config) {
+  StanceThresholdConfig c = config.stance;
+  c.floor = config.detector_threshold;
+  c.ceiling = std::max(c.ceiling, c.floor);
+  return c;
+}
+
+}  // namespace
+
 ZuptIns::ZuptIns(ZuptInsConfig config)
-    : config_((config.validate(), config)), stance_threshold_([&] {
-        StanceThresholdConfig c = config_.stance;
-        c.floor = config_.detector_threshold;
-        c.ceiling = std::max(c.ceiling, c.floor);
-        return c;
-      }()) {}
+    : config_((config.validate(), config)),
+      stance_threshold_(adapted_stance(config_)),
+      ared_threshold_(adapted_stance(config_)),
+      amvd_threshold_(adapted_stance(config_)) {}
 
 double ZuptIns::yaw() const { return yaw_of(x_.q); }
 
@@ -224,15 +234,23 @@ bool ZuptIns::detect() {
   mean /= static_cast<double>(window_.size());
   if (mean.norm() < 1e-6) return false;
   const Vec3 g_dir = kGravity * mean.normalized();
-  double T = 0.0;
+  double shoe_accel = 0.0, ared = 0.0, amvd = 0.0;
   const double ia = 1.0 / (config_.detector_sigma_accel * config_.detector_sigma_accel);
   const double ig = 1.0 / (config_.detector_sigma_gyro * config_.detector_sigma_gyro);
   for (const ImuSample& w : window_) {
-    T += (w.specific_force - g_dir).squaredNorm() * ia + w.angular_rate.squaredNorm() * ig;
+    shoe_accel += (w.specific_force - g_dir).squaredNorm() * ia;
+    ared += w.angular_rate.squaredNorm() * ig;
+    amvd += (w.specific_force - mean).squaredNorm() * ia;
   }
-  T /= static_cast<double>(window_.size());
-  if (!config_.adaptive_stance) return T < config_.detector_threshold;
-  return stance_threshold_.push(T, config_.rate_hz);
+  const double n = static_cast<double>(window_.size());
+  const double shoe = (shoe_accel + ared) / n;
+  const auto stance = [&](StanceThreshold& adaptive, double t) {
+    return config_.adaptive_stance ? adaptive.push(t, config_.rate_hz) : t < config_.detector_threshold;
+  };
+  if (config_.detector == StanceDetector::kShoe) return stance(stance_threshold_, shoe);
+  const int votes = (stance(stance_threshold_, shoe) ? 1 : 0) + (stance(ared_threshold_, ared / n) ? 1 : 0) +
+                    (stance(amvd_threshold_, amvd / n) ? 1 : 0);
+  return votes >= static_cast<int>(config_.stance_votes);
 }
 
 void ZuptIns::align() {

@@ -58,6 +58,8 @@ TEST(ImuSourceYaml, ABadDescriptionIsRefusedNamingKeyAndValue) {
       "imu_source.accel.unit = 'G': must be one of g, m/s^2");
   expect_refused(columns + "  axes: [x, y, w]\n", "imu_source.axes = 'w'");
   expect_refused(columns + "  axes: [x, x, z]\n", "must be a rotation");
+  expect_refused(columns + "  stance: {detector: ared}\n", "imu_source.stance.detector = 'ared': must be shoe or vote");
+  expect_refused(columns + "  stance: {detector: vote, votes: 1}\n", "imu_source.stance.votes = '1': must be 2 or 3");
   expect_refused(columns + "  range: {beyond: wrap}\n", "imu_source.range.beyond = 'wrap'");
   expect_refused(columns + "  colour: red\n", "imu_source.colour");
   expect_refused(

@@ -72,6 +72,32 @@ TEST(ZuptIns, StandingStillStaysPutAndRaisesTheMotionlessAlarmAfterItsTime) {
   EXPECT_FALSE(ins.motionless());
 }
 
+// The vote of SHOE, ARED and AMVD (StanceDetector::kVote): a boot pushed steadily, 2 m/s^2 more
+// than gravity and not turning, is still for AMVD (no variance) and ARED (no rate) and moving for
+// SHOE (its specific force is not gravity's): a stance for a vote of 2, not for SHOE alone or a
+// unanimous vote. A boot turning at a steady 30 deg/s under gravity is still for AMVD alone.
+TEST(ZuptIns, AVoteOfShoeAredAndAmvdDecidesTheStanceByItsCount) {
+  const auto stationary = [](StanceDetector detector, std::uint32_t votes, const Eigen::Vector3d& f,
+                             const Eigen::Vector3d& w) {
+    ZuptInsConfig config;
+    config.detector = detector;
+    config.stance_votes = votes;
+    ZuptIns ins(config);
+    for (int k = 0; k < 10; ++k) ins.push(sample(k * 0.01, f, w));
+    return ins.stationary();
+  };
+  const Eigen::Vector3d pushed(0.0, 0.0, kGravity + 2.0), upright(0.0, 0.0, kGravity);
+  const Eigen::Vector3d turning(0.0, 0.0, 30.0 * kPi / 180.0);
+  EXPECT_FALSE(stationary(StanceDetector::kShoe, 2, pushed, Eigen::Vector3d::Zero()));
+  EXPECT_TRUE(stationary(StanceDetector::kVote, 2, pushed, Eigen::Vector3d::Zero()));
+  EXPECT_FALSE(stationary(StanceDetector::kVote, 3, pushed, Eigen::Vector3d::Zero()));
+  EXPECT_FALSE(stationary(StanceDetector::kVote, 2, upright, turning)) << "AMVD alone is no majority";
+  EXPECT_TRUE(stationary(StanceDetector::kVote, 3, upright, Eigen::Vector3d::Zero())) << "all three: still";
+  ZuptInsConfig bad;
+  bad.stance_votes = 4;
+  EXPECT_THROW(bad.validate(), ConfigError);
+}
+
 TEST(ZuptIns, RefusesBadSamplesNamingTheField) {
   ZuptIns ins(ZuptInsConfig{});
   const Eigen::Vector3d g(0, 0, kGravity);

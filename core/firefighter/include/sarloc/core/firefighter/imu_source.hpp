@@ -31,6 +31,7 @@
 
 #include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/firefighter/imu_sample.hpp"
+#include "sarloc/core/firefighter/stance_threshold.hpp"
 
 namespace sarloc::firefighter {
 
@@ -73,6 +74,8 @@ struct ImuSourceFormat {
   /// GX5 of the gait-driven walks: 10-30 deg/s) needs a higher floor than one that stands.
   std::optional<double> stance_threshold;
   std::optional<bool> adaptive_stance;
+  std::optional<StanceDetector> stance_detector;  ///< stance.detector: shoe or vote
+  std::optional<std::uint32_t> stance_votes;      ///< stance.votes: 2 or 3, with vote
   void validate() const;
 };
 

@@ -15,6 +15,13 @@
 
 namespace sarloc::firefighter {
 
+/// Which zero-velocity test decides a stance (Skog et al. 2010): SHOE alone, or a vote of SHOE,
+/// ARED (angular rate energy: the gyro term of SHOE) and AMVD (acceleration moving variance),
+/// a stance when `stance_votes` of the three say so, each against the same threshold (fixed, or
+/// adapted on its own statistic). Measured on the shared recordings, neither vote beat SHOE
+/// overall (docs/estimation/firefighter.md, "Detectors combined"): every shipped source keeps SHOE.
+enum class StanceDetector : unsigned char { kShoe, kVote };
+
 struct StanceThresholdConfig {
   double floor = 1e4;
   double ceiling = 1e7;   ///< never above: a sensor at rest never reaches it

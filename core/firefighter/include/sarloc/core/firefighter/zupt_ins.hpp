@@ -56,6 +56,8 @@ struct ZuptInsConfig {
   /// (stance_threshold.hpp); off: detector_threshold alone.
   bool adaptive_stance = false;
   StanceThresholdConfig stance;
+  StanceDetector detector = StanceDetector::kShoe;
+  std::uint32_t stance_votes = 2;  ///< kVote: a stance when this many of the three say so (2 or 3)
   /// Zero angular rate in stance: the gyros read their bias, with this noise (the foot's own
   /// small rotations in a stance included). 0 turns it off.
   double zaru_sigma_radps = 0.5 * kPi / 180.0;
@@ -145,7 +147,9 @@ class ZuptIns {
   Nominal x_;
   StateCov P_ = StateCov::Zero();
   std::deque<ImuSample> window_;
-  StanceThreshold stance_threshold_;
+  StanceThreshold stance_threshold_;  // SHOE's, and in a vote ARED's and AMVD's
+  StanceThreshold ared_threshold_;
+  StanceThreshold amvd_threshold_;
   ImuSample previous_;
   std::deque<ImuSample> alignment_;
   bool aligned_ = false;
