@@ -21,3 +21,18 @@ export async function launchChromium(viewport) {
     },
   };
 }
+
+// Runs `body(context)` in a fresh headless Chromium, an error it throws recorded in
+// result.errors; then prints `result` as JSON and exits 0 when it holds no error, else 1.
+export async function reportFromBrowser(viewport, result, body) {
+  const browser = await launchChromium(viewport);
+  try {
+    await body(browser.context);
+  } catch (error) {
+    result.errors.push(`browser: ${error.message}`);
+  } finally {
+    await browser.close();
+  }
+  console.log(JSON.stringify(result));
+  process.exit(result.errors.length === 0 ? 0 : 1);
+}

@@ -7,14 +7,13 @@
 // responder's link, an alarm acknowledged with a wrong token (refused) and with the right one
 // (accepted, then shown acknowledged), whether the header says the DDS data is authenticated,
 // the page's Content-Security-Policy, render times and push latency; then a screenshot.
-import { launchChromium } from "./browser.mjs";
+import { reportFromBrowser } from "./browser.mjs";
 import path from "node:path";
 
 const [url, outdir, killed] = process.argv.slice(2);
 const result = { errors: [], statesSeen: {}, linkLostSeen: false, ackRefusedStatus: null, ackAccepted: false, victimCount: 0 };
-const browser = await launchChromium({ width: 1400, height: 900 });
-try {
-  const page = await browser.context.newPage();
+await reportFromBrowser({ width: 1400, height: 900 }, result, async (context) => {
+  const page = await context.newPage();
   page.on("console", (m) => { if (m.type() === "error") result.errors.push(`console: ${m.text()}`); });
   page.on("pageerror", (e) => result.errors.push(`page: ${e.message}`));
   page.on("request", (r) => { if (!r.url().startsWith(new URL(url).origin) && !r.url().startsWith("data:")) result.errors.push(`external request: ${r.url()}`); });
@@ -85,10 +84,4 @@ try {
   });
   result.screenshot = path.join(outdir, "dashboard.png");
   await page.screenshot({ path: result.screenshot });
-} catch (error) {
-  result.errors.push(`browser: ${error.message}`);
-} finally {
-  await browser.close();
-}
-console.log(JSON.stringify(result));
-process.exit(result.errors.length === 0 ? 0 : 1);
+});

@@ -4,14 +4,13 @@
 //
 // It scrubs the timeline to the end and back to the start with the slider, then plays: the
 // victims shown follow the cursor, without a reload; then a screenshot.
-import { launchChromium } from "./browser.mjs";
+import { reportFromBrowser } from "./browser.mjs";
 import path from "node:path";
 
 const [url, outdir] = process.argv.slice(2);
 const result = { errors: [] };
-const browser = await launchChromium({ width: 1400, height: 900 });
-try {
-  const page = await browser.context.newPage();
+await reportFromBrowser({ width: 1400, height: 900 }, result, async (context) => {
+  const page = await context.newPage();
   page.on("console", (m) => { if (m.type() === "error") result.errors.push(`console: ${m.text()}`); });
   page.on("pageerror", (e) => result.errors.push(`page: ${e.message}`));
   await page.goto(url, { waitUntil: "load" });
@@ -43,10 +42,4 @@ try {
   result.advancedS = Number(await page.inputValue("#scrub")) - before;
   result.playLabel = await page.textContent("#play");
   await page.screenshot({ path: path.join(outdir, "dashboard-replay.png") });
-} catch (error) {
-  result.errors.push(`browser: ${error.message}`);
-} finally {
-  await browser.close();
-}
-console.log(JSON.stringify(result));
-process.exit(result.errors.length === 0 ? 0 : 1);
+});

@@ -3,7 +3,7 @@
 // not blank: enough of its pixels differ from the background.
 //
 //   node tests/js/screenshot.mjs PAGE.html SHOT.png   -> JSON {errors, width, height, inkFraction}
-import { launchChromium } from "./browser.mjs";
+import { reportFromBrowser } from "./browser.mjs";
 import path from "node:path";
 
 const [page_path, shot_path] = process.argv.slice(2);
@@ -12,9 +12,8 @@ if (!page_path || !shot_path) {
   process.exit(2);
 }
 const result = { errors: [] };
-const browser = await launchChromium({ width: 1200, height: 900 });
-try {
-  const page = await browser.context.newPage();
+await reportFromBrowser({ width: 1200, height: 900 }, result, async (context) => {
+  const page = await context.newPage();
   page.on("console", (message) => {
     if (message.type() === "error") result.errors.push(`console: ${message.text()}`);
   });
@@ -48,10 +47,4 @@ try {
   }, "data:image/png;base64," + shot.toString("base64"));
   Object.assign(result, stats);
   result.svgs = await page.locator("svg").count();
-} catch (error) {
-  result.errors.push(`browser: ${error.message}`);
-} finally {
-  await browser.close();
-}
-console.log(JSON.stringify(result));
-process.exit(result.errors.length === 0 ? 0 : 1);
+});

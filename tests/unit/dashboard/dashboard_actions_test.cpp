@@ -1,0 +1,75 @@
+// The operator's buttons, clicked in headless Chromium (tests/js/dashboard_actions.mjs): "dig
+// first" in the dig order and "dug out" in the victims table reach the server with the session
+// the page opened from the token, and the server publishes them as the operator's. The server's
+// own checks of these requests are dashboard_server_test.cpp's; here, that the page sends them.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <mutex>
+#include <nlohmann/json.hpp>
+
+#include "dashboard_server.hpp"
+#include "support/required_program.hpp"
+#include "support/sample_messages.hpp"
+
+namespace sarloc::dashboard {
+namespace {
+
+TEST(DashboardActions, TheOperatorsDigFirstAndDugOutButtonsWorkInABrowser) {
+  ASSERT_TRUE(test::has_node());
+  ASSERT_TRUE(test::has_chromium());
+  TimestampNs mission = 1763731300000000000LL;
+  PictureState state{PictureStateConfig{}, [&] { return mission; }, 0};
+  DashboardServerConfig config;
+  config.port = 0;
+  config.token = "correct-horse-battery";
+  config.view_token = "look-but-do-not-touch";
+  config.push_period_s = 0.05;
+  DashboardServer server(config, state, [](std::uint32_t, const std::string&) { return true; });
+  std::mutex mutex;  // the server's threads call these
+  std::vector<std::pair<std::uint32_t, std::string>> dug_out;
+  std::vector<std::pair<std::vector<std::uint32_t>, std::string>> dig_orders;
+  server.set_dug_out_action([&](std::uint32_t id, const std::string& op) {
+    std::lock_guard<std::mutex> lock(mutex);
+    dug_out.push_back({id, op});
+    return true;
+  });
+  server.set_dig_order_action([&](const std::vector<std::uint32_t>& ids, const std::string& op) {
+    std::lock_guard<std::mutex> lock(mutex);
+    dig_orders.push_back({ids, op});
+    return true;
+  });
+  // Victims 7 and 9 FOUND; the plan digs 7, then 9.
+  for (const std::uint32_t id : {7u, 9u}) {
+    auto victim = test::sample_fused_victim();
+    victim.victim_id = id;
+    victim.evidence_conflict = false;
+    victim.possibly_same_as = 0;
+    state.on_victim(victim);
+  }
+  state.on_search_plan(test::sample_search_plan());
+  server.start();
+  const std::string url = "http://127.0.0.1:" + std::to_string(server.port()) + "/#token=" + config.token;
+  const std::string out = ::testing::TempDir() + "/dashboard_actions.json";
+  const int status = std::system(
+      ("node " SARLOC_SOURCE_DIR "/tests/js/dashboard_actions.mjs '" + url + "' 9 7 > " + out + " 2>&1").c_str());
+  std::ifstream in(out);
+  const std::string said((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(WEXITSTATUS(status), 0) << said;
+  const auto report = nlohmann::json::parse(said.substr(said.rfind("{\"errors\"")));
+  EXPECT_TRUE(report["errors"].empty()) << said;
+  EXPECT_EQ(report["statuses"]["/api/victims/9/dig-first"], 202) << said;
+  EXPECT_EQ(report["statuses"]["/api/victims/7/dug-out"], 202) << said;
+  std::lock_guard<std::mutex> lock(mutex);
+  ASSERT_EQ(dig_orders.size(), 1u);
+  EXPECT_EQ(dig_orders[0].first, (std::vector<std::uint32_t>{9, 7})) << "victim 9 first, then the rest as shown";
+  EXPECT_EQ(dig_orders[0].second, "dashboard");
+  ASSERT_EQ(dug_out.size(), 1u);
+  EXPECT_EQ(dug_out[0], std::make_pair(7u, std::string("dashboard")));
+}
+
+}  // namespace
+}  // namespace sarloc::dashboard
