@@ -37,7 +37,8 @@ namespace sarloc::dashboard {
 /// Held longer than this without being whole, a request passes to the server, which refuses it.
 inline constexpr std::size_t kHeldRequestMax = 16384;
 /// The server's body limit: a larger Content-Length is refused on its head, so not waited for.
-inline constexpr std::size_t kMaxRequestBody = 4096;
+/// The largest body is a drawn deposit: 250 points as JSON, about 18 bytes each.
+inline constexpr std::size_t kMaxRequestBody = 8192;
 
 /// The bytes a client sent may go to the server: its request head has ended and the body its
 /// Content-Length announces (at most kMaxRequestBody) has arrived, or it is TLS (first byte 0x16,

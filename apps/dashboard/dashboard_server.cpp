@@ -1,11 +1,10 @@
 #include "dashboard_server.hpp"
-#include "json_text.hpp"
-
-#include <httplib.h>
 
 #include <arpa/inet.h>
+#include <httplib.h>
 #include <malloc.h>
 #include <netinet/in.h>
+#include <spdlog/spdlog.h>
 #include <sys/socket.h>
 
 #include <algorithm>
@@ -13,11 +12,12 @@
 #include <filesystem>
 #include <regex>
 
-#include <spdlog/spdlog.h>
-
+#include "json_text.hpp"
 #include "sarloc/core/common/errors.hpp"
-#include "sarloc/core/common/validate.hpp"
 #include "sarloc/core/common/identifier.hpp"
+#include "sarloc/core/common/validate.hpp"
+#include "sarloc/core/incident/deposit.hpp"
+#include "sarloc/core/incident/incident_command.hpp"
 
 namespace sarloc::dashboard {
 
@@ -34,6 +34,7 @@ const Asset kAssets[] = {
 };
 
 constexpr std::size_t kMaxHeaderFields = 64;
+constexpr std::size_t kDepositPointsMax = incident::IncidentCommandConfig::kDepositVerticesMax;
 
 // A stream's version before its first snapshot.
 constexpr std::uint64_t kNothingSent = ~std::uint64_t{0};
@@ -278,6 +279,42 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
     if (!state_.par_reported(req.matches[1], config_.operator_id)) return error(res, 404, "no such team");
     res.set_content(json_text(nlohmann::json{{"par_reported", std::string(req.matches[1])}}), "application/json");
   });
+  // An operator's outline of the deposit, drawn on the map: {"outline": [[east, north], ...]}.
+  s.Post("/api/deposit", [this](const httplib::Request& req, httplib::Response& res) {
+    if (!deposit_) return error(res, 404, "not live: a replay draws no deposit");
+    // A cross-site form can post text/plain without asking; application/json it cannot.
+    if (req.get_header_value("Content-Type").rfind("application/json", 0) != 0) {
+      return error(res, 415, "the body must be application/json");
+    }
+    std::vector<Eigen::Vector2d> outline;
+    try {
+      const auto body = nlohmann::json::parse(req.body);
+      if (!body.is_object() || !body.contains("outline") || !body["outline"].is_array())
+        return error(res, 400, "outline: expected an array of [east, north] points");
+      const auto& points = body["outline"];
+      if (points.size() > kDepositPointsMax)
+        return error(
+            res, 400,
+            "outline: " + std::to_string(points.size()) + " points; at most " + std::to_string(kDepositPointsMax));
+      for (std::size_t i = 0; i < points.size(); ++i) {
+        const auto& p = points[i];
+        if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number())
+          return error(res, 400, "outline[" + std::to_string(i) + "]: expected [east, north] in metres");
+        outline.emplace_back(p[0].get<double>(), p[1].get<double>());
+      }
+      (void)incident::Deposit(outline, "outline");  // a simple polygon, or a 400 naming why
+    } catch (const nlohmann::json::exception&) {
+      return error(res, 400, "the body is not JSON");
+    } catch (const ConfigError& e) {
+      return error(res, 400, e.what());
+    }
+    if (!deposit_(outline, config_.operator_id)) return error(res, 503, "DDS refused the deposit");
+    state_.note("plan",
+                "deposit outline of " + std::to_string(outline.size()) + " vertices sent by " + config_.operator_id);
+    res.status = 202;
+    res.set_content(json_text(nlohmann::json{{"vertices", outline.size()}, {"operator", config_.operator_id}}),
+                    "application/json");
+  });
   s.Post("/api/replay", [this](const httplib::Request& req, httplib::Response& res) {
     if (!replay_control_) return error(res, 404, "not a replay (sarloc-dashboard --recording)");
     if (!may_view(req)) return error(res, 401, "sign in first: the view token, or a session");
@@ -318,6 +355,11 @@ void DashboardServer::set_dug_out_action(std::function<bool(std::uint32_t, const
 void DashboardServer::set_dig_order_action(
     std::function<bool(const std::vector<std::uint32_t>&, const std::string&)> dig_order) {
   dig_order_ = std::move(dig_order);
+}
+
+void DashboardServer::set_deposit_action(
+    std::function<bool(const std::vector<Eigen::Vector2d>&, const std::string&)> deposit) {
+  deposit_ = std::move(deposit);
 }
 
 std::shared_ptr<const std::string> DashboardServer::message_for(std::uint64_t since, bool first, std::uint64_t& version) {

@@ -92,6 +92,9 @@ class DashboardServer {
   /// `dig_order(victim_ids, operator_id)` publishes an operator's dig order (false: DDS refused).
   /// Set before start(); without it, POST /api/victims/ID/dig-first is 404.
   void set_dig_order_action(std::function<bool(const std::vector<std::uint32_t>&, const std::string&)> dig_order);
+  /// `deposit(outline, operator_id)` publishes an operator's outline of the deposit (incident
+  /// frame; false: DDS refused). Set before start(); without it, POST /api/deposit is 404.
+  void set_deposit_action(std::function<bool(const std::vector<Eigen::Vector2d>&, const std::string&)> deposit);
 
   /// Binds (throws std::runtime_error naming the address when it cannot) and serves on a thread.
   void start();
@@ -124,6 +127,7 @@ class DashboardServer {
   std::function<nlohmann::json(const nlohmann::json&)> replay_control_;
   std::function<bool(std::uint32_t, const std::string&)> dug_out_;
   std::function<bool(const std::vector<std::uint32_t>&, const std::string&)> dig_order_;
+  std::function<bool(const std::vector<Eigen::Vector2d>&, const std::string&)> deposit_;
   std::shared_ptr<SessionStore> sessions_;
   std::unique_ptr<httplib::Server> server_;  ///< on a loopback port: clients reach it through gate_
   std::unique_ptr<ConnectionGate> gate_;     ///< the public port

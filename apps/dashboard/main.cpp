@@ -177,6 +177,9 @@ int main(int argc, char** argv) {
     });
     server.set_dug_out_action(
         [&](std::uint32_t id, const std::string& op) { return node.report_dug_out(id, op, clock.now()); });
+    server.set_deposit_action([&](const std::vector<Eigen::Vector2d>& outline, const std::string& op) {
+      return node.draw_deposit(mission.command.incident.incident_id, outline, op, clock.now());
+    });
     server.set_dig_order_action([&](const std::vector<std::uint32_t>& ids, const std::string& op) {
       return node.set_dig_order(mission.command.incident.incident_id, ids, op, clock.now());
     });

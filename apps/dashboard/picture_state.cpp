@@ -335,7 +335,14 @@ std::string dig_order_key(const incident::SearchPlanPicture& plan) {
 void PictureState::on_search_plan(const incident::SearchPlanPicture& plan) {
   std::lock_guard<std::mutex> lock(mutex_);
   touch_data();
-  const bool changed = !plan_ || plan_->plan.revision != plan.plan.revision ||
+  // The plan's deposit is the one incident command plans over: an operator may have drawn it.
+  const bool new_deposit = !plan.deposit.empty() && plan.deposit != deposit_outline_;
+  if (new_deposit) {
+    deposit_outline_ = plan.deposit;
+    deposit_ = json::array();
+    for (const auto& p : plan.deposit) deposit_.push_back({cm(p.x()), cm(p.y())});
+  }
+  const bool changed = new_deposit || !plan_ || plan_->plan.revision != plan.plan.revision ||
                        plan_->plan.searched != plan.plan.searched || pursuers_of(*plan_) != pursuers_of(plan) ||
                        dig_order_key(*plan_) != dig_order_key(plan);
   plan_ = plan;
@@ -378,7 +385,8 @@ json PictureState::plan_json() const {
           {"strips", strips},
           {"pursuers", pursuers},
           {"digs", digs},
-          {"expected_survivors", plan_->digs.expected_survivors}};
+          {"expected_survivors", plan_->digs.expected_survivors},
+          {"deposit", deposit_}};
 }
 
 json PictureState::collect(std::uint64_t since, bool with_tracks) const {

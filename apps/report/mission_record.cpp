@@ -100,6 +100,7 @@ class Loader {
     finish_positions();
     finish_nodes();
     finish_truth();
+    finish_planned_deposit();
     std::stable_sort(r_.events.begin(), r_.events.end(), [](const Event& a, const Event& b) { return a.t_s < b.t_s; });
   }
 
@@ -368,6 +369,34 @@ class Loader {
       r_.notes.push_back("firefighters' true tracks are not recorded (they live in the simulated devices): no RMSE for them");
     } catch (const std::exception& error) {
       r_.notes.push_back(std::string("the recorded mission file does not parse: ") + error.what());
+    }
+  }
+
+  // The deposit incident command last planned over: the mission file's, or an operator's drawn
+  // in its place (DepositDrawing), which the report must show instead.
+  void finish_planned_deposit() {
+    if (!r_.search_plan || r_.search_plan->deposit.empty()) return;
+    auto sorted = [](std::vector<incident::Vec2> v) {
+      std::sort(v.begin(), v.end(),
+                [](const auto& a, const auto& b) { return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y()); });
+      return v;
+    };
+    const auto planned = sorted(r_.search_plan->deposit);
+    if (r_.deposit) {
+      const auto mission = sorted(r_.deposit->vertices());
+      bool same = mission.size() == planned.size();
+      for (std::size_t i = 0; same && i < planned.size(); ++i) same = (mission[i] - planned[i]).norm() < 0.01;
+      if (same) return;
+    }
+    try {
+      const bool replaced = r_.deposit.has_value();
+      r_.deposit.emplace(r_.search_plan->deposit, "the recorded search plan's deposit");
+      if (replaced)
+        r_.notes.push_back(
+            "the deposit shown is the one the last recorded plan covers (drawn by an operator), not the mission "
+            "file's");
+    } catch (const std::exception& error) {
+      r_.notes.push_back(std::string("the recorded plan's deposit is not usable: ") + error.what());
     }
   }
 

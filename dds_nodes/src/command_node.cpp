@@ -154,6 +154,17 @@ void CommandNode::create_input_readers() {
                   command.on_dig_order(incident_id, victim_ids, operator_id);
                 });
       });
+  // An operator's outline of the deposit; incident command checks it (a simple polygon).
+  deposit_reader_ = std::make_unique<Reader<::sarloc::DepositDrawing>>(
+      participant_, [this](const ::sarloc::DepositDrawing& drawing, const auto&) {
+        std::vector<incident::Vec2> outline;
+        for (const auto& p : drawing.outline()) outline.emplace_back(p.x(), p.y());
+        enqueue(printable_id(drawing.operator_id()),
+                [incident_id = drawing.incident_id().to_string(), outline = std::move(outline),
+                 operator_id = drawing.operator_id().to_string()](incident::IncidentCommand& command) {
+                  command.on_deposit_drawing(incident_id, outline, operator_id);
+                });
+      });
 }
 
 void CommandNode::create_picture_readers() {
@@ -428,6 +439,7 @@ CommandNode::~CommandNode() {
   acknowledgement_reader_.reset();
   recovery_reader_.reset();
   dig_order_reader_.reset();
+  deposit_reader_.reset();
   stopping_.store(true);
   if (thread_.joinable()) thread_.join();
   if (role() != incident::CommandRole::kActive) return;

@@ -30,6 +30,7 @@ struct DashboardNode::Impl {
   std::unique_ptr<Writer<::sarloc::AlarmAcknowledgement>> acknowledgements;
   std::unique_ptr<Writer<::sarloc::VictimRecovery>> recoveries;
   std::unique_ptr<Writer<::sarloc::DigOrder>> dig_orders;
+  std::unique_ptr<Writer<::sarloc::DepositDrawing>> deposits;
 
   template <class F>
   void guarded(const char* topic, F&& convert_and_deliver) {
@@ -123,6 +124,7 @@ DashboardNode::DashboardNode(std::shared_ptr<Participant> participant, Dashboard
   d.acknowledgements = std::make_unique<Writer<::sarloc::AlarmAcknowledgement>>(d.participant);
   d.recoveries = std::make_unique<Writer<::sarloc::VictimRecovery>>(d.participant);
   d.dig_orders = std::make_unique<Writer<::sarloc::DigOrder>>(d.participant);
+  d.deposits = std::make_unique<Writer<::sarloc::DepositDrawing>>(d.participant);
 }
 
 DashboardNode::~DashboardNode() = default;
@@ -151,6 +153,22 @@ bool DashboardNode::set_dig_order(const std::string& incident_id, const std::vec
   order.operator_id(operator_id);
   order.stamp(stamp);
   return impl_->dig_orders->write(order);
+}
+
+bool DashboardNode::draw_deposit(const std::string& incident_id, const std::vector<Eigen::Vector2d>& outline,
+                                 const std::string& operator_id, TimestampNs stamp) {
+  if (outline.size() > ::sarloc::OUTLINE_POINTS_MAX) return false;
+  ::sarloc::DepositDrawing drawing;
+  drawing.incident_id(incident_id);
+  drawing.stamp(stamp);
+  drawing.operator_id(operator_id);
+  for (const auto& v : outline) {
+    ::sarloc::PlanePoint p;
+    p.x(v.x());
+    p.y(v.y());
+    drawing.outline().push_back(p);
+  }
+  return impl_->deposits->write(drawing);
 }
 
 }  // namespace sarloc::dds

@@ -37,6 +37,7 @@ const std::vector<CatalogTopic>& topic_catalog() {
       entry<AlarmAcknowledgement>("incident.idl"),
       entry<VictimRecovery>("incident.idl"),
       entry<DigOrder>("incident.idl"),
+      entry<DepositDrawing>("incident.idl"),
       entry<NodeStatus>("status.idl"),
   };
   return catalog;

@@ -15,7 +15,7 @@
 #   device     (the default) a rescuer's or firefighter's device: field_measurement, odometry,
 #              responder_position, victim_estimate (while its core daemon is unreachable),
 #              responder_alarm, victim_recovery (the finder marks a victim dug out)
-#   dashboard  alarm_acknowledgement, victim_recovery, dig_order
+#   dashboard  alarm_acknowledgement, victim_recovery, dig_order, deposit_drawing
 #   recorder   nothing but its node_status
 # Every role publishes node_status. Keep OUT/ca.key offline once the nodes are issued.
 # Re-running adds nodes with the same CA.
@@ -41,7 +41,7 @@ role_topics() {
     command) echo "sarloc/incident_frame sarloc/fused_victim sarloc/team_status sarloc/incident_summary sarloc/incident_alarm sarloc/search_plan" ;;
     core) echo "sarloc/victim_estimate sarloc/guidance sarloc/responder_position" ;;
     device) echo "sarloc/field_measurement sarloc/odometry sarloc/responder_position sarloc/victim_estimate sarloc/responder_alarm sarloc/victim_recovery" ;;
-    dashboard) echo "sarloc/alarm_acknowledgement sarloc/victim_recovery sarloc/dig_order" ;;
+    dashboard) echo "sarloc/alarm_acknowledgement sarloc/victim_recovery sarloc/dig_order sarloc/deposit_drawing" ;;
     recorder) echo "" ;;
     *) return 1 ;;
   esac

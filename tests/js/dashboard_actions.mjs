@@ -1,6 +1,8 @@
 // The operator's buttons in a real browser (dashboard_actions_test.cpp serves the page with a
 // picture of its own, no DDS): the page opens a session with the token in its address, then
-// clicks "dig first" on the second victim of the dig order and "dug out" on a FOUND victim.
+// clicks "dig first" on the second victim of the dig order and "dug out" on a FOUND victim, then
+// draws a deposit: four corners clicked on the map around the dug-out victim (top left first,
+// clockwise on screen), one drag between them that must add none, and "send deposit".
 //
 //   node tests/js/dashboard_actions.mjs URL DIG_FIRST_VICTIM DUG_OUT_VICTIM   -> JSON on stdout
 import { reportFromBrowser } from "./browser.mjs";
@@ -13,7 +15,7 @@ await reportFromBrowser({ width: 1400, height: 900 }, result, async (context) =>
   page.on("pageerror", (e) => result.errors.push(`page: ${e.message}`));
   page.on("response", (r) => {
     const path = new URL(r.url()).pathname;
-    if (path.startsWith("/api/victims/")) result.statuses[path] = r.status();
+    if (path.startsWith("/api/")) result.statuses[path] = r.status();
   });
   await page.goto(url, { waitUntil: "load" });
   await page.waitForFunction(() => document.getElementById("status").textContent === "live", null, { timeout: 15000 });
@@ -23,4 +25,33 @@ await reportFromBrowser({ width: 1400, height: 900 }, result, async (context) =>
   const dug = page.locator(`button.dug-out[data-victim="${dugOut}"]`);
   await dug.waitFor({ timeout: 10000 });
   await Promise.all([page.waitForResponse((r) => r.url().endsWith(`/api/victims/${dugOut}/dug-out`)), dug.click()]);
+
+  await page.locator("#draw").click();
+  // The map is redrawn whole each frame: read the victim's ellipse where it is now.
+  const [cx, cy] = await page.evaluate((id) => {
+    const b = document.querySelector(`#map ellipse[data-victim="${id}"]`).getBoundingClientRect();
+    return [b.x + b.width / 2, b.y + b.height / 2];
+  }, dugOut);
+  const d = 60;
+  const corners = [[cx - d, cy - d], [cx + d, cy - d], [cx + d, cy + d], [cx - d, cy + d]];
+  for (const [i, [x, y]] of corners.entries()) {
+    await page.mouse.click(x, y);
+    if (i === 1) {  // a drag pans the map, adds no corner; it also moves what is under the next clicks
+      await page.mouse.move(x, y);
+      await page.mouse.down();
+      await page.mouse.move(x + 40, y + 40, { steps: 4 });
+      await page.mouse.up();
+      await page.mouse.move(x, y);
+      await page.mouse.down();
+      await page.mouse.move(x - 40, y - 40, { steps: 4 });
+      await page.mouse.up();
+    }
+  }
+  // The map is redrawn on the next animation frame: wait for it (a fifth corner would show too).
+  await page.waitForFunction(() => document.querySelectorAll("#map circle.drawn-corner").length >= 4, null, { timeout: 5000 })
+    .catch(() => {});
+  await page.waitForTimeout(200);
+  result.drawnCorners = await page.locator("#map circle.drawn-corner").count();
+  await Promise.all([page.waitForResponse((r) => r.url().endsWith("/api/deposit")), page.locator("#draw-send").click()]);
+  await page.locator("#draw").waitFor({ state: "visible", timeout: 5000 });  // the page left drawing once sent
 });

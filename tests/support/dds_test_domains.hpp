@@ -23,6 +23,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainRecordedBoot = 170,
   kDomainRecordedBootMission = 171,  // tests/integration/mission/recorded-boot.yaml names it too
   kDomainMissionDugOut = 172,        // tests/integration/mission/dug-out.yaml names it too
+  kDomainCommandDeposit = 173,
   kDomainDiscoveryServer = 140,
   kDomainBenchEchoListener = 141,
   kDomainBenchEchoQueue = 142,

@@ -6,6 +6,7 @@ const picture = { victims: new Map(), responders: new Map(), teams: new Map(), a
                   missionNs: 0, epochNs: 0, wallMs: 0, receivedAtMs: 0, parIntervalS: 600 };
 // The view follows the data (fits it) until the operator pans or zooms.
 const view = { x: 0, y: 0, w: 100, h: 100, userMoved: false };
+let drawing = null;  // the deposit's corners while the operator draws it ([east, north], m)
 const CHI2_95 = 5.991464547107979;
 window.sarlocFrameTimes = [];   // render durations (ms), for the browser test
 window.sarlocLatencies = [];    // server push to browser (ms)
@@ -72,6 +73,7 @@ function merge(message) {
   }
   for (const r of message.removed || []) picture[r.kind === "victim" ? "victims" : "alarms"].delete(String(r.id));
   if (message.plan) picture.plan = message.plan;
+  if (message.plan && message.plan.deposit && message.plan.deposit.length) picture.deposit = message.plan.deposit;
   for (const e of message.events || []) picture.events.push(e);
   if (picture.events.length > 500) picture.events.splice(0, picture.events.length - 500);
   picture.missionNs = message.mission_ns;
@@ -89,6 +91,7 @@ let replayPlaying = false;
 function showReplay(replay) {
   if (!replay) return;
   $("replay").hidden = false;
+  $('draw').hidden = true;  // a replay changes nothing
   replayPlaying = replay.playing;
   $("play").textContent = replay.playing ? "pause" : "play";
   $("scrub").min = replay.start_s;
@@ -313,6 +316,16 @@ function renderMap() {
   const bx = view.x + 10 * px, by = view.y + view.h - 12 * px;
   svg += `<line x1="${bx}" y1="${by}" x2="${bx + bar}" y2="${by}" stroke="#111" stroke-width="${3 * px}"/>`;
   svg += `<text x="${bx}" y="${by - 5 * px}" font-size="${11 * px}" stroke-width="${3 * px}">${bar} m</text>`;
+  // The outline the operator is drawing, over everything else.
+  if (drawing && drawing.length) {
+    const points = drawing.map((p) => `${p[0]},${- p[1]}`).join(' ');
+    svg += `<polyline points="${points}${
+        drawing.length > 2 ?
+            ` ${drawing[0][0]},${- drawing[0][1]}` :
+            ''}" fill="none" stroke="#d35400" stroke-width="${2 * px}" stroke-dasharray="${5 * px},${3 * px}"/>`;
+    for (const p of drawing)
+      svg += `<circle class="drawn-corner" cx="${p[0]}" cy="${- p[1]}" r="${4 * px}" fill="#d35400"/>`;
+  }
   const defs = `<defs><marker id="arrow" viewBox="0 0 10 10" refX="5" refY="5" markerWidth="4" markerHeight="4" orient="auto-start-reverse"><path d="M0 0 L10 5 L0 10 z" fill="#333"/></marker></defs>`;
   $("map").setAttribute("viewBox", `${view.x} ${view.y} ${view.w} ${view.h}`);
   $("map").innerHTML = defs + svg;
@@ -398,8 +411,11 @@ function render() {
   if (window.sarlocFrameTimes.length > 10000) window.sarlocFrameTimes.splice(0, 5000);
 }
 
-async function act(url, what) {
-  const response = await fetch(url, { method: "POST", headers: { Authorization: `Bearer ${token()}` } });
+async function act(url, what, body) {
+  const headers = {Authorization: `Bearer ${token()}`};
+  if (body !== undefined) headers['Content-Type'] = 'application/json';
+  const response =
+      await fetch(url, {method: 'POST', headers, body: body === undefined ? undefined : JSON.stringify(body)});
   if (!response.ok) {
     const body = await response.json().catch(() => ({ error: response.statusText }));
     picture.events.push({ mission_ns: picture.missionNs, kind: "dashboard", text: `${what} refused: ${body.error}` });
@@ -423,9 +439,52 @@ $("floor").addEventListener("change", schedule);
 $("fit").addEventListener("click", () => { view.userMoved = false; schedule(); });
 $("area").addEventListener("change", () => { areaChoice = $("area").value; view.userMoved = false; schedule(); });
 
+// Drawing the deposit: a click on the map (not a drag) adds a corner, in the incident frame
+// (east, north: the map's y is south). Sent whole; kept on screen if refused, to fix or cancel.
+let pressedAt = null;
+function drawMode(on) {
+  drawing = on ? [] : null;
+  $('draw').hidden = on;
+  $('draw-send').hidden = $('draw-cancel').hidden = !on;
+  $('hint').textContent =
+      on ? 'click the deposit\'s corners in order; Backspace removes the last' : 'drag to pan, wheel to zoom';
+  schedule();
+}
+function mapPoint(e) {
+  const box = $('map').getBoundingClientRect();
+  const scale = view.w / box.width;
+  return [view.x + (e.clientX - box.left) * scale, -(view.y + (e.clientY - box.top) * scale)];
+}
+$('draw').addEventListener('click', () => drawMode(true));
+$('draw-cancel').addEventListener('click', () => drawMode(false));
+$('draw-send').addEventListener('click', async () => {
+  if (!drawing || drawing.length < 3) {
+    picture.events.push({mission_ns: picture.missionNs, kind: 'dashboard', text: 'a deposit needs 3 corners or more'});
+    return schedule();
+  }
+  const outline = drawing.map((p) => p.map((v) => Math.round(v * 10) / 10));  // 0.1 m
+  if ((await act('/api/deposit', `the deposit of ${outline.length} corners`, {outline})) === 202) drawMode(false);
+});
+$('map').addEventListener('click', (e) => {
+  if (!drawing || !pressedAt || Math.hypot(e.clientX - pressedAt.x, e.clientY - pressedAt.y) > 4) return;
+  drawing.push(mapPoint(e));
+  schedule();
+});
+window.addEventListener('keydown', (e) => {
+  if (!drawing || e.target.tagName === 'INPUT') return;
+  if (e.key === 'Escape') drawMode(false);
+  if (e.key === 'Backspace') {
+    drawing.pop();
+    schedule();
+  }
+});
+
 // Pan and zoom on the map.
 let drag = null;
-$("map").addEventListener("mousedown", (e) => { drag = { x: e.clientX, y: e.clientY, vx: view.x, vy: view.y }; });
+$('map').addEventListener('mousedown', (e) => {
+  pressedAt = {x: e.clientX, y: e.clientY};
+  drag = {x: e.clientX, y: e.clientY, vx: view.x, vy: view.y};
+});
 window.addEventListener("mouseup", () => { drag = null; });
 window.addEventListener("mousemove", (e) => {
   if (!drag) return;

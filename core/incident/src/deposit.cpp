@@ -17,6 +17,8 @@ Deposit::Deposit(std::vector<Vec2> outline, const std::string& key) {
       throw ConfigError(key + "[" + std::to_string(k) + "] = (" + config_value(outline[k].x()) + ", " +
                         config_value(outline[k].y()) + "): not finite");
   geometry::Polygon polygon = geometry::to_polygon(outline);
+  // Asked first: for a bow tie is_valid names its orientation, which tells an operator nothing.
+  if (boost::geometry::intersects(polygon)) throw ConfigError(key + ": not a simple polygon (its edges cross)");
   std::string why;
   if (!boost::geometry::is_valid(polygon, why)) throw ConfigError(key + ": not a simple polygon (" + why + ")");
   area_m2_ = boost::geometry::area(polygon);

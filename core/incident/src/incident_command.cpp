@@ -33,15 +33,20 @@ void IncidentCommandConfig::validate() const {
   triage.validate();
   (void)GeodeticFrame(origin);  // the one check of a WGS-84 origin (ConfigError naming incident.<field>)
   if (deposit) {
-    require(deposit->vertices().size() <= kDepositVerticesMax, "incident.deposit", deposit->vertices().size(),
-            "at most " + std::to_string(kDepositVerticesMax) + " vertices");
     search_plan.validate();
-    // The fewest strips it takes (entered from anywhere: the count does not depend on it).
-    const auto strips = plan_strips(*deposit, search_plan.strips, deposit->vertices().front()).size();
-    require(strips <= kSearchStripsMax, "incident.deposit", strips,
-            "strips at search.strip_width_m; at most " + std::to_string(kSearchStripsMax) +
-                ": a smaller deposit or wider strips");
+    check_deposit_fits(*deposit, search_plan, "incident.deposit");
   }
+}
+
+void check_deposit_fits(const Deposit& deposit, const SearchPlanConfig& search_plan, const std::string& key) {
+  constexpr std::size_t kMax = IncidentCommandConfig::kDepositVerticesMax;
+  require(deposit.vertices().size() <= kMax, key, deposit.vertices().size(),
+          "at most " + std::to_string(kMax) + " vertices");
+  // The fewest strips it takes (entered from anywhere: the count does not depend on it).
+  const auto strips = plan_strips(deposit, search_plan.strips, deposit.vertices().front()).size();
+  require(strips <= kSearchStripsMax, key, strips,
+          "strips at search.strip_width_m; at most " + std::to_string(kSearchStripsMax) +
+              ": a smaller deposit or wider strips");
 }
 
 IncidentCommand::IncidentCommand(IncidentCommandConfig config, TimestampNs start_wall_ns)
@@ -190,6 +195,37 @@ void IncidentCommand::on_dig_order(const std::string& incident_id, const std::ve
   }
   operator_dig_order_ = OperatorDigOrder{victim_ids, operator_id, found};
   say(IncidentEvent::Kind::kInfo, from + ": victims" + ids + " first");
+}
+
+void IncidentCommand::on_deposit_drawing(const std::string& incident_id, const std::vector<Vec2>& outline,
+                                         const std::string& operator_id) {
+  if (incident_id != config_.incident_id) return;
+  // Both instances take it; only the active one says why it refused.
+  auto refuse = [&](std::string subject, std::string text) {
+    if (arbiter_.role() == CommandRole::kActive) reject(std::move(subject), "invalid_value", std::move(text));
+  };
+  if (!is_identifier(operator_id)) {
+    return refuse(printable_excerpt(operator_id), "deposit drawing: operator_id is not an identifier");
+  }
+  const std::string from = "deposit drawn by '" + operator_id + "'";
+  std::optional<Deposit> drawn;
+  try {
+    drawn.emplace(outline, "deposit_drawing.outline");
+    check_deposit_fits(*drawn, config_.search_plan, "deposit_drawing.outline");
+  } catch (const ConfigError& e) {
+    return refuse(operator_id, from + " refused: " + e.what());
+  }
+  if (config_.deposit && config_.deposit->vertices() == drawn->vertices()) return;  // delivered again
+  const bool had = config_.deposit.has_value();
+  config_.deposit = std::move(drawn);
+  planner_.emplace(*config_.deposit, config_.search_plan);
+  planner_seeded_ = false;
+  if (!pursuits_) pursuits_.emplace(config_.search_plan.pursuit_timeout_s);
+  say(had ? IncidentEvent::Kind::kWarning : IncidentEvent::Kind::kInfo,
+      from + ": " + std::to_string(config_.deposit->vertices().size()) + " vertices, " +
+          std::to_string(static_cast<long>(std::lround(config_.deposit->area_m2()))) +
+          " m2; the search is planned over it" +
+          (had ? " in place of the last one (strips cut afresh, the coverage so far not carried over)" : ""));
 }
 
 void IncidentCommand::on_peer_summary(const std::string& writer, TimestampNs wall_now) {
@@ -375,6 +411,8 @@ std::optional<SearchPlanPicture> IncidentCommand::plan_search(const std::vector<
   for (const auto& t : teams)
     for (const auto& m : t.members) {
       if (m.source != responder::PositionSource::kGnss) continue;
+      // A planner made for a drawn deposit starts from where everyone is, not at their next fix.
+      if (!planner_seeded_ && m.has_position) planner_->on_position(m.responder_id, m.last_position.position.head<2>());
       const bool gone = m.link == LinkState::kLost || tracker_.signed_off(m.responder_id);
       if (!gone && m.has_position && m.link == LinkState::kAlive)
         searching.emplace(m.responder_id, m.last_position.position.head<2>());
@@ -392,6 +430,7 @@ std::optional<SearchPlanPicture> IncidentCommand::plan_search(const std::vector<
         planner_->resume(m.responder_id);
       }
     }
+  planner_seeded_ = true;
   const std::uint32_t revision = planner_->plan().revision;
   std::vector<std::string> helpers_before;
   for (const auto& s : planner_->plan().strips) helpers_before.push_back(s.helper_id);

@@ -159,5 +159,19 @@ TEST(DdsRoundTrip, DigOrder) {
   expect_round_trip<::sarloc::DigOrder>(kBase + 14, {order});
 }
 
+TEST(DdsRoundTrip, DepositDrawing) {
+  ::sarloc::DepositDrawing drawing;
+  drawing.incident_id("avalanche-large");
+  drawing.stamp(1763731360000000000LL);
+  drawing.operator_id("ic-chief");
+  for (const auto& [x, y] : {std::pair{-20.5, 0.0}, {60.0, -3.25}, {70.0, 80.0}, {-15.0, 75.5}}) {
+    ::sarloc::PlanePoint p;
+    p.x(x);
+    p.y(y);
+    drawing.outline().push_back(p);
+  }
+  expect_round_trip<::sarloc::DepositDrawing>(kBase + 15, {drawing});
+}
+
 }  // namespace
 }  // namespace sarloc::dds

@@ -1,6 +1,7 @@
 // The operator's buttons, clicked in headless Chromium (tests/js/dashboard_actions.mjs): "dig
-// first" in the dig order and "dug out" in the victims table reach the server with the session
-// the page opened from the token, and the server publishes them as the operator's. The server's
+// first" in the dig order, "dug out" in the victims table and a deposit drawn on the map reach
+// the server with the session the page opened from the token, and the server publishes them as
+// the operator's; the drawn corners are where they were clicked, in the incident frame. The server's
 // own checks of these requests are dashboard_server_test.cpp's; here, that the page sends them.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -18,7 +19,7 @@
 namespace sarloc::dashboard {
 namespace {
 
-TEST(DashboardActions, TheOperatorsDigFirstAndDugOutButtonsWorkInABrowser) {
+TEST(DashboardActions, TheOperatorsDigFirstDugOutAndDrawnDepositWorkInABrowser) {
   ASSERT_TRUE(test::has_node());
   ASSERT_TRUE(test::has_chromium());
   TimestampNs mission = 1763731300000000000LL;
@@ -37,6 +38,12 @@ TEST(DashboardActions, TheOperatorsDigFirstAndDugOutButtonsWorkInABrowser) {
     dug_out.push_back({id, op});
     return true;
   });
+  std::vector<std::vector<Eigen::Vector2d>> deposits;
+  server.set_deposit_action([&](const std::vector<Eigen::Vector2d>& outline, const std::string&) {
+    std::lock_guard<std::mutex> lock(mutex);
+    deposits.push_back(outline);
+    return true;
+  });
   server.set_dig_order_action([&](const std::vector<std::uint32_t>& ids, const std::string& op) {
     std::lock_guard<std::mutex> lock(mutex);
     dig_orders.push_back({ids, op});
@@ -48,6 +55,7 @@ TEST(DashboardActions, TheOperatorsDigFirstAndDugOutButtonsWorkInABrowser) {
     victim.victim_id = id;
     victim.evidence_conflict = false;
     victim.possibly_same_as = 0;
+    if (id == 9) victim.position.position.x() += 40.0;  // apart on the map
     state.on_victim(victim);
   }
   state.on_search_plan(test::sample_search_plan());
@@ -69,6 +77,23 @@ TEST(DashboardActions, TheOperatorsDigFirstAndDugOutButtonsWorkInABrowser) {
   EXPECT_EQ(dig_orders[0].second, "dashboard");
   ASSERT_EQ(dug_out.size(), 1u);
   EXPECT_EQ(dug_out[0], std::make_pair(7u, std::string("dashboard")));
+
+  // Four corners clicked 60 px around victim 7, top left first, clockwise on screen; the drags
+  // between them added none.
+  EXPECT_EQ(report["drawnCorners"], 4) << said;
+  EXPECT_EQ(report["statuses"]["/api/deposit"], 202) << said;
+  ASSERT_EQ(deposits.size(), 1u);
+  const auto& corners = deposits[0];
+  ASSERT_EQ(corners.size(), 4u);
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  for (const auto& c : corners) centre += c / 4.0;
+  const Eigen::Vector2d victim = test::sample_fused_victim().position.position.head<2>();
+  EXPECT_LT((centre - victim).norm(), 1.0) << "centre " << centre.transpose() << ", victim " << victim.transpose();
+  EXPECT_LT(corners[0].x(), corners[1].x()) << "left to right is east";
+  EXPECT_GT(corners[1].y(), corners[2].y()) << "down the screen is south";
+  EXPECT_NEAR(corners[0].y(), corners[1].y(), 0.2) << "a square on screen is one in the incident frame";
+  EXPECT_NEAR(corners[1].x(), corners[2].x(), 0.2);
+  EXPECT_NEAR(corners[1].x() - corners[0].x(), corners[1].y() - corners[2].y(), 0.2);
 }
 
 }  // namespace

@@ -45,6 +45,10 @@ class Server : public ::testing::Test {
       dig_orders.push_back({ids, op});
       return true;
     });
+    server->set_deposit_action([this](const std::vector<Eigen::Vector2d>& outline, const std::string& op) {
+      deposits.push_back({outline, op});
+      return true;
+    });
     server->start();
     client = std::make_unique<httplib::Client>("127.0.0.1", server->port());
     auto alarm = test::sample_incident_alarm();
@@ -59,6 +63,7 @@ class Server : public ::testing::Test {
   std::vector<std::pair<std::uint32_t, std::string>> acknowledged;
   std::vector<std::pair<std::uint32_t, std::string>> dug_out;
   std::vector<std::pair<std::vector<std::uint32_t>, std::string>> dig_orders;
+  std::vector<std::pair<std::vector<Eigen::Vector2d>, std::string>> deposits;
   std::unique_ptr<DashboardServer> server;
   std::unique_ptr<httplib::Client> client;
 };
@@ -176,6 +181,38 @@ TEST_F(Server, AVictimOfTheDigOrderIsPutFirstWithTheOperatorToken) {
   ASSERT_EQ(dig_orders.size(), 1u);
   EXPECT_EQ(dig_orders[0].first, (std::vector<std::uint32_t>{9, 7}));
   EXPECT_EQ(dig_orders[0].second, "dashboard");
+}
+
+// An operator draws the deposit: the outline is published only when it is a simple polygon sent
+// as JSON with the operator token; anything else is refused with a reason naming the point.
+TEST_F(Server, ADrawnDepositIsSentOnlyWhenItIsASimplePolygonWithTheOperatorToken) {
+  const std::string square = R"({"outline": [[0, 0], [40, 0], [40, 30], [0, 30]]})";
+  EXPECT_EQ(client->Post("/api/deposit", square, "application/json")->status, 401) << "no token";
+  EXPECT_EQ(client->Post("/api/deposit", bearer(kViewToken), square, "application/json")->status, 401);
+  EXPECT_EQ(client->Post("/api/deposit", bearer(kToken), square, "text/plain")->status, 415)
+      << "a cross-site form may post text/plain";
+  auto refused = [&](const std::string& body, const std::string& said) {
+    const auto res = client->Post("/api/deposit", bearer(kToken), body, "application/json");
+    ASSERT_TRUE(res) << body;
+    EXPECT_EQ(res->status, 400) << body;
+    EXPECT_NE(res->body.find(said), std::string::npos) << body << " -> " << res->body;
+  };
+  refused("{not json", "not JSON");
+  refused(R"({"outline": 3})", "outline");
+  refused(R"({"outline": [[0, 0], [40, "x"], [40, 30]]})", "outline[1]");
+  refused(R"({"outline": [[0, 0], [40, 0]]})", "outline");
+  refused(R"({"outline": [[0, 0], [40, 30], [40, 0], [0, 30]]})", "outline") /* a bow tie crosses itself */;
+  std::string many = R"({"outline": [)";
+  for (int i = 0; i < 251; ++i) many += (i ? "," : "") + std::string("[") + std::to_string(i) + ",0]";
+  refused(many + "]}", "251 points");
+  EXPECT_TRUE(deposits.empty());
+  const auto ok = client->Post("/api/deposit", bearer(kToken), square, "application/json");
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(ok->status, 202) << ok->body;
+  ASSERT_EQ(deposits.size(), 1u);
+  ASSERT_EQ(deposits[0].first.size(), 4u);
+  EXPECT_EQ(deposits[0].first[2], Eigen::Vector2d(40, 30));
+  EXPECT_EQ(deposits[0].second, "dashboard");
 }
 
 // The server alone in a child process (the clients' threads would blur its memory), fed 200

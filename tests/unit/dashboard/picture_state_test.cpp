@@ -78,6 +78,15 @@ TEST(PictureState, TheSearchPlanIsInSnapshotsAndInDeltasWhenItChanged) {
   plan.digs.digs[1].digger_id = "r2";  // a rescuer free for victim 9 now
   state.on_search_plan(plan);
   EXPECT_EQ(state.delta(before_dig)["plan"]["digs"][1]["digger"], "r2") << "a new digger is sent";
+  // An operator drew another deposit: the plan over it replaces the mission's on the map.
+  EXPECT_EQ(state.snapshot()["deposit"],
+            nlohmann::json::parse("[[0.0, 0.0], [80.0, 0.0], [80.0, 100.0], [0.0, 100.0]]"));
+  const auto before_drawing = state.version();
+  plan.deposit = {{0, 0}, {50, 0}, {50, 60}};
+  state.on_search_plan(plan);
+  const auto drawn = nlohmann::json::parse("[[0.0, 0.0], [50.0, 0.0], [50.0, 60.0]]");
+  EXPECT_EQ(state.delta(before_drawing)["plan"]["deposit"], drawn) << "the page redraws the deposit from the plan";
+  EXPECT_EQ(state.snapshot()["deposit"], drawn);
   state.set_geodetic_origin({46.5563, 7.9263, 2320.0});
   const auto geo = state.geojson();
   ASSERT_TRUE(geo);

@@ -202,6 +202,47 @@ TEST(IncidentCommand, ALostDeviceWriterRaisesLinkLostUntilAcknowledgedAndBack) {
 // one strip each (two rescuers on 150 m: four strips of 37.5 m, two taken), entered from their
 // side, every cycle in its output; a rescuer whose link is lost gives its strip back, said.
 // Without a deposit, no plan; a deposit with too many vertices is refused by its key.
+// An operator's drawn outline: a mission without a deposit gets a plan over it; a new outline
+// replaces it (strips cut afresh); the same one again changes nothing; a crossing outline, one
+// too big for 64 strips, a bad operator id or another incident's changes nothing, refused by name.
+TEST(IncidentCommand, AnOperatorsDrawnDepositIsPlannedOverAndABadOneRefused) {
+  const auto config = command_config();
+  IncidentCommand command(config, at(0));
+  command.on_position(gnss_fix("r1", at(1), Vec3(40, 205, 0)), "w-r1", at(1));
+  command.on_position(gnss_fix("r2", at(1), Vec3(110, 205, 0)), "w-r2", at(1));
+  EXPECT_FALSE(command.cycle(at(1.5), at(1.5)).search_plan) << "no deposit: no plan";
+  const std::vector<Vec2> drawn{{0, 0}, {150, 0}, {150, 200}, {0, 200}};
+  command.on_deposit_drawing("other-incident", drawn, "dashboard");
+  EXPECT_FALSE(command.cycle(at(2), at(2)).search_plan) << "another incident's outline";
+  command.on_deposit_drawing(config.incident_id, drawn, "dashboard");
+  auto out = command.cycle(at(2.5), at(2.5));
+  ASSERT_TRUE(out.search_plan);
+  EXPECT_EQ(out.search_plan->plan.strips.size(), 4u);
+  EXPECT_TRUE(has_event(out, Kind::kInfo, "deposit drawn by 'dashboard': 4 vertices, 30000 m2"));
+  const std::uint32_t revision = out.search_plan->plan.revision;
+  command.on_deposit_drawing(config.incident_id, drawn, "dashboard");
+  out = command.cycle(at(3), at(3));
+  EXPECT_FALSE(has_event(out, Kind::kInfo, "deposit drawn")) << "the same outline again";
+  EXPECT_EQ(out.search_plan->plan.revision, revision);
+  // Half as wide: two strips, cut afresh.
+  command.on_deposit_drawing(config.incident_id, {{0, 0}, {75, 0}, {75, 200}, {0, 200}}, "dashboard");
+  out = command.cycle(at(3.5), at(3.5));
+  ASSERT_TRUE(out.search_plan);
+  EXPECT_EQ(out.search_plan->plan.strips.size(), 2u);
+  EXPECT_TRUE(has_event(out, Kind::kWarning, "in place of the last one"));
+  const auto refused = [&](const std::vector<Vec2>& outline, const std::string& op, const std::string& part) {
+    command.on_deposit_drawing(config.incident_id, outline, op);
+    const auto cycle = command.cycle(at(4), at(4));
+    EXPECT_TRUE(has_event(cycle, Kind::kRejected, part)) << part;
+    ASSERT_TRUE(cycle.search_plan);
+    EXPECT_EQ(cycle.search_plan->plan.strips.size(), 2u) << "a refused outline changes nothing";
+  };
+  refused({{0, 0}, {100, 100}, {100, 0}, {0, 100}}, "dashboard", "deposit_drawing.outline");  // crossing edges
+  refused({{0, 0}, {100, 0}}, "dashboard", "deposit_drawing.outline");
+  refused({{0, 0}, {3000, 0}, {3000, 3000}, {0, 3000}}, "dashboard", "strips at search.strip_width_m");
+  refused(drawn, "not an id!", "operator_id is not an identifier");
+}
+
 TEST(IncidentCommand, WithADepositItPlansTheSearchAndALostRescuersStripOpens) {
   EXPECT_FALSE(IncidentCommand(command_config(), at(0)).cycle(at(1), at(1)).search_plan);
   auto config = command_config();

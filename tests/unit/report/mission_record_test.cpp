@@ -352,6 +352,8 @@ TEST(MissionRecord, ItsReportShowsTheRecordedPlansCoverageHandOversAndDigOrder) 
   const MissionRecord r = load_mission_record(path);
   ASSERT_TRUE(r.search_plan.has_value());
   EXPECT_EQ(r.quality.at("sarloc/search_plan").undecodable, 0u);
+  ASSERT_TRUE(r.deposit.has_value()) << "the deposit the plan covers, with none in the mission file";
+  EXPECT_NEAR(r.deposit->area_m2(), 80.0 * 100.0, 1e-6);
   const std::string html = render_report(r);
   EXPECT_NE(html.find("<b>25.0 %</b> searched, as incident command's last recorded search plan had it"),
             std::string::npos)

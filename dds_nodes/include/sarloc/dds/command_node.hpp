@@ -126,6 +126,7 @@ class CommandNode {
   std::unique_ptr<Reader<::sarloc::AlarmAcknowledgement>> acknowledgement_reader_;
   std::unique_ptr<Reader<::sarloc::VictimRecovery>> recovery_reader_;
   std::unique_ptr<Reader<::sarloc::DigOrder>> dig_order_reader_;
+  std::unique_ptr<Reader<::sarloc::DepositDrawing>> deposit_reader_;
 };
 
 }  // namespace sarloc::dds

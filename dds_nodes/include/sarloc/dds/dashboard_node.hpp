@@ -51,6 +51,10 @@ class DashboardNode {
   /// false when DDS refused the write.
   bool set_dig_order(const std::string& incident_id, const std::vector<std::uint32_t>& victim_ids,
                      const std::string& operator_id, TimestampNs stamp);
+  /// Publishes the operator's DepositDrawing for `incident_id` (incident frame); false when DDS
+  /// refused the write or the outline has more points than the topic holds.
+  bool draw_deposit(const std::string& incident_id, const std::vector<Eigen::Vector2d>& outline,
+                    const std::string& operator_id, TimestampNs stamp);
 
  private:
   struct Impl;

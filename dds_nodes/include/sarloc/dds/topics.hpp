@@ -36,6 +36,7 @@ SARLOC_DDS_TOPIC(IncidentAlarm, "incident_alarm");
 SARLOC_DDS_TOPIC(AlarmAcknowledgement, "alarm_acknowledgement");
 SARLOC_DDS_TOPIC(VictimRecovery, "victim_recovery");
 SARLOC_DDS_TOPIC(DigOrder, "dig_order");
+SARLOC_DDS_TOPIC(DepositDrawing, "deposit_drawing");
 SARLOC_DDS_TOPIC(NodeStatus, "node_status");
 
 #undef SARLOC_DDS_TOPIC

@@ -55,6 +55,10 @@
 
 namespace sarloc::incident {
 
+/// ConfigError naming `key` for a deposit of more than kDepositVerticesMax vertices or one that
+/// takes more than kSearchStripsMax strips at the configured width.
+void check_deposit_fits(const Deposit& deposit, const SearchPlanConfig& search_plan, const std::string& key);
+
 struct IncidentCommandConfig {
   std::string incident_id = "incident";
   std::string incident_name;
@@ -163,6 +167,16 @@ class IncidentCommand {
   /// incident's is ignored.
   void on_dig_order(const std::string& incident_id, const std::vector<std::uint32_t>& victim_ids,
                     const std::string& operator_id);
+  /// An operator's outline of the deposit (incident frame): the search is planned over it from
+  /// now on, in place of the mission's. The plan starts again: strips cut afresh, the coverage
+  /// so far not carried over (an outline is drawn when the search begins, or when the one it
+  /// had was wrong). Refused (an event, changing nothing) for an outline that is not a simple
+  /// polygon of 3 to kDepositVerticesMax finite vertices, one that takes more than
+  /// kSearchStripsMax strips, or an operator id that is not an identifier. The same outline
+  /// again changes nothing (TRANSIENT_LOCAL delivers it again to a restarted instance). Another
+  /// incident's is ignored.
+  void on_deposit_drawing(const std::string& incident_id, const std::vector<Vec2>& outline,
+                          const std::string& operator_id);
 
   // --- the active instance's picture, as received (another instance's writers) ------------
   void on_peer_summary(const std::string& writer, TimestampNs wall_now);
@@ -218,6 +232,7 @@ class IncidentCommand {
 
   IncidentCommandConfig config_;
   std::optional<SearchPlanner> planner_;
+  bool planner_seeded_ = true;  ///< false: made since the last cycle, not yet told where everyone is
   /// The mission time the victims count as buried from (minus triage.buried_before_start_min): this
   /// instance's first cycle, or the active one's if earlier (a standby started late).
   std::optional<TimestampNs> incident_start_;
