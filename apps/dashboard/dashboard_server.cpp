@@ -191,6 +191,15 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
     res.set_header("Cache-Control", "no-store");
     res.set_content(json_text(*collection), "application/geo+json");
   });
+  // A basemap tile (XYZ numbering, as web maps ask): the page places it (the snapshot's "basemap").
+  s.Get(R"(/api/basemap/(\d{1,2})/(\d{1,8})/(\d{1,8}))", [this](const httplib::Request& req, httplib::Response& res) {
+    if (!may_view(req)) return error(res, 401, "sign in first: the view token, or a session");
+    if (!basemap_) return error(res, 404, "no basemap (dashboard.basemap)");
+    const auto tile = basemap_->tile(std::stoi(req.matches[1]), std::stol(req.matches[2]), std::stol(req.matches[3]));
+    if (!tile) return error(res, 404, "no such tile");
+    res.set_header("Cache-Control", "private, max-age=86400");  // the file does not change while we run
+    res.set_content(*tile, basemap_->content_type());
+  });
   s.Get("/events", [this](const httplib::Request& req, httplib::Response& res) {
     // Checked before a stream is counted: clients without a credential can never use up the
     // streams that the commander's own browser needs.

@@ -77,9 +77,21 @@ int main(int argc, char** argv) {
     state_config.par_interval_s = settings.par_interval_s;
     state_config.stale_after_s = settings.stale_after_s;
     // Where the picture sits: its WGS-84 origin, the avalanche deposit and the building placed in it.
+    std::shared_ptr<const dashboard::Basemap> basemap;
+    if (!settings.basemap.empty())
+      basemap = std::make_shared<const dashboard::Basemap>(settings.basemap, "dashboard.basemap");
     auto place = [&](dashboard::PictureState& state) {
       state.set_geodetic_origin(mission.command.incident.origin);
       if (mission.deposit) state.set_deposit(mission.deposit->vertices());
+      if (basemap) {
+        const auto tiles = dashboard::tiles_over_incident(
+            *basemap, incident::GeodeticFrame(mission.command.incident.origin),
+            mission.deposit ? mission.deposit->vertices() : std::vector<Eigen::Vector2d>{});
+        state.set_extra("basemap", dashboard::basemap_json(tiles));
+        spdlog::info("basemap {}: {} tiles at zoom {} over the incident", settings.basemap, tiles.size(),
+                     tiles.empty() ? 0 : tiles.front().zoom);
+        if (tiles.empty()) spdlog::warn("basemap {}: no tile over the incident (another place?)", settings.basemap);
+      }
       if (!mission.world) return;
       const auto& f = mission.estimators.firefighter;
       state.set_building({*mission.world, f.origin.x(), f.origin.y(), f.rotation_rad()});
@@ -143,6 +155,7 @@ int main(int argc, char** argv) {
       player.attach(state);
       player.seek(0.0);
       dashboard::DashboardServer server(server_config, state, [](std::uint32_t, const std::string&) { return false; });
+      server.set_basemap(basemap);
       server.set_replay_control([&player](const nlohmann::json& request) { return player.control(request); });
       server.start();
       spdlog::info("replaying '{}': {} picture samples", recording, player.samples());
@@ -177,6 +190,7 @@ int main(int argc, char** argv) {
     });
     server.set_dug_out_action(
         [&](std::uint32_t id, const std::string& op) { return node.report_dug_out(id, op, clock.now()); });
+    server.set_basemap(basemap);
     server.set_deposit_action([&](const std::vector<Eigen::Vector2d>& outline, const std::string& op) {
       return node.draw_deposit(mission.command.incident.incident_id, outline, op, clock.now());
     });

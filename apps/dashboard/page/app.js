@@ -116,6 +116,7 @@ function connect() {
     picture.events = [];
     picture.building = s.building && s.building.floors ? s.building : null;
     picture.deposit = Array.isArray(s.deposit) ? s.deposit : [];
+    picture.basemap = Array.isArray(s.basemap) ? s.basemap : [];
     picture.plan = s.plan || null;
     picture.parIntervalS = s.par_interval_s;
     fillFloors();
@@ -131,7 +132,7 @@ function connect() {
     showReplay(h.replay);
     showTrust(h.dds_security);
     $("banner").hidden = !h.stale;
-    $("banner-age").textContent = h.data_age_s < 0 ? "ever" : h.data_age_s.toFixed(0);
+    $('banner-age').textContent = h.data_age_s < 0 ? 'ever (since it started)' : `${h.data_age_s.toFixed(0)} s`;
     schedule();
   });
   source.onopen = () => { $("status").textContent = "live"; $("status").className = "ok"; };
@@ -243,7 +244,13 @@ function renderMap() {
   const px = view.w / Math.max(1, $("map").getBoundingClientRect().width);  // metres per pixel
   let svg = "";
   const label = labeller(px);
-  // The avalanche deposit under everything: where the primary search must go.
+  // The offline basemap (dashboard.basemap) under everything: terrain around the deposit. Each
+  // tile a hair larger than its place, so no seam shows between neighbours.
+  for (const t of picture.basemap || []) {
+    svg += `<image class="basemap" href="/api/basemap/${t.z}/${t.x}/${t.y}" x="${t.west}" y="${- t.north}" width="${
+        t.width + 0.5 * px}" height="${t.height + 0.5 * px}" preserveAspectRatio="none"/>`;
+  }
+  // The avalanche deposit over the basemap: where the primary search must go.
   if (picture.deposit && picture.deposit.length >= 3) {
     const points = picture.deposit.map((p) => `${p[0]},${- p[1]}`).join(' ');
     svg += `<polygon points="${points}" fill="#cfe3f7" fill-opacity="0.45" stroke="#5b8db8" stroke-width="${

@@ -1,6 +1,7 @@
 #include "sarloc/app/dashboard_config.hpp"
 
 #include <cmath>
+#include <filesystem>
 
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/identifier.hpp"
@@ -48,6 +49,10 @@ void DashboardConfig::validate() const {
                                  "must be an origin as browsers send it (https://app.foxglove.dev)");
     }
   }
+  // Opened (and its contents checked) by sarloc-dashboard; here only that it is there.
+  std::error_code error;
+  require(basemap.empty() || std::filesystem::is_regular_file(basemap, error), "dashboard.basemap", basemap,
+          "must be an MBTiles file that exists (scripts/make-test-basemap makes one for trying)");
   require(track_length >= 1 && track_length <= 10000, "dashboard.track_length", track_length, "must be 1-10000");
 }
 

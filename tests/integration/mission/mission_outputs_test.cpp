@@ -332,7 +332,8 @@ TEST(Mission, TheDashboardShowsTheMissionLiveInABrowser) {
   for (const auto& cell : glance["foundCells"]) EXPECT_EQ(cell.get<std::string>().rfind("at T+", 0), 0U) << "a FOUND victim without its time: " << cell;
   EXPECT_EQ(glance["incident"], "test-incident") << "the header names the incident";
   EXPECT_NE(glance["wall"].get<std::string>().find(':'), std::string::npos) << "the header shows the wall-clock time";
-  EXPECT_EQ(glance["legendItems"], 9) << "seven symbols (dug out too), the avalanche deposit and a search strip";
+  EXPECT_EQ(glance["legendItems"], 10)
+      << "seven symbols (dug out too), the avalanche deposit, a deposit being drawn and a search strip";
   EXPECT_EQ(glance["areas"], 3) << "everything, the avalanche field, the house 80 m east: " << glance.dump();
   ASSERT_FALSE(browser["labelHeightsPx"].empty()) << said;
   for (const auto& height : browser["labelHeightsPx"]) {

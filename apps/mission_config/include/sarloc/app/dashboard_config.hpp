@@ -41,6 +41,9 @@ struct DashboardConfig {
   /// Names and addresses the page is reached by, beyond loopback and a specific bind_address;
   /// required with bind_address 0.0.0.0. Any other Host gets 421 (DNS rebinding).
   std::vector<std::string> hosts;
+  /// An offline raster basemap under the map: an MBTiles file of PNG or JPEG tiles (relative to
+  /// the mission file). Empty: none, the map as before.
+  std::string basemap;
 
   /// Throws ConfigError naming the key, the value and the rule ("dashboard.port = ...").
   void validate() const;
