@@ -236,6 +236,7 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process(const FieldMeasurem
              .first;
   }
   SignalState& s = it->second;
+  s.silenced = false;  // heard: on again, or another transmitter where it was
   if (m.transmitter.known()) s.transmitter = m.transmitter;
   if (m.event != SignalEvent::kNone) {
     s.last_event = m.event;
@@ -454,16 +455,34 @@ std::variant<SearchUpdate, Rejection> RescuerSearch::process_miss(const FieldMea
 }
 
 std::optional<Guidance> RescuerSearch::coast(TimestampNs stamp) {
-  if (!target_) return std::nullopt;
-  const auto it = signals_.find(*target_);
-  if (it == signals_.end() || !it->second.filter.initialised()) return std::nullopt;
-  SignalState& s = it->second;
-  if (line_bearing_) s.controller.primary_line_at(*line_bearing_);
-  Guidance g = s.controller.coast(s.filter, ++quiet_epochs_);
-  g.rescuer_id = rescuer_id_;
-  g.signal_id = *target_;
-  g.stamp = stamp;
-  return g;
+  bool counted = false;
+  while (target_) {
+    const auto it = signals_.find(*target_);
+    if (it == signals_.end() || !it->second.filter.initialised()) return std::nullopt;
+    SignalState& s = it->second;
+    if (!counted) ++quiet_epochs_;
+    counted = true;
+    if (line_bearing_) s.controller.primary_line_at(*line_bearing_);
+    Guidance g = s.controller.coast(s.filter, quiet_epochs_);
+    // On a converged estimate within reach, where its transmitter would be the loudest there
+    // is, and the device hearing nothing at all for lost_signal_steps epochs: the transmitter is
+    // off (a victim dug out and switched off, a flat battery), not masked or out of range. Leave
+    // it, as a searcher moves on; heard again, it is searched again. Seen: a rescuer that
+    // converged on a victim as the diggers switched it off stood on the hole for 100 s.
+    const bool converged = s.estimate && s.estimate->status >= EstimatorStatus::kConverged;
+    if (config_.search.lost_signal_steps > 0 && quiet_epochs_ >= config_.search.lost_signal_steps && converged &&
+        g.distance_m <= std::max(kSilencedReachM, g.uncertainty_radius_m)) {
+      s.silenced = true;
+      ++silenced_targets_;
+      choose_target();
+      continue;
+    }
+    g.rescuer_id = rescuer_id_;
+    g.signal_id = *target_;
+    g.stamp = stamp;
+    return g;
+  }
+  return std::nullopt;
 }
 
 void RescuerSearch::mark_done(std::uint32_t signal_id) {
@@ -505,7 +524,7 @@ std::optional<FieldFit> RescuerSearch::field_fit(std::uint32_t signal_id, const 
 }
 
 bool RescuerSearch::may_guide_to(std::uint32_t signal_id, const SignalState& s) const {
-  return !s.done && (left_to_others_.count(signal_id) == 0 || newest_stamp_ > left_until_);
+  return !s.done && !s.silenced && (left_to_others_.count(signal_id) == 0 || newest_stamp_ > left_until_);
 }
 
 void RescuerSearch::choose_target() {

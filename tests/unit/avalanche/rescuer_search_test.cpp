@@ -113,6 +113,49 @@ TEST(RescuerSearch, ASilentTargetGivesWayToASignalThatIsHeard) {
   EXPECT_NE(*search.target_signal(), target) << "the silent target kept the rescuer";
 }
 
+// Victim A dug out and switched off while the rescuer stands over its converged estimate, the
+// device hearing nothing at all: after lost_signal_steps quiet epochs the target is left (its
+// transmitter is off), not walked to for ever; a pulse of it heard again makes it a target again.
+TEST(RescuerSearch, AConvergedTargetFallenSilentUnderfootIsLeftAndTakenBackWhenHeard) {
+  const auto s = scenario();
+  mission::SimulatedRescuer sim(s, "r");
+  RescuerSearch search("r", quick());
+  const int epochs = 30;  // walking north 0.5 m an epoch: 0.5 m short of A at the end
+  std::optional<FieldMeasurement> last_of_a;
+  for (const auto& m : feed(search, sim, epochs))
+    if (sim.victim_of_signal(m.signal_id) == 0U) last_of_a = m;
+  ASSERT_TRUE(last_of_a.has_value());
+  const std::uint32_t a = last_of_a->signal_id;
+  ASSERT_EQ(search.target_signal(), a);
+  ASSERT_GE(search.estimate(a)->status, EstimatorStatus::kConverged);
+  ASSERT_TRUE(sim.switch_off_transmitter_near(s.victims[0].position, 3.0));
+  ASSERT_TRUE(sim.switch_off_transmitter_near(s.victims[1].position, 3.0));
+  const auto steps = static_cast<int>(quick().search.lost_signal_steps);
+  TimestampNs t = (epochs + 1) * kSecond;
+  for (int k = 0; k < steps; ++k, t += kSecond) {
+    ASSERT_FALSE(search.add_odometry(sim.walk(0.0, 0.0, t - kSecond, t)).has_value());
+    ASSERT_TRUE(sim.measure(t).empty()) << "both transmitters are off";
+    const auto g = search.coast(t);
+    if (k + 1 < steps) {
+      ASSERT_TRUE(g.has_value()) << k;
+      EXPECT_EQ(g->signal_id, a) << "still A's after " << k + 1 << " quiet epochs";
+      EXPECT_LT(g->distance_m, 2.0);
+    } else {
+      EXPECT_TRUE(!g || g->signal_id != a) << "A is left after " << steps << " quiet epochs";
+    }
+  }
+  EXPECT_EQ(search.silenced_targets(), 1U);
+  EXPECT_NE(search.target_signal(), a);
+  // Heard again (on again, or another transmitter where it was): searched again.
+  FieldMeasurement again = *last_of_a;
+  again.stamp = t;
+  again.sequence = last_of_a->sequence + 1000;
+  ASSERT_FALSE(search.add_odometry(sim.walk(0.0, 0.0, t - kSecond, t)).has_value());
+  const auto out = search.process(again);
+  ASSERT_TRUE(std::holds_alternative<SearchUpdate>(out));
+  EXPECT_EQ(search.target_signal(), a);
+}
+
 TEST(RescuerSearch, RefusedSamplesNameTheirReasonAndLeaveTheFiltersAlone) {
   const auto s = scenario();
   mission::SimulatedRescuer sim(s, "r");

@@ -80,6 +80,10 @@ struct SearchUpdate {
   std::optional<Guidance> guidance; ///< present when the measured signal is the target
 };
 
+/// A converged target silent while the rescuer is this near it (or within its 95 % radius) has
+/// been switched off (RescuerSearch::coast).
+inline constexpr double kSilencedReachM = 2.0;
+
 /// Longest gap add_unknown_motion() stands in for.
 inline constexpr TimestampNs kMaxUnknownMotionNs = 10'000'000'000;
 /// Longer gaps restart the unfound filters, up to this; beyond it the stamp is taken for bad input.
@@ -149,6 +153,8 @@ class RescuerSearch {
   std::size_t withdrawn_founds() const { return withdrawn_founds_; }
   /// FOUND claims that waited because the found witness could not yet locate the victim.
   std::size_t deferred_founds() const { return deferred_founds_; }
+  /// Targets left because their transmitter fell silent while the rescuer stood on them.
+  std::size_t silenced_targets() const { return silenced_targets_; }
   /// How well a field sample would fit a signal's filter (SogFilter::predictive_fit): the
   /// receiver's separation (SignalSeparator::set_consistency) asks it. nullopt for a signal
   /// without a filter yet.
@@ -177,6 +183,9 @@ class RescuerSearch {
     responder::RepeatState repeat = responder::RepeatState::kNone;  ///< of another signal here
     std::uint32_t repeat_of = 0;
     responder::TransmitterSignature transmitter = {};  ///< the separation's latest word on it
+    /// Stood over (converged, within reach) with the device hearing nothing at all: its
+    /// transmitter is off. Not guided to until a pulse of it is heard again.
+    bool silenced = false;
   };
 
   std::optional<Rejection> gate(const FieldMeasurement& m) const;
@@ -225,6 +234,7 @@ class RescuerSearch {
   std::size_t confirmed_repeats_ = 0;
   std::size_t withdrawn_founds_ = 0;
   std::size_t deferred_founds_ = 0;
+  std::size_t silenced_targets_ = 0;
   double same_transmitter_gate_ = 0.0;  ///< chi2_6(same_transmitter_gate_probability)
   double witness_gate_ = 0.0;           ///< chi2_3(found_witness_gate_probability)
   /// What the filters were given, in order, over the last found_witness_window_s: replayed
