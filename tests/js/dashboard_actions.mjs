@@ -27,12 +27,16 @@ await reportFromBrowser({ width: 1400, height: 900 }, result, async (context) =>
   await Promise.all([page.waitForResponse((r) => r.url().endsWith(`/api/victims/${dugOut}/dug-out`)), dug.click()]);
 
   await page.locator("#draw").click();
+  // Draw mode shown, and a frame drawn since: the map is where the clicks will land.
+  await page.locator("#draw-send").waitFor({ state: "visible", timeout: 5000 });
+  await page.evaluate(() => new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done))));
   // The map is redrawn whole each frame: read the victim's ellipse where it is now.
   const [cx, cy] = await page.evaluate((id) => {
     const b = document.querySelector(`#map ellipse[data-victim="${id}"]`).getBoundingClientRect();
     return [b.x + b.width / 2, b.y + b.height / 2];
   }, dugOut);
   const d = 60;
+  result.mapTopBefore = await page.evaluate(() => document.getElementById("map").getBoundingClientRect().top);
   const corners = [[cx - d, cy - d], [cx + d, cy - d], [cx + d, cy + d], [cx - d, cy + d]];
   for (const [i, [x, y]] of corners.entries()) {
     await page.mouse.click(x, y);
@@ -52,6 +56,17 @@ await reportFromBrowser({ width: 1400, height: 900 }, result, async (context) =>
     .catch(() => {});
   await page.waitForTimeout(200);
   result.drawnCorners = await page.locator("#map circle.drawn-corner").count();
+  result.mapTopAfter = await page.evaluate(() => document.getElementById("map").getBoundingClientRect().top);
+  // The no-data banner comes and goes with the data: it must not move the map either.
+  result.mapTopWithBanner = await page.evaluate(() => {
+    const banner = document.getElementById("banner"), was = banner.hidden, top = [];
+    for (const hidden of [true, false]) {
+      banner.hidden = hidden;
+      top.push(document.getElementById("map").getBoundingClientRect().top);
+    }
+    banner.hidden = was;
+    return top;
+  });
   await Promise.all([page.waitForResponse((r) => r.url().endsWith("/api/deposit")), page.locator("#draw-send").click()]);
   await page.locator("#draw").waitFor({ state: "visible", timeout: 5000 });  // the page left drawing once sent
 });

@@ -446,7 +446,7 @@ $("floor").addEventListener("change", schedule);
 $("fit").addEventListener("click", () => { view.userMoved = false; schedule(); });
 $("area").addEventListener("change", () => { areaChoice = $("area").value; view.userMoved = false; schedule(); });
 
-// Drawing the deposit: a click on the map (not a drag) adds a corner, in the incident frame
+// Drawing the deposit: a press and release on the map (not a drag) adds a corner, in the incident frame
 // (east, north: the map's y is south). Sent whole; kept on screen if refused, to fix or cancel.
 let pressedAt = null;
 function drawMode(on) {
@@ -472,11 +472,6 @@ $('draw-send').addEventListener('click', async () => {
   const outline = drawing.map((p) => p.map((v) => Math.round(v * 10) / 10));  // 0.1 m
   if ((await act('/api/deposit', `the deposit of ${outline.length} corners`, {outline})) === 202) drawMode(false);
 });
-$('map').addEventListener('click', (e) => {
-  if (!drawing || !pressedAt || Math.hypot(e.clientX - pressedAt.x, e.clientY - pressedAt.y) > 4) return;
-  drawing.push(mapPoint(e));
-  schedule();
-});
 window.addEventListener('keydown', (e) => {
   if (!drawing || e.target.tagName === 'INPUT') return;
   if (e.key === 'Escape') drawMode(false);
@@ -492,7 +487,17 @@ $('map').addEventListener('mousedown', (e) => {
   pressedAt = {x: e.clientX, y: e.clientY};
   drag = {x: e.clientX, y: e.clientY, vx: view.x, vy: view.y};
 });
-window.addEventListener("mouseup", () => { drag = null; });
+window.addEventListener('mouseup', (e) => {
+  drag = null;
+  // A corner on the button's release, not on "click": the map is redrawn whole when data
+  // arrives, and a click whose press landed on an element redrawn before the release is never
+  // fired (seen: one corner of four lost on a loaded machine).
+  if (drawing && pressedAt && Math.hypot(e.clientX - pressedAt.x, e.clientY - pressedAt.y) <= 4) {
+    drawing.push(mapPoint(e));
+    schedule();
+  }
+  pressedAt = null;
+});
 window.addEventListener("mousemove", (e) => {
   if (!drag) return;
   const scale = view.w / $("map").getBoundingClientRect().width;

@@ -81,6 +81,10 @@ TEST(DashboardActions, TheOperatorsDigFirstDugOutAndDrawnDepositWorkInABrowser) 
   // Four corners clicked 60 px around victim 7, top left first, clockwise on screen; the drags
   // between them added none.
   EXPECT_EQ(report["drawnCorners"], 4) << said;
+  // Nothing moved the map under the clicks (seen: the no-data banner appearing pushed it 38 px
+  // down mid-drawing on a loaded machine, and the last two corners landed 2.5 m off).
+  EXPECT_EQ(report["mapTopBefore"], report["mapTopAfter"]) << said;
+  EXPECT_EQ(report["mapTopWithBanner"][0], report["mapTopWithBanner"][1]) << "the banner moves the map; " << said;
   EXPECT_EQ(report["statuses"]["/api/deposit"], 202) << said;
   ASSERT_EQ(deposits.size(), 1u);
   const auto& corners = deposits[0];
@@ -88,7 +92,8 @@ TEST(DashboardActions, TheOperatorsDigFirstDugOutAndDrawnDepositWorkInABrowser) 
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();
   for (const auto& c : corners) centre += c / 4.0;
   const Eigen::Vector2d victim = test::sample_fused_victim().position.position.head<2>();
-  EXPECT_LT((centre - victim).norm(), 1.0) << "centre " << centre.transpose() << ", victim " << victim.transpose();
+  EXPECT_LT((centre - victim).norm(), 1.0)
+      << "centre " << centre.transpose() << ", victim " << victim.transpose() << "; " << said;
   EXPECT_LT(corners[0].x(), corners[1].x()) << "left to right is east";
   EXPECT_GT(corners[1].y(), corners[2].y()) << "down the screen is south";
   EXPECT_NEAR(corners[0].y(), corners[1].y(), 0.2) << "a square on screen is one in the incident frame";
