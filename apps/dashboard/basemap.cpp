@@ -6,13 +6,13 @@
 #include <cmath>
 #include <memory>
 
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/errors.hpp"
 
 namespace sarloc::dashboard {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kZoomMax = 24;  ///< finer than any raster basemap (a centimetre a pixel)
 
 struct StatementCloser {

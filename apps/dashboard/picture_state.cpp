@@ -71,9 +71,12 @@ void PictureState::set_geodetic_origin(const GeodeticOrigin& origin) {
 
 void PictureState::set_deposit(const std::vector<Eigen::Vector2d>& outline) {
   std::lock_guard<std::mutex> lock(mutex_);
-  json points = json::array();
-  for (const auto& p : outline) points.push_back({cm(p.x()), cm(p.y())});
-  deposit_ = points;
+  store_deposit(outline);
+}
+
+void PictureState::store_deposit(const std::vector<Eigen::Vector2d>& outline) {
+  deposit_ = json::array();
+  for (const auto& p : outline) deposit_.push_back({cm(p.x()), cm(p.y())});
   deposit_outline_ = outline;
 }
 
@@ -337,11 +340,7 @@ void PictureState::on_search_plan(const incident::SearchPlanPicture& plan) {
   touch_data();
   // The plan's deposit is the one incident command plans over: an operator may have drawn it.
   const bool new_deposit = !plan.deposit.empty() && plan.deposit != deposit_outline_;
-  if (new_deposit) {
-    deposit_outline_ = plan.deposit;
-    deposit_ = json::array();
-    for (const auto& p : plan.deposit) deposit_.push_back({cm(p.x()), cm(p.y())});
-  }
+  if (new_deposit) store_deposit(plan.deposit);
   const bool changed = new_deposit || !plan_ || plan_->plan.revision != plan.plan.revision ||
                        plan_->plan.searched != plan.plan.searched || pursuers_of(*plan_) != pursuers_of(plan) ||
                        dig_order_key(*plan_) != dig_order_key(plan);

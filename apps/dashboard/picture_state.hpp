@@ -119,6 +119,7 @@ class PictureState {
 
   void touch_data();
   void event(const std::string& kind, const std::string& text);
+  void store_deposit(const std::vector<Eigen::Vector2d>& outline);  ///< the caller holds mutex_
   nlohmann::json victim_json(const incident::FusedVictim& v) const;
   nlohmann::json responder_json(const std::string& id, const Responder& r, bool with_track) const;
   nlohmann::json team_json(const Team& t) const;
