@@ -123,11 +123,16 @@ void ProcessTable::start_devices() {
   std::vector<std::pair<std::string, bool>> devices;
   for (const auto& r : mission_.scenario.rescuers) devices.emplace_back(r.id, false);
   for (const auto& f : mission_.firefighters) devices.emplace_back(f.id, true);
+  std::filesystem::remove(config_.run_dir / kSimWorldFile);  // a reused run folder's old digs
   for (const auto& [id, quiet] : devices) {
     auto args = common_args("sarloc-rescuer");
     args.insert(args.end(), {"--id", id, "--epoch-ns", std::to_string(config_.epoch_ns), "--summary",
                              (config_.run_dir / (id + ".json")).string()});
-    if (quiet) args.push_back("--quiet");
+    if (quiet) {
+      args.push_back("--quiet");
+    } else {  // an avalanche rescuer: its digs silence transmitters for every device at once
+      args.insert(args.end(), {"--sim-world", (config_.run_dir / kSimWorldFile).string()});
+    }
     devices_[id] = start("rescuer-" + id, "rescuer-" + id, args);
   }
 }

@@ -19,6 +19,9 @@
 
 namespace sarloc::app {
 
+/// The run folder's file of the simulated devices' shared world (apps/rescuer/simulated_world.hpp).
+inline constexpr const char* kSimWorldFile = "sim-world.txt";
+
 struct ProcessTableConfig {
   std::filesystem::path bin_dir;  ///< where sarloc-core, sarloc-rescuer, ... are
   std::string mission_file;       ///< absolute

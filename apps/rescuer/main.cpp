@@ -105,6 +105,11 @@ int main(int argc, char** argv) {
                  "default: the sarloc boot IMU CSV)")
       ->check(CLI::ExistingFile);
   cli.add_option("--summary", summary_path, "write a JSON summary here on exit");
+  std::string sim_world;
+  cli.add_option("--sim-world", sim_world,
+                 "simulated avalanche missions: the file through which the mission's simulated devices share "
+                 "the transmitters their digs switched off (sarloc-mission gives one per run; without it a "
+                 "device silences a dug-out transmitter when the picture says so)");
   cli.add_flag("--quiet", quiet, "do not print the guidance line every epoch");
   if (auto code = app::parse_command_line(cli, argc, argv)) return *code;
 
@@ -158,6 +163,7 @@ int main(int argc, char** argv) {
     // behind (out of range) is still one this device found.
     std::map<std::uint32_t, responder::EstimatorStatus> furthest;
     rescuer::SimulatedDigs digs;
+    digs.world = rescuer::SimulatedWorld(sim_world);
     std::size_t epochs = 0;
     const auto period_ns = seconds_to_ns(mission.period_s);
     sarloc::dds::EpochResult last;

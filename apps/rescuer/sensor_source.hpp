@@ -48,6 +48,9 @@ class SensorSource {
   virtual std::optional<std::size_t> switch_off_transmitter_near(const Vec3& /*where*/, double /*radius_m*/) {
     return std::nullopt;
   }
+  /// Simulation only: victim `index`'s transmitter is switched off (another device's dig).
+  /// Returns whether it was on.
+  virtual bool switch_off_transmitter(std::size_t /*index*/) { return false; }
 };
 
 /// The mission simulator: one step per epoch along the followed guidance (no guidance yet:
@@ -75,6 +78,7 @@ class SimulatedSource : public SensorSource {
   std::optional<std::size_t> switch_off_transmitter_near(const Vec3& where, double radius_m) override {
     return sim_.switch_off_transmitter_near(where, radius_m);
   }
+  bool switch_off_transmitter(std::size_t index) override { return sim_.switch_off_transmitter(index); }
 
  private:
   mission::SimulatedRescuer sim_;

@@ -1,9 +1,11 @@
 #pragma once
 // A simulated mission's digs (simulation.dig_out_after_s): the device that FOUND a victim
-// reports it dug out some mission seconds later, as its finder would after digging, and every
-// simulated receiver stops hearing a transmitter once the picture says its victim is dug out
-// (rescuers switch a dug-out victim's transmitter off). A real device does neither: its
-// rescuer marks the dig on the dashboard and switches the transmitter off by hand.
+// reports it dug out some mission seconds later, as its finder would after digging, and
+// switches its transmitter off (the true one nearest the picture's victim): every simulated
+// receiver of the mission stops hearing it at once, through the shared SimulatedWorld, as on a
+// real dig. A dig reported by someone else (an operator) silences the transmitter when the
+// picture says its victim is dug out. A real device does neither: its rescuer marks the dig
+// on the dashboard and switches the transmitter off by hand.
 #include <cstdint>
 #include <map>
 #include <set>
@@ -11,12 +13,14 @@
 #include "sarloc/core/mission/mission_scenario.hpp"
 #include "sarloc/dds/rescuer_node.hpp"
 #include "sensor_source.hpp"
+#include "simulated_world.hpp"
 
 namespace sarloc::rescuer {
 
 struct SimulatedDigs {
   std::map<std::uint32_t, TimestampNs> found_since;  ///< own signal -> first epoch it was FOUND
   std::set<std::uint32_t> reported;                  ///< victims this device reported dug out
+  SimulatedWorld world;                              ///< the mission's shared switch-offs
 };
 
 /// A picture's dug-out victim switches off the true transmitter nearest its position within

@@ -143,8 +143,10 @@ void CommandNode::create_input_readers() {
   recovery_reader_ = std::make_unique<Reader<::sarloc::VictimRecovery>>(
       participant_, [this](const ::sarloc::VictimRecovery& r, const auto&) {
         enqueue(printable_id(r.reported_by()),
-                [victim_id = r.victim_id(), reported_by = r.reported_by().to_string()](
-                    incident::IncidentCommand& command) { command.on_recovery(victim_id, reported_by); });
+                [victim_id = r.victim_id(), reported_by = r.reported_by().to_string(), stamp = r.stamp(),
+                 now = clock_.now()](incident::IncidentCommand& command) {
+                  command.on_recovery(victim_id, reported_by, stamp, now);
+                });
       });
   dig_order_reader_ =
       std::make_unique<Reader<::sarloc::DigOrder>>(participant_, [this](const ::sarloc::DigOrder& order, const auto&) {

@@ -90,14 +90,14 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
   victim_reader_ = std::make_unique<Reader<::sarloc::FusedVictim>>(
       participant_, [this](const ::sarloc::FusedVictim& v, const auto&) {
         if (v.state() != ::sarloc::VICTIM_FOUND && v.state() != ::sarloc::VICTIM_RECOVERED) return;
+        const Vec3 where = to_core(v.position()).position;
         std::lock_guard<std::mutex> lock(mutex_);
         for (const auto& s : v.sources()) {
           if (s.rescuer_id().to_string() != config_.rescuer_id) continue;
           found_elsewhere_.insert(s.signal_id());
-          picture_victim_of_[s.signal_id()] = v.victim_id();
+          picture_victim_of_[s.signal_id()] = PictureVictim{v.victim_id(), where};
         }
         if (v.state() == ::sarloc::VICTIM_RECOVERED && recovered_seen_.insert(v.victim_id()).second) {
-          const Vec3 where = to_core(v.position()).position;
           if (where.allFinite()) recovered_.emplace_back(v.victim_id(), where);
         }
       });
@@ -159,7 +159,7 @@ bool RescuerNode::wait_for_daemon(std::chrono::milliseconds timeout) const {
          guidance_reader_->wait_for_writers(1, remaining());
 }
 
-std::optional<std::uint32_t> RescuerNode::picture_victim_of(std::uint32_t signal) const {
+std::optional<RescuerNode::PictureVictim> RescuerNode::picture_victim_of(std::uint32_t signal) const {
   std::lock_guard<std::mutex> lock(mutex_);
   const auto it = picture_victim_of_.find(signal);
   if (it == picture_victim_of_.end()) return std::nullopt;

@@ -36,6 +36,7 @@ void read_fusion(YamlReader r, incident::VictimFusionConfig& c) {
   r.read("source_timeout_s", c.source_timeout_s);
   r.read("located_radius_m", c.located_radius_m);
   r.read("confirm_requires_device", c.confirm_requires_device);
+  r.read("dug_out_grace_s", c.dug_out_grace_s);
   std::string weighting = c.weighting == incident::CiWeighting::kInverseTrace ? "inverse_trace" : "min_trace";
   r.read("weighting", weighting);
   if (weighting == "inverse_trace") {

@@ -149,7 +149,8 @@ void IncidentCommand::on_acknowledgement(std::uint32_t alarm_id, const std::stri
   }
 }
 
-void IncidentCommand::on_recovery(std::uint32_t victim_id, const std::string& reported_by) {
+void IncidentCommand::on_recovery(std::uint32_t victim_id, const std::string& reported_by, TimestampNs stamp,
+                                  TimestampNs now) {
   if (!is_identifier(reported_by)) {
     reject(printable_excerpt(reported_by), "invalid_value", "victim recovery: reported_by is not an identifier");
     return;
@@ -157,7 +158,7 @@ void IncidentCommand::on_recovery(std::uint32_t victim_id, const std::string& re
   // Both instances apply it: a standby that takes over before the active one published the
   // recovered victim still has it (one that has not seen the victim FOUND yet adopts it so).
   try {
-    if (fusion_.recover(victim_id)) {
+    if (fusion_.recover(victim_id, stamp > 0 ? std::min(stamp, now) : now)) {
       say(IncidentEvent::Kind::kInfo, "victim " + std::to_string(victim_id) + " dug out (reported by '" + reported_by +
                                           "'): its signal is no longer expected");
     }
@@ -525,6 +526,11 @@ CommandCycle IncidentCommand::cycle(TimestampNs now, TimestampNs wall_now) {
         "victim " + std::to_string(w.victim_id) + ": LOCATED withdrawn, now unconfirmed with evidence conflict: " +
             "the signal that located it (rescuer '" + w.rescuer_id + "' signal " + std::to_string(w.signal_id) +
             ") is now estimated at victim " + std::to_string(w.now_bound_to) + " and nothing else stands by it");
+  }
+  for (const auto& e : fusion_.take_late_echoes()) {
+    say(IncidentEvent::Kind::kInfo, "rescuer '" + e.rescuer_id + "' signal " + std::to_string(e.signal_id) +
+                                        ": an estimate of dug-out victim " + std::to_string(e.victim_id) +
+                                        " measured before its transmitter went off, heard late: ignored");
   }
   out.victims = fusion_.victims();
   if (out.active) {

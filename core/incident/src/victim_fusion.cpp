@@ -9,6 +9,7 @@
 #include <tuple>
 #include <utility>
 
+#include "position_gate.hpp"
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/gaussian.hpp"
@@ -23,16 +24,6 @@ using responder::compare_signatures;
 using responder::SignatureMatch;
 
 bool open_unit(double p) { return std::isfinite(p) && p > 0.0 && p < 1.0; }
-
-// Squared Mahalanobis distance with summed covariances (independence assumed only for the gate:
-// CI covariances are conservative, so the sum is too).
-double mahalanobis2(const GaussianPosition& a, const GaussianPosition& b) {
-  const Mat3 s = a.covariance + b.covariance;
-  const Eigen::LDLT<Mat3> ldlt(0.5 * (s + s.transpose()));
-  const Vec3 d = a.position - b.position;
-  const double d2 = d.dot(ldlt.solve(d));
-  return std::isfinite(d2) ? std::max(d2, 0.0) : std::numeric_limits<double>::infinity();
-}
 
 // A covariance the fusion can use: finite, symmetric, positive definite (InputError naming
 // `where` otherwise).
@@ -79,6 +70,8 @@ void VictimFusionConfig::validate() const {
           "fusion.source_timeout_s", source_timeout_s, "must be in (0, 3600]");
   require(std::isfinite(located_radius_m) && located_radius_m > 0.0 && located_radius_m <= 100.0,
           "fusion.located_radius_m", located_radius_m, "must be in (0, 100]");
+  require(std::isfinite(dug_out_grace_s) && dug_out_grace_s >= 0.0 && dug_out_grace_s <= 600.0,
+          "fusion.dug_out_grace_s", dug_out_grace_s, "must be in [0, 600]");
   require(weighting == CiWeighting::kInverseTrace || weighting == CiWeighting::kMinTrace, "fusion.weighting",
           static_cast<double>(weighting), "must be inverse_trace or min_trace");
 }
@@ -131,6 +124,8 @@ void VictimFusion::adopt(const std::vector<FusedVictim>& picture, std::uint32_t 
       if (v.found_at == 0) v.found_at = own->second.found_at;
     }
     if (v.state == VictimState::kRecovered) {  // dug out: its sources are retired, its list kept
+      // Its recovery not heard yet: its newest source stamp stands for the dig (no later).
+      recoveries_.emplace(v.victim_id, Recovery{v.last_update, {}});
       for (const VictimSource& vs : v.sources) retire({vs.rescuer_id, vs.signal_id});
       victims_.push_back(std::move(v));
       continue;
@@ -160,41 +155,6 @@ void VictimFusion::adopt(const std::vector<FusedVictim>& picture, std::uint32_t 
   next_id_ = std::max(largest, largest_id_seen) + 1;
 }
 
-void VictimFusion::retire(const SourceKey& key) {
-  retired_.insert(key);
-  if (const auto it = sources_.find(key); it != sources_.end()) {
-    unbind(it->second, Unbind::kInactive);
-    sources_.erase(it);
-  }
-  adopted_bindings_.erase(key);
-}
-
-bool VictimFusion::recover(std::uint32_t victim_id) {
-  FusedVictim* v = find_victim(victim_id);
-  if (v == nullptr) throw InputError("victim_recovery.victim_id = " + std::to_string(victim_id) + ": no such victim");
-  if (v->state == VictimState::kRecovered) return false;
-  if (v->state != VictimState::kFound) {
-    throw InputError("victim_recovery.victim_id = " + std::to_string(victim_id) + ": the victim is " +
-                     to_string(v->state) + ", not FOUND: only a found victim is dug out");
-  }
-  // Its list stays as published (who found it); the sources themselves hear a switched-off
-  // transmitter no more, and any that did would be another transmitter.
-  const std::vector<VictimSource> listed = v->sources;
-  std::vector<SourceKey> retiring;
-  for (const VictimSource& vs : listed) retiring.emplace_back(vs.rescuer_id, vs.signal_id);
-  for (const auto& [key, s] : sources_)
-    if (s.last_victim_id == victim_id) retiring.push_back(key);
-  for (const SourceKey& key : retiring) retire(key);
-  v = find_victim(victim_id);
-  v->sources = listed;
-  v->state = VictimState::kRecovered;
-  v->evidence_conflict = false;
-  v->possibly_same_as = 0;
-  by_radius_only_.erase(victim_id);
-  withdrawn_.erase(victim_id);
-  return true;
-}
-
 bool VictimFusion::update(const SourceEstimate& estimate) {
   const std::string where =
       "source_estimate[" + estimate.rescuer_id + "/" + std::to_string(estimate.signal_id) + "]";
@@ -219,11 +179,16 @@ bool VictimFusion::update(const SourceEstimate& estimate) {
   if (it == sources_.end()) {
     it = sources_.emplace(key, Source{}).first;
     it->second.estimate = estimate;
+    it->second.first_stamp = estimate.stamp;
     check_conflict(it->second, estimate);
     // First heard after adopt(): it joins the victim the adopted picture listed it under.
     if (const auto bound = adopted_bindings_.find(key); bound != adopted_bindings_.end()) {
       if (FusedVictim* v = find_victim(bound->second); v != nullptr && v->floor == estimate.floor) bind(it->second, *v);
       adopted_bindings_.erase(bound);
+    }
+    if (const std::uint32_t dug_out = dug_out_echo_of(it->second); dug_out != 0) {  // "Late echoes"
+      retire_echo(key, dug_out);
+      return false;
     }
     return true;
   }

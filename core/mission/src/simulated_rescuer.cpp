@@ -125,9 +125,15 @@ std::optional<std::size_t> SimulatedRescuer::switch_off_transmitter_near(const V
     }
   }
   if (!nearest) return std::nullopt;
-  switched_off_[*nearest] = true;
-  if (receiver_) beacons_[*nearest].transmitting = false;
+  switch_off_transmitter(*nearest);
   return nearest;
+}
+
+bool SimulatedRescuer::switch_off_transmitter(std::size_t index) {
+  if (index >= switched_off_.size() || switched_off_[index]) return false;
+  switched_off_[index] = true;
+  if (receiver_) beacons_[index].transmitting = false;
+  return true;
 }
 
 std::optional<std::size_t> SimulatedRescuer::victim_of_signal(std::uint32_t signal_id) const {

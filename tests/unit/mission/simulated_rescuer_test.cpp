@@ -114,6 +114,8 @@ TEST(SimulatedRescuer, ASwitchedOffTransmitterIsHeardNoMore) {
     EXPECT_FALSE(sim.switch_off_transmitter_near(Vec3(2.0, 40.0, -1.0), 3.0)) << "no transmitter within 3 m";
     ASSERT_EQ(sim.switch_off_transmitter_near(Vec3(4.5, 20.3, -1.2), 3.0), std::optional<std::size_t>(1));
     EXPECT_FALSE(sim.switch_off_transmitter_near(Vec3(4.5, 20.3, -1.2), 3.0)) << "off already; the other is 4 m away";
+    EXPECT_FALSE(sim.switch_off_transmitter(1)) << "off already (another rescuer's dig names it by index)";
+    EXPECT_FALSE(sim.switch_off_transmitter(s.victims.size())) << "no such victim";
     sim.measure(21 * kSecond);  // the window that straddles the switch-off
     for (int k = 22; k <= 41; ++k)
       for (const auto& m : sim.measure(k * kSecond))

@@ -86,8 +86,13 @@ class RescuerNode {
   /// incident command to have it. Not called on a crash or an error: that is a lost device.
   bool sign_off(std::chrono::milliseconds timeout);
 
+  /// A victim of the picture: its id and position (incident frame).
+  struct PictureVictim {
+    std::uint32_t victim_id = 0;
+    Vec3 position = Vec3::Zero();
+  };
   /// The FOUND (or recovered) victim of the picture that holds this device's `signal`, if any.
-  std::optional<std::uint32_t> picture_victim_of(std::uint32_t signal) const;
+  std::optional<PictureVictim> picture_victim_of(std::uint32_t signal) const;
   /// Reports a victim dug out (VictimRecovery, reported by this rescuer); false when DDS refused.
   bool report_dug_out(std::uint32_t victim_id);
   /// Victims the picture says are dug out since the last call (each once), with their final
@@ -122,7 +127,7 @@ class RescuerNode {
   void hear(std::function<void(responder::GuidanceArbiter&)> heard);  // under mutex_
   void apply_arbiter_inbox();                                         // under mutex_
   std::set<std::uint32_t> found_elsewhere_;          // signals incident command reports found; under mutex_
-  std::map<std::uint32_t, std::uint32_t> picture_victim_of_;  // own signal -> FOUND victim id; under mutex_
+  std::map<std::uint32_t, PictureVictim> picture_victim_of_;  // own signal -> FOUND victim; under mutex_
   std::set<std::uint32_t> recovered_seen_;                    // under mutex_
   std::vector<std::pair<std::uint32_t, Vec3>> recovered_;     // not yet taken; under mutex_
   Writer<::sarloc::VictimRecovery> recovery_writer_;

@@ -158,8 +158,9 @@ class IncidentCommand {
   void on_acknowledgement(std::uint32_t alarm_id, const std::string& operator_id, TimestampNs now);
   /// An operator or the finder's device reports a FOUND victim dug out: it stays in the picture
   /// as kRecovered (VictimFusion::recover). Refused (an event, on the active instance) for an
-  /// unknown victim, one not FOUND, or a reporter that is not an identifier.
-  void on_recovery(std::uint32_t victim_id, const std::string& reported_by);
+  /// unknown victim, one not FOUND, or a reporter that is not an identifier. The dig happened at
+  /// the report's `stamp`, never later than `now` (a reporter's clock ahead of ours, or 0).
+  void on_recovery(std::uint32_t victim_id, const std::string& reported_by, TimestampNs stamp, TimestampNs now);
   /// An operator's dig order: these FOUND victims first, in this order. It holds until the
   /// FOUND victims change; then incident command's own order replaces it (the last writer wins;
   /// both are events). Refused (an event, changing nothing) when empty, with a repeated id, an

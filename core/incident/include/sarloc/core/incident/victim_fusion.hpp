@@ -64,6 +64,14 @@
 //      retired: its estimates are ignored from then on (its transmitter is off; a device may
 //      still republish its last FOUND). A recovered victim takes no source, never merges and
 //      is nobody's twin: a signal still heard there is a new, unknown victim.
+//      Late echoes: a source never bound to any victim (first heard by this fusion only now:
+//      a radio fade or a link loss kept it, or erased it) whose first estimate was measured no
+//      later than dug_out_grace_s after the recovery, inside a recovered victim's gate and
+//      within kDugOutReachM of it, with no transmitter signature distinct from the recovered
+//      victim's sources', heard that switched-off transmitter before it went off: it is
+//      retired too. Seen under fades (large-deposit.yaml): the picture lost r7's source of C
+//      in a fade, C was dug out, r7's FOUND of C (stamped before) came back and opened a
+//      second FOUND victim at the hole. One first heard later is another transmitter.
 //   Sources and victims on different floors never associate or merge (a victim's floor is
 //      that of its first source).
 //   Conflicts: a source is estimated by more than one estimator (a rescuer's device and the
@@ -139,10 +147,18 @@ struct VictimFusionConfig {
   CiWeighting weighting = CiWeighting::kInverseTrace;  ///< covariance intersection weights
   /// Only sources corroborated by their reporter's own device confirm a victim (step 6).
   bool confirm_requires_device = true;
+  /// A new source measured up to this long after a dig-out, at the hole, heard the dug-out
+  /// transmitter ("Late echoes" above): the rescuer reports the dig and switches its
+  /// transmitter off within about this time.
+  double dug_out_grace_s = 10.0;
 
   /// Throws ConfigError "fusion.<key> = value: rule".
   void validate() const;
 };
+
+/// A late echo of a dug-out transmitter ("Late echoes" above) lies within this distance (m)
+/// of its victim: a FOUND estimate well inside it, a second victim seldom.
+inline constexpr double kDugOutReachM = 3.0;
 
 /// Throws InputError unless `v` can join a fusion: id > 0, finite position, symmetric
 /// positive-definite covariance, sources with a rescuer id.
@@ -167,10 +183,10 @@ class VictimFusion {
   /// Associate, fuse, merge and update states (see the overview above).
   void step(TimestampNs now);
 
-  /// Marks a FOUND victim dug out (see "Dug out" above). Throws InputError, changing nothing,
-  /// for an unknown id or a victim that is not FOUND; a victim already recovered stays so
-  /// (returns false).
-  bool recover(std::uint32_t victim_id);
+  /// Marks a FOUND victim dug out at `at` (mission time; see "Dug out" above). Throws
+  /// InputError, changing nothing, for an unknown id or a victim that is not FOUND; a victim
+  /// already recovered stays so (returns false).
+  bool recover(std::uint32_t victim_id, TimestampNs at);
   /// Sources retired by recover() (or adopted as a recovered victim's).
   std::size_t retired_count() const { return retired_.size(); }
 
@@ -208,6 +224,16 @@ class VictimFusion {
   /// The withdrawals since the last call.
   std::vector<Withdrawal> take_withdrawn();
 
+  /// A source retired as a late echo of a dug-out victim's transmitter ("Late echoes" above).
+  struct LateEcho {
+    std::uint32_t victim_id = 0;  ///< the dug-out victim
+    std::string rescuer_id;
+    std::uint32_t signal_id = 0;
+    TimestampNs measured = 0;  ///< its first estimate's stamp
+  };
+  /// The late echoes since the last call.
+  std::vector<LateEcho> take_late_echoes();
+
   const VictimFusionConfig& config() const { return config_; }
   std::size_t source_count() const { return sources_.size(); }
 
@@ -219,6 +245,7 @@ class VictimFusion {
     std::uint32_t last_victim_id = 0;   ///< the victim it was last bound to
     bool active = false;
     std::map<std::string, SourceEstimate> by_estimator;  ///< the latest of each estimator
+    TimestampNs first_stamp = 0;                         ///< of the first estimate this fusion heard
     TimestampNs conflict_until = 0;     ///< conflicted until then
     std::string trusted;                ///< while conflicted: the device's estimator, if any
   };
@@ -230,6 +257,13 @@ class VictimFusion {
   void bind(Source& s, FusedVictim& v);
   /// A recovered victim's source: forgotten, and its estimates ignored from now on.
   void retire(const SourceKey& key);
+  /// A dug-out victim: when, and the transmitter signatures its sources measured.
+  struct Recovery {
+    TimestampNs at = 0;
+    std::vector<responder::TransmitterSignature> transmitters;
+  };
+  /// "Late echoes": the recovered victim whose switched-off transmitter `s` heard, or 0.
+  std::uint32_t dug_out_echo_of(const Source& s) const;
   void unbind(Source& s, Unbind reason);
   /// Bound sources of other rescuers whose device stands over the victim (confirming state
   /// kFound).
@@ -274,6 +308,10 @@ class VictimFusion {
   std::set<std::uint32_t> adopted_ids_;      ///< victims of the last adopted picture
   std::set<std::uint32_t> by_radius_only_;   ///< confirmed by the fused radius, no device's word
   std::set<SourceKey> retired_;              ///< a recovered victim's: ignored for good
+  std::map<std::uint32_t, Recovery> recoveries_;  ///< by victim id, kept across adopt()
+  std::vector<LateEcho> late_echoes_;             ///< not yet taken
+  /// Retires `key` as a late echo of `victim_id` and reports it.
+  void retire_echo(const SourceKey& key, std::uint32_t victim_id);
   std::uint32_t next_id_ = 1;
 };
 

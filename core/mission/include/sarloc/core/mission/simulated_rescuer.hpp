@@ -36,6 +36,9 @@ class SimulatedRescuer {
   /// A victim dug out: the transmitter of the victim nearest `where` (truth), if within
   /// `radius_m`, is switched off, as rescuers do on a real dig. Returns its index, or nullopt.
   std::optional<std::size_t> switch_off_transmitter_near(const Vec3& where, double radius_m);
+  /// Victim `index`'s transmitter is switched off (another rescuer's dig). Returns whether it
+  /// was on; false for an index beyond the scenario's victims.
+  bool switch_off_transmitter(std::size_t index);
 
   /// The realistic receiver's separation asks the device's filters through this
   /// (avalanche::SignalSeparator::set_consistency); the ideal receiver separates nothing.
