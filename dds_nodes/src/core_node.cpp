@@ -11,6 +11,7 @@
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/mission_clock.hpp"
 #include "sarloc/dds/process_stats.hpp"
+#include "sarloc/dds/return_code.hpp"
 #include "sarloc/dds/sign_off.hpp"
 #include "sarloc/dds/speaker_claim.hpp"
 
@@ -313,8 +314,10 @@ void CoreNode::publish(estimator::SequencerReport& report) {
   }
   for (const auto& [output, sequence] : report.answers) {
     for (const auto& e : output.estimates) {
-      if (!estimate_writer_.write(to_idl(e, sequence))) {
-        spdlog::error("{}: DDS refused a VictimEstimate for '{}'", config_.node_id, e.rescuer_id);
+      if (const auto code = estimate_writer_.write_returning(to_idl(e, sequence));
+          code != eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+        spdlog::error("{}: DDS refused a VictimEstimate for '{}' signal {} ({})", config_.node_id, e.rescuer_id,
+                      e.signal_id, return_code_name(code));
       }
     }
     if (output.guidance && !guidance_writer_.write(to_idl(*output.guidance, sequence))) {

@@ -24,6 +24,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainRecordedBootMission = 171,  // tests/integration/mission/recorded-boot.yaml names it too
   kDomainMissionDugOut = 172,        // tests/integration/mission/dug-out.yaml names it too
   kDomainCommandDeposit = 173,
+  kDomainEstimateStall = 174,
   kDomainDiscoveryServer = 140,
   kDomainBenchEchoListener = 141,
   kDomainBenchEchoQueue = 142,

@@ -2,10 +2,11 @@
 // Every sarloc topic: its IDL type, its name on the wire and its QoS profile in
 // config/dds/topics.xml ("<profile>.writer" / "<profile>.reader"). docs/topics.md is the
 // human-readable version of this table.
+#include "sarloc/dds/key_hashed_type.hpp"
 #include "sarloc/idl/avalanchePubSubTypes.h"
-#include "sarloc/idl/responderPubSubTypes.h"
 #include "sarloc/idl/commonPubSubTypes.h"
 #include "sarloc/idl/incidentPubSubTypes.h"
+#include "sarloc/idl/responderPubSubTypes.h"
 #include "sarloc/idl/statusPubSubTypes.h"
 
 namespace sarloc::dds {
@@ -16,7 +17,7 @@ struct TopicTraits;  // undefined for types that are not topics: a compile error
 #define SARLOC_DDS_TOPIC(Type, profile_name)                                      \
   template <>                                                                     \
   struct TopicTraits<::sarloc::Type> {                                            \
-    using PubSubType = ::sarloc::Type##PubSubType;                                \
+    using PubSubType = KeyHashedType<::sarloc::Type##PubSubType, ::sarloc::Type>; \
     static constexpr const char* kName = "sarloc/" profile_name;                  \
     static constexpr const char* kProfile = profile_name;                         \
   }

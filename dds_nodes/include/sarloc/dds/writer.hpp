@@ -65,8 +65,13 @@ class Writer {
   Writer(const Writer&) = delete;
   Writer& operator=(const Writer&) = delete;
 
-  /// False when DDS refused the sample (history full past max_blocking_time, ...).
-  bool write(const T& sample) { return writer_->write(const_cast<T*>(&sample)); }
+  /// RETCODE_OK, or why DDS refused the sample (return_code_name). Fast DDS 2.9 says
+  /// RETCODE_TIMEOUT for any sample its history refuses, a full max_instances included.
+  eprosima::fastrtps::types::ReturnCode_t write_returning(const T& sample) {
+    return writer_->write(const_cast<T*>(&sample), eprosima::fastrtps::rtps::c_InstanceHandle_Unknown);
+  }
+  /// False when DDS refused the sample (write_returning says why).
+  bool write(const T& sample) { return write_returning(sample) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK; }
 
   /// Disposes the instance whose key fields `key_holder` carries. Fast DDS disposes only an
   /// instance its writer registered, so it is registered first: a writer that took over may
