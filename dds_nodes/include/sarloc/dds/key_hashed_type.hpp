@@ -10,6 +10,9 @@
 // that was refused with RETCODE_TIMEOUT (docs/benchmarks.md, "Scale and soak"). Readers filed
 // such samples under another instance too. This one zeroes the buffer first, under a lock
 // (the buffer is shared by every writer and reader of the type in the participant).
+#include <fastdds/rtps/common/InstanceHandle.h>
+
+#include <cstddef>
 #include <cstring>
 #include <mutex>
 
