@@ -95,15 +95,16 @@ TEST(Mission, AVictimDugOutStaysInThePictureAndItsTransmitterFallsSilent) {
   const auto run = run_mission("dug-out.yaml", kDomainMissionDugOut, "--log-level info");
   expect_complete(run);
   ASSERT_FALSE(run.summary.is_null()) << run_report(run);
-  int dug_out = 0;
+  // B may be dug out too: its finder digs 5 mission s after its FOUND, and the rescuers can
+  // still be running then while the mission stops (seen in CI on 2026-12-04).
+  int a_dug_out = 0;
   for (const auto& v : run.summary["fused_victims"]) {
     if (!v["dug_out"].get<bool>()) continue;
-    ++dug_out;
     EXPECT_TRUE(v["found"].get<bool>()) << v.dump();
     EXPECT_TRUE(v["matches_a_buried_victim"].get<bool>()) << v.dump();
-    EXPECT_LT(v["position"][1].get<double>(), 20.0) << "A is the one found first: " << v.dump();
+    if (v["position"][1].get<double>() < 20.0) ++a_dug_out;
   }
-  EXPECT_EQ(dug_out, 1) << run_report(run);
+  EXPECT_EQ(a_dug_out, 1) << "A, found first, dug out once: " << run_report(run);
   EXPECT_EQ(run.summary["confirmed_fused_victim_count"], 2) << "nothing new where A was: " << run_report(run);
   EXPECT_NE(file_text(run.run_dir / "command-1.log").find("dug out (reported by 'r"), std::string::npos)
       << run_report(run);
