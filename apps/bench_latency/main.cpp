@@ -19,29 +19,27 @@
 // and its slope over the second half). `--intruder-ids N` adds a hostile publisher on its own
 // participant: field samples and odometry cycling through N rescuer ids that no one serves,
 // at `--intruder-rate` samples per second, while the real rescuers are measured.
-#include <CLI/CLI.hpp>
-
-#include "sarloc/core/common/angle.hpp"
-#include "sarloc/core/common/validate.hpp"
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
+#include <sys/resource.h>
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <random>
 #include <thread>
 
 #include "echo_node.hpp"
 #include "intruder.hpp"
+#include "sarloc/app/child_process.hpp"
 #include "sarloc/app/command_line.hpp"
 #include "sarloc/app/json_io.hpp"
-#include "sarloc/app/child_process.hpp"
 #include "sarloc/app/logging.hpp"
 #include "sarloc/app/mission_config.hpp"
 #include "sarloc/app/node_options.hpp"
@@ -50,7 +48,10 @@
 #include "sarloc/app/shipped_missions.hpp"
 #include "sarloc/app/shutdown_signal.hpp"
 #include "sarloc/core/avalanche/field_measurement.hpp"
+#include "sarloc/core/avalanche/receiver_model.hpp"
+#include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/statistics.hpp"
+#include "sarloc/core/common/validate.hpp"
 #include "sarloc/core/mission/simulated_rescuer.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/mission_clock.hpp"
@@ -95,6 +96,11 @@ struct BenchSetup {
   /// Rescuers circle the debris instead of walking straight on: they stay in range of the
   /// victims however long the run (soaks); straight on, they leave it after 1-2 minutes.
   bool circle = false;
+  /// The simulated devices' receiver, when not the mission file's. The daemon sees field
+  /// samples either way; the realistic receiver separates every device's pulses in this
+  /// process (about 0.6 % of a core per rescuer at 1 Hz), so at hundreds of rescuers the load
+  /// generator falls behind its schedule and takes CPU from the daemon it measures.
+  std::optional<avalanche::ReceiverKind> receiver;
 };
 
 struct LoadResult {
@@ -121,6 +127,11 @@ struct LoadResult {
   std::uint64_t accepted = 0;          ///< samples (field and odometry) it accepted (its last NodeStatus)
   std::uint64_t published = 0;         ///< samples (field and odometry) this bench's rescuers wrote
   std::size_t intruder_sent = 0;       ///< samples the hostile publisher wrote
+  /// How late the load generator published against its schedule over the measured phase:
+  /// each rescuer's epoch is due at a fixed time; a lag that grows means it cannot keep up.
+  double lag_p99_ms = -1.0;
+  double lag_max_ms = -1.0;
+  double bench_cpu_percent = -1.0;  ///< this process (load generator and its DDS), measured phase
 };
 
 /// One measurement's times, steady clock ns (-1: did not happen).
@@ -131,6 +142,16 @@ struct SampleTimes {
   std::int64_t answer_received = -1; ///< the answer's reception timestamp (Fast DDS, here)
   std::int64_t answered = -1;        ///< our listener got the answer
 };
+
+/// CPU seconds of this process so far (every thread).
+double process_cpu_s() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const auto seconds = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+  };
+  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
 
 std::int64_t steady_ns(Clock::time_point t) {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
@@ -144,8 +165,10 @@ Vec3 centre_of_victims(const mission::MissionScenario& s) {
 
 // Rescuers spread over the debris so that each hears one to three victims.
 mission::MissionScenario bench_scenario(const app::MissionConfig& mission, std::size_t n, std::uint64_t seed,
-                                        const std::string& prefix) {
+                                        const std::string& prefix,
+                                        const std::optional<avalanche::ReceiverKind>& receiver) {
   mission::MissionScenario s = mission.scenario;
+  if (receiver) s.sensors.receiver.kind = *receiver;
   s.rescuers.clear();
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -251,7 +274,8 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
   result.rate_hz = rate_hz;
   const std::string run_name = std::string(to_string(target)) + "-" + std::to_string(n) + "-" +
                                std::to_string(rate_hz).substr(0, 4) + "-" + std::to_string(repeat);
-  const auto scenario = bench_scenario(setup.mission, n, setup.seed, "bench-" + std::to_string(n) + "-");
+  const auto scenario =
+      bench_scenario(setup.mission, n, setup.seed, "bench-" + std::to_string(n) + "-", setup.receiver);
   // A fresh responder per load point: nothing left over from the previous one.
   auto [responder, responder_id] =
       start_target(setup, target, write_bench_config(setup, scenario, setup.log_dir + "/" + run_name + ".yaml"),
@@ -334,11 +358,15 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
   app::ProgressBar bar(std::string(to_string(target)) + " " + std::to_string(n) + " rescuers @ " +
                            std::to_string(rate_hz).substr(0, 4) + " Hz",
                        epochs * n);
+  std::vector<double> lags_ms;
+  std::optional<double> cpu_from_s;
   // Every rescuer on its own phase; walk straight on (the guidance is not the point here).
   for (std::size_t k = 0; k < epochs && !app::shutdown_requested(); ++k) {
+    if (k == warmup_epochs) cpu_from_s = process_cpu_s();
     for (std::size_t i = 0; i < n; ++i) {
       const auto due = start + k * period + (period * static_cast<long>(i)) / static_cast<long>(n);
       std::this_thread::sleep_until(due);
+      if (k >= warmup_epochs) lags_ms.push_back(1e-6 * static_cast<double>(steady_ns(Clock::now()) - steady_ns(due)));
       // Integer stamps: one step's end is exactly the next one's start.
       const auto stamp_of = [&](std::size_t epoch) {
         return t0 + static_cast<TimestampNs>(epoch) * period_ns +
@@ -379,6 +407,13 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
     }
   }
   bar.finish();
+  const double measured_wall_s = 1e-9 * static_cast<double>(steady_ns(Clock::now())) - measure_from_s;
+  if (cpu_from_s && measured_wall_s > 0.0)
+    result.bench_cpu_percent = 100.0 * (process_cpu_s() - *cpu_from_s) / measured_wall_s;
+  if (!lags_ms.empty()) {
+    result.lag_p99_ms = sarloc::percentile(lags_ms, 0.99);
+    result.lag_max_ms = sarloc::percentile(lags_ms, 1.0);
+  }
   if (intruder) result.intruder_sent = intruder->join();
   std::this_thread::sleep_for(std::chrono::seconds(1));  // stragglers
   std::lock_guard<std::mutex> lock(mutex);
@@ -437,20 +472,26 @@ nlohmann::json to_json(const LoadResult& r) {
           {"refused", r.refused},
           {"accepted", r.accepted},
           {"published", r.published},
-          {"intruder_sent", r.intruder_sent}};
+          {"intruder_sent", r.intruder_sent},
+          {"lag_p99_ms", r.lag_p99_ms},
+          {"lag_max_ms", r.lag_max_ms},
+          {"bench_cpu_percent", r.bench_cpu_percent}};
 }
 
 void print_run_header() {
-  std::printf("%-7s %3s %9s %8s %10s %9s %9s %9s %9s %9s %9s %9s %9s %9s %9s %9s %9s %9s\n", "target", "run",
+  std::printf("%-7s %3s %9s %8s %10s %9s %9s %9s %9s %9s %9s %9s %9s %9s %9s %9s %9s %9s %9s %9s\n", "target", "run",
               "rescuers", "rate Hz", "measured", "answered", "p50 ms", "p99 ms", "max ms", "write ms", "back ms",
-              "cpu %", "rss MB", "rss@25%", "rss end", "MB/min", "refused", "intruder");
+              "cpu %", "rss MB", "rss@25%", "rss end", "MB/min", "refused", "intruder", "lag99 ms", "bench %");
 }
 
 void print_run_row(const LoadResult& r) {
-  std::printf("%-7s %3zu %9zu %8.1f %10zu %9zu %9.2f %9.2f %9.2f %9.2f %9.2f %9.0f %9.1f %9.1f %9.1f %9.2f %9llu %9zu\n",
-              to_string(r.target), r.repeat, r.rescuers, r.rate_hz, r.measurements, r.answered, r.p50_ms, r.p99_ms,
-              r.max_ms, r.to_write_p50_ms, r.return_p50_ms, r.cpu_percent, r.rss_mb, r.rss_early_mb, r.rss_end_mb,
-              r.rss_growth_mb_per_min, static_cast<unsigned long long>(r.refused), r.intruder_sent);
+  std::printf(
+      "%-7s %3zu %9zu %8.1f %10zu %9zu %9.2f %9.2f %9.2f %9.2f %9.2f %9.0f %9.1f %9.1f %9.1f %9.2f %9llu %9zu %9.1f "
+      "%9.0f\n",
+      to_string(r.target), r.repeat, r.rescuers, r.rate_hz, r.measurements, r.answered, r.p50_ms, r.p99_ms, r.max_ms,
+      r.to_write_p50_ms, r.return_p50_ms, r.cpu_percent, r.rss_mb, r.rss_early_mb, r.rss_end_mb,
+      r.rss_growth_mb_per_min, static_cast<unsigned long long>(r.refused), r.intruder_sent, r.lag_p99_ms,
+      r.bench_cpu_percent);
   std::fflush(stdout);
 }
 
@@ -586,6 +627,12 @@ int main(int argc, char** argv) {
   cli.add_option("--trace-dir", setup.trace_dir,
                  "write every run's per-measurement times here (CSV, steady-clock ns: published, write returned, "
                  "answer written, answer received, answered)");
+  std::string receiver = "mission";
+  cli.add_option("--receiver", receiver,
+                 "the simulated devices' receiver: mission (the mission file's), ideal or realistic. The realistic "
+                 "one separates every device's pulses in this process and falls behind schedule at hundreds of "
+                 "rescuers on 2 cores")
+      ->capture_default_str();
   cli.add_option("--core-exe", setup.core_exe,
                  "daemon executable to measure instead of sarloc-core next to this one (e.g. another build)");
   app::add_log_level_option(cli, log_level);
@@ -609,6 +656,10 @@ int main(int argc, char** argv) {
     if (domain < 0 || domain > 232) throw ConfigError("--domain = " + config_value(domain) + ": must be in [0, 232]");
     std::vector<Target> targets;
     for (const auto& t : target_names) targets.push_back(parse_target(t));
+    if (receiver != "mission" && receiver != "ideal" && receiver != "realistic") {
+      throw ConfigError("--receiver = '" + receiver + "': must be mission, ideal or realistic");
+    }
+    if (receiver != "mission") setup.receiver = avalanche::parse_receiver_kind(receiver, "--receiver");
     setup.echo_handoff = bench::parse_echo_handoff(echo_handoff);
     setup.mission = app::load_mission_config(config_path);
     setup.bin_dir = fs::canonical("/proc/self/exe").parent_path().string();
@@ -630,6 +681,7 @@ int main(int argc, char** argv) {
     out["circle"] = setup.circle;
     out["intruder_ids"] = setup.intruder_ids;
     out["intruder_rate"] = setup.intruder_rate;
+    out["receiver"] = receiver;
     out["runs"] = nlohmann::json::array();
     std::vector<LoadResult> runs;
     print_run_header();

@@ -20,6 +20,7 @@ namespace sarloc::dds {
 void CoreNodeConfig::validate() const {
   estimators.validate();
   roster.validate();
+  busy.validate();
   if (node_id.empty() || node_id.size() > 64) throw ConfigError("core.node_id = '" + node_id + "': must be 1-64 characters");
   if (workers < 1 || workers > 64) throw ConfigError("core.workers = " + config_value(workers) + ": must be in [1, 64]");
   if (queue_limit < 16) throw ConfigError("core.queue_limit = " + config_value(queue_limit) + ": must be >= 16");
@@ -44,6 +45,7 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
       authority_((require_identity(*participant_, config_.node_id, "core.node_id"), participant_)),
       warnings_(std::chrono::milliseconds(static_cast<std::int64_t>(config_.warning_interval_s * 1000.0))),
       roster_(config_.roster),
+      busy_gate_(config_.busy),
       estimate_writer_(participant_, EndpointOptions::in(config_.partitions)),
       guidance_writer_(participant_, EndpointOptions::in(config_.partitions)),
       position_writer_(participant_),
@@ -53,8 +55,10 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
     Worker& w = *workers_.back();
     w.thread = std::thread([this, &w] { run_worker(w); });
   }
+  load_noted_at_ = std::chrono::steady_clock::now();
   status_thread_ = std::thread([this] {
     while (!stopping_.load()) {
+      note_worker_load();
       publish_status();
       evict_idle();
       const auto period = std::chrono::milliseconds(static_cast<std::int64_t>(config_.status_period_s * 1000.0));
@@ -183,12 +187,21 @@ bool CoreNode::admit(const std::string& rescuer_id) {
   estimator::ResponderRoster::Admission admission;
   {
     std::lock_guard<std::mutex> lock(roster_mutex_);
-    admission = roster_.admit(rescuer_id, std::chrono::steady_clock::now());
+    const auto now = std::chrono::steady_clock::now();
+    admission = roster_.admit(rescuer_id, now, busy_gate_.busy(now));
   }
   if (!estimator::refused(admission)) return true;
   std::string detail = "rescuer_id = '" + rescuer_id + "': ";
   if (admission == estimator::ResponderRoster::Admission::kFull) {
     detail += "already serving max_rescuers = " + std::to_string(config_.roster.max_responders);
+  } else if (admission == estimator::ResponderRoster::Admission::kBusy) {
+    detail += "a new responder while the workers are busy (over core.busy_utilisation = " +
+              config_value(config_.busy.max_utilisation) +
+              " of a period, or a sample waited over core.busy_wait_s = " + config_value(config_.busy.max_wait_s) +
+              " s): admitted once neither was seen for core.busy_hold_s = " + config_value(config_.busy.hold_s) + " s";
+  } else if (admission == estimator::ResponderRoster::Admission::kPaced) {
+    detail += "more new responders than core.new_rescuers_per_s = " + config_value(config_.roster.new_per_s) +
+              ": admitted by a later sample";
   } else {
     detail += rescuer_id.empty() ? "empty" : "not on this daemon's roster";
   }
@@ -214,7 +227,7 @@ void CoreNode::enqueue(const std::string& rescuer_id, Work work) {
       w.queue.pop_front();
       dropped = true;
     }
-    w.queue.push_back(std::move(work));
+    w.queue.push_back({std::move(work), std::chrono::steady_clock::now()});
   }
   w.cv.notify_one();
   if (dropped) reject(rescuer_id, "overloaded", "worker queue full: dropped the oldest waiting sample");
@@ -230,6 +243,7 @@ void CoreNode::run_worker(Worker& worker) {
       if (deadline && (!wake || *deadline < *wake)) wake = deadline;
     }
     std::optional<Work> work;
+    std::chrono::steady_clock::time_point queued_at;
     {
       std::unique_lock<std::mutex> lock(worker.mutex);
       auto ready = [&] { return stopping_.load() || !worker.queue.empty(); };
@@ -240,14 +254,47 @@ void CoreNode::run_worker(Worker& worker) {
       }
       if (stopping_.load()) return;
       if (!worker.queue.empty()) {
-        work = std::move(worker.queue.front());
+        queued_at = worker.queue.front().at;
+        work = std::move(worker.queue.front().work);
         worker.queue.pop_front();
       }
     }
+    if (work) {
+      const auto now = std::chrono::steady_clock::now();
+      if (busy_gate_.note_wait(now - queued_at, now)) {
+        spdlog::warn(
+            "{}: busy: a sample waited {:.1f} ms in a worker's queue (core.busy_wait_s = {}): no new "
+            "responder for {} s; those served are served on",
+            config_.node_id, 1e3 * std::chrono::duration<double>(now - queued_at).count(), config_.busy.max_wait_s,
+            config_.busy.hold_s);
+      }
+    }
+    const auto began = std::chrono::steady_clock::now();
     if (work) handle(worker, *work);
     const auto now = std::chrono::steady_clock::now();
     for (auto& [id, sequencer] : worker.responders) sequencer.release(now, report);
     publish(report);
+    worker.busy_ns.fetch_add(
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - began).count());
+  }
+}
+
+void CoreNode::note_worker_load() {
+  const auto now = std::chrono::steady_clock::now();
+  const double span_ns =
+      static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(now - load_noted_at_).count());
+  load_noted_at_ = now;
+  double busiest = 0.0;
+  for (auto& w : workers_) {
+    const std::int64_t busy = w->busy_ns.load();
+    if (span_ns > 0.0) busiest = std::max(busiest, static_cast<double>(busy - w->busy_noted_ns) / span_ns);
+    w->busy_noted_ns = busy;
+  }
+  if (busy_gate_.note_utilisation(busiest, now)) {
+    spdlog::warn(
+        "{}: busy: a worker was busy {:.0f} % of the last {:.1f} s (core.busy_utilisation = {}): no new "
+        "responder for {} s; those served are served on",
+        config_.node_id, 100.0 * busiest, 1e-9 * span_ns, config_.busy.max_utilisation, config_.busy.hold_s);
   }
 }
 

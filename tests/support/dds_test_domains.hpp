@@ -25,6 +25,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainMissionDugOut = 172,        // tests/integration/mission/dug-out.yaml names it too
   kDomainCommandDeposit = 173,
   kDomainEstimateStall = 174,
+  kDomainAdmissionBusy = 175,
   kDomainDiscoveryServer = 140,
   kDomainBenchEchoListener = 141,
   kDomainBenchEchoQueue = 142,

@@ -408,6 +408,10 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("status_period_s", c.core.status_period_s);
     r.read("warning_interval_s", c.core.warning_interval_s);
     r.read("odometry_wait_s", c.core.odometry_wait_s);
+    r.read("busy_wait_s", c.core.busy.max_wait_s);
+    r.read("busy_utilisation", c.core.busy.max_utilisation);
+    r.read("busy_hold_s", c.core.busy.hold_s);
+    r.read("new_rescuers_per_s", c.core.roster.new_per_s);
     r.expect_done();
   }
   {

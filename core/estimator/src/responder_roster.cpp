@@ -13,15 +13,20 @@ void ResponderRosterConfig::validate() const {
   if (!(idle_evict_s >= 1.0 && idle_evict_s <= 86400.0)) {
     throw ConfigError("core.idle_evict_s = " + config_value(idle_evict_s) + ": must be in [1, 86400]");
   }
+  if (!(new_per_s >= 0.0 && new_per_s <= 10000.0)) {
+    throw ConfigError("core.new_rescuers_per_s = " + config_value(new_per_s) + ": must be in [0, 10000]");
+  }
   for (const auto& id : listed) {
     if (id.empty()) throw ConfigError("core roster: a listed responder id is empty");
   }
 }
 
 ResponderRoster::ResponderRoster(ResponderRosterConfig config)
-    : config_((config.validate(), std::move(config))), listed_(config_.listed.begin(), config_.listed.end()) {}
+    : config_((config.validate(), std::move(config))),
+      listed_(config_.listed.begin(), config_.listed.end()),
+      new_tokens_(std::max(1.0, config_.new_per_s)) {}
 
-ResponderRoster::Admission ResponderRoster::admit(const std::string& id, Clock::time_point now) {
+ResponderRoster::Admission ResponderRoster::admit(const std::string& id, Clock::time_point now, bool busy) {
   if (id.empty()) return Admission::kEmptyId;
   if (auto it = last_heard_.find(id); it != last_heard_.end()) {
     it->second = std::max(it->second, now);
@@ -29,6 +34,17 @@ ResponderRoster::Admission ResponderRoster::admit(const std::string& id, Clock::
   }
   if (!config_.open && listed_.count(id) == 0) return Admission::kNotListed;
   if (config_.open && last_heard_.size() >= config_.max_responders) return Admission::kFull;
+  if (busy) return Admission::kBusy;
+  if (config_.new_per_s > 0.0) {
+    const double burst = std::max(1.0, config_.new_per_s);
+    if (refilled_at_ && now > *refilled_at_) {
+      new_tokens_ =
+          std::min(burst, new_tokens_ + config_.new_per_s * std::chrono::duration<double>(now - *refilled_at_).count());
+    }
+    if (!refilled_at_ || now > *refilled_at_) refilled_at_ = now;
+    if (new_tokens_ < 1.0) return Admission::kPaced;
+    new_tokens_ -= 1.0;
+  }
   last_heard_.emplace(id, now);
   return Admission::kNew;
 }
@@ -59,6 +75,10 @@ const char* reason_of(ResponderRoster::Admission a) {
   switch (a) {
     case ResponderRoster::Admission::kFull:
       return "too_many_rescuers";
+    case ResponderRoster::Admission::kBusy:
+      return "daemon_busy";
+    case ResponderRoster::Admission::kPaced:
+      return "admission_paced";
     case ResponderRoster::Admission::kEmptyId:
     case ResponderRoster::Admission::kNotListed:
       return "unknown_rescuer";

@@ -134,5 +134,38 @@ TEST(CoreNodeAdmission, IdleStateIsReleasedAndRebuiltWhenTheRescuerIsHeardAgain)
   EXPECT_EQ(node->rescuers_served(), 2U) << "its state was not released and rebuilt";
 }
 
+// Overload (issue 64, item 5): while a worker's queue holds samples too long, a new rescuer is
+// refused by reason and the one served already is answered on. "Too long" is 1 us here, so
+// that the first sample's own hand-over to the worker closes the gate.
+TEST(CoreNodeAdmission, ABusyDaemonRefusesANewRescuerByReasonAndServesTheAdmittedOne) {
+  auto config = small_node(true, 300);
+  config.busy.max_wait_s = 1e-6;
+  config.busy.hold_s = 600.0;
+  auto node = std::make_unique<CoreNode>(test::make_participant(test::kDomainAdmissionBusy, "core"), config);
+  GoodRescuer good(test::kDomainAdmissionBusy);
+  auto late_participant = test::make_participant(test::kDomainAdmissionBusy, "late");
+  Writer<::sarloc::FieldMeasurement> late(late_participant);
+  ASSERT_TRUE(good.matched());
+  ASSERT_TRUE(late.wait_for_readers(1, 10s));
+  ASSERT_TRUE(good.epoch(1));
+
+  auto sample = to_idl(good.sample_at(2'000'000'000LL));
+  sample.rescuer_id("late");
+  const auto deadline = std::chrono::steady_clock::now() + 20s;
+  auto busy_refusals = [&] {
+    const auto by_reason = node->counters().by_reason;
+    const auto it = by_reason.find("daemon_busy");
+    return it == by_reason.end() ? std::uint64_t{0} : it->second;
+  };
+  for (std::uint64_t k = 0; busy_refusals() < 3 && std::chrono::steady_clock::now() < deadline; ++k) {
+    sample.sequence_number(1000 + k);
+    ASSERT_TRUE(late.write(sample));
+    std::this_thread::sleep_for(50ms);
+  }
+  EXPECT_GE(busy_refusals(), 3U) << "the new rescuer was not refused as daemon_busy";
+  for (int k = 2; k <= 5; ++k) ASSERT_TRUE(good.epoch(k)) << "the admitted rescuer was not answered in epoch " << k;
+  EXPECT_EQ(node->rescuers_served(), 1U) << "state for the admitted rescuer only";
+}
+
 }  // namespace
 }  // namespace sarloc::dds

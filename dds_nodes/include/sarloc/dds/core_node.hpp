@@ -14,7 +14,9 @@
 // Who gets state at all is estimator::ResponderRoster's rule, applied inside DDS by a content
 // filter on the input readers (responder_filter.hpp): a sample of an id the roster refuses
 // takes no instance in a reader's history and no place in a worker's queue. Idle responders'
-// state is released on the status thread's period.
+// state is released on the status thread's period. While a worker's queue holds a sample
+// longer than core.busy_wait_s, no new responder is admitted (estimator::BusyGate): the
+// responders served already keep their latency.
 #include <atomic>
 #include <condition_variable>
 #include <deque>
@@ -24,6 +26,7 @@
 #include <variant>
 #include <vector>
 
+#include "sarloc/core/estimator/busy_gate.hpp"
 #include "sarloc/core/estimator/make_estimator.hpp"
 #include "sarloc/core/estimator/responder_roster.hpp"
 #include "sarloc/core/estimator/sample_sequencer.hpp"
@@ -47,6 +50,8 @@ struct CoreNodeConfig {
   std::vector<std::string> partitions;
   /// Who is served (the sector's roster, or any id up to a maximum) and when idle state goes.
   estimator::ResponderRosterConfig roster;
+  /// When the daemon is too busy to admit a new responder.
+  estimator::BusyGateConfig busy;
   unsigned workers = 2;              ///< threads running estimators (this machine: 2 cores)
   std::size_t queue_limit = 4096;    ///< samples waiting per worker before the oldest are dropped
   double status_period_s = 1.0;      ///< NodeStatus publication period (wall clock)
@@ -89,12 +94,18 @@ class CoreNode {
     TimestampNs until = 0;
   };
   using Work = std::variant<responder::Odometry, estimator::SensorSample, MarkDone, Evict, LeaveToOthers>;
+  struct Queued {
+    Work work;
+    std::chrono::steady_clock::time_point at;  ///< enqueued: its wait tells the BusyGate
+  };
   struct Worker {
     std::thread thread;
     std::mutex mutex;
     std::condition_variable cv;
-    std::deque<Work> queue;
+    std::deque<Queued> queue;
     std::map<std::string, estimator::SampleSequencer> responders;  // only this worker's thread touches them
+    std::atomic<std::int64_t> busy_ns{0};                          ///< steady time spent handling and publishing
+    std::int64_t busy_noted_ns = 0;  ///< busy_ns at the last note_worker_load (status thread)
   };
 
   /// The input readers' filter: does the roster serve this id? Counts and logs a refusal.
@@ -110,6 +121,8 @@ class CoreNode {
   void publish(estimator::SequencerReport& report);
   void reject(const std::string& rescuer_id, const std::string& reason, const std::string& detail);
   void publish_status();
+  /// Tells the BusyGate the busiest worker's share of the time since the last call (status thread).
+  void note_worker_load();
   void stop();  // the readers, then the threads; once (sign_off, then the destructor)
   void stop_threads();
 
@@ -122,6 +135,7 @@ class CoreNode {
   std::atomic<std::size_t> active_filters_{0};
   std::mutex roster_mutex_;  // listener threads admit, the status thread evicts
   estimator::ResponderRoster roster_;
+  estimator::BusyGate busy_gate_;
 
   Writer<::sarloc::VictimEstimate> estimate_writer_;
   Writer<::sarloc::Guidance> guidance_writer_;
@@ -130,6 +144,7 @@ class CoreNode {
   std::vector<std::unique_ptr<Worker>> workers_;
   std::atomic<bool> stopping_{false};
   std::thread status_thread_;
+  std::chrono::steady_clock::time_point load_noted_at_;  ///< status thread only
   // Readers last: they start calling back as soon as they exist.
   std::unique_ptr<SampleReaders> sample_readers_;
   std::unique_ptr<Reader<::sarloc::Odometry>> odometry_reader_;

@@ -8,6 +8,10 @@
 //   - roster mode (`open` false): only the listed responders are served, the mission's
 //     roster of the daemon's sector; anything else is refused as unknown.
 //   - open mode: any id, up to `max_responders` at once.
+//   - either mode: no new id while the daemon is busy (busy_gate.hpp): its workers lag, and a
+//     new filter's opening epochs would slow everyone already served; and at most
+//     `new_per_s` new ids a second (a burst of as many), so that a crowd switching on at once
+//     is admitted as fast as the busy signs can follow, not all before the first of them.
 // A responder not heard for `idle_evict_s` has its state released (evict_idle): its
 // estimators go, its slot frees (open mode). If it is heard again it starts afresh, as after
 // a restart of the daemon; the device's own filter, the authority, is unaffected.
@@ -18,6 +22,7 @@
 // Not thread-safe: the daemon guards it with one mutex.
 #include <chrono>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -31,6 +36,8 @@ struct ResponderRosterConfig {
   std::size_t max_responders = 256;
   /// Wall seconds without a sample after which a responder's state is released.
   double idle_evict_s = 300.0;
+  /// New ids admitted per second at most, with a burst of as many (0: unpaced).
+  double new_per_s = 10.0;
 
   /// Throws ConfigError naming the key ("core.idle_evict_s = 0: must be in [1, 86400]").
   void validate() const;
@@ -46,12 +53,15 @@ class ResponderRoster {
     kEmptyId,    ///< refused: no id
     kNotListed,  ///< refused: roster mode and not on the roster
     kFull,       ///< refused: open mode and max_responders already served
+    kBusy,       ///< refused: a new id while the daemon is busy (BusyGate)
+    kPaced,      ///< refused: a new id beyond new_per_s; admitted by a later sample
   };
 
   explicit ResponderRoster(ResponderRosterConfig config);
 
-  /// Records that `id` was heard at `now` if it is (or becomes) served.
-  Admission admit(const std::string& id, Clock::time_point now);
+  /// Records that `id` was heard at `now` if it is (or becomes) served. `busy`: refuse a new
+  /// id (BusyGate::busy); one served already is served on.
+  Admission admit(const std::string& id, Clock::time_point now, bool busy = false);
   /// Responders not heard for idle_evict_s by `now`, removed from the served set (oldest first).
   std::vector<std::string> evict_idle(Clock::time_point now);
 
@@ -62,10 +72,13 @@ class ResponderRoster {
   ResponderRosterConfig config_;
   std::set<std::string> listed_;
   std::map<std::string, Clock::time_point> last_heard_;
+  double new_tokens_;  ///< the pace's bucket: one spent per new id, new_per_s refilled a second
+  std::optional<Clock::time_point> refilled_at_;
 };
 
 bool refused(ResponderRoster::Admission a);
-/// The rejection reason counted for a refusal ("unknown_rescuer", "too_many_rescuers").
+/// The rejection reason counted for a refusal ("unknown_rescuer", "too_many_rescuers",
+/// "daemon_busy", "admission_paced").
 const char* reason_of(ResponderRoster::Admission a);
 
 }  // namespace sarloc::estimator
