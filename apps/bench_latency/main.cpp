@@ -20,7 +20,6 @@
 // participant: field samples and odometry cycling through N rescuer ids that no one serves,
 // at `--intruder-rate` samples per second, while the real rescuers are measured.
 #include <spdlog/spdlog.h>
-#include <sys/resource.h>
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
@@ -55,6 +54,7 @@
 #include "sarloc/core/mission/simulated_rescuer.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/mission_clock.hpp"
+#include "sarloc/dds/process_stats.hpp"
 #include "sarloc/dds/reader.hpp"
 #include "sarloc/dds/writer.hpp"
 
@@ -142,16 +142,6 @@ struct SampleTimes {
   std::int64_t answer_received = -1; ///< the answer's reception timestamp (Fast DDS, here)
   std::int64_t answered = -1;        ///< our listener got the answer
 };
-
-/// CPU seconds of this process so far (every thread).
-double process_cpu_s() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  const auto seconds = [](const timeval& t) {
-    return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
-  };
-  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
-}
 
 std::int64_t steady_ns(Clock::time_point t) {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
@@ -359,10 +349,10 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
                            std::to_string(rate_hz).substr(0, 4) + " Hz",
                        epochs * n);
   std::vector<double> lags_ms;
-  std::optional<double> cpu_from_s;
+  std::optional<sarloc::dds::ProcessStats> bench_cpu;  // from the measured phase's start
   // Every rescuer on its own phase; walk straight on (the guidance is not the point here).
   for (std::size_t k = 0; k < epochs && !app::shutdown_requested(); ++k) {
-    if (k == warmup_epochs) cpu_from_s = process_cpu_s();
+    if (k == warmup_epochs) bench_cpu.emplace();
     for (std::size_t i = 0; i < n; ++i) {
       const auto due = start + k * period + (period * static_cast<long>(i)) / static_cast<long>(n);
       std::this_thread::sleep_until(due);
@@ -407,9 +397,7 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
     }
   }
   bar.finish();
-  const double measured_wall_s = 1e-9 * static_cast<double>(steady_ns(Clock::now())) - measure_from_s;
-  if (cpu_from_s && measured_wall_s > 0.0)
-    result.bench_cpu_percent = 100.0 * (process_cpu_s() - *cpu_from_s) / measured_wall_s;
+  if (bench_cpu) result.bench_cpu_percent = bench_cpu->cpu_percent();
   if (!lags_ms.empty()) {
     result.lag_p99_ms = sarloc::percentile(lags_ms, 0.99);
     result.lag_max_ms = sarloc::percentile(lags_ms, 1.0);

@@ -259,17 +259,14 @@ void CoreNode::run_worker(Worker& worker) {
         worker.queue.pop_front();
       }
     }
-    if (work) {
-      const auto now = std::chrono::steady_clock::now();
-      if (busy_gate_.note_wait(now - queued_at, now)) {
-        spdlog::warn(
-            "{}: busy: a sample waited {:.1f} ms in a worker's queue (core.busy_wait_s = {}): no new "
-            "responder for {} s; those served are served on",
-            config_.node_id, 1e3 * std::chrono::duration<double>(now - queued_at).count(), config_.busy.max_wait_s,
-            config_.busy.hold_s);
-      }
-    }
     const auto began = std::chrono::steady_clock::now();
+    if (work && busy_gate_.note_wait(began - queued_at, began)) {
+      spdlog::warn(
+          "{}: busy: a sample waited {:.1f} ms in a worker's queue (core.busy_wait_s = {}): no new "
+          "responder for {} s; those served are served on",
+          config_.node_id, 1e3 * std::chrono::duration<double>(began - queued_at).count(), config_.busy.max_wait_s,
+          config_.busy.hold_s);
+    }
     if (work) handle(worker, *work);
     const auto now = std::chrono::steady_clock::now();
     for (auto& [id, sequencer] : worker.responders) sequencer.release(now, report);
