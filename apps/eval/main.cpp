@@ -195,6 +195,9 @@ void print_multi_burial(const av::MultiBurialSummary& s, const av::EvaluationSum
   std::printf("%-34s %llu   unattributed pulses %llu\n", "Wrong attributions (pulses)",
               static_cast<unsigned long long>(s.wrong_attributions),
               static_cast<unsigned long long>(s.unattributed_pulses));
+  std::printf("%-34s %llu   other tracked %llu   trials with any %u\n", "Samples of two transmitters summed",
+              static_cast<unsigned long long>(s.mixed_samples),
+              static_cast<unsigned long long>(s.mixed_samples_both_tracked), s.trials_with_mixed_samples);
   std::printf("%-34s %10s %10s %10s\n", "", "MAX", "MEAN", "MEDIAN");
   std::printf("%-34s %10.1f %10.1f %10.1f\n", "Steps (s) to find all", s.steps.max, s.steps.mean, s.steps.median);
   std::printf("%-34s %10.1f %10.1f %10.1f\n", "First LOCATED (m from the antenna)", s.first_located_range_m.max,
@@ -212,9 +215,9 @@ void print_multi_burial(const av::MultiBurialSummary& s, const av::EvaluationSum
     any = true;
     std::printf(
         "  trial %3u: found %u of %u, ghosts %u, twice %u, LOCATED near no victim %u (%.1f m away), %u signals, "
-        "carriers %.2f Hz apart at least, in lockstep %.0f s\n",
+        "carriers %.2f Hz apart at least, in lockstep %.0f s, %u samples of two transmitters\n",
         t.index, t.found, s.victims, t.ghosts, t.duplicates, t.false_located, t.worst_false_located_range_m, t.signals,
-        t.min_carrier_gap_hz, t.lockstep_s);
+        t.min_carrier_gap_hz, t.lockstep_s, t.mixed_samples);
   }
 }
 

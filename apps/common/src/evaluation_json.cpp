@@ -42,6 +42,9 @@ nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
   j["trials_with_deferred_founds"] = s.trials_with_deferred_founds;
   j["wrong_attributions"] = s.wrong_attributions;
   j["unattributed_pulses"] = s.unattributed_pulses;
+  j["mixed_samples"] = s.mixed_samples;
+  j["mixed_samples_both_tracked"] = s.mixed_samples_both_tracked;
+  j["trials_with_mixed_samples"] = s.trials_with_mixed_samples;
   j["steps"] = stats_json(s.steps);
   j["distance_m"] = stats_json(s.distance_m);
   j["wall_s"] = s.wall_s;
@@ -74,6 +77,8 @@ nlohmann::json to_json(const avalanche::MultiBurialSummary& s) {
                               {"deferred_founds", t.deferred_founds},
                               {"wrong_attributions", t.wrong_attributions},
                               {"unattributed_pulses", t.unattributed_pulses},
+                              {"mixed_samples", t.mixed_samples},
+                              {"mixed_samples_both_tracked", t.mixed_samples_both_tracked},
                               {"steps", t.steps},
                               {"distance_m", t.distance_m},
                               {"signals", t.signals},

@@ -101,6 +101,14 @@ MultiBurialTrial run_multi_burial_trial(const MultiBurialSetup& setup, std::uint
     const Listening heard = receiver.listen(pose, beacons, static_cast<double>(step), 1.0);
     tr.wrong_attributions += heard.wrong_attributions;
     tr.unattributed_pulses += heard.report.unattributed;
+    for (const HeardSample& h : heard.samples) {
+      if (!h.mixed_with || h.mixed_energy_ratio < kMixedEnergyRatio) continue;
+      ++tr.mixed_samples;
+      const bool tracked = std::any_of(signals.begin(), signals.end(), [&](std::uint32_t other) {
+        return other != h.sample.signal_id && receiver.majority_beacon_of_signal(other) == h.mixed_with;
+      });
+      if (tracked) ++tr.mixed_samples_both_tracked;
+    }
     const OrientationObservation attitude = simulate_attitude(sim, pose, rng);
     std::optional<Guidance> guidance;
     MultiBurialTraceStep traced;
@@ -285,6 +293,9 @@ MultiBurialSummary run_multi_burial(const MultiBurialSetup& setup, const std::fu
     if (r.deferred_founds > 0) ++s.trials_with_deferred_founds;
     s.wrong_attributions += r.wrong_attributions;
     s.unattributed_pulses += r.unattributed_pulses;
+    s.mixed_samples += r.mixed_samples;
+    s.mixed_samples_both_tracked += r.mixed_samples_both_tracked;
+    if (r.mixed_samples > 0) ++s.trials_with_mixed_samples;
     s.per_trial.push_back(r);
   }
   s.steps = compute_stats(steps);

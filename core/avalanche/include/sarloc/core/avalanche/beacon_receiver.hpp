@@ -31,10 +31,13 @@ struct Beacon {
 
 struct HeardSample {
   SeparatedSample sample;
-  std::optional<std::size_t> transmitter;  ///< truth: the beacon whose pulse dominated it
-  /// Truth: the strongest other beacon whose pulse overlapped it on its carrier (in the window,
-  /// summed into the sample unless the detector cancelled it), and that overlap's energy over
-  /// the dominant one's.
+  /// Truth: the beacon whose pulse put the most into the detector's matched filter for this
+  /// pulse (its carrier and interval: overlap energy times the filter's response to the carrier
+  /// difference).
+  std::optional<std::size_t> transmitter;
+  /// Truth: the strongest other beacon whose pulse the detector did not find on its own (one it
+  /// found, its joint fit took out of this one) and that the matched filter let in, and its
+  /// response over the dominant one's: two fields summed into one sample.
   std::optional<std::size_t> mixed_with;
   double mixed_energy_ratio = 0.0;
   /// Truth: how far the sample is from its dominant transmitter's field as an ideal receiver in
