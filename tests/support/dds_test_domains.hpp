@@ -26,6 +26,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainCommandDeposit = 173,
   kDomainEstimateStall = 174,
   kDomainAdmissionBusy = 175,
+  kDomainWriterLifespan = 176,
   kDomainDiscoveryServer = 140,
   kDomainBenchEchoListener = 141,
   kDomainBenchEchoQueue = 142,

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
 
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/reader.hpp"
@@ -45,6 +47,32 @@ TEST(QosBehaviour, LateJoinerReceivesTheNewestPictureAtOnce) {
   }
   EXPECT_TRUE(saw_v1_newer);
   EXPECT_TRUE(saw_v2);
+}
+
+// The writers of the many-instance topics whose instances stop being written carry a lifespan
+// (docs/topics.md, "Lifespan bounds what every heartbeat carries"): without it, Fast DDS 2.9's
+// heartbeat GAPs for every hole in the history grew with everything written since, and at 200
+// rescuers incident command, the recorder and the load generator each climbed to half a core in
+// five minutes. It must also outlast the history a fade is repaired from: depth x 1 s.
+TEST(QosBehaviour, ManyInstanceWritersForgetOldSamplesButNotBeforeAFadeIsRepaired) {
+  auto participant = test::make_participant(test::kDomainWriterLifespan, "writers");
+  auto lifespan_s = [](const eprosima::fastdds::dds::DataWriter* w) {
+    const auto& d = w->get_qos().lifespan().duration;
+    return d == eprosima::fastrtps::c_TimeInfinite ? -1.0 : d.seconds + d.nanosec * 1e-9;
+  };
+  auto depth = [](const eprosima::fastdds::dds::DataWriter* w) { return w->get_qos().history().depth; };
+  Writer<::sarloc::FieldMeasurement> field(participant);
+  Writer<::sarloc::Odometry> odometry(participant);
+  Writer<::sarloc::VictimEstimate> estimate(participant);
+  Writer<::sarloc::Guidance> guidance(participant);
+  for (const auto* w : {field.get(), odometry.get(), estimate.get(), guidance.get()}) {
+    const double life = lifespan_s(w);
+    EXPECT_GT(life, 0.0) << w->get_topic()->get_name() << ": no lifespan";
+    EXPECT_LE(life, 600.0) << w->get_topic()->get_name();
+    EXPECT_GE(life, depth(w) * 1.0) << w->get_topic()->get_name() << ": a fade's repair would be cut short";
+  }
+  // Incident command drops a source after fusion.source_timeout_s (10 s); an estimate must live longer.
+  EXPECT_GE(lifespan_s(estimate.get()), 10.0);
 }
 
 // Sectors: a core daemon in partition "sector-a" never sees sector B's rescuers.
