@@ -203,6 +203,8 @@ void PictureState::on_position(const responder::ResponderPosition& p) {
     return;
   }
   if (r.version > 0 && p.stamp < r.last.stamp) return;  // out of order: keep the newest
+  // The core daemon's copy of a silent firefighter's last position: nothing moved.
+  if (r.version > 0 && p.stamp == r.last.stamp && p.source == r.last.source) return;
   r.last = p;
   r.track.push_back({p.position.position.x(), p.position.position.y()});
   while (r.track.size() > config_.track_length) r.track.pop_front();

@@ -139,6 +139,12 @@ class Loader {
   }
 
   void on_position(const responder::ResponderPosition& p) {
+    if (p.source == responder::PositionSource::kMapAided) {
+      // The core daemon writes a silent firefighter's last position again: one point of his track.
+      auto [newest, first] = newest_map_aided_.try_emplace(p.responder_id, p.stamp);
+      if (!first && p.stamp == newest->second) return;
+      newest->second = std::max(newest->second, p.stamp);
+    }
     auto& track = r_.responders[p.responder_id];
     track.id = p.responder_id;
     if (!p.team_id.empty()) track.team = p.team_id;
@@ -446,6 +452,7 @@ class Loader {
   std::map<std::uint16_t, std::string> topics_;
   std::uint64_t first_log_ns_ = 0, last_log_ns_ = 0;
   std::map<std::string, MemberSeen> members_;
+  std::map<std::string, TimestampNs> newest_map_aided_;  ///< per responder, its copies skipped
   std::map<std::uint32_t, AlarmSeen> alarms_;
   std::map<std::string, Heard> core_heard_;
   std::map<std::pair<std::uint64_t, std::uint32_t>, std::string> first_samples_;  // (log, seq) -> participant

@@ -17,6 +17,19 @@
 
 namespace sarloc::dds {
 
+namespace {
+
+// A third of the writer's lifespan: its last position is written again long before it expires.
+std::unique_ptr<estimator::PositionRefresh> refresh_within_lifespan(Writer<::sarloc::ResponderPosition>& writer) {
+  const auto& life = writer.get()->get_qos().lifespan().duration;
+  if (life == eprosima::fastrtps::c_TimeInfinite) return nullptr;
+  const auto lifespan = std::chrono::seconds(life.seconds) + std::chrono::nanoseconds(life.nanosec);
+  return std::make_unique<estimator::PositionRefresh>(
+      std::max<std::chrono::steady_clock::duration>(lifespan / 3, std::chrono::milliseconds(100)));
+}
+
+}  // namespace
+
 void CoreNodeConfig::validate() const {
   estimators.validate();
   roster.validate();
@@ -49,6 +62,7 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
       estimate_writer_(participant_, EndpointOptions::in(config_.partitions)),
       guidance_writer_(participant_, EndpointOptions::in(config_.partitions)),
       position_writer_(participant_),
+      position_refresh_(refresh_within_lifespan(position_writer_)),
       status_writer_(participant_) {
   for (unsigned i = 0; i < config_.workers; ++i) {
     workers_.push_back(std::make_unique<Worker>());
@@ -60,6 +74,7 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
     while (!stopping_.load()) {
       note_worker_load();
       publish_status();
+      refresh_silent_positions();
       evict_idle();
       const auto period = std::chrono::milliseconds(static_cast<std::int64_t>(config_.status_period_s * 1000.0));
       const auto until = std::chrono::steady_clock::now() + period;
@@ -367,11 +382,24 @@ void CoreNode::publish(estimator::SequencerReport& report) {
     if (output.guidance && !guidance_writer_.write(to_idl(*output.guidance, sequence))) {
       spdlog::error("{}: DDS refused a Guidance for '{}'", config_.node_id, output.guidance->rescuer_id);
     }
-    if (output.position && !position_writer_.write(to_idl(*output.position))) {
-      spdlog::error("{}: DDS refused a ResponderPosition for '{}'", config_.node_id, output.position->responder_id);
+    if (output.position) {
+      if (!position_writer_.write(to_idl(*output.position))) {
+        spdlog::error("{}: DDS refused a ResponderPosition for '{}'", config_.node_id, output.position->responder_id);
+      } else if (position_refresh_) {
+        position_refresh_->written(*output.position, std::chrono::steady_clock::now());
+      }
     }
   }
   report = estimator::SequencerReport{};
+}
+
+void CoreNode::refresh_silent_positions() {
+  if (!position_refresh_) return;
+  for (const auto& position : position_refresh_->due(std::chrono::steady_clock::now())) {
+    if (!position_writer_.write(to_idl(position))) {
+      spdlog::error("{}: DDS refused the last position of '{}' written again", config_.node_id, position.responder_id);
+    }
+  }
 }
 
 void CoreNode::publish_status() {

@@ -47,6 +47,10 @@ FirefighterNode::FirefighterNode(std::shared_ptr<Participant> participant, Firef
             return;
           }
           std::lock_guard<std::mutex> lock(mutex_);
+          // The daemon writes a silent firefighter's last position again (estimator::PositionRefresh):
+          // a copy is neither a new fix nor a sign that the daemon hears this device.
+          if (newest_fix_stamp_ != 0 && fix.stamp <= newest_fix_stamp_) return;
+          newest_fix_stamp_ = fix.stamp;
           fixes_.push_back(std::move(fix));
           if (fixes_.size() > kFixesQueued) fixes_.pop_front();
           last_fix_at_ = clock_.now();

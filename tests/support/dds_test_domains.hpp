@@ -27,6 +27,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainEstimateStall = 174,
   kDomainAdmissionBusy = 175,
   kDomainWriterLifespan = 176,
+  kDomainPositionRefresh = 177,
   kDomainDiscoveryServer = 140,
   kDomainBenchEchoListener = 141,
   kDomainBenchEchoQueue = 142,

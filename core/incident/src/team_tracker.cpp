@@ -63,6 +63,11 @@ void TeamTracker::on_position(const ResponderPosition& position, TimestampNs now
     throw InputError("responder_position.responder_id = \"\": must not be empty");
   latest_now_ = std::max(latest_now_, now);
   Member& m = members_[position.responder_id];
+  if (position.source == responder::PositionSource::kMapAided) {
+    // A copy of the daemon's last position of a silent firefighter, or one overtaken on the way.
+    if (m.newest_map_aided != 0 && position.stamp <= m.newest_map_aided) return;
+    m.newest_map_aided = position.stamp;
+  }
   // The daemon's map-aided positions do not know the team: they never move a member out of
   // the team its own device reports.
   if (!position.team_id.empty() || m.team_id.empty()) m.team_id = position.team_id;

@@ -6,9 +6,11 @@
 
 #include <cmath>
 #include <condition_variable>
+#include <fastdds/dds/publisher/DataWriter.hpp>
 #include <map>
 #include <mutex>
 #include <random>
+#include <thread>
 
 #include "sarloc/app/mission_config.hpp"
 #include "sarloc/core/estimator/firefighter_device.hpp"
@@ -27,6 +29,29 @@ using namespace std::chrono_literals;
 
 constexpr TimestampNs kOrigin = 1'700'000'000'000'000'000;
 constexpr double kPi = 3.14159265358979323846;
+
+// A right-hand search of the mission's building from its front door, and the boot odometry a
+// FirefighterDevice makes of it on simulated MTi-3 samples.
+struct SimulatedSearch {
+  firefighter::FootTrajectory foot;
+  std::vector<responder::Odometry> odometry;
+};
+
+SimulatedSearch simulated_search(const app::MissionConfig& mission, std::uint64_t seed, double duration_s) {
+  std::mt19937_64 rng(seed);
+  firefighter::SearchWalkConfig walk;
+  walk.duration_s = duration_s;
+  const auto search = firefighter::generate_search_walk(mission.estimators.firefighter.building->plan(), walk,
+                                                        firefighter::Hand::kRight, rng);
+  SimulatedSearch out{firefighter::FootTrajectory(search.leader), {}};
+  firefighter::ImuErrors errors(firefighter::ImuErrorConfig{}, rng);
+  estimator::FirefighterDevice device("ff1", "alpha", estimator::FirefighterDeviceConfig{}, kOrigin);
+  for (const auto& ideal : out.foot.imu_samples(100.0)) {
+    device.push(errors.apply(ideal, rng));
+    if (auto o = device.take_odometry()) out.odometry.push_back(*o);
+  }
+  return out;
+}
 
 TEST(CoreNodeFirefighter, AnswersBootOdometryWithMapAidedPositionsThatTrackTheSearch) {
   const auto mission =
@@ -51,21 +76,12 @@ TEST(CoreNodeFirefighter, AnswersBootOdometryWithMapAidedPositionsThatTrackTheSe
   ASSERT_TRUE(reader.wait_for_writers(1, 10s));
 
   // The truth: a right-hand search of the mission's building from its front door.
-  const auto& plan = mission.estimators.firefighter.building->plan();
-  std::mt19937_64 rng(21);
-  firefighter::SearchWalkConfig walk;
-  walk.duration_s = 120.0;
-  const auto search = firefighter::generate_search_walk(plan, walk, firefighter::Hand::kRight, rng);
-  const firefighter::FootTrajectory foot(search.leader);
-  firefighter::ImuErrors errors(firefighter::ImuErrorConfig{}, rng);
-  estimator::FirefighterDevice device("ff1", "alpha", estimator::FirefighterDeviceConfig{}, kOrigin);
+  const auto search = simulated_search(mission, 21, 120.0);
+  const auto& foot = search.foot;
   std::vector<TimestampNs> sent;
-  for (const auto& ideal : foot.imu_samples(100.0)) {
-    device.push(errors.apply(ideal, rng));
-    const auto o = device.take_odometry();
-    if (!o) continue;
-    ASSERT_TRUE(odometry.write(to_idl(*o)));
-    sent.push_back(o->interval_end);
+  for (const auto& o : search.odometry) {
+    ASSERT_TRUE(odometry.write(to_idl(o)));
+    sent.push_back(o.interval_end);
     if (sent.size() % 40 == 0) {  // pace: no more than 40 steps ahead of the daemon's answers
       std::unique_lock<std::mutex> lock(mutex);
       ASSERT_TRUE(cv.wait_for(lock, 10s, [&] { return positions.size() + 10 >= sent.size(); }))
@@ -102,6 +118,66 @@ TEST(CoreNodeFirefighter, AnswersBootOdometryWithMapAidedPositionsThatTrackTheSe
   EXPECT_GT(confirmed, positions.size() / 2);
   EXPECT_LE(confirmed_outside, confirmed / 50 + 1);
   EXPECT_EQ(node->counters().rejected, 0U) << "nothing refused";
+}
+
+// A firefighter who falls silent: the daemon's position writer forgets his older positions
+// after its lifespan (30 s; docs/topics.md, "Lifespan bounds what every heartbeat carries"),
+// but writes his last one again within it, so a reader that joins later (a restarted incident
+// command, a dashboard opened late) still gets where he was last known, and only that.
+TEST(CoreNodeFirefighter, ASilentFirefightersLastPositionOutlivesTheWritersLifespanAndNothingOlderStays) {
+  const auto mission =
+      app::load_mission_config(std::string(SARLOC_SOURCE_DIR) + "/tests/integration/mission/firefighters.yaml");
+  auto daemon_participant = test::make_participant(test::kDomainPositionRefresh, "core");
+  auto node = std::make_unique<CoreNode>(daemon_participant, mission.core_config(""));
+  std::chrono::seconds lifespan{0};
+  {
+    Writer<::sarloc::ResponderPosition> same_profile(daemon_participant);
+    const auto& d = same_profile.get()->get_qos().lifespan().duration;
+    ASSERT_NE(d, eprosima::fastrtps::c_TimeInfinite) << "the daemon's position writer has no lifespan";
+    lifespan = std::chrono::seconds(d.seconds + (d.nanosec > 0 ? 1 : 0));
+  }
+  std::mutex mutex;
+  std::condition_variable cv;
+  std::map<TimestampNs, responder::ResponderPosition> live;
+  TimestampNs newest = 0;
+  {
+    auto device_participant = test::make_participant(test::kDomainPositionRefresh, "ff1");
+    Writer<::sarloc::Odometry> odometry(device_participant);
+    Reader<::sarloc::ResponderPosition> reader(device_participant,
+                                               [&](const ::sarloc::ResponderPosition& p, const auto&) {
+                                                 std::lock_guard<std::mutex> lock(mutex);
+                                                 const auto r = to_core(p);
+                                                 live[r.stamp] = r;
+                                                 cv.notify_all();
+                                               });
+    ASSERT_TRUE(odometry.wait_for_readers(1, 10s));
+    const auto search = simulated_search(mission, 22, 20.0);
+    for (const auto& o : search.odometry) ASSERT_TRUE(odometry.write(to_idl(o)));
+    const std::size_t sent = search.odometry.size();
+    std::unique_lock<std::mutex> lock(mutex);
+    ASSERT_TRUE(cv.wait_for(lock, 10s, [&] { return live.size() >= sent; })) << live.size() << " answers to " << sent;
+    ASSERT_GT(live.size(), 10U);
+    newest = live.rbegin()->first;
+  }  // the device is gone: ff1 falls silent
+  std::this_thread::sleep_for(lifespan + 2s);
+
+  auto late_participant = test::make_participant(test::kDomainPositionRefresh, "late");
+  std::vector<responder::ResponderPosition> late;
+  Reader<::sarloc::ResponderPosition> late_reader(late_participant,
+                                                  [&](const ::sarloc::ResponderPosition& p, const auto&) {
+                                                    std::lock_guard<std::mutex> lock(mutex);
+                                                    late.push_back(to_core(p));
+                                                    cv.notify_all();
+                                                  });
+  std::unique_lock<std::mutex> lock(mutex);
+  ASSERT_TRUE(cv.wait_for(lock, 10s, [&] { return !late.empty(); })) << "his last position is gone";
+  cv.wait_for(lock, 1s, [] { return false; });  // whatever else the history still holds
+  for (const auto& p : late) {
+    EXPECT_EQ(p.responder_id, "ff1");
+    EXPECT_EQ(p.stamp, newest) << "a position older than his last outlived the lifespan";
+  }
+  EXPECT_DOUBLE_EQ(late.front().position.position.x(), live.rbegin()->second.position.position.x());
+  EXPECT_LE(late.size(), 3U) << "copies within one lifespan";
 }
 
 }  // namespace

@@ -73,6 +73,14 @@ TEST(QosBehaviour, ManyInstanceWritersForgetOldSamplesButNotBeforeAFadeIsRepaire
   }
   // Incident command drops a source after fusion.source_timeout_s (10 s); an estimate must live longer.
   EXPECT_GE(lifespan_s(estimate.get()), 10.0);
+  // The core daemon's map-aided positions of every firefighter (2 Hz): a lifespan too, within
+  // which it writes a silent one's last position again (estimator::PositionRefresh); a device's
+  // own writer holds one instance, itself, and keeps its last position for late readers.
+  Writer<::sarloc::ResponderPosition> map_aided(participant);
+  Writer<::sarloc::ResponderPosition> device(participant, device_position_options());
+  EXPECT_GT(lifespan_s(map_aided.get()), 0.0) << "the daemon's positions: no lifespan";
+  EXPECT_GE(lifespan_s(map_aided.get()), depth(map_aided.get()) * 0.5) << "a fade's repair would be cut short";
+  EXPECT_LT(lifespan_s(device.get()), 0.0) << "a device's own last position must stay";
 }
 
 // Sectors: a core daemon in partition "sector-a" never sees sector B's rescuers.

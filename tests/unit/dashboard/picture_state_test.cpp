@@ -190,13 +190,18 @@ TEST(PictureState, TheBannerComesWhenNoDataArrivesForStaleAfter) {
   EXPECT_NEAR(state.heartbeat()["data_age_s"].get<double>(), 6.0, 1e-9);
 }
 
-TEST(PictureState, AnOlderPositionOrADeadReckoningOverAFreshMapAidedFixIsNotShown) {
-  Clocks c;
-  auto state = make(c);
+responder::ResponderPosition map_aided_fix_of_ff1_at_10_s() {
   auto p = test::sample_responder_position();
   p.responder_id = "ff1";
   p.source = responder::PositionSource::kMapAided;
   p.stamp = 10'000'000'000LL;
+  return p;
+}
+
+TEST(PictureState, AnOlderPositionOrADeadReckoningOverAFreshMapAidedFixIsNotShown) {
+  Clocks c;
+  auto state = make(c);
+  auto p = map_aided_fix_of_ff1_at_10_s();
   p.position.position = Vec3(1, 2, 0);
   state.on_position(p);
   auto older = p;
@@ -211,6 +216,24 @@ TEST(PictureState, AnOlderPositionOrADeadReckoningOverAFreshMapAidedFixIsNotShow
   const auto r = state.snapshot()["responders"][0];
   EXPECT_DOUBLE_EQ(r["x"].get<double>(), 1.0);
   EXPECT_EQ(r["source"], "map-aided");
+}
+
+// The core daemon writes a silent firefighter's last position again (estimator::PositionRefresh):
+// the map shows one point, and no browser is told of a change.
+TEST(PictureState, TheDaemonsCopyOfALastPositionChangesNothing) {
+  Clocks c;
+  auto state = make(c);
+  auto p = map_aided_fix_of_ff1_at_10_s();
+  state.on_position(p);
+  const auto version = state.version();
+  state.on_position(p);
+  state.on_position(p);
+  EXPECT_EQ(state.version(), version);
+  EXPECT_EQ(state.snapshot()["responders"][0]["track"].size(), 1U);
+  p.stamp += 500'000'000LL;  // a new one at the same place is news
+  state.on_position(p);
+  EXPECT_GT(state.version(), version);
+  EXPECT_EQ(state.snapshot()["responders"][0]["track"].size(), 2U);
 }
 
 // The picture's limits are checked where the state is made, whoever fills them.

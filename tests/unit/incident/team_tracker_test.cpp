@@ -237,5 +237,33 @@ TEST(TeamTracker, MapAidedPositionsOutrankTheDevicesDeadReckoningWhileTheyKeepCo
   EXPECT_FALSE(m.confirmed);
 }
 
+// The core daemon writes a silent firefighter's last map-aided position again every 10 s
+// (estimator::PositionRefresh): the copies keep the position known and must not keep him alive.
+TEST(TeamTracker, CopiesOfTheDaemonsLastPositionDoNotKeepASilentFirefighterAlive) {
+  TeamTracker tracker;  // stale after 5 s, lost after 15 s
+  auto last = pos("ff1", "", 10 * kSec, 5.0);
+  last.source = responder::PositionSource::kMapAided;
+  tracker.on_position(last, 10 * kSec);
+  for (TimestampNs now = 20 * kSec; now <= 40 * kSec; now += 10 * kSec) tracker.on_position(last, now);
+  auto m = member(tracker.evaluate(40 * kSec), "ff1");
+  EXPECT_EQ(m.link, LinkState::kLost) << "heard last at 10 s";
+  EXPECT_EQ(m.last_seen, 10 * kSec);
+  EXPECT_DOUBLE_EQ(m.last_position.position.x(), 5.0);
+  // Another's device lost at once (its writer's liveliness): a copy after it does not bring him back.
+  auto ff2 = pos("ff2", "alpha", 40 * kSec, 2.0);
+  ff2.source = responder::PositionSource::kMapAided;
+  tracker.on_position(ff2, 40 * kSec);
+  tracker.on_link("ff2", false, 41 * kSec);
+  tracker.on_position(ff2, 43 * kSec);
+  EXPECT_EQ(member(tracker.evaluate(43 * kSec), "ff2").link, LinkState::kLost);
+  // A newer map-aided position is news: his odometry reached the daemon again.
+  last.stamp = 50 * kSec;
+  last.position.position.x() = 6.0;
+  tracker.on_position(last, 50 * kSec);
+  m = member(tracker.evaluate(50 * kSec), "ff1");
+  EXPECT_EQ(m.link, LinkState::kAlive);
+  EXPECT_DOUBLE_EQ(m.last_position.position.x(), 6.0);
+}
+
 }  // namespace
 }  // namespace sarloc::incident

@@ -122,6 +122,16 @@ void write_mission(Recording& rec) {
     p.map_error_suspected = k >= 25 && k < 27;
     rec.write(dds::to_idl(p), p.stamp);
   }
+  // Then silent: the core daemon writes his last position again (estimator::PositionRefresh).
+  {
+    auto p = test::sample_responder_position();
+    p.responder_id = "ff1";
+    p.team_id = "";
+    p.stamp = kEpoch + 30 * kSec;
+    p.source = responder::PositionSource::kMapAided;
+    p.map_error_suspected = false;
+    for (int k = 40; k <= 50; k += 10) rec.write(dds::to_idl(p), kEpoch + k * kSec);
+  }
   // A mayday raised at 21 s, acknowledged at 23 s, cleared at 25 s.
   auto alarm = test::sample_incident_alarm();
   alarm.alarm_id = 5;
@@ -193,6 +203,7 @@ TEST(MissionRecord, ReadsTracksVictimsAndEveryKindOfEventFromARecording) {
   ASSERT_EQ(r.responders.at("r1").samples.size(), 51u);
   EXPECT_FALSE(r.responders.at("r1").firefighter);
   EXPECT_TRUE(r.responders.at("ff1").firefighter);
+  EXPECT_EQ(r.responders.at("ff1").samples.size(), 11u) << "the daemon's copies of his last position are not points";
   EXPECT_TRUE(has_event(r, "victim", "victim 1 LOCATED", 30.0));
   EXPECT_TRUE(has_event(r, "victim", "victim 1 FOUND", 40.0));
   EXPECT_TRUE(has_event(r, "link", "ff1 (alpha): link LOST", 12.0));

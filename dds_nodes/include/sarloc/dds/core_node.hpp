@@ -16,7 +16,9 @@
 // takes no instance in a reader's history and no place in a worker's queue. Idle responders'
 // state is released on the status thread's period. While a worker's queue holds a sample
 // longer than core.busy_wait_s, no new responder is admitted (estimator::BusyGate): the
-// responders served already keep their latency.
+// responders served already keep their latency. The position writer has a lifespan, so a
+// firefighter who falls silent cannot leave old samples in its history for the rest of the
+// incident; his last position is written again within it (estimator::PositionRefresh).
 #include <atomic>
 #include <condition_variable>
 #include <deque>
@@ -28,6 +30,7 @@
 
 #include "sarloc/core/estimator/busy_gate.hpp"
 #include "sarloc/core/estimator/make_estimator.hpp"
+#include "sarloc/core/estimator/position_refresh.hpp"
 #include "sarloc/core/estimator/responder_roster.hpp"
 #include "sarloc/core/estimator/sample_sequencer.hpp"
 #include "sarloc/dds/participant.hpp"
@@ -121,6 +124,8 @@ class CoreNode {
   void publish(estimator::SequencerReport& report);
   void reject(const std::string& rescuer_id, const std::string& reason, const std::string& detail);
   void publish_status();
+  /// Writes again the last position of every responder whose positions stopped (status thread).
+  void refresh_silent_positions();
   /// Tells the BusyGate the busiest worker's share of the time since the last call (status thread).
   void note_worker_load();
   void stop();  // the readers, then the threads; once (sign_off, then the destructor)
@@ -140,6 +145,9 @@ class CoreNode {
   Writer<::sarloc::VictimEstimate> estimate_writer_;
   Writer<::sarloc::Guidance> guidance_writer_;
   Writer<::sarloc::ResponderPosition> position_writer_;
+  /// Each responder's last position, kept within the position writer's lifespan (null when
+  /// the writer keeps its samples for ever).
+  std::unique_ptr<estimator::PositionRefresh> position_refresh_;
   Writer<::sarloc::NodeStatus> status_writer_;
   std::vector<std::unique_ptr<Worker>> workers_;
   std::atomic<bool> stopping_{false};

@@ -65,6 +65,7 @@ class FirefighterNode {
   mutable std::mutex mutex_;
   std::deque<responder::ResponderPosition> fixes_;  // under mutex_
   TimestampNs last_fix_at_ = 0;                     // mission time of arrival; under mutex_
+  TimestampNs newest_fix_stamp_ = 0;                // a fix no newer is the daemon's copy of one taken; under mutex_
   std::unique_ptr<Reader<::sarloc::ResponderPosition>> position_reader_;
 };
 

@@ -51,7 +51,9 @@ class TeamTracker {
 
   /// A position report. Throws InputError for an empty responder_id. The stored position is
   /// replaced only by a report with a stamp >= the stored one, and a dead-reckoned one does not
-  /// replace a map-aided one less than 3 s older; every report counts as heard.
+  /// replace a map-aided one less than 3 s older; every report counts as heard but a map-aided
+  /// one no newer than the newest map-aided one: the core daemon writes a silent firefighter's
+  /// last position again (estimator::PositionRefresh), which says nothing of his link.
   void on_position(const ResponderPosition& position, TimestampNs now);
   /// DDS liveliness: alive = false marks the link lost at once (unless the responder signed
   /// off: its writer's departure then is the sign-off's); alive = true counts as heard.
@@ -89,6 +91,7 @@ class TeamTracker {
     TimestampNs last_heard = 0;
     bool liveliness_lost = false;
     bool signed_off = false;
+    TimestampNs newest_map_aided = 0;  ///< stamp of the newest map-aided report (0: none)
   };
   LinkState link_of(const Member& m, TimestampNs now) const;
 
