@@ -76,8 +76,13 @@ void TeamTracker::on_position(const ResponderPosition& position, TimestampNs now
   const bool map_aided_fresh = m.has_position && m.last_position.source == responder::PositionSource::kMapAided &&
                                position.source == responder::PositionSource::kDeadReckoning &&
                                position.stamp - m.last_position.stamp < kMapAidedPreferredNs;
-  // A sign-off stands until a newer position: one reader of two may deliver an older one late.
-  if (!m.has_position || position.stamp > m.last_position.stamp) m.signed_off = false;
+  // A sign-off stands until a newer position of the device's own: one reader of two may deliver
+  // an older one late, and the daemon's map-aided positions answer odometry that the device sent
+  // before it signed off (they came after the sign-off in 1 of 4 devices of a busy relay).
+  if (position.source != responder::PositionSource::kMapAided &&
+      (!m.has_position || position.stamp > m.last_position.stamp)) {
+    m.signed_off = false;
+  }
   if ((!m.has_position || position.stamp >= m.last_position.stamp) && !map_aided_fresh) {
     m.last_position = position;
     m.has_position = true;

@@ -265,5 +265,27 @@ TEST(TeamTracker, CopiesOfTheDaemonsLastPositionDoNotKeepASilentFirefighterAlive
   EXPECT_DOUBLE_EQ(m.last_position.position.x(), 6.0);
 }
 
+// A firefighter's device signs off when his search ends; the daemon's answers to its last
+// odometry steps can reach incident command after that, with newer stamps. They are not the
+// device coming back: he stays signed off, and his writer's departure raises nothing.
+TEST(TeamTracker, TheDaemonsAnswersToTheLastStepsDoNotUndoAFirefightersSignOff) {
+  TeamTracker tracker;
+  auto own = pos("ff3", "bravo", 10 * kSec, 1.0);
+  own.source = responder::PositionSource::kDeadReckoning;
+  tracker.on_position(own, 10 * kSec);
+  tracker.on_signed_off("ff3", 11 * kSec);
+  auto answer = pos("ff3", "", 10'500'000'000, 1.2);
+  answer.source = responder::PositionSource::kMapAided;
+  tracker.on_position(answer, 12 * kSec);
+  tracker.on_link("ff3", false, 13 * kSec);
+  auto m = member(tracker.evaluate(40 * kSec), "ff3");
+  EXPECT_EQ(m.link, LinkState::kSignedOff);
+  EXPECT_DOUBLE_EQ(m.last_position.position.x(), 1.2) << "his last known position is the daemon's";
+  // His device started again: its own newer position ends the sign-off.
+  own.stamp = 50 * kSec;
+  tracker.on_position(own, 50 * kSec);
+  EXPECT_EQ(member(tracker.evaluate(50 * kSec), "ff3").link, LinkState::kAlive);
+}
+
 }  // namespace
 }  // namespace sarloc::incident

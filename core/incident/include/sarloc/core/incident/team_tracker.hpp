@@ -59,7 +59,8 @@ class TeamTracker {
   /// off: its writer's departure then is the sign-off's); alive = true counts as heard.
   void on_link(const std::string& responder_id, bool alive, TimestampNs now);
   /// The responder's device stopped in order and said so (it disposed its own position
-  /// instance): kSignedOff until it is heard again. Throws InputError for an empty id.
+  /// instance): kSignedOff until its device is heard again (its liveliness, or a newer position
+  /// of its own; the core daemon's map-aided ones do not count). Throws InputError for an empty id.
   void on_signed_off(const std::string& responder_id, TimestampNs now);
 
   /// Fills in what another incident command published (hot standby, see VictimFusion::adopt)
