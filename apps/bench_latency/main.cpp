@@ -19,12 +19,17 @@
 // and its slope over the second half). `--intruder-ids N` adds a hostile publisher on its own
 // participant: field samples and odometry cycling through N rescuer ids that no one serves,
 // at `--intruder-rate` samples per second, while the real rescuers are measured.
+// `--firefighters N` (sarloc-core only; the mission needs a building: section) adds N firefighters
+// searching its building at about 2 steps a second (firefighter_crew.hpp), in the same run and
+// on the same daemon: the odometry step -> map-aided position latency is reported beside the
+// rescuers' (issue 64, a mixed incident).
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -35,6 +40,7 @@
 #include <thread>
 
 #include "echo_node.hpp"
+#include "firefighter_crew.hpp"
 #include "intruder.hpp"
 #include "sarloc/app/child_process.hpp"
 #include "sarloc/app/command_line.hpp"
@@ -101,6 +107,8 @@ struct BenchSetup {
   /// process (about 0.6 % of a core per rescuer at 1 Hz), so at hundreds of rescuers the load
   /// generator falls behind its schedule and takes CPU from the daemon it measures.
   std::optional<avalanche::ReceiverKind> receiver;
+  /// Firefighters in every sarloc-core run (null: none), made once: their walks take a while.
+  std::shared_ptr<const bench::FirefighterCrew> crew;
 };
 
 struct LoadResult {
@@ -132,6 +140,12 @@ struct LoadResult {
   double lag_p99_ms = -1.0;
   double lag_max_ms = -1.0;
   double bench_cpu_percent = -1.0;  ///< this process (load generator and its DDS), measured phase
+  std::size_t firefighters = 0;     ///< in this run (sarloc-core with --firefighters)
+  std::size_t ff_steps = 0;         ///< odometry steps they published in the measured phase
+  std::size_t ff_answered = 0;      ///< of those, answered with a map-aided position
+  double ff_p50_ms = -1.0;          ///< step -> position
+  double ff_p99_ms = -1.0;
+  double ff_max_ms = -1.0;
 };
 
 /// One measurement's times, steady clock ns (-1: did not happen).
@@ -176,7 +190,7 @@ mission::MissionScenario bench_scenario(const app::MissionConfig& mission, std::
 /// The mission file with the bench's rescuers in place of its own (and no sectors), so that
 /// the daemon's roster serves exactly them; returns its path.
 std::string write_bench_config(const BenchSetup& setup, const mission::MissionScenario& scenario,
-                               const std::string& path) {
+                               const bench::FirefighterCrew* crew, const std::string& path) {
   YAML::Node doc = YAML::LoadFile(setup.config_path);
   doc.remove("sectors");
   YAML::Node rescuers(YAML::NodeType::Sequence);
@@ -189,10 +203,16 @@ std::string write_bench_config(const BenchSetup& setup, const mission::MissionSc
     n["heading_deg"] = r.heading_deg;
     rescuers.push_back(n);
   }
+  if (crew) crew->write_roster(rescuers);
   doc["rescuers"] = rescuers;
   doc["core"]["admission"] = setup.admission;
   doc["dds"]["profiles_file"] = fs::absolute(setup.mission.dds.profiles_file).string();
   doc["dds"]["topics_file"] = fs::absolute(setup.mission.dds.topics_file).string();
+  // The copy lives elsewhere: the building's plan as the original file names it.
+  if (doc["building"] && doc["building"]["plan"]) {
+    const fs::path plan = doc["building"]["plan"].as<std::string>();
+    if (plan.is_relative()) doc["building"]["plan"] = (fs::path(setup.config_path).parent_path() / plan).string();
+  }
   std::ofstream out(path);
   out << doc << '\n';
   if (!out) throw Error("cannot write the bench's mission copy '" + path + "'");
@@ -266,9 +286,12 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
                                std::to_string(rate_hz).substr(0, 4) + "-" + std::to_string(repeat);
   const auto scenario =
       bench_scenario(setup.mission, n, setup.seed, "bench-" + std::to_string(n) + "-", setup.receiver);
+  // Firefighters are served by sarloc-core only (the echo answers measurements).
+  const bench::FirefighterCrew* crew = target == Target::kSarloc ? setup.crew.get() : nullptr;
+  result.firefighters = crew ? crew->size() : 0;
   // A fresh responder per load point: nothing left over from the previous one.
   auto [responder, responder_id] =
-      start_target(setup, target, write_bench_config(setup, scenario, setup.log_dir + "/" + run_name + ".yaml"),
+      start_target(setup, target, write_bench_config(setup, scenario, crew, setup.log_dir + "/" + run_name + ".yaml"),
                    setup.log_dir + "/" + run_name + ".log");
 
   auto participant = std::make_shared<sarloc::dds::Participant>(
@@ -296,6 +319,15 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
         it->second.answered = now;
         it->second.answer_written = info.source_timestamp.to_ns() - realtime_minus_steady;
         it->second.answer_received = info.reception_timestamp.to_ns() - realtime_minus_steady;
+      });
+  // Firefighters' steps by (responder, the step's end stamp): published, answered (steady ns).
+  std::map<std::pair<std::string, TimestampNs>, std::pair<std::int64_t, std::int64_t>> steps;
+  sarloc::dds::Reader<::sarloc::ResponderPosition> positions(
+      participant, [&](const ::sarloc::ResponderPosition& p, const eprosima::fastdds::dds::SampleInfo&) {
+        const std::int64_t now = steady_ns(Clock::now());
+        std::lock_guard<std::mutex> lock(mutex);
+        const auto it = steps.find({p.responder_id().to_string(), p.stamp()});
+        if (it != steps.end() && it->second.second < 0) it->second.second = now;
       });
   sarloc::dds::Reader<::sarloc::NodeStatus> status(participant, [&](const ::sarloc::NodeStatus& s, const auto&) {
     if (s.node_id().to_string() != responder_id) return;
@@ -344,6 +376,28 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
   if (intruder) {  // from the start of the measured phase: the rescuers are served by then if warmed up
     const auto seconds = [](double s) { return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s)); };
     intruder->start(start + seconds(setup.warmup_s), start + seconds(setup.warmup_s + duration_s));
+  }
+  // The firefighters on a thread of their own: each step when its stride ends, from `start`.
+  std::thread crew_thread;
+  std::atomic<std::uint64_t> crew_published{0};
+  if (crew) {
+    crew_thread = std::thread([&, crew, t0] {
+      const double end_s = setup.warmup_s + duration_s;
+      for (const auto& step : crew->schedule()) {
+        if (step.at_s > end_s || app::shutdown_requested()) break;
+        std::this_thread::sleep_until(
+            start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(step.at_s)));
+        auto o = step.odometry;
+        o.interval_start += t0;
+        o.interval_end += t0;
+        const bool measured = step.at_s >= setup.warmup_s;
+        if (measured) {
+          std::lock_guard<std::mutex> lock(mutex);
+          steps[{o.rescuer_id, o.interval_end}] = {steady_ns(Clock::now()), -1};
+        }
+        if (odometry.write(sarloc::dds::to_idl(o))) crew_published.fetch_add(1);
+      }
+    });
   }
   app::ProgressBar bar(std::string(to_string(target)) + " " + std::to_string(n) + " rescuers @ " +
                            std::to_string(rate_hz).substr(0, 4) + " Hz",
@@ -397,6 +451,8 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
     }
   }
   bar.finish();
+  if (crew_thread.joinable()) crew_thread.join();
+  result.published += crew_published.load();
   if (bench_cpu) result.bench_cpu_percent = bench_cpu->cpu_percent();
   if (!lags_ms.empty()) {
     result.lag_p99_ms = sarloc::percentile(lags_ms, 0.99);
@@ -421,6 +477,17 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
     back.push_back(1e-6 * static_cast<double>(t.answered - t.answer_written));
   }
   result.answered = latencies.size();
+  std::vector<double> ff_latencies;
+  for (const auto& [key, t] : steps) {
+    if (t.second >= 0) ff_latencies.push_back(1e-6 * static_cast<double>(t.second - t.first));
+  }
+  result.ff_steps = steps.size();
+  result.ff_answered = ff_latencies.size();
+  if (!ff_latencies.empty()) {
+    result.ff_p50_ms = sarloc::percentile(ff_latencies, 0.5);
+    result.ff_p99_ms = sarloc::percentile(ff_latencies, 0.99);
+    result.ff_max_ms = sarloc::percentile(ff_latencies, 1.0);
+  }
   if (!latencies.empty()) {  // otherwise -1: no answer at all
     result.p50_ms = sarloc::percentile(latencies, 0.5);
     result.p99_ms = sarloc::percentile(latencies, 0.99);
@@ -463,7 +530,13 @@ nlohmann::json to_json(const LoadResult& r) {
           {"intruder_sent", r.intruder_sent},
           {"lag_p99_ms", r.lag_p99_ms},
           {"lag_max_ms", r.lag_max_ms},
-          {"bench_cpu_percent", r.bench_cpu_percent}};
+          {"bench_cpu_percent", r.bench_cpu_percent},
+          {"firefighters", r.firefighters},
+          {"ff_steps", r.ff_steps},
+          {"ff_answered", r.ff_answered},
+          {"ff_p50_ms", r.ff_p50_ms},
+          {"ff_p99_ms", r.ff_p99_ms},
+          {"ff_max_ms", r.ff_max_ms}};
 }
 
 void print_run_header() {
@@ -480,6 +553,12 @@ void print_run_row(const LoadResult& r) {
       r.to_write_p50_ms, r.return_p50_ms, r.cpu_percent, r.rss_mb, r.rss_early_mb, r.rss_end_mb,
       r.rss_growth_mb_per_min, static_cast<unsigned long long>(r.refused), r.intruder_sent, r.lag_p99_ms,
       r.bench_cpu_percent);
+  if (r.firefighters > 0) {
+    std::printf(
+        "        and %zu firefighters: %zu steps measured, %zu answered, step -> position p50 %.2f ms, p99 %.2f ms, "
+        "max %.2f ms\n",
+        r.firefighters, r.ff_steps, r.ff_answered, r.ff_p50_ms, r.ff_p99_ms, r.ff_max_ms);
+  }
   std::fflush(stdout);
 }
 
@@ -615,6 +694,11 @@ int main(int argc, char** argv) {
   cli.add_option("--trace-dir", setup.trace_dir,
                  "write every run's per-measurement times here (CSV, steady-clock ns: published, write returned, "
                  "answer written, answer received, answered)");
+  std::size_t firefighters = 0;
+  cli.add_option("--firefighters", firefighters,
+                 "firefighters searching the mission's building in every sarloc-core run, about 2 steps a second "
+                 "each (the mission needs a building: section)")
+      ->capture_default_str();
   std::string receiver = "mission";
   cli.add_option("--receiver", receiver,
                  "the simulated devices' receiver: mission (the mission file's), ideal or realistic. The realistic "
@@ -659,6 +743,13 @@ int main(int argc, char** argv) {
     if (!fs::is_regular_file(setup.core_exe)) throw ConfigError("--core-exe = '" + setup.core_exe + "': no such file");
     setup.core_exe = fs::absolute(setup.core_exe).string();
     setup.domain = static_cast<std::uint32_t>(domain);
+    if (firefighters > 0) {
+      if (firefighters > 400)
+        throw ConfigError("--firefighters = " + std::to_string(firefighters) + ": must be at most 400");
+      const double search_s = std::max(30.0, setup.warmup_s + duration + 5.0);  // 30 s: the shortest search
+      spdlog::warn("walking {} firefighters' searches ({:.0f} s each) before the first run", firefighters, search_s);
+      setup.crew = std::make_shared<const bench::FirefighterCrew>(setup.mission, firefighters, search_s, setup.seed);
+    }
 
     nlohmann::json out;
     out["seed"] = setup.seed;
@@ -670,6 +761,7 @@ int main(int argc, char** argv) {
     out["intruder_ids"] = setup.intruder_ids;
     out["intruder_rate"] = setup.intruder_rate;
     out["receiver"] = receiver;
+    out["firefighters"] = firefighters;
     out["runs"] = nlohmann::json::array();
     std::vector<LoadResult> runs;
     print_run_header();
