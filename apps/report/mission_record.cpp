@@ -140,10 +140,11 @@ class Loader {
 
   void on_position(const responder::ResponderPosition& p) {
     if (p.source == responder::PositionSource::kMapAided) {
-      // The core daemon writes a silent firefighter's last position again: one point of his track.
+      // The core daemon writes a silent firefighter's last position again (a second daemon its
+      // older one): one point of his track, in time order, as incident command keeps it.
       auto [newest, first] = newest_map_aided_.try_emplace(p.responder_id, p.stamp);
-      if (!first && p.stamp == newest->second) return;
-      newest->second = std::max(newest->second, p.stamp);
+      if (!first && p.stamp <= newest->second) return;
+      newest->second = p.stamp;
     }
     auto& track = r_.responders[p.responder_id];
     track.id = p.responder_id;
