@@ -18,7 +18,8 @@ constexpr double kEntrySpacingS = 0.4;
 // Walks simulated; further members repeat one of them (entry, hand and place in the team alike)
 // under their own id, shifted to their own entry time: the daemon's work per step is the same,
 // and 200 ten-minute walks would take the load generator minutes to make.
-constexpr std::size_t kDistinctWalks = 40;
+constexpr std::size_t kDistinctWalks = 40;  // even: a repeat keeps its place in the team
+static_assert(kDistinctWalks % 2 == 0);
 
 }  // namespace
 
@@ -42,6 +43,11 @@ FirefighterCrew::FirefighterCrew(const app::MissionConfig& mission, std::size_t 
     members_.push_back(ff);
   }
   const std::size_t distinct = std::min(members_.size(), kDistinctWalks);
+  // A repeat goes in where its walk does (the daemon's filter starts at the reported entry).
+  for (std::size_t m = distinct; m < members_.size(); ++m) {
+    members_[m].spec.entry = members_[m % distinct].spec.entry;
+    members_[m].spec.hand = members_[m % distinct].spec.hand;
+  }
   std::vector<std::vector<responder::Odometry>> walked(distinct);
   for (std::size_t m = 0; m < distinct; ++m) {
     const auto& ff = members_[m];
