@@ -67,7 +67,7 @@ FirefighterCrew::FirefighterCrew(const app::MissionConfig& mission, std::size_t 
       o.rescuer_id = members_[m].id;
       o.interval_start += shift_ns;
       o.interval_end += shift_ns;
-      schedule_.push_back({1e-9 * static_cast<double>(o.interval_end), m, o});
+      schedule_.push_back({1e-9 * static_cast<double>(o.interval_end), o});
     }
   }
   std::stable_sort(schedule_.begin(), schedule_.end(), [](const Step& a, const Step& b) { return a.at_s < b.at_s; });

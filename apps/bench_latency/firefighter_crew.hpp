@@ -27,8 +27,7 @@ namespace sarloc::bench {
 class FirefighterCrew {
  public:
   struct Step {
-    double at_s = 0.0;  ///< when the stride ends, seconds from the crew's t = 0 (= its interval_end)
-    std::size_t member = 0;
+    double at_s = 0.0;             ///< when the stride ends, seconds from the crew's t = 0 (= its interval_end)
     responder::Odometry odometry;  ///< stamps in ns from t = 0: add the run's origin before sending
   };
 
