@@ -79,7 +79,8 @@ av::MultiBurialTraceObserver multi_burial_trace_printer() {
 
 const char* TraceCsv::header() {
   return "trial,step,mode,tx_w,ty_w,tz_w,rx_w,ry_w,rz_w,roll,pitch,yaw,zx_r,zy_r,zz_r,"
-         "est_x_g,est_y_g,est_z_g,r95_h,components,mass_within_45deg,mean_cosine,heading_cosine\n";
+         "est_x_g,est_y_g,est_z_g,r95_h,components,mass_within_45deg,mean_cosine,heading_cosine,"
+         "status,valid_axes,err_x_r,err_y_r,err_z_r,sd_x_r,sd_y_r,sd_z_r,nees\n";
 }
 
 void TraceCsv::add(const av::TrialStep& s) {
@@ -88,16 +89,22 @@ void TraceCsv::add(const av::TrialStep& s) {
   const av::BearingAgreement a = av::bearing_agreement(s.filter.hypotheses(), tb);
   const Vec3& est = s.estimate.relative.position;
   const double heading_cos = s.guidance.step_m > 0.0 ? std::cos(s.guidance.heading_rad - tb) : 0.0;
-  char line[640];
+  // The error and its stated spread per axis, so that a NEES outside its bounds can be traced
+  // to the axis and the range where the filter is overconfident.
+  const Mat3& P = s.estimate.relative.covariance;
+  const Vec3 err = est - s.sim.true_relative_position();
+  const double nees = err.dot(P.ldlt().solve(err));
+  char line[800];
   std::snprintf(line, sizeof line,
                 "%u,%u,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.6f,%.6f,%.6f,%.6e,%.6e,%.6e,"
-                "%.4f,%.4f,%.4f,%.4f,%zu,%.5f,%.5f,%.5f\n",
-                s.trial, s.step, static_cast<int>(s.guidance.mode), sc.transmitter.x(),
-                sc.transmitter.y(), sc.transmitter.z(), sc.receiver.x(), sc.receiver.y(),
-                sc.receiver.z(), sc.receiver_rpy.x(), sc.receiver_rpy.y(), sc.receiver_rpy.z(),
-                s.measurement.field.x(), s.measurement.field.y(), s.measurement.field.z(), est.x(),
-                est.y(), est.z(), s.guidance.uncertainty_radius_m, s.filter.size(),
-                a.mass_within_45deg, a.mean_cosine, heading_cos);
+                "%.4f,%.4f,%.4f,%.4f,%zu,%.5f,%.5f,%.5f,%d,%u,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.3f\n",
+                s.trial, s.step, static_cast<int>(s.guidance.mode), sc.transmitter.x(), sc.transmitter.y(),
+                sc.transmitter.z(), sc.receiver.x(), sc.receiver.y(), sc.receiver.z(), sc.receiver_rpy.x(),
+                sc.receiver_rpy.y(), sc.receiver_rpy.z(), s.measurement.field.x(), s.measurement.field.y(),
+                s.measurement.field.z(), est.x(), est.y(), est.z(), s.guidance.uncertainty_radius_m, s.filter.size(),
+                a.mass_within_45deg, a.mean_cosine, heading_cos, static_cast<int>(s.estimate.status),
+                static_cast<unsigned>(s.measurement.valid_axes), err.x(), err.y(), err.z(), std::sqrt(P(0, 0)),
+                std::sqrt(P(1, 1)), std::sqrt(P(2, 2)), nees);
   rows_.at(s.trial) += line;
 }
 

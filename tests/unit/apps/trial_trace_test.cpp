@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -59,6 +60,17 @@ TEST(TraceCsvTest, OneRowPerStepInTrialOrder) {
     }
     // 20 m out the posterior bearing has converged on the truth (columns are the truth's).
     EXPECT_GT(mass_at_20m, 0.9) << "trial " << trial;
+    // The last step's error and NEES are the ones the evaluation scored.
+    const std::vector<std::string>& last = rows[i - 1];
+    const auto column = [&header](const std::string& name) {
+      return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
+    };
+    const double err = std::hypot(std::stod(last[column("err_x_r")]), std::stod(last[column("err_y_r")]),
+                                  std::stod(last[column("err_z_r")]));
+    EXPECT_NEAR(err, summary.per_trial[trial].error_m, 1e-3) << "trial " << trial;
+    EXPECT_NEAR(std::stod(last[column("nees")]), summary.per_trial[trial].final_nees,
+                1e-3 * (1.0 + summary.per_trial[trial].final_nees))
+        << "trial " << trial;
   }
 }
 
