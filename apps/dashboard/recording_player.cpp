@@ -3,11 +3,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <string_view>
 
-#include "sarloc/core/common/time_units.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/time_units.hpp"
 #include "sarloc/dds/conversions.hpp"
-#include "sarloc/dds/raw_topic_type.hpp"
+#include "sarloc/dds/recorded_sample.hpp"
 #include "sarloc/dds/replayer.hpp"
 #include "sarloc/dds/topics.hpp"
 #include "sarloc/recording/mcap_reader.hpp"
@@ -25,10 +26,15 @@ std::int64_t steady_ns() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
+// What the page shows of each recorded sample; the topics of kTopics only come here.
+void show(PictureState& state, const incident::FusedVictim& v) { state.on_victim(v); }
+void show(PictureState& state, const incident::TeamStatus& t) { state.on_team(t); }
+void show(PictureState& state, const incident::IncidentAlarm& a) { state.on_alarm(a); }
+void show(PictureState& state, const responder::ResponderPosition& p) { state.on_position(p); }
+void show(PictureState& state, const responder::Guidance& g) { state.on_guidance(g); }
+void show(PictureState& state, const incident::SearchPlanPicture& p) { state.on_search_plan(p); }
 template <class T>
-bool decode(const std::vector<std::uint8_t>& bytes, T& sample) {
-  return dds::decode_payload<typename dds::TopicTraits<T>::PubSubType>(bytes, sample);
-}
+void show(PictureState&, const T&) {}
 
 }  // namespace
 
@@ -89,48 +95,19 @@ double RecordingPlayer::wall_now_s() const { return 1e-9 * static_cast<double>(c
 
 void RecordingPlayer::apply(const Sample& s) {
   auto& state = *state_;
+  const char* topic = kTopics[s.topic];
   try {
-    switch (s.topic) {
-      case 0: {
-        ::sarloc::FusedVictim v;
-        if (decode(s.bytes, v)) state.on_victim(dds::to_core(v));
-        break;
-      }
-      case 1: {
-        ::sarloc::TeamStatus t;
-        if (decode(s.bytes, t)) state.on_team(dds::to_core(t));
-        break;
-      }
-      case 2: {
-        ::sarloc::IncidentAlarm a;
-        if (decode(s.bytes, a)) state.on_alarm(dds::to_core(a));
-        break;
-      }
-      case 3: {
-        ::sarloc::ResponderPosition p;
-        if (decode(s.bytes, p)) state.on_position(dds::to_core(p));
-        break;
-      }
-      case 4: {
-        ::sarloc::Guidance g;
-        if (decode(s.bytes, g)) state.on_guidance(dds::to_core(g));
-        break;
-      }
-      case 5: {
-        const auto event = nlohmann::json::parse(s.bytes.begin(), s.bytes.end());
-        if (event.value("topic", "") == "sarloc/incident_summary") state.on_picture_writer(event.value("participant", ""));
-        break;
-      }
-      case 6: {
-        ::sarloc::SearchPlan p;
-        if (decode(s.bytes, p)) state.on_search_plan(dds::to_core(p));
-        break;
-      }
-      default:
-        break;
+    if (std::string_view(topic) == "sarloc/recorder_events") {
+      const auto event = nlohmann::json::parse(s.bytes.begin(), s.bytes.end());
+      if (event.value("topic", "") == "sarloc/incident_summary")
+        state.on_picture_writer(event.value("participant", ""));
+      return;
+    }
+    if (const auto sample = dds::decode_recorded(topic, s.bytes)) {
+      std::visit([&state](const auto& decoded) { show(state, decoded); }, *sample);
     }
   } catch (const std::exception&) {
-    state.on_rejected(kTopics[s.topic]);  // what the core refuses is counted, never shown
+    state.on_rejected(topic);  // what does not decode, or the core refuses, is counted, never shown
   }
 }
 

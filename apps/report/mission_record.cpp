@@ -12,9 +12,8 @@
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/incident/geodetic_frame.hpp"
 #include "sarloc/dds/conversions.hpp"
-#include "sarloc/dds/raw_topic_type.hpp"
+#include "sarloc/dds/recorded_sample.hpp"
 #include "sarloc/dds/replayer.hpp"
-#include "sarloc/dds/topic_catalog.hpp"
 #include "sarloc/dds/topics.hpp"
 
 namespace sarloc::report {
@@ -61,28 +60,8 @@ class Loader {
     auto& quality = r_.quality[topic];
     ++quality.recorded;
     try {
-      if (topic == "sarloc/responder_position") {
-        on_position(dds::to_core(decode<::sarloc::ResponderPosition>(m)));
-      } else if (topic == "sarloc/fused_victim") {
-        on_victim(dds::to_core(decode<::sarloc::FusedVictim>(m)));
-      } else if (topic == "sarloc/team_status") {
-        on_team(dds::to_core(decode<::sarloc::TeamStatus>(m)));
-      } else if (topic == "sarloc/incident_alarm") {
-        on_alarm(dds::to_core(decode<::sarloc::IncidentAlarm>(m)));
-      } else if (topic == "sarloc/node_status") {
-        on_node_status(decode<::sarloc::NodeStatus>(m), m);
-      } else if (topic == "sarloc/incident_frame") {
-        r_.incident_origin = dds::to_core(decode<::sarloc::IncidentFrame>(m)).origin;
-      } else if (topic == "sarloc/search_plan") {
-        r_.search_plan = dds::to_core(decode<::sarloc::SearchPlan>(m));
-      } else if (topic == "sarloc/victim_recovery") {
-        const auto recovery = decode<::sarloc::VictimRecovery>(m);
-        r_.events.push_back({stamp_to_mission(recovery.stamp()), "victim",
-                             "victim " + std::to_string(recovery.victim_id()) + " reported dug out by " +
-                                 dds::printable_id(recovery.reported_by())});
-      } else if (dds::find_catalog_topic(topic) != nullptr) {
-        // Decoded only to check it is whole: the report draws nothing else from it.
-        check_decodes(topic, m);
+      if (const auto sample = dds::decode_recorded(topic, m.data)) {
+        std::visit([&](const auto& decoded) { take(decoded, m); }, *sample);
       }
     } catch (const std::exception&) {
       ++quality.undecodable;  // a bad sample loses nothing else
@@ -115,23 +94,22 @@ class Loader {
   }
 
  private:
+  // What the report draws from each recorded sample; the rest was decoded only to check that
+  // it is whole.
+  void take(const responder::ResponderPosition& p, const recording::Message&) { on_position(p); }
+  void take(const incident::FusedVictim& v, const recording::Message&) { on_victim(v); }
+  void take(const incident::TeamStatus& t, const recording::Message&) { on_team(t); }
+  void take(const incident::IncidentAlarm& a, const recording::Message&) { on_alarm(a); }
+  void take(const ::sarloc::NodeStatus& n, const recording::Message& m) { on_node_status(n, m); }
+  void take(const incident::IncidentFrame& f, const recording::Message&) { r_.incident_origin = f.origin; }
+  void take(const incident::SearchPlanPicture& p, const recording::Message&) { r_.search_plan = p; }
+  void take(const ::sarloc::VictimRecovery& recovery, const recording::Message&) {
+    r_.events.push_back({stamp_to_mission(recovery.stamp()), "victim",
+                         "victim " + std::to_string(recovery.victim_id()) + " reported dug out by " +
+                             dds::printable_id(recovery.reported_by())});
+  }
   template <class T>
-  T decode(const recording::Message& m) {
-    T sample;
-    if (!dds::decode_payload<typename dds::TopicTraits<T>::PubSubType>(m.data, sample)) {
-      throw InputError("does not decode");
-    }
-    return sample;
-  }
-
-  // Throws when the message does not decode or holds what the core refuses.
-  void check_decodes(const std::string& topic, const recording::Message& m) {
-    if (topic == "sarloc/field_measurement") (void)dds::to_core(decode<::sarloc::FieldMeasurement>(m));
-    if (topic == "sarloc/odometry") (void)dds::to_core(decode<::sarloc::Odometry>(m));
-    if (topic == "sarloc/victim_estimate") (void)dds::to_core(decode<::sarloc::VictimEstimate>(m));
-    if (topic == "sarloc/guidance") (void)dds::to_core(decode<::sarloc::Guidance>(m));
-    if (topic == "sarloc/responder_alarm") (void)dds::to_core(decode<::sarloc::ResponderAlarm>(m));
-  }
+  void take(const T&, const recording::Message&) {}
 
   double stamp_to_mission(TimestampNs stamp) const { return 1e-9 * static_cast<double>(stamp - r_.epoch_ns); }
   double wall_to_mission(std::uint64_t log_ns) const {
