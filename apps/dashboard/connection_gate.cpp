@@ -68,6 +68,7 @@ struct ConnectionGate::Relay {
   std::string address;
   int relay_port = 0;  // the local port of `backend`: how the server names this connection
   Clock::time_point deadline;
+  bool holding = true;  // its request not yet whole: nothing of it has reached the server
   bool served = false;
   bool closed = false;
 };
@@ -147,17 +148,27 @@ void ConnectionGate::admit(tcp::socket socket) {
   auto relay = std::make_shared<Relay>(std::move(socket));
   relay->address = remote.address().to_string();
   const char* refusal = nullptr;
+  std::shared_ptr<Relay> evicted;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     int& open = open_per_address_[relay->address];
+    if (open < limits_.max_per_address && static_cast<int>(relays_.size()) >= limits_.max_total) {
+      // Full: the connection held longest without a whole request makes room. Slow clients of
+      // many addresses then cannot keep a newcomer out (a browser's request is whole within
+      // milliseconds of its connection); connections whose request reached the server stay.
+      for (const auto& r : relays_) {
+        if (r->holding && !r->closed && (!evicted || r->deadline < evicted->deadline)) evicted = r;
+      }
+    }
     if (open >= limits_.max_per_address) {
       ++counters_.refused_address;
       refusal = "connections from that address";
-    } else if (static_cast<int>(relays_.size()) >= limits_.max_total) {
+    } else if (static_cast<int>(relays_.size()) >= limits_.max_total && !evicted) {
       ++counters_.refused_total;
       refusal = "connections in all";
       if (open == 0) open_per_address_.erase(relay->address);
     } else {
+      if (evicted) ++counters_.evicted;
       ++open;
       ++counters_.relayed;
       relays_.insert(relay);
@@ -170,6 +181,12 @@ void ConnectionGate::admit(tcp::socket socket) {
                    std::string("dashboard: refused a connection from ") + relay->address + ": too many open " + refusal);
     relay->client.close(ec);
     return;
+  }
+  if (evicted) {
+    refusals_.warn(evicted->address, "evicted",
+                   "dashboard: closed a connection from " + evicted->address +
+                       ": every connection is open, and its request was the longest unfinished");
+    close(evicted);
   }
   hold(relay);
 }
@@ -194,6 +211,7 @@ void ConnectionGate::hold(const std::shared_ptr<Relay>& relay) {
 }
 
 void ConnectionGate::connect(const std::shared_ptr<Relay>& relay) {
+  relay->holding = false;
   relay->backend.async_connect(tcp::endpoint(asio::ip::address_v4::loopback(), static_cast<unsigned short>(backend_port_)),
                                [this, relay](const boost::system::error_code& error) {
                                  if (error || relay->closed) {

@@ -11,7 +11,9 @@
 //    server: a connection being dribbled costs a socket and a buffer here, never a server
 //    thread, so slow clients from any number of addresses cannot hold the server's threads;
 //  - refuses a client address that already has `max_per_address` connections open;
-//  - refuses connections beyond `max_total`;
+//  - at `max_total` open connections, makes room for a new one by closing the one held longest
+//    whose request has not arrived whole (counted `evicted`); refuses it only when every open
+//    connection's request has reached the server;
 //  - closes a connection whose request has not arrived whole within `request_deadline_s` of
 //    its opening. The server reports a GET's head (request_arrived) by the port the relay's
 //    connection comes from; the GET is then served as long as it lasts (event streams). A
@@ -71,7 +73,8 @@ class ConnectionGate {
   struct Counters {
     std::uint64_t relayed = 0;           ///< connections accepted and relayed
     std::uint64_t refused_address = 0;   ///< over max_per_address
-    std::uint64_t refused_total = 0;     ///< over max_total
+    std::uint64_t refused_total = 0;     ///< over max_total, none of them held (all served)
+    std::uint64_t evicted = 0;           ///< held longest, closed at max_total for a new one
     std::uint64_t expired = 0;           ///< closed at request_deadline_s
   };
   Counters counters() const;

@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <memory>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -102,6 +103,29 @@ TEST_F(Gate, SlowClientsOfManyAddressesCannotHoldTheServersThreads) {
   int closed = 0;
   for (auto& socket : slow) closed += socket->closed_within(3000) ? 1 : 0;
   EXPECT_EQ(closed, 96) << "each is still closed at the deadline";
+}
+
+// Nine addresses of 32 slow connections each filled the gate's 288 (4 x (max_streams + 8)), and
+// the commander's browser was refused until the deadline closed them (issue 59, "many
+// addresses"). Now the connection held longest without a whole request makes room.
+TEST_F(Gate, SlowClientsFillingEveryConnectionCannotKeepTheCommanderOut) {
+  const auto opened = std::chrono::steady_clock::now();
+  std::vector<std::unique_ptr<RawSocket>> slow;
+  for (int host = 2; host <= 10; ++host) {
+    const std::string from = "127.0.0." + std::to_string(host);
+    for (auto& socket : open_from_attacker(32, "GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n", from.c_str())) {
+      slow.push_back(std::move(socket));
+    }
+  }
+  std::this_thread::sleep_for(200ms);  // every one accepted and held
+  EXPECT_TRUE(page_served_within(1s)) << "the commander's page was refused behind 288 slow clients of 9 addresses";
+  const auto counters = server->connection_counters();
+  EXPECT_EQ(counters.refused_total, 0U);
+  EXPECT_EQ(counters.refused_address, 0U);
+  EXPECT_GE(counters.evicted, 1U);
+  // The first opened made room, well before the 2 s deadline would have closed it.
+  ASSERT_TRUE(slow.front()->closed_within(3000));
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - opened).count(), 1.9);
 }
 
 // Logging in takes the token in the body, so POST /api/session cannot be refused on its head:
