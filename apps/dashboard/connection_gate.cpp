@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "sarloc/core/common/errors.hpp"
+
 namespace sarloc::dashboard {
 
 namespace asio = boost::asio;
@@ -60,7 +62,25 @@ bool request_ready(std::string_view held) {
 // gate's mutex.
 struct ConnectionGate::Relay {
   explicit Relay(tcp::socket socket) : client(std::move(socket)), backend(client.get_executor()) {}
+  /// The client's bytes, decrypted when the gate ends its TLS.
+  template <class Handler>
+  void read_client(asio::mutable_buffer buffer, Handler&& handler) {
+    if (tls) {
+      tls->async_read_some(buffer, std::forward<Handler>(handler));
+    } else {
+      client.async_read_some(buffer, std::forward<Handler>(handler));
+    }
+  }
+  template <class Handler>
+  void write_client(asio::const_buffer buffer, Handler&& handler) {
+    if (tls) {
+      asio::async_write(*tls, buffer, std::forward<Handler>(handler));
+    } else {
+      asio::async_write(client, buffer, std::forward<Handler>(handler));
+    }
+  }
   tcp::socket client;
+  std::unique_ptr<asio::ssl::stream<tcp::socket&>> tls;  // after `client`, which it uses
   tcp::socket backend;
   std::array<char, 16384> upstream_buffer{};    // client -> server
   std::array<char, 16384> downstream_buffer{};  // server -> client
@@ -73,8 +93,33 @@ struct ConnectionGate::Relay {
   bool closed = false;
 };
 
-ConnectionGate::ConnectionGate(ConnectionLimits limits, const std::string& bind_address, int port, int backend_port)
-    : limits_(limits), backend_port_(backend_port), acceptor_(io_), sweep_timer_(io_), accept_backoff_(io_) {
+std::shared_ptr<asio::ssl::context> make_tls_context(const std::string& certificate, const std::string& key) {
+  auto context = std::make_shared<asio::ssl::context>(asio::ssl::context::tls_server);
+  try {
+    context->set_options(asio::ssl::context::default_workarounds | asio::ssl::context::no_sslv2 |
+                         asio::ssl::context::no_sslv3 | asio::ssl::context::no_tlsv1 | asio::ssl::context::no_tlsv1_1 |
+                         asio::ssl::context::single_dh_use);
+    context->use_certificate_chain_file(certificate);
+    context->use_private_key_file(key, asio::ssl::context::pem);
+  } catch (const boost::system::system_error& e) {
+    throw ConfigError("dashboard.tls_certificate = " + certificate + ", dashboard.tls_private_key = " + key +
+                      ": not a certificate and its key in PEM (or unreadable): " + e.what());
+  }
+  if (SSL_CTX_check_private_key(context->native_handle()) != 1) {
+    throw ConfigError("dashboard.tls_certificate = " + certificate + ", dashboard.tls_private_key = " + key +
+                      ": the key is not the certificate's");
+  }
+  return context;
+}
+
+ConnectionGate::ConnectionGate(ConnectionLimits limits, const std::string& bind_address, int port, int backend_port,
+                               std::shared_ptr<asio::ssl::context> tls)
+    : limits_(limits),
+      tls_(std::move(tls)),
+      backend_port_(backend_port),
+      acceptor_(io_),
+      sweep_timer_(io_),
+      accept_backoff_(io_) {
   boost::system::error_code ec;
   const auto address = asio::ip::make_address(bind_address, ec);
   if (ec) throw std::runtime_error("cannot listen on '" + bind_address + "': not an IP address");
@@ -188,26 +233,39 @@ void ConnectionGate::admit(tcp::socket socket) {
                        ": every connection is open, and its request was the longest unfinished");
     close(evicted);
   }
+  if (tls_) {
+    // The handshake too must end by the deadline (sweep), and the connection is held meanwhile.
+    relay->tls = std::make_unique<asio::ssl::stream<tcp::socket&>>(relay->client, *tls_);
+    relay->tls->async_handshake(asio::ssl::stream_base::server, [this, relay](const boost::system::error_code& error) {
+      if (relay->closed) return;
+      if (error) {
+        close(relay);  // not TLS, or not a version or cipher we speak
+        return;
+      }
+      hold(relay);
+    });
+    return;
+  }
   hold(relay);
 }
 
 // The request stays here, where a connection costs a socket and a buffer, until it has arrived
 // whole (request_ready): only then does the connection take one of the server's threads.
 void ConnectionGate::hold(const std::shared_ptr<Relay>& relay) {
-  relay->client.async_read_some(asio::buffer(relay->upstream_buffer),
-                                [this, relay](const boost::system::error_code& ec, std::size_t n) {
-                                  if (relay->closed) return;
-                                  if (ec) {
-                                    close(relay);
-                                    return;
-                                  }
-                                  relay->held.append(relay->upstream_buffer.data(), n);
-                                  if (request_ready(relay->held)) {
-                                    connect(relay);
-                                    return;
-                                  }
-                                  hold(relay);
-                                });
+  relay->read_client(asio::buffer(relay->upstream_buffer),
+                     [this, relay](const boost::system::error_code& ec, std::size_t n) {
+                       if (relay->closed) return;
+                       if (ec) {
+                         close(relay);
+                         return;
+                       }
+                       relay->held.append(relay->upstream_buffer.data(), n);
+                       if (request_ready(relay->held)) {
+                         connect(relay);
+                         return;
+                       }
+                       hold(relay);
+                     });
 }
 
 void ConnectionGate::connect(const std::shared_ptr<Relay>& relay) {
@@ -239,9 +297,8 @@ void ConnectionGate::connect(const std::shared_ptr<Relay>& relay) {
 }
 
 void ConnectionGate::pump(const std::shared_ptr<Relay>& relay, bool upstream) {
-  auto& from = upstream ? relay->client : relay->backend;
   auto& buffer = upstream ? relay->upstream_buffer : relay->downstream_buffer;
-  from.async_read_some(asio::buffer(buffer), [this, relay, upstream](const boost::system::error_code& ec, std::size_t n) {
+  auto relayed = [this, relay, upstream](const boost::system::error_code& ec, std::size_t n) {
     if (relay->closed) return;
     // Either end ends the connection: the server answers one request per connection, and
     // answers no client that has shut its sending side (cpp-httplib), so a client's end is
@@ -250,16 +307,24 @@ void ConnectionGate::pump(const std::shared_ptr<Relay>& relay, bool upstream) {
       close(relay);
       return;
     }
-    auto& to = upstream ? relay->backend : relay->client;
-    const auto& data = upstream ? relay->upstream_buffer : relay->downstream_buffer;
-    asio::async_write(to, asio::buffer(data.data(), n), [this, relay, upstream](const boost::system::error_code& error, std::size_t) {
+    auto written = [this, relay, upstream](const boost::system::error_code& error, std::size_t) {
       if (error) {
         close(relay);
         return;
       }
       pump(relay, upstream);
-    });
-  });
+    };
+    if (upstream) {
+      asio::async_write(relay->backend, asio::buffer(relay->upstream_buffer.data(), n), written);
+    } else {
+      relay->write_client(asio::buffer(relay->downstream_buffer.data(), n), written);
+    }
+  };
+  if (upstream) {
+    relay->read_client(asio::buffer(buffer), relayed);
+  } else {
+    relay->backend.async_read_some(asio::buffer(buffer), relayed);
+  }
 }
 
 void ConnectionGate::close(const std::shared_ptr<Relay>& relay) {

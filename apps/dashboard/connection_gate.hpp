@@ -18,10 +18,14 @@
 //    its opening. The server reports a GET's head (request_arrived) by the port the relay's
 //    connection comes from; the GET is then served as long as it lasts (event streams). A
 //    request with a body is not reported: it must be answered by the deadline (4 KiB at most).
-// TLS passes through untouched, at once: the server behind decrypts, and reports the same way
-// (a slow TLS client still holds a server thread until the deadline). One
-// request per connection (the server closes after each), so the deadline covers all of it.
+// With a TLS context the gate ends TLS itself (TLS 1.2 and up), and holds the decrypted
+// request as above: a slow TLS client holds no server thread either (before 2026-12-05 TLS
+// passed through to cpp-httplib's SSLServer, and a client that dribbled its request inside TLS
+// held a server thread until the deadline). Without one, a TLS client passes at once (first
+// byte 0x16) to the plain server, which refuses it. One request per connection (the server
+// closes after each), so the deadline covers all of it, the TLS handshake included.
 #include <boost/asio.hpp>
+#include <boost/asio/ssl.hpp>
 #include <chrono>
 #include <cstdint>
 #include <map>
@@ -53,11 +57,16 @@ struct ConnectionLimits {
   double request_deadline_s = 10.0; ///< from opening to the request reaching its handler
 };
 
+/// The gate's TLS: a certificate (chain) and its private key, PEM files. Throws ConfigError
+/// naming both when they do not load or do not match.
+std::shared_ptr<boost::asio::ssl::context> make_tls_context(const std::string& certificate, const std::string& key);
+
 class ConnectionGate {
  public:
-  /// Listens on `bind_address`:`port` (0: any free port) and relays to 127.0.0.1:`backend_port`.
-  /// Throws std::runtime_error when it cannot listen.
-  ConnectionGate(ConnectionLimits limits, const std::string& bind_address, int port, int backend_port);
+  /// Listens on `bind_address`:`port` (0: any free port) and relays to 127.0.0.1:`backend_port`,
+  /// ending TLS with `tls` when given. Throws std::runtime_error when it cannot listen.
+  ConnectionGate(ConnectionLimits limits, const std::string& bind_address, int port, int backend_port,
+                 std::shared_ptr<boost::asio::ssl::context> tls = nullptr);
   ~ConnectionGate();
   ConnectionGate(const ConnectionGate&) = delete;
   ConnectionGate& operator=(const ConnectionGate&) = delete;
@@ -92,6 +101,7 @@ class ConnectionGate {
   void close(const std::shared_ptr<Relay>& relay);
 
   ConnectionLimits limits_;
+  std::shared_ptr<boost::asio::ssl::context> tls_;  // null: plain HTTP
   int backend_port_ = 0;
   int port_ = 0;
   boost::asio::io_context io_;

@@ -94,16 +94,10 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
                                  std::function<bool(std::uint32_t, const std::string&)> acknowledge)
     : config_(std::move(config)), state_(state), acknowledge_(std::move(acknowledge)) {
   config_.validate();
-  if (tls()) {
-    auto secure = std::make_unique<httplib::SSLServer>(config_.tls_certificate.c_str(), config_.tls_private_key.c_str());
-    if (!secure->is_valid()) {
-      throw ConfigError("dashboard.tls_certificate = " + config_.tls_certificate + ", dashboard.tls_private_key = " +
-                        config_.tls_private_key + ": not a certificate and its key in PEM (or unreadable)");
-    }
-    server_ = std::move(secure);
-  } else {
-    server_ = std::make_unique<httplib::Server>();
-  }
+  // TLS ends in the gate, which holds each decrypted request until it is whole: the server
+  // behind it, on loopback, speaks plain HTTP.
+  if (tls()) tls_context_ = make_tls_context(config_.tls_certificate, config_.tls_private_key);
+  server_ = std::make_unique<httplib::Server>();
   sessions_ = std::make_shared<SessionStore>(config_.view_token, config_.token);
   auto& s = *server_;
   // One thread per open stream, and some for everything else.
@@ -465,7 +459,7 @@ void DashboardServer::start() {
   limits.max_total = 4 * (config_.max_streams + 8);
   limits.request_deadline_s = config_.request_deadline_s;
   try {
-    gate_ = std::make_unique<ConnectionGate>(limits, config_.bind_address, config_.port, backend_port);
+    gate_ = std::make_unique<ConnectionGate>(limits, config_.bind_address, config_.port, backend_port, tls_context_);
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(std::string(e.what()) + ": address in use, or not this machine's");
   }

@@ -136,6 +136,7 @@ class DashboardServer {
   std::shared_ptr<SessionStore> sessions_;
   std::unique_ptr<httplib::Server> server_;  ///< on a loopback port: clients reach it through gate_
   std::unique_ptr<ConnectionGate> gate_;     ///< the public port
+  std::shared_ptr<boost::asio::ssl::context> tls_context_;  ///< the gate's TLS, when configured
   std::thread thread_;
   std::atomic<bool> stopping_{false};
   std::atomic<int> streams_{0};
