@@ -7,6 +7,7 @@
 
 #include "sarloc/core/avalanche/bearing_density.hpp"
 #include "sarloc/core/common/gaussian.hpp"
+#include "sarloc/core/common/position_nees.hpp"
 
 namespace sarloc::eval {
 namespace av = sarloc::avalanche;
@@ -25,7 +26,7 @@ void print_trace_step(const av::TrialStep& s) {
   }
   const Vec3 truth = s.sim.true_relative_position();
   const Vec3 err = s.estimate.relative.position - truth;
-  const double nees = err.dot(s.estimate.relative.covariance.ldlt().solve(err));
+  const double nees = sarloc::position_nees(err, s.estimate.relative.covariance);
   const std::vector<av::TransmitterHypothesis> hypotheses = s.filter.hypotheses();
   double w0 = 0.0;
   for (const av::TransmitterHypothesis& h : hypotheses) w0 = std::max(w0, h.weight);
@@ -93,7 +94,7 @@ void TraceCsv::add(const av::TrialStep& s) {
   // to the axis and the range where the filter is overconfident.
   const Mat3& P = s.estimate.relative.covariance;
   const Vec3 err = est - s.sim.true_relative_position();
-  const double nees = err.dot(P.ldlt().solve(err));
+  const double nees = sarloc::position_nees(err, P);
   char line[800];
   std::snprintf(line, sizeof line,
                 "%u,%u,%d,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.6f,%.6f,%.6f,%.6e,%.6e,%.6e,"

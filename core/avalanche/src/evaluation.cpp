@@ -20,6 +20,7 @@
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/gaussian.hpp"
 #include "sarloc/core/common/parallel_trials.hpp"
+#include "sarloc/core/common/position_nees.hpp"
 #include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::avalanche {
@@ -144,12 +145,7 @@ TrialResult run_trial(const EvaluationSetup& setup, std::uint32_t index,
     const Guidance g = ctl.guide(*filter, *z);
     const VictimEstimate e = filter->estimate(0);
     const Vec3 err = e.relative.position - sim.true_relative_position();
-    // A covariance that is not positive definite (a particle cloud collapsed onto one point)
-    // claims certainty: infinitely inconsistent with any error, never a negative number.
-    const Eigen::LDLT<Mat3> ldlt(e.relative.covariance);
-    double nees = ldlt.info() == Eigen::Success && ldlt.isPositive() ? err.dot(ldlt.solve(err)) : 0.0;
-    if (!(nees >= 0.0) || !std::isfinite(nees) || (nees == 0.0 && err.squaredNorm() > 0.0))
-      nees = std::numeric_limits<double>::infinity();
+    const double nees = position_nees(err, e.relative.covariance);
     tr.final_nees = nees;
     if (e.status == EstimatorStatus::kConverged) {
       tr.nees.push_back(nees);
