@@ -78,6 +78,9 @@ void read_sog(YamlReader r, avalanche::SogConfig& c) {
   r.read("attitude_prior_sigma_rad", c.attitude_prior_sigma_rad);
   r.read("noise_relative", c.noise_relative);
   r.read("noise_floor_A_per_m", c.noise_floor_A_per_m);
+  r.read("field_carrier_hz", c.field_carrier_hz);
+  r.read("calibration_gain_sigma", c.calibration_gain_sigma);
+  r.read("calibration_pointing_sigma_deg", c.calibration_pointing_sigma_deg);
   r.read("censored_axis_sigmas", c.censored_axis_sigmas);
   r.read("idle_translation_sigma_m", c.idle_translation_sigma_m);
   r.read("idle_rotation_sigma_rad", c.idle_rotation_sigma_rad);

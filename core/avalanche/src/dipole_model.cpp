@@ -1,5 +1,6 @@
 #include "sarloc/core/avalanche/dipole_model.hpp"
 
+#include <Eigen/LU>
 #include <cmath>
 
 #include "sarloc/core/avalanche/rotation.hpp"
@@ -44,7 +45,73 @@ Vec3 DipoleField::moment(const Vec3& r, const Vec3& h, Mat3* J_m_r, Mat3* J_m_H)
   return m;
 }
 
-MeasurementModel::MeasurementModel(const DispVec& d) : t_(d.segment<3>(idx::kTrans)) {
+Vec3 DipoleField::major_axis(const Vec3& r, const Vec3& m, double k, Mat3* J_r, Mat3* J_m) {
+  const bool need = J_r != nullptr || J_m != nullptr;
+  Mat3 jq_r, jq_m;
+  const Vec3 q = field(r, m, need ? &jq_r : nullptr, need ? &jq_m : nullptr);
+  if (k == 0.0) {
+    if (J_r != nullptr) *J_r = jq_r;
+    if (J_m != nullptr) *J_m = jq_m;
+    return q;
+  }
+  const double rho2 = r.squaredNorm();
+  const double rho = std::sqrt(rho2);
+  const double kappa = k * k / (4.0 * kPi);
+  const double rm = r.dot(m);
+  const Vec3 a = q + kappa * (m / rho - r * (rm / (rho2 * rho)));
+  const Vec3 b = k * rho * q;
+  const double x = a.squaredNorm() - b.squaredNorm();
+  const double y = 2.0 * a.dot(b);
+  const double theta = 0.5 * std::atan2(y, x);
+  const double c = std::cos(theta);
+  const double s = std::sin(theta);
+  if (need) {
+    const double rho3 = rho2 * rho;
+    // v = c A + s B: dv = c dA + s dB + (c B - s A) dtheta, with
+    // dtheta = (X (B^T dA + A^T dB) - Y (A^T dA - B^T dB)) / (X^2 + Y^2).
+    const Vec3 dv_dtheta = c * b - s * a;
+    const double norm = x * x + y * y;
+    auto chain = [&](const Mat3& ja, const Mat3& jb) {
+      const Eigen::RowVector3d dtheta =
+          (x * (b.transpose() * ja + a.transpose() * jb) - y * (a.transpose() * ja - b.transpose() * jb)) / norm;
+      return Mat3(c * ja + s * jb + dv_dtheta * dtheta);
+    };
+    if (J_r != nullptr) {
+      // The radiation term kappa (m / rho - r (r.m) / rho^3) and the induction term k rho Q.
+      Mat3 jrad = -(m * r.transpose()) - r * m.transpose() + (3.0 * rm / rho2) * (r * r.transpose());
+      jrad.diagonal().array() -= rm;
+      const Mat3 ja = jq_r + (kappa / rho3) * jrad;
+      const Mat3 jb = k * ((q * r.transpose()) / rho + rho * jq_r);
+      *J_r = chain(ja, jb);
+    }
+    if (J_m != nullptr) {
+      Mat3 jrad = -(r * r.transpose()) / rho3;
+      jrad.diagonal().array() += 1.0 / rho;
+      *J_m = chain(jq_m + kappa * jrad, k * rho * jq_m);
+    }
+  }
+  return c * a + s * b;
+}
+
+Vec3 DipoleField::moment_of_major_axis(const Vec3& r, const Vec3& h, double k, Mat3* J_m_r, Mat3* J_m_H) {
+  if (k == 0.0) return moment(r, h, J_m_r, J_m_H);
+  // v(m) - h is within (k r)^2 of linear in m: a few Newton steps reach machine precision.
+  constexpr int kNewtonSteps = 4;
+  Vec3 m = moment(r, h);
+  Mat3 j_r, j_m;
+  for (int i = 0; i < kNewtonSteps; ++i) {
+    const Vec3 v = major_axis(r, m, k, nullptr, &j_m);
+    m += j_m.lu().solve(h - v);
+  }
+  major_axis(r, m, k, &j_r, &j_m);
+  const Mat3 j_m_inv = j_m.inverse();
+  if (J_m_r != nullptr) *J_m_r = -j_m_inv * j_r;
+  if (J_m_H != nullptr) *J_m_H = j_m_inv;
+  return m;
+}
+
+MeasurementModel::MeasurementModel(const DispVec& d, double wavenumber)
+    : t_(d.segment<3>(idx::kTrans)), k_(wavenumber) {
   const EulerTrig trig_d = EulerTrig::from_rpy(d.segment<3>(idx::kRot));
   r_d_ = trig_d.rotation();
   e_d_ = trig_d.rate_to_world();
@@ -61,7 +128,7 @@ Vec3 MeasurementModel::h(const StateVec& x, Jacobian<3, idx::kStateDim>* H_x,
   const Vec3 r = rt - p;  // transmitter -> receiver in G_{k-1}
   Mat3 j_r, j_m;
   const bool need = H_x != nullptr || H_d != nullptr;
-  const Vec3 field = DipoleField::field(r, m, need ? &j_r : nullptr, need ? &j_m : nullptr);
+  const Vec3 field = DipoleField::major_axis(r, m, k_, need ? &j_r : nullptr, need ? &j_m : nullptr);
   if (need) {
     // A change dPsi rotates by omega = E_w(Psi) dPsi: d(R t) = -[R t]x omega moves r, and
     // the rotated frame adds R_k^T [H_G]x omega. dr/dp = -I, dr/dt = R(Psi).
@@ -81,15 +148,15 @@ Vec3 MeasurementModel::h(const StateVec& x, Jacobian<3, idx::kStateDim>* H_x,
 }
 
 Vec3 MeasurementModel::h(const StateVec& x, const DispVec& d, Jacobian<3, idx::kStateDim>* H_x,
-                         Jacobian<3, idx::kDispDim>* H_d) {
-  return MeasurementModel(d).h(x, H_x, H_d);
+                         Jacobian<3, idx::kDispDim>* H_d, double wavenumber) {
+  return MeasurementModel(d, wavenumber).h(x, H_x, H_d);
 }
 
-Vec3 MeasurementModel::h(const AugVec& xa, Jacobian<3, idx::kAugDim>* H) {
+Vec3 MeasurementModel::h(const AugVec& xa, Jacobian<3, idx::kAugDim>* H, double wavenumber) {
   Jacobian<3, idx::kStateDim> h_x;
   Jacobian<3, idx::kDispDim> h_d;
   const Vec3 z = h(StateVec(xa.head<idx::kStateDim>()), DispVec(xa.tail<idx::kDispDim>()),
-                   H != nullptr ? &h_x : nullptr, H != nullptr ? &h_d : nullptr);
+                   H != nullptr ? &h_x : nullptr, H != nullptr ? &h_d : nullptr, wavenumber);
   if (H != nullptr) *H << h_x, h_d;
   return z;
 }

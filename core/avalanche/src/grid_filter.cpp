@@ -25,7 +25,7 @@ void GridFilterConfig::validate() const {
 }
 
 GridFilter::GridFilter(SogConfig sog, GridFilterConfig config, std::string rescuer_id, std::uint32_t signal_id)
-    : sog_((sog.validate(), std::move(sog))),
+    : sog_((sog.validate(), sog.quasi_static())),
       config_((config.validate(), config)),
       rescuer_id_(std::move(rescuer_id)),
       signal_id_(signal_id),

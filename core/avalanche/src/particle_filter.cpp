@@ -50,7 +50,7 @@ void ParticleFilterConfig::validate() const {
 ParticleFilter::ParticleFilter(FilterKind kind, SogConfig sog, ParticleFilterConfig config, std::uint64_t seed,
                                std::string rescuer_id, std::uint32_t signal_id)
     : kind_(kind),
-      sog_((sog.validate(), std::move(sog))),
+      sog_((sog.validate(), sog.quasi_static())),
       config_((config.validate(), config)),
       count_(kind == FilterKind::kRbpfImproved ? config.improved_particles : config.particles),
       rescuer_id_(std::move(rescuer_id)),

@@ -48,7 +48,9 @@ void ReceiverModelConfig::validate() const {
   check("sample_rate_hz", sample_rate_hz, 2.5 * carrier_tolerance_hz + 50.0, 10000.0);
 }
 
-double wavenumber(const ReceiverModelConfig& config) { return 2.0 * kPi * config.carrier_hz / kSpeedOfLight; }
+double carrier_wavenumber(double carrier_hz) { return 2.0 * kPi * carrier_hz / kSpeedOfLight; }
+
+double wavenumber(const ReceiverModelConfig& config) { return carrier_wavenumber(config.carrier_hz); }
 
 Vec3c full_dipole_field(const Vec3& r, const Vec3& m, double k) {
   const double rn = r.norm();

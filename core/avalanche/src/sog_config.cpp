@@ -49,6 +49,13 @@ void SogConfig::validate() const {
           noise_relative, "must be in [0, 1]");
   require(finite_positive(censored_axis_sigmas) && censored_axis_sigmas <= 20.0, "sog.censored_axis_sigmas",
           censored_axis_sigmas, "must be in (0, 20]");
+  require(std::isfinite(calibration_gain_sigma) && calibration_gain_sigma >= 0.0 && calibration_gain_sigma <= 0.3,
+          "sog.calibration_gain_sigma", calibration_gain_sigma, "must be in [0, 0.3]");
+  require(std::isfinite(calibration_pointing_sigma_deg) && calibration_pointing_sigma_deg >= 0.0 &&
+              calibration_pointing_sigma_deg <= 20.0,
+          "sog.calibration_pointing_sigma_deg", calibration_pointing_sigma_deg, "must be in [0, 20]");
+  require(std::isfinite(field_carrier_hz) && field_carrier_hz >= 0.0 && field_carrier_hz <= 1e7, "sog.field_carrier_hz",
+          field_carrier_hz, "must be in [0, 1e7] (0: the quasi-static field)");
   require(finite_positive(noise_floor_A_per_m) && noise_floor_A_per_m <= 1e-3, "sog.noise_floor_A_per_m",
           noise_floor_A_per_m, "must be in (0, 1e-3]");
   require(finite_positive(idle_translation_sigma_m) && idle_translation_sigma_m <= 10.0, "sog.idle_translation_sigma_m",
@@ -83,6 +90,23 @@ void SogConfig::validate() const {
           "must be in (0, 1] (a miss never tells more than the model)");
   require(finite_positive(miss_weight_floor) && miss_weight_floor <= 1.0, "sog.miss_weight_floor", miss_weight_floor,
           "must be in (0, 1]");
+}
+
+SogConfig SogConfig::quasi_static() const {
+  SogConfig c = *this;
+  c.field_carrier_hz = 0.0;
+  c.calibration_gain_sigma = 0.0;
+  c.calibration_pointing_sigma_deg = 0.0;
+  return c;
+}
+
+CalibrationVec SogConfig::calibration_variance() const {
+  const double pointing = calibration_pointing_sigma_deg * kPi / 180.0;
+  CalibrationVec v;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b)
+      v[3 * a + b] = a == b ? calibration_gain_sigma * calibration_gain_sigma : pointing * pointing;
+  return v;
 }
 
 }  // namespace sarloc::avalanche

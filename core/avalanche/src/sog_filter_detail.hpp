@@ -58,6 +58,22 @@ inline StateCov composed_covariance(const StateCov& p, const CompositionJacobian
   return p_new;
 }
 
+// dz/dE of z = (I + E) h, E row-major: row a holds h in E(a, .)'s columns.
+inline Jacobian<3, kCalibrationDim> calibration_jacobian(const Vec3& h) {
+  Jacobian<3, kCalibrationDim> j = Jacobian<3, kCalibrationDim>::Zero();
+  for (int a = 0; a < 3; ++a) j.block<1, 3>(a, 3 * a) = h.transpose();
+  return j;
+}
+
+// F_x C: the state's cross-covariance with the calibration errors moved by the composition
+// (the displacement is independent of them).
+inline CalibrationCross composed_cross(const CalibrationCross& c, const CompositionJacobians& f) {
+  CalibrationCross fc = c;
+  fc.middleRows<3>(idx::kAtt) = f.att_att * c.middleRows<3>(idx::kAtt);
+  fc.middleRows<3>(idx::kPos) += f.pos_att * c.middleRows<3>(idx::kAtt);
+  return fc;
+}
+
 // Index list 0 .. n-1 (every component) for moments_of.
 struct AllIndices {
   std::size_t n;

@@ -44,10 +44,18 @@ SogFilter::InitialRing SogFilter::initial_ring(const FieldMeasurement& meas) con
   // evaluated at |z| +- k sigma so that noise cannot push the truth outside the ring.
   const double z_hi = zn + config_.range_noise_sigmas * sigma_norm;
   const double z_lo = zn - config_.range_noise_sigmas * sigma_norm;
-  const double r_min = std::cbrt(m_lo / (4.0 * kPi * z_hi));
-  const double r_max =
-      z_lo > 0.0 ? std::min(config_.max_range_m, std::cbrt(2.0 * m_hi / (4.0 * kPi * z_lo)))
-                 : config_.max_range_m;
+  // What a receiver resolves at the carrier (DipoleField::major_axis) is the quasi-static field
+  // times sqrt(1 + (k r)^2) on the moment's axis (the strongest) and sqrt(1 - (k r)^2 + (k r)^4)
+  // across it (the weakest): the ring widens by those factors to the 1/3.
+  const double k = config_.wavenumber();
+  const double r_min_qs = std::cbrt(m_lo / (4.0 * kPi * z_hi));
+  const double kr_min2 = std::pow(k * r_min_qs, 2);
+  const double r_min = r_min_qs * std::pow(1.0 - kr_min2 + kr_min2 * kr_min2, 1.0 / 6.0);
+  double r_max = config_.max_range_m;
+  if (z_lo > 0.0) {
+    const double r_max_qs = std::cbrt(2.0 * m_hi / (4.0 * kPi * z_lo));
+    r_max = std::min(config_.max_range_m, r_max_qs * std::pow(1.0 + std::pow(k * r_max_qs, 2), 1.0 / 6.0));
+  }
   const double h = config_.antenna_height_m;
   double depth = config_.max_burial_depth_m;
   std::uint32_t layers = config_.depth_layers;
@@ -99,10 +107,15 @@ void SogFilter::initialise(const FieldMeasurement& meas) {
   const double rho_max = ring.rho_max_m;
   const double thickness = depth / layers;
   const double sigma_z = config_.depth_sigma_factor * thickness;
+  const double k = config_.wavenumber();
+  // The calibration errors E, when carried: z_1 = (I + E) h, so the moment derived from it shares
+  // E's share of z_1's error (Cov(m, E) = G_z H_E Sigma_E) and its variance grows by it.
+  const CalibrationVec calibration_variance = config_.calibration_variance();
+  const bool calibrated = calibration_variance.any();
+  const Jacobian<3, kCalibrationDim> h_e = calibration_jacobian(z);
 
   struct Candidate {
     Vec3 p;
-    Vec3 m;
   };
   auto generate = [&](double s, bool check_moment, std::vector<Candidate>* out) {
     std::size_t count = 0;
@@ -118,13 +131,13 @@ void SogFilter::initialise(const FieldMeasurement& meas) {
         if (rho > rho_max || rho < rho_min) continue;
         for (std::uint32_t l = 0; l < layers; ++l) {
           const Vec3 p(x, y, -(h + (l + 0.5) * thickness));
-          const Vec3 m = DipoleField::moment(-p, h_g);
+          const Vec3 m = DipoleField::moment_of_major_axis(-p, h_g, k);
           if (check_moment) {
             const double mn = m.norm();
             if (mn < m_lo || mn > m_hi) continue;
           }
           ++count;
-          if (out != nullptr) out->push_back({p, m});
+          if (out != nullptr) out->push_back({p});
         }
       }
     }
@@ -159,14 +172,15 @@ void SogFilter::initialise(const FieldMeasurement& meas) {
   const double sigma_h = config_.horizontal_overlap * s;
   Mat3 p_pp = Mat3::Zero();
   p_pp.diagonal() << sigma_h * sigma_h, sigma_h * sigma_h, sigma_z * sigma_z;
-  const Mat3 r_z = sigma_axis.cwiseAbs2().asDiagonal();
+  Mat3 r_z = sigma_axis.cwiseAbs2().asDiagonal();
+  if (calibrated) r_z += h_e * calibration_variance.asDiagonal() * h_e.transpose();
   const Mat3 dhg_dpsi = -skew(h_g) * euler_rate_to_world(psi0);
 
   components_.clear();
   components_.reserve(cands.size());
   for (const auto& c : cands) {
     Mat3 j_m_r, j_m_h;
-    const Vec3 m = DipoleField::moment(-c.p, h_g, &j_m_r, &j_m_h);
+    const Vec3 m = DipoleField::moment_of_major_axis(-c.p, h_g, k, &j_m_r, &j_m_h);
     // m = g(Psi, p, z): linearised joint covariance (r = -p, h_G = R(Psi) z).
     const Mat3 g_p = -j_m_r;
     const Mat3 g_psi = j_m_h * dhg_dpsi;
@@ -185,6 +199,7 @@ void SogFilter::initialise(const FieldMeasurement& meas) {
     comp.P.block<3, 3>(idx::kPos, idx::kMom) = (g_p * p_pp).transpose();
     comp.P.block<3, 3>(idx::kMom, idx::kAtt) = g_psi * p_psi;
     comp.P.block<3, 3>(idx::kAtt, idx::kMom) = (g_psi * p_psi).transpose();
+    if (calibrated) comp.calibration_cross.middleRows<3>(idx::kMom) = g_z * h_e * calibration_variance.asDiagonal();
     // Change of variables z -> m: p(p | z_1) ~ p_m(m(p)) |det dm/dz| ~ r^9 / |m|^2.
     comp.log_weight = config_.jacobian_initial_weights
                           ? 9.0 * std::log(c.p.norm()) - 2.0 * std::log(m.norm())

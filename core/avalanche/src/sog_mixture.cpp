@@ -87,6 +87,12 @@ std::size_t SogFilter::merge() {
       ci.x = merged_moments.mean;
       ci.x[idx::kAtt + 2] = wrap_angle(ci.x[idx::kAtt + 2]);  // a component's yaw is wrapped
       ci.P = 0.5 * (merged_moments.covariance + merged_moments.covariance.transpose());
+      // Cov(x, E) of the merged Gaussian: E's mean is 0 in every member, so only the weighted
+      // cross-covariances add.
+      CalibrationCross cross = CalibrationCross::Zero();
+      for (const std::uint32_t g : group)
+        cross += std::exp(components_[g].log_weight - base) * components_[g].calibration_cross;
+      ci.calibration_cross = cross / merged_moments.weight_sum;
       ci.log_weight = base + std::log(merged_moments.weight_sum);
       // The members' weights already carry their surface factor: restart the bookkeeping from
       // the merged Gaussian so later steps apply only the change.

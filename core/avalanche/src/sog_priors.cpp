@@ -26,12 +26,13 @@ double SogFilter::apply_miss(const Vec3& floor) {
     const StateVec x = CompositionModel::f(c.x, disp.mean, &f);
     c.P = composed_covariance(c.P, f, disp.covariance);
     c.P = 0.5 * (c.P + c.P.transpose()).eval();
+    c.calibration_cross = composed_cross(c.calibration_cross, f);
     c.x = x;
   }
   // P(not detected | Gaussian): averaged over its sigma points in position and moment (kappa = 0,
   // 2n equal weights). One wide Gaussian spans ranges whose fields differ by orders of magnitude;
   // its mean alone would make it all heard or all unheard.
-  const MeasurementModel here(DispVec::Zero());
+  const MeasurementModel here(DispVec::Zero(), config_.wavenumber());
   const Vec3 weight = floor.cwiseAbs2().cwiseInverse() * config_.miss_power_margin;
   auto p_miss = [&](const StateVec& x) {
     const Vec3 h = here.h(x);

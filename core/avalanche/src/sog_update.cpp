@@ -26,6 +26,9 @@ double orientation_update(SogComponent& c, const OrientationObservation& o) {
   const Jacobian<idx::kStateDim, 3> k = pht.lazyProduct(s_inv);
   c.x += k * nu;
   c.P.noalias() -= k.lazyProduct(pht.transpose());
+  // The reading does not depend on the calibration: E's part of Psi's error is corrected with it.
+  const Eigen::Matrix<double, 3, kCalibrationDim> psi_cross = c.calibration_cross.middleRows<3>(idx::kAtt);
+  c.calibration_cross.noalias() -= k * psi_cross;
   c.P = 0.5 * (c.P + c.P.transpose()).eval();
   c.x[idx::kAtt + 2] = wrap_angle(c.x[idx::kAtt + 2]);
   return -0.5 * (nu.dot(s_inv * nu) + std::log(s.determinant()));
@@ -34,8 +37,9 @@ double orientation_update(SogComponent& c, const OrientationObservation& o) {
 // The estimation step of eq. (14) for one component on x* = [x; d], P* = blkdiag(P, Q), with the
 // sign-invariant likelihood: what the update and the predictive likelihood share.
 struct Innovation {
-  Jacobian<idx::kStateDim, 3> pht;
+  Jacobian<idx::kStateDim, 3> pht;  ///< Cov(x, z): P H_x^T + C H_E^T
   Jacobian<idx::kDispDim, 3> qht;
+  Eigen::Matrix<double, 3, kCalibrationDim> cal;  ///< Cov(z, E): H_x C + H_E Sigma_E
   Mat3 s_inv;
   Vec3 s_inv_nu;
   double sign = 1.0; ///< the sign of z that explains it best
@@ -48,14 +52,20 @@ struct Linearisation {
   Vec3 h;
   Jacobian<3, idx::kStateDim> h_x;
   Jacobian<3, idx::kDispDim> h_d;
+  Jacobian<3, kCalibrationDim> h_e;  ///< dz/dE of z = (I + E) h: row a holds h in E(a, .)'s columns
   Vec3 sigma;
 };
+
+// What the update needs of the calibration's consider parameters: their variances (null when the
+// receiver is stated free of calibration error: no cross-covariance arises).
+using CalibrationPrior = const CalibrationVec*;
 
 Linearisation linearise(const StateVec& x, const MeasurementModel& measurement, const Vec3& floor, std::uint8_t axes,
                         const FieldNoiseModel& noise) {
   Linearisation l;
   l.h = measurement.h(x, &l.h_x, &l.h_d);
   l.sigma = noise.sigma(l.h.norm(), floor);
+  l.h_e = calibration_jacobian(l.h);
   // An invalid axis is no observation: its rows of h, H_x and H_d are zeroed and its
   // innovation variance set to 1, so S is block-diagonal, the axis's innovation is 0 and
   // the update, the NIS and the weights (up to a constant) are those of the valid axes.
@@ -64,16 +74,29 @@ Linearisation linearise(const StateVec& x, const MeasurementModel& measurement, 
     l.h[a] = 0.0;
     l.h_x.row(a).setZero();
     l.h_d.row(a).setZero();
+    l.h_e.row(a).setZero();
   }
   return l;
 }
 
 // S = H_x P H_x^T + H_d Q H_d^T + R and the gains' P H^T, Q H^T; false if S is not positive.
-bool innovation_covariance(const Linearisation& l, const StateCov& p, const DispCov& q, std::uint8_t axes,
-                           Innovation& in, double& det) {
-  in.pht = p.lazyProduct(l.h_x.transpose());
+// With calibration errors E (Schmidt-Kalman): S gains H_x C H_E^T + H_E C^T H_x^T + H_E Sigma_E
+// H_E^T and P H^T gains C H_E^T, C = Cov(x, E) of the component.
+bool innovation_covariance(const Linearisation& l, const SogComponent& c, CalibrationPrior calibration,
+                           const DispCov& q, std::uint8_t axes, Innovation& in, double& det) {
+  in.pht = c.P.lazyProduct(l.h_x.transpose());
   in.qht = q.lazyProduct(l.h_d.transpose());
   Mat3 s = l.h_x * in.pht + l.h_d * in.qht;
+  if (calibration != nullptr) {
+    const Jacobian<idx::kStateDim, 3> cht = c.calibration_cross.lazyProduct(l.h_e.transpose());
+    const Mat3 hx_cht = l.h_x * cht;
+    in.cal.noalias() = l.h_x * c.calibration_cross;
+    in.cal.noalias() += l.h_e * calibration->asDiagonal();
+    s += hx_cht + hx_cht.transpose() + l.h_e * calibration->asDiagonal() * l.h_e.transpose();
+    in.pht += cht;
+  } else {
+    in.cal.setZero();
+  }
   for (int a = 0; a < 3; ++a) s(a, a) += (axes & (1U << a)) != 0 ? l.sigma[a] * l.sigma[a] : 1.0;
   det = s.determinant();
   if (!(det > 0.0) || !std::isfinite(det)) return false;
@@ -83,10 +106,10 @@ bool innovation_covariance(const Linearisation& l, const StateCov& p, const Disp
 
 // The innovation of component c linearised at its mean (l = linearise(c.x, ...)).
 std::optional<Innovation> innovate(const SogComponent& c, const Linearisation& l, const Vec3& z_valid,
-                                   std::uint8_t axes, const DispCov& q) {
+                                   std::uint8_t axes, CalibrationPrior calibration, const DispCov& q) {
   Innovation in;
   double det = 0.0;
-  if (!innovation_covariance(l, c.P, q, axes, in, det)) return std::nullopt;
+  if (!innovation_covariance(l, c, calibration, q, axes, in, det)) return std::nullopt;
   // Sign-invariant likelihood: the receiver measures +-h, p(z) = (N(z; h, S) + N(-z; h, S)) / 2.
   // The component is updated with the sign that explains z best (zeta = z^T S^-1 h decides:
   // NIS(+-) = z^T S^-1 z + h^T S^-1 h -+ 2 zeta); its weight takes both terms.
@@ -107,8 +130,9 @@ std::optional<Innovation> innovate(const SogComponent& c, const Linearisation& l
 // are those of the last linearisation (the posterior covariance uses them), nis and ll stay
 // the prior-linearised ones (the component's weight is the predictive likelihood).
 Innovation iterate(const SogComponent& c, const Linearisation& at_prior, const Innovation& first, const Vec3& z_valid,
-                   const Vec3& floor, std::uint8_t axes, const DispVec& d0, const DispCov& q, const FieldNoiseModel& noise,
-                   std::uint32_t max_iterations, double threshold_sigmas) {
+                   const Vec3& floor, std::uint8_t axes, CalibrationPrior calibration, const DispVec& d0,
+                   const DispCov& q, const FieldNoiseModel& noise, double wavenumber, std::uint32_t max_iterations,
+                   double threshold_sigmas) {
   Innovation in = first;
   const Vec3 z = in.sign * z_valid;
   StateVec x_i = c.x + in.pht * in.s_inv_nu;
@@ -117,14 +141,14 @@ Innovation iterate(const SogComponent& c, const Linearisation& at_prior, const I
   StateVec x_prev = c.x;
   DispVec d_prev = d0;
   for (std::uint32_t it = 0; it < max_iterations; ++it) {
-    const Linearisation l = linearise(x_i, MeasurementModel(d_i), floor, axes, noise);
+    const Linearisation l = linearise(x_i, MeasurementModel(d_i, wavenumber), floor, axes, noise);
     // How far the field at x_i is from what the last linearisation predicted there.
     const Vec3 linear = l_prev.h + l_prev.h_x * (x_i - x_prev) + l_prev.h_d * (d_i - d_prev);
     const Vec3 gap = (l.h - linear).cwiseQuotient(l.sigma);
     if (gap.squaredNorm() <= threshold_sigmas * threshold_sigmas) break;
     Innovation next = in;
     double det = 0.0;
-    if (!innovation_covariance(l, c.P, q, axes, next, det)) break;
+    if (!innovation_covariance(l, c, calibration, q, axes, next, det)) break;
     const Vec3 nu = z - l.h - l.h_x * (c.x - x_i) - l.h_d * (d0 - d_i);
     next.s_inv_nu = next.s_inv * nu;
     const StateVec x_next = c.x + next.pht * next.s_inv_nu;
@@ -146,16 +170,18 @@ std::optional<FieldFit> SogFilter::predictive_fit(const Vec3& field, const Vec3&
   if (components_.empty() || axes == 0 || axes > kAllAxes || !field.allFinite() || !noise.allFinite())
     return std::nullopt;
   const Displacement disp = odometry_.pending_displacement();
-  const MeasurementModel measurement(disp.mean);
+  const MeasurementModel measurement(disp.mean, config_.wavenumber());
   const Vec3 floor = config_.noise().floor(noise);
   const Vec3 z_valid = valid_axes_only(field, axes);
+  const CalibrationVec calibration_variance = config_.calibration_variance();
+  const CalibrationPrior calibration = calibration_variance.any() ? &calibration_variance : nullptr;
   // log sum_i w_i p(z | i), accumulated stably; the log weights are normalised (every update
   // ends in normalise_and_prune, merging keeps the sum).
   double max_term = -std::numeric_limits<double>::infinity();
   double sum = 0.0;
   double min_nis = std::numeric_limits<double>::infinity();
   for (const SogComponent& c : components_) {
-    const auto in = innovate(c, linearise(c.x, measurement, floor, axes, config_.noise()), z_valid, axes,
+    const auto in = innovate(c, linearise(c.x, measurement, floor, axes, config_.noise()), z_valid, axes, calibration,
                              disp.covariance);
     if (!in) continue;
     min_nis = std::min(min_nis, in->nis);
@@ -176,9 +202,11 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, std::uint8_t axes
                              SogStepResult& result) {
   const DispCov& q = disp.covariance;
   // h of eq. (14) linearised at the odometry mean: R(dPsi), E_w(dPsi) shared by every component.
-  const MeasurementModel measurement(disp.mean);
+  const MeasurementModel measurement(disp.mean, config_.wavenumber());
   const FieldNoiseModel noise = config_.noise();
   const Vec3 z_valid = valid_axes_only(z, axes);
+  const CalibrationVec calibration_variance = config_.calibration_variance();
+  const CalibrationPrior calibration = calibration_variance.any() ? &calibration_variance : nullptr;
   double max_ll = -std::numeric_limits<double>::infinity();
   double min_nis = std::numeric_limits<double>::infinity();
 
@@ -187,16 +215,17 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, std::uint8_t axes
     SogComponent& c = components_[i];
     const StateCov& p = c.P;
     const Linearisation at_prior = linearise(c.x, measurement, floor, axes, noise);
-    const auto innovation = innovate(c, at_prior, z_valid, axes, q);
+    const auto innovation = innovate(c, at_prior, z_valid, axes, calibration, q);
     if (!innovation) {
       ++result.dropped_numerical;
       continue;
     }
-    const Innovation updated = config_.iterated_update_max > 0
-                                   ? iterate(c, at_prior, *innovation, z_valid, floor, axes, disp.mean, q, noise,
-                                             config_.iterated_update_max, config_.relinearise_threshold_sigmas)
-                                   : *innovation;
-    const auto& [pht, qht, s_inv, s_inv_nu, sign, nis, ll] = updated;
+    const Innovation updated =
+        config_.iterated_update_max > 0
+            ? iterate(c, at_prior, *innovation, z_valid, floor, axes, calibration, disp.mean, q, noise,
+                      config_.wavenumber(), config_.iterated_update_max, config_.relinearise_threshold_sigmas)
+            : *innovation;
+    const auto& [pht, qht, cal, s_inv, s_inv_nu, sign, nis, ll] = updated;
     min_nis = std::min(min_nis, nis);
     const StateVec x_post = c.x + pht * s_inv_nu;
     const DispVec d_post = disp.mean + qht * s_inv_nu;
@@ -221,9 +250,13 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, std::uint8_t axes
       ++result.dropped_numerical;
       continue;
     }
+    // C_k = F_x C - M S^-1 Cov(z, E): x and d corrected with the calibration's share of z.
+    CalibrationCross cross_new = CalibrationCross::Zero();
+    if (calibration != nullptr) cross_new = composed_cross(c.calibration_cross, f) - mm_s * cal;
     SogComponent& dst = components_[out++];
     dst.x = x_new;
     dst.P = p_new;
+    dst.calibration_cross = cross_new;
     dst.log_weight = c.log_weight + ll;
     max_ll = std::max(max_ll, ll);
     // Optional attitude-sensor update on the composed state (same component, still in cache).

@@ -1,10 +1,12 @@
 // Every analytic Jacobian of the avalanche models against central differences, at zero,
 // tiny and random inputs (one shared helper: tests/support/numeric_jacobian.hpp).
+#include "sarloc/core/avalanche/dipole_model.hpp"
+
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "sarloc/core/avalanche/dipole_model.hpp"
+#include "sarloc/core/avalanche/receiver_model.hpp"
 #include "sarloc/core/avalanche/rotation.hpp"
 #include "support/numeric_jacobian.hpp"
 
@@ -107,6 +109,65 @@ TEST(DipoleFieldTest, MomentInvertsFieldWithJacobians) {
   }
 }
 
+// The wavenumber of the EN 300 718 carrier, 457 kHz.
+const double kCarrierK = carrier_wavenumber(457000.0);
+
+// The closed form is what the receiver model resolves of the full field (up to the sign, which a
+// pulse's carrier phase sets), at 0.8-60 m and out to 100 m, where k r is 1.
+TEST(DipoleFieldTest, MajorAxisIsWhatTheReceiverResolvesOfTheFullField) {
+  Sampler s;
+  for (int i = 0; i < 200; ++i) {
+    const Vec3 r = -s.position() * (i % 4 == 0 ? 1.6 : 1.0);
+    const Vec3 m = s.moment();
+    const Vec3 v = DipoleField::major_axis(r, m, kCarrierK);
+    const Vec3 resolved = principal_axis(full_dipole_field(r, m, kCarrierK));
+    EXPECT_LT(std::min((v - resolved).norm(), (v + resolved).norm()), 1e-12 * v.norm()) << "r = " << r.transpose();
+  }
+  // On the moment's axis and across it, the magnitudes of the documentation.
+  const Vec3 m(0.0, 0.0, 0.02);
+  const double kr2 = std::pow(kCarrierK * 50.0, 2);
+  EXPECT_NEAR(DipoleField::major_axis(Vec3(0, 0, 50), m, kCarrierK).norm(),
+              DipoleField::field(Vec3(0, 0, 50), m).norm() * std::sqrt(1.0 + kr2), 1e-15);
+  EXPECT_NEAR(DipoleField::major_axis(Vec3(50, 0, 0), m, kCarrierK).norm(),
+              DipoleField::field(Vec3(50, 0, 0), m).norm() * std::sqrt(1.0 - kr2 + kr2 * kr2), 1e-15);
+  EXPECT_EQ(DipoleField::major_axis(Vec3(3, 1, -2), m, 0.0), DipoleField::field(Vec3(3, 1, -2), m));
+}
+
+TEST(DipoleFieldTest, MajorAxisJacobiansMatchNumeric) {
+  Sampler s;
+  for (int i = 0; i < kRandomRepeats; ++i) {
+    const Vec3 r = -s.position();
+    const Vec3 m = s.moment();
+    Mat3 j_r, j_m;
+    DipoleField::major_axis(r, m, kCarrierK, &j_r, &j_m);
+    const auto nr =
+        numeric_jacobian<3, 3>([&](const Vec3& v) { return DipoleField::major_axis(v, m, kCarrierK); }, r, 1e-6);
+    const auto nm = numeric_jacobian<3, 3>([&](const Vec3& v) { return DipoleField::major_axis(r, v, kCarrierK); }, m,
+                                           Vec3::Constant(1e-5));
+    EXPECT_LT(relative_error(j_r, nr), 1e-6) << "r = " << r.transpose();
+    EXPECT_LT(relative_error(j_m, nm), 1e-7) << "r = " << r.transpose();
+  }
+}
+
+TEST(DipoleFieldTest, MomentOfMajorAxisInvertsItWithJacobians) {
+  Sampler s;
+  for (int i = 0; i < kRandomRepeats; ++i) {
+    const Vec3 r = -s.position();
+    const Vec3 m = s.moment();
+    const Vec3 h = DipoleField::major_axis(r, m, kCarrierK);
+    Mat3 j_r, j_h;
+    const Vec3 back = DipoleField::moment_of_major_axis(r, h, kCarrierK, &j_r, &j_h);
+    EXPECT_LT((back - m).norm(), 1e-10 * m.norm()) << "r = " << r.transpose();
+    const auto nr = numeric_jacobian<3, 3>(
+        [&](const Vec3& v) { return DipoleField::moment_of_major_axis(v, h, kCarrierK); }, r, 1e-6);
+    const auto nh =
+        numeric_jacobian<3, 3>([&](const Vec3& v) { return DipoleField::moment_of_major_axis(r, v, kCarrierK); }, h,
+                               Vec3::Constant(1e-3 * h.norm()));
+    EXPECT_LT(relative_error(j_r, nr), 1e-6);
+    EXPECT_LT(relative_error(j_h, nh), 1e-6);
+  }
+}
+
 AugVec make_aug(Sampler& s, Point k) {
   AugVec xa;
   xa << s.angles(k), s.position(), s.moment(), s.translation(k), s.angles(k);
@@ -137,6 +198,21 @@ TEST(MeasurementModelTest, JacobianMatchesNumericAtZeroTinyRandom) {
       EXPECT_EQ(z, z2);
       EXPECT_EQ(h.leftCols<9>(), h_x);
       EXPECT_EQ(h.rightCols<6>(), h_d);
+    }
+  }
+}
+
+// The same at the carrier: the field the receiver resolves (DipoleField::major_axis).
+TEST(MeasurementModelTest, JacobianMatchesNumericAtTheCarrier) {
+  Sampler s;
+  for (Point k : kPoints) {
+    for (int i = 0; i < (k == Point::kRandom ? kRandomRepeats : 5); ++i) {
+      const AugVec xa = make_aug(s, k);
+      Jacobian<3, idx::kAugDim> h;
+      MeasurementModel::h(xa, &h, kCarrierK);
+      const auto n = numeric_jacobian<3, idx::kAugDim>(
+          [](const AugVec& v) { return MeasurementModel::h(v, nullptr, kCarrierK); }, xa, steps_for(xa));
+      EXPECT_LT(relative_error(h, n), 2e-6) << "x* = " << xa.transpose();
     }
   }
 }

@@ -16,6 +16,7 @@ EvaluationSetup small_setup(std::uint32_t trials, std::uint32_t threads) {
   s.sog.initial_components = 500;  // lean: the full-size figures live in sarloc-eval
   // The harness on the ideal receiver (a sample every step), its opening heading from the first.
   s.simulation.receiver.kind = ReceiverKind::kIdeal;
+  s.sog.field_carrier_hz = 0.0;  // what the ideal receiver measures: the quasi-static field
   s.search.opening_line_samples = 0;
   s.evaluation.trials = trials;
   s.evaluation.threads = threads;

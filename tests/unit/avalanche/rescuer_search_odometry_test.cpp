@@ -83,9 +83,12 @@ TEST(RescuerSearch, UnknownMotionStandsInForLateOdometry) {
   }
   RecordProperty("nees_still", std::to_string(worst_still));
   RecordProperty("nees_unknown", std::to_string(worst_unknown));
-  // Measured: ~2e6 against ~13 (one run of a fixed seed; the bound is chi2_2(0.9999)).
-  EXPECT_GT(worst_still, 100.0) << "motion counted twice: confidently wrong";
-  EXPECT_LT(worst_unknown, 18.4) << "the truth stays inside the filter's own uncertainty";
+  // Measured: 27 against 0.57 (one run of a fixed seed; the bound is chi2_2(0.9999)); 2e6
+  // against 13 before the filter carried the receiver's calibration errors, whose share of the
+  // covariance does not shrink with samples.
+  constexpr double kGate = 18.4;
+  EXPECT_GT(worst_still, kGate) << "motion counted twice: confidently wrong";
+  EXPECT_LT(worst_unknown, kGate) << "the truth stays inside the filter's own uncertainty";
 }
 
 

@@ -1,7 +1,5 @@
 // The SOG filter's ring: around the truth within the moment bounds, and deep enough near a
 // deep victim that its covariance holds the truth.
-#include "sarloc/core/avalanche/sog_filter.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,9 +9,11 @@
 
 #include "sarloc/core/avalanche/odometry_accumulator.hpp"
 #include "sarloc/core/avalanche/simulator.hpp"
+#include "sarloc/core/avalanche/sog_filter.hpp"
 #include "sarloc/core/common/chi_square.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/gaussian.hpp"
+#include "sarloc/core/common/position_nees.hpp"
 #include "sog_scenarios.hpp"
 
 namespace sarloc::avalanche {
@@ -69,18 +69,12 @@ double mean_nees_near_a_deep_victim(const SogConfig& cfg, int runs) {
     AvalancheSimulator sim(SimulationConfig{}, s, 900 + run);
     SogFilter f(cfg);
     f.process(sim.measure());
-    auto walk_to = [&](const Vec3& point) {
-      const Vec3 rel = point - sim.scenario().receiver;
-      const double step = std::min(1.0, rel.head<2>().norm());
-      f.add_odometry(sim.walk(std::atan2(rel.y(), rel.x()) - sim.scenario().receiver_rpy.z(), step));
+    test::walk_onto_and_around(sim, s.transmitter, 6, [&](const Odometry& odometry) {
+      f.add_odometry(odometry);
       f.process(sim.measure());
-    };
-    for (int k = 0; k < 6; ++k) walk_to(s.transmitter);
-    for (int k = 0; k < 12; ++k)
-      walk_to(s.transmitter + 1.5 * Vec3(std::cos(k * kPi / 3.0), std::sin(k * kPi / 3.0), 0.0));
+    });
     const VictimEstimate e = f.estimate();
-    const Vec3 err = e.relative.position - sim.true_relative_position();
-    sum += err.dot(e.relative.covariance.ldlt().solve(err));
+    sum += position_nees(e.relative.position - sim.true_relative_position(), e.relative.covariance);
   }
   return sum / runs;
 }

@@ -1,6 +1,7 @@
 #pragma once
 // The SOG filter tests' scenario: one transmitter, a second one 2 m from it, and the bearing
 // that walks the simulated rescuer straight at the transmitter.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -31,6 +32,19 @@ inline Scenario second_transmitter() {
 inline double bearing_to_truth(const AvalancheSimulator& sim) {
   const Vec3 rel = sim.true_relative_position();
   return std::atan2(rel.y(), rel.x()) - sim.scenario().receiver_rpy.z();
+}
+
+// The walk a rescuer makes at a victim: `onto` steps of at most 1 m onto it, then 12 around it
+// 1.5 m out. After each step, `update(odometry)` (the caller adds it and takes a sample).
+template <typename Update>
+void walk_onto_and_around(AvalancheSimulator& sim, const Vec3& victim, int onto, Update&& update) {
+  auto walk_to = [&](const Vec3& point) {
+    const Vec3 rel = point - sim.scenario().receiver;
+    const double step = std::min(1.0, rel.head<2>().norm());
+    update(sim.walk(std::atan2(rel.y(), rel.x()) - sim.scenario().receiver_rpy.z(), step));
+  };
+  for (int k = 0; k < onto; ++k) walk_to(victim);
+  for (int k = 0; k < 12; ++k) walk_to(victim + 1.5 * Vec3(std::cos(k * kPi / 3.0), std::sin(k * kPi / 3.0), 0.0));
 }
 
 }  // namespace sarloc::avalanche::test

@@ -50,11 +50,12 @@ struct ReceiverModelConfig {
   double detect_snr = 3.0;              ///< an axis below this amplitude / noise is invalid
   double gain_sigma = 0.03;             ///< per-axis gain error (1 sigma, fixed per device)
   double misalignment_sigma_deg = 1.0;  ///< per-axis pointing error (1 sigma, fixed per device)
-  /// What the device states of its calibration: each sample's per-axis noise gains this times
-  /// |field|. Gain and pointing errors are fixed per device, so the filter cannot average them
-  /// out as it does the pulse-to-pulse noise; 0.015 (on top of the filter's 5 %) keeps NEES
-  /// inside its bounds (docs/estimation/avalanche.md, "Receiver model").
-  double calibration_relative = 0.015;
+  /// White noise the device adds to each sample's per-axis noise, times |field|, for its
+  /// calibration. 0: the SOG filter carries the gain and pointing errors, fixed per device, as
+  /// consider parameters (SogConfig::calibration_gain_sigma). 0.015 stood for them until then,
+  /// and also covered the filter's quasi-static field model (SogConfig::field_carrier_hz):
+  /// docs/estimation/avalanche.md, "The field a receiver resolves".
+  double calibration_relative = 0.0;
   /// The transmitter's carrier keeps its phase from pulse to pulse (none is required to):
   /// the device then carries the sign with its frequency estimate.
   bool phase_coherent = false;
@@ -90,6 +91,7 @@ struct ReceiverModelConfig {
 
 /// k = 2 pi f / c of the carrier (rad/m).
 double wavenumber(const ReceiverModelConfig& config);
+double carrier_wavenumber(double carrier_hz);
 
 /// Full field of an oscillating magnetic dipole (time factor e^{j w t}, common phase e^{-jkr}
 /// dropped): H = [(3 n (n.m) - m)(1/r^3 + j k/r^2) + k^2 (m - n (n.m)) / r] / (4 pi),

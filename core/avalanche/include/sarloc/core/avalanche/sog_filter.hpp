@@ -8,7 +8,10 @@
 //      is independent of the state; the block structure is used, never a dense 15x15 product);
 //   2. EKF update with the dipole model (eq. (14)), weight update in log space (eq. (17)), on
 //      the valid axes only and sign-invariant: a real receiver measures the field up to its
-//      sign, so p(z | x) = (N(z; h, S) + N(-z; h, S)) / 2 (issue 12);
+//      sign, so p(z | x) = (N(z; h, S) + N(-z; h, S)) / 2 (issue 12); h is the field the
+//      receiver resolves at the carrier (SogConfig::field_carrier_hz) and the receiver's fixed
+//      calibration errors E are consider parameters (z = (I + E) h, Schmidt-Kalman:
+//      SogComponent::calibration_cross);
 //   3. composition back to G_k (eq. (9), (15)):
 //        P_k = F P*_post F^T = F_x P F_x^T + F_d Q F_d^T - M S^-1 M^T,  M = F_x P H_x^T + F_d Q H_d^T;
 //   4. optional attitude-sensor update (OrientationObservation), a linear update of Psi;
@@ -40,6 +43,11 @@
 
 namespace sarloc::avalanche {
 
+/// The receiver's calibration errors E, 3x3 row-major (SogConfig::calibration_variance).
+inline constexpr int kCalibrationDim = 9;
+using CalibrationVec = Eigen::Matrix<double, kCalibrationDim, 1>;
+using CalibrationCross = Eigen::Matrix<double, idx::kStateDim, kCalibrationDim>;
+
 /// Every parameter of the filter, with its default and source (docs/estimation/avalanche.md).
 struct SogConfig {
   // --- initialisation (seed 000, section III-B) ---
@@ -68,6 +76,30 @@ struct SogConfig {
   double noise_floor_A_per_m = 2.1e-9;  ///< >= strongest on-axis field at 60 m / 10
   /// The field noise model of these two keys (every filter's, the search's).
   FieldNoiseModel noise() const { return FieldNoiseModel{noise_relative, noise_floor_A_per_m}; }
+  /// The transmitter's carrier (EN 300 718): a receiver resolves the major axis of the full
+  /// dipole field at this frequency (DipoleField::major_axis), which differs from the
+  /// quasi-static field of eq. (12) by about (k r)^2 / 2: 0.5 % at 10 m, 11 % at 50 m. Modelled with the
+  /// quasi-static field, the filter was over-confident with the realistic receiver (pooled NEES
+  /// 3.57 with a device free of calibration error; docs/estimation/avalanche.md, "The field a
+  /// receiver resolves"). 0: the quasi-static field, what seed 000's ideal receiver measures.
+  double field_carrier_hz = 457000.0;
+  double wavenumber() const { return carrier_wavenumber(field_carrier_hz); }
+  /// This configuration with the quasi-static field and no calibration errors: the field model
+  /// of seed 000, which the particle and grid baselines keep (their moment is linear in the
+  /// field, docs/estimation/baselines.md); they build their first hypotheses with it.
+  SogConfig quasi_static() const;
+  /// The receiver's calibration tolerance (1 sigma): each antenna's gain error, and its pointing
+  /// error towards each of the other two (ReceiverModelConfig::gain_sigma,
+  /// misalignment_sigma_deg). Fixed per device, they are carried as consider parameters (a
+  /// Schmidt-Kalman filter: their correlation with the state is tracked, they are never
+  /// estimated), not as white noise the filter would average out (docs/estimation/avalanche.md,
+  /// "Calibration as consider parameters"). 0 for both: a receiver without calibration error
+  /// (seed 000's ideal one).
+  double calibration_gain_sigma = 0.03;
+  double calibration_pointing_sigma_deg = 1.0;
+  /// Variances of the calibration errors E (z = (I + E) h), row-major: E(a, a) a gain, E(a, b) a
+  /// pointing error of antenna a towards axis b.
+  CalibrationVec calibration_variance() const;
   /// An axis the receiver reports invalid is below this many times its noise (the receiver's
   /// detection threshold, ReceiverModelConfig::detect_snr): used when initialising.
   double censored_axis_sigmas = 3.0;
@@ -162,6 +194,9 @@ struct SogConfig {
 struct SogComponent {
   StateVec x = StateVec::Zero();
   StateCov P = StateCov::Identity();
+  /// Cov(x, E): how the state's error is tied to the receiver's calibration errors
+  /// (SogConfig::calibration_gain_sigma); zero when the filter carries none.
+  CalibrationCross calibration_cross = CalibrationCross::Zero();
   double log_weight = 0.0;  ///< normalised: log-sum-exp over components = 0
   /// log P(the priors: transmitter below the snow surface, moment within the standard) already
   /// folded into log_weight (SogConfig::surface_constraint, moment_constraint); kept so that each
