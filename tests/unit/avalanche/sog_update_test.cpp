@@ -114,12 +114,15 @@ Composed dense_compose(const DenseVec& xa, const DenseCov& pa) {
   return out;
 }
 
+// The covariances are differences of nearly equal products (P - K S K^T): their rounding
+// differs between an x86-64 and an aarch64 build (fused multiply-adds) by up to about 1e-7 of
+// their largest entry after an iterated update; a wrong term is off by order one.
 void expect_component(const SogComponent& got, const Composed& expect, double tolerance, std::size_t i) {
   EXPECT_LT((got.x - expect.x).norm(), tolerance * (1.0 + expect.x.norm())) << "component " << i;
-  EXPECT_LT((got.P - expect.P).cwiseAbs().maxCoeff(), 10 * tolerance * expect.P.cwiseAbs().maxCoeff())
+  EXPECT_LT((got.P - expect.P).cwiseAbs().maxCoeff(), 100 * tolerance * expect.P.cwiseAbs().maxCoeff())
       << "component " << i;
   EXPECT_LT((got.calibration_cross - expect.cross).cwiseAbs().maxCoeff(),
-            10 * tolerance * expect.cross.cwiseAbs().maxCoeff() + 1e-300)
+            100 * tolerance * expect.cross.cwiseAbs().maxCoeff() + 1e-300)
       << "component " << i;
 }
 
