@@ -17,12 +17,6 @@ double system_wall_s() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
-std::string fmt1(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.1f", v);
-  return buffer;
-}
-
 const char* accountability_name(incident::AccountabilityState s) {
   switch (s) {
     case incident::AccountabilityState::kAccounted: return "accounted";
@@ -105,14 +99,19 @@ void PictureState::set_building(PlacedPlan b) {
 
 void PictureState::touch_data() { last_data_wall_s_ = wall_now_(); }
 
-void PictureState::event(const std::string& kind, const std::string& text) {
+void PictureState::event(const std::string& kind, const std::string& text, TimestampNs stamp) {
   ++version_;
-  events_.push_back({version_, {{"seq", version_},
-                                {"mission_ns", mission_now_()},
-                                {"wall_ms", static_cast<std::int64_t>(wall_now_() * 1e3)},
-                                {"kind", kind},
-                                {"text", text}}});
+  events_.push_back({version_,
+                     {{"seq", version_},
+                      {"mission_ns", stamp != 0 ? stamp : mission_now_()},
+                      {"wall_ms", static_cast<std::int64_t>(wall_now_() * 1e3)},
+                      {"kind", kind},
+                      {"text", text}}});
   while (events_.size() > config_.event_log_length) events_.pop_front();
+}
+
+void PictureState::events(const std::vector<incident::PictureEvent>& changes) {
+  for (const auto& e : changes) event(e.kind, e.text, e.stamp);
 }
 
 void PictureState::note(const std::string& kind, const std::string& text) {
@@ -123,18 +122,7 @@ void PictureState::note(const std::string& kind, const std::string& text) {
 void PictureState::on_victim(const incident::FusedVictim& v) {
   std::lock_guard<std::mutex> lock(mutex_);
   touch_data();
-  const auto it = victims_.find(v.victim_id);
-  const std::string name = "victim " + std::to_string(v.victim_id);
-  const std::string where = " at (" + fmt1(v.position.position.x()) + ", " + fmt1(v.position.position.y()) + ")";
-  if (it == victims_.end()) {
-    event("victim", name + " in the picture (" + incident::to_string(v.state) + ")" + where);
-  } else {
-    const auto before = it->second.first.state;
-    if (before != v.state) event("victim", name + " " + incident::to_string(v.state) + where);
-    if (v.evidence_conflict && !it->second.first.evidence_conflict) {
-      event("victim", name + ": its sources DISAGREE (evidence conflict): do not dig on it alone");
-    }
-  }
+  events(picture_events_.on_victim(v));
   ++version_;
   victims_[v.victim_id] = {v, version_};
 }
@@ -142,8 +130,8 @@ void PictureState::on_victim(const incident::FusedVictim& v) {
 void PictureState::on_victim_gone(std::uint32_t id) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (victims_.erase(id) == 0) return;
-  event("victim", "victim " + std::to_string(id) + " merged into another (same transmitter)");
-  removed_.push_back({version_, {"victim", std::to_string(id)}});
+  events(picture_events_.on_victim_gone(id, mission_now_()));
+  removed_.push_back({++version_, {"victim", std::to_string(id)}});
 }
 
 void PictureState::on_team(const incident::TeamStatus& t) {
@@ -152,16 +140,7 @@ void PictureState::on_team(const incident::TeamStatus& t) {
   auto [it, fresh] = teams_.try_emplace(t.team_id);
   auto& team = it->second;
   if (fresh) team.par_due_wall_s = wall_now_() + config_.par_interval_s;
-  for (const auto& m : t.members) {
-    const auto before = team.links.find(m.responder_id);
-    if (before != team.links.end() && before->second != m.link) {
-      event("link", m.responder_id + " (" + t.team_id + "): link " +
-                        (m.link == incident::LinkState::kAlive       ? std::string("alive again")
-                         : m.link == incident::LinkState::kSignedOff ? std::string("signed off")
-                                                                     : std::string(incident::to_string(m.link))));
-    }
-    team.links[m.responder_id] = m.link;
-  }
+  events(picture_events_.on_team(t));
   team.status = t;
   team.version = ++version_;
 }
@@ -169,15 +148,7 @@ void PictureState::on_team(const incident::TeamStatus& t) {
 void PictureState::on_alarm(const incident::IncidentAlarm& a) {
   std::lock_guard<std::mutex> lock(mutex_);
   touch_data();
-  const std::string name = std::string(responder::display_name(a.alarm.kind)) + " alarm " + std::to_string(a.alarm_id) + " for " +
-                           a.alarm.responder_id;
-  const auto it = alarms_.find(a.alarm_id);
-  if (it == alarms_.end()) {
-    event("alarm", name + " RAISED");
-  } else {
-    if (a.acknowledged && !it->second.first.acknowledged) event("alarm", name + " acknowledged by " + a.acknowledged_by);
-    if (!a.alarm.active && it->second.first.alarm.active) event("alarm", name + " cleared");
-  }
+  events(picture_events_.on_alarm(a));
   ++version_;
   alarms_[a.alarm_id] = {a, version_};
 }
@@ -185,18 +156,15 @@ void PictureState::on_alarm(const incident::IncidentAlarm& a) {
 void PictureState::on_alarm_gone(std::uint32_t id) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (alarms_.erase(id) == 0) return;
-  event("alarm", "alarm " + std::to_string(id) + " closed (acknowledged and cleared)");
-  removed_.push_back({version_, {"alarm", std::to_string(id)}});
+  events(picture_events_.on_alarm_gone(id, mission_now_()));
+  removed_.push_back({++version_, {"alarm", std::to_string(id)}});
 }
 
 void PictureState::on_position(const responder::ResponderPosition& p) {
   std::lock_guard<std::mutex> lock(mutex_);
   touch_data();
+  events(picture_events_.on_position(p));
   auto& r = responders_[p.responder_id];
-  if (r.version > 0 && p.source == responder::PositionSource::kMapAided && p.map_error_suspected != r.last.map_error_suspected &&
-      r.last.source == responder::PositionSource::kMapAided) {
-    event("map error", p.responder_id + (p.map_error_suspected ? ": the floor plan looks wrong here" : ": map error no longer suspected"));
-  }
   // A device's dead reckoning does not replace a fresh map-aided fix on the map.
   if (r.version > 0 && r.last.source == responder::PositionSource::kMapAided &&
       p.source == responder::PositionSource::kDeadReckoning && p.stamp - r.last.stamp < 3'000'000'000LL) {
@@ -432,6 +400,7 @@ void PictureState::reset() {
   teams_.clear();
   alarms_.clear();
   events_.clear();
+  picture_events_ = {};
   removed_.clear();
   picture_writer_.clear();
   rejected_.clear();

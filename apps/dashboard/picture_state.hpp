@@ -19,6 +19,7 @@
 #include "sarloc/core/incident/alarm_board.hpp"
 #include "sarloc/core/incident/fused_victim.hpp"
 #include "sarloc/core/incident/geodetic_frame.hpp"
+#include "sarloc/core/incident/picture_events.hpp"
 #include "sarloc/core/incident/search_plan.hpp"
 #include "sarloc/core/incident/team_status.hpp"
 #include "sarloc/core/responder/guidance.hpp"
@@ -113,12 +114,13 @@ class PictureState {
   struct Team {
     incident::TeamStatus status;
     double par_due_wall_s = 0.0;
-    std::map<std::string, incident::LinkState> links;
     std::uint64_t version = 0;
   };
 
   void touch_data();
-  void event(const std::string& kind, const std::string& text);
+  /// `stamp` 0: now.
+  void event(const std::string& kind, const std::string& text, TimestampNs stamp = 0);
+  void events(const std::vector<incident::PictureEvent>& changes);
   void store_deposit(const std::vector<Eigen::Vector2d>& outline);  ///< the caller holds mutex_
   nlohmann::json victim_json(const incident::FusedVictim& v) const;
   nlohmann::json responder_json(const std::string& id, const Responder& r, bool with_track) const;
@@ -141,6 +143,7 @@ class PictureState {
   std::map<std::string, Team> teams_;
   std::map<std::uint32_t, std::pair<incident::IncidentAlarm, std::uint64_t>> alarms_;
   std::deque<std::pair<std::uint64_t, nlohmann::json>> events_;
+  incident::PictureEvents picture_events_;  ///< what the samples changed, in words (as the report)
   std::deque<std::pair<std::uint64_t, std::pair<std::string, std::string>>> removed_;  // (version, (kind, id))
   std::string picture_writer_;
   std::map<std::string, std::uint64_t> rejected_;

@@ -10,7 +10,9 @@
 #include "sarloc/app/floor_plan_yaml.hpp"
 #include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/common/number_text.hpp"
 #include "sarloc/core/incident/geodetic_frame.hpp"
+#include "sarloc/core/incident/picture_events.hpp"
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/recorded_sample.hpp"
 #include "sarloc/dds/replayer.hpp"
@@ -19,21 +21,6 @@
 namespace sarloc::report {
 
 namespace {
-
-std::string fmt1(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.1f", v);
-  return buffer;
-}
-
-const char* accountability_text(incident::AccountabilityState state) {
-  switch (state) {
-    case incident::AccountabilityState::kAccounted: return "accounted for";
-    case incident::AccountabilityState::kPending: return "check due (PAR)";
-    case incident::AccountabilityState::kMissing: return "MISSING at the check";
-  }
-  return "?";
-}
 
 class Loader {
  public:
@@ -123,6 +110,7 @@ class Loader {
       auto [newest, first] = newest_map_aided_.try_emplace(p.responder_id, p.stamp);
       if (!first && p.stamp <= newest->second) return;
       newest->second = p.stamp;
+      add_events(picture_events_.on_position(p));
     }
     auto& track = r_.responders[p.responder_id];
     track.id = p.responder_id;
@@ -145,63 +133,29 @@ class Loader {
     auto& h = r_.victims[v.victim_id];
     h.id = v.victim_id;
     h.samples.push_back({stamp_to_mission(v.last_update), v.position, v.state});
-    if (v.located_at != 0 && !h.located_s) {
-      h.located_s = stamp_to_mission(v.located_at);
-      r_.events.push_back({*h.located_s, "victim", "victim " + std::to_string(v.victim_id) + " LOCATED at (" +
-                                                        fmt1(v.position.position.x()) + ", " + fmt1(v.position.position.y()) + ")"});
-    }
-    if (v.found_at != 0 && !h.found_s) {
-      h.found_s = stamp_to_mission(v.found_at);
-      r_.events.push_back({*h.found_s, "victim", "victim " + std::to_string(v.victim_id) + " FOUND at (" +
-                                                     fmt1(v.position.position.x()) + ", " + fmt1(v.position.position.y()) +
-                                                     "), 95 % radius " + fmt1(radius95_2d(v.position.covariance)) + " m"});
-    }
-    if (v.evidence_conflict && !h.evidence_conflict) {
-      r_.events.push_back({stamp_to_mission(v.last_update), "victim",
-                           "victim " + std::to_string(v.victim_id) + ": its sources' estimators DISAGREE (evidence conflict)"});
-    }
+    if (v.located_at != 0 && !h.located_s) h.located_s = stamp_to_mission(v.located_at);
+    if (v.found_at != 0 && !h.found_s) h.found_s = stamp_to_mission(v.found_at);
     h.evidence_conflict = h.evidence_conflict || v.evidence_conflict;
     for (const auto& s : v.sources) {
       const std::string name = s.rescuer_id + "/" + std::to_string(s.signal_id);
       if (std::find(h.sources.begin(), h.sources.end(), name) == h.sources.end()) h.sources.push_back(name);
     }
+    add_events(picture_events_.on_victim(v));
   }
 
   void on_team(const incident::TeamStatus& t) {
-    const double t_s = stamp_to_mission(t.stamp);
     for (const auto& m : t.members) {
       auto& track = r_.responders[m.responder_id];
       track.id = m.responder_id;
       track.team = t.team_id;
-      auto& last = members_[m.responder_id];
-      if (last.seen && last.link != m.link) {
-        const bool regained = m.link == incident::LinkState::kAlive;
-        const std::string change = m.link == incident::LinkState::kSignedOff
-                                       ? std::string("signed off (the device stopped in order)")
-                                       : std::string("link ") + incident::display_name(m.link) + (regained ? " again (regained)" : "");
-        r_.events.push_back({t_s, "link", m.responder_id + " (" + t.team_id + "): " + change});
-      }
-      if (last.seen && last.accountability != m.accountability) {
-        r_.events.push_back({t_s, "accountability", m.responder_id + " (" + t.team_id + "): " + accountability_text(m.accountability)});
-      }
-      last = {true, m.link, m.accountability};
     }
+    add_events(picture_events_.on_team(t));
   }
 
-  void on_alarm(const incident::IncidentAlarm& a) {
-    auto& last = alarms_[a.alarm_id];
-    const std::string who = std::string(responder::display_name(a.alarm.kind)) + " alarm " + std::to_string(a.alarm_id) + " for " +
-                            a.alarm.responder_id;
-    if (!last.seen) {
-      r_.events.push_back({stamp_to_mission(a.alarm.raised_at), "alarm", who + " raised"});
-    }
-    if (a.acknowledged && !last.acknowledged) {
-      r_.events.push_back({stamp_to_mission(a.acknowledged_at), "alarm", who + " acknowledged by " + a.acknowledged_by});
-    }
-    if (!a.alarm.active && (!last.seen || last.active)) {
-      r_.events.push_back({stamp_to_mission(a.alarm.cleared_at), "alarm", who + " cleared"});
-    }
-    last = {true, a.acknowledged, a.alarm.active};
+  void on_alarm(const incident::IncidentAlarm& a) { add_events(picture_events_.on_alarm(a)); }
+
+  void add_events(const std::vector<incident::PictureEvent>& events) {
+    for (const auto& e : events) r_.events.push_back({stamp_to_mission(e.stamp), e.kind, e.text});
   }
 
   void on_node_status(const ::sarloc::NodeStatus& n, const recording::Message& m) {
@@ -214,7 +168,8 @@ class Loader {
       const double t = wall_to_mission(m.log_time_ns);
       if (heard.any && (t - heard.last_t) * 1.0 / r_.speedup > kSilentWall_s) {
         r_.events.push_back({heard.last_t, "daemon", "core daemon " + id + " silent: rescuers guide on their own devices"});
-        r_.events.push_back({t, "daemon", "core daemon " + id + " heard again after " + fmt1(t - heard.last_t) + " mission s"});
+        r_.events.push_back(
+            {t, "daemon", "core daemon " + id + " heard again after " + one_decimal(t - heard.last_t) + " mission s"});
       }
       heard = {true, t};
     }
@@ -277,17 +232,8 @@ class Loader {
 
   void finish_positions() {
     for (auto& [id, track] : r_.responders) {
-      std::stable_sort(track.samples.begin(), track.samples.end(), [](const auto& a, const auto& b) { return a.t_s < b.t_s; });
-      bool suspected = false;
-      for (const auto& s : track.samples) {
-        if (s.source != responder::PositionSource::kMapAided) continue;
-        if (s.map_error_suspected != suspected) {
-          r_.events.push_back({s.t_s, "map error", id + (s.map_error_suspected ? ": the map-aided filter suspects the floor plan near (" +
-                                                                                   fmt1(s.position.position.x()) + ", " + fmt1(s.position.position.y()) + ")"
-                                                                             : ": map error no longer suspected")});
-          suspected = s.map_error_suspected;
-        }
-      }
+      std::stable_sort(track.samples.begin(), track.samples.end(),
+                       [](const auto& a, const auto& b) { return a.t_s < b.t_s; });
     }
   }
 
@@ -414,14 +360,6 @@ class Loader {
 
   static constexpr double kSilentWall_s = 3.0;  // a node status is expected every second
 
-  struct MemberSeen {
-    bool seen = false;
-    incident::LinkState link = incident::LinkState::kAlive;
-    incident::AccountabilityState accountability = incident::AccountabilityState::kAccounted;
-  };
-  struct AlarmSeen {
-    bool seen = false, acknowledged = false, active = true;
-  };
   struct Heard {
     bool any = false;
     double last_t = 0.0;
@@ -430,9 +368,8 @@ class Loader {
   MissionRecord& r_;
   std::map<std::uint16_t, std::string> topics_;
   std::uint64_t first_log_ns_ = 0, last_log_ns_ = 0;
-  std::map<std::string, MemberSeen> members_;
+  incident::PictureEvents picture_events_;
   std::map<std::string, TimestampNs> newest_map_aided_;  ///< per responder, its copies skipped
-  std::map<std::uint32_t, AlarmSeen> alarms_;
   std::map<std::string, Heard> core_heard_;
   std::map<std::pair<std::uint64_t, std::uint32_t>, std::string> first_samples_;  // (log, seq) -> participant
   std::map<std::string, std::string> node_of_participant_;

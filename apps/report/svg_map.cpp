@@ -1,25 +1,19 @@
 #include "svg_map.hpp"
 
-#include "sarloc/core/common/gaussian.hpp"
-
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 #include "sarloc/core/common/angle.hpp"
+#include "sarloc/core/common/gaussian.hpp"
+#include "sarloc/core/common/number_text.hpp"
 
 namespace sarloc::report {
 
 namespace {
 
 constexpr double kTitle_px = 22.0;
-
-std::string num(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.1f", v);
-  return buffer;
-}
 
 }  // namespace
 
@@ -55,11 +49,12 @@ Eigen::Vector2d SvgMap::px(const Eigen::Vector2d& m) const {
 void SvgMap::polyline(const std::vector<Eigen::Vector2d>& points, const std::string& colour, double width_px,
                       const std::string& dash, double opacity) {
   if (points.size() < 2) return;
-  body_ += "<polyline fill=\"none\" stroke=\"" + colour + "\" stroke-width=\"" + num(width_px) + "\" stroke-opacity=\"" +
-           num(opacity) + "\"" + (dash.empty() ? "" : " stroke-dasharray=\"" + dash + "\"") + " points=\"";
+  body_ += "<polyline fill=\"none\" stroke=\"" + colour + "\" stroke-width=\"" + one_decimal(width_px) +
+           "\" stroke-opacity=\"" + one_decimal(opacity) + "\"" +
+           (dash.empty() ? "" : " stroke-dasharray=\"" + dash + "\"") + " points=\"";
   for (const auto& p : points) {
     const auto q = px(p);
-    body_ += num(q.x()) + "," + num(q.y()) + " ";
+    body_ += one_decimal(q.x()) + "," + one_decimal(q.y()) + " ";
   }
   body_ += "\"/>\n";
 }
@@ -67,24 +62,25 @@ void SvgMap::polyline(const std::vector<Eigen::Vector2d>& points, const std::str
 void SvgMap::polygon(const std::vector<Eigen::Vector2d>& points, const std::string& colour, double fill_opacity) {
   if (points.size() < 3) return;
   body_ += "<polygon stroke=\"" + colour + "\" stroke-width=\"1.5\" fill=\"" + colour + "\" fill-opacity=\"" +
-           num(fill_opacity) + "\" points=\"";
+           one_decimal(fill_opacity) + "\" points=\"";
   for (const auto& p : points) {
     const auto q = px(p);
-    body_ += num(q.x()) + "," + num(q.y()) + " ";
+    body_ += one_decimal(q.x()) + "," + one_decimal(q.y()) + " ";
   }
   body_ += "\"/>\n";
 }
 
 void SvgMap::line(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const std::string& colour, double width_px) {
   const auto p = px(a), q = px(b);
-  body_ += "<line x1=\"" + num(p.x()) + "\" y1=\"" + num(p.y()) + "\" x2=\"" + num(q.x()) + "\" y2=\"" + num(q.y()) +
-           "\" stroke=\"" + colour + "\" stroke-width=\"" + num(width_px) + "\" stroke-linecap=\"round\"/>\n";
+  body_ += "<line x1=\"" + one_decimal(p.x()) + "\" y1=\"" + one_decimal(p.y()) + "\" x2=\"" + one_decimal(q.x()) +
+           "\" y2=\"" + one_decimal(q.y()) + "\" stroke=\"" + colour + "\" stroke-width=\"" + one_decimal(width_px) +
+           "\" stroke-linecap=\"round\"/>\n";
 }
 
 void SvgMap::dot(const Eigen::Vector2d& p, double radius_px, const std::string& colour, double opacity) {
   const auto q = px(p);
-  body_ += "<circle cx=\"" + num(q.x()) + "\" cy=\"" + num(q.y()) + "\" r=\"" + num(radius_px) + "\" fill=\"" + colour +
-           "\" fill-opacity=\"" + num(opacity) + "\"/>\n";
+  body_ += "<circle cx=\"" + one_decimal(q.x()) + "\" cy=\"" + one_decimal(q.y()) + "\" r=\"" + one_decimal(radius_px) +
+           "\" fill=\"" + colour + "\" fill-opacity=\"" + one_decimal(opacity) + "\"/>\n";
 }
 
 void SvgMap::ellipse95(const Eigen::Vector2d& centre, const Eigen::Matrix2d& covariance, const std::string& colour,
@@ -94,22 +90,24 @@ void SvgMap::ellipse95(const Eigen::Vector2d& centre, const Eigen::Matrix2d& cov
   // SVG's y points down: the angle flips sign.
   const double angle_deg = -e.major_angle_rad * 180.0 / kPi;
   const auto q = px(centre);
-  body_ += "<ellipse cx=\"" + num(q.x()) + "\" cy=\"" + num(q.y()) + "\" rx=\"" + num(std::max(a, 0.5)) + "\" ry=\"" +
-           num(std::max(b, 0.5)) + "\" transform=\"rotate(" + num(angle_deg) + " " + num(q.x()) + " " + num(q.y()) +
-           ")\" stroke=\"" + colour + "\" stroke-opacity=\"" + num(opacity) + "\" fill=\"" + (filled ? colour : "none") +
-           "\" fill-opacity=\"" + num(filled ? 0.15 * opacity : 0.0) + "\"/>\n";
+  body_ += "<ellipse cx=\"" + one_decimal(q.x()) + "\" cy=\"" + one_decimal(q.y()) + "\" rx=\"" +
+           one_decimal(std::max(a, 0.5)) + "\" ry=\"" + one_decimal(std::max(b, 0.5)) + "\" transform=\"rotate(" +
+           one_decimal(angle_deg) + " " + one_decimal(q.x()) + " " + one_decimal(q.y()) + ")\" stroke=\"" + colour +
+           "\" stroke-opacity=\"" + one_decimal(opacity) + "\" fill=\"" + (filled ? colour : "none") +
+           "\" fill-opacity=\"" + one_decimal(filled ? 0.15 * opacity : 0.0) + "\"/>\n";
 }
 
 void SvgMap::cross(const Eigen::Vector2d& p, double size_px, const std::string& colour) {
   const auto q = px(p);
-  const std::string a = num(q.x() - size_px), b = num(q.x() + size_px), c = num(q.y() - size_px), d = num(q.y() + size_px);
+  const std::string a = one_decimal(q.x() - size_px), b = one_decimal(q.x() + size_px),
+                    c = one_decimal(q.y() - size_px), d = one_decimal(q.y() + size_px);
   body_ += "<path d=\"M" + a + " " + c + " L" + b + " " + d + " M" + a + " " + d + " L" + b + " " + c + "\" stroke=\"" +
            colour + "\" stroke-width=\"2.5\"/>\n";
 }
 
 void SvgMap::label(const Eigen::Vector2d& p, const std::string& text, const std::string& colour, double dx_px, double dy_px) {
   const auto q = px(p);
-  body_ += "<text x=\"" + num(q.x() + dx_px) + "\" y=\"" + num(q.y() + dy_px) + "\" fill=\"" + colour +
+  body_ += "<text x=\"" + one_decimal(q.x() + dx_px) + "\" y=\"" + one_decimal(q.y() + dy_px) + "\" fill=\"" + colour +
            "\" font-size=\"12\">" + escape_html(text) + "</text>\n";
 }
 
@@ -123,17 +121,20 @@ std::string SvgMap::finish() const {
   }
   const double bar_px = bar_m * scale_;
   const double y = height_px_ - 12.0;
-  std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"map\" width=\"" + num(width_px_) + "\" height=\"" +
-                    num(height_px_) + "\" viewBox=\"0 0 " + num(width_px_) + " " + num(height_px_) + "\" role=\"img\">\n";
-  svg += "<rect x=\"0\" y=\"" + num(kTitle_px) + "\" width=\"" + num(width_px_) + "\" height=\"" + num(height_px_ - kTitle_px) +
-         "\" fill=\"#f7f9fb\" stroke=\"#9aa5b1\"/>\n";
+  std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" class=\"map\" width=\"" + one_decimal(width_px_) +
+                    "\" height=\"" + one_decimal(height_px_) + "\" viewBox=\"0 0 " + one_decimal(width_px_) + " " +
+                    one_decimal(height_px_) + "\" role=\"img\">\n";
+  svg += "<rect x=\"0\" y=\"" + one_decimal(kTitle_px) + "\" width=\"" + one_decimal(width_px_) + "\" height=\"" +
+         one_decimal(height_px_ - kTitle_px) + "\" fill=\"#f7f9fb\" stroke=\"#9aa5b1\"/>\n";
   svg += "<text x=\"4\" y=\"16\" font-size=\"14\" font-weight=\"bold\">" + escape_html(title_) + "</text>\n";
   svg += body_;
-  svg += "<line x1=\"10\" y1=\"" + num(y) + "\" x2=\"" + num(10 + bar_px) + "\" y2=\"" + num(y) +
-         "\" stroke=\"#111\" stroke-width=\"3\"/>\n";
-  svg += "<text x=\"10\" y=\"" + num(y - 5) + "\" font-size=\"11\">" + num(bar_m) + " m</text>\n";
-  svg += "<text x=\"" + num(width_px_ - 18) + "\" y=\"" + num(kTitle_px + 16) + "\" font-size=\"13\" font-weight=\"bold\">N</text>\n";
-  svg += "<path d=\"M" + num(width_px_ - 14) + " " + num(kTitle_px + 20) + " l-5 12 l10 0 z\" fill=\"#111\"/>\n";
+  svg += "<line x1=\"10\" y1=\"" + one_decimal(y) + "\" x2=\"" + one_decimal(10 + bar_px) + "\" y2=\"" +
+         one_decimal(y) + "\" stroke=\"#111\" stroke-width=\"3\"/>\n";
+  svg += "<text x=\"10\" y=\"" + one_decimal(y - 5) + "\" font-size=\"11\">" + one_decimal(bar_m) + " m</text>\n";
+  svg += "<text x=\"" + one_decimal(width_px_ - 18) + "\" y=\"" + one_decimal(kTitle_px + 16) +
+         "\" font-size=\"13\" font-weight=\"bold\">N</text>\n";
+  svg += "<path d=\"M" + one_decimal(width_px_ - 14) + " " + one_decimal(kTitle_px + 20) +
+         " l-5 12 l10 0 z\" fill=\"#111\"/>\n";
   svg += "</svg>\n";
   return svg;
 }

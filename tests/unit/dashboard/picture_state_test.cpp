@@ -151,7 +151,7 @@ TEST(PictureState, LinksAlarmsAndPar) {
   EXPECT_EQ(snapshot["teams"][0]["par_due_wall_ms"], static_cast<std::int64_t>((1000.0 + 600.0) * 1e3));
   t.members[0].link = incident::LinkState::kLost;
   state.on_team(t);
-  EXPECT_TRUE(has_event(state.snapshot(), "ff1 (alpha): link lost"));
+  EXPECT_TRUE(has_event(state.snapshot(), "ff1 (alpha): link LOST"));
 
   c.wall += 700;  // overdue; reported now
   EXPECT_TRUE(state.par_reported("alpha", "ic"));

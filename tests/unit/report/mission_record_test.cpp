@@ -209,7 +209,7 @@ TEST(MissionRecord, ReadsTracksVictimsAndEveryKindOfEventFromARecording) {
   EXPECT_TRUE(has_event(r, "link", "ff1 (alpha): link LOST", 12.0));
   EXPECT_TRUE(has_event(r, "link", "regained", 18.0));
   EXPECT_TRUE(has_event(r, "accountability", "MISSING", 12.0));
-  EXPECT_TRUE(has_event(r, "alarm", "MAYDAY alarm 5 for ff1 raised", 21.0));
+  EXPECT_TRUE(has_event(r, "alarm", "MAYDAY alarm 5 for ff1 RAISED", 21.0));
   EXPECT_TRUE(has_event(r, "alarm", "acknowledged by ic", 23.0));
   EXPECT_TRUE(has_event(r, "alarm", "cleared", 25.0));
   EXPECT_TRUE(has_event(r, "map error", "suspects the floor plan", 25.0));
