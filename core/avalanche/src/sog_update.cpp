@@ -28,7 +28,7 @@ double orientation_update(SogComponent& c, const OrientationObservation& o) {
   c.P.noalias() -= k.lazyProduct(pht.transpose());
   // The reading does not depend on the calibration: E's part of Psi's error is corrected with it.
   const Eigen::Matrix<double, 3, kCalibrationDim> psi_cross = c.calibration_cross.middleRows<3>(idx::kAtt);
-  c.calibration_cross.noalias() -= k * psi_cross;
+  c.calibration_cross.noalias() -= k.lazyProduct(psi_cross);
   c.P = 0.5 * (c.P + c.P.transpose()).eval();
   c.x[idx::kAtt + 2] = wrap_angle(c.x[idx::kAtt + 2]);
   return -0.5 * (nu.dot(s_inv * nu) + std::log(s.determinant()));
@@ -88,11 +88,20 @@ bool innovation_covariance(const Linearisation& l, const SogComponent& c, Calibr
   in.qht = q.lazyProduct(l.h_d.transpose());
   Mat3 s = l.h_x * in.pht + l.h_d * in.qht;
   if (calibration != nullptr) {
-    const Jacobian<idx::kStateDim, 3> cht = c.calibration_cross.lazyProduct(l.h_e.transpose());
+    // H_E is sparse: its row a holds h in E(a, .)'s three columns and nothing else
+    // (calibration_jacobian), so each product with it takes 3 of the 9 columns and
+    // H_E Sigma_E H_E^T is diagonal.
+    Jacobian<idx::kStateDim, 3> cht;
+    in.cal.noalias() = l.h_x.lazyProduct(c.calibration_cross);
+    for (int a = 0; a < 3; ++a) {
+      const Vec3 h_a = l.h_e.block<1, 3>(a, 3 * a).transpose();
+      const Vec3 var_h_a = calibration->segment<3>(3 * a).cwiseProduct(h_a);
+      cht.col(a).noalias() = c.calibration_cross.middleCols<3>(3 * a) * h_a;
+      in.cal.block<1, 3>(a, 3 * a) += var_h_a.transpose();
+      s(a, a) += h_a.dot(var_h_a);
+    }
     const Mat3 hx_cht = l.h_x * cht;
-    in.cal.noalias() = l.h_x * c.calibration_cross;
-    in.cal.noalias() += l.h_e * calibration->asDiagonal();
-    s += hx_cht + hx_cht.transpose() + l.h_e * calibration->asDiagonal() * l.h_e.transpose();
+    s += hx_cht + hx_cht.transpose();
     in.pht += cht;
   } else {
     in.cal.setZero();
@@ -252,7 +261,7 @@ void SogFilter::update_field(const Vec3& z, const Vec3& floor, std::uint8_t axes
     }
     // C_k = F_x C - M S^-1 Cov(z, E): x and d corrected with the calibration's share of z.
     CalibrationCross cross_new = CalibrationCross::Zero();
-    if (calibration != nullptr) cross_new = composed_cross(c.calibration_cross, f) - mm_s * cal;
+    if (calibration != nullptr) cross_new = composed_cross(c.calibration_cross, f) - mm_s.lazyProduct(cal);
     SogComponent& dst = components_[out++];
     dst.x = x_new;
     dst.P = p_new;
