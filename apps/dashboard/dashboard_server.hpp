@@ -98,7 +98,7 @@ class DashboardServer {
   void set_deposit_action(std::function<bool(const std::vector<Eigen::Vector2d>&, const std::string&)> deposit);
   /// The offline basemap's tiles, served as GET /api/basemap/Z/X/Y (the view token or a
   /// session). Set before start(); without it, those are 404.
-  void set_basemap(std::shared_ptr<const Basemap> basemap) { basemap_ = std::move(basemap); }
+  void set_basemap(std::shared_ptr<const app::Basemap> basemap) { basemap_ = std::move(basemap); }
 
   /// Binds (throws std::runtime_error naming the address when it cannot) and serves on a thread.
   void start();
@@ -132,7 +132,7 @@ class DashboardServer {
   std::function<bool(std::uint32_t, const std::string&)> dug_out_;
   std::function<bool(const std::vector<std::uint32_t>&, const std::string&)> dig_order_;
   std::function<bool(const std::vector<Eigen::Vector2d>&, const std::string&)> deposit_;
-  std::shared_ptr<const Basemap> basemap_;
+  std::shared_ptr<const app::Basemap> basemap_;
   std::shared_ptr<SessionStore> sessions_;
   std::unique_ptr<httplib::Server> server_;  ///< on a loopback port: clients reach it through gate_
   std::unique_ptr<ConnectionGate> gate_;     ///< the public port

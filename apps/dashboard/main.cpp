@@ -77,17 +77,17 @@ int main(int argc, char** argv) {
     state_config.par_interval_s = settings.par_interval_s;
     state_config.stale_after_s = settings.stale_after_s;
     // Where the picture sits: its WGS-84 origin, the avalanche deposit and the building placed in it.
-    std::shared_ptr<const dashboard::Basemap> basemap;
+    std::shared_ptr<const app::Basemap> basemap;
     if (!settings.basemap.empty())
-      basemap = std::make_shared<const dashboard::Basemap>(settings.basemap, "dashboard.basemap");
+      basemap = std::make_shared<const app::Basemap>(settings.basemap, "dashboard.basemap");
     auto place = [&](dashboard::PictureState& state) {
       state.set_geodetic_origin(mission.command.incident.origin);
       if (mission.deposit) state.set_deposit(mission.deposit->vertices());
       if (basemap) {
-        const auto tiles = dashboard::tiles_over_incident(
-            *basemap, incident::GeodeticFrame(mission.command.incident.origin),
-            mission.deposit ? mission.deposit->vertices() : std::vector<Eigen::Vector2d>{});
-        state.set_extra("basemap", dashboard::basemap_json(tiles));
+        const auto tiles =
+            app::tiles_over_incident(*basemap, incident::GeodeticFrame(mission.command.incident.origin),
+                                     mission.deposit ? mission.deposit->vertices() : std::vector<Eigen::Vector2d>{});
+        state.set_extra("basemap", app::basemap_json(tiles));
         spdlog::info("basemap {}: {} tiles at zoom {} over the incident", settings.basemap, tiles.size(),
                      tiles.empty() ? 0 : tiles.front().zoom);
         if (tiles.empty()) spdlog::warn("basemap {}: no tile over the incident (another place?)", settings.basemap);

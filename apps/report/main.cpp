@@ -2,7 +2,8 @@
 // with maps, a timeline and tables (docs/operations/recording.md).
 //
 // Exit codes: 0 report written from a whole recording; 1 report written, but the recording is
-// damaged (the report says what could not be read); 2 bad command line; 4 not an MCAP file,
+// damaged (the report says what could not be read); 2 bad command line; 3 a --basemap that is
+// not a raster MBTiles file; 4 not an MCAP file,
 // unreadable, or the report (or the GeoJSON: also when the recording has no WGS-84 origin)
 // cannot be written.
 #include <spdlog/spdlog.h>
@@ -23,12 +24,15 @@
 int main(int argc, char** argv) {
   using namespace sarloc;
   CLI::App cli{"sarloc-report: a mission recording (.mcap) to a self-contained HTML report"};
-  std::string recording, output = "report.html", compare, geojson, log_level = "info";
+  std::string recording, output = "report.html", compare, geojson, basemap_path, log_level = "info";
   cli.add_option("recording", recording, "the .mcap file")->required();
   cli.add_option("-o,--output", output, "the HTML file to write")->capture_default_str();
   cli.add_option("--compare", compare, "another recording of the same inputs: the report shows how this one differs from it");
   cli.add_option("--geojson", geojson,
                  "also write the deposit, strips, tracks and victims as GeoJSON (RFC 7946, WGS-84) to this file");
+  cli.add_option("--basemap", basemap_path,
+                 "an offline raster MBTiles file (as dashboard.basemap): its tiles under the avalanche field's map, "
+                 "embedded in the report");
   app::add_log_level_option(cli, log_level);
   cli.set_version_flag("--version", SARLOC_VERSION);
   if (auto code = app::parse_command_line(cli, argc, argv)) return *code;
@@ -48,10 +52,16 @@ int main(int argc, char** argv) {
         }
       });
     };
+    // Opened first: a wrong file is refused before minutes of reading a recording.
+    std::unique_ptr<const app::Basemap> basemap;
+    if (!basemap_path.empty()) basemap = std::make_unique<const app::Basemap>(basemap_path, "--basemap");
     const report::MissionRecord record = load(recording);
+    if (basemap && !record.incident_origin) {
+      spdlog::warn("no basemap drawn: the recording holds no WGS-84 origin of the incident to place it by");
+    }
     std::unique_ptr<report::MissionRecord> baseline;
     if (!compare.empty()) baseline = std::make_unique<report::MissionRecord>(load(compare));
-    const std::string html = report::render_report(record, baseline.get());
+    const std::string html = report::render_report(record, baseline.get(), basemap.get());
     std::ofstream out(output, std::ios::binary | std::ios::trunc);
     out << html;
     out.close();

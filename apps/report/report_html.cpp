@@ -68,7 +68,11 @@ std::pair<const TruthVictim*, double> nearest_truth(const MissionRecord& r, cons
   return {best, distance};
 }
 
-std::string avalanche_map(const MissionRecord& r) {
+// The basemap's tiles over the map, at the finest zoom that takes at most this many: about the
+// map's own resolution (760 px wide), so that the report stays a few hundred kB.
+constexpr std::size_t kReportBasemapTilesMax = 24;
+
+std::string avalanche_map(const MissionRecord& r, const app::Basemap* basemap) {
   Bounds bounds;
   for (const auto& [id, track] : r.responders) {
     if (track.firefighter) continue;
@@ -83,6 +87,13 @@ std::string avalanche_map(const MissionRecord& r) {
     for (const auto& p : r.deposit->vertices()) bounds.add(p);
   }
   SvgMap map(bounds.min, bounds.max, 760.0, 5.0, "Avalanche field (incident frame, m)");
+  if (basemap != nullptr && r.incident_origin) {
+    const incident::GeodeticFrame frame(*r.incident_origin);
+    for (const auto& tile : basemap->tiles_over(frame, map.south_west(), map.north_east(), kReportBasemapTilesMax)) {
+      if (const auto uri = app::tile_data_uri(*basemap, tile))
+        map.image({tile.west, tile.north}, tile.width, tile.height, *uri);
+    }
+  }
   if (r.deposit) map.polygon(r.deposit->vertices(), "#4a90c2", 0.12);  // under everything else
   std::size_t k = 0;
   for (const auto& [id, track] : r.responders) {
@@ -450,7 +461,7 @@ std::string comparison(const MissionRecord& r, const MissionRecord& base) {
 
 }  // namespace
 
-std::string render_report(const MissionRecord& r, const MissionRecord* baseline) {
+std::string render_report(const MissionRecord& r, const MissionRecord* baseline, const app::Basemap* basemap) {
   std::size_t found = 0, located = 0;
   for (const auto& [id, v] : r.victims) {
     if (v.samples.empty()) continue;
@@ -498,13 +509,19 @@ svg { display: block; margin: 0.5em 0; }
           "<div class=\"figure\"><b>" + std::to_string(alarms) + "</b>alarms raised</div></div>\n";
 
   html += "<section id=\"maps\"><h2>Maps</h2>\n";
-  const std::string field = avalanche_map(r);
+  const std::string field = avalanche_map(r, basemap);
   if (!field.empty()) {
+    const std::string under = basemap == nullptr ? ""
+                              : r.incident_origin
+                                  ? " Under it: the offline basemap (<code>--basemap</code>), its tiles placed by the "
+                                    "incident's WGS-84 origin."
+                                  : " No basemap: the recording holds no WGS-84 origin of the incident to place it by.";
     html += field +
             "<p class=\"legend\">Lines: rescuers' tracks (dot: start). Dashed grey: each victim's estimate over time; "
             "ellipses: 95 % when located, when found (thin) and at the end (filled), green found, orange located, grey "
             "unconfirmed. Black crosses: true positions (simulation). Pale blue area: the avalanche deposit "
-            "(the mission's incident.deposit).</p>\n";
+            "(the mission's incident.deposit)." +
+            under + "</p>\n";
   }
   for (const auto& map : building_maps(r)) {
     html += map + "<p class=\"legend\">Walls black, doors green. Solid: map-aided track, with its 95 % ellipse every 30 s "

@@ -59,6 +59,20 @@ void SvgMap::polyline(const std::vector<Eigen::Vector2d>& points, const std::str
   body_ += "\"/>\n";
 }
 
+void SvgMap::image(const Eigen::Vector2d& north_west, double width_m, double height_m, const std::string& href) {
+  const auto p = px(north_west);
+  // Half a pixel over its right and bottom edges: neighbours drawn edge to edge leave an
+  // anti-aliased hairline between them.
+  auto px2 = [](double v) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%.2f", v);
+    return std::string(buffer);
+  };
+  under_ += "<image x=\"" + px2(p.x()) + "\" y=\"" + px2(p.y()) + "\" width=\"" + px2(width_m * scale_ + 0.5) +
+            "\" height=\"" + px2(height_m * scale_ + 0.5) + "\" preserveAspectRatio=\"none\" href=\"" +
+            escape_html(href) + "\"/>\n";
+}
+
 void SvgMap::polygon(const std::vector<Eigen::Vector2d>& points, const std::string& colour, double fill_opacity) {
   if (points.size() < 3) return;
   body_ += "<polygon stroke=\"" + colour + "\" stroke-width=\"1.5\" fill=\"" + colour + "\" fill-opacity=\"" +
@@ -127,6 +141,13 @@ std::string SvgMap::finish() const {
   svg += "<rect x=\"0\" y=\"" + one_decimal(kTitle_px) + "\" width=\"" + one_decimal(width_px_) + "\" height=\"" +
          one_decimal(height_px_ - kTitle_px) + "\" fill=\"#f7f9fb\" stroke=\"#9aa5b1\"/>\n";
   svg += "<text x=\"4\" y=\"16\" font-size=\"14\" font-weight=\"bold\">" + escape_html(title_) + "</text>\n";
+  if (!under_.empty()) {
+    // The basemap, cut to the map's frame (a tile reaches past it), under everything else.
+    const std::string area_height = one_decimal(height_px_ - kTitle_px);
+    svg += "<svg x=\"0\" y=\"" + one_decimal(kTitle_px) + "\" width=\"" + one_decimal(width_px_) + "\" height=\"" +
+           area_height + "\" viewBox=\"0 " + one_decimal(kTitle_px) + " " + one_decimal(width_px_) + " " + area_height +
+           "\" class=\"basemap\">\n" + under_ + "</svg>\n";
+  }
   svg += body_;
   svg += "<line x1=\"10\" y1=\"" + one_decimal(y) + "\" x2=\"" + one_decimal(10 + bar_px) + "\" y2=\"" +
          one_decimal(y) + "\" stroke=\"#111\" stroke-width=\"3\"/>\n";

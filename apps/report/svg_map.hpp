@@ -14,6 +14,9 @@ class SvgMap {
 
   void polyline(const std::vector<Eigen::Vector2d>& points, const std::string& colour, double width_px,
                 const std::string& dash = "", double opacity = 1.0);
+  /// An image (a basemap tile: its north-west corner and size in metres), under every other
+  /// drawing and cut to the map's frame. `href` is a data: URI: the report loads nothing.
+  void image(const Eigen::Vector2d& north_west, double width_m, double height_m, const std::string& href);
   /// A closed outline, filled (an area: the avalanche deposit).
   void polygon(const std::vector<Eigen::Vector2d>& points, const std::string& colour, double fill_opacity);
   void line(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const std::string& colour, double width_px);
@@ -23,6 +26,9 @@ class SvgMap {
                  double opacity, bool filled);
   void cross(const Eigen::Vector2d& p, double size_px, const std::string& colour);
   void label(const Eigen::Vector2d& p, const std::string& text, const std::string& colour, double dx_px = 6, double dy_px = -6);
+  /// The area the map shows (metres, its margin included).
+  const Eigen::Vector2d& south_west() const { return min_; }
+  const Eigen::Vector2d& north_east() const { return max_; }
   /// Finishes the map (scale bar, north arrow, frame) and returns the <svg> element.
   std::string finish() const;
 
@@ -34,6 +40,7 @@ class SvgMap {
   double width_px_, height_px_;
   std::string title_;
   std::string body_;
+  std::string under_;  ///< images, drawn first
 };
 
 /// Escapes text for HTML and SVG.

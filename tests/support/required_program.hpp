@@ -5,6 +5,7 @@
 //   ASSERT_TRUE(sarloc::test::has_program("node", "nodejs"));
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
@@ -31,6 +32,18 @@ inline ::testing::AssertionResult has_program(const std::string& program, const 
   }
   return ::testing::AssertionFailure() << "program '" << program << "' not found: this test needs the Debian package "
                                        << package << " (scripts/install-deps installs it)";
+}
+
+/// What a shell command printed, stdout and stderr together (empty when it could not start).
+inline std::string output_of(const std::string& command) {
+  std::string out;
+  if (FILE* pipe = ::popen((command + " 2>&1").c_str(), "r")) {
+    char buffer[4096];
+    std::size_t n = 0;
+    while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) out.append(buffer, n);
+    ::pclose(pipe);
+  }
+  return out;
 }
 
 /// node and Chromium, for the tests that read recordings with @mcap/core or drive a browser.

@@ -54,6 +54,8 @@ TEST(ExitCodes, RecordingToolsRefuseWhatIsNotARecording) {
   EXPECT_EQ(exit_code_of(app("sarloc-report")), 2) << "the recording is required";
   const std::string text = std::string(SARLOC_SOURCE_DIR) + "/README.md";
   EXPECT_EQ(exit_code_of(app("sarloc-report") + " " + text + " -o /dev/null"), 4) << "not MCAP";
+  EXPECT_EQ(exit_code_of(app("sarloc-report") + " " + text + " -o /dev/null --basemap " + text), 3)
+      << "a --basemap that is not MBTiles: refused before the recording is read";
   EXPECT_EQ(exit_code_of(app("sarloc-record") + " --recover /nonexistent.mcap"), 4);
   EXPECT_EQ(exit_code_of(app("sarloc-record")), 3) << "-c is required unless --recover";
 }

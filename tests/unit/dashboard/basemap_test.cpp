@@ -24,26 +24,23 @@
 namespace sarloc::dashboard {
 namespace {
 
+using app::Basemap;
+using app::basemap_json;
+using app::kBasemapMargin;
+using app::kBasemapTilesMax;
+using app::PlacedTile;
+using app::tiles_over_incident;
+
 namespace fs = std::filesystem;
 const GeodeticOrigin kOrigin{46.5563, 7.9263, 2320.0};  // config/missions/default.yaml's
-
-std::string run(const std::string& command) {
-  std::string out;
-  if (FILE* pipe = ::popen((command + " 2>&1").c_str(), "r")) {
-    char buffer[512];
-    while (std::fgets(buffer, sizeof buffer, pipe)) out += buffer;
-    ::pclose(pipe);
-  }
-  return out;
-}
 
 class BasemapFile : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     path_ = new std::string(::testing::TempDir() + "/sarloc_test_basemap.mbtiles");
     const std::string said =
-        run(std::string(SARLOC_SOURCE_DIR "/scripts/make-test-basemap ") + *path_ + " " +
-            std::to_string(kOrigin.latitude_deg) + " " + std::to_string(kOrigin.longitude_deg) + " 500");
+        test::output_of(std::string(SARLOC_SOURCE_DIR "/scripts/make-test-basemap ") + *path_ + " " +
+                        std::to_string(kOrigin.latitude_deg) + " " + std::to_string(kOrigin.longitude_deg) + " 500");
     made_ = new std::string(said);
   }
   static void TearDownTestSuite() {
@@ -55,8 +52,9 @@ class BasemapFile : public ::testing::Test {
   static std::string pixel(const std::string& png, double x, double y) {
     const std::string file = ::testing::TempDir() + "/sarloc_basemap_tile.png";
     std::ofstream(file, std::ios::binary) << png;
-    std::string values = run("gdallocationinfo -valonly " + file + " " + std::to_string(static_cast<int>(x)) + " " +
-                             std::to_string(static_cast<int>(y)));
+    std::string values =
+        test::output_of("gdallocationinfo -valonly " + file + " " + std::to_string(static_cast<int>(x)) + " " +
+                        std::to_string(static_cast<int>(y)));
     for (char& c : values)
       if (c == '\n') c = ' ';
     return values;
@@ -71,8 +69,8 @@ TEST_F(BasemapFile, ItsTilesArePlacedSoThatTheMarkGdalPutAtTheOriginIsAtTheIncid
   ASSERT_TRUE(test::has_program("gdallocationinfo", "gdal-bin"));
   ASSERT_TRUE(fs::exists(*path_)) << *made_;
   // GDAL itself: the red mark is at the origin's latitude and longitude.
-  EXPECT_EQ(run("gdallocationinfo -wgs84 -valonly " + *path_ + " " + std::to_string(kOrigin.longitude_deg) + " " +
-                std::to_string(kOrigin.latitude_deg)),
+  EXPECT_EQ(test::output_of("gdallocationinfo -wgs84 -valonly " + *path_ + " " + std::to_string(kOrigin.longitude_deg) +
+                            " " + std::to_string(kOrigin.latitude_deg)),
             "220\n0\n0\n255\n");
   const Basemap basemap(*path_, "dashboard.basemap");
   EXPECT_EQ(basemap.content_type(), "image/png");

@@ -1,7 +1,8 @@
 #pragma once
-// An offline raster basemap for the dashboard's map: an MBTiles file (SQLite; tiles in Web
-// Mercator, rows numbered from the south as TMS does) prepared before the season, for example
-// OpenStreetMap or orthophoto tiles (docs/operations/dashboard.md, "Basemap"). Read-only.
+// An offline raster basemap under the dashboard's map and the report's: an MBTiles file
+// (SQLite; tiles in Web Mercator, rows numbered from the south as TMS does) prepared before the
+// season, for example OpenStreetMap or orthophoto tiles (docs/operations/dashboard.md,
+// "Basemap"). Read-only.
 #include <Eigen/Core>
 #include <cstddef>
 #include <mutex>
@@ -14,7 +15,7 @@
 
 struct sqlite3;
 
-namespace sarloc::dashboard {
+namespace sarloc::app {
 
 /// One tile of the file, placed in the incident frame: its north-west corner and its size (m).
 /// zoom/column/row number it as web maps do (XYZ: row 0 at the north), as the page asks for it.
@@ -68,9 +69,13 @@ std::vector<PlacedTile> tiles_over_incident(const Basemap& basemap, const incide
 /// The page's list: [{"z", "x", "y", "west", "north", "width", "height"}, ...] (m, to the cm).
 nlohmann::json basemap_json(const std::vector<PlacedTile>& tiles);
 
+/// The tile's bytes as a data: URI (base64), to draw it inside a self-contained file; nothing
+/// when the file has no tile there.
+std::optional<std::string> tile_data_uri(const Basemap& basemap, const PlacedTile& tile);
+
 /// Web Mercator: the tile (XYZ) holding a WGS-84 point at `zoom`, and a tile corner's latitude
 /// and longitude (its north-west corner; column + 1, row + 1 for the south-east).
 Eigen::Vector2d tile_of(double latitude_deg, double longitude_deg, int zoom);
 incident::Geodetic tile_corner(int zoom, double column, double row);
 
-}  // namespace sarloc::dashboard
+}  // namespace sarloc::app

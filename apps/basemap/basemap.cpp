@@ -1,5 +1,6 @@
 #include "basemap.hpp"
 
+#include <openssl/evp.h>
 #include <sqlite3.h>
 
 #include <algorithm>
@@ -9,7 +10,7 @@
 #include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/errors.hpp"
 
-namespace sarloc::dashboard {
+namespace sarloc::app {
 
 namespace {
 
@@ -43,6 +44,17 @@ std::vector<PlacedTile> tiles_over_incident(const Basemap& basemap, const incide
   }
   const Eigen::Vector2d margin = Eigen::Vector2d::Constant(kBasemapMargin);
   return basemap.tiles_over(frame, low - margin, high + margin, kBasemapTilesMax);
+}
+
+std::optional<std::string> tile_data_uri(const Basemap& basemap, const PlacedTile& tile) {
+  const auto bytes = basemap.tile(tile.zoom, tile.column, tile.row);
+  if (!bytes) return std::nullopt;
+  std::string base64(4 * ((bytes->size() + 2) / 3) + 1, '\0');
+  const int written =
+      EVP_EncodeBlock(reinterpret_cast<unsigned char*>(base64.data()),
+                      reinterpret_cast<const unsigned char*>(bytes->data()), static_cast<int>(bytes->size()));
+  base64.resize(static_cast<std::size_t>(written));
+  return "data:" + basemap.content_type() + ";base64," + base64;
 }
 
 nlohmann::json basemap_json(const std::vector<PlacedTile>& tiles) {
@@ -160,4 +172,4 @@ std::vector<PlacedTile> Basemap::tiles_over(const incident::GeodeticFrame& frame
   return {};
 }
 
-}  // namespace sarloc::dashboard
+}  // namespace sarloc::app
