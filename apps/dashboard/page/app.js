@@ -346,11 +346,34 @@ const heardBy = (sources) => [...new Set(sources.map((s) => s.split("/")[0]))].j
 // The one rescuer incident command sends to a victim heard by several (the search plan).
 const pursuer = (victimId) => (picture.plan && picture.plan.pursuers && picture.plan.pursuers[victimId]) || '';
 
+// A list's HTML is replaced only when it changed, and what changes every second (ages, the PAR
+// countdown) is written into its cells afterwards: a row replaced between the press and the
+// release of a button under the operator's pointer loses the click (seen in the browser test,
+// once a second with the ages inside the rows).
+function setRows(element, html) {
+  if (element.sarlocHtml === html) return;
+  element.innerHTML = html;
+  element.sarlocHtml = html;
+}
+
+function fillClocks(now, wallNow) {
+  for (const cell of document.querySelectorAll('[data-since-ns]')) {
+    cell.textContent = `${((now - Number(cell.dataset.sinceNs)) / 1e9).toFixed(0)} s ago`;
+  }
+  for (const span of document.querySelectorAll('.par[data-due-ms]')) {
+    const left = (Number(span.dataset.dueMs) - wallNow) / 1000;
+    span.className = `par ${left < 0 ? 'red' : left < 60 ? 'amber' : ''}`;
+    span.textContent = left < 0 ? `PAR overdue ${(-left).toFixed(0)} s` :
+                                  `PAR in ${Math.floor(left / 60)}:${String(Math.floor(left % 60)).padStart(2, '0')}`;
+  }
+}
+
 function renderLists() {
   const now = picture.missionNs;
   const victims = [...picture.victims.values()].sort((a, b) => a.id - b.id);
   $("victim-count").textContent = victims.length;
-  $('victims').tBodies[0].innerHTML =
+  setRows(
+      $('victims').tBodies[0],
       victims
           .map(
               (v) =>
@@ -358,7 +381,7 @@ function renderLists() {
                   `<td class="state state-${esc(v.state)}">${esc(v.state)}</td><td>${v.radius95_m.toFixed(2)}</td>` +
                   `<td class="where">${v.x.toFixed(1)} E, ${v.y.toFixed(1)} N${
                       v.wgs84 ? `<br><small>${esc(v.wgs84)}</small>` : ''}</td>` +
-                  `<td>${v.located_ns ? `${((now - v.located_ns) / 1e9).toFixed(0)} s ago` : '—'}</td>` +
+                  (v.located_ns ? `<td data-since-ns="${v.located_ns}"></td>` : '<td>—</td>') +
                   `<td class="found">${isFound(v.state) && v.found_ns ? `at ${missionS(v.found_ns)}` : '—'}${
                       v.state === 'recovered' ? ', dug out' : ''}${
                       v.state === 'FOUND' ?
@@ -366,12 +389,13 @@ function renderLists() {
                           ''}</td>` +
                   `<td title="${esc(v.sources.join(', '))}">${esc(heardBy(v.sources))}${
                       pursuer(v.id) ? `<br><small class="pursuer">sent: ${esc(pursuer(v.id))}</small>` : ''}</td></tr>`)
-          .join('');
+          .join(''));
 
   // Triage: incident command's dig order over the FOUND victims (survival at each dig-out).
   const digs = (picture.plan && picture.plan.digs) || [];
   $('dig-survivors').textContent = digs.length ? picture.plan.expected_survivors.toFixed(2) : '—';
-  $('digs').tBodies[0].innerHTML =
+  setRows(
+      $('digs').tBodies[0],
       digs.map(
               (d, i) =>
                   `<tr data-dig="${d.victim}"><td>${i + 1}</td><td>${d.victim}</td><td>${d.depth_m.toFixed(1)}</td>` +
@@ -382,29 +406,55 @@ function renderLists() {
                   `<td>${
                       i > 0 ? `<button type="button" class="dig-first" data-victim="${d.victim}">dig first</button>` :
                               ''}</td></tr>`)
-          .join('');
+          .join(''));
 
   const wallNow = picture.wallMs + (Date.now() - picture.receivedAtMs);
-  $("teams").innerHTML = [...picture.teams.values()].sort((a, b) => a.id.localeCompare(b.id)).map((t) => {
-    const left = (t.par_due_wall_ms - wallNow) / 1000;
-    const cls = left < 0 ? "red" : left < 60 ? "amber" : "";
-    const par = left < 0 ? `PAR overdue ${(-left).toFixed(0)} s` : `PAR in ${Math.floor(left / 60)}:${String(Math.floor(left % 60)).padStart(2, "0")}`;
-    const head = "<tr><th>member</th><th>link</th><th>accounted</th><th>last heard</th><th>floor</th></tr>";
-    const rows = head + t.members.map((m) => `<tr data-member="${esc(m.id)}"><td>${esc(m.id)}</td><td class="link link-${esc(m.link)}">${esc(m.link === "signed_off" ? "signed off" : m.link)}</td>` +
-      `<td>${esc(m.accountability)}</td><td>${m.last_seen_ns ? `${((now - m.last_seen_ns) / 1e9).toFixed(0)} s ago` : "never"}</td><td>floor ${m.floor}</td></tr>`).join("");
-    return `<div class="team" data-team="${esc(t.id)}"><h3>${esc(t.id || "(no team)")} <span><span class="par ${cls}">${par}</span> ` +
-      `<button type="button" class="par-report" data-team="${esc(t.id)}">PAR reported</button></span></h3><table>${rows}</table></div>`;
-  }).join("");
+  setRows(
+      $('teams'),
+      [...picture.teams.values()]
+          .sort((a, b) => a.id.localeCompare(b.id))
+          .map((t) => {
+            const head = '<tr><th>member</th><th>link</th><th>accounted</th><th>last heard</th><th>floor</th></tr>';
+            const rows = head +
+                t.members
+                    .map(
+                        (m) => `<tr data-member="${esc(m.id)}"><td>${esc(m.id)}</td><td class="link link-${
+                                   esc(m.link)}">${esc(m.link === 'signed_off' ? 'signed off' : m.link)}</td>` +
+                            `<td>${esc(m.accountability)}</td>${
+                                   m.last_seen_ns ? `<td data-since-ns="${m.last_seen_ns}"></td>` :
+                                                    '<td>never</td>'}<td>floor ${m.floor}</td></tr>`)
+                    .join('');
+            return `<div class="team" data-team="${esc(t.id)}"><h3>${
+                       esc(t.id || '(no team)')} <span><span class="par" data-due-ms="${t.par_due_wall_ms}"></span> ` +
+                `<button type="button" class="par-report" data-team="${
+                       esc(t.id)}">PAR reported</button></span></h3><table>${rows}</table></div>`;
+          })
+          .join(''));
 
   const alarms = [...picture.alarms.values()].sort((a, b) => b.raised_ns - a.raised_ns);
   $("alarm-count").textContent = alarms.filter((a) => !a.acknowledged).length;
-  $("alarms").innerHTML = alarms.map((a) =>
-    `<li data-alarm="${a.id}" class="${a.active ? "" : "cleared"} ${a.acknowledged ? "acknowledged" : ""}"><span><b>${esc(a.name || a.kind)}</b> ${esc(a.responder)} (${esc(a.team)}), ` +
-    `raised at ${missionS(a.raised_ns)}${a.active ? "" : ", cleared"}${a.acknowledged ? `, acknowledged by ${esc(a.acknowledged_by)}` : ""}</span>` +
-    (a.acknowledged ? "" : `<button type="button" class="ack" data-alarm="${a.id}">acknowledge</button>`) + "</li>").join("");
+  setRows(
+      $('alarms'),
+      alarms
+          .map(
+              (a) => `<li data-alarm="${a.id}" class="${a.active ? '' : 'cleared'} ${
+                         a.acknowledged ?
+                             'acknowledged' :
+                             ''}"><span><b>${esc(a.name || a.kind)}</b> ${esc(a.responder)} (${esc(a.team)}), ` +
+                  `raised at ${missionS(a.raised_ns)}${a.active ? '' : ', cleared'}${
+                         a.acknowledged ? `, acknowledged by ${esc(a.acknowledged_by)}` : ''}</span>` +
+                  (a.acknowledged ? '' :
+                                    `<button type="button" class="ack" data-alarm="${a.id}">acknowledge</button>`) +
+                  '</li>')
+          .join(''));
 
-  $("events").innerHTML = picture.events.slice(-200).reverse().map((e) =>
-    `<li><b>${missionS(e.mission_ns)}</b> ${esc(e.kind)}: ${esc(e.text)}</li>`).join("");
+  setRows(
+      $('events'),
+      picture.events.slice(-200)
+          .reverse()
+          .map((e) => `<li><b>${missionS(e.mission_ns)}</b> ${esc(e.kind)}: ${esc(e.text)}</li>`)
+          .join(''));
+  fillClocks(now, wallNow);
   $("clock").textContent = `mission ${missionS(now)}`;
   $("wall").textContent = new Date(picture.wallMs + (Date.now() - picture.receivedAtMs)).toLocaleTimeString([], { hour12: false });
 }
