@@ -219,14 +219,22 @@ void IncidentCommand::on_deposit_drawing(const std::string& incident_id, const s
   if (config_.deposit && config_.deposit->vertices() == drawn->vertices()) return;  // delivered again
   const bool had = config_.deposit.has_value();
   config_.deposit = std::move(drawn);
-  planner_.emplace(*config_.deposit, config_.search_plan);
+  // A redrawn outline keeps what was searched: a corner moved in mid-search re-walks nothing.
+  if (planner_) {
+    SearchPlanner replaced = std::move(*planner_);
+    planner_.emplace(*config_.deposit, config_.search_plan, replaced);
+  } else {
+    planner_.emplace(*config_.deposit, config_.search_plan);
+  }
   planner_seeded_ = false;
   if (!pursuits_) pursuits_.emplace(config_.search_plan.pursuit_timeout_s);
   say(had ? IncidentEvent::Kind::kWarning : IncidentEvent::Kind::kInfo,
       from + ": " + std::to_string(config_.deposit->vertices().size()) + " vertices, " +
           std::to_string(static_cast<long>(std::lround(config_.deposit->area_m2()))) +
           " m2; the search is planned over it" +
-          (had ? " in place of the last one (strips cut afresh, the coverage so far not carried over)" : ""));
+          (had ? " in place of the last one (strips cut afresh; what was searched inside the new outline stays "
+                 "searched)"
+               : ""));
 }
 
 void IncidentCommand::on_peer_summary(const std::string& writer, TimestampNs wall_now) {

@@ -75,6 +75,17 @@ void SearchCoverage::add_walk(const Vec2& a, const Vec2& b, double reach_m) {
     }
 }
 
+void SearchCoverage::carry_over(const SearchCoverage& before) {
+  for (std::size_t k = 0; k < centres_.size(); ++k) {
+    if (searched_[k]) continue;
+    const std::int32_t old = before.cell_at(centres_[k]);
+    if (old < 0 || !before.searched_[static_cast<std::size_t>(old)]) continue;
+    searched_[k] = 1;
+    ++searched_count_;
+    if (strip_of_[k] >= 0) ++strip_searched_[static_cast<std::size_t>(strip_of_[k])];
+  }
+}
+
 std::int32_t SearchCoverage::cell_at(const Vec2& p) const {
   if (!p.allFinite()) return -1;
   const double c = std::floor((p.x() - origin_.x()) / cell_m_), r = std::floor((p.y() - origin_.y()) / cell_m_);

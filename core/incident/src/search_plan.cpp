@@ -25,6 +25,12 @@ void SearchPlanConfig::validate() const {
 SearchPlanner::SearchPlanner(Deposit deposit, SearchPlanConfig config)
     : deposit_(std::move(deposit)), config_((config.validate(), config)) {}
 
+SearchPlanner::SearchPlanner(Deposit deposit, SearchPlanConfig config, const SearchPlanner& before)
+    : SearchPlanner(std::move(deposit), std::move(config)) {
+  inherited_ = before.coverage_;
+  if (before.inherited_ && !before.coverage_) inherited_ = before.inherited_;  // redrawn twice before a cut
+}
+
 void SearchPlanner::on_position(const std::string& rescuer_id, const Vec2& position) {
   if (!position.allFinite()) throw InputError("search plan: " + rescuer_id + "'s position is not finite");
   Rescuer& r = rescuers_[rescuer_id];
@@ -74,6 +80,7 @@ void SearchPlanner::cut(std::size_t searching_rescuers) {
   coverage_.emplace(deposit_, strips, config_.coverage_cell_m);
   const double reach = 0.5 * config_.strips.strip_width_m;
   for (const auto& [a, b] : walks_) coverage_->add_walk(a, b, reach);
+  if (inherited_) coverage_->carry_over(*inherited_);
   plan_.strips.clear();
   for (const Strip& s : strips) plan_.strips.push_back({s, 0.0, "", false, ""});
   first_open_row_.assign(strips.size(), 0);

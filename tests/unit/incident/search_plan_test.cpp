@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <set>
 
 #include "sarloc/core/common/errors.hpp"
@@ -264,6 +265,45 @@ TEST(SearchPlanner, AGapInTheFixesIsNotAWalk) {
   walked.update();
   EXPECT_GT(walked.plan().searched, 0.02) << "20 m walked before the first update counts";
   EXPECT_THROW(walked.on_position("a", {NAN, 0.0}), InputError);
+}
+
+// Four rescuers 60 s into their strips when the operator pulls a corner of the outline out:
+// the plan over the new outline keeps what they searched, so they finish with less walking than
+// over the same outline planned afresh, and they still search all of it.
+TEST(SearchPlanner, AnOutlineRedrawnMidSearchKeepsWhatWasSearched) {
+  SearchPlanner first(rectangle(), SearchPlanConfig{});
+  std::map<std::string, Vec2> at;
+  for (int k = 0; k < 4; ++k) {
+    const std::string id = "r" + std::to_string(k + 1);
+    at[id] = Vec2(60.0 + 10.0 * k, 205.0);
+    first.on_position(id, at[id]);
+  }
+  first.update();
+  for (int t = 0; t < 60; ++t) step(first, at);
+  const double searched_before_m2 = first.plan().searched * 150.0 * 200.0;
+  ASSERT_GT(first.plan().searched, 0.15);
+
+  const Deposit redrawn({{0, 0}, {180, -30}, {150, 200}, {0, 200}}, "deposit_drawing.outline");
+  auto finish = [&](SearchPlanner planner, std::map<std::string, Vec2> from, int& seconds) {
+    for (const auto& [id, p] : from) planner.on_position(id, p);
+    planner.update();
+    const double start = planner.plan().searched;
+    seconds = 0;
+    while (step(planner, from) && seconds < 4000) ++seconds;
+    for (const auto& strip : planner.plan().strips) EXPECT_TRUE(strip.done) << strip.strip.index;
+    EXPECT_GE(planner.plan().searched, 0.95) << "the slanted edge leaves slivers off the strips' bands";
+    return start;
+  };
+  int kept_s = 0, afresh_s = 0;
+  const double kept = finish(SearchPlanner(redrawn, SearchPlanConfig{}, first), at, kept_s);
+  const double afresh = finish(SearchPlanner(redrawn, SearchPlanConfig{}), at, afresh_s);
+  EXPECT_NEAR(kept * redrawn.area_m2(), searched_before_m2, 0.03 * searched_before_m2)
+      << "everything searched lay inside the new outline";
+  EXPECT_LT(afresh, 0.01);
+  EXPECT_LT(kept_s, afresh_s - 30) << "kept " << kept_s << " s, afresh " << afresh_s << " s";
+  RecordProperty("kept_s", kept_s);
+  RecordProperty("afresh_s", afresh_s);
+  RecordProperty("kept_searched_percent", static_cast<int>(std::lround(100.0 * kept)));
 }
 
 TEST(SearchPlanner, BadConfigurationNamesTheKey) {

@@ -135,5 +135,28 @@ TEST(SearchCoverage, WalkingEveryCentrelineSearchesTheWholeDeposit) {
   EXPECT_THROW((void)coverage.searched(9), InputError);
 }
 
+// An outline redrawn with its south-east corner pulled 30 m out: what was searched inside the
+// old outline stays searched in the new grid, what the new outline adds is not.
+TEST(SearchCoverage, ARedrawnOutlineTakesOverWhatWasSearchedInsideTheOldOne) {
+  const Deposit before_deposit(rectangle(), "deposit");
+  const auto before_strips = plan_strips(before_deposit, StripPlanConfig{}, Vec2(75, 230));
+  SearchCoverage before(before_deposit, before_strips, 1.0);
+  before.add_walk({130, 200}, {130, 60}, 20.0);  // the eastern strip, down to y = 40 with its reach
+  const Deposit after_deposit({{0, 0}, {180, -30}, {150, 200}, {0, 200}}, "deposit_drawing.outline");
+  const auto after_strips = plan_strips(after_deposit, StripPlanConfig{}, Vec2(75, 230));
+  SearchCoverage after(after_deposit, after_strips, 1.0);
+  after.carry_over(before);
+  EXPECT_TRUE(after.searched_at({130.5, 100.5}));
+  EXPECT_TRUE(after.searched_at({149.5, 70.5}));
+  EXPECT_FALSE(after.searched_at({150.5, 70.5})) << "new ground: nobody walked there for it";
+  EXPECT_FALSE(after.searched_at({130.5, 30.5})) << "below the walk's reach";
+  EXPECT_FALSE(after.searched_at({60.5, 100.5}));
+  // The same cells, counted against the larger outline.
+  const double searched_m2 = before.searched() * static_cast<double>(before.cells());
+  EXPECT_NEAR(after.searched() * static_cast<double>(after.cells()), searched_m2, 0.02 * searched_m2);
+  after.carry_over(before);  // twice: nothing counted twice
+  EXPECT_NEAR(after.searched() * static_cast<double>(after.cells()), searched_m2, 0.02 * searched_m2);
+}
+
 }  // namespace
 }  // namespace sarloc::incident

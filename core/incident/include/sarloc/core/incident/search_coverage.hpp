@@ -24,6 +24,11 @@ class SearchCoverage {
   /// non-finite point or reach.
   void add_walk(const Vec2& a, const Vec2& b, double reach_m);
 
+  /// What `before`, a coverage over another outline of the deposit (an operator redrew it),
+  /// found searched: each of this grid's cells whose centre lies in a searched cell of
+  /// `before` is searched. A cell outside the old outline is not (nobody walked there for it).
+  void carry_over(const SearchCoverage& before);
+
   /// Whether the cell holding `p` is searched (a point outside the deposit counts as searched:
   /// nothing there to search).
   bool searched_at(const Vec2& p) const;

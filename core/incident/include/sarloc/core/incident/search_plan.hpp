@@ -96,6 +96,10 @@ class SearchPlanner {
  public:
   /// ConfigError (config.validate()).
   SearchPlanner(Deposit deposit, SearchPlanConfig config);
+  /// A plan over a redrawn outline that keeps what `before` found searched: its strips are cut
+  /// afresh (over the new outline, for the rescuers where they stand), and every cut takes
+  /// over `before`'s searched cells that lie inside the new outline (SearchCoverage::carry_over).
+  SearchPlanner(Deposit deposit, SearchPlanConfig config, const SearchPlanner& before);
 
   /// A rescuer's fix (incident frame, east/north). InputError for a non-finite one.
   void on_position(const std::string& rescuer_id, const Vec2& position);
@@ -140,6 +144,8 @@ class SearchPlanner {
   SearchPlanConfig config_;
   std::map<std::string, Rescuer> rescuers_;
   std::optional<SearchCoverage> coverage_;
+  /// A replaced plan's coverage (over its own outline), carried into every cut of this one.
+  std::optional<SearchCoverage> inherited_;
   /// Walks kept while the strips may still be re-cut (coverage is per strip); dropped after.
   std::vector<std::pair<Vec2, Vec2>> walks_;
   bool may_recut_ = true;
