@@ -2,7 +2,8 @@
 // picture of its own, no DDS): the page opens a session with the token in its address, then
 // clicks "dig first" on the second victim of the dig order and "dug out" on a FOUND victim, then
 // draws a deposit: four corners clicked on the map around the dug-out victim (top left first,
-// clockwise on screen), one drag between them that must add none, and "send deposit".
+// clockwise on screen), one drag between them that must add none, and "send deposit"; then
+// edits the planned deposit: one corner dragged, "send deposit".
 //
 //   node tests/js/dashboard_actions.mjs URL DIG_FIRST_VICTIM DUG_OUT_VICTIM   -> JSON on stdout
 import { reportFromBrowser } from "./browser.mjs";
@@ -40,14 +41,15 @@ await reportFromBrowser({ width: 1400, height: 900 }, result, async (context) =>
   const corners = [[cx - d, cy - d], [cx + d, cy - d], [cx + d, cy + d], [cx - d, cy + d]];
   for (const [i, [x, y]] of corners.entries()) {
     await page.mouse.click(x, y);
-    if (i === 1) {  // a drag pans the map, adds no corner; it also moves what is under the next clicks
-      await page.mouse.move(x, y);
+    if (i === 1) {  // a drag off the corners pans the map, adds no corner; pans back
+      const [sx, sy] = [x - 20, y + 20];  // 28 px from the corner: a press on one would move it
+      await page.mouse.move(sx, sy);
       await page.mouse.down();
-      await page.mouse.move(x + 40, y + 40, { steps: 4 });
+      await page.mouse.move(sx + 40, sy + 40, { steps: 4 });
       await page.mouse.up();
-      await page.mouse.move(x, y);
+      await page.mouse.move(sx, sy);
       await page.mouse.down();
-      await page.mouse.move(x - 40, y - 40, { steps: 4 });
+      await page.mouse.move(sx - 40, sy - 40, { steps: 4 });
       await page.mouse.up();
     }
   }
@@ -69,4 +71,25 @@ await reportFromBrowser({ width: 1400, height: 900 }, result, async (context) =>
   });
   await Promise.all([page.waitForResponse((r) => r.url().endsWith("/api/deposit")), page.locator("#draw-send").click()]);
   await page.locator("#draw").waitFor({ state: "visible", timeout: 5000 });  // the page left drawing once sent
+
+  // Editing the deposit incident command plans over (the test's plan: 0,0 80,0 80,100 0,100):
+  // the view framed on it, its corners shown, the first dragged 40 px to the right (no corner added, the map not
+  // panned), and sent.
+  await page.locator("#edit").waitFor({ state: "visible", timeout: 5000 });
+  await page.locator("#edit").click();
+  await page.waitForFunction(() => document.querySelectorAll("#map circle.drawn-corner").length >= 3, null, { timeout: 5000 });
+  result.editCorners = await page.locator("#map circle.drawn-corner").count();
+  const [ex, ey] = await page.evaluate(() => {
+    const b = document.querySelector("#map circle.drawn-corner").getBoundingClientRect();
+    return [b.x + b.width / 2, b.y + b.height / 2];
+  });
+  result.viewBoxBeforeEdit = await page.evaluate(() => document.getElementById("map").getAttribute("viewBox"));
+  await page.mouse.move(ex, ey);
+  await page.mouse.down();
+  await page.mouse.move(ex + 40, ey, { steps: 5 });
+  await page.mouse.up();
+  await page.evaluate(() => new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done))));
+  result.editedCorners = await page.locator("#map circle.drawn-corner").count();
+  result.viewBoxAfterEdit = await page.evaluate(() => document.getElementById("map").getAttribute("viewBox"));
+  await Promise.all([page.waitForResponse((r) => r.url().endsWith("/api/deposit")), page.locator("#draw-send").click()]);
 });

@@ -88,10 +88,12 @@ function merge(message) {
 // A replay's timeline (sarloc-dashboard --recording): shown when the server says so.
 let scrubbing = false;
 let replayPlaying = false;
+let replaying = false;
 function showReplay(replay) {
   if (!replay) return;
   $("replay").hidden = false;
-  $('draw').hidden = true;  // a replay changes nothing
+  replaying = true;  // a replay changes nothing: no drawing, no editing
+  $('draw').hidden = $('edit').hidden = true;
   replayPlaying = replay.playing;
   $("play").textContent = replay.playing ? "pause" : "play";
   $("scrub").min = replay.start_s;
@@ -221,19 +223,26 @@ let areaChoice = "all";
 function fit() {
   const groups = areas();
   const chosen = areaChoice === "all" ? groups.flat() : groups[Number(areaChoice)] || groups.flat();
-  const xs = chosen.map((p) => p[0]), ys = chosen.map((p) => p[1]);
-  if (!xs.length) return;
+  if (!chosen.length) return;
   const buttons = ["all", ...groups.map((_, i) => String(i))];
   if ($("area").options.length !== buttons.length) {
     $("area").innerHTML = buttons.map((b) => `<option value="${b}">${b === "all" ? "everything" : `area ${Number(b) + 1} (${groups[Number(b)].length})`}</option>`).join("");
     $("area").value = buttons.includes(areaChoice) ? areaChoice : "all";
   }
-  const pad = 10, minX = Math.min(...xs) - pad, maxX = Math.max(...xs) + pad, minY = Math.min(...ys) - pad, maxY = Math.max(...ys) + pad;
+  frame(chosen);
+  view.userMoved = false;  // fitted again as the picture grows
+}
+
+// The view around `points` ([east, north]) with 10 m around them, fixed until "fit".
+function frame(points) {
+  const xs = points.map((p) => p[0]), ys = points.map((p) => p[1]);
+  const minX = Math.min(...xs) - 10, maxX = Math.max(...xs) + 10, minY = Math.min(...ys) - 10,
+        maxY = Math.max(...ys) + 10;
   const box = $("map").getBoundingClientRect();
   const aspect = box.width > 0 && box.height > 0 ? box.width / box.height : 1.5;
   let w = maxX - minX, h = maxY - minY;
   if (w / h < aspect) w = h * aspect; else h = w / aspect;
-  Object.assign(view, { x: (minX + maxX) / 2 - w / 2, y: -(minY + maxY) / 2 - h / 2, w, h });
+  Object.assign(view, {x: (minX + maxX) / 2 - w / 2, y: -(minY + maxY) / 2 - h / 2, w, h, userMoved: true});
 }
 
 const COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2"];
@@ -336,6 +345,7 @@ function renderMap() {
   const defs = `<defs><marker id="arrow" viewBox="0 0 10 10" refX="5" refY="5" markerWidth="4" markerHeight="4" orient="auto-start-reverse"><path d="M0 0 L10 5 L0 10 z" fill="#333"/></marker></defs>`;
   $("map").setAttribute("viewBox", `${view.x} ${view.y} ${view.w} ${view.h}`);
   $("map").innerHTML = defs + svg;
+  $('edit').hidden = replaying || drawing !== null || !(picture.deposit && picture.deposit.length >= 3);
 }
 
 const isFound = (state) => state === 'FOUND' || state === 'recovered';
@@ -497,15 +507,26 @@ $("fit").addEventListener("click", () => { view.userMoved = false; schedule(); }
 $("area").addEventListener("change", () => { areaChoice = $("area").value; view.userMoved = false; schedule(); });
 
 // Drawing the deposit: a press and release on the map (not a drag) adds a corner, in the incident frame
-// (east, north: the map's y is south). Sent whole; kept on screen if refused, to fix or cancel.
+// (east, north: the map's y is south); a corner pressed and dragged moves (editing starts from the
+// deposit incident command plans over). Sent whole; kept on screen if refused, to fix or cancel.
 let pressedAt = null;
-function drawMode(on) {
-  drawing = on ? [] : null;
-  $('draw').hidden = on;
+let movingCorner = null;  // index into drawing while the operator drags a corner
+function drawMode(on, corners = []) {
+  drawing = on ? corners.map((p) => [p[0], p[1]]) : null;
+  if (on && corners.length) frame(corners);  // every corner in view, and held there while editing
+  $('draw').hidden = on || replaying;
   $('draw-send').hidden = $('draw-cancel').hidden = !on;
-  $('hint').textContent =
-      on ? 'click the deposit\'s corners in order; Backspace removes the last' : 'drag to pan, wheel to zoom';
+  $('hint').textContent = !on ? 'drag to pan, wheel to zoom' :
+      corners.length ? 'drag a corner to move it; click to add one after the last; Backspace removes the last' :
+                       'click the deposit\'s corners in order; Backspace removes the last';
   schedule();
+}
+// The drawn corner under the pointer (within 8 px), or -1.
+function cornerAt(e) {
+  if (!drawing) return -1;
+  const p = mapPoint(e);
+  const reach = 8 * view.w / $('map').getBoundingClientRect().width;
+  return drawing.findIndex((c) => Math.hypot(c[0] - p[0], c[1] - p[1]) <= reach);
 }
 function mapPoint(e) {
   const box = $('map').getBoundingClientRect();
@@ -513,6 +534,7 @@ function mapPoint(e) {
   return [view.x + (e.clientX - box.left) * scale, -(view.y + (e.clientY - box.top) * scale)];
 }
 $('draw').addEventListener('click', () => drawMode(true));
+$('edit').addEventListener('click', () => drawMode(true, picture.deposit || []));
 $('draw-cancel').addEventListener('click', () => drawMode(false));
 $('draw-send').addEventListener('click', async () => {
   if (!drawing || drawing.length < 3) {
@@ -535,10 +557,20 @@ window.addEventListener('keydown', (e) => {
 let drag = null;
 $('map').addEventListener('mousedown', (e) => {
   pressedAt = {x: e.clientX, y: e.clientY};
+  const corner = cornerAt(e);
+  if (corner >= 0) {
+    movingCorner = corner;  // moves that corner, pans nothing, adds none
+    return;
+  }
   drag = {x: e.clientX, y: e.clientY, vx: view.x, vy: view.y};
 });
 window.addEventListener('mouseup', (e) => {
   drag = null;
+  if (movingCorner !== null) {
+    movingCorner = null;
+    pressedAt = null;
+    return;
+  }
   // A corner on the button's release, not on "click": the map is redrawn whole when data
   // arrives, and a click whose press landed on an element redrawn before the release is never
   // fired (seen: one corner of four lost on a loaded machine).
@@ -548,7 +580,12 @@ window.addEventListener('mouseup', (e) => {
   }
   pressedAt = null;
 });
-window.addEventListener("mousemove", (e) => {
+window.addEventListener('mousemove', (e) => {
+  if (movingCorner !== null && drawing) {
+    drawing[movingCorner] = mapPoint(e);
+    schedule();
+    return;
+  }
   if (!drag) return;
   const scale = view.w / $("map").getBoundingClientRect().width;
   view.x = drag.vx - (e.clientX - drag.x) * scale;

@@ -19,7 +19,7 @@
 namespace sarloc::dashboard {
 namespace {
 
-TEST(DashboardActions, TheOperatorsDigFirstDugOutAndDrawnDepositWorkInABrowser) {
+TEST(DashboardActions, TheOperatorsDigFirstDugOutDrawnAndEditedDepositWorkInABrowser) {
   ASSERT_TRUE(test::has_node());
   ASSERT_TRUE(test::has_chromium());
   TimestampNs mission = 1763731300000000000LL;
@@ -86,7 +86,7 @@ TEST(DashboardActions, TheOperatorsDigFirstDugOutAndDrawnDepositWorkInABrowser) 
   EXPECT_EQ(report["mapTopBefore"], report["mapTopAfter"]) << said;
   EXPECT_EQ(report["mapTopWithBanner"][0], report["mapTopWithBanner"][1]) << "the banner moves the map; " << said;
   EXPECT_EQ(report["statuses"]["/api/deposit"], 202) << said;
-  ASSERT_EQ(deposits.size(), 1u);
+  ASSERT_EQ(deposits.size(), 2u) << "drawn, then edited; " << said;
   const auto& corners = deposits[0];
   ASSERT_EQ(corners.size(), 4u);
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();
@@ -99,6 +99,19 @@ TEST(DashboardActions, TheOperatorsDigFirstDugOutAndDrawnDepositWorkInABrowser) 
   EXPECT_NEAR(corners[0].y(), corners[1].y(), 0.2) << "a square on screen is one in the incident frame";
   EXPECT_NEAR(corners[1].x(), corners[2].x(), 0.2);
   EXPECT_NEAR(corners[1].x() - corners[0].x(), corners[1].y() - corners[2].y(), 0.2);
+
+  // Edited: the plan's deposit (sample_search_plan) with its first corner dragged 40 px east; the
+  // other corners where they were (to the 0.1 m sent), none added, the map not panned.
+  EXPECT_EQ(report["editCorners"], 4) << said;
+  EXPECT_EQ(report["editedCorners"], 4) << said;
+  EXPECT_EQ(report["viewBoxBeforeEdit"], report["viewBoxAfterEdit"]) << said;
+  const auto& edited = deposits[1];
+  ASSERT_EQ(edited.size(), 4u);
+  EXPECT_GT(edited[0].x(), 2.0) << "moved east; " << said;
+  EXPECT_NEAR(edited[0].y(), 0.0, 0.5) << "a horizontal drag";
+  EXPECT_LT((edited[1] - Eigen::Vector2d(80, 0)).norm(), 0.11);
+  EXPECT_LT((edited[2] - Eigen::Vector2d(80, 100)).norm(), 0.11);
+  EXPECT_LT((edited[3] - Eigen::Vector2d(0, 100)).norm(), 0.11);
 }
 
 }  // namespace
