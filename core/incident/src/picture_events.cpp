@@ -52,8 +52,11 @@ std::vector<PictureEvent> PictureEvents::on_victim(const FusedVictim& v) {
   if (v.state == VictimState::kRecovered && seen.state != VictimState::kRecovered) {
     out.push_back({v.last_update, "victim", name + " recovered (dug out)"});
   }
-  if (!first && v.state == VictimState::kUnconfirmed && seen.state != VictimState::kUnconfirmed) {
-    out.push_back({v.last_update, "victim", name + " back to unconfirmed: its confirmation was withdrawn"});
+  // A confirmation withdrawn (a FOUND whose witness no longer agrees, a LOCATED unconfirmed again):
+  // VictimState is declared in the order of confirmation.
+  if (!first && static_cast<int>(v.state) < static_cast<int>(seen.state)) {
+    out.push_back(
+        {v.last_update, "victim", name + " back to " + to_string(v.state) + ": its confirmation was withdrawn"});
   }
   if (v.evidence_conflict != seen.conflict) {
     out.push_back({v.last_update, "victim",

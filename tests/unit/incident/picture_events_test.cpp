@@ -67,6 +67,10 @@ TEST(PictureEvents, TransitionsOfOneVictimAreEachReportedOnce) {
   EXPECT_EQ(texts(events.on_victim(victim(1, VictimState::kLocated))),
             std::vector<std::string>{"victim 1: its sources agree again"});
   EXPECT_EQ(texts(events.on_victim(victim(1, VictimState::kFound))).size(), 1u);
+  EXPECT_EQ(texts(events.on_victim(victim(1, VictimState::kLocated))),
+            std::vector<std::string>{"victim 1 back to LOCATED: its confirmation was withdrawn"});
+  EXPECT_EQ(texts(events.on_victim(victim(1, VictimState::kFound))),
+            std::vector<std::string>{"victim 1 FOUND at (12.3, -5.0), 95 % radius 0.2 m"});
   EXPECT_EQ(texts(events.on_victim(victim(1, VictimState::kRecovered))),
             std::vector<std::string>{"victim 1 recovered (dug out)"});
   EXPECT_EQ(texts(events.on_victim_gone(1, 60 * kS)),
