@@ -72,7 +72,8 @@ std::pair<const TruthVictim*, double> nearest_truth(const MissionRecord& r, cons
 // map's own resolution (760 px wide), so that the report stays a few hundred kB.
 constexpr std::size_t kReportBasemapTilesMax = 24;
 
-std::string avalanche_map(const MissionRecord& r, const app::Basemap* basemap) {
+// `tiles_drawn`: how many of the basemap's tiles lie under it.
+std::string avalanche_map(const MissionRecord& r, const app::Basemap* basemap, std::size_t& tiles_drawn) {
   Bounds bounds;
   for (const auto& [id, track] : r.responders) {
     if (track.firefighter) continue;
@@ -90,8 +91,10 @@ std::string avalanche_map(const MissionRecord& r, const app::Basemap* basemap) {
   if (basemap != nullptr && r.incident_origin) {
     const incident::GeodeticFrame frame(*r.incident_origin);
     for (const auto& tile : basemap->tiles_over(frame, map.south_west(), map.north_east(), kReportBasemapTilesMax)) {
-      if (const auto uri = app::tile_data_uri(*basemap, tile))
+      if (const auto uri = app::tile_data_uri(*basemap, tile)) {
         map.image({tile.west, tile.north}, tile.width, tile.height, *uri);
+        ++tiles_drawn;
+      }
     }
   }
   if (r.deposit) map.polygon(r.deposit->vertices(), "#4a90c2", 0.12);  // under everything else
@@ -509,13 +512,15 @@ svg { display: block; margin: 0.5em 0; }
           "<div class=\"figure\"><b>" + std::to_string(alarms) + "</b>alarms raised</div></div>\n";
 
   html += "<section id=\"maps\"><h2>Maps</h2>\n";
-  const std::string field = avalanche_map(r, basemap);
+  std::size_t tiles = 0;
+  const std::string field = avalanche_map(r, basemap, tiles);
   if (!field.empty()) {
-    const std::string under = basemap == nullptr ? ""
-                              : r.incident_origin
-                                  ? " Under it: the offline basemap (<code>--basemap</code>), its tiles placed by the "
-                                    "incident's WGS-84 origin."
-                                  : " No basemap: the recording holds no WGS-84 origin of the incident to place it by.";
+    const std::string under =
+        basemap == nullptr   ? ""
+        : !r.incident_origin ? " No basemap: the recording holds no WGS-84 origin of the incident to place it by."
+        : tiles == 0         ? " No basemap: the <code>--basemap</code> file has no tile over this field."
+                     : " Under it: the offline basemap (<code>--basemap</code>), its tiles placed by the incident's "
+                       "WGS-84 origin.";
     html += field +
             "<p class=\"legend\">Lines: rescuers' tracks (dot: start). Dashed grey: each victim's estimate over time; "
             "ellipses: 95 % when located, when found (thin) and at the end (filled), green found, orange located, grey "

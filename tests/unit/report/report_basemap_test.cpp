@@ -1,7 +1,8 @@
 // The report's basemap (sarloc-report --basemap): a tile set made by scripts/make-test-basemap
 // lies under the avalanche field's map, embedded as data: URIs whose bytes (decoded by coreutils'
 // base64, not by sarloc) are the file's tiles, cut to the map's frame and drawn before the
-// deposit; without the incident's WGS-84 origin nothing is drawn and the legend says why.
+// deposit; without the incident's WGS-84 origin, or a tile there, nothing is drawn and the
+// legend says why.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -122,12 +123,18 @@ TEST_F(ReportBasemap, ItsTilesAreEmbeddedUnderTheFieldMapAndAreTheFilesOwnBytes)
   fs::remove(decoded);
 }
 
-TEST_F(ReportBasemap, WithoutTheIncidentsOriginNothingIsDrawnAndTheLegendSaysWhy) {
+TEST_F(ReportBasemap, WithoutTheIncidentsOriginOrATileThereNothingIsDrawnAndTheLegendSaysWhy) {
   ASSERT_TRUE(fs::exists(*path_)) << *made_;
   const app::Basemap basemap(*path_, "--basemap");
   const std::string html = render_report(field(false), nullptr, &basemap);
   EXPECT_EQ(html.find("<image"), std::string::npos);
   EXPECT_NE(html.find("No basemap: the recording holds no WGS-84 origin"), std::string::npos);
+  // An origin 50 km away from the file's tiles: none over the field, and the legend says so.
+  MissionRecord elsewhere = field(true);
+  elsewhere.incident_origin->latitude_deg += 0.5;
+  const std::string far = render_report(elsewhere, nullptr, &basemap);
+  EXPECT_EQ(far.find("<image"), std::string::npos);
+  EXPECT_NE(far.find("has no tile over this field"), std::string::npos);
   const std::string plain = render_report(field(true));
   EXPECT_EQ(plain.find("<image"), std::string::npos);
   EXPECT_EQ(plain.find("basemap"), std::string::npos) << "no --basemap: the report does not mention one";
