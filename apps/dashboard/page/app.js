@@ -230,10 +230,9 @@ function fit() {
     $("area").value = buttons.includes(areaChoice) ? areaChoice : "all";
   }
   frame(chosen);
-  view.userMoved = false;  // fitted again as the picture grows
 }
 
-// The view around `points` ([east, north]) with 10 m around them, fixed until "fit".
+// The view around `points` ([east, north]) with 10 m around them.
 function frame(points) {
   const xs = points.map((p) => p[0]), ys = points.map((p) => p[1]);
   const minX = Math.min(...xs) - 10, maxX = Math.max(...xs) + 10, minY = Math.min(...ys) - 10,
@@ -242,7 +241,7 @@ function frame(points) {
   const aspect = box.width > 0 && box.height > 0 ? box.width / box.height : 1.5;
   let w = maxX - minX, h = maxY - minY;
   if (w / h < aspect) w = h * aspect; else h = w / aspect;
-  Object.assign(view, {x: (minX + maxX) / 2 - w / 2, y: -(minY + maxY) / 2 - h / 2, w, h, userMoved: true});
+  Object.assign(view, {x: (minX + maxX) / 2 - w / 2, y: -(minY + maxY) / 2 - h / 2, w, h});
 }
 
 const COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2"];
@@ -513,7 +512,10 @@ let pressedAt = null;
 let movingCorner = null;  // index into drawing while the operator drags a corner
 function drawMode(on, corners = []) {
   drawing = on ? corners.map((p) => [p[0], p[1]]) : null;
-  if (on && corners.length) frame(corners);  // every corner in view, and held there while editing
+  if (on && corners.length) {
+    frame(corners);  // every corner in view, and held there while editing
+    view.userMoved = true;
+  }
   $('draw').hidden = on || replaying;
   $('draw-send').hidden = $('draw-cancel').hidden = !on;
   $('hint').textContent = !on ? 'drag to pan, wheel to zoom' :

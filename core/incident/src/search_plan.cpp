@@ -105,6 +105,7 @@ bool SearchPlanner::update() {
     may_recut_ = false;
     walks_.clear();
     walks_.shrink_to_fit();
+    inherited_.reset();  // no cut will take it over again
   }
   for (std::size_t i = 0; i < plan_.strips.size(); ++i) {
     PlannedStrip& s = plan_.strips[i];

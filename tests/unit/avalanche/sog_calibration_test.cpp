@@ -34,14 +34,7 @@ double mean_nees_over_devices(const SogConfig& cfg, int runs) {
   double sum = 0.0;
   for (int run = 0; run < runs; ++run) {
     std::mt19937_64 rng(300 + run);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    const double az = 2.0 * kPi * u(rng);
-    Scenario s;
-    s.transmitter = Vec3(6.0 * std::cos(az), 6.0 * std::sin(az), -1.0);
-    const Vec3 dir = Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized();
-    s.moment = dir * (cfg.standard.moment_min() + u(rng) * (cfg.standard.moment_max() - cfg.standard.moment_min()));
-    s.receiver = Vec3(0.0, 0.0, 1.0);
-    s.receiver_rpy = Vec3(0.0, 0.0, 2.0 * kPi * u(rng));
+    const Scenario s = test::random_victim_nearby(rng, 6.0, 1.0, cfg.standard.moment_min(), cfg.standard.moment_max());
     const Mat3 device = draw_calibration(rng);
     AvalancheSimulator sim(SimulationConfig{}, s, 500 + run);
     auto measure = [&] {

@@ -58,14 +58,7 @@ double mean_nees_near_a_deep_victim(const SogConfig& cfg, int runs) {
   double sum = 0.0;
   for (int run = 0; run < runs; ++run) {
     std::mt19937_64 rng(700 + run);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    const double az = 2.0 * kPi * u(rng);
-    Scenario s;
-    s.transmitter = Vec3(4.5 * std::cos(az), 4.5 * std::sin(az), -4.0);
-    const Vec3 dir = Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized();
-    s.moment = dir * (cfg.standard.moment_min() + u(rng) * (cfg.standard.moment_max() - cfg.standard.moment_min()));
-    s.receiver = Vec3(0.0, 0.0, 1.0);
-    s.receiver_rpy = Vec3(0.0, 0.0, 2.0 * kPi * u(rng));
+    const Scenario s = test::random_victim_nearby(rng, 4.5, 4.0, cfg.standard.moment_min(), cfg.standard.moment_max());
     AvalancheSimulator sim(SimulationConfig{}, s, 900 + run);
     SogFilter f(cfg);
     f.process(sim.measure());

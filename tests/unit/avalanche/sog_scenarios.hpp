@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include "sarloc/core/avalanche/simulator.hpp"
 
@@ -32,6 +33,22 @@ inline Scenario second_transmitter() {
 inline double bearing_to_truth(const AvalancheSimulator& sim) {
   const Vec3 rel = sim.true_relative_position();
   return std::atan2(rel.y(), rel.x()) - sim.scenario().receiver_rpy.z();
+}
+
+// A victim `horizontal_m` from a rescuer standing at the origin (antenna 1 m up), at a random
+// azimuth, `depth_m` deep, with a random moment within the standard's and a random heading of
+// the rescuer: the draws, in this order, from `rng`.
+inline Scenario random_victim_nearby(std::mt19937_64& rng, double horizontal_m, double depth_m, double moment_min,
+                                     double moment_max) {
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double az = 2.0 * kPi * u(rng);
+  Scenario s;
+  s.transmitter = Vec3(horizontal_m * std::cos(az), horizontal_m * std::sin(az), -depth_m);
+  const Vec3 dir = Vec3(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5).normalized();
+  s.moment = dir * (moment_min + u(rng) * (moment_max - moment_min));
+  s.receiver = Vec3(0.0, 0.0, 1.0);
+  s.receiver_rpy = Vec3(0.0, 0.0, 2.0 * kPi * u(rng));
+  return s;
 }
 
 // The walk a rescuer makes at a victim: `onto` steps of at most 1 m onto it, then 12 around it
