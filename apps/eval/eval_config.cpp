@@ -73,7 +73,12 @@ void read_scaled(YamlReader& r, const std::string& key, double& value, double un
 void read_ins(YamlReader r, firefighter::ZuptInsConfig& n) {
   r.read("alignment_s", n.alignment_s);
   r.read("alignment_min_s", n.alignment_min_s);
+  r.read("alignment_bias_s", n.alignment_bias_s);
   r.read("zupt_sigma_mps", n.zupt_sigma_mps);
+  r.read("zupt_rotation_lever_m", n.zupt_rotation_lever_m);
+  r.read("landing_speed_max_mps", n.landing_speed_max_mps);
+  r.read("swing_pause_max_s", n.swing_pause_max_s);
+  r.read("swing_max_s", n.swing_max_s);
   read_scaled(r, "zaru_sigma_deg_per_s", n.zaru_sigma_radps, kDeg);
   r.read("zaru_after_s", n.zaru_after_s);
   r.read("level_step_m", n.level_step_m);

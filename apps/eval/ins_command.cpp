@@ -72,7 +72,8 @@ CLI::App* add_ins_command(CLI::App& app, InsOptions& options) {
                   "its IMU source description (config/imu/*.yaml); default: the sarloc boot IMU CSV")
       ->check(CLI::ExistingFile);
   cmd->add_option("-c,--config", options.config_path,
-                  "YAML whose ins: section sets the INS (config/eval/firefighter.yaml's keys); default: the device's")
+                  "YAML whose ins: section sets the INS (config/eval/firefighter.yaml's keys; a --source file's stance "
+                  "settings win); default: the device's")
       ->check(CLI::ExistingFile);
   cmd->add_flag("--loop", options.loop, "the walk is a closed loop: print the loop-closure error");
   cmd->add_option("--footprints", options.footprints, "footprint truth CSV (stride,x_m,y_m): stride-aligned errors")
@@ -110,12 +111,9 @@ int run_ins_command(const InsOptions& options) {
 
   ff::ZuptInsConfig config;
   config.rate_hz = rate_hz;
-  if (format.stance_threshold) config.detector_threshold = *format.stance_threshold;
-  if (format.adaptive_stance) config.adaptive_stance = *format.adaptive_stance;
-  if (format.stance_detector) config.detector = *format.stance_detector;
-  if (format.stance_votes) config.stance_votes = *format.stance_votes;
   try {
     if (!options.config_path.empty()) read_ins(app::YamlReader::from_file(options.config_path).child("ins"), config);
+    ff::apply_declared_stance(format, config);
     config.validate();
   } catch (const ConfigError& e) {
     spdlog::error("{}", e.what());

@@ -61,10 +61,7 @@ app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const ap
   estimator::FirefighterDeviceConfig device_config;
   if (file) {  // the recording's sensor: its rate and its stance detector (config/imu/)
     if (format.rate_hz > 0.0) device_config.ins.rate_hz = format.rate_hz;
-    if (format.stance_threshold) device_config.ins.detector_threshold = *format.stance_threshold;
-    if (format.adaptive_stance) device_config.ins.adaptive_stance = *format.adaptive_stance;
-    if (format.stance_detector) device_config.ins.detector = *format.stance_detector;
-    if (format.stance_votes) device_config.ins.stance_votes = *format.stance_votes;
+    firefighter::apply_declared_stance(format, device_config.ins);
   }
   estimator::FirefighterDevice device(ff.id, ff.team, device_config, epoch);
   auto participant = std::make_shared<dds::Participant>(options.participant(mission, "rescuer-" + ff.id));

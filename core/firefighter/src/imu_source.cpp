@@ -80,6 +80,13 @@ void ImuSourceFormat::validate() const {
             "must be within [1, 1e9]");
 }
 
+void apply_declared_stance(const ImuSourceFormat& format, ZuptInsConfig& config) {
+  if (format.stance_threshold) config.detector_threshold = *format.stance_threshold;
+  if (format.adaptive_stance) config.adaptive_stance = *format.adaptive_stance;
+  if (format.stance_detector) config.detector = *format.stance_detector;
+  if (format.stance_votes) config.stance_votes = *format.stance_votes;
+}
+
 ImuSourceFormat sarloc_csv() {
   ImuSourceFormat f;
   f.time = ImuColumn{"t_s", -1};

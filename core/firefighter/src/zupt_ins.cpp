@@ -1,6 +1,9 @@
 #include "sarloc/core/firefighter/zupt_ins.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <deque>
+#include <limits>
 #include <string>
 
 #include "sarloc/core/common/angle.hpp"
@@ -48,6 +51,27 @@ double yaw_of(const Eigen::Quaterniond& q) {
   return std::atan2(R(1, 0), R(0, 0));
 }
 
+// The mean angular rate over the `count` consecutive samples whose rates vary least: a boot that
+// a detector calls still sways at a few deg/s (the GX5 walks' first second), and a sway's mean is
+// a net rotation, not the gyros' bias.
+Vec3 quietest_rate_mean(const std::deque<ImuSample>& samples, std::size_t count) {
+  count = std::clamp<std::size_t>(count, 1, samples.size());
+  Vec3 best_mean = Vec3::Zero();
+  double best_spread = std::numeric_limits<double>::infinity();
+  for (std::size_t begin = 0; begin + count <= samples.size(); ++begin) {
+    Vec3 mean = Vec3::Zero();
+    for (std::size_t k = begin; k < begin + count; ++k) mean += samples[k].angular_rate;
+    mean /= static_cast<double>(count);
+    double spread = 0.0;
+    for (std::size_t k = begin; k < begin + count; ++k) spread += (samples[k].angular_rate - mean).squaredNorm();
+    if (spread < best_spread) {
+      best_spread = spread;
+      best_mean = mean;
+    }
+  }
+  return best_mean;
+}
+
 }  // namespace
 
 void ZuptInsConfig::validate() const {
@@ -55,6 +79,7 @@ void ZuptInsConfig::validate() const {
   check("rate_hz", rate_hz, 20.0, 2000.0);
   check("alignment_s", alignment_s, 0.1, 600.0);
   check("alignment_min_s", alignment_min_s, 0.01, alignment_s);
+  check("alignment_bias_s", alignment_bias_s, 0.01, alignment_s);
   check("zaru_sigma_radps", zaru_sigma_radps, 0.0, 1.0);
   check("zaru_after_s", zaru_after_s, 0.0, 60.0);
   check("level_step_m", level_step_m, 0.0, 1.0);
@@ -70,6 +95,10 @@ void ZuptInsConfig::validate() const {
   check("initial_tilt_sigma_rad", initial_tilt_sigma_rad, 1e-6, 1.0);
   check("initial_yaw_sigma_rad", initial_yaw_sigma_rad, 1e-6, 3.2);
   check("zupt_sigma_mps", zupt_sigma_mps, 1e-4, 1.0);
+  check("zupt_rotation_lever_m", zupt_rotation_lever_m, 0.0, 0.5);
+  check("landing_speed_max_mps", landing_speed_max_mps, 0.0, 20.0);
+  check("swing_pause_max_s", swing_pause_max_s, 0.0, 1.0);
+  check("swing_max_s", swing_max_s, 0.1, 10.0);
   check("detector_window", detector_window, 1.0, 100.0);
   check("detector_sigma_accel", detector_sigma_accel, 1e-5, 10.0);
   check("detector_sigma_gyro", detector_sigma_gyro, 1e-6, 1.0);
@@ -177,7 +206,9 @@ void ZuptIns::push(const ImuSample& s) {
   window_.push_back(s);
   while (window_.size() > config_.detector_window) window_.pop_front();
   const bool was_stationary = stationary_;
-  stationary_ = detect();
+  const bool still = detect();
+  still_run_s_ = still ? still_run_s_ + dt : 0.0;
+  stationary_ = still && !(aligned_ && !was_stationary && in_swing_pause());
   motionless_s_ = stationary_ ? motionless_s_ + dt : 0.0;
 
   if (!aligned_) {
@@ -219,13 +250,19 @@ void ZuptIns::push(const ImuSample& s) {
   Q.block<3, 3>(kBg, kBg) = Mat3::Identity() * config_.gyro_bias_walk * config_.gyro_bias_walk * dt;
   P_ = Fa * P_ * Fa.transpose() + Q;
   if (stationary_) {
-    zero_velocity_update();
+    zero_velocity_update(s);
     // Standing, not a walking footfall: a heel-to-toe roll turns the boot at 10-30 deg/s.
     if (stance_s_ >= config_.zaru_after_s || (s.angular_rate - x_.bg).norm() < kZaruGate * config_.zaru_sigma_radps)
       zero_angular_rate_update(s);
   }
   // A stance ends: a real one (not a pause inside a swing) is a footfall on some floor.
+  if (!stationary_ && was_stationary) stance_ended_at_ = t_;
   if (!stationary_ && was_stationary && stance_s_ >= kLevelMinStanceS) last_stance_z_ = x_.p.z();
+}
+
+bool ZuptIns::in_swing_pause() const {
+  return config_.landing_speed_max_mps > 0.0 && x_.v.norm() > config_.landing_speed_max_mps &&
+         still_run_s_ + 1e-9 < config_.swing_pause_max_s && t_ - stance_ended_at_ < config_.swing_max_s;
 }
 
 bool ZuptIns::detect() {
@@ -254,18 +291,16 @@ bool ZuptIns::detect() {
 }
 
 void ZuptIns::align() {
-  Vec3 f = Vec3::Zero(), w = Vec3::Zero();
-  for (const ImuSample& s : alignment_) {
-    f += s.specific_force;
-    w += s.angular_rate;
-  }
+  Vec3 f = Vec3::Zero();
+  for (const ImuSample& s : alignment_) f += s.specific_force;
   f /= static_cast<double>(alignment_.size());
-  w /= static_cast<double>(alignment_.size());
   const double roll = std::atan2(f.y(), f.z());
   const double pitch = std::atan2(-f.x(), std::hypot(f.y(), f.z()));
   x_.q = Eigen::Quaterniond(Eigen::AngleAxisd(config_.initial_yaw_rad, Vec3::UnitZ()) *
                             Eigen::AngleAxisd(pitch, Vec3::UnitY()) * Eigen::AngleAxisd(roll, Vec3::UnitX()));
-  x_.bg = w;  // at rest the gyros read their bias
+  // At rest the gyros read their bias: where the spell is stillest.
+  const auto bias_samples = static_cast<std::size_t>(std::lround(config_.alignment_bias_s * config_.rate_hz));
+  x_.bg = quietest_rate_mean(alignment_, bias_samples);
   // A spell shorter than alignment_s averaged fewer samples (and a stance's small motions).
   const double spell = std::max(still_s_, 1.0 / config_.rate_hz);
   const double bias_sigma = config_.initial_gyro_bias_sigma * std::sqrt(std::max(1.0, config_.alignment_s / spell));
@@ -296,10 +331,13 @@ void ZuptIns::correct(const Eigen::Matrix<double, N, kStates>& H, const Eigen::M
   P_ = I_KH * P_ * I_KH.transpose() + K * R * K.transpose();
 }
 
-void ZuptIns::zero_velocity_update() {
+void ZuptIns::zero_velocity_update(const ImuSample& s) {
   Eigen::Matrix<double, 3, kStates> H = Eigen::Matrix<double, 3, kStates>::Zero();
   H.block<3, 3>(0, kV) = Mat3::Identity();
-  correct<3>(H, -x_.v, Mat3::Identity() * config_.zupt_sigma_mps * config_.zupt_sigma_mps);
+  // A boot rolling heel to toe in its stance moves the IMU at its rate times the lever.
+  const double rolling = (s.angular_rate - x_.bg).norm() * config_.zupt_rotation_lever_m;
+  const double variance = config_.zupt_sigma_mps * config_.zupt_sigma_mps + rolling * rolling;
+  correct<3>(H, -x_.v, Mat3::Identity() * variance);
 }
 
 void ZuptIns::zero_angular_rate_update(const ImuSample& s) {

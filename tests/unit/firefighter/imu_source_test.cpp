@@ -160,5 +160,22 @@ TEST(ImuSource, GapsAndARateThatIsNotTheDeclaredOneAreReported) {
   EXPECT_NE(reader.problems()[0].find("declares 400 Hz (rate mismatch"), std::string::npos) << reader.problems()[0];
 }
 
+// A source file's stance settings are its sensor's: they win over an ins: section, and what the
+// file does not declare stays as configured.
+TEST(ImuSource, TheSensorsDeclaredStanceSettingsWinOverTheInsConfiguration) {
+  ZuptInsConfig config;
+  config.detector_threshold = 2e4;  // as an ins: section set it
+  config.adaptive_stance = false;
+  config.stance_votes = 3;
+  ImuSourceFormat gx5;
+  gx5.stance_threshold = 1e5;
+  gx5.adaptive_stance = true;
+  apply_declared_stance(gx5, config);
+  EXPECT_EQ(config.detector_threshold, 1e5);
+  EXPECT_TRUE(config.adaptive_stance);
+  EXPECT_EQ(config.detector, StanceDetector::kShoe) << "not declared: as configured";
+  EXPECT_EQ(config.stance_votes, 3u);
+}
+
 }  // namespace
 }  // namespace sarloc::firefighter

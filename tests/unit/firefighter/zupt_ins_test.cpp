@@ -154,6 +154,53 @@ TEST(ZuptIns, AlignsOnASecondOfStillnessOrOnItsFirstStance) {
   }
 }
 
+// A boot coasting at constant velocity reads gravity alone, as in a stance. Mid-swing, at 2 m/s,
+// that is a pause, not a footfall: its ZUPT would stop the track there. A still reading that
+// lasts swing_pause_max_s, or begins swing_max_s after the last stance, is a stance whatever the
+// speed (after missed stances the INS's own velocity may be wrong by more than the gate).
+TEST(ZuptIns, APauseInsideASwingIsNoStanceUnlessItLasts) {
+  const auto walk = [](double coast_s, double landing_speed_max_mps, bool* stance_in_coast, double swing_max_s = 1.0) {
+    ZuptInsConfig config;
+    config.landing_speed_max_mps = landing_speed_max_mps;
+    config.swing_max_s = swing_max_s;
+    ZuptIns ins(config);
+    const Eigen::Vector3d still(0.0, 0.0, kGravity), push(8.0, 0.0, kGravity), brake(-8.0, 0.0, kGravity);
+    const Eigen::Vector3d no_turn = Eigen::Vector3d::Zero();
+    double t = 0.0, x = 0.0, v = 0.0;  // the truth along x
+    const auto run = [&](double seconds, const Eigen::Vector3d& f, bool coast) {
+      for (int k = 0; k < static_cast<int>(std::lround(seconds * 100.0)); ++k) {
+        t += 0.01;
+        const double a = f.x();
+        x += v * 0.01 + 0.5 * a * 0.0001;
+        v += a * 0.01;
+        ins.push(sample(t, f, no_turn));
+        if (coast && ins.stationary()) *stance_in_coast = true;
+      }
+    };
+    run(1.5, still, false);
+    EXPECT_TRUE(ins.aligned());
+    run(0.25, push, false);  // 2 m/s
+    run(coast_s, still, true);
+    run(0.25, brake, false);  // stopped
+    run(0.5, still, false);
+    return ins.nominal().p.x() - x;
+  };
+  bool stance = false;
+  const double error = walk(0.08, 1.0, &stance);
+  EXPECT_FALSE(stance) << "a 0.08 s pause at 2 m/s is no stance";
+  EXPECT_LT(std::abs(error), 0.02);
+  stance = false;
+  const double ungated = walk(0.08, 0.0, &stance);
+  EXPECT_TRUE(stance) << "without the gate the pause is a stance";
+  EXPECT_GT(std::abs(ungated), 0.1) << "and its ZUPT stops the track short";
+  stance = false;
+  walk(0.3, 1.0, &stance);
+  EXPECT_TRUE(stance) << "a still reading that lasts is a stance at any speed";
+  stance = false;
+  walk(0.08, 1.0, &stance, 0.2);
+  EXPECT_TRUE(stance) << "so is one that begins later after the last stance than any swing lasts";
+}
+
 // The level floor holds the height of a flat walk, and a flight of stairs (0.34 m per stride)
 // still climbs: a stance that far above the last is no level floor.
 TEST(ZuptIns, HeightHoldsOnALevelFloorAndStairsStillClimb) {

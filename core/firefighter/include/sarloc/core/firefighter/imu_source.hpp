@@ -32,6 +32,7 @@
 #include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/firefighter/imu_sample.hpp"
 #include "sarloc/core/firefighter/stance_threshold.hpp"
+#include "sarloc/core/firefighter/zupt_ins.hpp"
 
 namespace sarloc::firefighter {
 
@@ -78,6 +79,11 @@ struct ImuSourceFormat {
   std::optional<std::uint32_t> stance_votes;      ///< stance.votes: 2 or 3, with vote
   void validate() const;
 };
+
+/// What the sensor's source file declares for the INS (its stance detector), over `config`: the
+/// same on a device and in `sarloc-eval ins`, after any ins: section, since the file knows the
+/// sensor and its mounting.
+void apply_declared_stance(const ImuSourceFormat& format, ZuptInsConfig& config);
 
 /// sarloc's documented boot IMU CSV: t_s,ax_mps2,ay_mps2,az_mps2,gx_radps,gy_radps,gz_radps.
 ImuSourceFormat sarloc_csv();

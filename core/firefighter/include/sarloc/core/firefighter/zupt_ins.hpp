@@ -33,6 +33,10 @@ struct ZuptInsConfig {
   /// itself: a recording that starts walking gets a track from its first stance phase, with a
   /// gyro-bias uncertainty widened by sqrt(alignment_s / spell); the ZUPTs refine the tilt.
   double alignment_min_s = 0.15;
+  /// The gyro bias is the mean rate over the stillest this-long part of the spell (the least
+  /// varying rates): a boot that the detector calls still sways at a few deg/s, whose mean over
+  /// the spell is a net rotation (1.6 deg/s on a GX5 walk), not a bias.
+  double alignment_bias_s = 0.25;
   double initial_yaw_rad = 0.0;
   // Process noise (the MTi 1-series figures, imu_error_model.hpp, inflated x2 for the unmodelled).
   double accel_noise_density = 2.0 * 120e-6 * kGravity;
@@ -44,6 +48,20 @@ struct ZuptInsConfig {
   double initial_tilt_sigma_rad = 0.01;
   double initial_yaw_sigma_rad = 1e-3;
   double zupt_sigma_mps = 0.01;
+  /// The zero velocity is the foot's, not the IMU's: a boot rolling heel to toe at rate w moves
+  /// an IMU this far from its pivot at w times it, added to zupt_sigma_mps. Held to a still IMU,
+  /// the GX5 walks lost each heel-off's rise and ended 0.4-1.8 m below a flat floor.
+  double zupt_rotation_lever_m = 0.05;
+  /// A foot lands slowly: a still reading that begins while the INS moves faster than this is a
+  /// pause inside a swing, not a stance. A boot coasting at constant velocity reads gravity
+  /// alone, as in a stance: at 2 m strides the GX5 walks held 9-17 such samples mid-swing, and
+  /// each one's ZUPT cut a stride short and dropped the track 0.1-0.4 m. After a missed stance
+  /// the INS's own velocity can be wrong by more than this, so a still reading that lasts
+  /// swing_pause_max_s, or begins swing_max_s after the last stance (no swing lasts that long),
+  /// is a stance at any speed. 0 turns it off.
+  double landing_speed_max_mps = 1.0;
+  double swing_pause_max_s = 0.1;
+  double swing_max_s = 1.0;
   // SHOE detector: stationary when T < threshold, T = 1/W sum over the last W samples of
   // |f - g mean(f)/|mean(f)||^2 / sigma_a^2 + |w|^2 / sigma_g^2. OpenShoe's sigmas; the
   // threshold is a third of OpenShoe's 3e4, so that the slow swings of crawling (about 1 m/s^2,
@@ -75,7 +93,7 @@ struct ZuptInsConfig {
   /// than the strides' errors on the gait-driven walks (stride NEES 2e3-5e5); with this the stride
   /// NEES is at most its 95 % bound on every walk whose footfalls the detector found
   /// (docs/estimation/firefighter.md, "An honest covariance on real boots").
-  double stride_noise_m2_per_m = 0.04;
+  double stride_noise_m2_per_m = 0.015;
   /// No swing phase for this long: the firefighter has not moved (a PASS device's alarm).
   double motionless_after_s = 30.0;
   void validate() const;
@@ -135,7 +153,9 @@ class ZuptIns {
  private:
   void align();
   bool detect();
-  void zero_velocity_update();
+  /// A still reading now is a pause in a swing (landing_speed_max_mps), not a stance.
+  bool in_swing_pause() const;
+  void zero_velocity_update(const ImuSample& s);
   void level_floor_update();
   void zero_angular_rate_update(const ImuSample& s);
   /// The Kalman correction of the error state for residual r = H dx + noise(R).
@@ -159,6 +179,8 @@ class ZuptIns {
   double motionless_s_ = 0.0;
   double stance_s_ = 0.0;                ///< the current stance so far
   double still_s_ = 0.0;                 ///< the current still spell (before alignment)
+  double stance_ended_at_ = 0.0;         ///< when the last stance ended
+  double still_run_s_ = 0.0;             ///< how long the detector has read still, stance or not
   std::optional<double> last_stance_z_;  ///< height at the end of the previous stance
   double interval_t0_ = 0.0;
   Eigen::Vector3d interval_p0_ = Eigen::Vector3d::Zero();
