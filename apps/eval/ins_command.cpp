@@ -113,7 +113,7 @@ int run_ins_command(const InsOptions& options) {
   config.rate_hz = rate_hz;
   try {
     if (!options.config_path.empty()) read_ins(app::YamlReader::from_file(options.config_path).child("ins"), config);
-    ff::apply_declared_stance(format, config);
+    ff::apply_declared(format, config);
     config.validate();
   } catch (const ConfigError& e) {
     spdlog::error("{}", e.what());
@@ -154,6 +154,16 @@ int run_ins_command(const InsOptions& options) {
     std::printf("  alignment       at %.2f s: roll %.1f deg, pitch %.1f deg, gyro bias (%.3f, %.3f, %.3f) deg/s\n",
                 *run.aligned_at_s, run.roll_rad * kToDeg, run.pitch_rad * kToDeg, run.gyro_bias.x() * kToDeg,
                 run.gyro_bias.y() * kToDeg, run.gyro_bias.z() * kToDeg);
+    // What a source file would declare (noise:), as the stillest part of the spell shows it.
+    std::printf(
+        "  noise at rest   accel %.2e m/s^2/sqrt(Hz), gyro %.2e rad/s/sqrt(Hz) (%s); the INS's process noise: %.2e, "
+        "%.2e\n",
+        run.rest_noise.accel_density, run.rest_noise.gyro_density,
+        format.accel_noise_density > 0.0 || format.gyro_noise_density > 0.0 ? "the source declares its own"
+                                                                            : "not declared: the MTi-3's",
+        config.accel_noise_density, config.gyro_noise_density);
+    out["rest_noise"] = {{"accel_density", run.rest_noise.accel_density},
+                         {"gyro_density", run.rest_noise.gyro_density}};
     const Eigen::Vector3d end = run.track.empty() ? Eigen::Vector3d::Zero() : run.track.back().p;
     std::printf("  walk            %zu stance phases, %.2f m walked, ends at (%.2f, %.2f, %.2f) m\n",
                 run.stances.size(), run.distance_m, end.x(), end.y(), end.z());

@@ -61,7 +61,7 @@ app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const ap
   estimator::FirefighterDeviceConfig device_config;
   if (file) {  // the recording's sensor: its rate and its stance detector (config/imu/)
     if (format.rate_hz > 0.0) device_config.ins.rate_hz = format.rate_hz;
-    firefighter::apply_declared_stance(format, device_config.ins);
+    firefighter::apply_declared(format, device_config.ins);
   }
   estimator::FirefighterDevice device(ff.id, ff.team, device_config, epoch);
   auto participant = std::make_shared<dds::Participant>(options.participant(mission, "rescuer-" + ff.id));

@@ -80,11 +80,14 @@ void ImuSourceFormat::validate() const {
             "must be within [1, 1e9]");
 }
 
-void apply_declared_stance(const ImuSourceFormat& format, ZuptInsConfig& config) {
+void apply_declared(const ImuSourceFormat& format, ZuptInsConfig& config) {
   if (format.stance_threshold) config.detector_threshold = *format.stance_threshold;
   if (format.adaptive_stance) config.adaptive_stance = *format.adaptive_stance;
   if (format.stance_detector) config.detector = *format.stance_detector;
   if (format.stance_votes) config.stance_votes = *format.stance_votes;
+  if (format.accel_noise_density > 0.0)
+    config.accel_noise_density = kProcessNoiseInflation * format.accel_noise_density;
+  if (format.gyro_noise_density > 0.0) config.gyro_noise_density = kProcessNoiseInflation * format.gyro_noise_density;
 }
 
 ImuSourceFormat sarloc_csv() {

@@ -139,6 +139,7 @@ InsRecording run_ins(const std::vector<ImuSample>& samples, const ZuptInsConfig&
         run.pitch_rad = wrap_angle(kPi - run.pitch_rad);
       }
       run.gyro_bias = ins.nominal().bg;
+      run.rest_noise = ins.rest_noise();
       (void)ins.take_displacement();  // strides are counted from here
     }
     const bool stationary = ins.stationary();

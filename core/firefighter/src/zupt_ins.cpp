@@ -5,6 +5,7 @@
 #include <deque>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/errors.hpp"
@@ -51,12 +52,11 @@ double yaw_of(const Eigen::Quaterniond& q) {
   return std::atan2(R(1, 0), R(0, 0));
 }
 
-// The mean angular rate over the `count` consecutive samples whose rates vary least: a boot that
-// a detector calls still sways at a few deg/s (the GX5 walks' first second), and a sway's mean is
-// a net rotation, not the gyros' bias.
-Vec3 quietest_rate_mean(const std::deque<ImuSample>& samples, std::size_t count) {
-  count = std::clamp<std::size_t>(count, 1, samples.size());
-  Vec3 best_mean = Vec3::Zero();
+// The `count` consecutive samples whose angular rates vary least: a boot that a detector calls
+// still sways at a few deg/s (the GX5 walks' first second), and a sway's mean is a net rotation,
+// not the gyros' bias. Returns the first of them.
+std::size_t stillest_run(const std::deque<ImuSample>& samples, std::size_t count) {
+  std::size_t best_begin = 0;
   double best_spread = std::numeric_limits<double>::infinity();
   for (std::size_t begin = 0; begin + count <= samples.size(); ++begin) {
     Vec3 mean = Vec3::Zero();
@@ -66,10 +66,25 @@ Vec3 quietest_rate_mean(const std::deque<ImuSample>& samples, std::size_t count)
     for (std::size_t k = begin; k < begin + count; ++k) spread += (samples[k].angular_rate - mean).squaredNorm();
     if (spread < best_spread) {
       best_spread = spread;
-      best_mean = mean;
+      best_begin = begin;
     }
   }
-  return best_mean;
+  return best_begin;
+}
+
+// The mean of `field` over samples [begin, begin + count) and the white-noise density its spread
+// implies at `rate_hz`, averaged over the three axes: a density N sampled at f has a standard
+// deviation N sqrt(f), the convention of the process noise (N^2 dt a sample) and of the simulator.
+template <typename Field>
+std::pair<Vec3, double> mean_and_density(const std::deque<ImuSample>& samples, std::size_t begin, std::size_t count,
+                                         Field field, double rate_hz) {
+  Vec3 mean = Vec3::Zero();
+  for (std::size_t k = begin; k < begin + count; ++k) mean += field(samples[k]);
+  mean /= static_cast<double>(count);
+  double variance = 0.0;
+  for (std::size_t k = begin; k < begin + count; ++k) variance += (field(samples[k]) - mean).squaredNorm();
+  variance /= 3.0 * static_cast<double>(std::max<std::size_t>(count - 1, 1));
+  return {mean, std::sqrt(variance / rate_hz)};
 }
 
 }  // namespace
@@ -299,8 +314,17 @@ void ZuptIns::align() {
   x_.q = Eigen::Quaterniond(Eigen::AngleAxisd(config_.initial_yaw_rad, Vec3::UnitZ()) *
                             Eigen::AngleAxisd(pitch, Vec3::UnitY()) * Eigen::AngleAxisd(roll, Vec3::UnitX()));
   // At rest the gyros read their bias: where the spell is stillest.
-  const auto bias_samples = static_cast<std::size_t>(std::lround(config_.alignment_bias_s * config_.rate_hz));
-  x_.bg = quietest_rate_mean(alignment_, bias_samples);
+  const std::size_t bias_samples = std::clamp<std::size_t>(
+      static_cast<std::size_t>(std::lround(config_.alignment_bias_s * config_.rate_hz)), 1, alignment_.size());
+  const std::size_t still = stillest_run(alignment_, bias_samples);
+  const auto [rate, gyro_density] = mean_and_density(
+      alignment_, still, bias_samples, [](const ImuSample& s) { return s.angular_rate; }, config_.rate_hz);
+  x_.bg = rate;
+  rest_noise_.gyro_density = gyro_density;
+  rest_noise_.accel_density =
+      mean_and_density(
+          alignment_, still, bias_samples, [](const ImuSample& s) { return s.specific_force; }, config_.rate_hz)
+          .second;
   // A spell shorter than alignment_s averaged fewer samples (and a stance's small motions).
   const double spell = std::max(still_s_, 1.0 / config_.rate_hz);
   const double bias_sigma = config_.initial_gyro_bias_sigma * std::sqrt(std::max(1.0, config_.alignment_s / spell));

@@ -160,9 +160,10 @@ TEST(ImuSource, GapsAndARateThatIsNotTheDeclaredOneAreReported) {
   EXPECT_NE(reader.problems()[0].find("declares 400 Hz (rate mismatch"), std::string::npos) << reader.problems()[0];
 }
 
-// A source file's stance settings are its sensor's: they win over an ins: section, and what the
-// file does not declare stays as configured.
-TEST(ImuSource, TheSensorsDeclaredStanceSettingsWinOverTheInsConfiguration) {
+// A source file's stance settings and noise are its sensor's: they win over an ins: section
+// (the noise as the process noise, inflated as the INS's own is), and what the file does not
+// declare stays as configured.
+TEST(ImuSource, TheSensorsDeclaredSettingsWinOverTheInsConfiguration) {
   ZuptInsConfig config;
   config.detector_threshold = 2e4;  // as an ins: section set it
   config.adaptive_stance = false;
@@ -170,11 +171,16 @@ TEST(ImuSource, TheSensorsDeclaredStanceSettingsWinOverTheInsConfiguration) {
   ImuSourceFormat gx5;
   gx5.stance_threshold = 1e5;
   gx5.adaptive_stance = true;
-  apply_declared_stance(gx5, config);
+  apply_declared(gx5, config);
   EXPECT_EQ(config.detector_threshold, 1e5);
   EXPECT_TRUE(config.adaptive_stance);
   EXPECT_EQ(config.detector, StanceDetector::kShoe) << "not declared: as configured";
   EXPECT_EQ(config.stance_votes, 3u);
+  const double accel_noise = config.accel_noise_density;
+  gx5.gyro_noise_density = 1.2e-4;
+  apply_declared(gx5, config);
+  EXPECT_DOUBLE_EQ(config.gyro_noise_density, kProcessNoiseInflation * 1.2e-4);
+  EXPECT_EQ(config.accel_noise_density, accel_noise) << "not declared: as configured";
 }
 
 }  // namespace

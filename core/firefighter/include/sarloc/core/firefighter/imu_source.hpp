@@ -67,7 +67,8 @@ struct ImuSourceFormat {
   OverRangeRule over_range = OverRangeRule::kClip;
   RepeatedTimeRule repeated_time = RepeatedTimeRule::kInterpolate;
   double gap_periods = 3.0;
-  /// The sensor's white-noise densities (m/s^2/sqrt(Hz), rad/s/sqrt(Hz)); 0 = not declared.
+  /// The sensor's white-noise densities (m/s^2/sqrt(Hz), rad/s/sqrt(Hz)); 0 = not declared: the
+  /// INS keeps its own (the MTi-3's). `sarloc-eval ins` prints what it measured at rest.
   double accel_noise_density = 0.0;
   double gyro_noise_density = 0.0;
   /// The stance detector for this sensor and mounting (ZuptInsConfig::detector_threshold,
@@ -80,10 +81,11 @@ struct ImuSourceFormat {
   void validate() const;
 };
 
-/// What the sensor's source file declares for the INS (its stance detector), over `config`: the
-/// same on a device and in `sarloc-eval ins`, after any ins: section, since the file knows the
-/// sensor and its mounting.
-void apply_declared_stance(const ImuSourceFormat& format, ZuptInsConfig& config);
+/// What the sensor's source file declares for the INS, over `config`: its stance detector, and
+/// its noise densities as the process noise (times kProcessNoiseInflation). The same on a device
+/// and in `sarloc-eval ins`, after any ins: section, since the file knows the sensor and its
+/// mounting.
+void apply_declared(const ImuSourceFormat& format, ZuptInsConfig& config);
 
 /// sarloc's documented boot IMU CSV: t_s,ax_mps2,ay_mps2,az_mps2,gx_radps,gy_radps,gz_radps.
 ImuSourceFormat sarloc_csv();

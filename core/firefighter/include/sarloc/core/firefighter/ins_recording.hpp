@@ -39,6 +39,7 @@ struct InsRecording {
   std::optional<double> aligned_at_s;                   ///< the sample time alignment happened at
   double roll_rad = 0.0, pitch_rad = 0.0;               ///< the boot's tilt at alignment
   Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();  ///< estimated at alignment (rad/s)
+  RestNoise rest_noise;                                 ///< measured at alignment
   double longest_still_s = 0.0;                         ///< the longest still spell before alignment
   std::vector<TrackPoint> track;                        ///< every sample after alignment
   /// Footprints: stance phases after alignment (the first: where it aligned); one within 0.25 m

@@ -25,6 +25,18 @@
 
 namespace sarloc::firefighter {
 
+/// The INS's process noise over a sensor's white-noise density: what the model leaves out
+/// (scale factors, misalignment, vibration) is not white noise, and is not modelled otherwise.
+inline constexpr double kProcessNoiseInflation = 2.0;
+
+/// The white noise of a still IMU, measured over the stillest part of the alignment spell
+/// (ZuptIns::alignment_bias_s): densities per axis, averaged over the three, so that a new
+/// sensor's source file can declare them. A boot that sways reads more than its noise.
+struct RestNoise {
+  double accel_density = 0.0;  ///< m/s^2/sqrt(Hz)
+  double gyro_density = 0.0;   ///< rad/s/sqrt(Hz)
+};
+
 struct ZuptInsConfig {
   double rate_hz = 100.0;
   /// Stand still this long at power-up: roll, pitch and the gyro biases are taken from it.
@@ -38,9 +50,10 @@ struct ZuptInsConfig {
   /// the spell is a net rotation (1.6 deg/s on a GX5 walk), not a bias.
   double alignment_bias_s = 0.25;
   double initial_yaw_rad = 0.0;
-  // Process noise (the MTi 1-series figures, imu_error_model.hpp, inflated x2 for the unmodelled).
-  double accel_noise_density = 2.0 * 120e-6 * kGravity;
-  double gyro_noise_density = 2.0 * 0.007 * kPi / 180.0;
+  // Process noise: the MTi 1-series figures (imu_error_model.hpp), or a source file's declared
+  // ones (apply_declared, imu_source.hpp), times kProcessNoiseInflation for the unmodelled.
+  double accel_noise_density = kProcessNoiseInflation * 120e-6 * kGravity;
+  double gyro_noise_density = kProcessNoiseInflation * 0.007 * kPi / 180.0;
   double accel_bias_walk = 1e-4;  ///< m/s^2/sqrt(s)
   double gyro_bias_walk = 1e-5;   ///< rad/s/sqrt(s)
   double initial_accel_bias_sigma = 0.1;    ///< m/s^2
@@ -132,6 +145,8 @@ class ZuptIns {
   double motionless_s() const { return motionless_s_; }
   bool motionless() const { return motionless_s_ >= config_.motionless_after_s; }
   const Nominal& nominal() const { return x_; }
+  /// Measured where the gyro bias was (zero before alignment).
+  const RestNoise& rest_noise() const { return rest_noise_; }
   const StateCov& covariance() const { return P_; }
   double time() const { return t_; }
   double yaw() const;
@@ -172,6 +187,7 @@ class ZuptIns {
   StanceThreshold amvd_threshold_;
   ImuSample previous_;
   std::deque<ImuSample> alignment_;
+  RestNoise rest_noise_;
   bool aligned_ = false;
   bool stationary_ = true;
   bool have_time_ = false;
