@@ -30,7 +30,7 @@ namespace sarloc::firefighter {
 inline constexpr double kProcessNoiseInflation = 2.0;
 
 /// The white noise of a still IMU, measured over the stillest part of the alignment spell
-/// (ZuptIns::alignment_bias_s): densities per axis, averaged over the three, so that a new
+/// (ZuptInsConfig::alignment_bias_s): densities per axis, averaged over the three, so that a new
 /// sensor's source file can declare them. A boot that sways reads more than its noise.
 struct RestNoise {
   double accel_density = 0.0;  ///< m/s^2/sqrt(Hz)
