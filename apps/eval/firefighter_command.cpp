@@ -153,6 +153,9 @@ bool check_targets(const ff::FirefighterSummary& s, const ff::MapFilterConfig& f
   for (const auto& name : {known_default, unknown_default}) {
     if (const auto* v = find(s, name)) {
       check(v->confirmed_wrong_fraction <= 0.02, name + ": confirmed positions, at most 2 % outside their own 99 % ellipse");
+      // What a commander sees first (issue 65): converged is claimed as a place too.
+      check(v->converged_wrong_fraction <= 0.02,
+            name + ": converged positions, at most 2 % outside their own 99 % ellipse");
     }
   }
   return ok;
@@ -162,7 +165,9 @@ bool check_targets(const ff::FirefighterSummary& s, const ff::MapFilterConfig& f
 
 CLI::App* add_firefighter_command(CLI::App& app, FirefighterOptions& o) {
   auto* cmd = app.add_subcommand("firefighter", "map-aided firefighter localization (seed 004)");
-  cmd->add_option("--building", o.building, "floor plan (config/buildings/*.yaml)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--building", o.building, "floor plan (config/buildings/*.yaml, or an IMDF directory *.imdf/)")
+      ->required()
+      ->check(CLI::ExistingPath);
   cmd->add_option("-c,--config", o.config_path, "YAML config (config/eval/firefighter.yaml)")->check(CLI::ExistingFile);
   cmd->add_option("--runs", o.runs, "simulated team searches (default: config)");
   cmd->add_option("--seed", o.seed, "evaluation seed (default: config)");

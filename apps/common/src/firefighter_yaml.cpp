@@ -16,6 +16,9 @@ void read_map_filter(YamlReader section, firefighter::MapFilterConfig& filter) {
   section.read("moving_threshold_m", filter.moving_threshold_m);
   section.read("likelihood_sigma", filter.likelihood_sigma);
   section.read("likelihood_sigma_converged", filter.likelihood_sigma_converged);
+  section.read("pattern_outlier_probability", filter.pattern_outlier_probability);
+  section.read("entry_prior", filter.entry_prior);
+  section.read("converged_entry_share", filter.converged_entry_share);
   section.read("weight_floor_factor", filter.weight_floor_factor);
   section.read("replace_fraction", filter.replace_fraction);
   section.read("replace_position_sigma_m", filter.replace_position_sigma_m);

@@ -88,7 +88,9 @@ void FirefighterEstimator::start(std::uint64_t first_sequence) {
     }
   } else {
     started_mid_search_ = !entry_.empty();
-    localizer_.start_unknown();
+    // The device's first step: the firefighter is yet to come in, by a door most likely.
+    localizer_.start_unknown(first_sequence == 1 ? firefighter::UnknownStart::kWalkedIn
+                                                 : firefighter::UnknownStart::kInside);
   }
 }
 

@@ -21,8 +21,8 @@ void IndoorLocalizer::start_at(const Vec2& position, std::size_t floor, double f
   started_ = true;
 }
 
-void IndoorLocalizer::start_unknown() {
-  filter_.init_unknown(rng_);
+void IndoorLocalizer::start_unknown(UnknownStart start) {
+  filter_.init_unknown(rng_, start);
   track_.add(ins_position_);
   started_ = true;
 }

@@ -53,6 +53,7 @@ void MapFilterConfig::validate() const {
   check("moving_threshold_m", moving_threshold_m, 0.0, 1.0);
   check("likelihood_sigma", likelihood_sigma, 1e-3, 10.0);
   check("likelihood_sigma_converged", likelihood_sigma_converged, 1e-3, 10.0);
+  check("pattern_outlier_probability", pattern_outlier_probability, 0.0, 0.99);
   check("weight_floor_factor", weight_floor_factor, 0.0, 1.0);
   check("replace_fraction", replace_fraction, 0.0, 0.9);
   check("replace_position_sigma_m", replace_position_sigma_m, 0.0, 10.0);
@@ -60,6 +61,8 @@ void MapFilterConfig::validate() const {
   check("converged_variance_m2", converged_variance_m2, 1e-3, 1e4);
   check("entry_radius_m", entry_radius_m, 0.1, 50.0);
   check("confirm_entry_share", confirm_entry_share, 0.5, 1.0);
+  check("entry_prior", entry_prior, 0.0, 1.0);
+  check("converged_entry_share", converged_entry_share, 0.0, 1.0);
   check("confirm_after_steps", confirm_after_steps, 0.0, 1e6);
   check("known_position_sigma_m", known_position_sigma_m, 0.0, 100.0);
   check("known_heading_sigma_deg", known_heading_sigma_deg, 0.0, 180.0);
@@ -95,12 +98,13 @@ void MapParticleFilter::init_known(const Vec2& position, std::size_t floor, doub
     p.from_entry = true;
   }
   weights_.assign(config_.particles, 1.0 / config_.particles);
+  walked_in_ = false;
   was_converged_ = map_error_ = map_error_since_start_ = false;
   converged_run_ = moving_steps_ = converged_steps_ = 0;
   refresh_flags();
 }
 
-void MapParticleFilter::init_unknown(std::mt19937_64& rng) {
+void MapParticleFilter::init_unknown(std::mt19937_64& rng, UnknownStart start) {
   std::vector<std::pair<std::size_t, Vec2>> nodes;
   for (std::size_t f = 0; f < grid_.nodes_per_floor.size(); ++f) {
     for (const Vec2& v : grid_.nodes_per_floor[f]) nodes.emplace_back(f, v);
@@ -124,7 +128,16 @@ void MapParticleFilter::init_unknown(std::mt19937_64& rng) {
       p.from_entry = p.from_entry || (entry_floor == floor && (entry_at - at).norm() <= config_.entry_radius_m);
     }
   }
-  weights_.assign(particles_.size(), 1.0 / static_cast<double>(particles_.size()));
+  const auto at_entry = static_cast<double>(
+      std::count_if(particles_.begin(), particles_.end(), [](const Particle& p) { return p.from_entry; }));
+  const double n = static_cast<double>(particles_.size());
+  walked_in_ = start == UnknownStart::kWalkedIn;
+  const double prior = walked_in_ && at_entry > 0.0 && at_entry < n ? config_.entry_prior : 0.0;
+  weights_.resize(particles_.size());
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    weights_[i] =
+        prior > 0.0 ? (particles_[i].from_entry ? prior / at_entry : (1.0 - prior) / (n - at_entry)) : 1.0 / n;
+  }
   was_converged_ = map_error_ = map_error_since_start_ = false;
   converged_run_ = moving_steps_ = converged_steps_ = 0;
   refresh_flags();
@@ -339,6 +352,10 @@ void MapParticleFilter::update(const std::vector<PseudoObservation>& observation
   }
   // eq. (2): per particle, the RMSE of the observation at the nearest position whose heading is
   // closest to the particle's walking direction (of two as close, the better fit).
+  double best_fit = std::numeric_limits<double>::infinity();
+  for (const PseudoObservation& o : observations) best_fit = std::min(best_fit, o.rmse);
+  if (!std::isfinite(best_fit)) return;  // no fit anywhere: no information
+  const double outlier = config_.pattern_outlier_probability;
   std::vector<double> log_w(particles_.size(), -std::numeric_limits<double>::infinity());
   for (std::size_t i = 0; i < particles_.size(); ++i) {
     const Particle& p = particles_[i];
@@ -355,7 +372,8 @@ void MapParticleFilter::update(const std::vector<PseudoObservation>& observation
         e = o.rmse;
       }
     }
-    log_w[i] = std::log(weights_[i]) - e * inv_sigma2;
+    const double fit = std::isfinite(e) ? std::exp(-(e - best_fit) * inv_sigma2) : 0.0;
+    log_w[i] = std::log(weights_[i]) + std::log(outlier + (1.0 - outlier) * fit);
   }
   const double top = *std::max_element(log_w.begin(), log_w.end());
   if (!std::isfinite(top)) return;  // no particle near any usable observation: no information
@@ -443,10 +461,11 @@ MapEstimate MapParticleFilter::estimate() const {
   e.position = mean;
   e.covariance = cov;
   e.variance_m2 = cov.trace();
-  e.converged = converged_;
+  e.concentrated = converged_;
   e.map_error_suspected = map_error_;
   e.map_error_since_start = map_error_since_start_;
   for (std::size_t i = 0; i < particles_.size(); ++i) e.entry_lineage += particles_[i].from_entry ? weights_[i] : 0.0;
+  e.converged = e.concentrated && (!walked_in_ || e.entry_lineage >= config_.converged_entry_share);
   e.confirmed = e.converged && !e.map_error_since_start && e.entry_lineage >= config_.confirm_entry_share &&
                 converged_steps_ >= config_.confirm_after_steps;
   return e;

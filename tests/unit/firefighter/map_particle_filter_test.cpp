@@ -5,6 +5,7 @@
 // (this test bounds it from above: the filter must not claim more than it knows).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -206,18 +207,25 @@ TEST(MapParticleFilter, RaisesTheMapErrorFlagWhenADoorHasMoved) {
   EXPECT_TRUE(m.raised) << "door " << m.door;
 }
 
+// Two observations 1 m apart along x from `at` (a grid node of the plan), with these fits.
+std::vector<PseudoObservation> two_observations(const Vec2& at, double near_rmse, double far_rmse) {
+  std::vector<PseudoObservation> observations(2);
+  observations[0].position = at;
+  observations[0].rmse = near_rmse;
+  observations[1].position = at + Vec2(1.0, 0.0);
+  observations[1].rmse = far_rmse;
+  return observations;
+}
+
 // Tracking, a comparison weighs with likelihood_sigma_converged; finding the place, and for good
 // once a map error was suspected, with likelihood_sigma. Two observations 1 m apart, the far one
-// a better fit by 0.2 m: the weight on its side grows by exactly exp(0.2 / sigma^2).
+// a better fit by 0.2 m: the weight on the near side is multiplied by exactly
+// outlier + (1 - outlier) exp(-0.2 / sigma^2) against the far side's.
 TEST(MapParticleFilter, AConvergedCloudWeighsTheComparisonsWithItsOwnSigmaUntilAMapError) {
   const FloorPlan plan = test::building("house-125");
   const NavigableGrid grid = navigable_grid(plan, PatternGridConfig{});
   const Vec2 at = grid.nodes_per_floor[0][grid.nodes_per_floor[0].size() / 2];
-  std::vector<PseudoObservation> observations(2);
-  observations[0].position = at;
-  observations[0].rmse = 0.3;
-  observations[1].position = at + Vec2(1.0, 0.0);
-  observations[1].rmse = 0.1;
+  const std::vector<PseudoObservation> observations = two_observations(at, 0.3, 0.1);
   MapFilterConfig config;
   config.known_position_sigma_m = 0.6;  // converged (variance 0.72 m2), over both observations
   config.position_noise_m = 0.0;        // the moves below bring every particle back exactly
@@ -244,8 +252,9 @@ TEST(MapParticleFilter, AConvergedCloudWeighsTheComparisonsWithItsOwnSigmaUntilA
     pf.update(observations, 0.0, rng);
     return std::make_pair(before, far_share());
   };
-  auto expected = [](double before, double sigma) {
-    const double r = std::exp(0.2 / (sigma * sigma));
+  auto expected = [&](double before, double sigma) {
+    const double outlier = config.pattern_outlier_probability;
+    const double r = 1.0 / (outlier + (1.0 - outlier) * std::exp(-0.2 / (sigma * sigma)));
     return before * r / (before * r + 1.0 - before);
   };
   const auto [tracking_before, tracking_after] = shares(false);
@@ -256,10 +265,49 @@ TEST(MapParticleFilter, AConvergedCloudWeighsTheComparisonsWithItsOwnSigmaUntilA
   EXPECT_GT(error_after - error_before, tracking_after - tracking_before);
 }
 
+// A comparison may say nothing of a place (the walk of the last 20 m is none of the plan's
+// patterns there): one fit far worse than the best costs a particle the outlier factor, not
+// exp(-(E - E_best) / sigma^2) (e^-20 for a fit 5 m worse at sigma 0.5: the true place of a walk
+// that swept a room died so on the 1040 m2 floor; docs/estimation/firefighter.md).
+TEST(MapParticleFilter, APoorFitCostsAParticleAtMostTheOutlierFactor) {
+  const FloorPlan plan = test::building("house-125");
+  const NavigableGrid grid = navigable_grid(plan, PatternGridConfig{});
+  const Vec2 at = grid.nodes_per_floor[0][grid.nodes_per_floor[0].size() / 2];
+  const std::vector<PseudoObservation> observations = two_observations(at, 5.2, 0.2);
+  for (const double outlier : {0.0, 0.2}) {
+    MapFilterConfig config;
+    config.pattern_outlier_probability = outlier;
+    config.known_position_sigma_m = 0.6;
+    config.weight_floor_factor = 0.0;  // no particle is replaced: the weights alone are compared
+    MapParticleFilter pf(plan, grid, config);
+    std::mt19937_64 rng(3);
+    pf.init_known(at, 0, 0.0, rng);
+    auto near_share = [&] {
+      double w = 0.0;
+      for (std::size_t i = 0; i < pf.particles().size(); ++i) {
+        if (pf.particles()[i].position.x() < at.x() + 0.5) w += pf.weights()[i];
+      }
+      return w;
+    };
+    const double before = near_share();
+    ASSERT_GT(before, 0.1);
+    ASSERT_TRUE(pf.estimate().converged);  // so the comparison weighs with likelihood_sigma_converged
+    pf.update(observations, 0.0, rng);
+    const double sigma = config.likelihood_sigma_converged;
+    const double factor = outlier + (1.0 - outlier) * std::exp(-5.0 / (sigma * sigma));
+    EXPECT_NEAR(near_share(), before * factor / (before * factor + 1.0 - before), 1e-9) << "outlier " << outlier;
+  }
+}
+
 // Confirmed = converged for confirm_after_steps in a row, no map error since the start, and the
 // weight descending from particles drawn near an entry (map_particle_filter.hpp). The
 // bookkeeping: an unknown start marks exactly the particles within entry_radius_m of an entry; a
 // known start marks all; a map error since the start withholds the confirmation for good.
+double near_entry_count(const MapParticleFilter& pf) {
+  return static_cast<double>(
+      std::count_if(pf.particles().begin(), pf.particles().end(), [](const Particle& p) { return p.from_entry; }));
+}
+
 TEST(MapParticleFilter, ConfirmsOnlyAConvergedCloudThatBeganAtAnEntryAndNeverMetAMapError) {
   const FloorPlan plan = test::building("house-125");
   const NavigableGrid grid = navigable_grid(plan, PatternGridConfig{});
@@ -274,9 +322,14 @@ TEST(MapParticleFilter, ConfirmsOnlyAConvergedCloudThatBeganAtAnEntryAndNeverMet
     EXPECT_EQ(pf.particles()[i].from_entry, near) << i;
     near_entry += near ? pf.weights()[i] : 0.0;
   }
-  EXPECT_GT(near_entry, 0.01);
+  // A walk that came in: the weight near the entry is the prior, however many particles are there.
+  ASSERT_LT(near_entry_count(pf), 0.5 * static_cast<double>(pf.particles().size()));
+  EXPECT_NEAR(near_entry, config.entry_prior, 1e-9);
   EXPECT_NEAR(pf.estimate().entry_lineage, near_entry, 1e-12);
   EXPECT_FALSE(pf.estimate().confirmed) << "spread over the house";
+  // Met inside (a daemon restarted mid-search): uniform, the weight is the particles' share.
+  pf.init_unknown(rng, UnknownStart::kInside);
+  EXPECT_NEAR(pf.estimate().entry_lineage, near_entry_count(pf) / static_cast<double>(pf.particles().size()), 1e-9);
 
   pf.init_known({2.5, 5.0}, 0, 0.0, rng);  // in the corridor, walking east along it
   for (std::uint32_t k = 1; k <= config.confirm_after_steps; ++k) {
@@ -297,35 +350,65 @@ TEST(MapParticleFilter, ConfirmsOnlyAConvergedCloudThatBeganAtAnEntryAndNeverMet
   EXPECT_FALSE(disturbed.estimate().confirmed);
 }
 
+// The 1040 m2 floor's alike corridors, seed 3 of 150 s walks with the INS as it was before issue
+// 62 (5 s alignment, its whole spell for the gyro bias, no zero angular rate or level floor
+// updates, a ZUPT blind to the boot's rotation; with them, seeds 3-8 no longer converged wrongly).
+FirefighterEvalConfig warehouse_walk_with_the_old_ins() {
+  FirefighterEvalConfig c = short_config(1);
+  c.seed = 3;
+  c.ins.alignment_s = 5.0;
+  c.ins.alignment_bias_s = 5.0;
+  c.ins.zupt_rotation_lever_m = 0.0;
+  c.ins.zaru_sigma_radps = 0.0;
+  c.ins.level_step_m = 0.0;
+  return c;
+}
+
 // A converged cloud can be wrong; a confirmed one must not be. On the warehouse's alike corridors
-// this seed's cloud converges in the wrong one, and it is not confirmed. (House-125 seed 6, its half-turn image of room C, did the same until the
-// comparison learnt to pass rooms by.) If the filter changes so that this seed no longer
-// converges wrongly, the first assertion says so: pick a seed that does.
+// this seed's cloud converges in the wrong one with the filter as seed 004 has it (no outlier
+// chance, a uniform start, converged on the spread alone), and it is not confirmed. (House-125 seed 6, its
+// half-turn image of room C, did the same until the comparison learnt to pass rooms by.) If the
+// filter changes so that this seed no longer converges wrongly, the first assertion says so:
+// pick a seed that does. With the shipped filter the same walk converges where the firefighter
+// is (the next test).
 TEST(MapParticleFilter, ConfirmedClaimsFromAnUnknownStartAreHonestWhereConvergedOnesAreNot) {
   const std::vector<FilterVariant> unknown{{"unknown/weights", false, true, PseudoResampling::kNever}};
   {
-    // The 1040 m2 floor's alike corridors: this walk's cloud converges on the wrong one with the
-    // INS as it was before issue 62 (5 s alignment, its whole spell for the gyro bias, no zero
-    // angular rate or level floor updates, a ZUPT blind to the boot's rotation; with them, seeds
-    // 3-8 no longer converge wrongly): the filter's rule is what is tested.
-    FirefighterEvalConfig c = short_config(1);
-    c.seed = 3;
-    c.ins.alignment_s = 5.0;
-    c.ins.alignment_bias_s = 5.0;
-    c.ins.zupt_rotation_lever_m = 0.0;
-    c.ins.zaru_sigma_radps = 0.0;
-    c.ins.level_step_m = 0.0;
+    // This walk's cloud converges on the wrong corridor: the confirmation rule is what is tested.
+    FirefighterEvalConfig c = warehouse_walk_with_the_old_ins();
+    c.filter.pattern_outlier_probability = 0.0;
+    c.filter.entry_prior = 0.0;
+    c.filter.converged_entry_share = 0.0;
     const VariantSummary& v = variant(FirefighterEvaluation(test::building("warehouse-1040"), c, unknown).run(), "unknown/weights");
     ASSERT_GT(v.converged_wrong_fraction, 0.02) << "this seed no longer shows a wrong convergence";
     EXPECT_LE(v.confirmed_wrong_fraction, 0.01);
   }
   {
-    // Right claims are confirmed.
+    // Right claims are confirmed (0.44 of the converged estimates here; 0.24-0.63 over house-125
+    // seeds 1-8 at --runs 10: docs/estimation/firefighter.md).
     FirefighterEvalConfig c = short_config(2);
     c.seed = 6;
     const VariantSummary& v = variant(FirefighterEvaluation(test::building("house-125"), c, unknown).run(), "unknown/weights");
-    EXPECT_GT(v.confirmed_share, 0.5);
+    EXPECT_GT(v.confirmed_share, 0.3);
     EXPECT_LE(v.confirmed_wrong_fraction, 0.01);
+  }
+}
+
+// Issue 65: the shipped filter on walks where seed 004's converged on a look-alike corridor: the
+// old INS's walk above (seed 3) and the present INS's seed 1, whose clouds converged outside
+// their own 99 % ellipse 100 % and 82 % of the time with no outlier chance, a uniform start and
+// the spread alone for convergence (checked 2026-12-06). An honest ellipse leaves about 1 % out; none here may leave
+// more than 2 %.
+TEST(MapParticleFilter, OnTheWarehouseAnUnknownStartConvergesOnlyWhereTheFirefighterIs) {
+  const std::vector<FilterVariant> unknown{{"unknown/weights", false, true, PseudoResampling::kNever}};
+  const FirefighterEvalConfig old_ins = warehouse_walk_with_the_old_ins();
+  FirefighterEvalConfig seed1 = short_config(2);
+  seed1.walk.duration_s = 300.0;
+  for (const FirefighterEvalConfig& c : {old_ins, seed1}) {
+    const VariantSummary& v =
+        variant(FirefighterEvaluation(test::building("warehouse-1040"), c, unknown).run(), "unknown/weights");
+    EXPECT_LE(v.converged_wrong_fraction, 0.02) << "seed " << c.seed;
+    EXPECT_LE(v.confirmed_wrong_fraction, 0.01) << "seed " << c.seed;
   }
 }
 

@@ -24,8 +24,9 @@ class IndoorLocalizer {
   /// Known start: around `position` on `floor`, the INS frame's map heading `frame_heading`
   /// (the filter's known_position_sigma_m and known_heading_sigma_deg apply).
   void start_at(const Vec2& position, std::size_t floor, double frame_heading);
-  /// Unknown start: anywhere on the plan, any heading.
-  void start_unknown();
+  /// Unknown start: anywhere on the plan, any heading; a walk that came in began near a door
+  /// more likely (MapParticleFilter::init_unknown).
+  void start_unknown(UnknownStart start = UnknownStart::kWalkedIn);
   bool started() const { return started_; }
 
   /// One odometry step (INS displacement in its navigation frame, m). Throws InputError for a

@@ -4,7 +4,8 @@
 // displacement rotated by each particle's heading, plus the noise of section V-B (0.12 m per
 // axis per moving update, 2 deg per metre walked). A particle that crosses a wall of the
 // navigation map is removed (R-tree, wall_index.hpp). Pseudo-observations from the pattern
-// comparison weight the particles by eq. (2)-(3), with the epsilon floor, at a quarter of the
+// comparison weight the particles by eq. (2)-(3) mixed with a chance that the comparison says
+// nothing of a place (`pattern_outlier_probability`), with the epsilon floor, at a quarter of the
 // weight once converged (until a map error is suspected); optionally the q % lowest-weighted
 // particles are drawn anew from the pseudo-observations.
 //
@@ -20,12 +21,13 @@
 // INS's vertical displacement; off the stairs a particle whose height left its floor's by more
 // than `floor_tolerance_m` is removed (it did not climb where the firefighter climbed).
 //
-// Map errors (section V-E): converged while the position variance (trace, horizontal) is below
-// `converged_variance_m2`. Map-error-suspected is raised when a converged estimate loses that
-// (the paper's flag), and also when one odometry step removes more than
+// Map errors (section V-E): concentrated while the position variance (trace, horizontal) is
+// below `converged_variance_m2`; converged when concentrated and, for a walk that came in from an
+// unknown start, with `converged_entry_share` of the weight from an entry (below). Map-error-suspected is raised when a
+// converged estimate loses that (the paper's flag), and also when one odometry step removes more than
 // `map_error_removed_fraction` of the weight at walls (the firefighter walked where the map has
 // a wall: a moved door, a new opening), a case the variance alone misses because the survivors
-// converge again, confidently and wrongly. It clears after `map_error_clear_updates` converged
+// converge again, confidently and wrongly. It clears after `map_error_clear_updates` concentrated
 // updates in a row without such a step.
 //
 // Confirmed (what incident command may show as a position, not a guess): converged for
@@ -58,6 +60,11 @@
 
 namespace sarloc::firefighter {
 
+/// Where an unknown start's walk began: outside, so it came in by a door of the plan (the
+/// device's first step; `entry_prior` weighs the start), or somewhere inside (a daemon that meets
+/// the firefighter mid-search: uniform over the plan).
+enum class UnknownStart { kWalkedIn, kInside };
+
 /// When the q % replacement from pseudo-observations runs: never, after every comparison, or
 /// until the estimate first converges (sarloc's default).
 enum class PseudoResampling { kNever, kAlways, kUntilConverged };
@@ -82,6 +89,11 @@ struct MapFilterConfig {
   /// 1.09-1.18 m at worst with 0.5, 0.83-0.99 m with 1.0; docs/estimation/firefighter.md).
   /// = likelihood_sigma: one sigma throughout.
   double likelihood_sigma_converged = 1.0;
+  /// Chance that a comparison says nothing about a place: the walk of the last 20 m is none of
+  /// the plan's search patterns there (a sweep, a turn back, a room crossed diagonally). Each
+  /// comparison's factor is outlier + (1 - outlier) exp(-(E - E_best) / sigma^2), so one poor fit
+  /// costs a particle at most that factor (docs/estimation/firefighter.md). 0: eq. (2) alone.
+  double pattern_outlier_probability = 0.2;
   double weight_floor_factor = 0.01;    ///< epsilon = factor / particles
   double replace_fraction = 0.10;       ///< q
   double replace_position_sigma_m = 0.5;
@@ -92,8 +104,19 @@ struct MapFilterConfig {
   /// particles; with the adaptive count an unknown start converges without it, and drawing 10 %
   /// from ambiguous patterns only pulls the cloud apart (docs/estimation/firefighter.md).
   PseudoResampling resampling = PseudoResampling::kNever;
-  double converged_variance_m2 = 3.0;   ///< section V-E
+  double converged_variance_m2 = 3.0;  ///< section V-E: concentrated
+  /// A walk that came in from an unknown start is converged only while it is concentrated and
+  /// at least this share of its weight descends from particles drawn near an entry: a cloud
+  /// whose every path from a door has died is a look-alike of the walk, not a place (the 1040 m2
+  /// floor; docs/estimation/firefighter.md). 0: concentrated alone.
+  double converged_entry_share = 0.5;
   double entry_radius_m = 4.0;          ///< a particle drawn this near an entry began at it
+  /// An unknown start of a walk that came in (UnknownStart::kWalkedIn): the prior chance that it
+  /// began within entry_radius_m of an entry of the plan, not by a window or a ladder. The
+  /// particles are still drawn over the whole plan; their weights carry the prior, so a look-alike
+  /// of the walk far from any door keeps particles but little weight (docs/estimation/firefighter.md).
+  /// 0: uniform over the plan.
+  double entry_prior = 0.9;
   double confirm_entry_share = 0.9;     ///< confirmed: at least this share of the weight from an entry
   std::uint32_t confirm_after_steps = 20;  ///< ... and converged for this many odometry steps in a row (10 s at 2 Hz)
   double known_position_sigma_m = 0.1;
@@ -120,9 +143,14 @@ struct MapEstimate {
   std::size_t floor = 0;
   double floor_probability = 0.0;
   double variance_m2 = 0.0;  ///< trace of the covariance
+  /// The paper's convergence (section V-E): the position variance of the whole cloud under
+  /// `converged_variance_m2`, on one floor. It drives the map-error flag.
+  bool concentrated = false;
   /// Map heading of the INS navigation frame (weighted circular mean on `floor`, rad): a
   /// displacement of the INS, turned by it, is one in the map.
   double frame_heading = 0.0;
+  /// Concentrated, and for a walk that came in from an unknown start the weight from an entry
+  /// (`converged_entry_share`): what may be shown as a position with its ellipse.
   bool converged = false;
   bool map_error_suspected = false;
   /// The flag has been raised since the start, cleared or not. Over 20 walks per building with
@@ -142,8 +170,9 @@ class MapParticleFilter {
 
   /// Known initial state: around (position, floor) with the INS frame's map heading.
   void init_known(const Vec2& position, std::size_t floor, double heading, std::mt19937_64& rng);
-  /// Unknown: uniform over the navigable area of every floor, any heading.
-  void init_unknown(std::mt19937_64& rng);
+  /// Unknown: drawn uniformly over the navigable area of every floor, any heading; a walk that
+  /// came in weighs those near an entry by `entry_prior`.
+  void init_unknown(std::mt19937_64& rng, UnknownStart start = UnknownStart::kWalkedIn);
 
   /// One odometry step: the INS displacement in its navigation frame.
   void predict(const Eigen::Vector3d& delta, std::mt19937_64& rng);
@@ -189,7 +218,8 @@ class MapParticleFilter {
   bool was_converged_ = false;
   bool map_error_ = false;
   bool map_error_since_start_ = false;
-  bool converged_ = false;
+  bool converged_ = false;  ///< concentrated (MapEstimate::concentrated)
+  bool walked_in_ = false;  ///< an unknown start of UnknownStart::kWalkedIn
   std::uint32_t converged_run_ = 0;
   std::uint32_t converged_steps_ = 0;  ///< odometry steps in a row that ended converged
   std::uint32_t moving_steps_ = 0;
