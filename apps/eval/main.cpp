@@ -6,9 +6,11 @@
 //   sarloc-eval multi-burial --victims 3 --spread 5 [--trials N] [--seed S] [--json FILE]
 //                            [--trace-trial N]
 //   sarloc-eval firefighter --building FILE --runs N --seed S [--json FILE] [--plot FILE.svg]
-//   sarloc-eval ins FILE [--source config/imu/X.yaml] [--loop] [--footprints TRUTH.csv] [--out TRACK.csv] [--plot
-//   F.svg] sarloc-eval detector [--scenario single|nested-pair|together|lockstep-pair|all] [--draws N] [--seed S]
-//   [--json FILE]
+//   sarloc-eval ins FILE [--source config/imu/X.yaml] [--loop] [--footprints TRUTH.csv] [--out TRACK.csv]
+//                   [--plot F.svg]
+//   sarloc-eval plan BUILDING [--html F.html]
+//   sarloc-eval detector [--scenario single|nested-pair|together|lockstep-pair|all] [--draws N] [--seed S]
+//                        [--json FILE]
 //
 // Prints a table in the layout of seed 000, Table I, plus timing and NEES consistency, and the
 // same figures as JSON. Exit codes (sarloc::app::ExitCode): 0 all accuracy/consistency targets
@@ -31,6 +33,7 @@
 #include "eval_config.hpp"
 #include "firefighter_command.hpp"
 #include "ins_command.hpp"
+#include "plan_command.hpp"
 #include "sarloc/app/command_line.hpp"
 #include "sarloc/app/evaluation_json.hpp"
 #include "sarloc/app/exit_codes.hpp"
@@ -295,6 +298,8 @@ int main(int argc, char** argv) {
   auto* detector = sarloc::eval::add_detector_command(app, detector_options);
   sarloc::eval::InsOptions ins_options;
   auto* ins = sarloc::eval::add_ins_command(app, ins_options);
+  sarloc::eval::PlanOptions plan_options;
+  auto* plan = sarloc::eval::add_plan_command(app, plan_options);
   if (auto code = sarloc::app::parse_command_line(app, argc, argv)) return *code;
   try {
     sarloc::app::setup_logging(log_level, "sarloc-eval");
@@ -307,6 +312,7 @@ int main(int argc, char** argv) {
   if (firefighter->parsed()) return sarloc::eval::run_firefighter_command(firefighter_options);
   if (detector->parsed()) return sarloc::eval::run_detector_command(detector_options);
   if (ins->parsed()) return sarloc::eval::run_ins_command(ins_options);
+  if (plan->parsed()) return sarloc::eval::run_plan_command(plan_options);
   if (multi->parsed()) {
     av::EvaluationSetup base;
     try {

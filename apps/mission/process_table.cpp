@@ -7,6 +7,8 @@
 #include <fstream>
 #include <thread>
 
+#include "sarloc/app/floor_plan_imdf.hpp"
+#include "sarloc/app/floor_plan_yaml.hpp"
 #include "sarloc/core/common/errors.hpp"
 
 namespace sarloc::app {
@@ -67,7 +69,15 @@ void ProcessTable::start_recorder(const std::string& recording_path) {
   args.insert(args.end(), {"-o", recording_path, "--meta", "epoch_ns=" + std::to_string(config_.epoch_ns), "--meta",
                            "speedup=" + std::to_string(mission_.speedup), "--meta-file",
                            "mission_yaml=" + config_.mission_file});
-  if (!mission_.building_path.empty()) args.insert(args.end(), {"--meta-file", "building_plan_yaml=" + mission_.building_path});
+  if (!mission_.building_path.empty()) {
+    std::string plan_file = mission_.building_path;
+    if (app::is_imdf_directory(plan_file)) {
+      // An IMDF directory is no file to attach: the recording carries the plan as it was read.
+      plan_file = (config_.run_dir / "building_plan.yaml").string();
+      std::ofstream(plan_file) << app::floor_plan_yaml_text(app::load_floor_plan(mission_.building_path));
+    }
+    args.insert(args.end(), {"--meta-file", "building_plan_yaml=" + plan_file});
+  }
   recorder_ = start("record", "record", args);
 }
 

@@ -10,11 +10,15 @@
 
 #include "record_comparison.hpp"
 #include "recorded_coverage.hpp"
+#include "sarloc/app/floor_plan_svg.hpp"
+#include "sarloc/app/svg_map.hpp"
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/incident/geodetic_frame.hpp"
-#include "svg_map.hpp"
 
 namespace sarloc::report {
+
+using app::escape_html;
+using app::SvgMap;
 
 namespace {
 
@@ -166,16 +170,7 @@ std::vector<std::string> building_maps(const MissionRecord& r) {
     const std::string floor_name = r.building ? r.building->plan.floors[k].id : std::to_string(k);
     SvgMap map(bounds.min, bounds.max, 760.0, 1.5, "Building, floor " + std::to_string(k) + " (" + floor_name + ")");
     if (r.building) {
-      const auto& floor = r.building->plan.floors[k];
-      for (const auto& w : floor.walls) map.line(r.building->to_incident(w.a), r.building->to_incident(w.b), "#333", 3.0);
-      for (const auto& d : floor.doors) {
-        // The opening itself, drawn over its wall in the background colour, with a thin marker.
-        const auto wall = std::find_if(floor.walls.begin(), floor.walls.end(), [&](const auto& w) { return w.id == d.wall; });
-        if (wall == floor.walls.end()) continue;
-        const Eigen::Vector2d along = (wall->b - wall->a).normalized() * (0.5 * d.width_m);
-        map.line(r.building->to_incident(d.center - along), r.building->to_incident(d.center + along), "#f7f9fb", 4.0);
-        map.line(r.building->to_incident(d.center - along), r.building->to_incident(d.center + along), "#8fbc8f", 1.0);
-      }
+      app::draw_floor(map, r.building->plan, k, [&](const firefighter::Vec2& p) { return r.building->to_incident(p); });
     }
     std::size_t c = 0;
     for (const auto& [id, track] : r.responders) {
@@ -529,9 +524,11 @@ svg { display: block; margin: 0.5em 0; }
             under + "</p>\n";
   }
   for (const auto& map : building_maps(r)) {
-    html += map + "<p class=\"legend\">Walls black, doors green. Solid: map-aided track, with its 95 % ellipse every 30 s "
-                  "once converged; dashed: the device's own dead reckoning; red dots: map error suspected (at most one per "
-                  "5 s).</p>\n";
+    html += map +
+            "<p class=\"legend\">Walls black, doors green, openings blue, flights orange, entries red, furniture grey. "
+            "Solid: map-aided track, with its 95 % ellipse every 30 s "
+            "once converged; dashed: the device's own dead reckoning; red dots: map error suspected (at most one per "
+            "5 s).</p>\n";
   }
   html += "</section>\n";
 

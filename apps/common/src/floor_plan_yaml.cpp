@@ -1,11 +1,13 @@
 #include "sarloc/app/floor_plan_yaml.hpp"
 
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include "sarloc/app/floor_plan_imdf.hpp"
+#include "sarloc/app/yaml_reader.hpp"
 #include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/validate.hpp"
-
-#include <cmath>
-
-#include "sarloc/app/yaml_reader.hpp"
 
 namespace sarloc::app {
 namespace {
@@ -105,8 +107,64 @@ firefighter::FloorPlan validated(firefighter::FloorPlan plan, const std::string&
 }  // namespace
 
 firefighter::FloorPlan load_floor_plan(const std::string& path) {
+  if (is_imdf_directory(path)) return load_floor_plan_imdf(path);
   YamlReader yaml = YamlReader::from_file(path);
   return validated(read_plan(yaml), path);
+}
+
+namespace {
+
+// Shortest exact text of a double (round trip), for points in flow sequences.
+std::string exact(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.17g", v);
+  return buffer;
+}
+
+std::string point(const Vec2& p) { return "[" + exact(p.x()) + ", " + exact(p.y()) + "]"; }
+
+// A YAML double-quoted string: ids from IMDF are the writer's, not ours.
+std::string quoted(const std::string& text) {
+  std::string out = "\"";
+  for (const char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+}  // namespace
+
+std::string floor_plan_yaml_text(const firefighter::FloorPlan& plan) {
+  std::string y =
+      "# written by sarloc from an imported plan (docs/configuration.md, \"Floor plans\")\nname: " + quoted(plan.name) +
+      "\nfloors:\n";
+  for (const auto& f : plan.floors) {
+    y += "  - id: " + quoted(f.id) + "\n    elevation_m: " + exact(f.elevation_m) + "\n    walls:\n";
+    for (const auto& w : f.walls)
+      y += "      - {id: " + quoted(w.id) + ", a: " + point(w.a) + ", b: " + point(w.b) + "}\n";
+    y += "    doors:\n";
+    for (const auto& d : f.doors) {
+      y += "      - {id: " + quoted(d.id) + ", wall: " + quoted(d.wall) + ", center: " + point(d.center) +
+           ", width_m: " + exact(d.width_m) +
+           ", kind: " + (d.kind == firefighter::OpeningKind::kDoor ? "door" : "opening") + "}\n";
+    }
+    y += "    furniture:\n";
+    for (const auto& i : f.furniture)
+      y += "      - {id: " + quoted(i.id) + ", min: " + point(i.min) + ", max: " + point(i.max) + "}\n";
+  }
+  y += "entries:\n";
+  for (const auto& e : plan.entries) {
+    y += "  - {id: " + quoted(e.id) + ", floor: " + quoted(e.floor) + ", door: " + quoted(e.door) +
+         ", position: " + point(e.position) + ", heading_deg: " + exact(e.heading_rad * 180.0 / kPi) + "}\n";
+  }
+  y += "stairs:\n";
+  for (const auto& s : plan.stairs) {
+    y += "  - {id: " + quoted(s.id) + ", lower_floor: " + quoted(s.lower_floor) +
+         ", upper_floor: " + quoted(s.upper_floor) + ", bottom: " + point(s.bottom) + ", top: " + point(s.top) +
+         ", width_m: " + exact(s.width_m) + "}\n";
+  }
+  return y;
 }
 
 firefighter::FloorPlan load_floor_plan_text(const std::string& text, const std::string& name) {

@@ -1,11 +1,11 @@
 #pragma once
-// A map in SVG for the report: metres in the incident frame (x east, y north) to pixels, with
+// A map in SVG (the report, a floor plan's plot): metres (x east, y north) to pixels, with
 // north up, a scale bar and a north arrow. Every drawing call appends one SVG element.
 #include <Eigen/Core>
 #include <string>
 #include <vector>
 
-namespace sarloc::report {
+namespace sarloc::app {
 
 class SvgMap {
  public:
@@ -25,7 +25,8 @@ class SvgMap {
   void ellipse95(const Eigen::Vector2d& centre, const Eigen::Matrix2d& covariance, const std::string& colour,
                  double opacity, bool filled);
   void cross(const Eigen::Vector2d& p, double size_px, const std::string& colour);
-  void label(const Eigen::Vector2d& p, const std::string& text, const std::string& colour, double dx_px = 6, double dy_px = -6);
+  void label(const Eigen::Vector2d& p, const std::string& text, const std::string& colour, double dx_px = 6,
+             double dy_px = -6);
   /// The area the map shows (metres, its margin included).
   const Eigen::Vector2d& south_west() const { return min_; }
   const Eigen::Vector2d& north_east() const { return max_; }
@@ -46,4 +47,4 @@ class SvgMap {
 /// Escapes text for HTML and SVG.
 std::string escape_html(const std::string& text);
 
-}  // namespace sarloc::report
+}  // namespace sarloc::app

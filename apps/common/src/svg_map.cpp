@@ -1,4 +1,4 @@
-#include "svg_map.hpp"
+#include "sarloc/app/svg_map.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -9,7 +9,7 @@
 #include "sarloc/core/common/gaussian.hpp"
 #include "sarloc/core/common/number_text.hpp"
 
-namespace sarloc::report {
+namespace sarloc::app {
 
 namespace {
 
@@ -21,18 +21,29 @@ std::string escape_html(const std::string& text) {
   std::string out;
   for (const char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
 }
 
 SvgMap::SvgMap(Eigen::Vector2d min, Eigen::Vector2d max, double width_px, double margin_m, std::string title)
-    : min_(min - Eigen::Vector2d::Constant(margin_m)), max_(max + Eigen::Vector2d::Constant(margin_m)), title_(std::move(title)) {
+    : min_(min - Eigen::Vector2d::Constant(margin_m)),
+      max_(max + Eigen::Vector2d::Constant(margin_m)),
+      title_(std::move(title)) {
   Eigen::Vector2d span = (max_ - min_).cwiseMax(1.0);
   max_ = min_ + span;
   scale_ = width_px / span.x();
@@ -119,7 +130,8 @@ void SvgMap::cross(const Eigen::Vector2d& p, double size_px, const std::string& 
            colour + "\" stroke-width=\"2.5\"/>\n";
 }
 
-void SvgMap::label(const Eigen::Vector2d& p, const std::string& text, const std::string& colour, double dx_px, double dy_px) {
+void SvgMap::label(const Eigen::Vector2d& p, const std::string& text, const std::string& colour, double dx_px,
+                   double dy_px) {
   const auto q = px(p);
   body_ += "<text x=\"" + one_decimal(q.x() + dx_px) + "\" y=\"" + one_decimal(q.y() + dy_px) + "\" fill=\"" + colour +
            "\" font-size=\"12\">" + escape_html(text) + "</text>\n";
@@ -160,4 +172,4 @@ std::string SvgMap::finish() const {
   return svg;
 }
 
-}  // namespace sarloc::report
+}  // namespace sarloc::app
