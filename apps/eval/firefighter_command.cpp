@@ -63,6 +63,14 @@ void print_summary(const ff::FirefighterSummary& s, double every_s, unsigned thr
               "whose truth is outside their own 99 %% ellipse; conf.: of those, the share also confirmed (converged 10 s, the weight from an entry, no map error since the start); c.wrong: of the confirmed, the share outside their 99 %% ellipse; ms/upd: median filter step + this row's pattern comparisons spread over the 2 Hz updates; "
               "cmp: median comparison of this row, restricted to the windows its particles can use once concentrated; mean: "
               "mean filter step; particles: mean count)\n");
+  for (const auto& v : s.variants) {
+    if (v.ambiguous_share > 0.0) {
+      std::printf(
+          "%s: ambiguous between 2-4 places in %.1f %% of the estimates; truth in none of their 99 %% ellipses in %.1f "
+          "%% of those\n",
+          v.variant.name.c_str(), 100.0 * v.ambiguous_share, 100.0 * v.ambiguous_wrong_fraction);
+    }
+  }
   std::printf("Wall clock %.1f s\n", s.wall_s);
 }
 

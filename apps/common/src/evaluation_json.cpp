@@ -162,8 +162,14 @@ nlohmann::json to_json(const firefighter::FirefighterSummary& s, double rmse_eve
                        {"converged_wrong_fraction", v.converged_wrong_fraction},
                        {"confirmed_share", v.confirmed_share},
                        {"confirmed_wrong_fraction", v.confirmed_wrong_fraction},
-                       {"nees", {{"mean", v.nees_mean}, {"lower", v.nees_lower}, {"upper", v.nees_upper},
-                                 {"members", v.nees_members}, {"fraction_inside_95", v.nees_fraction_inside_95}}}});
+                       {"ambiguous_share", v.ambiguous_share},
+                       {"ambiguous_wrong_fraction", v.ambiguous_wrong_fraction},
+                       {"nees",
+                        {{"mean", v.nees_mean},
+                         {"lower", v.nees_lower},
+                         {"upper", v.nees_upper},
+                         {"members", v.nees_members},
+                         {"fraction_inside_95", v.nees_fraction_inside_95}}}});
   }
   nlohmann::json j = {{"building", s.building},
                       {"runs", s.runs},

@@ -114,6 +114,14 @@ using Polygon = std::vector<Ring>;
 
 std::string geometry_type(const Feature& f) { return string_member(f.f["geometry"], "type").value_or(""); }
 
+// The geometry's coordinates, null when it has none (a const json's operator[] must not be asked
+// for a key it lacks).
+const json& coordinates_of(const Feature& f) {
+  static const json none;
+  const json& geometry = f.f["geometry"];
+  return geometry.contains("coordinates") ? geometry["coordinates"] : none;
+}
+
 Ring read_ring(const json& positions, const PlanFrame& frame, const std::string& where) {
   if (!positions.is_array() || positions.size() < 4) refuse(where, "a ring needs at least 4 positions");
   if (positions.front() != positions.back())
@@ -125,7 +133,7 @@ Ring read_ring(const json& positions, const PlanFrame& frame, const std::string&
 
 std::vector<Polygon> read_polygons(const Feature& f, const PlanFrame& frame) {
   const std::string type = geometry_type(f);
-  const json& coordinates = f.f["geometry"]["coordinates"];
+  const json& coordinates = coordinates_of(f);
   std::vector<json> polygons;
   if (type == "Polygon") {
     polygons.push_back(coordinates);
@@ -147,7 +155,7 @@ std::vector<Polygon> read_polygons(const Feature& f, const PlanFrame& frame) {
 }
 
 std::vector<Vec2> read_line(const Feature& f, const PlanFrame& frame) {
-  const json& coordinates = f.f["geometry"]["coordinates"];
+  const json& coordinates = coordinates_of(f);
   if (geometry_type(f) != "LineString" || !coordinates.is_array() || coordinates.size() < 2) {
     refuse(f.where, "geometry must be a LineString of at least 2 positions");
   }

@@ -153,6 +153,7 @@ struct VariantTrace {
   std::vector<std::size_t> particles;  // per update
   std::size_t converged = 0, converged_wrong = 0;
   std::size_t confirmed = 0, confirmed_wrong = 0;
+  std::size_t ambiguous = 0, ambiguous_wrong = 0;
   std::vector<double> nees_late;     // converged estimates after 150 s
   bool converged_at_end = false;
   double nees_end = -1.0;            // -1: not converged at the end
@@ -202,6 +203,15 @@ VariantTrace run_filter(const FloorPlan& plan, const NavigableGrid& grid, const 
       trace.confirmed_wrong += e.confirmed && outside ? 1 : 0;
       if (m.t[k] >= 150.0) trace.nees_late.push_back(nees);
       if (last) trace.nees_end = nees;
+    }
+    if (e.ambiguous) {
+      ++trace.ambiguous;
+      const bool in_one = std::any_of(e.candidates.begin(), e.candidates.end(), [&](const Place& p) {
+        const Vec2 d = p.position - m.truth[k];
+        const Eigen::Matrix2d P = p.covariance + 1e-9 * Eigen::Matrix2d::Identity();
+        return p.floor == m.truth_floor[k] && d.dot(P.ldlt().solve(d)) <= kChi2_2_99;
+      });
+      trace.ambiguous_wrong += in_one ? 0 : 1;
     }
     if (last) trace.converged_at_end = e.converged && err.norm() <= 2.0;
   }
@@ -316,6 +326,7 @@ FirefighterSummary FirefighterEvaluation::run(const std::function<void()>& on_ru
     std::vector<double> step_ms, nees_end, variant_comparison_ms;
     double particle_sum = 0.0;
     std::size_t converged_estimates = 0, converged_wrong = 0, confirmed_estimates = 0, confirmed_wrong = 0;
+    std::size_t ambiguous_estimates = 0, ambiguous_wrong = 0;
     for (const RunResult& r : run.results) {
       for (std::size_t mi = 0; mi < r.members.size(); ++mi) {
         const MemberOdometry& m = r.members[mi];
@@ -348,6 +359,8 @@ FirefighterSummary FirefighterEvaluation::run(const std::function<void()>& on_ru
         converged_wrong += tr.converged_wrong;
         confirmed_estimates += tr.confirmed;
         confirmed_wrong += tr.confirmed_wrong;
+        ambiguous_estimates += tr.ambiguous;
+        ambiguous_wrong += tr.ambiguous_wrong;
       }
     }
     for (std::size_t j = 0; j < marks; ++j) vs.rmse_at_s.push_back(count[j] ? std::sqrt(sum_sq[j] / count[j]) : 0.0);
@@ -365,6 +378,9 @@ FirefighterSummary FirefighterEvaluation::run(const std::function<void()>& on_ru
         converged_estimates ? static_cast<double>(confirmed_estimates) / static_cast<double>(converged_estimates) : 0.0;
     vs.confirmed_wrong_fraction =
         confirmed_estimates ? static_cast<double>(confirmed_wrong) / static_cast<double>(confirmed_estimates) : 0.0;
+    vs.ambiguous_share = all_n ? static_cast<double>(ambiguous_estimates) / static_cast<double>(all_n) : 0.0;
+    vs.ambiguous_wrong_fraction =
+        ambiguous_estimates ? static_cast<double>(ambiguous_wrong) / static_cast<double>(ambiguous_estimates) : 0.0;
     const double comparison_total = std::accumulate(variant_comparison_ms.begin(), variant_comparison_ms.end(), 0.0);
     vs.ms_per_comparison_median = variant_comparison_ms.empty() ? 0.0 : median(variant_comparison_ms);
     vs.ms_per_update_amortised =

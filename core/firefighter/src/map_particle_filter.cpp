@@ -12,10 +12,15 @@
 #include "sarloc/core/common/errors.hpp"
 #include "sarloc/core/common/particle_weights.hpp"
 #include "sarloc/core/common/validate.hpp"
+#include "sarloc/core/firefighter/cloud_places.hpp"
 #include "sarloc/core/firefighter/point_index.hpp"
 
 namespace sarloc::firefighter {
 namespace {
+
+constexpr std::size_t kMaxCandidates = 4;  // "ambiguous between N places": N at most this
+constexpr double kCandidateLeast = 0.01;   // a place with less weight is no candidate
+constexpr double kCandidatesHold = 0.95;   // the candidates together hold this much
 
 constexpr double kHeightLeak = 0.05;
 // The count adapts every 4 moving steps (2 s of walking at 2 Hz): often enough to shed
@@ -466,6 +471,21 @@ MapEstimate MapParticleFilter::estimate() const {
   e.map_error_since_start = map_error_since_start_;
   for (std::size_t i = 0; i < particles_.size(); ++i) e.entry_lineage += particles_[i].from_entry ? weights_[i] : 0.0;
   e.converged = e.concentrated && (!walked_in_ || e.entry_lineage >= config_.converged_entry_share);
+  if (!e.converged) {
+    // Where it might be instead: the places holding at least 1 % each, if at most 4 of them hold
+    // 95 % of the weight (a cloud still spread over the plan has no candidates).
+    std::vector<Place> places = cloud_places(particles_, weights_);
+    double held = 0.0;
+    std::size_t n = 0;
+    while (n < places.size() && n < kMaxCandidates && places[n].weight >= kCandidateLeast) held += places[n++].weight;
+    if (held >= kCandidatesHold) {
+      places.resize(n);
+      e.candidates = std::move(places);
+      e.ambiguous = e.candidates.size() >= 2 &&
+                    std::all_of(e.candidates.begin(), e.candidates.end(),
+                                [&](const Place& p) { return p.covariance.trace() < config_.converged_variance_m2; });
+    }
+  }
   e.confirmed = e.converged && !e.map_error_since_start && e.entry_lineage >= config_.confirm_entry_share &&
                 converged_steps_ >= config_.confirm_after_steps;
   return e;

@@ -161,9 +161,13 @@ TEST_F(BrokenArchive, AUnitWhoseRingDoesNotCloseIsRefusedByItsId) {
   units["features"][1]["geometry"]["coordinates"][0].back()[0] = 9.8300001;
   write("unit.geojson", units);
   const std::string id = units["features"][1]["id"];
-  const std::string message = refusal();
+  std::string message = refusal();
   EXPECT_NE(message.find("unit '" + id + "'"), std::string::npos) << message;
   EXPECT_NE(message.find("does not close"), std::string::npos) << message;
+  units["features"][1]["geometry"].erase("coordinates");  // a geometry with no coordinates at all
+  write("unit.geojson", units);
+  message = refusal();
+  EXPECT_NE(message.find("unit '" + id + "'"), std::string::npos) << message;
 }
 
 TEST_F(BrokenArchive, AnOpeningOnNoWallIsRefusedByItsId) {

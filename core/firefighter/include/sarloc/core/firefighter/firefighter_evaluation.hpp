@@ -76,6 +76,10 @@ struct VariantSummary {
   /// of those confirmed, the share whose truth lies outside their own 99 % ellipse.
   double confirmed_share = 0.0;
   double confirmed_wrong_fraction = 0.0;
+  /// Of all estimates, the share reported ambiguous between 2-4 places (MapEstimate::ambiguous),
+  /// and of those, the share whose truth lies in none of the places' 99 % ellipses.
+  double ambiguous_share = 0.0;
+  double ambiguous_wrong_fraction = 0.0;
   double nees_mean = 0.0;              ///< at the end, members converged there (2 dof)
   double nees_lower = 0.0, nees_upper = 0.0;
   std::uint32_t nees_members = 0;

@@ -30,6 +30,9 @@
 // converge again, confidently and wrongly. It clears after `map_error_clear_updates` concentrated
 // updates in a row without such a step.
 //
+// Not converged, the estimate lists the places the cloud is in (cloud_places.hpp) and says when
+// it is ambiguous between 2-4 compact ones.
+//
 // Confirmed (what incident command may show as a position, not a guess): converged for
 // `confirm_after_steps` odometry steps in a row (a cloud at its first convergence may still be
 // split between two places), no map error suspected since the start, and at least
@@ -137,6 +140,14 @@ struct Particle {
   bool from_entry = false;
 };
 
+/// One place a cloud is in: a group of touching 1 m cells holding particles, on one floor.
+struct Place {
+  std::size_t floor = 0;
+  Vec2 position = Vec2::Zero();  ///< weighted mean
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();
+  double weight = 0.0;  ///< share of the cloud's weight
+};
+
 struct MapEstimate {
   Vec2 position = Vec2::Zero();
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Identity();
@@ -162,6 +173,12 @@ struct MapEstimate {
   double entry_lineage = 0.0;
   /// Converged for a while, no map error since the start, and the weight from an entry (above).
   bool confirmed = false;
+  /// Not converged, the cloud is in 2-4 compact places (each under `converged_variance_m2`,
+  /// together 95 % of the weight): "ambiguous between N places", each with its weight.
+  bool ambiguous = false;
+  /// Not converged: the places the cloud is in, heaviest first (at most 4; none while it is
+  /// spread over more than 4).
+  std::vector<Place> candidates;
 };
 
 class MapParticleFilter {
