@@ -38,6 +38,9 @@ void print_summary(const ff::FirefighterSummary& s, double every_s, unsigned thr
               static_cast<unsigned long long>(s.seed), threads);
   std::printf("ZUPT INS drift (horizontal, %% of distance walked, median walk %.0f m): median %.2f %%, p95 %.2f %%\n",
               s.distance_median_m, s.ins_drift_median, s.ins_drift_p95);
+  std::printf("Firefighters who set foot on each floor:");
+  for (std::size_t f = 0; f < s.members_on_floor.size(); ++f) std::printf(" %zu: %u", f, s.members_on_floor[f]);
+  std::printf("\n");
   std::printf("Pattern comparison against every window: median %.1f ms (every 4th comparison of each walk)\n\n",
               s.ms_per_comparison_median);
   std::printf("%-30s", "RMSE (m) at t (s)");

@@ -180,8 +180,9 @@ nlohmann::json to_json(const firefighter::FirefighterSummary& s, double rmse_eve
                       {"pattern_windows", s.pattern_windows},
                       {"ms_per_comparison_median", s.ms_per_comparison_median},
                       {"distance_median_m", s.distance_median_m},
-                      {"ins_drift_percent", {{"median", s.ins_drift_median}, {"p95", s.ins_drift_p95},
-                                             {"per_member", s.ins_drift_percent}}},
+                      {"members_on_floor", s.members_on_floor},
+                      {"ins_drift_percent",
+                       {{"median", s.ins_drift_median}, {"p95", s.ins_drift_p95}, {"per_member", s.ins_drift_percent}}},
                       {"configs", configs},
                       {"wall_s", s.wall_s}};
   if (map_error) {

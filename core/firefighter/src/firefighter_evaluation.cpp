@@ -302,8 +302,13 @@ FirefighterSummary FirefighterEvaluation::run(const std::function<void()>& on_ru
   for (std::size_t f = 0; f < grid.nodes_per_floor.size(); ++f) s.area_m2 += grid.area_m2(f);
   s.pattern_windows = matcher.window_count();
   std::vector<double> distances, comparison_ms;
+  s.members_on_floor.assign(plan_.floors.size(), 0);
   for (const RunResult& r : run.results) {
     for (const MemberOdometry& m : r.members) {
+      for (std::size_t f = 0; f < plan_.floors.size(); ++f) {
+        s.members_on_floor[f] +=
+            std::find(m.truth_floor.begin(), m.truth_floor.end(), f) != m.truth_floor.end() ? 1 : 0;
+      }
       s.ins_drift_percent.push_back(m.drift_percent);
       distances.push_back(m.distance_m);
       comparison_ms.insert(comparison_ms.end(), m.timed_ms.begin(), m.timed_ms.end());

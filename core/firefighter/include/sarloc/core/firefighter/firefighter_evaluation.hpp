@@ -97,6 +97,8 @@ struct FirefighterSummary {
   std::vector<double> ins_drift_percent;  ///< per member
   double ins_drift_median = 0.0, ins_drift_p95 = 0.0;
   double distance_median_m = 0.0;
+  /// Per floor of the plan, how many firefighters set foot on it (who climbed, and how far).
+  std::vector<std::uint32_t> members_on_floor;
   double ms_per_comparison_median = 0.0;  ///< against every window
   std::vector<VariantSummary> variants;
   double wall_s = 0.0;
