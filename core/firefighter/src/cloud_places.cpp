@@ -10,11 +10,6 @@ namespace {
 
 constexpr double kCellM = 1.0;
 
-std::uint64_t cell_key(std::size_t floor, std::int64_t ix, std::int64_t iy) {
-  return (static_cast<std::uint64_t>(floor) << 48) ^ (static_cast<std::uint64_t>(ix & 0xFFFFFF) << 24) ^
-         static_cast<std::uint64_t>(iy & 0xFFFFFF);
-}
-
 }  // namespace
 
 std::vector<Place> cloud_places(const std::vector<Particle>& particles, const std::vector<double>& weights) {

@@ -306,9 +306,7 @@ std::optional<EndMask> MapParticleFilter::observation_ends(const PatternMatcher&
     const Particle& p = particles_[i];
     const auto ix = static_cast<std::int64_t>(std::floor(p.position.x() / kCell));
     const auto iy = static_cast<std::int64_t>(std::floor(p.position.y() / kCell));
-    const std::uint64_t key = (static_cast<std::uint64_t>(p.floor) << 48) ^
-                              (static_cast<std::uint64_t>(ix & 0xFFFFFF) << 24) ^ static_cast<std::uint64_t>(iy & 0xFFFFFF);
-    if (!cells.insert(key).second) continue;
+    if (!cells.insert(cell_key(p.floor, ix, iy)).second) continue;
     const Vec2 centre((static_cast<double>(ix) + 0.5) * kCell, (static_cast<double>(iy) + 0.5) * kCell);
     matcher.mark_ends_near(p.floor, centre, 0.5 * std::sqrt(2.0) * kCell, mask);
   }
