@@ -179,6 +179,7 @@ int main(int argc, char** argv) {
     sink.on_alarm = [&](const auto& a) { state.on_alarm(a); };
     sink.on_alarm_gone = [&](auto id) { state.on_alarm_gone(id); };
     sink.on_position = [&](const auto& p) { state.on_position(p); };
+    sink.on_candidates = [&](const auto& c) { state.on_candidates(c); };
     sink.on_guidance = [&](const auto& g) { state.on_guidance(g); };
     sink.on_search_plan = [&](const auto& plan) { state.on_search_plan(plan); };
     sink.on_picture_writer = [&](const auto& w) { state.on_picture_writer(w); };

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 #include "sarloc/app/incident_geojson.hpp"
 #include "sarloc/core/common/gaussian.hpp"
@@ -179,6 +180,15 @@ void PictureState::on_position(const responder::ResponderPosition& p) {
   r.version = ++version_;
 }
 
+void PictureState::on_candidates(const responder::ResponderCandidates& c) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  touch_data();
+  auto& r = responders_[c.responder_id];
+  if (c.stamp < r.candidates.stamp) return;  // out of order: keep the newest
+  r.candidates = c;
+  if (r.version > 0) r.version = ++version_;  // no position yet: nothing is drawn until one comes
+}
+
 void PictureState::on_guidance(const responder::Guidance& g) {
   std::lock_guard<std::mutex> lock(mutex_);
   touch_data();
@@ -236,17 +246,32 @@ json PictureState::victim_json(const incident::FusedVictim& v) const {
 json PictureState::responder_json(const std::string& id, const Responder& r, bool with_track) const {
   const auto& c = r.last.position.covariance;
   json out = {{"id", id},
-          {"team", r.last.team_id},
-          {"x", cm(r.last.position.position.x())},
-          {"y", cm(r.last.position.position.y())},
-          {"cov", {c(0, 0), c(0, 1), c(1, 1)}},
-          {"floor", r.last.floor},
-          {"source", source_name(r.last.source)},
-          {"converged", r.last.converged},
-          {"confirmed", r.last.confirmed},
-          {"map_error", r.last.map_error_suspected},
-          {"stamp_ns", r.last.stamp},
-          {"heading_rad", r.guidance_heading_rad ? json(*r.guidance_heading_rad) : json(nullptr)}};
+              {"team", r.last.team_id},
+              {"x", cm(r.last.position.position.x())},
+              {"y", cm(r.last.position.position.y())},
+              {"cov", {c(0, 0), c(0, 1), c(1, 1)}},
+              {"floor", r.last.floor},
+              {"source", source_name(r.last.source)},
+              {"converged", r.last.converged},
+              {"confirmed", r.last.confirmed},
+              {"ambiguous", r.last.ambiguous},
+              {"map_error", r.last.map_error_suspected},
+              {"stamp_ns", r.last.stamp},
+              {"heading_rad", r.guidance_heading_rad ? json(*r.guidance_heading_rad) : json(nullptr)}};
+  // Where an ambiguous firefighter may be: each place with its share, heaviest first.
+  constexpr TimestampNs kCandidatesOfItsTimeNs = 5'000'000'000;
+  json candidates = json::array();
+  if (r.last.ambiguous && std::llabs(r.candidates.stamp - r.last.stamp) <= kCandidatesOfItsTimeNs) {
+    for (const auto& p : r.candidates.candidates) {
+      const auto& pc = p.position.covariance;
+      candidates.push_back({{"x", cm(p.position.position.x())},
+                            {"y", cm(p.position.position.y())},
+                            {"cov", {pc(0, 0), pc(0, 1), pc(1, 1)}},
+                            {"floor", p.floor},
+                            {"weight", std::round(1000.0 * p.weight) / 1000.0}});
+    }
+  }
+  out["candidates"] = std::move(candidates);
   if (with_track) {
     json track = json::array();
     for (const auto& p : r.track) track.push_back({cm(p[0]), cm(p[1])});

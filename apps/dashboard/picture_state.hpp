@@ -23,6 +23,7 @@
 #include "sarloc/core/incident/search_plan.hpp"
 #include "sarloc/core/incident/team_status.hpp"
 #include "sarloc/core/responder/guidance.hpp"
+#include "sarloc/core/responder/responder_candidates.hpp"
 #include "sarloc/core/responder/responder_position.hpp"
 
 namespace sarloc::dashboard {
@@ -67,6 +68,9 @@ class PictureState {
   void on_alarm(const incident::IncidentAlarm& a);
   void on_alarm_gone(std::uint32_t id);
   void on_position(const responder::ResponderPosition& p);
+  /// The places of an ambiguous map-aided position: drawn instead of its mean while the newest
+  /// position is flagged ambiguous and they are of about its time (within 5 s).
+  void on_candidates(const responder::ResponderCandidates& c);
   void on_guidance(const responder::Guidance& g);
   /// Incident command's primary-search plan: the strips on the map, shaded by what is searched.
   void on_search_plan(const incident::SearchPlanPicture& plan);
@@ -109,6 +113,7 @@ class PictureState {
     responder::ResponderPosition last;
     std::deque<std::array<double, 2>> track;
     std::optional<double> guidance_heading_rad;
+    responder::ResponderCandidates candidates;  ///< the newest
     std::uint64_t version = 0;
   };
   struct Team {

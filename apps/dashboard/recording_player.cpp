@@ -18,9 +18,9 @@ namespace sarloc::dashboard {
 namespace {
 
 // The topics the dashboard shows, in the order of Sample::topic.
-const char* const kTopics[] = {"sarloc/fused_victim",       "sarloc/team_status", "sarloc/incident_alarm",
-                               "sarloc/responder_position", "sarloc/guidance",    "sarloc/recorder_events",
-                               "sarloc/search_plan"};
+const char* const kTopics[] = {
+    "sarloc/fused_victim", "sarloc/team_status",     "sarloc/incident_alarm", "sarloc/responder_position",
+    "sarloc/guidance",     "sarloc/recorder_events", "sarloc/search_plan",    "sarloc/responder_candidates"};
 
 std::int64_t steady_ns() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -31,6 +31,7 @@ void show(PictureState& state, const incident::FusedVictim& v) { state.on_victim
 void show(PictureState& state, const incident::TeamStatus& t) { state.on_team(t); }
 void show(PictureState& state, const incident::IncidentAlarm& a) { state.on_alarm(a); }
 void show(PictureState& state, const responder::ResponderPosition& p) { state.on_position(p); }
+void show(PictureState& state, const responder::ResponderCandidates& c) { state.on_candidates(c); }
 void show(PictureState& state, const responder::Guidance& g) { state.on_guidance(g); }
 void show(PictureState& state, const incident::SearchPlanPicture& p) { state.on_search_plan(p); }
 template <class T>

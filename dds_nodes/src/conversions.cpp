@@ -292,7 +292,8 @@ responder::Guidance to_core(const ::sarloc::Guidance& g) {
   out.source(static_cast<::sarloc::PositionSource>(r.source));
   out.flags((r.converged ? ::sarloc::RESPONDER_FLAG_CONVERGED : 0U) |
             (r.map_error_suspected ? ::sarloc::RESPONDER_FLAG_MAP_ERROR_SUSPECTED : 0U) |
-            (r.confirmed ? ::sarloc::RESPONDER_FLAG_CONFIRMED : 0U));
+            (r.confirmed ? ::sarloc::RESPONDER_FLAG_CONFIRMED : 0U) |
+            (r.ambiguous ? ::sarloc::RESPONDER_FLAG_AMBIGUOUS : 0U));
   return out;
 }
 
@@ -308,6 +309,52 @@ responder::ResponderPosition to_core(const ::sarloc::ResponderPosition& r) {
   out.converged = (r.flags() & ::sarloc::RESPONDER_FLAG_CONVERGED) != 0;
   out.map_error_suspected = (r.flags() & ::sarloc::RESPONDER_FLAG_MAP_ERROR_SUSPECTED) != 0;
   out.confirmed = (r.flags() & ::sarloc::RESPONDER_FLAG_CONFIRMED) != 0;
+  out.ambiguous = (r.flags() & ::sarloc::RESPONDER_FLAG_AMBIGUOUS) != 0;
+  return out;
+}
+
+::sarloc::ResponderCandidates to_idl(const responder::ResponderCandidates& c) {
+  if (c.candidates.size() > ::sarloc::POSITION_CANDIDATES_MAX) {
+    throw InputError("responder_candidates.candidates: " + std::to_string(c.candidates.size()) + " places, at most " +
+                     std::to_string(::sarloc::POSITION_CANDIDATES_MAX));
+  }
+  ::sarloc::ResponderCandidates out;
+  out.responder_id(to_identifier(c.responder_id, "responder_candidates.responder_id"));
+  out.stamp(c.stamp);
+  for (const auto& candidate : c.candidates) {
+    ::sarloc::PositionCandidate p;
+    p.position(to_idl(candidate.position));
+    p.floor(candidate.floor);
+    p.weight(candidate.weight);
+    out.candidates().push_back(p);
+  }
+  return out;
+}
+
+responder::ResponderCandidates to_core(const ::sarloc::ResponderCandidates& c) {
+  responder::ResponderCandidates out;
+  out.responder_id = from_identifier(c.responder_id(), "responder_candidates.responder_id");
+  out.stamp = c.stamp();
+  double total = 0.0;
+  for (const auto& p : c.candidates()) {
+    responder::PositionCandidate candidate;
+    candidate.position = to_core(p.position());
+    if (!candidate.position.position.allFinite() || !candidate.position.covariance.allFinite()) {
+      throw InputError("responder_candidates.candidates.position: non-finite value");
+    }
+    candidate.floor = p.floor();
+    if (!(p.weight() > 0.0 && p.weight() <= 1.0)) {
+      throw InputError("responder_candidates.candidates.weight = " + std::to_string(p.weight()) +
+                       ": must be in (0, 1]");
+    }
+    candidate.weight = p.weight();
+    total += p.weight();
+    out.candidates.push_back(candidate);
+  }
+  // Shares of one belief: rounding aside, they cannot hold more than all of it.
+  if (total > 1.0 + 1e-6) {
+    throw InputError("responder_candidates.candidates.weight: they sum to " + std::to_string(total) + ", more than 1");
+  }
   return out;
 }
 
@@ -376,7 +423,9 @@ incident::FusedVictim to_core(const ::sarloc::FusedVictim& v) {
     s.source(static_cast<::sarloc::PositionSource>(m.source));
     s.flags((m.converged ? ::sarloc::RESPONDER_FLAG_CONVERGED : 0U) |
             (m.map_error_suspected ? ::sarloc::RESPONDER_FLAG_MAP_ERROR_SUSPECTED : 0U) |
-            (m.confirmed ? ::sarloc::RESPONDER_FLAG_CONFIRMED : 0U) | (signed_off ? ::sarloc::RESPONDER_FLAG_SIGNED_OFF : 0U));
+            (m.confirmed ? ::sarloc::RESPONDER_FLAG_CONFIRMED : 0U) |
+            (m.ambiguous ? ::sarloc::RESPONDER_FLAG_AMBIGUOUS : 0U) |
+            (signed_off ? ::sarloc::RESPONDER_FLAG_SIGNED_OFF : 0U));
     out.members().push_back(s);
   }
   return out;
@@ -402,6 +451,7 @@ incident::TeamStatus to_core(const ::sarloc::TeamStatus& t) {
     m.converged = (s.flags() & ::sarloc::RESPONDER_FLAG_CONVERGED) != 0;
     m.map_error_suspected = (s.flags() & ::sarloc::RESPONDER_FLAG_MAP_ERROR_SUSPECTED) != 0;
     m.confirmed = (s.flags() & ::sarloc::RESPONDER_FLAG_CONFIRMED) != 0;
+    m.ambiguous = (s.flags() & ::sarloc::RESPONDER_FLAG_AMBIGUOUS) != 0;
     out.members.push_back(m);
   }
   return out;

@@ -62,6 +62,7 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
       estimate_writer_(participant_, EndpointOptions::in(config_.partitions)),
       guidance_writer_(participant_, EndpointOptions::in(config_.partitions)),
       position_writer_(participant_),
+      candidates_writer_(participant_),
       position_refresh_(refresh_within_lifespan(position_writer_)),
       status_writer_(participant_) {
   for (unsigned i = 0; i < config_.workers; ++i) {
@@ -381,6 +382,11 @@ void CoreNode::publish(estimator::SequencerReport& report) {
     }
     if (output.guidance && !guidance_writer_.write(to_idl(*output.guidance, sequence))) {
       spdlog::error("{}: DDS refused a Guidance for '{}'", config_.node_id, output.guidance->rescuer_id);
+    }
+    // The places first: a reader that sees the ambiguous position has them already, mostly.
+    if (output.candidates && !candidates_writer_.write(to_idl(*output.candidates))) {
+      spdlog::error("{}: DDS refused the ResponderCandidates of '{}'", config_.node_id,
+                    output.candidates->responder_id);
     }
     if (output.position) {
       if (!position_writer_.write(to_idl(*output.position))) {

@@ -25,6 +25,7 @@ struct DashboardNode::Impl {
   std::unique_ptr<Reader<::sarloc::IncidentAlarm>> alarms;
   std::unique_ptr<Reader<::sarloc::IncidentSummary>> summary;
   std::unique_ptr<Reader<::sarloc::ResponderPosition>> positions;
+  std::unique_ptr<Reader<::sarloc::ResponderCandidates>> candidates;
   std::unique_ptr<Reader<::sarloc::Guidance>> guidance;
   std::unique_ptr<Reader<::sarloc::SearchPlan>> plan;
   std::unique_ptr<Writer<::sarloc::AlarmAcknowledgement>> acknowledgements;
@@ -39,6 +40,22 @@ struct DashboardNode::Impl {
     } catch (const std::exception&) {
       if (sink.on_rejected) sink.on_rejected(topic);  // bad input never reaches the page
     }
+  }
+
+  // A reader of a topic whose samples speak for a responder: under DDS Security only the
+  // identities allowed to speak for him reach the page (WriterAuthority).
+  template <class Idl, class Core>
+  std::unique_ptr<Reader<Idl>> spoken_for(const char* topic, const std::function<void(const Core&)>& deliver) {
+    return std::make_unique<Reader<Idl>>(participant, [this, topic, &deliver](const Idl& sample, const auto& info) {
+      guarded(topic, [&] {
+        auto converted = to_core(sample);
+        if (!admits(*authority, info.publication_handle, speaker_claim(sample))) {
+          if (sink.on_rejected) sink.on_rejected(topic);
+          return;
+        }
+        if (deliver) deliver(std::move(converted));
+      });
+    });
   }
 
   void gone(const fdds::SampleInfo& info, std::map<Handle, std::uint32_t>& ids, const std::function<void(std::uint32_t)>& callback) {
@@ -99,17 +116,8 @@ DashboardNode::DashboardNode(std::shared_ptr<Participant> participant, Dashboard
       d.participant, [&d](const ::sarloc::IncidentSummary&, const fdds::SampleInfo& info) {
         if (d.sink.on_picture_writer) d.sink.on_picture_writer(handle_text(info.publication_handle).substr(0, 24));
       });
-  d.positions = std::make_unique<Reader<::sarloc::ResponderPosition>>(
-      d.participant, [&d](const ::sarloc::ResponderPosition& p, const auto& info) {
-        d.guarded("responder_position", [&] {
-          auto position = to_core(p);
-          if (!admits(*d.authority, info.publication_handle, speaker_claim(p))) {
-            if (d.sink.on_rejected) d.sink.on_rejected("responder_position");
-            return;
-          }
-          if (d.sink.on_position) d.sink.on_position(std::move(position));
-        });
-      });
+  d.positions = d.spoken_for<::sarloc::ResponderPosition>("responder_position", d.sink.on_position);
+  d.candidates = d.spoken_for<::sarloc::ResponderCandidates>("responder_candidates", d.sink.on_candidates);
   d.guidance = std::make_unique<Reader<::sarloc::Guidance>>(d.participant, [&d](const ::sarloc::Guidance& g, const auto&) {
     d.guarded("guidance", [&] {
       if (d.sink.on_guidance) d.sink.on_guidance(to_core(g));

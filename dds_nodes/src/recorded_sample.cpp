@@ -36,13 +36,13 @@ std::pair<const std::string, Decoder> as_generated() {
 
 const std::map<std::string, Decoder>& decoders() {
   static const std::map<std::string, Decoder> table{
-      converted<::sarloc::FieldMeasurement>(), converted<::sarloc::Odometry>(),
-      converted<::sarloc::VictimEstimate>(),   converted<::sarloc::Guidance>(),
-      converted<::sarloc::ResponderAlarm>(),   converted<::sarloc::ResponderPosition>(),
-      converted<::sarloc::FusedVictim>(),      converted<::sarloc::TeamStatus>(),
-      converted<::sarloc::IncidentAlarm>(),    converted<::sarloc::IncidentFrame>(),
-      converted<::sarloc::SearchPlan>(),       as_generated<::sarloc::NodeStatus>(),
-      as_generated<::sarloc::VictimRecovery>()};
+      converted<::sarloc::FieldMeasurement>(),    converted<::sarloc::Odometry>(),
+      converted<::sarloc::VictimEstimate>(),      converted<::sarloc::Guidance>(),
+      converted<::sarloc::ResponderAlarm>(),      converted<::sarloc::ResponderPosition>(),
+      converted<::sarloc::ResponderCandidates>(), converted<::sarloc::FusedVictim>(),
+      converted<::sarloc::TeamStatus>(),          converted<::sarloc::IncidentAlarm>(),
+      converted<::sarloc::IncidentFrame>(),       converted<::sarloc::SearchPlan>(),
+      as_generated<::sarloc::NodeStatus>(),       as_generated<::sarloc::VictimRecovery>()};
   return table;
 }
 

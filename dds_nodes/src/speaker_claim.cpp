@@ -47,6 +47,10 @@ SpeakerClaim speaker_claim(const ::sarloc::ResponderPosition& p) {
   return {p.responder_id().to_string(), Speakers::kDevice, "responder position"};
 }
 
+SpeakerClaim speaker_claim(const ::sarloc::ResponderCandidates& c) {
+  return {c.responder_id().to_string(), Speakers::kDeviceOrCore, "map-aided candidates"};
+}
+
 SpeakerClaim speaker_claim(const ::sarloc::ResponderAlarm& a) {
   return {a.responder_id().to_string(), Speakers::kDevice, "responder alarm"};
 }
@@ -56,6 +60,7 @@ std::optional<SpeakerClaim> raw_speaker_claim(const std::string& topic, const st
   if (is_topic<::sarloc::Odometry>(topic)) return decoded_claim<::sarloc::Odometry>(bytes);
   if (is_topic<::sarloc::VictimEstimate>(topic)) return decoded_claim<::sarloc::VictimEstimate>(bytes);
   if (is_topic<::sarloc::ResponderPosition>(topic)) return decoded_claim<::sarloc::ResponderPosition>(bytes);
+  if (is_topic<::sarloc::ResponderCandidates>(topic)) return decoded_claim<::sarloc::ResponderCandidates>(bytes);
   if (is_topic<::sarloc::ResponderAlarm>(topic)) return decoded_claim<::sarloc::ResponderAlarm>(bytes);
   return std::nullopt;
 }

@@ -22,23 +22,15 @@ CatalogTopic entry(const char* idl_file) {
 
 const std::vector<CatalogTopic>& topic_catalog() {
   static const std::vector<CatalogTopic> catalog = {
-      entry<FieldMeasurement>("avalanche.idl"),
-      entry<Odometry>("responder.idl"),
-      entry<VictimEstimate>("responder.idl"),
-      entry<Guidance>("responder.idl"),
-      entry<ResponderPosition>("incident.idl"),
-      entry<IncidentFrame>("common.idl"),
-      entry<FusedVictim>("incident.idl"),
-      entry<TeamStatus>("incident.idl"),
-      entry<IncidentSummary>("incident.idl"),
-      entry<SearchPlan>("incident.idl"),
-      entry<ResponderAlarm>("incident.idl"),
-      entry<IncidentAlarm>("incident.idl"),
-      entry<AlarmAcknowledgement>("incident.idl"),
-      entry<VictimRecovery>("incident.idl"),
-      entry<DigOrder>("incident.idl"),
-      entry<DepositDrawing>("incident.idl"),
-      entry<NodeStatus>("status.idl"),
+      entry<FieldMeasurement>("avalanche.idl"), entry<Odometry>("responder.idl"),
+      entry<VictimEstimate>("responder.idl"),   entry<Guidance>("responder.idl"),
+      entry<ResponderPosition>("incident.idl"), entry<ResponderCandidates>("incident.idl"),
+      entry<IncidentFrame>("common.idl"),       entry<FusedVictim>("incident.idl"),
+      entry<TeamStatus>("incident.idl"),        entry<IncidentSummary>("incident.idl"),
+      entry<SearchPlan>("incident.idl"),        entry<ResponderAlarm>("incident.idl"),
+      entry<IncidentAlarm>("incident.idl"),     entry<AlarmAcknowledgement>("incident.idl"),
+      entry<VictimRecovery>("incident.idl"),    entry<DigOrder>("incident.idl"),
+      entry<DepositDrawing>("incident.idl"),    entry<NodeStatus>("status.idl"),
   };
   return catalog;
 }

@@ -75,6 +75,7 @@ await reportFromBrowser({ width: 1400, height: 900 }, result, async (context) =>
     return {
       labelOverlaps: overlaps,
       teamHeaders: [...document.querySelectorAll("#teams table")].map((t) => t.querySelectorAll("th").length),
+      positionCells: Object.fromEntries([...document.querySelectorAll("#teams tr[data-member]")].map((tr) => [tr.dataset.member, tr.querySelector("td.position").textContent])),
       foundCells: [...document.querySelectorAll("#victims tbody tr")].filter((tr) => tr.querySelector(".state").textContent === "FOUND").map((tr) => tr.querySelector(".found").textContent),
       incident: document.getElementById("incident").textContent,
       wall: document.getElementById("wall").textContent,

@@ -28,6 +28,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainAdmissionBusy = 175,
   kDomainWriterLifespan = 176,
   kDomainPositionRefresh = 177,
+  kDomainPositionCandidates = 178,
   kDomainDiscoveryServer = 140,
   kDomainBenchEchoListener = 141,
   kDomainBenchEchoQueue = 142,

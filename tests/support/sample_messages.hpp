@@ -8,6 +8,7 @@
 #include "sarloc/core/incident/team_status.hpp"
 #include "sarloc/core/responder/guidance.hpp"
 #include "sarloc/core/responder/odometry.hpp"
+#include "sarloc/core/responder/responder_candidates.hpp"
 #include "sarloc/core/responder/responder_position.hpp"
 #include "sarloc/core/responder/victim_estimate.hpp"
 
@@ -100,7 +101,17 @@ inline responder::ResponderPosition sample_responder_position() {
   r.source = responder::PositionSource::kMapAided;
   r.converged = true;
   r.map_error_suspected = true;
+  r.confirmed = true;
+  r.ambiguous = true;
   return r;
+}
+
+inline responder::ResponderCandidates sample_responder_candidates() {
+  responder::ResponderCandidates c;
+  c.responder_id = "ff-engine-7-a";
+  c.stamp = 1763731280000000000LL;
+  c.candidates = {{sample_position(31.0), 3, 0.625}, {sample_position(47.0), 2, 0.25}};
+  return c;
 }
 
 inline incident::FusedVictim sample_fused_victim() {

@@ -295,17 +295,42 @@ function renderMap() {
   for (const r of picture.responders.values()) {
     const colour = COLOURS[k++ % COLOURS.length];
     const indoors = r.source === "map-aided" || r.source === "dead reckoning";
+    const candidates = r.candidates || [];
+    // Ambiguous: each place it may be in, with its share; the mean between them is no place.
+    if (candidates.length) {
+      for (const c of candidates) {
+        if (c.floor !== floor) continue;
+        svg += ellipse(c.x, c.y, c.cov, '', 6 * px)
+                   .replace(
+                       '<ellipse',
+                       `<ellipse data-candidate="${esc(r.id)}" fill="${colour}" fill-opacity="0.08" stroke="${
+                           colour}" stroke-width="${1.5 * px}" stroke-dasharray="${4 * px},${3 * px}"`);
+        svg +=
+            `<circle cx="${c.x}" cy="${- c.y}" r="${4 * px}" fill="#fff" stroke="${colour}" stroke-width="${2 * px}"/>`;
+        labels.push([c.x, c.y, `${r.id}? ${Math.round(100 * c.weight)} %`]);
+      }
+      continue;
+    }
     if (indoors && r.floor !== floor) continue;
     if (r.track.length > 1) {
       svg += `<polyline fill="none" stroke="${colour}" stroke-width="${2 * px}" stroke-opacity="0.7" points="${r.track.map((p) => `${p[0]},${-p[1]}`).join(" ")}"/>`;
     }
-    if (indoors) svg += ellipse(r.x, r.y, r.cov, "", 4 * px).replace("<ellipse", `<ellipse fill="none" stroke="${colour}" stroke-width="${px}"`);
-    svg += `<circle data-responder="${esc(r.id)}" cx="${r.x}" cy="${-r.y}" r="${5 * px}" fill="${colour}" stroke="#fff" stroke-width="${px}"/>`;
+    // A map-aided estimate not yet converged is a mean over a spread cloud: drawn hollow and dashed.
+    const placed = r.source !== 'map-aided' || r.converged;
+    if (indoors) {
+      svg += ellipse(r.x, r.y, r.cov, '', 4 * px)
+                 .replace(
+                     '<ellipse',
+                     `<ellipse fill="none" stroke="${colour}" stroke-width="${px}"${
+                         placed ? '' : ` stroke-dasharray="${4 * px},${3 * px}"`}`);
+    }
+    svg += `<circle data-responder="${esc(r.id)}" cx="${r.x}" cy="${- r.y}" r="${5 * px}" fill="${
+        placed ? colour : '#fff'}" stroke="${placed ? '#fff' : colour}" stroke-width="${placed ? px : 2 * px}"/>`;
     if (r.heading_rad !== null && !indoors) {
       const L = 30 * px, hx = r.x + L * Math.cos(r.heading_rad), hy = r.y + L * Math.sin(r.heading_rad);
       svg += `<line x1="${r.x}" y1="${-r.y}" x2="${hx}" y2="${-hy}" stroke="${colour}" stroke-width="${2.5 * px}" marker-end="url(#arrow)"/>`;
     }
-    labels.push([r.x, r.y, r.id]);
+    labels.push([r.x, r.y, placed ? r.id : `${r.id} (not yet placed)`]);
   }
   for (const v of picture.victims.values()) {
     const colour = v.state === 'FOUND' ? '#1b7f1b' :
@@ -377,6 +402,29 @@ function fillClocks(now, wallNow) {
   }
 }
 
+// How sure the member's position is, in words: what a commander may act on.
+function positionCell(id) {
+  const r = picture.responders.get(String(id));
+  if (!r) return '<td>—</td>';
+  let text = r.source, cls = '';
+  if (r.source === 'map-aided') {
+    const places = r.candidates || [];
+    if (r.confirmed)
+      [text, cls] = ['confirmed', 'placed'];
+    else if (r.converged)
+      [text, cls] = ['converged', 'placed'];
+    else if (r.ambiguous && places.length)
+      [text, cls] = [
+        `one of ${places.length} places: ${places.map((c) => `${Math.round(100 * c.weight)} %`).join(', ')}`,
+        'ambiguous'
+      ];
+    else
+      [text, cls] = ['not yet placed', 'unplaced'];
+    if (r.map_error) [text, cls] = [`${text}; map error suspected`, 'ambiguous'];
+  }
+  return `<td class="position ${cls}">${esc(text)}</td>`;
+}
+
 function renderLists() {
   const now = picture.missionNs;
   const victims = [...picture.victims.values()].sort((a, b) => a.id - b.id);
@@ -423,15 +471,17 @@ function renderLists() {
       [...picture.teams.values()]
           .sort((a, b) => a.id.localeCompare(b.id))
           .map((t) => {
-            const head = '<tr><th>member</th><th>link</th><th>accounted</th><th>last heard</th><th>floor</th></tr>';
+            const head =
+                '<tr><th>member</th><th>link</th><th>accounted</th><th>last heard</th><th>floor</th><th>position</th></tr>';
             const rows = head +
                 t.members
                     .map(
                         (m) => `<tr data-member="${esc(m.id)}"><td>${esc(m.id)}</td><td class="link link-${
                                    esc(m.link)}">${esc(m.link === 'signed_off' ? 'signed off' : m.link)}</td>` +
                             `<td>${esc(m.accountability)}</td>${
-                                   m.last_seen_ns ? `<td data-since-ns="${m.last_seen_ns}"></td>` :
-                                                    '<td>never</td>'}<td>floor ${m.floor}</td></tr>`)
+                                   m.last_seen_ns ?
+                                       `<td data-since-ns="${m.last_seen_ns}"></td>` :
+                                       '<td>never</td>'}<td>floor ${m.floor}</td>${positionCell(m.id)}</tr>`)
                     .join('');
             return `<div class="team" data-team="${esc(t.id)}"><h3>${
                        esc(t.id || '(no team)')} <span><span class="par" data-due-ms="${t.par_due_wall_ms}"></span> ` +

@@ -138,6 +138,7 @@ Outcome FirefighterEstimator::add_odometry(const responder::Odometry& o) {
   last_end_ = o.interval_end;
   EstimatorOutput out;
   out.position = position_at(o.interval_end, e);
+  out.candidates = candidates_at(o.interval_end, e);
   return out;
 }
 
@@ -170,7 +171,32 @@ responder::ResponderPosition FirefighterEstimator::position_at(TimestampNs stamp
   p.converged = e.converged;
   p.map_error_suspected = e.map_error_suspected;
   p.confirmed = e.confirmed;
+  p.ambiguous = e.ambiguous;
   return p;
+}
+
+std::optional<responder::ResponderCandidates> FirefighterEstimator::candidates_at(TimestampNs stamp,
+                                                                                  const firefighter::MapEstimate& e) {
+  if (!e.ambiguous && !was_ambiguous_) return std::nullopt;
+  was_ambiguous_ = e.ambiguous;
+  responder::ResponderCandidates out;
+  out.responder_id = id_;
+  out.stamp = stamp;
+  if (!e.ambiguous) return out;
+  const Eigen::Matrix2d R = Eigen::Rotation2Dd(config_.rotation_rad()).toRotationMatrix();
+  const auto& plan = config_.building->plan();
+  for (const firefighter::Place& place : e.candidates) {
+    responder::PositionCandidate c;
+    const firefighter::Vec2 xy = config_.to_incident(place.position);
+    c.position.position = Vec3(xy.x(), xy.y(), plan.floors[place.floor].elevation_m);
+    c.position.covariance.setZero();
+    c.position.covariance.topLeftCorner<2, 2>() = R * place.covariance * R.transpose();
+    c.position.covariance(2, 2) = 0.25;  // as the position's: a boot within half a metre of the floor
+    c.floor = static_cast<std::int32_t>(place.floor);
+    c.weight = place.weight;
+    out.candidates.push_back(c);
+  }
+  return out;
 }
 
 }  // namespace sarloc::estimator

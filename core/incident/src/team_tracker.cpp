@@ -137,6 +137,7 @@ void TeamTracker::adopt(const std::vector<TeamStatus>& teams) {
         m.last_position.converged = s.converged;
         m.last_position.map_error_suspected = s.map_error_suspected;
         m.last_position.confirmed = s.confirmed;
+        m.last_position.ambiguous = s.ambiguous;
         m.has_position = true;
       }
       m.last_heard = std::max(m.last_heard, s.last_seen);
@@ -169,6 +170,7 @@ std::vector<TeamStatus> TeamTracker::evaluate(TimestampNs now) const {
       s.converged = m.last_position.converged;
       s.map_error_suspected = m.last_position.map_error_suspected;
       s.confirmed = m.last_position.confirmed;
+      s.ambiguous = m.last_position.ambiguous;
     }
     s.has_position = m.has_position;
     s.last_seen = m.last_heard;

@@ -12,6 +12,7 @@
 #include <random>
 #include <thread>
 
+#include "sarloc/app/floor_plan_yaml.hpp"
 #include "sarloc/app/mission_config.hpp"
 #include "sarloc/core/estimator/firefighter_device.hpp"
 #include "sarloc/core/firefighter/foot_trajectory.hpp"
@@ -178,6 +179,77 @@ TEST(CoreNodeFirefighter, ASilentFirefightersLastPositionOutlivesTheWritersLifes
   }
   EXPECT_DOUBLE_EQ(late.front().position.position.x(), live.rbegin()->second.position.position.x());
   EXPECT_LE(late.size(), 3U) << "copies within one lifespan";
+}
+
+// Issue 65: a firefighter in the warehouse whose entry nobody reported (an unknown start), whose
+// cloud spends much of the walk between look-alike corridors. The daemon flags each such
+// position ambiguous and writes its places beside it with the same stamp, and once with none
+// when the ambiguity ends; a reader (the dashboard) pairs them by stamp.
+TEST(CoreNodeFirefighter, AnAmbiguousPositionComesWithItsPlacesAndTheirEnd) {
+  auto mission =
+      app::load_mission_config(std::string(SARLOC_SOURCE_DIR) + "/tests/integration/mission/firefighters.yaml");
+  mission.estimators.firefighter.building = std::make_shared<const firefighter::BuildingModel>(
+      app::load_floor_plan(std::string(SARLOC_SOURCE_DIR) + "/config/buildings/warehouse-1040.yaml"),
+      firefighter::BuildingModelConfig{});
+  mission.estimators.firefighter.entry_of.clear();
+  auto daemon_participant = test::make_participant(test::kDomainPositionCandidates, "core");
+  auto node = std::make_unique<CoreNode>(daemon_participant, mission.core_config(""));
+
+  auto device_participant = test::make_participant(test::kDomainPositionCandidates, "ff1");
+  Writer<::sarloc::Odometry> odometry(device_participant);
+  std::mutex mutex;
+  std::condition_variable cv;
+  std::map<TimestampNs, responder::ResponderPosition> positions;
+  std::map<TimestampNs, responder::ResponderCandidates> places;
+  Reader<::sarloc::ResponderPosition> position_reader(device_participant,
+                                                      [&](const ::sarloc::ResponderPosition& p, const auto&) {
+                                                        std::lock_guard<std::mutex> lock(mutex);
+                                                        const auto r = to_core(p);
+                                                        positions[r.stamp] = r;
+                                                        cv.notify_all();
+                                                      });
+  Reader<::sarloc::ResponderCandidates> places_reader(device_participant,
+                                                      [&](const ::sarloc::ResponderCandidates& c, const auto&) {
+                                                        std::lock_guard<std::mutex> lock(mutex);
+                                                        const auto r = to_core(c);
+                                                        places[r.stamp] = r;
+                                                      });
+  ASSERT_TRUE(odometry.wait_for_readers(1, 10s));
+  ASSERT_TRUE(position_reader.wait_for_writers(1, 10s));
+  ASSERT_TRUE(places_reader.wait_for_writers(1, 10s));
+
+  const auto search = simulated_search(mission, 2, 150.0);
+  std::size_t sent = 0;
+  for (const auto& o : search.odometry) {
+    ASSERT_TRUE(odometry.write(to_idl(o)));
+    if (++sent % 40 == 0) {
+      std::unique_lock<std::mutex> lock(mutex);
+      ASSERT_TRUE(cv.wait_for(lock, 20s, [&] { return positions.size() + 10 >= sent; }));
+    }
+  }
+  std::unique_lock<std::mutex> lock(mutex);
+  ASSERT_TRUE(cv.wait_for(lock, 20s, [&] { return positions.size() >= sent; })) << positions.size() << " of " << sent;
+  lock.unlock();
+  std::this_thread::sleep_for(500ms);  // the last places, on their own topic
+  lock.lock();
+  std::size_t ambiguous = 0, ends = 0;
+  for (const auto& [stamp, p] : positions) {
+    const auto it = places.find(stamp);
+    if (p.ambiguous) {
+      ++ambiguous;
+      EXPECT_FALSE(p.converged);
+      ASSERT_NE(it, places.end()) << "an ambiguous position at " << stamp << " without its places";
+      EXPECT_GE(it->second.candidates.size(), 2U);
+      EXPECT_LE(it->second.candidates.size(), 4U);
+      for (const auto& c : it->second.candidates) EXPECT_EQ(c.floor, 0);
+    } else if (it != places.end()) {
+      EXPECT_TRUE(it->second.candidates.empty()) << "places beside a position that is not ambiguous";
+      ++ends;
+    }
+  }
+  EXPECT_EQ(places.size(), ambiguous + ends) << "every sample of places is beside a position of its stamp";
+  EXPECT_GT(ambiguous, 10U) << "this walk no longer shows an ambiguous cloud";
+  EXPECT_EQ(node->counters().rejected, 0U);
 }
 
 }  // namespace

@@ -61,6 +61,10 @@ TEST(DdsRoundTrip, ResponderPosition) {
   expect_round_trip<::sarloc::ResponderPosition>(kBase + 4, {to_idl(test::sample_responder_position())});
 }
 
+TEST(DdsRoundTrip, ResponderCandidates) {
+  expect_round_trip<::sarloc::ResponderCandidates>(kBase + 16, {to_idl(test::sample_responder_candidates())});
+}
+
 TEST(DdsRoundTrip, FusedVictim) {
   expect_round_trip<::sarloc::FusedVictim>(kBase + 5, {to_idl(test::sample_fused_victim())});
 }

@@ -327,13 +327,24 @@ TEST(Mission, TheDashboardShowsTheMissionLiveInABrowser) {
   const json& glance = browser["glance"];
   EXPECT_TRUE(glance["labelOverlaps"].empty()) << "map labels overlap: " << glance.dump();
   ASSERT_FALSE(glance["teamHeaders"].empty()) << said;
-  for (const auto& headers : glance["teamHeaders"]) EXPECT_EQ(headers.get<int>(), 5) << "a team table without its column headers";
+  for (const auto& headers : glance["teamHeaders"])
+    EXPECT_EQ(headers.get<int>(), 6) << "a team table without its column headers";
+  // How sure each member's position is, in words (issue 65): the firefighters' map-aided ones
+  // from a reported entry are placed or not yet, never anything else.
+  for (const char* firefighter : {"ff1", "ff2"}) {
+    ASSERT_TRUE(glance["positionCells"].contains(firefighter)) << said;
+    const std::string cell = glance["positionCells"][firefighter];
+    EXPECT_TRUE(cell.rfind("confirmed", 0) == 0 || cell.rfind("converged", 0) == 0 ||
+                cell.rfind("not yet placed", 0) == 0 || cell.rfind("one of ", 0) == 0 || cell == "dead reckoning")
+        << firefighter << ": '" << cell << "'";
+  }
   ASSERT_FALSE(glance["foundCells"].empty()) << said;
   for (const auto& cell : glance["foundCells"]) EXPECT_EQ(cell.get<std::string>().rfind("at T+", 0), 0U) << "a FOUND victim without its time: " << cell;
   EXPECT_EQ(glance["incident"], "test-incident") << "the header names the incident";
   EXPECT_NE(glance["wall"].get<std::string>().find(':'), std::string::npos) << "the header shows the wall-clock time";
-  EXPECT_EQ(glance["legendItems"], 10)
-      << "seven symbols (dug out too), the avalanche deposit, a deposit being drawn and a search strip";
+  EXPECT_EQ(glance["legendItems"], 12)
+      << "nine symbols (dug out, a firefighter not yet placed and one of an ambiguous one's "
+         "places too), the avalanche deposit, a deposit being drawn and a search strip";
   EXPECT_EQ(glance["areas"], 3) << "everything, the avalanche field, the house 80 m east: " << glance.dump();
   ASSERT_FALSE(browser["labelHeightsPx"].empty()) << said;
   for (const auto& height : browser["labelHeightsPx"]) {

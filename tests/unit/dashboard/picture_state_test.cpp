@@ -236,6 +236,53 @@ TEST(PictureState, TheDaemonsCopyOfALastPositionChangesNothing) {
   EXPECT_EQ(state.snapshot()["responders"][0]["track"].size(), 2U);
 }
 
+// Issue 65: an ambiguous firefighter is drawn at each place he may be in, with its weight, not
+// at the mean between them; the places of another time, or of a position no longer ambiguous,
+// are not drawn.
+TEST(PictureState, AnAmbiguousPositionCarriesItsPlacesOnlyWhileItIsAmbiguous) {
+  Clocks c;
+  auto state = make(c);
+  auto places = test::sample_responder_candidates();
+  places.responder_id = "ff1";
+  places.stamp = 10'000'000'000LL;
+  state.on_candidates(places);
+  EXPECT_TRUE(state.snapshot()["responders"].empty()) << "no position yet: nothing to draw";
+  auto p = map_aided_fix_of_ff1_at_10_s();
+  p.converged = false;
+  p.ambiguous = true;
+  state.on_position(p);
+  auto r = state.snapshot()["responders"][0];
+  EXPECT_TRUE(r["ambiguous"].get<bool>());
+  ASSERT_EQ(r["candidates"].size(), 2U);
+  EXPECT_DOUBLE_EQ(r["candidates"][0]["weight"].get<double>(), 0.625);
+  EXPECT_EQ(r["candidates"][0]["floor"], 3);
+  EXPECT_DOUBLE_EQ(r["candidates"][1]["x"].get<double>(),
+                   std::round(100.0 * places.candidates[1].position.position.x()) / 100.0);
+
+  auto older = places;  // late, out of order: the newest places stay
+  older.stamp = 9'000'000'000LL;
+  older.candidates.resize(1);
+  state.on_candidates(older);
+  EXPECT_EQ(state.snapshot()["responders"][0]["candidates"].size(), 2U);
+
+  p.stamp = 16'000'000'000LL;  // still ambiguous, but these places are 6 s old
+  state.on_position(p);
+  EXPECT_TRUE(state.snapshot()["responders"][0]["candidates"].empty());
+
+  places.stamp = p.stamp;
+  state.on_candidates(places);
+  EXPECT_EQ(state.snapshot()["responders"][0]["candidates"].size(), 2U);
+  const auto version = state.version();
+  p.stamp += 500'000'000LL;  // converged: one place, the mean
+  p.ambiguous = false;
+  p.converged = true;
+  state.on_position(p);
+  EXPECT_GT(state.version(), version);
+  r = state.snapshot()["responders"][0];
+  EXPECT_FALSE(r["ambiguous"].get<bool>());
+  EXPECT_TRUE(r["candidates"].empty());
+}
+
 // The picture's limits are checked where the state is made, whoever fills them.
 TEST(PictureState, ItsConfigIsCheckedNamingTheKey) {
   EXPECT_EQ(sarloc::test::validation_error(PictureStateConfig{}), "");

@@ -201,6 +201,53 @@ TEST(Conversions, ResponderPositionRoundTrips) {
   EXPECT_EQ(out.source, in.source);
   EXPECT_EQ(out.converged, in.converged);
   EXPECT_EQ(out.map_error_suspected, in.map_error_suspected);
+  EXPECT_EQ(out.confirmed, in.confirmed);
+  EXPECT_EQ(out.ambiguous, in.ambiguous);
+}
+
+TEST(Conversions, ResponderCandidatesRoundTripAndImpossibleOnesAreRefusedByField) {
+  const auto in = test::sample_responder_candidates();
+  const auto out = to_core(to_idl(in));
+  EXPECT_EQ(out.responder_id, in.responder_id);
+  EXPECT_EQ(out.stamp, in.stamp);
+  ASSERT_EQ(out.candidates.size(), in.candidates.size());
+  for (std::size_t i = 0; i < in.candidates.size(); ++i) {
+    expect_same(out.candidates[i].position, in.candidates[i].position);
+    EXPECT_EQ(out.candidates[i].floor, in.candidates[i].floor);
+    EXPECT_EQ(out.candidates[i].weight, in.candidates[i].weight);
+  }
+  EXPECT_TRUE(to_core(to_idl(responder::ResponderCandidates{"ff1", 5, {}})).candidates.empty())
+      << "the end of an ambiguity";
+
+  const auto refusal = [](const std::function<void(::sarloc::ResponderCandidates&)>& spoil) {
+    auto wire = to_idl(test::sample_responder_candidates());
+    spoil(wire);
+    try {
+      (void)to_core(wire);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(refusal([](auto& w) { w.candidates()[1].weight(0.0); }),
+            "responder_candidates.candidates.weight = 0.000000: must be in (0, 1]");
+  EXPECT_EQ(refusal([](auto& w) { w.candidates()[0].weight(std::nan("")); }),
+            "responder_candidates.candidates.weight = nan: must be in (0, 1]");
+  EXPECT_EQ(refusal([](auto& w) { w.candidates()[0].weight(0.9); }),
+            "responder_candidates.candidates.weight: they sum to 1.150000, more than 1");
+  EXPECT_EQ(refusal([](auto& w) { w.candidates()[0].position().position().x(INFINITY); }),
+            "responder_candidates.candidates.position: non-finite value");
+  EXPECT_EQ(refusal([](auto& w) { w.candidates()[1].position().covariance()[4] = std::nan(""); }),
+            "responder_candidates.candidates.position: non-finite value");
+  responder::ResponderCandidates five = test::sample_responder_candidates();
+  five.candidates.resize(5, five.candidates[1]);
+  for (auto& c : five.candidates) c.weight = 0.1;
+  try {
+    (void)to_idl(five);
+    FAIL() << "five places are more than the topic holds";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "responder_candidates.candidates: 5 places, at most 4");
+  }
 }
 
 TEST(Conversions, FusedVictimRoundTrips) {
@@ -413,20 +460,83 @@ TEST(Conversions, RandomBytesInEveryIdFieldNeverPassAndNeverCrash) {
     std::function<std::vector<std::string>(const std::string&)> convert;  // the ids to_core returned
   };
   const std::vector<Field> fields{
-      {"field_measurement.rescuer_id", [](const std::string& id) { auto w = to_idl(test::sample_field_measurement()); w.rescuer_id(id); return std::vector<std::string>{to_core(w).rescuer_id}; }},
-      {"odometry.rescuer_id", [](const std::string& id) { auto w = to_idl(test::sample_odometry()); w.rescuer_id(id); return std::vector<std::string>{to_core(w).rescuer_id}; }},
-      {"victim_estimate.rescuer_id", [](const std::string& id) { auto w = to_idl(test::sample_victim_estimate()); w.rescuer_id(id); return std::vector<std::string>{to_core(w).rescuer_id}; }},
-      {"guidance.rescuer_id", [](const std::string& id) { auto w = to_idl(test::sample_guidance()); w.rescuer_id(id); return std::vector<std::string>{to_core(w).rescuer_id}; }},
-      {"responder_position.responder_id", [](const std::string& id) { auto w = to_idl(test::sample_responder_position()); w.responder_id(id); return std::vector<std::string>{to_core(w).responder_id}; }},
-      {"responder_position.team_id", [](const std::string& id) { auto w = to_idl(test::sample_responder_position()); w.team_id(id); const auto c = to_core(w); return std::vector<std::string>{c.responder_id, c.team_id}; }},
-      {"fused_victim.sources.rescuer_id", [](const std::string& id) { auto w = to_idl(test::sample_fused_victim()); w.sources()[0].rescuer_id(id); return std::vector<std::string>{to_core(w).sources[0].rescuer_id}; }},
-      {"team_status.team_id", [](const std::string& id) { auto w = to_idl(test::sample_team_status()); w.team_id(id); return std::vector<std::string>{to_core(w).team_id}; }},
-      {"team_status.members.responder_id", [](const std::string& id) { auto w = to_idl(test::sample_team_status()); w.members()[0].responder_id(id); return std::vector<std::string>{to_core(w).members[0].responder_id}; }},
-      {"responder_alarm.responder_id", [](const std::string& id) { auto w = to_idl(test::sample_responder_alarm()); w.responder_id(id); return std::vector<std::string>{to_core(w).responder_id}; }},
-      {"incident_alarm.acknowledged_by", [](const std::string& id) { auto w = to_idl(test::sample_incident_alarm()); w.acknowledged_by(id); const auto c = to_core(w); return std::vector<std::string>{c.alarm.responder_id, c.acknowledged_by}; }},
+      {"field_measurement.rescuer_id",
+       [](const std::string& id) {
+         auto w = to_idl(test::sample_field_measurement());
+         w.rescuer_id(id);
+         return std::vector<std::string>{to_core(w).rescuer_id};
+       }},
+      {"odometry.rescuer_id",
+       [](const std::string& id) {
+         auto w = to_idl(test::sample_odometry());
+         w.rescuer_id(id);
+         return std::vector<std::string>{to_core(w).rescuer_id};
+       }},
+      {"victim_estimate.rescuer_id",
+       [](const std::string& id) {
+         auto w = to_idl(test::sample_victim_estimate());
+         w.rescuer_id(id);
+         return std::vector<std::string>{to_core(w).rescuer_id};
+       }},
+      {"guidance.rescuer_id",
+       [](const std::string& id) {
+         auto w = to_idl(test::sample_guidance());
+         w.rescuer_id(id);
+         return std::vector<std::string>{to_core(w).rescuer_id};
+       }},
+      {"responder_position.responder_id",
+       [](const std::string& id) {
+         auto w = to_idl(test::sample_responder_position());
+         w.responder_id(id);
+         return std::vector<std::string>{to_core(w).responder_id};
+       }},
+      {"responder_position.team_id",
+       [](const std::string& id) {
+         auto w = to_idl(test::sample_responder_position());
+         w.team_id(id);
+         const auto c = to_core(w);
+         return std::vector<std::string>{c.responder_id, c.team_id};
+       }},
+      {"responder_candidates.responder_id",
+       [](const std::string& id) {
+         auto w = to_idl(test::sample_responder_candidates());
+         w.responder_id(id);
+         return std::vector<std::string>{to_core(w).responder_id};
+       }},
+      {"fused_victim.sources.rescuer_id",
+       [](const std::string& id) {
+         auto w = to_idl(test::sample_fused_victim());
+         w.sources()[0].rescuer_id(id);
+         return std::vector<std::string>{to_core(w).sources[0].rescuer_id};
+       }},
+      {"team_status.team_id",
+       [](const std::string& id) {
+         auto w = to_idl(test::sample_team_status());
+         w.team_id(id);
+         return std::vector<std::string>{to_core(w).team_id};
+       }},
+      {"team_status.members.responder_id",
+       [](const std::string& id) {
+         auto w = to_idl(test::sample_team_status());
+         w.members()[0].responder_id(id);
+         return std::vector<std::string>{to_core(w).members[0].responder_id};
+       }},
+      {"responder_alarm.responder_id",
+       [](const std::string& id) {
+         auto w = to_idl(test::sample_responder_alarm());
+         w.responder_id(id);
+         return std::vector<std::string>{to_core(w).responder_id};
+       }},
+      {"incident_alarm.acknowledged_by",
+       [](const std::string& id) {
+         auto w = to_idl(test::sample_incident_alarm());
+         w.acknowledged_by(id);
+         const auto c = to_core(w);
+         return std::vector<std::string>{c.alarm.responder_id, c.acknowledged_by};
+       }},
   };
   // Optional (may be empty): a responder's team, the team of responders without one, who acknowledged.
-  const bool optional[] = {false, false, false, false, false, true, false, true, false, false, true};
+  const bool optional[] = {false, false, false, false, false, true, false, false, true, false, false, true};
   for (std::size_t f = 0; f < fields.size(); ++f) {
     int refused = 0;
     for (int k = 0; k < 600; ++k) {

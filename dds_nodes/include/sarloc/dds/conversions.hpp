@@ -19,6 +19,7 @@
 #include "sarloc/core/responder/alarm.hpp"
 #include "sarloc/core/responder/guidance.hpp"
 #include "sarloc/core/responder/odometry.hpp"
+#include "sarloc/core/responder/responder_candidates.hpp"
 #include "sarloc/core/responder/responder_position.hpp"
 #include "sarloc/core/responder/victim_estimate.hpp"
 #include "sarloc/idl/avalanche.h"
@@ -58,6 +59,10 @@ responder::Guidance to_core(const ::sarloc::Guidance& g);
 // Incident picture.
 ::sarloc::ResponderPosition to_idl(const responder::ResponderPosition& r);
 responder::ResponderPosition to_core(const ::sarloc::ResponderPosition& r);
+/// Throws InputError naming the field: more than POSITION_CANDIDATES_MAX places, a non-finite
+/// place, a weight outside (0, 1] or weights that sum to more than 1.
+::sarloc::ResponderCandidates to_idl(const responder::ResponderCandidates& c);
+responder::ResponderCandidates to_core(const ::sarloc::ResponderCandidates& c);
 ::sarloc::FusedVictim to_idl(const incident::FusedVictim& v);
 incident::FusedVictim to_core(const ::sarloc::FusedVictim& v);
 ::sarloc::TeamStatus to_idl(const incident::TeamStatus& t);

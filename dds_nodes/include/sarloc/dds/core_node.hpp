@@ -145,6 +145,7 @@ class CoreNode {
   Writer<::sarloc::VictimEstimate> estimate_writer_;
   Writer<::sarloc::Guidance> guidance_writer_;
   Writer<::sarloc::ResponderPosition> position_writer_;
+  Writer<::sarloc::ResponderCandidates> candidates_writer_;
   /// Each responder's last position, kept within the position writer's lifespan (null when
   /// the writer keeps its samples for ever).
   std::unique_ptr<estimator::PositionRefresh> position_refresh_;

@@ -14,6 +14,7 @@
 #include "sarloc/core/incident/search_plan.hpp"
 #include "sarloc/core/incident/team_status.hpp"
 #include "sarloc/core/responder/guidance.hpp"
+#include "sarloc/core/responder/responder_candidates.hpp"
 #include "sarloc/core/responder/responder_position.hpp"
 #include "sarloc/dds/participant.hpp"
 
@@ -26,6 +27,7 @@ struct DashboardSink {
   std::function<void(const incident::IncidentAlarm&)> on_alarm;
   std::function<void(std::uint32_t alarm_id)> on_alarm_gone;  ///< acknowledged and cleared
   std::function<void(const responder::ResponderPosition&)> on_position;
+  std::function<void(const responder::ResponderCandidates&)> on_candidates;
   std::function<void(const responder::Guidance&)> on_guidance;
   std::function<void(const incident::SearchPlanPicture&)> on_search_plan;
   /// The incident picture heard from a participant (first 24 hex digits of its writer's GUID).

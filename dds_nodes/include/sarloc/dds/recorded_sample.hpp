@@ -20,9 +20,9 @@ namespace sarloc::dds {
 /// they are their generated types.
 using RecordedSample =
     std::variant<avalanche::FieldMeasurement, responder::Odometry, responder::VictimEstimate, responder::Guidance,
-                 responder::ResponderAlarm, responder::ResponderPosition, incident::FusedVictim, incident::TeamStatus,
-                 incident::IncidentAlarm, incident::IncidentFrame, incident::SearchPlanPicture, ::sarloc::NodeStatus,
-                 ::sarloc::VictimRecovery>;
+                 responder::ResponderAlarm, responder::ResponderPosition, responder::ResponderCandidates,
+                 incident::FusedVictim, incident::TeamStatus, incident::IncidentAlarm, incident::IncidentFrame,
+                 incident::SearchPlanPicture, ::sarloc::NodeStatus, ::sarloc::VictimRecovery>;
 
 /// The sample `bytes` holds on `topic` (a recording's channel name, "sarloc/..."). nullopt for
 /// a topic not listed in RecordedSample (the recorder's JSON channels, the summary). Throws

@@ -26,6 +26,7 @@ SpeakerClaim speaker_claim(const ::sarloc::FieldMeasurement& m);
 SpeakerClaim speaker_claim(const ::sarloc::Odometry& o);
 SpeakerClaim speaker_claim(const ::sarloc::VictimEstimate& e);
 SpeakerClaim speaker_claim(const ::sarloc::ResponderPosition& p);
+SpeakerClaim speaker_claim(const ::sarloc::ResponderCandidates& c);
 SpeakerClaim speaker_claim(const ::sarloc::ResponderAlarm& a);
 
 /// The claim of one serialized payload of the sarloc topic `topic` (RawTopicReaders). nullopt

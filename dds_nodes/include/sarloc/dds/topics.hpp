@@ -27,6 +27,7 @@ SARLOC_DDS_TOPIC(Odometry, "odometry");
 SARLOC_DDS_TOPIC(VictimEstimate, "victim_estimate");
 SARLOC_DDS_TOPIC(Guidance, "guidance");
 SARLOC_DDS_TOPIC(ResponderPosition, "responder_position");
+SARLOC_DDS_TOPIC(ResponderCandidates, "responder_candidates");
 SARLOC_DDS_TOPIC(IncidentFrame, "incident_frame");
 SARLOC_DDS_TOPIC(FusedVictim, "fused_victim");
 SARLOC_DDS_TOPIC(TeamStatus, "team_status");

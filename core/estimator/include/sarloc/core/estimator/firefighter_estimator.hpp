@@ -18,6 +18,9 @@
 // near steel) nothing else ties it to the building. With no entry given, or when the first
 // odometry this estimator sees is not the device's first step (a daemon restarted mid-search),
 // from an unknown state (anywhere, any heading).
+// While the particles are in 2-4 compact places (MapEstimate::ambiguous), the position is flagged
+// ambiguous and each step also answers with those places (ResponderCandidates); the step that
+// ends the ambiguity answers once with none.
 // A gap in the odometry (interval_start after the last interval_end: steps lost on the radio)
 // spreads the particles by how far the firefighter may have walked in it (`max_speed_mps`).
 #include <map>
@@ -82,6 +85,8 @@ class FirefighterEstimator final : public ResponderEstimator {
 
  private:
   responder::ResponderPosition position_at(TimestampNs stamp, const firefighter::MapEstimate& e) const;
+  /// The candidates to publish with this step's position, if any (see the header comment).
+  std::optional<responder::ResponderCandidates> candidates_at(TimestampNs stamp, const firefighter::MapEstimate& e);
   /// On the first odometry: from the entry if it is the device's first step, else unknown.
   void start(std::uint64_t first_sequence);
 
@@ -93,6 +98,7 @@ class FirefighterEstimator final : public ResponderEstimator {
   double yaw_ = 0.0;  ///< INS yaw in the estimator's navigation frame
   std::optional<std::uint64_t> last_sequence_;
   TimestampNs last_end_ = 0;
+  bool was_ambiguous_ = false;
 };
 
 }  // namespace sarloc::estimator

@@ -23,6 +23,7 @@
 #include "sarloc/core/responder/guidance.hpp"
 #include "sarloc/core/responder/odometry.hpp"
 #include "sarloc/core/responder/rejection.hpp"
+#include "sarloc/core/responder/responder_candidates.hpp"
 #include "sarloc/core/responder/responder_position.hpp"
 #include "sarloc/core/responder/victim_estimate.hpp"
 
@@ -33,6 +34,8 @@ struct EstimatorOutput {
   std::vector<responder::VictimEstimate> estimates;   ///< relative to the responder
   std::optional<responder::Guidance> guidance;        ///< where to go next
   std::optional<responder::ResponderPosition> position;  ///< where the responder is (incident frame)
+  /// The places of an ambiguous position; once with none when the ambiguity ends.
+  std::optional<responder::ResponderCandidates> candidates;
 };
 
 using Outcome = std::variant<EstimatorOutput, responder::Rejection>;

@@ -30,6 +30,7 @@ struct MemberStatus {
   std::int32_t floor = 0;          ///< of last_position (building floor, 0 = ground or outdoors)
   responder::PositionSource source = responder::PositionSource::kGnss;  ///< of last_position
   bool converged = false, map_error_suspected = false, confirmed = false;  ///< of last_position (map-aided)
+  bool ambiguous = false;  ///< of last_position: map-aided, between 2-4 places (ResponderCandidates)
 };
 
 struct TeamStatus {

@@ -21,6 +21,9 @@ struct ResponderPosition {
   /// Map-aided only: converged for a while, no map error since the start, and traced back to an
   /// entry (firefighter::MapEstimate::confirmed): a position incident command may act on.
   bool confirmed = false;
+  /// Map-aided only, never with `converged`: the estimate is in 2-4 compact places
+  /// (firefighter::MapEstimate::ambiguous); ResponderCandidates names them.
+  bool ambiguous = false;
 };
 
 }  // namespace sarloc::responder
