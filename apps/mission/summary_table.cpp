@@ -65,8 +65,9 @@ void print_summary(const mission::MissionSummary& s, const std::string& run_dir)
                 d.guidance_switches, d.latency_p50_ms.value_or(-1.0), d.latency_p99_ms.value_or(-1.0));
   }
   if (!s.firefighters.empty() || !s.firefighters_without_summary.empty()) {
-    std::printf("\n%-11s %-6s %8s %7s %10s %12s %9s %11s %6s  %s\n", "firefighter", "team", "walked m", "floors",
-                "converge s", "RMSE after m", "map err %", "confirmed %", "DR s", "alarms (delay from the true event)");
+    std::printf("\n%-11s %-6s %8s %7s %10s %12s %9s %11s %6s %9s %9s  %s\n", "firefighter", "team", "walked m",
+                "floors", "converge s", "RMSE after m", "map err %", "confirmed %", "DR s", "own max m", "own out %",
+                "alarms (delay from the true event)");
     for (const auto& f : s.firefighters) {
       std::string alarms;
       for (const auto& a : f.alarms) {
@@ -78,10 +79,15 @@ void print_summary(const mission::MissionSummary& s, const std::string& run_dir)
       }
       std::string floors;
       for (const auto floor : f.floors_visited) floors += (floors.empty() ? "" : ",") + std::to_string(floor);
-      std::printf("%-11s %-6s %8.1f %7s %10s %12s %9.1f %11.1f %6.1f  %s\n", f.responder_id.c_str(), f.team.c_str(),
-                  f.distance_walked_m, floors.c_str(), optional_text(f.time_to_converge_s, "%.1f").c_str(),
+      const double own_out = f.own_positions > 0
+                                 ? 100.0 * static_cast<double>(f.own_outside_99) / static_cast<double>(f.own_positions)
+                                 : 0.0;
+      std::printf("%-11s %-6s %8.1f %7s %10s %12s %9.1f %11.1f %6.1f %9s %9.1f  %s\n", f.responder_id.c_str(),
+                  f.team.c_str(), f.distance_walked_m, floors.c_str(),
+                  optional_text(f.time_to_converge_s, "%.1f").c_str(),
                   optional_text(f.rmse_after_convergence_m, "%.2f").c_str(), 100.0 * f.map_error_share,
-                  100.0 * f.confirmed_share, f.dead_reckoning_s, alarms.empty() ? "-" : alarms.c_str());
+                  100.0 * f.confirmed_share, f.dead_reckoning_s, optional_text(f.own_max_error_m, "%.2f").c_str(),
+                  own_out, alarms.empty() ? "-" : alarms.c_str());
     }
     for (const auto& id : s.firefighters_without_summary) std::printf("%-10s (no summary: killed?)\n", id.c_str());
     std::printf("\nalarms in the incident picture:");

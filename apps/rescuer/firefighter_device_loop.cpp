@@ -168,6 +168,7 @@ app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const ap
         own->team_id = ff.team;
         node.publish_position(*own);
         last_position_s = now_s;
+        if (sim) score.on_own_position(*own, truth_incident(mission_s(own->stamp)).first);
       }
     }
     if (!quiet && published % 10 == 0) {

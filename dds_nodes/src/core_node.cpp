@@ -151,6 +151,23 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
           }
           handed_over_rescuers_ = std::move(now_handed);
         });
+    // The devices' own positions (their dead reckoning): where a firefighter is when this daemon
+    // meets him mid-search. Only for responders it serves already; never at a sample's cost.
+    device_position_reader_ = std::make_unique<Reader<::sarloc::ResponderPosition>>(
+        participant_,
+        [this](const ::sarloc::ResponderPosition& p, const auto& info) {
+          if (p.source() != ::sarloc::POSITION_DEAD_RECKONING || participant_->is_own_writer(info.publication_handle))
+            return;
+          try {
+            auto own = to_core(p);
+            if (!admits(authority_, info.publication_handle, speaker_claim(p))) return;
+            const std::string id = own.responder_id;
+            enqueue_hint(id, PositionHint{std::move(own)});
+          } catch (const InputError&) {
+            // a device's position this daemon cannot read starts nothing; incident command reports it
+          }
+        },
+        device_position_options(true));
   } catch (...) {
     stop_threads();
     throw;
@@ -177,6 +194,7 @@ void CoreNode::stop() {
   sample_readers_.reset();
   odometry_reader_.reset();
   victim_reader_.reset();
+  device_position_reader_.reset();
   stop_threads();
 }
 
@@ -247,6 +265,16 @@ void CoreNode::enqueue(const std::string& rescuer_id, Work work) {
   }
   w.cv.notify_one();
   if (dropped) reject(rescuer_id, "overloaded", "worker queue full: dropped the oldest waiting sample");
+}
+
+void CoreNode::enqueue_hint(const std::string& rescuer_id, PositionHint hint) {
+  Worker& w = *workers_[std::hash<std::string>{}(rescuer_id) % workers_.size()];
+  {
+    std::lock_guard<std::mutex> lock(w.mutex);
+    if (w.queue.size() >= config_.queue_limit / 2) return;  // a hint never pushes a sample out
+    w.queue.push_back({std::move(hint), std::chrono::steady_clock::now()});
+  }
+  w.cv.notify_one();
 }
 
 void CoreNode::run_worker(Worker& worker) {
@@ -337,6 +365,12 @@ void CoreNode::handle(Worker& worker, Work& work) {
   if (auto* leave = std::get_if<LeaveToOthers>(&work)) {
     if (auto it = worker.responders.find(leave->rescuer_id); it != worker.responders.end()) {
       it->second.estimator().leave_to_others(leave->signal_ids, leave->until);
+    }
+    return;
+  }
+  if (auto* hint = std::get_if<PositionHint>(&work)) {
+    if (auto it = worker.responders.find(hint->own.responder_id); it != worker.responders.end()) {
+      it->second.estimator().hint_position(hint->own);
     }
     return;
   }

@@ -117,6 +117,9 @@ nlohmann::json to_json(const mission::FirefighterDeviceSummary& f) {
   j["confirmed_outside_99"] = f.confirmed_outside_99;
   j["distance_walked_m"] = f.distance_walked_m;
   j["dead_reckoning_s"] = f.dead_reckoning_s;
+  j["own_positions"] = f.own_positions;
+  if (f.own_max_error_m) j["own_max_error_m"] = *f.own_max_error_m;
+  j["own_outside_99"] = f.own_outside_99;
   j["floors_visited"] = f.floors_visited;
   j["floors_reported"] = f.floors_reported;
   nlohmann::json alarms = nlohmann::json::array();
@@ -148,6 +151,9 @@ mission::FirefighterDeviceSummary firefighter_summary_from_json(const nlohmann::
     f.confirmed_outside_99 = j.value("confirmed_outside_99", std::size_t{0});
     f.distance_walked_m = j.value("distance_walked_m", 0.0);
     f.dead_reckoning_s = j.value("dead_reckoning_s", 0.0);
+    f.own_positions = j.value("own_positions", std::size_t{0});
+    if (j.contains("own_max_error_m")) f.own_max_error_m = j.at("own_max_error_m").get<double>();
+    f.own_outside_99 = j.value("own_outside_99", std::size_t{0});
     f.floors_visited = j.value("floors_visited", std::vector<std::int32_t>{});
     f.floors_reported = j.value("floors_reported", std::vector<std::int32_t>{});
     for (const auto& e : j.value("alarms", nlohmann::json::array())) {

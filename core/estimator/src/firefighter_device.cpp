@@ -143,12 +143,18 @@ std::vector<responder::ResponderAlarm> FirefighterDevice::active_alarms() const 
   return out;
 }
 
-void FirefighterDevice::on_fix(const responder::ResponderPosition& fix) {
+bool FirefighterDevice::on_fix(const responder::ResponderPosition& fix) {
   if (!fix.position.position.allFinite() || !fix.position.covariance.allFinite() || !std::isfinite(fix.heading_rad)) {
     throw InputError("fix of '" + fix.responder_id + "': position, covariance or heading not finite");
   }
-  if (fix_ && fix.stamp < fix_->stamp) return;  // an older fix overtaken on the way
+  if (fix_ && fix.stamp < fix_->stamp) return false;  // an older fix overtaken on the way
+  if (const auto own = dead_reckoning();
+      own && !fix.converged &&
+      own->position.covariance.topLeftCorner<2, 2>().trace() <= fix.position.covariance.topLeftCorner<2, 2>().trace()) {
+    return false;
+  }
   fix_ = fix;
+  return true;
 }
 
 std::optional<FirefighterDevice::InsPose> FirefighterDevice::pose_at(TimestampNs stamp) const {

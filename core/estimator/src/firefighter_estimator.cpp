@@ -1,5 +1,6 @@
 #include "sarloc/core/estimator/firefighter_estimator.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -41,6 +42,9 @@ void FirefighterEstimatorConfig::validate() const {
   positive(entry_position_sigma_m, "entry_position_sigma_m", 20.0);
   positive(entry_heading_sigma_deg, "entry_heading_sigma_deg", 180.0);
   positive(max_speed_mps, "max_speed_mps", 10.0);
+  positive(hint_max_age_s, "hint_max_age_s", 120.0);
+  positive(hint_sigma_scale, "hint_sigma_scale", 10.0);
+  positive(hint_heading_sigma_deg, "hint_heading_sigma_deg", 180.0);
   if (!origin.allFinite() || origin.norm() > 1e6) throw ConfigError("building.origin: must be finite, within 1000 km");
   if (!std::isfinite(rotation_deg) || std::abs(rotation_deg) > 360.0) {
     throw ConfigError("building.rotation_deg = " + config_value(rotation_deg) + ": must be in [-360, 360]");
@@ -76,7 +80,36 @@ FirefighterEstimator::FirefighterEstimator(std::string responder_id, const Firef
   }
 }
 
-void FirefighterEstimator::start(std::uint64_t first_sequence) {
+void FirefighterEstimator::hint_position(const responder::ResponderPosition& own) {
+  if (own.responder_id != id_ || own.source != responder::PositionSource::kDeadReckoning) return;
+  if (!own.position.position.allFinite() || !own.position.covariance.allFinite() || !std::isfinite(own.heading_rad))
+    return;
+  if (own.floor < 0 || static_cast<std::size_t>(own.floor) >= config_.building->plan().floors.size()) return;
+  if (hint_ && own.stamp <= hint_->stamp) return;
+  hint_ = own;
+}
+
+bool FirefighterEstimator::start_near_hint(TimestampNs at) {
+  if (!hint_) return false;
+  const double age_s = 1e-9 * static_cast<double>(at > hint_->stamp ? at - hint_->stamp : hint_->stamp - at);
+  if (age_s > config_.hint_max_age_s) return false;
+  const double rot = config_.rotation_rad();
+  const firefighter::Vec2 plan_xy =
+      firefighter::rotate(firefighter::Vec2(hint_->position.position.head<2>()) - config_.origin, -rot);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> spread(hint_->position.covariance.topLeftCorner<2, 2>());
+  // Its own spread, widened (a device's reckoning is not always as sure as it says), and how far
+  // the firefighter may have walked between the hint and this step.
+  const double sigma =
+      std::max(0.5, config_.hint_sigma_scale * std::sqrt(std::max(0.0, spread.eigenvalues().maxCoeff())) +
+                        0.5 * config_.max_speed_mps * age_s);
+  localizer_.start_near(plan_xy, static_cast<std::size_t>(hint_->floor), wrap_angle(hint_->heading_rad - rot - yaw_),
+                        sigma, config_.hint_heading_sigma_deg);
+  started_near_hint_ = true;
+  started_inside_unknown_ = false;
+  return true;
+}
+
+void FirefighterEstimator::start(std::uint64_t first_sequence, TimestampNs at) {
   // The reported entry is where the walk began: it holds only if this is the device's first
   // step. A daemon restarted (or whose idle state was released) mid-search meets the
   // firefighter somewhere inside, and starting it at the door would be a confident wrong place.
@@ -86,11 +119,15 @@ void FirefighterEstimator::start(std::uint64_t first_sequence) {
     if (const auto stance = firefighter::entry_stance(config_.building->plan(), entry_, it->second.hand)) {
       localizer_.start_at(stance->position, stance->floor, wrap_angle(stance->heading_rad));
     }
+  } else if (first_sequence == 1) {
+    // The device's first step: the firefighter is yet to come in, by a door most likely.
+    localizer_.start_unknown(firefighter::UnknownStart::kWalkedIn);
   } else {
     started_mid_search_ = !entry_.empty();
-    // The device's first step: the firefighter is yet to come in, by a door most likely.
-    localizer_.start_unknown(first_sequence == 1 ? firefighter::UnknownStart::kWalkedIn
-                                                 : firefighter::UnknownStart::kInside);
+    if (!start_near_hint(at)) {
+      localizer_.start_unknown(firefighter::UnknownStart::kInside);
+      started_inside_unknown_ = true;
+    }
   }
 }
 
@@ -125,7 +162,11 @@ Outcome FirefighterEstimator::add_odometry(const responder::Odometry& o) {
        << " m) or yaw change " << o.rotation_rpy.z() << " rad";
     return responder::reject(RejectReason::kAbsurdMotion, id_, os.str());
   }
-  if (!localizer_.started()) start(o.sequence);
+  if (!localizer_.started()) {
+    start(o.sequence, o.interval_start);
+  } else if (started_inside_unknown_ && !ever_converged_) {
+    start_near_hint(o.interval_start);  // the device's position came after the first step
+  }
   if (last_end_ > 0 && o.interval_start > last_end_) {
     // Steps lost on the way: the firefighter walked somewhere meanwhile.
     const double gap_s = 1e-9 * static_cast<double>(o.interval_start - last_end_);
@@ -136,6 +177,7 @@ Outcome FirefighterEstimator::add_odometry(const responder::Odometry& o) {
   yaw_ = wrap_angle(yaw_ + o.rotation_rpy.z());
   last_sequence_ = o.sequence;
   last_end_ = o.interval_end;
+  ever_converged_ = ever_converged_ || e.converged;
   EstimatorOutput out;
   out.position = position_at(o.interval_end, e);
   out.candidates = candidates_at(o.interval_end, e);

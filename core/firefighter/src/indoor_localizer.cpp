@@ -21,6 +21,20 @@ void IndoorLocalizer::start_at(const Vec2& position, std::size_t floor, double f
   started_ = true;
 }
 
+void IndoorLocalizer::start_near(const Vec2& position, std::size_t floor, double frame_heading, double position_sigma_m,
+                                 double heading_sigma_deg) {
+  if (!position.allFinite() || !std::isfinite(frame_heading)) throw InputError("start: position or heading not finite");
+  if (floor >= building_->plan().floors.size()) {
+    throw InputError("start: floor " + std::to_string(floor) + " not in the plan");
+  }
+  if (!(position_sigma_m > 0.0 && position_sigma_m < 1e3 && heading_sigma_deg > 0.0 && heading_sigma_deg <= 180.0)) {
+    throw InputError("start: spreads must be positive");
+  }
+  filter_.init_near(position, floor, frame_heading, position_sigma_m, heading_sigma_deg, rng_);
+  if (!started_) track_.add(ins_position_);
+  started_ = true;
+}
+
 void IndoorLocalizer::start_unknown(UnknownStart start) {
   filter_.init_unknown(rng_, start);
   track_.add(ins_position_);

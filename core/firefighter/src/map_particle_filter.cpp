@@ -93,19 +93,30 @@ MapParticleFilter::MapParticleFilter(const FloorPlan& plan, const NavigableGrid&
 }
 
 void MapParticleFilter::init_known(const Vec2& position, std::size_t floor, double heading, std::mt19937_64& rng) {
+  init_around(position, floor, heading, config_.known_position_sigma_m, config_.known_heading_sigma_deg, true, rng);
+}
+
+void MapParticleFilter::init_near(const Vec2& position, std::size_t floor, double heading, double position_sigma_m,
+                                  double heading_sigma_deg, std::mt19937_64& rng) {
+  init_around(position, floor, heading, position_sigma_m, heading_sigma_deg, false, rng);
+}
+
+void MapParticleFilter::init_around(const Vec2& position, std::size_t floor, double heading, double position_sigma_m,
+                                    double heading_sigma_deg, bool from_entry, std::mt19937_64& rng) {
   std::normal_distribution<double> n(0.0, 1.0);
   particles_.assign(config_.particles, Particle{});
   for (Particle& p : particles_) {
-    p.position = position + config_.known_position_sigma_m * Vec2(n(rng), n(rng));
-    p.heading = wrap_angle(heading + config_.known_heading_sigma_deg * kDeg * n(rng));
+    p.position = position + position_sigma_m * Vec2(n(rng), n(rng));
+    p.heading = wrap_angle(heading + heading_sigma_deg * kDeg * n(rng));
     p.floor = floor;
     p.z = plan_.floors.at(floor).elevation_m;
-    p.from_entry = true;
+    p.from_entry = from_entry;
   }
   weights_.assign(config_.particles, 1.0 / config_.particles);
   walked_in_ = false;
   was_converged_ = map_error_ = map_error_since_start_ = false;
   converged_run_ = moving_steps_ = converged_steps_ = 0;
+  map_error_armed_ = from_entry;
   refresh_flags();
 }
 
@@ -145,6 +156,7 @@ void MapParticleFilter::init_unknown(std::mt19937_64& rng, UnknownStart start) {
   }
   was_converged_ = map_error_ = map_error_since_start_ = false;
   converged_run_ = moving_steps_ = converged_steps_ = 0;
+  map_error_armed_ = true;
   refresh_flags();
 }
 
@@ -502,6 +514,11 @@ void MapParticleFilter::refresh_flags(double removed_weight) {
   }
   const bool was = converged_;
   converged_ = var < config_.converged_variance_m2 && (off_floor < 0.05 || off_floor > 0.95);
+  if (!map_error_armed_) {
+    converged_run_ = converged_ ? converged_run_ + 1 : 0;
+    map_error_armed_ = converged_run_ >= config_.map_error_clear_updates;
+    return;
+  }
   if (removed_weight > config_.map_error_removed_fraction && (was || was_converged_)) {
     map_error_ = true;
     converged_run_ = 0;

@@ -48,6 +48,14 @@ void FirefighterScore::on_fix(double t, const responder::ResponderPosition& fix,
   }
 }
 
+void FirefighterScore::on_own_position(const responder::ResponderPosition& own, const firefighter::Vec2& truth) {
+  ++summary_.own_positions;
+  const Eigen::Vector2d err = own.position.position.head<2>() - truth;
+  summary_.own_max_error_m = std::max(summary_.own_max_error_m.value_or(0.0), err.norm());
+  const Eigen::Matrix2d P = own.position.covariance.topLeftCorner<2, 2>() + 1e-9 * Eigen::Matrix2d::Identity();
+  if (err.dot(P.ldlt().solve(err)) > kChi2_2_99) ++summary_.own_outside_99;
+}
+
 void FirefighterScore::on_alarm(const responder::ResponderAlarm& alarm, TimestampNs epoch) {
   const auto seconds = [&](TimestampNs stamp) { return 1e-9 * static_cast<double>(stamp - epoch); };
   for (auto& record : summary_.alarms) {

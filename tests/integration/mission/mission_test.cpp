@@ -195,6 +195,15 @@ TEST(Mission, BuildingDevicesDeadReckonWhileTheDaemonIsDownAndTheNewOneConfirmsN
     // Before the kill at 50 s the daemon answered at most 80 steps (2 Hz from 10 s): the rest came
     // from the restarted one.
     EXPECT_GT(f["fixes"].get<int>(), 100) << "the restarted daemon answers too: " << f.dump();
+    // The restarted daemon starts near each device's own reckoning (firefighter.hint_*), and the
+    // device keeps its reckoning through the new daemon's first, unsure answers: before both, the
+    // restarted daemon's fixes were 3.0-3.7 m off (RMSE) and the devices' own positions up to
+    // 4.9-7.5 m (docs/estimation/firefighter.md, "A daemon that meets the firefighter mid-search").
+    ASSERT_TRUE(f.contains("rmse_after_convergence_m")) << f.dump();
+    EXPECT_LT(f["rmse_after_convergence_m"].get<double>(), 1.2) << f.dump();
+    ASSERT_TRUE(f.contains("own_max_error_m")) << f.dump();
+    EXPECT_LT(f["own_max_error_m"].get<double>(), 2.0) << "the device's own position: " << f.dump();
+    EXPECT_LE(f["own_outside_99"].get<int>(), f["own_positions"].get<int>() / 50 + 1) << f.dump();
   }
 }
 

@@ -17,6 +17,8 @@ TEST(GaussianRadiusTest, ConstantsAreTheChiSquareQuantiles) {
   EXPECT_NEAR(kChi2_2_95, -2.0 * std::log(0.05), 1e-14);
   EXPECT_NEAR(kChi2_2_99, chi_square_quantile(0.99, 2.0), 1e-9);
   EXPECT_NEAR(kChi2_2_99, -2.0 * std::log(0.01), 1e-14);
+  EXPECT_NEAR(kChi2_2_999, chi_square_quantile(0.999, 2.0), 1e-9);
+  EXPECT_NEAR(kChi2_2_999, -2.0 * std::log(0.001), 1e-14);
 }
 
 TEST(GaussianRadiusTest, WorstAxisOfTheCovariance) {

@@ -78,7 +78,7 @@ bool within99(const GaussianPosition& p, const firefighter::Vec2& truth) {
 // One right-hand search of `building` from its first entry, IMU to estimator.
 LiveRun run_search(const std::string& building, const std::string& entry, std::uint64_t seed,
                    firefighter::Vec2 origin = firefighter::Vec2::Zero(), double rotation_deg = 0.0,
-                   std::uint64_t first_step = 1, bool* started_mid_search = nullptr) {
+                   std::uint64_t first_step = 1, bool* started_mid_search = nullptr, bool device_hints = false) {
   const EstimatorConfigs configs = configs_for(building, "ff1", entry, origin, rotation_deg);
   const auto& plan = configs.firefighter.building->plan();
   std::mt19937_64 rng(seed);
@@ -97,6 +97,24 @@ LiveRun run_search(const std::string& building, const std::string& entry, std::u
   for (const auto& ideal : foot.imu_samples(100.0)) {
     device.push(errors.apply(ideal, rng));
     const auto odometry = device.take_odometry();
+    if (device_hints && odometry && odometry->sequence + 4 >= first_step) {
+      // The device: anchored by the last daemon's fix 2 s before this one came, then its own
+      // reckoning once a second, as sarloc-rescuer publishes it.
+      if (!device.dead_reckoning()) {
+        responder::ResponderPosition fix;
+        fix.responder_id = "ff1";
+        fix.stamp = odometry->interval_end;
+        const firefighter::Vec2 at = origin + R * foot.at(seconds(odometry->interval_end)).position.head<2>();
+        fix.position.position = Vec3(at.x(), at.y(), 0.0);
+        fix.position.covariance = 0.09 * Mat3::Identity();
+        fix.heading_rad = rotation_deg * kPi / 180.0 + foot.at(seconds(odometry->interval_end)).yaw;
+        fix.source = responder::PositionSource::kMapAided;
+        fix.converged = true;
+        device.on_fix(fix);
+      } else if (odometry->sequence % 2 == 0) {
+        estimator->hint_position(*device.dead_reckoning());
+      }
+    }
     if (!odometry || odometry->sequence < first_step) continue;  // a daemon that came later saw none of these
     auto outcome = estimator->add_odometry(*odometry);
     const auto* out = std::get_if<EstimatorOutput>(&outcome);
@@ -174,6 +192,28 @@ TEST(FirefighterLive, ADaemonMeetingTheFirefighterMidSearchDoesNotStartItAtTheRe
     EXPECT_TRUE(mid_search) << "seed " << seed;
     ASSERT_GT(run.answers, 150U);
     EXPECT_LE(run.confirmed_outside99, run.confirmed / 50 + 1) << "seed " << seed << ": " << run.confirmed << " confirmed";
+  }
+}
+
+// Issue 65: a daemon that meets the firefighter mid-search starts near his device's own dead
+// reckoning (anchored by the last daemon's fix) instead of anywhere in the building.
+TEST(FirefighterLive, ADaemonMeetingTheFirefighterMidSearchStartsNearHisDevicesReckoning) {
+  for (const auto& [building, entry] : {std::pair{"house-125", "front"}, {"warehouse-1040", "south"}}) {
+    for (std::uint64_t seed : {1, 2}) {
+      bool mid_search = false;
+      const LiveRun run = run_search(building, entry, seed, {}, 0.0, 121, &mid_search, true);
+      const LiveRun blind = run_search(building, entry, seed, {}, 0.0, 121, nullptr, false);
+      std::printf(
+          "%s seed %llu: with hints RMSE %.2f m, converged %zu of %zu, outside %zu; without RMSE %.2f m, converged "
+          "%zu, outside %zu\n",
+          building, static_cast<unsigned long long>(seed), rms(run.error_m), run.converged, run.answers, run.outside99,
+          rms(blind.error_m), blind.converged, blind.outside99);
+      EXPECT_TRUE(mid_search);
+      EXPECT_LT(rms(run.error_m), 1.0) << building << " seed " << seed;
+      EXPECT_GT(run.converged, run.answers * 9 / 10) << building << " seed " << seed;
+      EXPECT_LE(run.outside99, run.converged / 50 + 1) << building << " seed " << seed;
+      EXPECT_EQ(run.confirmed, 0U) << "only an entry confirms";
+    }
   }
 }
 
@@ -358,6 +398,59 @@ TEST(FirefighterLive, DeadReckoningFromTheLastFixFollowsTheWalkWithinItsGrownUnc
   EXPECT_LT(err.norm(), 3.0 * std::sqrt(p->position.covariance(0, 0))) << "error " << err.norm();
   EXPECT_GT(p->position.covariance(0, 0), 0.04 + 0.1) << "grown with the ~30 m walked";
   EXPECT_GT(device.distance_walked_m(), 30.0);
+}
+
+// A daemon restarted mid-search first answers with the mean of a cloud spread over the plan. The
+// device keeps dead reckoning from its surer anchor through those answers, and takes a fix again
+// once it is surer or has converged (the kill-core building mission: docs/estimation/firefighter.md).
+TEST(FirefighterLive, ADeviceKeepsItsReckoningAgainstAFixThatHasNotConvergedAndIsNotSurer) {
+  std::mt19937_64 rng(8);
+  const FootTrajectory foot(walk_with_stop(5, 1.0, 40));  // 36 m along +x from (0, 0)
+  firefighter::ImuErrors errors(firefighter::ImuErrorConfig{}, rng);
+  FirefighterDevice device("ff1", "alpha", FirefighterDeviceConfig{}, kOrigin);
+  struct Offered {
+    double at_s;
+    Eigen::Vector2d off;  // from the truth
+    double variance;
+    bool converged, confirmed;
+  };
+  const std::vector<Offered> offered{
+      {12.0, {0.0, 0.0}, 0.04, true, false},       // the first: taken
+      {20.0, {15.0, -12.0}, 100.0, false, false},  // the restarted daemon's spread cloud: not surer
+      {24.0, {0.0, 0.0}, 0.01, false, false},      // not converged, but surer: taken
+      {28.0, {3.0, 0.0}, 4.0, false, true},        // not converged, wider: not taken
+      {31.0, {2.0, 0.0}, 4.0, true, false},        // converged, however wide: taken
+  };
+  std::vector<bool> anchored;
+  for (const auto& ideal : foot.imu_samples(100.0)) {
+    device.push(errors.apply(ideal, rng));
+    const auto o = device.take_odometry();
+    if (!o || anchored.size() == offered.size()) continue;
+    const Offered& next = offered[anchored.size()];
+    const double t = seconds(o->interval_end);
+    if (t < next.at_s) continue;
+    const Eigen::Vector2d truth = foot.at(t).position.head<2>();
+    const auto before = device.dead_reckoning();
+    responder::ResponderPosition fix;
+    fix.responder_id = "ff1";
+    fix.stamp = o->interval_end;
+    fix.position.position = Vec3(truth.x() + next.off.x(), truth.y() + next.off.y(), 0.0);
+    fix.position.covariance = next.variance * Mat3::Identity();
+    fix.heading_rad = device.ins().yaw();  // the incident frame is the INS frame here
+    fix.source = responder::PositionSource::kMapAided;
+    fix.converged = next.converged;
+    fix.confirmed = next.confirmed;
+    const bool taken = device.on_fix(fix);
+    anchored.push_back(taken);
+    const auto after = device.dead_reckoning();
+    ASSERT_TRUE(after);
+    if (taken) {
+      EXPECT_NEAR((after->position.position - fix.position.position).norm(), 0.0, 0.05) << "at " << t << " s";
+    } else {
+      EXPECT_NEAR((after->position.position - before->position.position).norm(), 0.0, 1e-9) << "at " << t << " s";
+    }
+  }
+  EXPECT_EQ(anchored, (std::vector<bool>{true, false, true, false, true}));
 }
 
 }  // namespace

@@ -96,7 +96,12 @@ class CoreNode {
     std::set<std::uint32_t> signal_ids;
     TimestampNs until = 0;
   };
-  using Work = std::variant<responder::Odometry, estimator::SensorSample, MarkDone, Evict, LeaveToOthers>;
+  /// A device's own position (its dead reckoning): a start for a filter that meets the
+  /// responder mid-search (ResponderEstimator::hint_position).
+  struct PositionHint {
+    responder::ResponderPosition own;
+  };
+  using Work = std::variant<responder::Odometry, estimator::SensorSample, MarkDone, Evict, LeaveToOthers, PositionHint>;
   struct Queued {
     Work work;
     std::chrono::steady_clock::time_point at;  ///< enqueued: its wait tells the BusyGate
@@ -114,6 +119,8 @@ class CoreNode {
   /// The input readers' filter: does the roster serve this id? Counts and logs a refusal.
   bool admit(const std::string& rescuer_id);
   void enqueue(const std::string& rescuer_id, Work work);
+  /// Queues a hint unless the worker's queue is half full (it never displaces a sample).
+  void enqueue_hint(const std::string& rescuer_id, PositionHint hint);
   /// Queues the release of every idle responder's state on its worker.
   void evict_idle();
   void run_worker(Worker& worker);
@@ -159,6 +166,7 @@ class CoreNode {
   std::unique_ptr<Reader<::sarloc::Odometry>> odometry_reader_;
   std::unique_ptr<Reader<::sarloc::FusedVictim>> victim_reader_;
   std::unique_ptr<Reader<::sarloc::SearchPlan>> plan_reader_;
+  std::unique_ptr<Reader<::sarloc::ResponderPosition>> device_position_reader_;
   /// Rescuers with signals handed over in the last plan (plan reader thread only): those no
   /// longer in it get an empty set.
   std::set<std::string> handed_over_rescuers_;

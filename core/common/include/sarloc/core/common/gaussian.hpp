@@ -20,11 +20,12 @@
 
 namespace sarloc {
 
-/// chi2_3(0.95), chi2_2(0.95) = -2 ln 0.05 and chi2_2(0.99) = -2 ln 0.01 (to double precision;
-/// gaussian_test checks them).
+/// chi2_3(0.95), chi2_2(0.95) = -2 ln 0.05, chi2_2(0.99) = -2 ln 0.01 and chi2_2(0.999) = -2 ln
+/// 0.001 (to double precision; gaussian_test checks them).
 inline constexpr double kChi2_3_95 = 7.814727903251178;
 inline constexpr double kChi2_2_95 = 5.991464547107979;
 inline constexpr double kChi2_2_99 = 9.210340371976184;
+inline constexpr double kChi2_2_999 = 13.815510557964274;
 
 /// 95 % radius (m) of a 3-D position covariance along its worst axis:
 /// sqrt(chi2_3(0.95) lambda_max). A negative lambda_max (round-off) counts as 0.

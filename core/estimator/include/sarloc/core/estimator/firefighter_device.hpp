@@ -60,8 +60,13 @@ class FirefighterDevice {
   /// Every alarm active now.
   std::vector<responder::ResponderAlarm> active_alarms() const;
 
-  /// The daemon's map-aided position (or a manual one): the anchor of dead reckoning.
-  void on_fix(const responder::ResponderPosition& fix);
+  /// The daemon's map-aided position (or a manual one): the anchor of dead reckoning. A fix that
+  /// has not converged does not replace an anchor whose dead reckoning is surer (a smaller
+  /// horizontal covariance): a daemon restarted mid-search first answers with the mean of a
+  /// cloud spread over the plan, and the device keeps what it knew. Returns whether it anchors.
+  /// (A converged fix is taken even where it contradicts the reckoning: refusing those, tried on
+  /// the kill-core building mission, kept reckonings that had gone wrong; docs/estimation/firefighter.md.)
+  bool on_fix(const responder::ResponderPosition& fix);
   /// The last fix moved by the INS since (source kDeadReckoning), or nullopt without a fix
   /// in the history's reach.
   std::optional<responder::ResponderPosition> dead_reckoning() const;

@@ -17,7 +17,11 @@
 // x axis is the boot's heading at alignment, and without a compass (magnetometers are useless
 // near steel) nothing else ties it to the building. With no entry given, or when the first
 // odometry this estimator sees is not the device's first step (a daemon restarted mid-search),
-// from an unknown state (anywhere, any heading).
+// from an unknown state (anywhere, any heading); but when the device's own position is at hand
+// (its dead reckoning, `hint_position`, within `hint_max_age_s` of the step), near it:
+// `hint_sigma_scale` times its horizontal spread plus how far the firefighter may have walked
+// between the two, the heading within `hint_heading_sigma_deg`, never confirmed. A hint that
+// comes after such an unknown start, before it converged, starts it over near the hint.
 // While the particles are in 2-4 compact places (MapEstimate::ambiguous), the position is flagged
 // ambiguous and each step also answers with those places (ResponderCandidates); the step that
 // ends the ambiguity answers once with none.
@@ -55,6 +59,10 @@ struct FirefighterEstimatorConfig {
     firefighter::Hand hand = firefighter::Hand::kRight;
   };
   std::map<std::string, ReportedStart> entry_of;
+  /// Mid-search starts from the device's dead reckoning (see the header comment).
+  double hint_max_age_s = 10.0;
+  double hint_sigma_scale = 1.0;
+  double hint_heading_sigma_deg = 15.0;
   std::uint64_t seed = 1;
 
   /// Throws ConfigError naming the key ("firefighter.entry_position_sigma_m = 0: ...").
@@ -75,26 +83,38 @@ class FirefighterEstimator final : public ResponderEstimator {
   void mark_done(std::uint32_t) override {}
   void leave_to_others(std::set<std::uint32_t>, TimestampNs) override {}
   std::optional<responder::VictimEstimate> estimate_of(std::uint32_t) const override { return std::nullopt; }
+  /// A device's dead reckoning (source kDeadReckoning) of this firefighter; anything else, or
+  /// an older one, is ignored.
+  void hint_position(const responder::ResponderPosition& own) override;
   std::size_t active_filters() const override { return 1; }
 
   const firefighter::IndoorLocalizer& localizer() const { return localizer_; }
   /// The entry it starts from, empty for an unknown start.
   const std::string& entry() const { return entry_; }
-  /// An entry was reported but the first odometry came mid-search: started unknown.
+  /// An entry was reported but the first odometry came mid-search: started unknown or near a hint.
   bool started_mid_search() const { return started_mid_search_; }
+  /// Started (or started over) near the device's dead reckoning.
+  bool started_near_hint() const { return started_near_hint_; }
 
  private:
   responder::ResponderPosition position_at(TimestampNs stamp, const firefighter::MapEstimate& e) const;
   /// The candidates to publish with this step's position, if any (see the header comment).
   std::optional<responder::ResponderCandidates> candidates_at(TimestampNs stamp, const firefighter::MapEstimate& e);
-  /// On the first odometry: from the entry if it is the device's first step, else unknown.
-  void start(std::uint64_t first_sequence);
+  /// On the first odometry: from the entry if it is the device's first step, else near a fresh
+  /// hint, else unknown.
+  void start(std::uint64_t first_sequence, TimestampNs at);
+  /// Starts (over) near the hint if it is fresh at `at`; false if it is not.
+  bool start_near_hint(TimestampNs at);
 
   std::string id_;
   FirefighterEstimatorConfig config_;
   firefighter::IndoorLocalizer localizer_;
   std::string entry_;
   bool started_mid_search_ = false;
+  bool started_near_hint_ = false;
+  bool started_inside_unknown_ = false;  ///< kInside: a hint may still start it over
+  bool ever_converged_ = false;
+  std::optional<responder::ResponderPosition> hint_;
   double yaw_ = 0.0;  ///< INS yaw in the estimator's navigation frame
   std::optional<std::uint64_t> last_sequence_;
   TimestampNs last_end_ = 0;

@@ -75,6 +75,9 @@ class ResponderEstimator {
                                                        const Vec3& /*noise*/, std::uint8_t /*axes*/) const {
     return std::nullopt;
   }
+  /// The responder's device's own position (its dead reckoning, as it publishes it): a start for
+  /// an estimator that meets the responder mid-search. Ignored by roles that need none.
+  virtual void hint_position(const responder::ResponderPosition& /*own*/) {}
   /// Filters alive (NodeStatus.active_filters).
   virtual std::size_t active_filters() const = 0;
 };

@@ -24,6 +24,10 @@ class IndoorLocalizer {
   /// Known start: around `position` on `floor`, the INS frame's map heading `frame_heading`
   /// (the filter's known_position_sigma_m and known_heading_sigma_deg apply).
   void start_at(const Vec2& position, std::size_t floor, double frame_heading);
+  /// A start near a place someone else told (MapParticleFilter::init_near): its own spreads,
+  /// never confirmed. Again after a start, it starts over from there (the INS track is kept).
+  void start_near(const Vec2& position, std::size_t floor, double frame_heading, double position_sigma_m,
+                  double heading_sigma_deg);
   /// Unknown start: anywhere on the plan, any heading; a walk that came in began near a door
   /// more likely (MapParticleFilter::init_unknown).
   void start_unknown(UnknownStart start = UnknownStart::kWalkedIn);

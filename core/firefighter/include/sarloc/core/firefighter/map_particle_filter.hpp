@@ -185,8 +185,15 @@ class MapParticleFilter {
  public:
   MapParticleFilter(const FloorPlan& plan, const NavigableGrid& grid, MapFilterConfig config);
 
-  /// Known initial state: around (position, floor) with the INS frame's map heading.
+  /// Known initial state: around (position, floor) with the INS frame's map heading, spread by
+  /// `known_position_sigma_m` and `known_heading_sigma_deg`; traced back to an entry.
   void init_known(const Vec2& position, std::size_t floor, double heading, std::mt19937_64& rng);
+  /// A start near a place told by someone else (a device's dead reckoning when a daemon meets the
+  /// firefighter mid-search): as init_known with its own spreads, and not traced back to an entry
+  /// (so never confirmed: only an entry confirms). Such a cloud is a prior, not a lock the map
+  /// made: its first brushes with walls raise no map error (see map_error_armed_).
+  void init_near(const Vec2& position, std::size_t floor, double heading, double position_sigma_m,
+                 double heading_sigma_deg, std::mt19937_64& rng);
   /// Unknown: drawn uniformly over the navigable area of every floor, any heading; a walk that
   /// came in weighs those near an entry by `entry_prior`.
   void init_unknown(std::mt19937_64& rng, UnknownStart start = UnknownStart::kWalkedIn);
@@ -211,6 +218,8 @@ class MapParticleFilter {
   const MapFilterConfig& config() const { return config_; }
 
  private:
+  void init_around(const Vec2& position, std::size_t floor, double heading, double position_sigma_m,
+                   double heading_sigma_deg, bool from_entry, std::mt19937_64& rng);
   void replace_dead(const std::vector<char>& dead, std::mt19937_64& rng);
   /// Redraws the cloud from its weights with the KLD-sampling count (equal weights after).
   void adapt_count(std::mt19937_64& rng);
@@ -237,6 +246,9 @@ class MapParticleFilter {
   bool map_error_since_start_ = false;
   bool converged_ = false;  ///< concentrated (MapEstimate::concentrated)
   bool walked_in_ = false;  ///< an unknown start of UnknownStart::kWalkedIn
+  /// The map-error detector watches a cloud the map has locked; after init_near it arms once the
+  /// cloud has stayed concentrated for `map_error_clear_updates` updates.
+  bool map_error_armed_ = true;
   std::uint32_t converged_run_ = 0;
   std::uint32_t converged_steps_ = 0;  ///< odometry steps in a row that ended converged
   std::uint32_t moving_steps_ = 0;

@@ -41,6 +41,12 @@ struct FirefighterDeviceSummary {
   std::size_t confirmed_outside_99 = 0;        ///< confirmed fixes whose truth was outside their 99 % ellipse
   double distance_walked_m = 0.0;
   double dead_reckoning_s = 0.0;               ///< mission seconds the device was on its own
+  /// The device's own positions (dead reckoning from its anchor, once a mission second: what
+  /// incident command has of him while the daemon is down or not yet sure): how many, the
+  /// largest horizontal error, and how many had the truth outside their 99 % ellipse.
+  std::size_t own_positions = 0;
+  std::optional<double> own_max_error_m;
+  std::size_t own_outside_99 = 0;
   std::vector<std::int32_t> floors_visited;    ///< by the truth, in order of first visit
   std::vector<std::int32_t> floors_reported;   ///< by the daemon's fixes, in order of first report
   std::vector<FirefighterAlarmRecord> alarms;
@@ -57,6 +63,8 @@ class FirefighterScore {
   /// An alarm raised or cleared (mission seconds from its stamps with `epoch`).
   void on_alarm(const responder::ResponderAlarm& alarm, TimestampNs epoch);
   void add_dead_reckoning(double seconds) { summary_.dead_reckoning_s += seconds; }
+  /// The device's own position (dead reckoning), published at mission second `t`, and the truth.
+  void on_own_position(const responder::ResponderPosition& own, const firefighter::Vec2& truth);
   /// `stop`: the scripted stop's true start and end (mission s), `motionless_after_s` the alarm's time.
   FirefighterDeviceSummary summary(double distance_walked_m, const std::optional<std::pair<double, double>>& stop,
                                    double motionless_after_s) const;
