@@ -356,6 +356,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("hint_max_age_s", f.hint_max_age_s);
     r.read("hint_sigma_scale", f.hint_sigma_scale);
     r.read("hint_heading_sigma_deg", f.hint_heading_sigma_deg);
+    r.read("hint_max_sigma_m", f.hint_max_sigma_m);
     // Recordings carry their mission file: the two filter keys a mission set before it had
     // firefighter.filter are still read, as the same facts; set both ways, they must agree.
     r.read("particles", f.filter.particles);

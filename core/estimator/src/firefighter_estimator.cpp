@@ -1,5 +1,6 @@
 #include "sarloc/core/estimator/firefighter_estimator.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -45,6 +46,7 @@ void FirefighterEstimatorConfig::validate() const {
   positive(hint_max_age_s, "hint_max_age_s", 120.0);
   positive(hint_sigma_scale, "hint_sigma_scale", 10.0);
   positive(hint_heading_sigma_deg, "hint_heading_sigma_deg", 180.0);
+  positive(hint_max_sigma_m, "hint_max_sigma_m", 100.0);
   if (!origin.allFinite() || origin.norm() > 1e6) throw ConfigError("building.origin: must be finite, within 1000 km");
   if (!std::isfinite(rotation_deg) || std::abs(rotation_deg) > 360.0) {
     throw ConfigError("building.rotation_deg = " + config_value(rotation_deg) + ": must be in [-360, 360]");
@@ -102,6 +104,7 @@ bool FirefighterEstimator::start_near_hint(TimestampNs at) {
   const double sigma =
       std::max(0.5, config_.hint_sigma_scale * std::sqrt(std::max(0.0, spread.eigenvalues().maxCoeff())) +
                         0.5 * config_.max_speed_mps * age_s);
+  if (sigma > config_.hint_max_sigma_m) return false;
   localizer_.start_near(plan_xy, static_cast<std::size_t>(hint_->floor), wrap_angle(hint_->heading_rad - rot - yaw_),
                         sigma, config_.hint_heading_sigma_deg);
   started_near_hint_ = true;

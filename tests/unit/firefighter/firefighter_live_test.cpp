@@ -217,6 +217,48 @@ TEST(FirefighterLive, ADaemonMeetingTheFirefighterMidSearchStartsNearHisDevicesR
   }
 }
 
+// What the daemon takes for a start: the newest dead reckoning of this firefighter, fresh and
+// narrow enough; anything else leaves the start unknown (anywhere in the building).
+TEST(FirefighterLive, OnlyAFreshNarrowReckoningOfThisFirefighterIsAStart) {
+  const EstimatorConfigs configs = configs_for("house-125", "ff1", "front");
+  responder::ResponderPosition good;
+  good.responder_id = "ff1";
+  good.stamp = kOrigin + 60'000'000'000;
+  good.position.position = Vec3(3.0, 5.0, 0.0);
+  good.position.covariance = 0.25 * Mat3::Identity();
+  good.source = responder::PositionSource::kDeadReckoning;
+  const auto starts_near = [&](const std::vector<responder::ResponderPosition>& hints) {
+    FirefighterEstimator estimator("ff1", configs.firefighter);
+    for (const auto& h : hints) estimator.hint_position(h);
+    responder::Odometry o;
+    o.rescuer_id = "ff1";
+    o.sequence = 121;  // mid-search: the device's 121st step
+    o.interval_start = good.stamp + 500'000'000;
+    o.interval_end = o.interval_start + 500'000'000;
+    EXPECT_TRUE(std::holds_alternative<EstimatorOutput>(estimator.add_odometry(o)));
+    return estimator.started_near_hint();
+  };
+  EXPECT_FALSE(starts_near({}));
+  EXPECT_TRUE(starts_near({good}));
+  auto wide = good;
+  wide.position.covariance = 9.0 * Mat3::Identity();  // 3 m: 3.25 m with the half second since
+  EXPECT_FALSE(starts_near({wide}));
+  auto stale = good;
+  stale.stamp -= 20'000'000'000;
+  EXPECT_FALSE(starts_near({stale}));
+  auto other = good;
+  other.responder_id = "ff2";
+  EXPECT_FALSE(starts_near({other}));
+  auto fix = good;
+  fix.source = responder::PositionSource::kMapAided;  // the daemon's own, not the device's
+  EXPECT_FALSE(starts_near({fix}));
+  auto upstairs = good;
+  upstairs.floor = 5;  // house-125 has one floor
+  EXPECT_FALSE(starts_near({upstairs}));
+  EXPECT_TRUE(starts_near({stale, good})) << "the newest counts";
+  EXPECT_TRUE(starts_near({good, stale})) << "an older one after it changes nothing";
+}
+
 TEST(FirefighterLive, UnknownStartClaimsNothingItCannotBackUp) {
   const LiveRun run = run_search("house-125", "", 4);
   ASSERT_GT(run.answers, 250U);

@@ -20,7 +20,8 @@
 // from an unknown state (anywhere, any heading); but when the device's own position is at hand
 // (its dead reckoning, `hint_position`, within `hint_max_age_s` of the step), near it:
 // `hint_sigma_scale` times its horizontal spread plus how far the firefighter may have walked
-// between the two, the heading within `hint_heading_sigma_deg`, never confirmed. A hint that
+// between the two (at most `hint_max_sigma_m`, else it is no hint), the heading within
+// `hint_heading_sigma_deg`, never confirmed. A hint that
 // comes after such an unknown start, before it converged, starts it over near the hint.
 // While the particles are in 2-4 compact places (MapEstimate::ambiguous), the position is flagged
 // ambiguous and each step also answers with those places (ResponderCandidates); the step that
@@ -63,6 +64,9 @@ struct FirefighterEstimatorConfig {
   double hint_max_age_s = 10.0;
   double hint_sigma_scale = 1.0;
   double hint_heading_sigma_deg = 15.0;
+  /// A hint whose start would spread wider than this (a device that has reckoned long, or was
+  /// never anchored by a converged fix) is no start: the filter starts anywhere instead.
+  double hint_max_sigma_m = 3.0;
   std::uint64_t seed = 1;
 
   /// Throws ConfigError naming the key ("firefighter.entry_position_sigma_m = 0: ...").
