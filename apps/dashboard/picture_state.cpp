@@ -183,10 +183,11 @@ void PictureState::on_position(const responder::ResponderPosition& p) {
 void PictureState::on_candidates(const responder::ResponderCandidates& c) {
   std::lock_guard<std::mutex> lock(mutex_);
   touch_data();
-  auto& r = responders_[c.responder_id];
-  if (c.stamp < r.candidates.stamp) return;  // out of order: keep the newest
-  r.candidates = c;
-  if (r.version > 0) r.version = ++version_;  // no position yet: nothing is drawn until one comes
+  auto& newest = candidates_[c.responder_id];
+  if (c.stamp < newest.stamp) return;  // out of order: keep the newest
+  newest = c;
+  // No position yet: nothing is drawn until one comes.
+  if (auto it = responders_.find(c.responder_id); it != responders_.end()) it->second.version = ++version_;
 }
 
 void PictureState::on_guidance(const responder::Guidance& g) {
@@ -261,8 +262,10 @@ json PictureState::responder_json(const std::string& id, const Responder& r, boo
   // Where an ambiguous firefighter may be: each place with its share, heaviest first.
   constexpr TimestampNs kCandidatesOfItsTimeNs = 5'000'000'000;
   json candidates = json::array();
-  if (r.last.ambiguous && std::llabs(r.candidates.stamp - r.last.stamp) <= kCandidatesOfItsTimeNs) {
-    for (const auto& p : r.candidates.candidates) {
+  const auto places = candidates_.find(id);
+  if (r.last.ambiguous && places != candidates_.end() &&
+      std::llabs(places->second.stamp - r.last.stamp) <= kCandidatesOfItsTimeNs) {
+    for (const auto& p : places->second.candidates) {
       const auto& pc = p.position.covariance;
       candidates.push_back({{"x", cm(p.position.position.x())},
                             {"y", cm(p.position.position.y())},
@@ -422,6 +425,7 @@ void PictureState::reset() {
   std::lock_guard<std::mutex> lock(mutex_);
   victims_.clear();
   responders_.clear();
+  candidates_.clear();
   teams_.clear();
   alarms_.clear();
   events_.clear();

@@ -113,7 +113,6 @@ class PictureState {
     responder::ResponderPosition last;
     std::deque<std::array<double, 2>> track;
     std::optional<double> guidance_heading_rad;
-    responder::ResponderCandidates candidates;  ///< the newest
     std::uint64_t version = 0;
   };
   struct Team {
@@ -145,6 +144,8 @@ class PictureState {
   double last_data_wall_s_ = -1.0;
   std::map<std::uint32_t, std::pair<incident::FusedVictim, std::uint64_t>> victims_;
   std::map<std::string, Responder> responders_;
+  /// The newest places of each ambiguous firefighter, apart: they may come before his position.
+  std::map<std::string, responder::ResponderCandidates> candidates_;
   std::map<std::string, Team> teams_;
   std::map<std::uint32_t, std::pair<incident::IncidentAlarm, std::uint64_t>> alarms_;
   std::deque<std::pair<std::uint64_t, nlohmann::json>> events_;

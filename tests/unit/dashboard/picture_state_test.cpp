@@ -246,7 +246,10 @@ TEST(PictureState, AnAmbiguousPositionCarriesItsPlacesOnlyWhileItIsAmbiguous) {
   places.responder_id = "ff1";
   places.stamp = 10'000'000'000LL;
   state.on_candidates(places);
-  EXPECT_TRUE(state.snapshot()["responders"].empty()) << "no position yet: nothing to draw";
+  responder::Guidance g;
+  g.rescuer_id = "ff1";
+  state.on_guidance(g);
+  EXPECT_TRUE(state.snapshot()["responders"].empty()) << "no position yet: nothing to draw, nowhere";
   auto p = map_aided_fix_of_ff1_at_10_s();
   p.converged = false;
   p.ambiguous = true;
