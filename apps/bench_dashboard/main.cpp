@@ -35,7 +35,8 @@ int main(int argc, char** argv) {
     app::setup_logging(options.log_level, "bench");
     if (responders < 1 || responders > 2000 || victims < 0 || victims > 500) throw ConfigError("--responders 1-2000, --victims 0-500");
     const auto mission = app::load_mission_config(options.config_path);
-    auto participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, "bench-dashboard"));
+    auto participant =
+        std::make_shared<sarloc::dds::Participant>(options.participant(mission, "bench-dashboard", "bench-dashboard"));
     sarloc::dds::Writer<::sarloc::ResponderPosition> positions(participant, sarloc::dds::device_position_options());
     sarloc::dds::Writer<::sarloc::TeamStatus> teams(participant);
     sarloc::dds::Writer<::sarloc::FusedVictim> fused(participant);

@@ -29,7 +29,8 @@ int main(int argc, char** argv) {
     bench::EchoNodeConfig config;
     config.handoff = bench::parse_echo_handoff(handoff);
     config.partitions = mission.core_config("").partitions;  // where the daemon would listen
-    auto participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, config.node_id));
+    auto participant =
+        std::make_shared<sarloc::dds::Participant>(options.participant(mission, config.node_id, config.node_id));
     bench::EchoNode node(participant, config);
     while (!app::wait_for_shutdown(std::chrono::milliseconds(200))) {
     }

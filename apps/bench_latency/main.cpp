@@ -295,7 +295,7 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
                    setup.log_dir + "/" + run_name + ".log");
 
   auto participant = std::make_shared<sarloc::dds::Participant>(
-      app::participant_config(setup.mission, static_cast<int>(setup.domain), "bench-rescuers"));
+      app::participant_config(setup.mission, static_cast<int>(setup.domain), "bench-rescuers", "bench-rescuers"));
   sarloc::dds::Writer<::sarloc::FieldMeasurement> measurements(participant);
   sarloc::dds::Writer<::sarloc::Odometry> odometry(participant);
 
@@ -361,8 +361,9 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
     }
     if (!field) throw Error("no bench rescuer hears a victim: nothing for the intruder to imitate");
     intruder = std::make_unique<bench::Intruder>(
-        app::participant_config(setup.mission, static_cast<int>(setup.domain), "bench-intruder"),
-        bench::IntruderOptions{setup.intruder_ids, setup.intruder_rate, setup.intruder_odometry, setup.log_dir}, *field);
+        app::participant_config(setup.mission, static_cast<int>(setup.domain), "bench-intruder", "bench-intruder"),
+        bench::IntruderOptions{setup.intruder_ids, setup.intruder_rate, setup.intruder_odometry, setup.log_dir},
+        *field);
     if (!intruder->wait_for_daemon()) throw Error("the intruder did not match " + std::string(responder->name()));
   }
   const auto period = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / rate_hz));

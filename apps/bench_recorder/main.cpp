@@ -108,7 +108,8 @@ int main(int argc, char** argv) {
     const fs::path bin_dir = fs::canonical("/proc/self/exe").parent_path();
     const fs::path dir = fs::temp_directory_path() / ("sarloc-bench-recorder-" + std::to_string(::getpid()));
     fs::create_directories(dir);
-    auto participant = std::make_shared<sarloc::dds::Participant>(app::participant_config(mission, domain, "bench-publisher"));
+    auto participant = std::make_shared<sarloc::dds::Participant>(
+        app::participant_config(mission, domain, "bench-publisher", "bench-publisher"));
     sarloc::dds::Writer<::sarloc::FieldMeasurement> writer(participant);
     // The payload: a real measurement (its size as on the wire).
     avalanche::FieldMeasurement m;

@@ -46,7 +46,8 @@ int main(int argc, char** argv) {
     const auto mission = app::load_mission_config(options.config_path);
     const auto node_config = mission.command_config(instance);
     node_config.validate();  // --instance within command.instances
-    auto participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, node_config.node_id));
+    auto participant = std::make_shared<sarloc::dds::Participant>(
+        options.participant(mission, node_config.node_id, node_config.node_id));
     sarloc::dds::CommandNode node(participant, node_config, options.clock(mission));
     spdlog::info("{} running for incident '{}' (instance {} of {})", node_config.node_id, node_config.incident.incident_id,
                  instance, node_config.incident.standby.instances);

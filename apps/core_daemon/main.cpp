@@ -28,7 +28,7 @@ int main(int argc, char** argv) {
       throw ConfigError("--sector = '" + sector + "': not one of the mission's sectors");
     }
     auto node_config = mission.core_config(sector);
-    const auto dds_config = options.participant(mission, node_config.node_id);
+    const auto dds_config = options.participant(mission, node_config.node_id, node_config.node_id);
     auto participant = std::make_shared<sarloc::dds::Participant>(dds_config);
     sarloc::dds::CoreNode node(participant, node_config);
     spdlog::info("{} running on domain {} (profile {})", node_config.node_id, dds_config.domain_id, dds_config.profile);

@@ -167,7 +167,8 @@ int main(int argc, char** argv) {
 
     dashboard::PictureState state(state_config, [clock] { return clock.now(); }, clock.epoch());
     place(state);
-    auto participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, "sarloc-dashboard"));
+    auto participant = std::make_shared<sarloc::dds::Participant>(
+        options.participant(mission, "sarloc-dashboard", app::kDashboardIdentity));
     // Shown on the page's header: in red when anyone on the network could have written the picture.
     state.set_extra("dds_security", participant->secured() ? "authenticated, encrypted" : "none");
     state.set_extra("incident", {{"id", mission.command.incident.incident_id}, {"name", mission.command.incident.incident_name}});
@@ -222,7 +223,8 @@ int main(int argc, char** argv) {
       feed.tls_private_key = settings.tls_private_key;
       foxglove = std::make_unique<dashboard::FoxgloveBridge>(feed, channels);
       foxglove->start();
-      raw_participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, "sarloc-dashboard-foxglove"));
+      raw_participant = std::make_shared<sarloc::dds::Participant>(
+          options.participant(mission, "sarloc-dashboard-foxglove", app::kDashboardIdentity));
       sarloc::dds::RawReaderEvents events;
       // A sample about a responder is relayed only from a writer that may speak for it, as the
       // picture is built (under DDS Security a stolen device's mayday "for r1" reached the feed).

@@ -13,6 +13,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "fault_plan.hpp"
@@ -159,6 +160,10 @@ int main(int argc, char** argv) {
   return app::run_main("sarloc-mission", [&]() -> app::ExitCode {
     app::setup_logging(options.log_level, "mission");
     const auto mission = app::load_mission_config(options.config_path);
+    if (options.identities) {
+      for (const auto& identity : mission.security_identities()) std::cout << identity << '\n';
+      return app::ExitCode::kOk;
+    }
     auto faults = app::FaultPlan::parse(options.kills, options.restarts);
     for (const auto& f : faults.faults()) {
       if (f.is_device_kill()) (void)mission.team_of(f.target);  // known id?
@@ -181,7 +186,7 @@ int main(int argc, char** argv) {
                  mission.scenario.victims.size(), mission.scenario.rescuers.size(), mission.firefighters.size(),
                  mission.speedup, table.run_dir.string());
     // The mission's own participant watches the picture like incident command's dashboard.
-    const auto dds_config = app::participant_config(mission, options.domain, "sarloc-mission");
+    const auto dds_config = app::participant_config(mission, options.domain, "sarloc-mission", app::kMissionIdentity);
     table.domain_id = dds_config.domain_id;
     const app::PictureWatcher picture(std::make_shared<sarloc::dds::Participant>(dds_config));
     // Mission time starts a little in the future so every process is up and discovered.

@@ -42,6 +42,9 @@ void add_mission_options(CLI::App& cli, MissionOptions& o) {
   cli.add_flag("--dashboard", o.dashboard, "also start sarloc-dashboard on the mission and print its URL");
   cli.add_option("--dashboard-port", o.dashboard_port,
                  "the dashboard's port (default: dashboard.port of the mission; 0: any)");
+  cli.add_flag("--identities", o.identities,
+               "print the DDS Security identities the mission's nodes load from dds.security_dir, one ROLE:NAME "
+               "a line, and exit: make-certs.sh DIR $(sarloc-mission --identities MISSION.yaml) issues them");
   add_log_level_option(cli, o.log_level);
   cli.set_version_flag("--version", SARLOC_VERSION);
 }

@@ -23,6 +23,7 @@ struct MissionOptions {
   bool no_record = false;
   bool dashboard = false;
   int dashboard_port = -1;
+  bool identities = false;  ///< print the mission's DDS Security identities and exit
 
   /// "NAME=HOST" of each --host (CLI11 reads a map option as key/value token pairs, not as
   /// NAME=HOST); throws ConfigError.

@@ -107,7 +107,8 @@ int main(int argc, char** argv) {
       const auto [key, path] = split_pair("--meta-file", m);
       config.metadata[key] = app::redact_secrets(read_text_file("--meta-file " + key, path));
     }
-    auto participant = std::make_shared<sarloc::dds::Participant>(app::participant_config(mission, domain, "sarloc-record"));
+    auto participant = std::make_shared<sarloc::dds::Participant>(
+        app::participant_config(mission, domain, "sarloc-record", app::kRecorderIdentity));
     sarloc::dds::Recorder recorder(participant, config);
     spdlog::info("recording {} topic(s) of mission '{}' to '{}' (flush every {} s)", recorder.counters().size(),
                  mission.name, config.output_path, config.flush_period_s);

@@ -78,7 +78,13 @@ int main(int argc, char** argv) {
     if (!std::isfinite(startup_s) || startup_s < 0.0 || startup_s > 60.0) throw ConfigError("--startup must be in [0, 60] s");
     if (!std::isfinite(tail_s) || tail_s < 0.0 || tail_s > 600.0) throw ConfigError("--tail must be in [0, 600] s");
     const auto mission = app::load_mission_config(config_path);
-    const auto participant_config = app::participant_config(mission, domain, "sarloc-replay");
+    if (!mission.security_dir.empty()) {
+      // Its one participant writes what every node wrote: no identity's permissions allow that.
+      throw ConfigError(config_path + ": dds.security_dir = '" + mission.security_dir +
+                        "': a replay publishes every node's samples from one participant, which no DDS Security "
+                        "identity may; replay with a loopback mission file without dds.security_dir");
+    }
+    const auto participant_config = app::participant_config(mission, domain, "sarloc-replay", "sarloc-replay");
     auto participant = std::make_shared<sarloc::dds::Participant>(participant_config);
     sarloc::dds::Replayer replayer(participant, config);
     const auto timeline = replayer.timeline();

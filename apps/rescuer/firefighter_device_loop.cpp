@@ -64,7 +64,7 @@ app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const ap
     firefighter::apply_declared(format, device_config.ins);
   }
   estimator::FirefighterDevice device(ff.id, ff.team, device_config, epoch);
-  auto participant = std::make_shared<dds::Participant>(options.participant(mission, "rescuer-" + ff.id));
+  auto participant = std::make_shared<dds::Participant>(options.participant(mission, "rescuer-" + ff.id, ff.id));
   dds::FirefighterNodeConfig node_config;
   node_config.responder_id = ff.id;
   node_config.team = ff.team;

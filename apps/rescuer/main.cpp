@@ -138,7 +138,8 @@ int main(int argc, char** argv) {
                                                           mission.command.incident.origin);
     }
 
-    auto participant = std::make_shared<sarloc::dds::Participant>(options.participant(mission, "rescuer-" + rescuer_id));
+    auto participant =
+        std::make_shared<sarloc::dds::Participant>(options.participant(mission, "rescuer-" + rescuer_id, rescuer_id));
     sarloc::dds::RescuerNode node(participant, node_config, clock);
     // The device's separation asks its own filters when carrier and timing cannot decide, once
     // they have moved with the step just walked.

@@ -1,13 +1,13 @@
 #include "sarloc/dds/participant.hpp"
 
-#include "sarloc/core/common/validate.hpp"
+#include <spdlog/spdlog.h>
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
-
 #include <filesystem>
 #include <set>
 
+#include "sarloc/core/common/validate.hpp"
 #include "sarloc/dds/dds_error.hpp"
 #include "sarloc/dds/security_check.hpp"
 
@@ -63,6 +63,8 @@ Participant::Participant(const ParticipantConfig& config) : config_(config) {
     throw DdsError("cannot create DDS participant '" + config_.name + "' on domain " +
                    std::to_string(config_.domain_id) + " from profile '" + config_.profile + "'");
   }
+  spdlog::info("participant '{}' on domain {}, profile {}: DDS Security: {}", config_.name, config_.domain_id,
+               config_.profile, secured_ ? "on (authenticated, encrypted)" : "off");
 }
 
 Participant::~Participant() {

@@ -30,7 +30,12 @@ shift
 # shellcheck source=incident-ca.sh
 source "$here/incident-ca.sh"
 ensure_incident_ca "$out" make-certs.sh
-openssl smime -sign -text -in "$here/governance.xml" -out "$out/governance.p7s" \
+# The governance: beside this script in the source tree; installed, in the root's
+# /etc/sarloc/security (this script is in <root>/usr/share/sarloc/security).
+governance="$here/governance.xml"
+[[ -f "$governance" ]] || governance="$here/../../../../etc/sarloc/security/governance.xml"
+[[ -f "$governance" ]] || { echo "make-certs.sh: no governance.xml beside it or in /etc/sarloc/security" >&2; exit 1; }
+openssl smime -sign -text -in "$governance" -out "$out/governance.p7s" \
   -signer "$out/ca.pem" -inkey "$out/ca.key" 2>/dev/null
 
 not_before=$(date -u +%Y-%m-%dT%H:%M:%S)

@@ -112,6 +112,21 @@ std::vector<std::string> MissionConfig::core_node_ids() const {
   return ids;
 }
 
+std::vector<std::string> MissionConfig::security_identities() const {
+  std::vector<std::string> ids;
+  for (const auto& core_id : core_node_ids()) ids.push_back("core:" + core_id);
+  for (unsigned i = 1; i <= command_instances(); ++i) ids.push_back("command:" + command_config(i).node_id);
+  for (const auto& avalanche_rescuer : scenario.rescuers) ids.push_back("device:" + avalanche_rescuer.id);
+  for (const auto& entry : firefighters) {
+    const std::string id = "device:" + entry.id;
+    if (std::find(ids.begin(), ids.end(), id) == ids.end()) ids.push_back(id);
+  }
+  ids.push_back(std::string("dashboard:") + kDashboardIdentity);
+  ids.push_back(std::string("recorder:") + kRecorderIdentity);
+  ids.push_back(std::string("recorder:") + kMissionIdentity);
+  return ids;
+}
+
 dds::RescuerNodeConfig MissionConfig::rescuer_config(const std::string& rescuer_id) const {
   dds::RescuerNodeConfig c = rescuer;
   c.rescuer_id = rescuer_id;
@@ -211,7 +226,17 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("domain_id", c.dds.domain_id);
     r.read("require_security", c.dds.require_security);
     r.read("allow_unauthenticated", c.dds.allow_unauthenticated);
+    r.read("security_dir", c.security_dir);
     r.expect_done();
+    if (r.has("security_dir")) {
+      // One source of the participant profile: a node's secure.xml names it.
+      if (r.has("profiles_file") || r.has("profile")) {
+        throw ConfigError(name + ": dds.security_dir = '" + c.security_dir +
+                          "': each node's profile is <security_dir>/<node>/secure.xml, so dds.profiles_file and "
+                          "dds.profile must not be set with it");
+      }
+      c.security_dir = resolve(c.security_dir, base_dir);
+    }
     if (r.has("profiles_file")) c.dds.profiles_file = resolve(c.dds.profiles_file, base_dir);
     if (r.has("topics_file")) c.dds.topics_file = resolve(c.dds.topics_file, base_dir);
   }

@@ -1,18 +1,31 @@
 #include "sarloc/app/node_options.hpp"
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 
 #include "sarloc/app/command_line.hpp"
 #include "sarloc/core/common/validate.hpp"
 
 namespace sarloc::app {
 
-dds::ParticipantConfig participant_config(const MissionConfig& mission, int domain, const std::string& name) {
+dds::ParticipantConfig participant_config(const MissionConfig& mission, int domain, const std::string& name,
+                                          const std::string& identity) {
   require(domain >= -1 && domain <= 232, "--domain", domain, "must be in [0, 232] (absent: dds.domain_id)");
   dds::ParticipantConfig config = mission.dds;
   if (domain >= 0) config.domain_id = static_cast<std::uint32_t>(domain);
   config.name = name;
   config.core_node_ids = mission.core_node_ids();
+  if (!mission.security_dir.empty()) {
+    const auto profile = std::filesystem::path(mission.security_dir) / identity / "secure.xml";
+    if (!std::filesystem::is_regular_file(profile)) {
+      throw ConfigError("dds.security_dir = '" + mission.security_dir + "': no identity '" + identity + "' (" +
+                        profile.string() + "); issue this mission's identities with make-certs.sh " +
+                        mission.security_dir + " $(sarloc-mission --identities MISSION.yaml)");
+    }
+    config.profiles_file = profile.string();
+    config.profile = "sarloc_secure";
+    config.require_security = true;
+  }
   return config;
 }
 
@@ -24,9 +37,10 @@ void NodeOptions::validate() const {
           "must be in [0.1, 100] (as mission.speedup)");
 }
 
-dds::ParticipantConfig NodeOptions::participant(const MissionConfig& mission, const std::string& name) const {
+dds::ParticipantConfig NodeOptions::participant(const MissionConfig& mission, const std::string& name,
+                                                const std::string& identity) const {
   validate();
-  return participant_config(mission, domain, name);
+  return participant_config(mission, domain, name, identity);
 }
 
 dds::MissionClock NodeOptions::clock(const MissionConfig& mission) const {

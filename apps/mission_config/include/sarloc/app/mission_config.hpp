@@ -34,6 +34,12 @@ struct FirefighterEntry {
   std::string imu_source;
 };
 
+/// The DDS Security identities of the nodes that are neither a responder's device, a core
+/// daemon nor incident command (those are named by their ids).
+inline constexpr const char* kDashboardIdentity = "dashboard";
+inline constexpr const char* kRecorderIdentity = "recorder";
+inline constexpr const char* kMissionIdentity = "mission";  ///< sarloc-mission's picture watcher
+
 struct MissionConfig {
   std::string name = "mission";
   double time_limit_s = 900.0;  ///< mission seconds before sarloc-mission gives up
@@ -41,6 +47,10 @@ struct MissionConfig {
   double period_s = 1.0;        ///< one measurement epoch per mission second (seed 000, section V)
 
   dds::ParticipantConfig dds;
+  /// dds.security_dir, resolved ("" = none): an incident's DDS Security material from
+  /// deploy/security/make-certs.sh. Each node then loads its own identity's profile,
+  /// <dir>/<identity>/secure.xml (participant_config), and refuses to run unauthenticated.
+  std::string security_dir;
   mission::MissionScenario scenario;                  ///< victims, rescuers, sensors
   std::map<std::string, std::string> sector_of;       ///< rescuer id -> sector name ("" = none)
   std::map<std::string, estimator::ResponderRole> role_of;  ///< rescuer id -> role (rescuers[].role)
@@ -80,6 +90,11 @@ struct MissionConfig {
   /// The node id of the core daemon of `sector` ("" without sectors), and of every one.
   std::string core_node_id(const std::string& sector) const;
   std::vector<std::string> core_node_ids() const;
+  /// The DDS Security identities this mission's nodes load, as make-certs.sh takes them
+  /// ("role:name"; a device's name is its responder id): every core daemon, every incident
+  /// command instance, every responder's device, the dashboard, the recorder and
+  /// sarloc-mission's own watcher.
+  std::vector<std::string> security_identities() const;
   dds::RescuerNodeConfig rescuer_config(const std::string& rescuer_id) const;
   /// The team of any responder (avalanche rescuer or firefighter); ConfigError when unknown.
   std::string team_of(const std::string& responder_id) const;

@@ -4,7 +4,7 @@
 //
 //   NodeOptions options;
 //   add_node_options(cli, options);
-//   ... auto participant = std::make_shared<dds::Participant>(options.participant(mission, "name"));
+//   ... auto participant = std::make_shared<dds::Participant>(options.participant(mission, "name", identity));
 #include "sarloc/app/cli_app.hpp"
 
 #include <cstdint>
@@ -28,8 +28,10 @@ struct NodeOptions {
   /// Throws ConfigError naming the option ("--domain = 300: must be in [0, 232] ...").
   /// participant() and clock() check it first.
   void validate() const;
-  /// The mission's participant settings with this node's name and the domain override.
-  dds::ParticipantConfig participant(const MissionConfig& mission, const std::string& name) const;
+  /// The mission's participant settings with this node's name and the domain override;
+  /// `identity` is the node's DDS Security identity (participant_config).
+  dds::ParticipantConfig participant(const MissionConfig& mission, const std::string& name,
+                                     const std::string& identity) const;
   /// The mission clock from --epoch-ns (default: starting now) and the mission's speedup.
   dds::MissionClock clock(const MissionConfig& mission) const;
 };
@@ -39,6 +41,11 @@ struct NodeOptions {
 void add_node_options(CLI::App& cli, NodeOptions& options, bool with_epoch = true);
 
 /// The mission's participant settings named `name`, on `domain` if >= 0 (else dds.domain_id).
-dds::ParticipantConfig participant_config(const MissionConfig& mission, int domain, const std::string& name);
+/// With dds.security_dir, the node loads `identity`'s profile from it (a device's identity is
+/// its responder id, a core daemon's or incident command's its node id, otherwise
+/// kDashboardIdentity and the like) and requires DDS Security; ConfigError, naming the
+/// make-certs.sh call that issues it, when that identity was not issued.
+dds::ParticipantConfig participant_config(const MissionConfig& mission, int domain, const std::string& name,
+                                          const std::string& identity);
 
 }  // namespace sarloc::app
