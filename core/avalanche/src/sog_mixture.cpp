@@ -27,6 +27,10 @@ void SogFilter::normalise_and_prune() {
     if (c.log_weight >= cut) components_[out++] = c;
   }
   components_.resize(out);
+  // A mixture pruned from its opening ~1700 components to tens would otherwise keep the
+  // opening's 1.4 MB for the rest of the search, per signal and rescuer (issue 64: 3-6 MB a
+  // rescuer in the daemon); give it back once it holds four times what it needs.
+  if (components_.capacity() > 4 * components_.size() + 64) components_.shrink_to_fit();
   // Renormalise after pruning.
   sum = 0.0;
   for (const auto& c : components_) sum += std::exp(c.log_weight);
