@@ -47,9 +47,10 @@ std::string lost_trials(const av::EvaluationSummary& s) {
 // Realistic receiver, single burial, 2 x 100 trials (seeds 1 and 2). NEES: the mean over the 200
 // trials must lie inside what one seed's 100 trials may show, [chi2_300(0.025), chi2_300(0.975)] /
 // 100 = [2.54, 3.50]. Per seed, a 95 % bound leaves one consistent seed in 20 outside: the
-// shipped filter's seeds 1-40 spread 2.69-3.57 (pooled 3.15 and 3.08), seed 2 at 3.57. Pooled,
-// seeds 1-2 give 3.36; a filter 20 % over-confident (the quasi-static field model of before
-// 2026-12-05 with a device free of calibration error: 3.40 and 3.84) fails.
+// shipped filter's seeds 1-20 spread 2.73-3.53 (pooled 3.09; opening with 1700 Gaussians before
+// 2026-12-06: 2.69-3.57, pooled 3.15). Pooled, seeds 1-2 give 3.12 (3.36 with 1700); a filter
+// 20 % over-confident (the quasi-static field model of before 2026-12-05 with a device free of
+// calibration error: 3.40 and 3.84) fails.
 TEST(Accuracy, RealisticSingleBurialFindsEveryVictimAccurately) {
   std::uint32_t not_found = 0, false_found = 0;
   double nees_sum = 0.0, nees_lower = 0.0, nees_upper = 0.0;

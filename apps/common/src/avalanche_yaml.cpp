@@ -70,6 +70,7 @@ void read_sog(YamlReader r, avalanche::SogConfig& c) {
   r.read("depth_sigma_factor", c.depth_sigma_factor);
   r.read("near_field_depth_sigma_per_range", c.near_field_depth_sigma_per_range);
   r.read("near_field_burial_depth_m", c.near_field_burial_depth_m);
+  r.read("near_field_initial_components", c.near_field_initial_components);
   r.read("horizontal_overlap", c.horizontal_overlap);
   r.read("max_range_m", c.max_range_m);
   r.read("range_noise_sigmas", c.range_noise_sigmas);

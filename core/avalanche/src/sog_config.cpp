@@ -18,6 +18,10 @@ void SogConfig::validate() const {
   require(initial_components <= max_components, "sog.initial_components", initial_components,
           "must be <= max_components");
   require(max_components != 0, "sog.max_components", max_components, "must be > 0");
+  require(near_field_initial_components != 0, "sog.near_field_initial_components", near_field_initial_components,
+          "must be > 0");
+  require(near_field_initial_components <= max_components, "sog.near_field_initial_components",
+          near_field_initial_components, "must be <= max_components");
   standard.validate("sog.standard");
   require(std::isfinite(antenna_height_m) && antenna_height_m >= 0.0 && antenna_height_m <= 10.0,
           "sog.antenna_height_m", antenna_height_m, "must be in [0, 10]");

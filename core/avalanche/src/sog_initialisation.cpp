@@ -143,7 +143,9 @@ void SogFilter::initialise(const FieldMeasurement& meas) {
     }
     return count;
   };
-  const double target = config_.initial_components;
+  // A layered near-field ring shares its Gaussians among up to 20 layers: it keeps more.
+  const double target =
+      layers > config_.depth_layers ? config_.near_field_initial_components : config_.initial_components;
   const double area = kPi * (rho_max * rho_max - rho_min * rho_min);
   double s = std::sqrt(area * layers / target / (std::sqrt(3.0) / 2.0));
   bool check = true;

@@ -30,8 +30,8 @@ TEST(SogFilterTest, InitialisesRingAroundTruthWithMomentBounds) {
   EXPECT_EQ(f.estimate().status, EstimatorStatus::kInitialising);
   const auto r = f.process(sim.measure());
   EXPECT_TRUE(r.initialised_now);
-  // About 1700 components (the spacing is adapted to the accepted count).
-  EXPECT_NEAR(static_cast<double>(f.size()), 1700.0, 100.0);
+  // About initial_components (the spacing is adapted to the accepted count).
+  EXPECT_NEAR(static_cast<double>(f.size()), cfg.initial_components, 0.06 * cfg.initial_components);
   const double d_true = sim.true_relative_position().head<2>().norm();
   double rho_min = 1e9, rho_max = 0.0, wsum = 0.0;
   for (const auto& c : f.components()) {
@@ -77,10 +77,31 @@ TEST(SogFilterTest, FirstHeardNearADeepVictimTheCovarianceHoldsTheTruth) {
   const double upper = chi_square_quantile(0.975, 3 * kRuns) / kRuns;
   SogConfig cfg;
   cfg.initial_components = 900;  // keep the unit test fast
+  cfg.near_field_initial_components = 900;
   EXPECT_LT(mean_nees_near_a_deep_victim(cfg, kRuns), upper);
   // One 0-3 m layer at every range, as before the near-field layers: overconfident there.
   cfg.near_field_depth_sigma_per_range = 0.0;
   EXPECT_GT(mean_nees_near_a_deep_victim(cfg, kRuns), upper);
+}
+
+// A ring heard from afar opens with initial_components; one heard a few metres from a victim is
+// cut into depth layers and opens with near_field_initial_components, shared among them.
+TEST(SogFilterTest, ANearFieldRingOpensWithItsOwnCount) {
+  SogConfig cfg;
+  cfg.initial_components = 300;
+  cfg.near_field_initial_components = 900;
+  SimulationConfig sc;
+  AvalancheSimulator far(sc, fixed_scenario(), 3);
+  SogFilter f_far(cfg);
+  f_far.process(far.measure());
+  EXPECT_NEAR(static_cast<double>(f_far.size()), 300.0, 30.0);
+  std::mt19937_64 rng(701);
+  const Scenario s = test::random_victim_nearby(rng, 4.5, 4.0, cfg.standard.moment_min(), cfg.standard.moment_max());
+  AvalancheSimulator near(sc, s, 901);
+  SogFilter f_near(cfg);
+  f_near.process(near.measure());
+  EXPECT_GT(f_near.size(), 600U) << "a near-field ring of " << f_near.size() << " Gaussians";
+  EXPECT_LE(f_near.size(), 990U);
 }
 
 }  // namespace
