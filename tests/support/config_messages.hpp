@@ -7,14 +7,20 @@
 
 namespace sarloc::test {
 
-template <typename Config>
-std::string validation_error(const Config& config) {
+/// The ConfigError message `f` throws, "" when it throws none.
+template <typename F>
+std::string config_error_of(F f) {
   try {
-    config.validate();
+    f();
   } catch (const ConfigError& e) {
     return e.what();
   }
   return "";
+}
+
+template <typename Config>
+std::string validation_error(const Config& config) {
+  return config_error_of([&] { config.validate(); });
 }
 
 }  // namespace sarloc::test

@@ -117,10 +117,7 @@ std::vector<std::string> MissionConfig::security_identities() const {
   for (const auto& core_id : core_node_ids()) ids.push_back("core:" + core_id);
   for (unsigned i = 1; i <= command_instances(); ++i) ids.push_back("command:" + command_config(i).node_id);
   for (const auto& avalanche_rescuer : scenario.rescuers) ids.push_back("device:" + avalanche_rescuer.id);
-  for (const auto& entry : firefighters) {
-    const std::string id = "device:" + entry.id;
-    if (std::find(ids.begin(), ids.end(), id) == ids.end()) ids.push_back(id);
-  }
+  for (const auto& entry : firefighters) ids.push_back("device:" + entry.id);  // ids are unique across both
   ids.push_back(std::string("dashboard:") + kDashboardIdentity);
   ids.push_back(std::string("recorder:") + kRecorderIdentity);
   ids.push_back(std::string("recorder:") + kMissionIdentity);

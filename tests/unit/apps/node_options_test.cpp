@@ -7,7 +7,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -43,15 +42,6 @@ rescuers:
 sectors: [{name: west}, {name: east}]
 )";
 
-std::string what(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 // dds.security_dir: each node loads its own identity's secure.xml (make-certs.sh's layout) and
 // requires DDS Security; a node whose identity was not issued is refused by name, before any
 // participant exists, with the command that issues the mission's identities.
@@ -71,7 +61,8 @@ TEST(NodeOptions, WithASecurityDirEachNodeLoadsItsOwnIdentityAndOneNotIssuedIsRe
   EXPECT_EQ(r1.name, "rescuer-r1");
   EXPECT_EQ(r1.domain_id, 7U);
 
-  const auto refusal = what([&] { (void)participant_config(mission, -1, "rescuer-r2", "r2"); });
+  const auto refusal =
+      sarloc::test::config_error_of([&] { (void)participant_config(mission, -1, "rescuer-r2", "r2"); });
   EXPECT_NE(refusal.find("no identity 'r2'"), std::string::npos) << refusal;
   EXPECT_NE(refusal.find("make-certs.sh"), std::string::npos) << refusal;
   EXPECT_NE(refusal.find("--identities"), std::string::npos) << refusal;
@@ -86,7 +77,8 @@ TEST(NodeOptions, WithASecurityDirEachNodeLoadsItsOwnIdentityAndOneNotIssuedIsRe
 TEST(NodeOptions, ASecurityDirWithAProfileOfItsOwnIsRefused) {
   for (const std::string dds :
        {"dds: {security_dir: sec, profile: sarloc_lan}\n", "dds: {security_dir: sec, profiles_file: lan.xml}\n"}) {
-    const auto message = what([&] { (void)load_mission_config_text(kTwoRescuersInTwoSectors + dds, "m.yaml"); });
+    const auto message = sarloc::test::config_error_of(
+        [&] { (void)load_mission_config_text(kTwoRescuersInTwoSectors + dds, "m.yaml"); });
     EXPECT_NE(message.find("m.yaml: dds.security_dir = 'sec'"), std::string::npos) << message;
     EXPECT_NE(message.find("must not be set with it"), std::string::npos) << message;
   }
