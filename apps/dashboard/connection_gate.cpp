@@ -1,5 +1,6 @@
 #include "connection_gate.hpp"
 
+#include <openssl/ssl.h>
 #include <spdlog/spdlog.h>
 
 #include <array>
@@ -8,8 +9,6 @@
 #include <optional>
 #include <stdexcept>
 #include <vector>
-
-#include "sarloc/core/common/errors.hpp"
 
 namespace sarloc::dashboard {
 
@@ -89,28 +88,10 @@ struct ConnectionGate::Relay {
   int relay_port = 0;  // the local port of `backend`: how the server names this connection
   Clock::time_point deadline;
   bool holding = true;  // its request not yet whole: nothing of it has reached the server
+  bool certified = false;  // its client showed a certificate of the context's client authority
   bool served = false;
   bool closed = false;
 };
-
-std::shared_ptr<asio::ssl::context> make_tls_context(const std::string& certificate, const std::string& key) {
-  auto context = std::make_shared<asio::ssl::context>(asio::ssl::context::tls_server);
-  try {
-    context->set_options(asio::ssl::context::default_workarounds | asio::ssl::context::no_sslv2 |
-                         asio::ssl::context::no_sslv3 | asio::ssl::context::no_tlsv1 | asio::ssl::context::no_tlsv1_1 |
-                         asio::ssl::context::single_dh_use);
-    context->use_certificate_chain_file(certificate);
-    context->use_private_key_file(key, asio::ssl::context::pem);
-  } catch (const boost::system::system_error& e) {
-    throw ConfigError("dashboard.tls_certificate = " + certificate + ", dashboard.tls_private_key = " + key +
-                      ": not a certificate and its key in PEM (or unreadable): " + e.what());
-  }
-  if (SSL_CTX_check_private_key(context->native_handle()) != 1) {
-    throw ConfigError("dashboard.tls_certificate = " + certificate + ", dashboard.tls_private_key = " + key +
-                      ": the key is not the certificate's");
-  }
-  return context;
-}
 
 ConnectionGate::ConnectionGate(ConnectionLimits limits, const std::string& bind_address, int port, int backend_port,
                                std::shared_ptr<asio::ssl::context> tls)
@@ -202,7 +183,8 @@ void ConnectionGate::admit(tcp::socket socket) {
       // many addresses then cannot keep a newcomer out (a browser's request is whole within
       // milliseconds of its connection); connections whose request reached the server stay.
       for (const auto& r : relays_) {
-        if (r->holding && !r->closed && (!evicted || r->deadline < evicted->deadline)) evicted = r;
+        // An operator's certificate is never outweighed by anyone's connection count.
+        if (r->holding && !r->closed && !r->certified && (!evicted || r->deadline < evicted->deadline)) evicted = r;
       }
     }
     if (open >= limits_.max_per_address) {
@@ -238,8 +220,19 @@ void ConnectionGate::admit(tcp::socket socket) {
     relay->tls = std::make_unique<asio::ssl::stream<tcp::socket&>>(relay->client, *tls_);
     relay->tls->async_handshake(asio::ssl::stream_base::server, [this, relay](const boost::system::error_code& error) {
       if (relay->closed) return;
+      const bool certified = !error && SSL_get0_peer_certificate(relay->tls->native_handle()) != nullptr &&
+                             SSL_get_verify_result(relay->tls->native_handle()) == X509_V_OK;
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        relay->certified = certified;
+        if (error) ++counters_.failed_handshakes;
+        if (certified) ++counters_.certified;
+      }
       if (error) {
-        close(relay);  // not TLS, or not a version or cipher we speak
+        // Not TLS, not a version or cipher we speak, or no client certificate we accept.
+        refusals_.warn(relay->address, "handshake",
+                       "dashboard: TLS handshake from " + relay->address + " failed: " + error.message());
+        close(relay);
         return;
       }
       hold(relay);

@@ -23,7 +23,11 @@
 // passed through to cpp-httplib's SSLServer, and a client that dribbled its request inside TLS
 // held a server thread until the deadline). Without one, a TLS client passes at once (first
 // byte 0x16) to the plain server, which refuses it. One request per connection (the server
-// closes after each), so the deadline covers all of it, the TLS handshake included.
+// closes after each), so the deadline covers all of it, the TLS handshake included. With a
+// client authority in the context (dashboard.tls_client_ca), only a client showing a certificate
+// of that authority gets past the handshake, and its connection is never evicted to make room:
+// anyone else on the network can cost the gate handshakes, but never reach the server, nor close
+// an operator's connection by opening connections of its own.
 #include <boost/asio.hpp>
 #include <boost/asio/ssl.hpp>
 #include <chrono>
@@ -57,14 +61,10 @@ struct ConnectionLimits {
   double request_deadline_s = 10.0; ///< from opening to the request reaching its handler
 };
 
-/// The gate's TLS: a certificate (chain) and its private key, PEM files. Throws ConfigError
-/// naming both when they do not load or do not match.
-std::shared_ptr<boost::asio::ssl::context> make_tls_context(const std::string& certificate, const std::string& key);
-
 class ConnectionGate {
  public:
   /// Listens on `bind_address`:`port` (0: any free port) and relays to 127.0.0.1:`backend_port`,
-  /// ending TLS with `tls` when given. Throws std::runtime_error when it cannot listen.
+  /// ending TLS with `tls` when given (tls_context.hpp). Throws std::runtime_error when it cannot listen.
   ConnectionGate(ConnectionLimits limits, const std::string& bind_address, int port, int backend_port,
                  std::shared_ptr<boost::asio::ssl::context> tls = nullptr);
   ~ConnectionGate();
@@ -85,6 +85,8 @@ class ConnectionGate {
     std::uint64_t refused_total = 0;     ///< over max_total, none of them held (all served)
     std::uint64_t evicted = 0;           ///< held longest, closed at max_total for a new one
     std::uint64_t expired = 0;           ///< closed at request_deadline_s
+    std::uint64_t failed_handshakes = 0;  ///< TLS not spoken, or no client certificate the context accepts
+    std::uint64_t certified = 0;          ///< handshakes with a verified client certificate
   };
   Counters counters() const;
 

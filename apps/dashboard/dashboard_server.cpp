@@ -18,6 +18,7 @@
 #include "sarloc/core/common/validate.hpp"
 #include "sarloc/core/incident/deposit.hpp"
 #include "sarloc/core/incident/incident_command.hpp"
+#include "tls_context.hpp"
 
 namespace sarloc::dashboard {
 
@@ -60,6 +61,11 @@ void DashboardServerConfig::validate() const {
   if (tls_certificate.empty() != tls_private_key.empty()) {
     throw ConfigError("dashboard.tls_certificate and dashboard.tls_private_key: give both, or neither");
   }
+  if (!tls_client_ca.empty() && tls_certificate.empty()) {
+    throw ConfigError("dashboard.tls_client_ca = " + tls_client_ca +
+                      ": client certificates are asked for in a TLS handshake; give dashboard.tls_certificate and "
+                      "dashboard.tls_private_key too");
+  }
   if (tls_certificate.empty() && !is_loopback_address(bind_address)) {
     throw ConfigError("dashboard.bind_address = " + bind_address +
                       ": serving beyond this machine needs TLS (dashboard.tls_certificate, dashboard.tls_private_key; "
@@ -96,7 +102,7 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
   config_.validate();
   // TLS ends in the gate, which holds each decrypted request until it is whole: the server
   // behind it, on loopback, speaks plain HTTP.
-  if (tls()) tls_context_ = make_tls_context(config_.tls_certificate, config_.tls_private_key);
+  if (tls()) tls_context_ = make_tls_context({config_.tls_certificate, config_.tls_private_key, config_.tls_client_ca});
   server_ = std::make_unique<httplib::Server>();
   sessions_ = std::make_shared<SessionStore>(config_.view_token, config_.token);
   auto& s = *server_;

@@ -62,6 +62,9 @@ struct DashboardServerConfig {
   /// beyond this machine would carry the tokens in clear).
   std::string tls_certificate;
   std::string tls_private_key;
+  /// With TLS: only clients showing a certificate this authority (PEM) signed are served, page and
+  /// feed alike (mutual TLS; deploy/security/make-dashboard-client.sh). Empty: any client.
+  std::string tls_client_ca;
   /// The names and addresses browsers reach the page by (the Host header, without its port).
   /// Loopback names and a specific bind_address are always in; a page reached by any other
   /// name gets 421, so that a site whose name was rebound to this address reads nothing.

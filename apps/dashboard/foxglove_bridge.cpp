@@ -45,22 +45,6 @@ class FeedEndpoint {
   virtual void publish(std::uint32_t channel_id, std::shared_ptr<std::string> frame) = 0;
 };
 
-/// The TLS context of a feed over TLS: the certificate chain and key in PEM, TLS 1.2 and up.
-std::shared_ptr<websocketpp::lib::asio::ssl::context> tls_context(const FoxgloveBridgeConfig& config) {
-  namespace ssl = websocketpp::lib::asio::ssl;
-  auto context = std::make_shared<ssl::context>(ssl::context::tls_server);
-  context->set_options(ssl::context::default_workarounds | ssl::context::no_sslv2 | ssl::context::no_sslv3 |
-                       ssl::context::no_tlsv1 | ssl::context::no_tlsv1_1);
-  websocketpp::lib::asio::error_code ec;
-  context->use_certificate_chain_file(config.tls_certificate, ec);
-  if (!ec) context->use_private_key_file(config.tls_private_key, ssl::context::pem, ec);
-  if (ec) {
-    throw std::invalid_argument("Foxglove feed: TLS certificate " + config.tls_certificate + " or key " + config.tls_private_key +
-                                ": " + ec.message());
-  }
-  return context;
-}
-
 template <class Config>
 struct Endpoint final : FeedEndpoint {
   using Server = websocketpp::server<Config>;
@@ -245,7 +229,7 @@ struct Endpoint final : FeedEndpoint {
     s.set_message_handler([this](Handle h, typename Server::message_ptr m) { on_message(h, m); });
     if constexpr (std::is_same_v<Config, websocketpp::config::asio_tls>) {
       // Read now: a certificate that cannot be read fails at start, not at the first client.
-      auto context = tls_context(config);
+      auto context = make_tls_context(config.tls);
       s.set_tls_init_handler([context](Handle) { return context; });
     }
   }
@@ -313,10 +297,10 @@ struct FoxgloveBridge::Impl {
 
 FoxgloveBridge::FoxgloveBridge(FoxgloveBridgeConfig config, std::vector<FoxgloveChannel> channels)
     : impl_(std::make_unique<Impl>()), port_(config.port) {
-  if (config.tls_certificate.empty() != config.tls_private_key.empty()) {
+  if (config.tls.certificate.empty() != config.tls.private_key.empty()) {
     throw std::invalid_argument("Foxglove feed: a TLS certificate needs its private key, and the key its certificate");
   }
-  if (config.tls_certificate.empty()) {
+  if (config.tls.certificate.empty()) {
     impl_->endpoint = std::make_unique<Endpoint<websocketpp::config::asio>>(std::move(config), std::move(channels));
   } else {
     impl_->endpoint = std::make_unique<Endpoint<websocketpp::config::asio_tls>>(std::move(config), std::move(channels));

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "session_store.hpp"
+#include "tls_context.hpp"
 
 namespace sarloc::dashboard {
 
@@ -43,10 +44,10 @@ struct FoxgloveBridgeConfig {
   /// (ws://HOST:PORT/?token=T, which Foxglove and Lichtblick keep), or the page's session
   /// cookie. Null: anyone (tests of the protocol alone).
   std::shared_ptr<const SessionStore> access;
-  /// The feed over TLS (wss://): a PEM certificate chain and its key, both or neither; the
-  /// dashboard passes its own (dashboard.tls_certificate, tls_private_key).
-  std::string tls_certificate;
-  std::string tls_private_key;
+  /// The feed over TLS (wss://): a PEM certificate chain and its key, both or neither, and with
+  /// a client authority only clients showing its certificate; the dashboard passes its own
+  /// (dashboard.tls_certificate, tls_private_key, tls_client_ca).
+  TlsFiles tls;
 };
 
 class FoxgloveBridge {

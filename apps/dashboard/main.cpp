@@ -108,6 +108,7 @@ int main(int argc, char** argv) {
     server_config.request_deadline_s = settings.request_deadline_s;
     server_config.tls_certificate = settings.tls_certificate;
     server_config.tls_private_key = settings.tls_private_key;
+    server_config.tls_client_ca = settings.tls_client_ca;
     server_config.hosts = settings.hosts;
 
     auto announce = [&](int port_in_use, int foxglove_in_use) {
@@ -219,8 +220,8 @@ int main(int argc, char** argv) {
       feed.port = settings.foxglove_port;
       feed.allowed_origins = settings.feed_origins;
       feed.access = server.sessions();
-      feed.tls_certificate = settings.tls_certificate;  // beyond loopback the page has TLS, and so does the feed
-      feed.tls_private_key = settings.tls_private_key;
+      // Beyond loopback the page has TLS, and so does the feed, with the same client authority.
+      feed.tls = {settings.tls_certificate, settings.tls_private_key, settings.tls_client_ca};
       foxglove = std::make_unique<dashboard::FoxgloveBridge>(feed, channels);
       foxglove->start();
       raw_participant = std::make_shared<sarloc::dds::Participant>(

@@ -49,6 +49,9 @@ void DashboardConfig::validate() const {
                                  "must be an origin as browsers send it (https://app.foxglove.dev)");
     }
   }
+  require(tls_client_ca.empty() || !tls_certificate.empty(), "dashboard.tls_client_ca", tls_client_ca,
+          "client certificates are asked for in a TLS handshake: give dashboard.tls_certificate and "
+          "tls_private_key too");
   // Opened (and its contents checked) by sarloc-dashboard; here only that it is there.
   std::error_code error;
   require(basemap.empty() || std::filesystem::is_regular_file(basemap, error), "dashboard.basemap", basemap,

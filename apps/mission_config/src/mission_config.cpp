@@ -511,10 +511,12 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("tls_certificate", d.tls_certificate);
     r.read("hosts", d.hosts);
     r.read("tls_private_key", d.tls_private_key);
+    r.read("tls_client_ca", d.tls_client_ca);
     r.read("basemap", d.basemap);
     if (r.has("basemap")) d.basemap = resolve(d.basemap, base_dir);
     if (r.has("tls_certificate")) d.tls_certificate = resolve(d.tls_certificate, base_dir);
     if (r.has("tls_private_key")) d.tls_private_key = resolve(d.tls_private_key, base_dir);
+    if (r.has("tls_client_ca")) d.tls_client_ca = resolve(d.tls_client_ca, base_dir);
     r.expect_done();
     d.validate();
   }

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 // Eigen before httplib.h: the resolver header httplib pulls in defines `_res`, a name Eigen uses
@@ -155,6 +156,148 @@ TEST_F(PageOverTls, SlowTlsClientsOfManyAddressesHoldNoServerThread) {
                     << httplib::to_string(page.error());
   EXPECT_EQ(page->status, 200);
   EXPECT_EQ(server->connection_counters().refused_address, 0U);
+}
+
+/// A dashboard over TLS that serves only clients with an operator's certificate
+/// (dashboard.tls_client_ca, make-dashboard-client.sh), with few connections in all
+/// (max_streams 1: the gate holds 4 x 9 = 36) so that a test can fill them.
+class PageForCertifiedClients : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    fs::remove_all(dir);
+    const std::string security = std::string(SARLOC_SECURITY_DIR);
+    const std::string make = security + "/make-dashboard-cert.sh " + dir.string() + " 127.0.0.1 > /dev/null && " +
+                             security + "/make-dashboard-client.sh " + dir.string() + " commander > /dev/null && " +
+                             security + "/make-dashboard-client.sh " + (dir / "elsewhere").string() +
+                             " stranger > /dev/null";
+    ASSERT_EQ(std::system(make.c_str()), 0) << make;
+    auto config = config_on("127.0.0.1");
+    config.tls_certificate = (dir / "dashboard-tls" / "cert.pem").string();
+    config.tls_private_key = (dir / "dashboard-tls" / "key.pem").string();
+    config.tls_client_ca = (dir / "dashboard-clients" / "ca.pem").string();
+    config.max_streams = 1;
+    server = std::make_unique<DashboardServer>(config, state, [](std::uint32_t, const std::string&) { return false; });
+    server->start();
+  }
+  void TearDown() override {
+    if (server) server->stop();
+    fs::remove_all(dir);
+  }
+  /// A client verifying the page against the incident CA, showing `name`'s certificate from
+  /// the operators' authority under `authority` (none when empty).
+  std::unique_ptr<httplib::SSLClient> client(const fs::path& authority, const std::string& name) {
+    std::unique_ptr<httplib::SSLClient> c;
+    if (name.empty()) {
+      c = std::make_unique<httplib::SSLClient>("127.0.0.1", server->port());
+    } else {
+      const fs::path own = authority / "dashboard-clients" / name;
+      c = std::make_unique<httplib::SSLClient>("127.0.0.1", server->port(), (own / "cert.pem").string(),
+                                               (own / "key.pem").string());
+    }
+    c->set_ca_cert_path((dir / "ca.pem").string().c_str());
+    c->enable_server_certificate_verification(true);
+    c->set_connection_timeout(std::chrono::seconds(2));
+    c->set_read_timeout(std::chrono::seconds(2));
+    return c;
+  }
+
+  const fs::path dir = fs::temp_directory_path() / ("sarloc-dashboard-mtls-" + std::to_string(getpid()));
+  PictureState state{PictureStateConfig{}, [] { return TimestampNs{0}; }, 0};
+  std::unique_ptr<DashboardServer> server;
+};
+
+TEST_F(PageForCertifiedClients, OnlyAClientWithAnOperatorsCertificateIsServed) {
+  const auto page = client(dir, "commander")->Get("/");
+  ASSERT_TRUE(page) << "the operator's certificate was not accepted: " << httplib::to_string(page.error());
+  EXPECT_EQ(page->status, 200);
+  EXPECT_FALSE(client(dir, "")->Get("/")) << "served a client without a certificate";
+  EXPECT_FALSE(client(dir / "elsewhere", "stranger")->Get("/")) << "served a certificate of another authority";
+  // The incident CA's own server certificate, shown as a client's: not an operator's.
+  httplib::SSLClient impostor("127.0.0.1", server->port(), (dir / "dashboard-tls" / "cert.pem").string(),
+                              (dir / "dashboard-tls" / "key.pem").string());
+  impostor.set_read_timeout(std::chrono::seconds(2));
+  EXPECT_FALSE(impostor.Get("/")) << "served a certificate of the incident CA";
+  // Under TLS 1.3 a client is done with its handshake before the gate has checked its
+  // certificate: the gate's count may come a moment after the client's failure.
+  for (int k = 0; k < 100 && server->connection_counters().failed_handshakes < 3; ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  const auto counters = server->connection_counters();
+  EXPECT_EQ(counters.certified, 1U);
+  EXPECT_EQ(counters.failed_handshakes, 3U);
+}
+
+TEST(DashboardTls, AClientAuthorityWithoutTlsOrThatIsNoCertificateIsRefusedNamingTheKey) {
+  PictureState state{PictureStateConfig{}, [] { return TimestampNs{0}; }, 0};
+  auto config = config_on("127.0.0.1");
+  config.tls_client_ca = "/nonexistent/ca.pem";
+  try {
+    DashboardServer server(config, state, [](std::uint32_t, const std::string&) { return false; });
+    FAIL() << "a client authority without TLS was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("dashboard.tls_client_ca = /nonexistent/ca.pem"), std::string::npos)
+        << e.what();
+    EXPECT_NE(std::string(e.what()).find("dashboard.tls_certificate"), std::string::npos) << e.what();
+  }
+  const fs::path dir = fs::temp_directory_path() / ("sarloc-dashboard-badca-" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  ASSERT_EQ(std::system((std::string(SARLOC_SECURITY_DIR) + "/make-dashboard-cert.sh " + dir.string() +
+                         " 127.0.0.1 > /dev/null")
+                            .c_str()),
+            0);
+  config.tls_certificate = (dir / "dashboard-tls" / "cert.pem").string();
+  config.tls_private_key = (dir / "dashboard-tls" / "key.pem").string();
+  config.tls_client_ca = (dir / "dashboard-tls" / "key.pem").string();  // a key, not a certificate
+  try {
+    DashboardServer server(config, state, [](std::uint32_t, const std::string&) { return false; });
+    FAIL() << "a private key taken for a client authority";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("dashboard.tls_client_ca = " + config.tls_client_ca), std::string::npos)
+        << e.what();
+  }
+  fs::remove_all(dir);
+}
+
+// Issue 59, "many addresses, what is left": anyone opening connections as fast as the gate
+// accepts them made room by closing the connection held longest whose request was not yet
+// whole, a commander's among them. A connection that showed an operator's certificate is never
+// closed to make room: here the commander's request is held half-sent while four other addresses
+// open three times the gate's 36 connections, and it is answered when it ends.
+TEST_F(PageForCertifiedClients, AnOperatorsConnectionOutlastsAFloodOfConnections) {
+  const fs::path own = dir / "dashboard-clients" / "commander";
+  std::unique_ptr<SSL_CTX, decltype(&SSL_CTX_free)> operator_tls(SSL_CTX_new(TLS_client_method()), SSL_CTX_free);
+  ASSERT_EQ(SSL_CTX_use_certificate_file(operator_tls.get(), (own / "cert.pem").c_str(), SSL_FILETYPE_PEM), 1);
+  ASSERT_EQ(SSL_CTX_use_PrivateKey_file(operator_tls.get(), (own / "key.pem").c_str(), SSL_FILETYPE_PEM), 1);
+  test::RawSocket commander(server->port());
+  ASSERT_TRUE(commander.connected());
+  std::unique_ptr<SSL, decltype(&SSL_free)> tls(SSL_new(operator_tls.get()), SSL_free);
+  SSL_set_fd(tls.get(), commander.fd());
+  ASSERT_EQ(SSL_connect(tls.get()), 1);
+  const std::string head = "GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n";
+  ASSERT_EQ(SSL_write(tls.get(), head.data(), static_cast<int>(head.size())), static_cast<int>(head.size()));
+  // The gate has checked the certificate once it has the first bytes of the request.
+  for (int k = 0; k < 100 && server->connection_counters().certified == 0; ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_EQ(server->connection_counters().certified, 1U);
+
+  std::vector<std::unique_ptr<test::RawSocket>> flood;
+  for (const char* from : {"127.0.0.2", "127.0.0.3", "127.0.0.4", "127.0.0.5"}) {
+    for (int i = 0; i < 27; ++i) flood.push_back(std::make_unique<test::RawSocket>(server->port(), 0, from));
+  }
+  for (int k = 0; k < 100 && server->connection_counters().evicted < 70; ++k) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_GE(server->connection_counters().evicted, 70U) << "the flood did not fill the gate";
+
+  ASSERT_EQ(SSL_write(tls.get(), "\r\n", 2), 2);
+  std::string reply;
+  char buffer[4096];
+  for (int n; reply.find("\r\n\r\n") == std::string::npos && (n = SSL_read(tls.get(), buffer, sizeof buffer)) > 0;) {
+    reply.append(buffer, static_cast<std::size_t>(n));
+  }
+  EXPECT_EQ(reply.rfind("HTTP/1.1 200", 0), 0U)
+      << "the commander's connection was closed to make room: '" << reply << "'";
 }
 
 }  // namespace

@@ -124,8 +124,8 @@ TEST_F(Feed, OverTlsAClientVerifyingTheIncidentCaIsServedAndPlainTcpIsNot) {
   fs::remove_all(dir);
   ASSERT_EQ(std::system((std::string(SARLOC_SECURITY_DIR) + "/make-dashboard-cert.sh " + dir.string() + " 127.0.0.1 > /dev/null").c_str()), 0);
   FoxgloveBridgeConfig config;
-  config.tls_certificate = (dir / "dashboard-tls" / "cert.pem").string();
-  config.tls_private_key = (dir / "dashboard-tls" / "key.pem").string();
+  config.tls.certificate = (dir / "dashboard-tls" / "cert.pem").string();
+  config.tls.private_key = (dir / "dashboard-tls" / "key.pem").string();
   start(config);
 
   namespace asio = boost::asio;
@@ -145,6 +145,52 @@ TEST_F(Feed, OverTlsAClientVerifyingTheIncidentCaIsServedAndPlainTcpIsNot) {
   RawSocket plain(bridge->port());
   ASSERT_TRUE(plain.send(feed_handshake()));
   EXPECT_EQ(plain.receive_head().find("101"), std::string::npos) << "a WebSocket handshake in clear on the TLS port";
+  fs::remove_all(dir);
+}
+
+// Issue 59: with dashboard.tls_client_ca the feed, like the page, serves only clients showing an
+// operator's certificate (make-dashboard-client.sh): one gets the WebSocket handshake, a client
+// without a certificate gets nothing.
+TEST_F(Feed, WithAClientAuthorityOnlyAnOperatorsCertificateIsServed) {
+  const fs::path dir = fs::temp_directory_path() / ("sarloc-feed-mtls-" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  const std::string security = std::string(SARLOC_SECURITY_DIR);
+  ASSERT_EQ(std::system((security + "/make-dashboard-cert.sh " + dir.string() + " 127.0.0.1 > /dev/null && " +
+                         security + "/make-dashboard-client.sh " + dir.string() + " commander > /dev/null")
+                            .c_str()),
+            0);
+  FoxgloveBridgeConfig config;
+  config.tls = {(dir / "dashboard-tls" / "cert.pem").string(), (dir / "dashboard-tls" / "key.pem").string(),
+                (dir / "dashboard-clients" / "ca.pem").string()};
+  start(config);
+
+  namespace asio = boost::asio;
+  // The reply's head to a WebSocket handshake over TLS, "" when the connection fails first.
+  auto handshake_reply = [&](bool with_certificate) -> std::string {
+    asio::io_context io;
+    asio::ssl::context context(asio::ssl::context::tls_client);
+    context.load_verify_file((dir / "ca.pem").string());
+    context.set_verify_mode(asio::ssl::verify_peer);
+    if (with_certificate) {
+      context.use_certificate_file((dir / "dashboard-clients" / "commander" / "cert.pem").string(),
+                                   asio::ssl::context::pem);
+      context.use_private_key_file((dir / "dashboard-clients" / "commander" / "key.pem").string(),
+                                   asio::ssl::context::pem);
+    }
+    asio::ssl::stream<asio::ip::tcp::socket> secure(io, context);
+    try {
+      secure.next_layer().connect({asio::ip::make_address("127.0.0.1"), static_cast<unsigned short>(bridge->port())});
+      secure.handshake(asio::ssl::stream_base::client);
+      asio::write(secure, asio::buffer(feed_handshake()));
+      asio::streambuf reply;
+      asio::read_until(secure, reply, "\r\n\r\n");
+      return std::string(asio::buffers_begin(reply.data()), asio::buffers_end(reply.data()));
+    } catch (const boost::system::system_error&) {
+      return "";  // the server ended the handshake, or the connection after it (TLS 1.3)
+    }
+  };
+  EXPECT_EQ(handshake_reply(true).rfind("HTTP/1.1 101", 0), 0U) << "the operator's certificate was refused";
+  EXPECT_EQ(handshake_reply(false), "") << "a client without a certificate got an answer";
   fs::remove_all(dir);
 }
 

@@ -38,6 +38,10 @@ struct DashboardConfig {
   /// (deploy/security/make-dashboard-cert.sh). Any bind_address but loopback needs them.
   std::string tls_certificate;
   std::string tls_private_key;
+  /// With TLS: only clients showing a certificate this authority (PEM) signed are served, the page
+  /// and the feed alike (mutual TLS: deploy/security/make-dashboard-client.sh issues an operator
+  /// laptop's). Empty: any client that has a token. Relative to the mission file.
+  std::string tls_client_ca;
   /// Names and addresses the page is reached by, beyond loopback and a specific bind_address;
   /// required with bind_address 0.0.0.0. Any other Host gets 421 (DNS rebinding).
   std::vector<std::string> hosts;
