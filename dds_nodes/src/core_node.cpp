@@ -4,6 +4,11 @@
 
 #include <algorithm>
 #include <functional>
+#include <optional>
+#include <set>
+#include <type_traits>
+#include <variant>
+#include <vector>
 
 #include "sarloc/core/common/identifier.hpp"
 #include "sarloc/core/common/validate.hpp"
@@ -252,8 +257,73 @@ void CoreNode::evict_idle() {
   }
 }
 
+CoreNode::Worker& CoreNode::worker_of(const std::string& rescuer_id) {
+  return *workers_[std::hash<std::string>{}(rescuer_id) % workers_.size()];
+}
+
+std::string CoreNode::responder_of(const Work& work) {
+  return std::visit(
+      [](const auto& w) -> std::string {
+        using T = std::decay_t<decltype(w)>;
+        if constexpr (std::is_same_v<T, estimator::SensorSample>) {
+          return estimator::responder_of(w);
+        } else if constexpr (std::is_same_v<T, PositionHint>) {
+          return w.own.responder_id;
+        } else {
+          return w.rescuer_id;
+        }
+      },
+      work);
+}
+
+void CoreNode::release_newest(Worker& worker, std::chrono::steady_clock::duration waited) {
+  // A backlog of `waited` drains within kDrainS once responders worth waited / kDrainS of this
+  // worker's time are gone (at least a tenth, at most half: a lull or a burst misjudged by
+  // either must neither release nothing nor everyone).
+  constexpr double kDrainS = 5.0;
+  const double waited_s = std::chrono::duration<double>(waited).count();
+  double total_s = 0.0;
+  for (const auto& [id, cost] : worker.cost_s) total_s += cost;
+  const double to_release_s = std::clamp(waited_s / kDrainS, 0.1, 0.5) * total_s;
+  std::vector<std::string> released;
+  std::size_t dropped = 0;
+  double released_s = 0.0;
+  {
+    // Under the roster's lock, as evict_idle: a sample admitted after the release is queued after it.
+    std::lock_guard<std::mutex> lock(roster_mutex_);
+    const auto on_this_worker = [&](const std::string& id) { return &worker_of(id) == &worker; };
+    while (released.empty() || released_s < to_release_s) {
+      auto id = roster_.release_newest(on_this_worker);
+      if (!id) break;
+      const auto cost = worker.cost_s.find(*id);
+      released_s += cost == worker.cost_s.end() ? 0.0 : cost->second;
+      released.push_back(std::move(*id));
+    }
+    if (released.empty()) return;
+    std::lock_guard<std::mutex> queue_lock(worker.mutex);
+    const std::set<std::string> gone(released.begin(), released.end());
+    // Their samples waiting go with them: they are part of what everyone waits behind.
+    for (auto it = worker.queue.begin(); it != worker.queue.end();) {
+      if (gone.count(responder_of(it->work)) > 0) {
+        it = worker.queue.erase(it);
+        ++dropped;
+      } else {
+        ++it;
+      }
+    }
+    for (const auto& id : released) worker.queue.push_front({Evict{id, true}, std::chrono::steady_clock::now()});
+  }
+  for (std::size_t k = 0; k < dropped; ++k) counters_.rejected("daemon_busy");
+  spdlog::warn(
+      "{}: overloaded: a sample waited {:.2f} s in a worker's queue (core.busy_shed_wait_s = {}): released the {} "
+      "responder(s) of that worker admitted last ({:.0f} % of its time; '{}' first) and their {} waiting sample(s); "
+      "their devices guide on their own filters, and each is admitted afresh once the daemon is not busy",
+      config_.node_id, waited_s, config_.busy.shed_wait_s, released.size(),
+      total_s > 0.0 ? 100.0 * released_s / total_s : 0.0, released.front(), dropped);
+}
+
 void CoreNode::enqueue(const std::string& rescuer_id, Work work) {
-  Worker& w = *workers_[std::hash<std::string>{}(rescuer_id) % workers_.size()];
+  Worker& w = worker_of(rescuer_id);
   bool dropped = false;
   {
     std::lock_guard<std::mutex> lock(w.mutex);
@@ -268,7 +338,7 @@ void CoreNode::enqueue(const std::string& rescuer_id, Work work) {
 }
 
 void CoreNode::enqueue_hint(const std::string& rescuer_id, PositionHint hint) {
-  Worker& w = *workers_[std::hash<std::string>{}(rescuer_id) % workers_.size()];
+  Worker& w = worker_of(rescuer_id);
   {
     std::lock_guard<std::mutex> lock(w.mutex);
     if (w.queue.size() >= config_.queue_limit / 2) return;  // a hint never pushes a sample out
@@ -311,8 +381,20 @@ void CoreNode::run_worker(Worker& worker) {
           config_.node_id, 1e3 * std::chrono::duration<double>(began - queued_at).count(), config_.busy.max_wait_s,
           config_.busy.hold_s);
     }
-    if (work) handle(worker, *work);
+    if (work && busy_gate_.note_shed(began - queued_at, began)) release_newest(worker, began - queued_at);
+    if (work) {
+      handle(worker, *work);
+      worker.cost_s[responder_of(*work)] +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+    }
     const auto now = std::chrono::steady_clock::now();
+    if (now - worker.cost_halved_at >= std::chrono::seconds(1)) {
+      worker.cost_halved_at = now;
+      for (auto it = worker.cost_s.begin(); it != worker.cost_s.end();) {
+        it->second *= 0.5;
+        it = worker.responders.count(it->first) > 0 ? std::next(it) : worker.cost_s.erase(it);
+      }
+    }
     for (auto& [id, sequencer] : worker.responders) sequencer.release(now, report);
     publish(report);
     worker.busy_ns.fetch_add(
@@ -378,8 +460,10 @@ void CoreNode::handle(Worker& worker, Work& work) {
     if (auto it = worker.responders.find(evict->rescuer_id); it != worker.responders.end()) {
       active_filters_.fetch_sub(it->second.estimator().active_filters());
       worker.responders.erase(it);
-      spdlog::info("{}: responder '{}' idle for {} s: its state is released", config_.node_id, evict->rescuer_id,
-                   config_.roster.idle_evict_s);
+      if (!evict->shed) {
+        spdlog::info("{}: responder '{}' idle for {} s: its state is released", config_.node_id, evict->rescuer_id,
+                     config_.roster.idle_evict_s);
+      }
     }
     return;
   }

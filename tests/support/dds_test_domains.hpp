@@ -29,6 +29,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainWriterLifespan = 176,
   kDomainPositionRefresh = 177,
   kDomainPositionCandidates = 178,
+  kDomainAdmissionShed = 179,
   kDomainDiscoveryServer = 140,
   kDomainBenchEchoListener = 141,
   kDomainBenchEchoQueue = 142,

@@ -437,6 +437,7 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("busy_wait_s", c.core.busy.max_wait_s);
     r.read("busy_utilisation", c.core.busy.max_utilisation);
     r.read("busy_hold_s", c.core.busy.hold_s);
+    r.read("busy_shed_wait_s", c.core.busy.shed_wait_s);
     r.read("new_rescuers_per_s", c.core.roster.new_per_s);
     r.expect_done();
   }

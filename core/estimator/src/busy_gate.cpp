@@ -24,17 +24,31 @@ void BusyGateConfig::validate() const {
   if (!(hold_s >= 0.0 && hold_s <= 600.0)) {
     throw ConfigError("core.busy_hold_s = " + config_value(hold_s) + ": must be in [0, 600]");
   }
+  if (!(shed_wait_s >= 0.0 && shed_wait_s <= 60.0)) {
+    throw ConfigError("core.busy_shed_wait_s = " + config_value(shed_wait_s) + ": must be in [0, 60] (0: never)");
+  }
 }
 
 BusyGate::BusyGate(BusyGateConfig config)
     : config_((config.validate(), std::move(config))),
       max_wait_(seconds(config_.max_wait_s)),
       hold_(seconds(config_.hold_s)),
-      busy_until_(Clock::time_point::min().time_since_epoch().count()) {}
+      busy_until_(Clock::time_point::min().time_since_epoch().count()),
+      shed_at_(Clock::time_point::min().time_since_epoch().count()) {}
 
 bool BusyGate::note_wait(Clock::duration wait, Clock::time_point now) {
   if (config_.max_wait_s <= 0.0 || wait <= max_wait_) return false;
   return hold_closed_from(now);
+}
+
+bool BusyGate::note_shed(Clock::duration wait, Clock::time_point now) {
+  if (config_.shed_wait_s <= 0.0 || wait <= seconds(config_.shed_wait_s)) return false;
+  // One a second: a release shows in the waits within that (its queued samples go with it).
+  const Clock::rep now_rep = now.time_since_epoch().count();
+  Clock::rep last = shed_at_.load();
+  if (last != Clock::time_point::min().time_since_epoch().count() && now_rep - last < seconds(1.0).count())
+    return false;
+  return shed_at_.compare_exchange_strong(last, now_rep);  // two workers at once: one releases
 }
 
 bool BusyGate::note_utilisation(double share, Clock::time_point now) {

@@ -28,12 +28,12 @@ ResponderRoster::ResponderRoster(ResponderRosterConfig config)
 
 ResponderRoster::Admission ResponderRoster::admit(const std::string& id, Clock::time_point now, bool busy) {
   if (id.empty()) return Admission::kEmptyId;
-  if (auto it = last_heard_.find(id); it != last_heard_.end()) {
-    it->second = std::max(it->second, now);
+  if (auto it = served_.find(id); it != served_.end()) {
+    it->second.last_heard = std::max(it->second.last_heard, now);
     return Admission::kServed;
   }
   if (!config_.open && listed_.count(id) == 0) return Admission::kNotListed;
-  if (config_.open && last_heard_.size() >= config_.max_responders) return Admission::kFull;
+  if (config_.open && served_.size() >= config_.max_responders) return Admission::kFull;
   if (busy) return Admission::kBusy;
   if (config_.new_per_s > 0.0) {
     const double burst = std::max(1.0, config_.new_per_s);
@@ -45,17 +45,17 @@ ResponderRoster::Admission ResponderRoster::admit(const std::string& id, Clock::
     if (new_tokens_ < 1.0) return Admission::kPaced;
     new_tokens_ -= 1.0;
   }
-  last_heard_.emplace(id, now);
+  served_.emplace(id, Served{now, ++admissions_});
   return Admission::kNew;
 }
 
 std::vector<std::string> ResponderRoster::evict_idle(Clock::time_point now) {
   const auto idle = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(config_.idle_evict_s));
   std::vector<std::pair<Clock::time_point, std::string>> gone;
-  for (auto it = last_heard_.begin(); it != last_heard_.end();) {
-    if (now - it->second >= idle) {
-      gone.emplace_back(it->second, it->first);
-      it = last_heard_.erase(it);
+  for (auto it = served_.begin(); it != served_.end();) {
+    if (now - it->second.last_heard >= idle) {
+      gone.emplace_back(it->second.last_heard, it->first);
+      it = served_.erase(it);
     } else {
       ++it;
     }
@@ -65,6 +65,18 @@ std::vector<std::string> ResponderRoster::evict_idle(Clock::time_point now) {
   ids.reserve(gone.size());
   for (auto& [heard, id] : gone) ids.push_back(std::move(id));
   return ids;
+}
+
+std::optional<std::string> ResponderRoster::release_newest(const std::function<bool(const std::string&)>& among) {
+  auto newest = served_.end();
+  for (auto it = served_.begin(); it != served_.end(); ++it) {
+    if ((!among || among(it->first)) && (newest == served_.end() || it->second.admitted > newest->second.admitted))
+      newest = it;
+  }
+  if (newest == served_.end()) return std::nullopt;
+  std::string id = newest->first;
+  served_.erase(newest);
+  return id;
 }
 
 bool refused(ResponderRoster::Admission a) {

@@ -167,5 +167,56 @@ TEST(CoreNodeAdmission, ABusyDaemonRefusesANewRescuerByReasonAndServesTheAdmitte
   EXPECT_EQ(node->rescuers_served(), 1U) << "state for the admitted rescuer only";
 }
 
+// Overload of those served (issue 64, item 5): when a sample waits longer than
+// core.busy_shed_wait_s, the daemon releases the responder it admitted last, with its waiting
+// samples, and serves the first on. Here "late", admitted after "good", sends a burst of 600
+// samples on five signals (odometry_wait_s 0: each is processed at once), which a worker cannot
+// take within the bound (20 ms): "late" is released (its waiting samples counted daemon_busy),
+// and "good" keeps its state (no new one is made for it) and is answered. Without the release,
+// nothing is counted. The gate's other signs are off, so that only the release refuses anything.
+TEST(CoreNodeAdmission, AnOverloadedDaemonReleasesTheResponderAdmittedLastAndServesTheFirst) {
+  auto config = small_node(true, 300);
+  config.workers = 1;
+  config.odometry_wait_s = 0.0;
+  config.busy.max_wait_s = 0.0;
+  config.busy.max_utilisation = 0.0;
+  config.busy.shed_wait_s = 0.02;
+  auto node = std::make_unique<CoreNode>(test::make_participant(test::kDomainAdmissionShed, "core"), config);
+  GoodRescuer good(test::kDomainAdmissionShed);
+  auto late_participant = test::make_participant(test::kDomainAdmissionShed, "late");
+  Writer<::sarloc::FieldMeasurement> late(late_participant);
+  ASSERT_TRUE(good.matched());
+  ASSERT_TRUE(late.wait_for_readers(1, 10s));
+  ASSERT_TRUE(good.epoch(1));
+  // The worker's account of who takes its time forgets "good"'s opening (halved every second),
+  // so that "late"'s burst is what it sees when the wait comes.
+  std::this_thread::sleep_for(3s);
+
+  auto sample = to_idl(good.sample_at(2'000'000'000LL));
+  sample.rescuer_id("late");
+  for (std::uint32_t k = 0; k < 600; ++k) {
+    sample.signal_id(1 + k % 5);
+    sample.sequence_number(1000 + k);
+    sample.stamp(2'000'000'000LL + 10'000'000LL * k);
+    ASSERT_TRUE(late.write(sample));
+  }
+  auto released = [&] {
+    const auto by_reason = node->counters().by_reason;
+    const auto it = by_reason.find("daemon_busy");
+    return it == by_reason.end() ? std::uint64_t{0} : it->second;
+  };
+  const auto deadline = std::chrono::steady_clock::now() + 20s;
+  while (released() == 0 && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(10ms);
+  EXPECT_GE(released(), 1U) << "no sample of the responder admitted last was released";
+  // What was left of the burst has arrived (a sample of "late" after its release makes it a new
+  // responder again: a state counted before the snapshot below), and the worker is done with it.
+  ASSERT_EQ(late.get()->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(20, 0)),
+            eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK);
+  std::this_thread::sleep_for(1500ms);
+  const std::size_t states = node->rescuers_served();
+  for (int k = 2; k <= 5; ++k) ASSERT_TRUE(good.epoch(k)) << "the first rescuer was not answered in epoch " << k;
+  EXPECT_EQ(node->rescuers_served(), states) << "the first rescuer's state was released and made anew";
+}
+
 }  // namespace
 }  // namespace sarloc::dds

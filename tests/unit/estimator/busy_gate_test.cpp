@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <optional>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -132,6 +135,64 @@ TEST(ResponderRoster, ACrowdSwitchingOnAtOnceIsAdmittedAtTheDeclaredPace) {
   for (int k = 0; k < 50; ++k) ASSERT_EQ(unpaced.admit("r" + std::to_string(k), t), ResponderRoster::Admission::kNew);
   config.new_per_s = -1.0;
   EXPECT_THROW(ResponderRoster{config}, ConfigError);
+}
+
+TEST(BusyGate, AWaitBeyondTheShedBoundReleasesOneResponderASecondAtMost) {
+  BusyGateConfig config = gate_config(0.2, 5.0);
+  config.shed_wait_s = 2.0;
+  BusyGate gate(config);
+  const auto t = Clock::now();
+  EXPECT_FALSE(gate.note_shed(2s, t)) << "at the bound is not beyond it";
+  EXPECT_FALSE(gate.note_shed(1s, t)) << "a wait that closes the gate to newcomers releases no one";
+  EXPECT_TRUE(gate.note_shed(2001ms, t));
+  EXPECT_FALSE(gate.note_shed(8s, t + 999ms)) << "a second release within the second";
+  EXPECT_TRUE(gate.note_shed(8s, t + 1s));
+  EXPECT_TRUE(gate.note_shed(3s, t + 2500ms));
+  config.shed_wait_s = 0.0;
+  BusyGate never(config);
+  EXPECT_FALSE(never.note_shed(60s, t)) << "0: never";
+  config.shed_wait_s = -1.0;
+  try {
+    BusyGate bad(config);
+    FAIL() << "a negative shed bound was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("core.busy_shed_wait_s = -1"), std::string::npos) << e.what();
+  }
+}
+
+TEST(BusyGate, WorkersAskingAtOnceReleaseOne) {
+  BusyGateConfig config = gate_config(0.2, 5.0);
+  config.shed_wait_s = 1.0;
+  BusyGate gate(config);
+  const auto t = Clock::now();
+  std::atomic<int> releases{0};
+  std::vector<std::thread> workers;
+  for (int k = 0; k < 8; ++k) workers.emplace_back([&] { releases += gate.note_shed(5s, t) ? 1 : 0; });
+  for (auto& w : workers) w.join();
+  EXPECT_EQ(releases.load(), 1);
+}
+
+// Those served are too many (BusyGate::note_shed): the one admitted last goes, and is a new id
+// again, refused while the daemon is busy and admitted afresh once it is not; the first stay.
+TEST(ResponderRoster, ReleasingTakesTheResponderAdmittedLastAndItIsNewAgain) {
+  ResponderRosterConfig config{true, {}, 256, 60.0};
+  config.new_per_s = 0.0;
+  ResponderRoster roster(config);
+  const auto t = Clock::now();
+  EXPECT_FALSE(roster.release_newest()) << "no one served: no one to release";
+  for (const char* id : {"r1", "r2", "r3"}) ASSERT_EQ(roster.admit(id, t), ResponderRoster::Admission::kNew);
+  EXPECT_EQ(roster.admit("r3", t + 5s), ResponderRoster::Admission::kServed);
+  EXPECT_EQ(roster.admit("r1", t + 6s), ResponderRoster::Admission::kServed) << "heard last is not admitted last";
+  // The lagging worker's own: of those it accepts, the one admitted last.
+  EXPECT_EQ(roster.release_newest([](const std::string& id) { return id != "r3"; }), std::optional<std::string>("r2"));
+  EXPECT_FALSE(roster.release_newest([](const std::string& id) { return id == "r9"; }));
+  EXPECT_EQ(roster.release_newest(), std::optional<std::string>("r3"));
+  EXPECT_EQ(roster.served(), 1U);
+  EXPECT_EQ(roster.admit("r3", t + 7s, true), ResponderRoster::Admission::kBusy) << "released: new again";
+  EXPECT_EQ(roster.admit("r1", t + 7s, true), ResponderRoster::Admission::kServed) << "the first is served on";
+  EXPECT_EQ(roster.admit("r3", t + 20s), ResponderRoster::Admission::kNew) << "admitted afresh once not busy";
+  EXPECT_EQ(roster.release_newest(), std::optional<std::string>("r3"));
+  EXPECT_TRUE(roster.evict_idle(t + 100s) == std::vector<std::string>{"r1"}) << "idle eviction still sees the rest";
 }
 
 }  // namespace

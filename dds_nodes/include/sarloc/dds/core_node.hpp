@@ -89,6 +89,7 @@ class CoreNode {
   };
   struct Evict {
     std::string rescuer_id;
+    bool shed = false;  ///< released because those served were too many (BusyGate::note_shed), not idle
   };
   /// Signals whose victims incident command sends another rescuer to (the search plan).
   struct LeaveToOthers {
@@ -114,6 +115,10 @@ class CoreNode {
     std::map<std::string, estimator::SampleSequencer> responders;  // only this worker's thread touches them
     std::atomic<std::int64_t> busy_ns{0};                          ///< steady time spent handling and publishing
     std::int64_t busy_noted_ns = 0;  ///< busy_ns at the last note_worker_load (status thread)
+    /// Each responder's share of this worker's time: handling seconds, halved every second (so
+    /// about the last two seconds' worth). Only this worker's thread touches it.
+    std::map<std::string, double> cost_s;
+    std::chrono::steady_clock::time_point cost_halved_at;
   };
 
   /// The input readers' filter: does the roster serve this id? Counts and logs a refusal.
@@ -123,6 +128,13 @@ class CoreNode {
   void enqueue_hint(const std::string& rescuer_id, PositionHint hint);
   /// Queues the release of every idle responder's state on its worker.
   void evict_idle();
+  /// Called by `worker`'s own thread when one of its samples waited `waited`, over
+  /// core.busy_shed_wait_s (BusyGate::note_shed): releases the responders of this worker
+  /// admitted last, their waiting samples with them, until they took a share of its time that
+  /// drains such a wait within kDrainS; their state goes first thing.
+  void release_newest(Worker& worker, std::chrono::steady_clock::duration waited);
+  Worker& worker_of(const std::string& rescuer_id);
+  static std::string responder_of(const Work& work);
   void run_worker(Worker& worker);
   void handle(Worker& worker, Work& work);
   /// The responder's sequencer, created on its first sample (the roster admitted it already).

@@ -14,13 +14,18 @@
 //     is admitted as fast as the busy signs can follow, not all before the first of them.
 // A responder not heard for `idle_evict_s` has its state released (evict_idle): its
 // estimators go, its slot frees (open mode). If it is heard again it starts afresh, as after
-// a restart of the daemon; the device's own filter, the authority, is unaffected.
+// a restart of the daemon; the device's own filter, the authority, is unaffected. When those
+// served are more than the daemon can serve (BusyGate::note_shed), the one admitted last is
+// released the same way (release_newest), and is a new id again: refused while the daemon is
+// busy, admitted afresh once it is not.
 //
 //   ResponderRoster roster(config);
 //   if (roster.admit(id, now) is refused) count and drop the sample;
 //   for (const auto& id : roster.evict_idle(now)) drop id's estimator state;
 // Not thread-safe: the daemon guards it with one mutex.
 #include <chrono>
+#include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <set>
@@ -64,14 +69,22 @@ class ResponderRoster {
   Admission admit(const std::string& id, Clock::time_point now, bool busy = false);
   /// Responders not heard for idle_evict_s by `now`, removed from the served set (oldest first).
   std::vector<std::string> evict_idle(Clock::time_point now);
+  /// The responder admitted last of those `among` accepts (all by default), removed from the
+  /// served set; none when there is none.
+  std::optional<std::string> release_newest(const std::function<bool(const std::string&)>& among = {});
 
-  std::size_t served() const { return last_heard_.size(); }
+  std::size_t served() const { return served_.size(); }
   bool open() const { return config_.open; }
 
  private:
   ResponderRosterConfig config_;
   std::set<std::string> listed_;
-  std::map<std::string, Clock::time_point> last_heard_;
+  struct Served {
+    Clock::time_point last_heard;
+    std::uint64_t admitted;  ///< order of admission
+  };
+  std::map<std::string, Served> served_;
+  std::uint64_t admissions_ = 0;
   double new_tokens_;  ///< the pace's bucket: one spent per new id, new_per_s refilled a second
   std::optional<Clock::time_point> refilled_at_;
 };
