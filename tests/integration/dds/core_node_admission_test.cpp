@@ -134,6 +134,33 @@ TEST(CoreNodeAdmission, IdleStateIsReleasedAndRebuiltWhenTheRescuerIsHeardAgain)
   EXPECT_EQ(node->rescuers_served(), 2U) << "its state was not released and rebuilt";
 }
 
+// A daemon, the rescuer "good" it serves from epoch 1 on, and the rescuer "late" who comes after.
+struct GoodThenLate {
+  GoodThenLate(std::uint32_t domain, const CoreNodeConfig& config)
+      : node(std::make_unique<CoreNode>(test::make_participant(domain, "core"), config)),
+        good(domain),
+        late_participant(test::make_participant(domain, "late")),
+        late(late_participant) {}
+  /// Everyone matched, and "good" answered in epoch 1.
+  bool ready() { return good.matched() && late.wait_for_readers(1, 10s) && good.epoch(1); }
+  /// A sample of "late" (stamp 2 s).
+  ::sarloc::FieldMeasurement late_sample() {
+    auto sample = to_idl(good.sample_at(2'000'000'000LL));
+    sample.rescuer_id("late");
+    return sample;
+  }
+  std::uint64_t daemon_busy() const {
+    const auto by_reason = node->counters().by_reason;
+    const auto it = by_reason.find("daemon_busy");
+    return it == by_reason.end() ? std::uint64_t{0} : it->second;
+  }
+
+  std::unique_ptr<CoreNode> node;
+  GoodRescuer good;
+  std::shared_ptr<Participant> late_participant;
+  Writer<::sarloc::FieldMeasurement> late;
+};
+
 // Overload (issue 64, item 5): while a worker's queue holds samples too long, a new rescuer is
 // refused by reason and the one served already is answered on. "Too long" is 1 us here, so
 // that the first sample's own hand-over to the worker closes the gate.
@@ -141,30 +168,19 @@ TEST(CoreNodeAdmission, ABusyDaemonRefusesANewRescuerByReasonAndServesTheAdmitte
   auto config = small_node(true, 300);
   config.busy.max_wait_s = 1e-6;
   config.busy.hold_s = 600.0;
-  auto node = std::make_unique<CoreNode>(test::make_participant(test::kDomainAdmissionBusy, "core"), config);
-  GoodRescuer good(test::kDomainAdmissionBusy);
-  auto late_participant = test::make_participant(test::kDomainAdmissionBusy, "late");
-  Writer<::sarloc::FieldMeasurement> late(late_participant);
-  ASSERT_TRUE(good.matched());
-  ASSERT_TRUE(late.wait_for_readers(1, 10s));
-  ASSERT_TRUE(good.epoch(1));
+  GoodThenLate two(test::kDomainAdmissionBusy, config);
+  ASSERT_TRUE(two.ready());
 
-  auto sample = to_idl(good.sample_at(2'000'000'000LL));
-  sample.rescuer_id("late");
+  auto sample = two.late_sample();
   const auto deadline = std::chrono::steady_clock::now() + 20s;
-  auto busy_refusals = [&] {
-    const auto by_reason = node->counters().by_reason;
-    const auto it = by_reason.find("daemon_busy");
-    return it == by_reason.end() ? std::uint64_t{0} : it->second;
-  };
-  for (std::uint64_t k = 0; busy_refusals() < 3 && std::chrono::steady_clock::now() < deadline; ++k) {
+  for (std::uint64_t k = 0; two.daemon_busy() < 3 && std::chrono::steady_clock::now() < deadline; ++k) {
     sample.sequence_number(1000 + k);
-    ASSERT_TRUE(late.write(sample));
+    ASSERT_TRUE(two.late.write(sample));
     std::this_thread::sleep_for(50ms);
   }
-  EXPECT_GE(busy_refusals(), 3U) << "the new rescuer was not refused as daemon_busy";
-  for (int k = 2; k <= 5; ++k) ASSERT_TRUE(good.epoch(k)) << "the admitted rescuer was not answered in epoch " << k;
-  EXPECT_EQ(node->rescuers_served(), 1U) << "state for the admitted rescuer only";
+  EXPECT_GE(two.daemon_busy(), 3U) << "the new rescuer was not refused as daemon_busy";
+  for (int k = 2; k <= 5; ++k) ASSERT_TRUE(two.good.epoch(k)) << "the admitted rescuer was not answered in epoch " << k;
+  EXPECT_EQ(two.node->rescuers_served(), 1U) << "state for the admitted rescuer only";
 }
 
 // Overload of those served (issue 64, item 5): when a sample waits longer than
@@ -181,41 +197,30 @@ TEST(CoreNodeAdmission, AnOverloadedDaemonReleasesTheResponderAdmittedLastAndSer
   config.busy.max_wait_s = 0.0;
   config.busy.max_utilisation = 0.0;
   config.busy.shed_wait_s = 0.02;
-  auto node = std::make_unique<CoreNode>(test::make_participant(test::kDomainAdmissionShed, "core"), config);
-  GoodRescuer good(test::kDomainAdmissionShed);
-  auto late_participant = test::make_participant(test::kDomainAdmissionShed, "late");
-  Writer<::sarloc::FieldMeasurement> late(late_participant);
-  ASSERT_TRUE(good.matched());
-  ASSERT_TRUE(late.wait_for_readers(1, 10s));
-  ASSERT_TRUE(good.epoch(1));
+  GoodThenLate two(test::kDomainAdmissionShed, config);
+  ASSERT_TRUE(two.ready());
   // The worker's account of who takes its time forgets "good"'s opening (halved every second),
   // so that "late"'s burst is what it sees when the wait comes.
   std::this_thread::sleep_for(3s);
 
-  auto sample = to_idl(good.sample_at(2'000'000'000LL));
-  sample.rescuer_id("late");
+  auto sample = two.late_sample();
   for (std::uint32_t k = 0; k < 600; ++k) {
     sample.signal_id(1 + k % 5);
     sample.sequence_number(1000 + k);
     sample.stamp(2'000'000'000LL + 10'000'000LL * k);
-    ASSERT_TRUE(late.write(sample));
+    ASSERT_TRUE(two.late.write(sample));
   }
-  auto released = [&] {
-    const auto by_reason = node->counters().by_reason;
-    const auto it = by_reason.find("daemon_busy");
-    return it == by_reason.end() ? std::uint64_t{0} : it->second;
-  };
   const auto deadline = std::chrono::steady_clock::now() + 20s;
-  while (released() == 0 && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(10ms);
-  EXPECT_GE(released(), 1U) << "no sample of the responder admitted last was released";
+  while (two.daemon_busy() == 0 && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(10ms);
+  EXPECT_GE(two.daemon_busy(), 1U) << "no sample of the responder admitted last was released";
   // What was left of the burst has arrived (a sample of "late" after its release makes it a new
   // responder again: a state counted before the snapshot below), and the worker is done with it.
-  ASSERT_EQ(late.get()->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(20, 0)),
+  ASSERT_EQ(two.late.get()->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(20, 0)),
             eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK);
   std::this_thread::sleep_for(1500ms);
-  const std::size_t states = node->rescuers_served();
-  for (int k = 2; k <= 5; ++k) ASSERT_TRUE(good.epoch(k)) << "the first rescuer was not answered in epoch " << k;
-  EXPECT_EQ(node->rescuers_served(), states) << "the first rescuer's state was released and made anew";
+  const std::size_t states = two.node->rescuers_served();
+  for (int k = 2; k <= 5; ++k) ASSERT_TRUE(two.good.epoch(k)) << "the first rescuer was not answered in epoch " << k;
+  EXPECT_EQ(two.node->rescuers_served(), states) << "the first rescuer's state was released and made anew";
 }
 
 }  // namespace
