@@ -48,26 +48,47 @@ FirefighterCrew::FirefighterCrew(const app::MissionConfig& mission, std::size_t 
     members_[m].spec.entry = members_[m % distinct].spec.entry;
     members_[m].spec.hand = members_[m % distinct].spec.hand;
   }
-  std::vector<std::vector<responder::Odometry>> walked(distinct);
+  std::vector<std::vector<Step>> walked(distinct);
   for (std::size_t m = 0; m < distinct; ++m) {
     const auto& ff = members_[m];
     const std::uint64_t team_seed = derive_seed(seed, 1000 + m / 2);
     mission::SimulatedFirefighter sim(*mission.world, ff.spec, team_seed, derive_seed(seed, 5000 + m));
     estimator::FirefighterDevice device(ff.id, ff.team, estimator::FirefighterDeviceConfig{}, 0);
+    auto anchor = estimator::entry_fix(*mission.world, mission.estimators.firefighter, ff.id, ff.team, ff.spec.entry,
+                                       ff.spec.hand);
+    double reckoned_at_s = -1e9;
     while (auto sample = sim.next_sample()) {
       device.push(*sample);
-      if (auto o = device.take_odometry()) walked[m].push_back(*o);
+      auto o = device.take_odometry();
+      if (!o) continue;
+      if (anchor) {  // as the device's loop: anchored at the INS history's first pose
+        anchor->stamp = o->interval_start;
+        device.on_fix(*anchor);
+        anchor.reset();
+      }
+      Step step{1e-9 * static_cast<double>(o->interval_end), *o, std::nullopt};
+      if (step.at_s - reckoned_at_s >= 1.0) {
+        step.reckoning = device.dead_reckoning();
+        if (step.reckoning) reckoned_at_s = step.at_s;
+      }
+      walked[m].push_back(std::move(step));
     }
   }
   for (std::size_t m = 0; m < members_.size(); ++m) {
     const std::size_t source = m % distinct;
     const auto shift_ns =
         static_cast<TimestampNs>(1e9 * (members_[m].spec.enter_at_s - members_[source].spec.enter_at_s));
-    for (auto o : walked[source]) {
-      o.rescuer_id = members_[m].id;
-      o.interval_start += shift_ns;
-      o.interval_end += shift_ns;
-      schedule_.push_back({1e-9 * static_cast<double>(o.interval_end), o});
+    for (auto step : walked[source]) {
+      step.odometry.rescuer_id = members_[m].id;
+      step.odometry.interval_start += shift_ns;
+      step.odometry.interval_end += shift_ns;
+      step.at_s = 1e-9 * static_cast<double>(step.odometry.interval_end);
+      if (step.reckoning) {
+        step.reckoning->responder_id = members_[m].id;
+        step.reckoning->team_id = members_[m].team;
+        step.reckoning->stamp += shift_ns;
+      }
+      schedule_.push_back(std::move(step));
     }
   }
   std::stable_sort(schedule_.begin(), schedule_.end(), [](const Step& a, const Step& b) { return a.at_s < b.at_s; });

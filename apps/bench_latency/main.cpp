@@ -298,6 +298,9 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
       app::participant_config(setup.mission, static_cast<int>(setup.domain), "bench-rescuers", "bench-rescuers"));
   sarloc::dds::Writer<::sarloc::FieldMeasurement> measurements(participant);
   sarloc::dds::Writer<::sarloc::Odometry> odometry(participant);
+  // The firefighters' own positions, as their devices publish them (firefighter_crew.hpp).
+  std::optional<sarloc::dds::Writer<::sarloc::ResponderPosition>> reckonings;
+  if (crew) reckonings.emplace(participant, sarloc::dds::device_position_options());
 
   // DDS stamps samples with the real-time clock; this run's offset maps them to steady time.
   const std::int64_t realtime_minus_steady =
@@ -324,6 +327,7 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
   std::map<std::pair<std::string, TimestampNs>, std::pair<std::int64_t, std::int64_t>> steps;
   sarloc::dds::Reader<::sarloc::ResponderPosition> positions(
       participant, [&](const ::sarloc::ResponderPosition& p, const eprosima::fastdds::dds::SampleInfo&) {
+        if (p.source() != ::sarloc::POSITION_MAP_AIDED) return;  // the crew's own reckoning, not an answer
         const std::int64_t now = steady_ns(Clock::now());
         std::lock_guard<std::mutex> lock(mutex);
         const auto it = steps.find({p.responder_id().to_string(), p.stamp()});
@@ -397,6 +401,11 @@ LoadResult run_load(const BenchSetup& setup, Target target, std::size_t repeat, 
           steps[{o.rescuer_id, o.interval_end}] = {steady_ns(Clock::now()), -1};
         }
         if (odometry.write(sarloc::dds::to_idl(o))) crew_published.fetch_add(1);
+        if (step.reckoning) {
+          auto own = *step.reckoning;
+          own.stamp += t0;
+          reckonings->write(sarloc::dds::to_idl(own));
+        }
       }
     });
   }

@@ -75,20 +75,7 @@ app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const ap
     spdlog::warn("no core daemon matched within 5 s: starting anyway (dead reckoning on the device until one answers)");
   }
   // Dead reckoning starts from the reported entry (where the crew aligns, turned to its wall).
-  std::optional<responder::ResponderPosition> entry_fix;
-  if (const auto stance = ff.spec.entry.empty() ? std::nullopt
-                                                : firefighter::entry_stance(*mission.world, ff.spec.entry, ff.spec.hand)) {
-    const firefighter::Vec2 xy = placement.to_incident(stance->position);
-    responder::ResponderPosition p;
-    p.responder_id = ff.id;
-    p.team_id = ff.team;
-    p.position.position = Vec3(xy.x(), xy.y(), mission.world->floors[stance->floor].elevation_m);
-    p.position.covariance = Mat3::Identity() * std::pow(placement.entry_position_sigma_m, 2);
-    p.heading_rad = wrap_angle(placement.rotation_rad() + stance->heading_rad);
-    p.floor = static_cast<std::int32_t>(stance->floor);
-    p.source = responder::PositionSource::kManual;
-    entry_fix = p;
-  }
+  auto entry_fix = estimator::entry_fix(*mission.world, placement, ff.id, ff.team, ff.spec.entry, ff.spec.hand);
   const auto truth_incident = [&](double t) {
     const auto truth = sim->truth(t);
     return std::make_pair(placement.to_incident(truth.position), static_cast<std::int32_t>(truth.floor));

@@ -33,6 +33,20 @@ std::unique_ptr<estimator::PositionRefresh> refresh_within_lifespan(Writer<::sar
       std::max<std::chrono::steady_clock::duration>(lifespan / 3, std::chrono::milliseconds(100)));
 }
 
+// The roster as configured, with the firefighters whose teams reported an entry: their first
+// step starts their filter at the door, however busy the daemon (responder_roster.hpp).
+estimator::ResponderRosterConfig roster_with_door_starts(const CoreNodeConfig& config) {
+  estimator::ResponderRosterConfig roster = config.roster;
+  for (const auto& [id, start] : config.estimators.firefighter.entry_of) {
+    const auto role = config.roles.find(id);
+    if (!start.entry.empty() &&
+        (role == config.roles.end() ? config.default_role : role->second) == estimator::ResponderRole::kFirefighter) {
+      roster.door_starts.push_back(id);
+    }
+  }
+  return roster;
+}
+
 }  // namespace
 
 void CoreNodeConfig::validate() const {
@@ -62,7 +76,7 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
       // Devices and incident command believe this daemon's estimates by its certificate's name.
       authority_((require_identity(*participant_, config_.node_id, "core.node_id"), participant_)),
       warnings_(std::chrono::milliseconds(static_cast<std::int64_t>(config_.warning_interval_s * 1000.0))),
-      roster_(config_.roster),
+      roster_(roster_with_door_starts(config_)),
       busy_gate_(config_.busy),
       estimate_writer_(participant_, EndpointOptions::in(config_.partitions)),
       guidance_writer_(participant_, EndpointOptions::in(config_.partitions)),
@@ -97,7 +111,7 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
     auto inputs = EndpointOptions::in(config_.partitions);
     // The roster decides inside DDS, before the reader's history: a publisher cycling through
     // ids it refuses takes no instance there (responder_filter.hpp).
-    inputs.admit_responder = [this](const std::string& id) { return admit(id); };
+    inputs.admit_responder = [this](const ResponderSample& sample) { return admit(sample); };
     // Listener callbacks: convert, refuse what cannot even be converted, enqueue.
     auto refuse = [this](const std::string& id, const std::string& reason, const std::string& detail) {
       reject(id, reason, detail);
@@ -222,12 +236,13 @@ void CoreNode::reject(const std::string& rescuer_id, const std::string& reason, 
   warnings_.warn(rescuer_id, reason, "rejected sample (" + reason + "): " + detail);
 }
 
-bool CoreNode::admit(const std::string& rescuer_id) {
+bool CoreNode::admit(const ResponderSample& sample) {
+  const std::string& rescuer_id = sample.responder_id;
   estimator::ResponderRoster::Admission admission;
   {
     std::lock_guard<std::mutex> lock(roster_mutex_);
     const auto now = std::chrono::steady_clock::now();
-    admission = roster_.admit(rescuer_id, now, busy_gate_.busy(now));
+    admission = roster_.admit(rescuer_id, now, busy_gate_.busy(now), sample.first_step);
   }
   if (!estimator::refused(admission)) return true;
   std::string detail = "rescuer_id = '" + rescuer_id + "': ";

@@ -1,5 +1,7 @@
 #include "sarloc/dds/responder_filter.hpp"
 
+#include <type_traits>
+
 #include "sarloc/dds/topics.hpp"
 
 namespace sarloc::dds {
@@ -27,7 +29,9 @@ class ResponderFilter final : public IContentFilter {
       // exception type); refused here, such a sample never reaches the reader either.
       return false;
     }
-    return admit_(sample.rescuer_id().to_string());
+    ResponderSample read{sample.rescuer_id().to_string()};
+    if constexpr (std::is_same_v<T, ::sarloc::Odometry>) read.first_step = sample.sequence_number() == 1;
+    return admit_(read);
   }
 
  private:

@@ -30,6 +30,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainPositionRefresh = 177,
   kDomainPositionCandidates = 178,
   kDomainAdmissionShed = 179,
+  kDomainAdmissionDoorStart = 180,
   kDomainDiscoveryServer = 140,
   kDomainBenchEchoListener = 141,
   kDomainBenchEchoQueue = 142,

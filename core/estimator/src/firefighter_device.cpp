@@ -5,6 +5,7 @@
 
 #include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/firefighter/search_walk.hpp"
 
 namespace sarloc::estimator {
 namespace {
@@ -185,6 +186,25 @@ std::optional<responder::ResponderPosition> FirefighterDevice::dead_reckoning() 
   p.source = responder::PositionSource::kDeadReckoning;
   p.converged = false;
   p.confirmed = false;
+  return p;
+}
+
+std::optional<responder::ResponderPosition> entry_fix(const firefighter::FloorPlan& plan,
+                                                      const FirefighterEstimatorConfig& placement,
+                                                      const std::string& responder_id, const std::string& team_id,
+                                                      const std::string& entry, firefighter::Hand hand) {
+  if (entry.empty()) return std::nullopt;
+  const auto stance = firefighter::entry_stance(plan, entry, hand);
+  if (!stance) return std::nullopt;
+  const firefighter::Vec2 xy = placement.to_incident(stance->position);
+  responder::ResponderPosition p;
+  p.responder_id = responder_id;
+  p.team_id = team_id;
+  p.position.position = Vec3(xy.x(), xy.y(), plan.floors[stance->floor].elevation_m);
+  p.position.covariance = Mat3::Identity() * std::pow(placement.entry_position_sigma_m, 2);
+  p.heading_rad = wrap_angle(placement.rotation_rad() + stance->heading_rad);
+  p.floor = static_cast<std::int32_t>(stance->floor);
+  p.source = responder::PositionSource::kManual;
   return p;
 }
 

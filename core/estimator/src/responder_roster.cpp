@@ -19,14 +19,19 @@ void ResponderRosterConfig::validate() const {
   for (const auto& id : listed) {
     if (id.empty()) throw ConfigError("core roster: a listed responder id is empty");
   }
+  for (const auto& id : door_starts) {
+    if (id.empty()) throw ConfigError("core roster: a firefighter id with a reported entry is empty");
+  }
 }
 
 ResponderRoster::ResponderRoster(ResponderRosterConfig config)
     : config_((config.validate(), std::move(config))),
       listed_(config_.listed.begin(), config_.listed.end()),
+      door_starts_(config_.door_starts.begin(), config_.door_starts.end()),
       new_tokens_(std::max(1.0, config_.new_per_s)) {}
 
-ResponderRoster::Admission ResponderRoster::admit(const std::string& id, Clock::time_point now, bool busy) {
+ResponderRoster::Admission ResponderRoster::admit(const std::string& id, Clock::time_point now, bool busy,
+                                                  bool first_step) {
   if (id.empty()) return Admission::kEmptyId;
   if (auto it = served_.find(id); it != served_.end()) {
     it->second.last_heard = std::max(it->second.last_heard, now);
@@ -34,6 +39,10 @@ ResponderRoster::Admission ResponderRoster::admit(const std::string& id, Clock::
   }
   if (!config_.open && listed_.count(id) == 0) return Admission::kNotListed;
   if (config_.open && served_.size() >= config_.max_responders) return Admission::kFull;
+  if (first_step && door_starts_.count(id) > 0) {
+    served_.emplace(id, Served{now, ++admissions_});
+    return Admission::kNew;
+  }
   if (busy) return Admission::kBusy;
   if (config_.new_per_s > 0.0) {
     const double burst = std::max(1.0, config_.new_per_s);

@@ -252,5 +252,77 @@ TEST(CoreNodeFirefighter, AnAmbiguousPositionComesWithItsPlacesAndTheirEnd) {
   EXPECT_EQ(node->counters().rejected, 0U);
 }
 
+// Overload (issue 64): a busy daemon admits no new responder, but a firefighter's first step
+// from a reported entry is the one start that cannot wait. Refused, the entry is lost with the
+// steps before admission, and the filter made later starts spread over the plan (20000
+// particles). Here the gate closes on ff2's first sample (a step mid-search: "too long" a wait
+// is 1 us), the rescuer r1 is then refused as daemon_busy, and ff1's first step is still
+// admitted and answered at the door, as are the steps after it.
+TEST(CoreNodeFirefighter, ABusyDaemonStillAdmitsAFirefightersFirstStepFromItsReportedEntry) {
+  const auto mission =
+      app::load_mission_config(std::string(SARLOC_SOURCE_DIR) + "/tests/integration/mission/firefighters.yaml");
+  auto config = mission.core_config("");
+  config.busy.max_wait_s = 1e-6;
+  config.busy.hold_s = 600.0;
+  auto node = std::make_unique<CoreNode>(test::make_participant(test::kDomainAdmissionDoorStart, "core"), config);
+  auto device_participant = test::make_participant(test::kDomainAdmissionDoorStart, "devices");
+  Writer<::sarloc::Odometry> odometry(device_participant);
+  Writer<::sarloc::FieldMeasurement> measurements(device_participant);
+  std::mutex mutex;
+  std::condition_variable cv;
+  std::map<std::string, std::vector<responder::ResponderPosition>> positions;
+  Reader<::sarloc::ResponderPosition> reader(device_participant,
+                                             [&](const ::sarloc::ResponderPosition& p, const auto&) {
+                                               std::lock_guard<std::mutex> lock(mutex);
+                                               positions[p.responder_id().to_string()].push_back(to_core(p));
+                                               cv.notify_all();
+                                             });
+  ASSERT_TRUE(odometry.wait_for_readers(1, 10s));
+  ASSERT_TRUE(measurements.wait_for_readers(1, 10s));
+  ASSERT_TRUE(reader.wait_for_writers(1, 10s));
+  const auto answered = [&](const std::string& id, std::size_t n) {
+    std::unique_lock<std::mutex> lock(mutex);
+    return cv.wait_for(lock, 20s, [&] { return positions[id].size() >= n; });
+  };
+  const auto busy_refusals = [&] {
+    const auto by_reason = node->counters().by_reason;
+    const auto it = by_reason.find("daemon_busy");
+    return it == by_reason.end() ? std::uint64_t{0} : it->second;
+  };
+
+  const auto search = simulated_search(mission, 21, 60.0);
+  auto mid_search = search.odometry[10];
+  mid_search.rescuer_id = "ff2";
+  ASSERT_TRUE(odometry.write(to_idl(mid_search)));
+  ASSERT_TRUE(answered("ff2", 1)) << "the first responder is admitted while the daemon is idle";
+
+  avalanche::FieldMeasurement m;
+  m.rescuer_id = "r1";
+  m.signal_id = 1;
+  m.stamp = kOrigin;
+  m.field = Vec3(0.01, 0.0, 0.0);
+  m.noise_stddev = Vec3::Constant(1e-4);
+  const auto deadline = std::chrono::steady_clock::now() + 20s;
+  for (std::uint64_t k = 1; busy_refusals() == 0 && std::chrono::steady_clock::now() < deadline; ++k) {
+    m.sequence = k;
+    m.stamp = kOrigin + static_cast<TimestampNs>(k) * 1'000'000'000LL;
+    ASSERT_TRUE(measurements.write(to_idl(m)));
+    std::this_thread::sleep_for(50ms);
+  }
+  ASSERT_GE(busy_refusals(), 1U) << "the daemon never became busy: nothing under test";
+  const std::uint64_t refused_before = busy_refusals();
+
+  ASSERT_EQ(search.odometry.front().sequence, 1U);
+  for (std::size_t k = 0; k < 4; ++k) ASSERT_TRUE(odometry.write(to_idl(search.odometry[k])));
+  ASSERT_TRUE(answered("ff1", 4)) << "the door start was refused";
+  EXPECT_EQ(busy_refusals(), refused_before) << "a step of ff1 was refused";
+  std::lock_guard<std::mutex> lock(mutex);
+  const auto& first = positions["ff1"].front();
+  EXPECT_LT(std::sqrt(first.position.covariance.topLeftCorner<2, 2>().trace()), 1.5)
+      << "not started at the door: a cloud of " << std::sqrt(first.position.covariance.topLeftCorner<2, 2>().trace())
+      << " m";
+  EXPECT_EQ(node->rescuers_served(), 2U) << "ff2 and ff1; r1 refused";
+}
+
 }  // namespace
 }  // namespace sarloc::dds

@@ -26,9 +26,10 @@ eprosima::fastrtps::rtps::SerializedPayload_t serialized(T sample) {
 class ResponderFilterTest : public ::testing::Test {
  protected:
   IContentFilter* make(const char* type_name) {
-    const std::string expression = factory_.expression_for([this](const std::string& id) {
-      asked_.insert(id);
-      return id == "r1";
+    const std::string expression = factory_.expression_for([this](const ResponderSample& sample) {
+      asked_.insert(sample.responder_id);
+      if (sample.first_step) first_steps_.insert(sample.responder_id);
+      return sample.responder_id == "r1";
     });
     IContentFilter* filter = nullptr;
     const eprosima::fastdds::dds::LoanableSequence<const char*> no_parameters;
@@ -43,6 +44,7 @@ class ResponderFilterTest : public ::testing::Test {
 
   ResponderFilterFactory factory_;
   std::set<std::string> asked_;
+  std::set<std::string> first_steps_;
 };
 
 TEST_F(ResponderFilterTest, AsksThePredicateWithTheSamplesRescuerId) {
@@ -57,13 +59,26 @@ TEST_F(ResponderFilterTest, AsksThePredicateWithTheSamplesRescuerId) {
   EXPECT_EQ(factory_.delete_content_filter(kResponderFilterClass, filter), ReturnCode::RETCODE_OK);
 }
 
-TEST_F(ResponderFilterTest, ReadsOdometryToo) {
+TEST_F(ResponderFilterTest, ReadsOdometryTooAndWhetherItIsTheDevicesFirstStep) {
   auto* filter = make(::sarloc::OdometryPubSubType().getName());
   ASSERT_NE(filter, nullptr);
   ::sarloc::Odometry o;
   o.rescuer_id("r1");
+  o.sequence_number(2);
   EXPECT_TRUE(evaluate(filter, serialized(o)));
+  EXPECT_TRUE(first_steps_.empty());
+  o.rescuer_id("ff1");
+  o.sequence_number(1);
+  EXPECT_FALSE(evaluate(filter, serialized(o)));
+  EXPECT_EQ(first_steps_, std::set<std::string>{"ff1"});
+  auto* measurements = make(::sarloc::FieldMeasurementPubSubType().getName());
+  ::sarloc::FieldMeasurement m;
+  m.rescuer_id("r7");
+  m.sequence_number(1);
+  EXPECT_FALSE(evaluate(measurements, serialized(m)));
+  EXPECT_EQ(first_steps_, std::set<std::string>{"ff1"}) << "a measurement is never a first step";
   EXPECT_EQ(factory_.delete_content_filter(kResponderFilterClass, filter), ReturnCode::RETCODE_OK);
+  EXPECT_EQ(factory_.delete_content_filter(kResponderFilterClass, measurements), ReturnCode::RETCODE_OK);
 }
 
 TEST_F(ResponderFilterTest, AMalformedPayloadIsRefusedNotThrown) {
@@ -82,7 +97,7 @@ TEST_F(ResponderFilterTest, AMalformedPayloadIsRefusedNotThrown) {
 TEST_F(ResponderFilterTest, OtherTypesAndUnknownExpressionsAreRefused) {
   IContentFilter* filter = nullptr;
   const eprosima::fastdds::dds::LoanableSequence<const char*> none;
-  const std::string expression = factory_.expression_for([](const std::string&) { return true; });
+  const std::string expression = factory_.expression_for([](const ResponderSample&) { return true; });
   EXPECT_EQ(factory_.create_content_filter(kResponderFilterClass, ::sarloc::GuidancePubSubType().getName(), nullptr,
                                            expression.c_str(), none, filter),
             ReturnCode::RETCODE_UNSUPPORTED);

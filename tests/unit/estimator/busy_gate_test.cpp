@@ -195,5 +195,27 @@ TEST(ResponderRoster, ReleasingTakesTheResponderAdmittedLastAndItIsNewAgain) {
   EXPECT_TRUE(roster.evict_idle(t + 100s) == std::vector<std::string>{"r1"}) << "idle eviction still sees the rest";
 }
 
+TEST(ResponderRoster, AFirefightersFirstStepFromAReportedEntryIsAdmittedHoweverBusy) {
+  ResponderRosterConfig config{true, {}, 3, 60.0};
+  config.new_per_s = 1.0;
+  config.door_starts = {"ff1", "ff2", "ff3", "ff4"};
+  ResponderRoster roster(config);
+  const auto t = Clock::now();
+  EXPECT_EQ(roster.admit("r1", t), ResponderRoster::Admission::kNew) << "the pace's one token";
+  EXPECT_EQ(roster.admit("ff1", t, true), ResponderRoster::Admission::kBusy) << "not its first step: no door start";
+  EXPECT_EQ(roster.admit("r2", t, false, true), ResponderRoster::Admission::kPaced) << "no entry reported: paced";
+  EXPECT_EQ(roster.admit("ff1", t, true, true), ResponderRoster::Admission::kNew) << "busy, but at the door";
+  EXPECT_EQ(roster.admit("ff2", t, false, true), ResponderRoster::Admission::kNew) << "beyond the pace, at the door";
+  EXPECT_EQ(roster.admit("ff3", t, true, true), ResponderRoster::Admission::kFull) << "max_responders still holds";
+  EXPECT_EQ(roster.release_newest(), std::optional<std::string>("ff2")) << "admitted last, the door start included";
+  EXPECT_EQ(roster.admit("ff2", t + 1s, true), ResponderRoster::Admission::kBusy) << "released mid-search: new again";
+
+  ResponderRosterConfig listed{false, {"ff1"}, 256, 60.0};
+  listed.door_starts = {"ff1", "ff9"};
+  ResponderRoster sector(listed);
+  EXPECT_EQ(sector.admit("ff9", t, true, true), ResponderRoster::Admission::kNotListed) << "another sector's";
+  EXPECT_EQ(sector.admit("ff1", t, true, true), ResponderRoster::Admission::kNew);
+}
+
 }  // namespace
 }  // namespace sarloc::estimator

@@ -121,8 +121,8 @@ class CoreNode {
     std::chrono::steady_clock::time_point cost_halved_at;
   };
 
-  /// The input readers' filter: does the roster serve this id? Counts and logs a refusal.
-  bool admit(const std::string& rescuer_id);
+  /// The input readers' filter: does the roster serve this sample's responder? Counts and logs a refusal.
+  bool admit(const ResponderSample& sample);
   void enqueue(const std::string& rescuer_id, Work work);
   /// Queues a hint unless the worker's queue is half full (it never displaces a sample).
   void enqueue_hint(const std::string& rescuer_id, PositionHint hint);

@@ -1,7 +1,8 @@
 #pragma once
-#include <functional>
 #include <string>
 #include <vector>
+
+#include "sarloc/dds/responder_predicate.hpp"
 
 namespace sarloc::dds {
 
@@ -13,9 +14,9 @@ struct EndpointOptions {
   /// A profile name to use instead of the topic's own ("<topic>.writer" / "<topic>.reader").
   std::string profile_override;
   /// Readers of FieldMeasurement and Odometry only: a sample enters the reader only if this
-  /// says yes to its rescuer_id, decided by DDS before the reader's history
+  /// says yes to its rescuer_id (and first step), decided by DDS before the reader's history
   /// (responder_filter.hpp). Unset: every sample enters.
-  std::function<bool(const std::string& responder_id)> admit_responder;
+  ResponderPredicate admit_responder;
 
   /// Options that only place the endpoint in `names` (a sector's partitions).
   static EndpointOptions in(const std::vector<std::string>& names) {

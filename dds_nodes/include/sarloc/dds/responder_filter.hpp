@@ -10,21 +10,19 @@
 // history.
 //
 // Fast DDS's own DDS-SQL filter needs TypeObjects, which sarloc does not generate; this is a
-// custom filter class. It reads `rescuer_id` of a FieldMeasurement or an Odometry and asks the
-// reader's predicate, on the Fast DDS receive thread.
+// custom filter class. It reads `rescuer_id` of a FieldMeasurement or an Odometry (and whether
+// the Odometry is the device's first step) and asks the reader's predicate, on the Fast DDS
+// receive thread.
 #include <fastdds/dds/topic/IContentFilterFactory.hpp>
-
-#include <functional>
 #include <map>
 #include <mutex>
 #include <string>
 
+#include "sarloc/dds/responder_predicate.hpp"
+
 namespace sarloc::dds {
 
 constexpr const char* kResponderFilterClass = "SARLOC_RESPONDERS";
-
-/// True if the responder's sample may enter the reader. Runs on Fast DDS threads.
-using ResponderPredicate = std::function<bool(const std::string& responder_id)>;
 
 // IContentFilterFactory lacks a virtual destructor; the participant owns the factory as its class.
 #pragma GCC diagnostic push

@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "sarloc/core/estimator/firefighter_estimator.hpp"
 #include "sarloc/core/firefighter/zupt_ins.hpp"
 #include "sarloc/core/responder/alarm.hpp"
 #include "sarloc/core/responder/odometry.hpp"
@@ -103,5 +104,14 @@ class FirefighterDevice {
   double motionless_reset_at_s_ = -1.0;  ///< a reset while still motionless re-arms from here
   std::vector<responder::ResponderAlarm> changes_;
 };
+
+/// The device's first anchor, before any fix: where the crew aligns its boots, just inside the
+/// reported entry of `plan` and turned to its wall (firefighter::entry_stance), in the incident
+/// frame of `placement`, within its entry_position_sigma_m (source kManual). Nullopt without an
+/// entry or for one `plan` does not have. Stamp it with the INS history's first pose.
+std::optional<responder::ResponderPosition> entry_fix(const firefighter::FloorPlan& plan,
+                                                      const FirefighterEstimatorConfig& placement,
+                                                      const std::string& responder_id, const std::string& team_id,
+                                                      const std::string& entry, firefighter::Hand hand);
 
 }  // namespace sarloc::estimator

@@ -12,6 +12,13 @@
 //     new filter's opening epochs would slow everyone already served; and at most
 //     `new_per_s` new ids a second (a burst of as many), so that a crowd switching on at once
 //     is admitted as fast as the busy signs can follow, not all before the first of them.
+//   - a door start is the exception to both: the first step of a firefighter whose team
+//     reported an entry (`door_starts`) is admitted however busy the daemon. Its filter starts
+//     at the door with a tight cloud, the cheapest a firefighter's filter ever is; refused, the
+//     entry is lost for good (the steps before admission are gone), and the same firefighter
+//     admitted later starts near the device's reckoning or, without one, spread over the whole
+//     plan: 20000 particles, ten times the cost a step, and a search of the building for where
+//     he is. The roster's other limits (max_responders, the listed) still hold.
 // A responder not heard for `idle_evict_s` has its state released (evict_idle): its
 // estimators go, its slot frees (open mode). If it is heard again it starts afresh, as after
 // a restart of the daemon; the device's own filter, the authority, is unaffected. When those
@@ -43,6 +50,8 @@ struct ResponderRosterConfig {
   double idle_evict_s = 300.0;
   /// New ids admitted per second at most, with a burst of as many (0: unpaced).
   double new_per_s = 10.0;
+  /// Firefighters with a reported entry: their first step is admitted despite busy and pace.
+  std::vector<std::string> door_starts{};
 
   /// Throws ConfigError naming the key ("core.idle_evict_s = 0: must be in [1, 86400]").
   void validate() const;
@@ -65,8 +74,9 @@ class ResponderRoster {
   explicit ResponderRoster(ResponderRosterConfig config);
 
   /// Records that `id` was heard at `now` if it is (or becomes) served. `busy`: refuse a new
-  /// id (BusyGate::busy); one served already is served on.
-  Admission admit(const std::string& id, Clock::time_point now, bool busy = false);
+  /// id (BusyGate::busy); one served already is served on. `first_step`: the sample is the
+  /// device's first odometry step (a door start if `id` is one of `door_starts`).
+  Admission admit(const std::string& id, Clock::time_point now, bool busy = false, bool first_step = false);
   /// Responders not heard for idle_evict_s by `now`, removed from the served set (oldest first).
   std::vector<std::string> evict_idle(Clock::time_point now);
   /// The responder admitted last of those `among` accepts (all by default), removed from the
@@ -79,6 +89,7 @@ class ResponderRoster {
  private:
   ResponderRosterConfig config_;
   std::set<std::string> listed_;
+  std::set<std::string> door_starts_;
   struct Served {
     Clock::time_point last_heard;
     std::uint64_t admitted;  ///< order of admission
