@@ -132,8 +132,9 @@ DashboardServer::DashboardServer(DashboardServerConfig config, PictureState& sta
     }
     if (req.method == "GET" || req.method == "HEAD") return Outcome::Unhandled;
     // A page of another site may post here from the commander's own browser: its Origin says so.
+    // The page's own origin has the scheme it was served with (https behind dashboard.tls_*).
     const std::string origin = req.get_header_value("Origin");
-    if (!origin.empty() && origin != "http://" + req.get_header_value("Host")) {
+    if (!origin.empty() && origin != (tls() ? "https://" : "http://") + req.get_header_value("Host")) {
       error(res, 403, "a request from another site's page");
       return Outcome::Handled;
     }

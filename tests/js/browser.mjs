@@ -5,13 +5,15 @@ import fs from "node:fs";
 import os from "node:os";
 import path from "node:path";
 
-export async function launchChromium(viewport) {
+// `options`: more of playwright's context options (clientCertificates, ignoreHTTPSErrors).
+export async function launchChromium(viewport, options = {}) {
   const profile = fs.mkdtempSync(path.join(os.tmpdir(), "sarloc-chromium-"));
   const context = await chromium.launchPersistentContext(profile, {
     executablePath: process.env.SARLOC_CHROMIUM ?? "/usr/bin/chromium",
     headless: true,
     args: ["--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-extensions"],
     viewport,
+    ...options,
   });
   return {
     context,

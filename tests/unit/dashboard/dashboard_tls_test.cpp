@@ -4,12 +4,16 @@
 // loopback without TLS is refused with a message that says what to do. TLS ends in the
 // connection gate, so a client that dribbles its request inside TLS holds no server thread.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <thread>
 #include <vector>
@@ -20,6 +24,7 @@
 #include "dashboard_server.hpp"
 #include "raw_socket.hpp"
 #include "sarloc/core/common/errors.hpp"
+#include "support/required_program.hpp"
 
 #include <httplib.h>
 #include <openssl/ssl.h>
@@ -118,6 +123,22 @@ TEST_F(PageOverTls, ThePageOverTlsVerifiesAgainstTheIncidentCaAndItsCookieIsSecu
   plain.set_read_timeout(2, 0);
   const auto clear = plain.Get("/");
   EXPECT_TRUE(!clear || clear->status != 200) << "the page was served in clear on the TLS port";
+}
+
+// A browser signs in with a POST that carries the page's origin, https:// over TLS. The check
+// against other sites' pages once compared it with http:// only, so no browser could sign in to
+// a dashboard over TLS (found by the browser test below; the C++ clients send no Origin).
+TEST_F(PageOverTls, ThePagesOwnHttpsOriginSignsInAndItsHttpTwinIsAnotherSite) {
+  const std::string host = "127.0.0.1:" + std::to_string(server->port());
+  auto secure = verifying_client();
+  const auto own = secure->Post("/api/session", httplib::Headers{{"Origin", "https://" + host}},
+                                R"({"token":"look-but-do-not-touch"})", "application/json");
+  ASSERT_TRUE(own);
+  EXPECT_EQ(own->status, 200) << own->body;
+  const auto twin = secure->Post("/api/session", httplib::Headers{{"Origin", "http://" + host}},
+                                 R"({"token":"look-but-do-not-touch"})", "application/json");
+  ASSERT_TRUE(twin);
+  EXPECT_EQ(twin->status, 403) << "a page served in clear under the same name is another site";
 }
 
 // A client that completes its TLS handshake and then dribbles its request (issue 59, "many
@@ -298,6 +319,31 @@ TEST_F(PageForCertifiedClients, AnOperatorsConnectionOutlastsAFloodOfConnections
   }
   EXPECT_EQ(reply.rfind("HTTP/1.1 200", 0), 0U)
       << "the commander's connection was closed to make room: '" << reply << "'";
+}
+
+// The same page in a real browser (tests/js/dashboard_client_certificate.mjs): headless Chromium
+// shown the commander's .p12, as make-dashboard-client.sh writes it for import, loads the page and
+// its event stream goes live; the same browser without a certificate is served nothing.
+TEST_F(PageForCertifiedClients, ABrowserShowingAnOperatorsP12GetsTheLivePageAndOneWithoutGetsNothing) {
+  ASSERT_TRUE(sarloc::test::has_node());
+  ASSERT_TRUE(sarloc::test::has_chromium());
+  const fs::path own = dir / "dashboard-clients" / "commander";
+  const std::string url = "https://127.0.0.1:" + std::to_string(server->port()) + "/#token=correct-horse-battery";
+  const std::string out = (dir / "browser.json").string();
+  const int status =
+      std::system(("node " SARLOC_SOURCE_DIR "/tests/js/dashboard_client_certificate.mjs '" + url + "' " +
+                   (own / "commander.p12").string() + " " + (own / "p12-password").string() + " > " + out + " 2>&1")
+                      .c_str());
+  std::ifstream in(out);
+  const std::string said((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(WEXITSTATUS(status), 0) << said;
+  const auto report = nlohmann::json::parse(said.substr(said.rfind("{\"errors\"")));
+  EXPECT_EQ(report["withCertificate"].value("status", 0), 200) << said;
+  EXPECT_TRUE(report["withCertificate"].value("live", false)) << said;
+  EXPECT_TRUE(report["withoutCertificate"].contains("failed"))
+      << "a browser without a certificate was served: " << said;
+  EXPECT_GE(server->connection_counters().certified, 1U);
+  EXPECT_GE(server->connection_counters().failed_handshakes, 1U);
 }
 
 }  // namespace
