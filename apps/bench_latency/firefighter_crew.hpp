@@ -10,7 +10,8 @@
 // position (its dead reckoning, POSITION_DEAD_RECKONING) once a mission second, as
 // sarloc-rescuer's device publishes it: the start a daemon that meets the firefighter mid-search
 // takes. These devices reckon from the reported entry only (they never take the daemon's fixes,
-// made up front as they are), so their reckoning grows 2 % of the distance walked. The daemon
+// made up front as they are), so their reckoning grows 2 % of the distance walked, and ends
+// when the entry leaves the device's INS history (history_s, 600 s after going in). The daemon
 // answers every step with a map-aided ResponderPosition stamped with the step's end: a
 // firefighter's latency is the publication of a step to that answer's arrival.
 //

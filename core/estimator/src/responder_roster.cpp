@@ -39,8 +39,10 @@ ResponderRoster::Admission ResponderRoster::admit(const std::string& id, Clock::
   }
   if (!config_.open && listed_.count(id) == 0) return Admission::kNotListed;
   if (config_.open && served_.size() >= config_.max_responders) return Admission::kFull;
-  if (first_step && door_starts_.count(id) > 0) {
-    served_.emplace(id, Served{now, ++admissions_});
+  if (first_step && door_starts_.erase(id) > 0) {
+    // Once per daemon: a later "first step" (a device restarted, or a forged one) is no walk
+    // from the door. Admitted 0th: released last (its filter is cheap, its entry not to be had again).
+    served_.emplace(id, Served{now, 0});
     return Admission::kNew;
   }
   if (busy) return Admission::kBusy;

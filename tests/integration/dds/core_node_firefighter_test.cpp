@@ -310,6 +310,10 @@ TEST(CoreNodeFirefighter, ABusyDaemonStillAdmitsAFirefightersFirstStepFromItsRep
     std::this_thread::sleep_for(50ms);
   }
   ASSERT_GE(busy_refusals(), 1U) << "the daemon never became busy: nothing under test";
+  // Every measurement of r1 filtered (a refused sample is acknowledged) before the count is taken.
+  ASSERT_EQ(measurements.get()->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(10, 0)),
+            eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK);
+  std::this_thread::sleep_for(100ms);
   const std::uint64_t refused_before = busy_refusals();
 
   ASSERT_EQ(search.odometry.front().sequence, 1U);

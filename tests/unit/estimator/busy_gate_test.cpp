@@ -207,8 +207,12 @@ TEST(ResponderRoster, AFirefightersFirstStepFromAReportedEntryIsAdmittedHoweverB
   EXPECT_EQ(roster.admit("ff1", t, true, true), ResponderRoster::Admission::kNew) << "busy, but at the door";
   EXPECT_EQ(roster.admit("ff2", t, false, true), ResponderRoster::Admission::kNew) << "beyond the pace, at the door";
   EXPECT_EQ(roster.admit("ff3", t, true, true), ResponderRoster::Admission::kFull) << "max_responders still holds";
-  EXPECT_EQ(roster.release_newest(), std::optional<std::string>("ff2")) << "admitted last, the door start included";
-  EXPECT_EQ(roster.admit("ff2", t + 1s, true), ResponderRoster::Admission::kBusy) << "released mid-search: new again";
+  EXPECT_EQ(roster.release_newest(), std::optional<std::string>("r1")) << "door starts are released last";
+  EXPECT_EQ(roster.release_newest(), std::optional<std::string>("ff1")) << "then the door starts";
+  EXPECT_EQ(roster.admit("ff1", t + 1s, true), ResponderRoster::Admission::kBusy) << "released mid-search: new again";
+  EXPECT_EQ(roster.admit("ff1", t + 1s, true, true), ResponderRoster::Admission::kBusy)
+      << "a second first step (a device restarted mid-search, or forged) is no door start";
+  EXPECT_EQ(roster.admit("ff2", t + 1s, true), ResponderRoster::Admission::kServed);
 
   ResponderRosterConfig listed{false, {"ff1"}, 256, 60.0};
   listed.door_starts = {"ff1", "ff9"};

@@ -18,7 +18,9 @@
 //     entry is lost for good (the steps before admission are gone), and the same firefighter
 //     admitted later starts near the device's reckoning or, without one, spread over the whole
 //     plan: 20000 particles, ten times the cost a step, and a search of the building for where
-//     he is. The roster's other limits (max_responders, the listed) still hold.
+//     he is. The roster's other limits (max_responders, the listed) still hold. Each id's door
+//     start is had once per daemon (a device restarted mid-search, or a forged step, numbers
+//     its steps from 1 again), and a door start is released last by release_newest.
 // A responder not heard for `idle_evict_s` has its state released (evict_idle): its
 // estimators go, its slot frees (open mode). If it is heard again it starts afresh, as after
 // a restart of the daemon; the device's own filter, the authority, is unaffected. When those
@@ -50,7 +52,7 @@ struct ResponderRosterConfig {
   double idle_evict_s = 300.0;
   /// New ids admitted per second at most, with a burst of as many (0: unpaced).
   double new_per_s = 10.0;
-  /// Firefighters with a reported entry: their first step is admitted despite busy and pace.
+  /// Firefighters with a reported entry: their first step is admitted despite busy and pace (once).
   std::vector<std::string> door_starts{};
 
   /// Throws ConfigError naming the key ("core.idle_evict_s = 0: must be in [1, 86400]").
@@ -75,12 +77,12 @@ class ResponderRoster {
 
   /// Records that `id` was heard at `now` if it is (or becomes) served. `busy`: refuse a new
   /// id (BusyGate::busy); one served already is served on. `first_step`: the sample is the
-  /// device's first odometry step (a door start if `id` is one of `door_starts`).
+  /// device's first odometry step (a door start if `id` is one of `door_starts` not used yet).
   Admission admit(const std::string& id, Clock::time_point now, bool busy = false, bool first_step = false);
   /// Responders not heard for idle_evict_s by `now`, removed from the served set (oldest first).
   std::vector<std::string> evict_idle(Clock::time_point now);
-  /// The responder admitted last of those `among` accepts (all by default), removed from the
-  /// served set; none when there is none.
+  /// The responder admitted last of those `among` accepts (all by default; door starts count
+  /// as admitted first), removed from the served set; none when there is none.
   std::optional<std::string> release_newest(const std::function<bool(const std::string&)>& among = {});
 
   std::size_t served() const { return served_.size(); }
