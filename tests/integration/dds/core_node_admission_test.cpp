@@ -149,11 +149,7 @@ struct GoodThenLate {
     sample.rescuer_id("late");
     return sample;
   }
-  std::uint64_t daemon_busy() const {
-    const auto by_reason = node->counters().by_reason;
-    const auto it = by_reason.find("daemon_busy");
-    return it == by_reason.end() ? std::uint64_t{0} : it->second;
-  }
+  std::uint64_t daemon_busy() const { return node->counters().rejected_for("daemon_busy"); }
 
   std::unique_ptr<CoreNode> node;
   GoodRescuer good;

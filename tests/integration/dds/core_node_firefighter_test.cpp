@@ -284,11 +284,7 @@ TEST(CoreNodeFirefighter, ABusyDaemonStillAdmitsAFirefightersFirstStepFromItsRep
     std::unique_lock<std::mutex> lock(mutex);
     return cv.wait_for(lock, 20s, [&] { return positions[id].size() >= n; });
   };
-  const auto busy_refusals = [&] {
-    const auto by_reason = node->counters().by_reason;
-    const auto it = by_reason.find("daemon_busy");
-    return it == by_reason.end() ? std::uint64_t{0} : it->second;
-  };
+  const auto busy_refusals = [&] { return node->counters().rejected_for("daemon_busy"); };
 
   const auto search = simulated_search(mission, 21, 60.0);
   auto mid_search = search.odometry[10];

@@ -28,6 +28,11 @@ class RejectCounters {
     std::uint64_t accepted = 0;
     std::uint64_t rejected = 0;
     std::map<std::string, std::uint64_t> by_reason;
+    /// The samples rejected for `reason` (0 when none).
+    std::uint64_t rejected_for(const std::string& reason) const {
+      const auto it = by_reason.find(reason);
+      return it == by_reason.end() ? 0 : it->second;
+    }
   };
   Snapshot snapshot() const {
     std::lock_guard<std::mutex> lock(mutex_);
