@@ -179,13 +179,7 @@ void ConnectionGate::admit(tcp::socket socket) {
     std::lock_guard<std::mutex> lock(mutex_);
     int& open = open_per_address_[relay->address];
     if (open < limits_.max_per_address && static_cast<int>(relays_.size()) >= limits_.max_total) {
-      // Full: the connection held longest without a whole request makes room. Slow clients of
-      // many addresses then cannot keep a newcomer out (a browser's request is whole within
-      // milliseconds of its connection); connections whose request reached the server stay.
-      for (const auto& r : relays_) {
-        // An operator's certificate is never outweighed by anyone's connection count.
-        if (r->holding && !r->closed && !r->certified && (!evicted || r->deadline < evicted->deadline)) evicted = r;
-      }
+      evicted = to_evict();
     }
     if (open >= limits_.max_per_address) {
       ++counters_.refused_address;
@@ -212,7 +206,7 @@ void ConnectionGate::admit(tcp::socket socket) {
   if (evicted) {
     refusals_.warn(evicted->address, "evicted",
                    "dashboard: closed a connection from " + evicted->address +
-                       ": every connection is open, and its request was the longest unfinished");
+                       ": every connection is open, and that address held the most unfinished requests");
     close(evicted);
   }
   if (tls_) {
@@ -240,6 +234,33 @@ void ConnectionGate::admit(tcp::socket socket) {
     return;
   }
   hold(relay);
+}
+
+// Full: a connection without a whole request makes room, so that slow clients of many addresses
+// cannot keep a newcomer out (a browser's request is whole within milliseconds of its
+// connection); connections whose request reached the server stay, and so does an operator's
+// certificate, whoever opens connections. Of the rest, the address holding the most unfinished
+// connections gives up its oldest: a flood then closes its own connections, and a newcomer's
+// (a commander's browser in its TLS handshake, or on a slow link) outlasts it unless the flood
+// comes from as many addresses as the gate holds connections. Oldest alone, any flood faster than
+// one handshake closed the commander's connection before it could show its certificate.
+std::shared_ptr<ConnectionGate::Relay> ConnectionGate::to_evict() const {
+  auto evictable = [](const std::shared_ptr<Relay>& r) { return r->holding && !r->closed && !r->certified; };
+  std::map<std::string_view, int> held_per_address;
+  for (const auto& r : relays_) {
+    if (evictable(r)) ++held_per_address[r->address];
+  }
+  std::shared_ptr<Relay> evicted;
+  int evicted_held = 0;
+  for (const auto& r : relays_) {
+    if (!evictable(r)) continue;
+    const int held = held_per_address[r->address];
+    if (!evicted || held > evicted_held || (held == evicted_held && r->deadline < evicted->deadline)) {
+      evicted = r;
+      evicted_held = held;
+    }
+  }
+  return evicted;
 }
 
 // The request stays here, where a connection costs a socket and a buffer, until it has arrived

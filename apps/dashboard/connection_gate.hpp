@@ -11,9 +11,9 @@
 //    server: a connection being dribbled costs a socket and a buffer here, never a server
 //    thread, so slow clients from any number of addresses cannot hold the server's threads;
 //  - refuses a client address that already has `max_per_address` connections open;
-//  - at `max_total` open connections, makes room for a new one by closing the one held longest
-//    whose request has not arrived whole (counted `evicted`); refuses it only when every open
-//    connection's request has reached the server;
+//  - at `max_total` open connections, makes room for a new one by closing a connection whose
+//    request has not arrived whole: the oldest of the address holding the most of them (counted
+//    `evicted`); refuses it only when every open connection's request has reached the server;
 //  - closes a connection whose request has not arrived whole within `request_deadline_s` of
 //    its opening. The server reports a GET's head (request_arrived) by the port the relay's
 //    connection comes from; the GET is then served as long as it lasts (event streams). A
@@ -27,7 +27,8 @@
 // client authority in the context (dashboard.tls_client_ca), only a client showing a certificate
 // of that authority gets past the handshake, and its connection is never evicted to make room:
 // anyone else on the network can cost the gate handshakes, but never reach the server, nor close
-// an operator's connection by opening connections of its own.
+// an operator's connection once it has shown its certificate; during its handshake, only a flood
+// from at least as many addresses as the gate holds connections can (to_evict).
 #include <boost/asio.hpp>
 #include <boost/asio/ssl.hpp>
 #include <chrono>
@@ -83,7 +84,7 @@ class ConnectionGate {
     std::uint64_t relayed = 0;           ///< connections accepted and relayed
     std::uint64_t refused_address = 0;   ///< over max_per_address
     std::uint64_t refused_total = 0;     ///< over max_total, none of them held (all served)
-    std::uint64_t evicted = 0;           ///< held longest, closed at max_total for a new one
+    std::uint64_t evicted = 0;           ///< unfinished, closed at max_total for a new one (to_evict)
     std::uint64_t expired = 0;           ///< closed at request_deadline_s
     std::uint64_t failed_handshakes = 0;  ///< TLS not spoken, or no client certificate the context accepts
     std::uint64_t certified = 0;          ///< handshakes with a verified client certificate
@@ -97,6 +98,8 @@ class ConnectionGate {
   void accept();
   void admit(boost::asio::ip::tcp::socket socket);
   void sweep();
+  /// Under mutex_: the connection to close for a newcomer when the gate is full, or null.
+  std::shared_ptr<Relay> to_evict() const;
   void hold(const std::shared_ptr<Relay>& relay);
   void connect(const std::shared_ptr<Relay>& relay);
   void pump(const std::shared_ptr<Relay>& relay, bool upstream);

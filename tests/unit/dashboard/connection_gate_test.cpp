@@ -107,7 +107,8 @@ TEST_F(Gate, SlowClientsOfManyAddressesCannotHoldTheServersThreads) {
 
 // Nine addresses of 32 slow connections each filled the gate's 288 (4 x (max_streams + 8)), and
 // the commander's browser was refused until the deadline closed them (issue 59, "many
-// addresses"). Now the connection held longest without a whole request makes room.
+// addresses"). Now a connection without a whole request makes room: of the addresses holding the
+// most, here all nine, the oldest.
 TEST_F(Gate, SlowClientsFillingEveryConnectionCannotKeepTheCommanderOut) {
   const auto opened = std::chrono::steady_clock::now();
   std::vector<std::unique_ptr<RawSocket>> slow;
@@ -126,6 +127,30 @@ TEST_F(Gate, SlowClientsFillingEveryConnectionCannotKeepTheCommanderOut) {
   // The first opened made room, well before the 2 s deadline would have closed it.
   ASSERT_TRUE(slow.front()->closed_within(3000));
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - opened).count(), 1.9);
+}
+
+// The same flood, with the commander's request begun before it (a slow link; over TLS, a browser
+// still in its handshake). Closing the connection held longest closed the commander's, the oldest
+// of all, as soon as the flood filled the gate. Now the address holding the most unfinished
+// connections gives one up: the flood closes its own, and the commander's request is answered.
+TEST_F(Gate, ACommandersUnfinishedRequestOutlastsAFloodFromAddressesHoldingMore) {
+  RawSocket commander(server->port());
+  ASSERT_TRUE(commander.connected());
+  ASSERT_TRUE(commander.send("GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n"));
+  std::vector<std::unique_ptr<RawSocket>> flood;
+  for (int host = 2; host <= 10; ++host) {
+    const std::string from = "127.0.0." + std::to_string(host);
+    for (auto& socket : open_from_attacker(32, "GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n", from.c_str())) {
+      flood.push_back(std::move(socket));
+    }
+  }
+  for (int k = 0; k < 100 && server->connection_counters().evicted == 0; ++k) std::this_thread::sleep_for(10ms);
+  ASSERT_GE(server->connection_counters().evicted, 1U) << "the flood did not fill the gate";
+  ASSERT_TRUE(commander.send("\r\n"));
+  const std::string head = commander.receive_head();
+  EXPECT_EQ(head.rfind("HTTP/1.1 200", 0), 0U)
+      << "the commander's connection was closed to make room: '" << head << "'";
+  EXPECT_TRUE(flood.front()->closed_within(1000)) << "the oldest of an address holding 32 made room";
 }
 
 // Logging in takes the token in the body, so POST /api/session cannot be refused on its head:
