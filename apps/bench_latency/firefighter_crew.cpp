@@ -54,24 +54,15 @@ FirefighterCrew::FirefighterCrew(const app::MissionConfig& mission, std::size_t 
     const std::uint64_t team_seed = derive_seed(seed, 1000 + m / 2);
     mission::SimulatedFirefighter sim(*mission.world, ff.spec, team_seed, derive_seed(seed, 5000 + m));
     estimator::FirefighterDevice device(ff.id, ff.team, estimator::FirefighterDeviceConfig{}, 0);
-    auto anchor = estimator::entry_fix(*mission.world, mission.estimators.firefighter, ff.id, ff.team, ff.spec.entry,
-                                       ff.spec.hand);
-    double reckoned_at_s = -1e9;
+    if (auto entry = estimator::entry_fix(*mission.world, mission.estimators.firefighter, ff.id, ff.team, ff.spec.entry,
+                                          ff.spec.hand)) {
+      device.start_at(*entry);  // as the device's loop
+    }
     while (auto sample = sim.next_sample()) {
       device.push(*sample);
       auto o = device.take_odometry();
       if (!o) continue;
-      if (anchor) {  // as the device's loop: anchored at the INS history's first pose
-        anchor->stamp = o->interval_start;
-        device.on_fix(*anchor);
-        anchor.reset();
-      }
-      Step step{1e-9 * static_cast<double>(o->interval_end), *o, std::nullopt};
-      if (step.at_s - reckoned_at_s >= 1.0) {
-        step.reckoning = device.dead_reckoning();
-        if (step.reckoning) reckoned_at_s = step.at_s;
-      }
-      walked[m].push_back(std::move(step));
+      walked[m].push_back(Step{1e-9 * static_cast<double>(o->interval_end), *o, device.take_own_position()});
     }
   }
   for (std::size_t m = 0; m < members_.size(); ++m) {

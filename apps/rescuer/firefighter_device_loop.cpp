@@ -75,16 +75,16 @@ app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const ap
     spdlog::warn("no core daemon matched within 5 s: starting anyway (dead reckoning on the device until one answers)");
   }
   // Dead reckoning starts from the reported entry (where the crew aligns, turned to its wall).
-  auto entry_fix = estimator::entry_fix(*mission.world, placement, ff.id, ff.team, ff.spec.entry, ff.spec.hand);
+  if (auto entry = estimator::entry_fix(*mission.world, placement, ff.id, ff.team, ff.spec.entry, ff.spec.hand)) {
+    device.start_at(*entry);
+  }
   const auto truth_incident = [&](double t) {
     const auto truth = sim->truth(t);
     return std::make_pair(placement.to_incident(truth.position), static_cast<std::int32_t>(truth.floor));
   };
   mission::FirefighterScore score(ff.id, ff.team, ff.spec.enter_at_s);
-  bool anchored = false;
   bool mayday_pressed = false, reset_pressed = false;
   bool on_own = false;
-  double last_position_s = -1e9;
   std::optional<responder::ResponderPosition> last_fix;
   std::size_t published = 0;
   while (!app::shutdown_requested()) {
@@ -111,11 +111,6 @@ app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const ap
     }
     const auto odometry = device.take_odometry();
     if (!odometry) continue;
-    if (!anchored && entry_fix) {
-      entry_fix->stamp = odometry->interval_start;  // the INS history's first pose
-      device.on_fix(*entry_fix);
-      anchored = true;
-    }
     node.publish_odometry(*odometry);
     ++published;
     for (const auto& a : device.alarm_changes()) {
@@ -149,14 +144,9 @@ app::ExitCode run_firefighter_device(const app::MissionConfig& mission, const ap
                                              : 0.0);
     // The device's own position once a mission second: its writer is the firefighter's link at
     // incident command, and while the daemon is silent it is the best position there is.
-    const double now_s = mission_s(odometry->interval_end);
-    if (now_s - last_position_s >= 1.0) {
-      if (auto own = device.dead_reckoning()) {
-        own->team_id = ff.team;
-        node.publish_position(*own);
-        last_position_s = now_s;
-        if (sim) score.on_own_position(*own, truth_incident(mission_s(own->stamp)).first);
-      }
+    if (auto own = device.take_own_position()) {
+      node.publish_position(*own);
+      if (sim) score.on_own_position(*own, truth_incident(mission_s(own->stamp)).first);
     }
     if (!quiet && published % 10 == 0) {
       const auto shown = silent ? device.dead_reckoning() : last_fix;

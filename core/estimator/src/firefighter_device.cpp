@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 #include "sarloc/core/common/angle.hpp"
 #include "sarloc/core/common/errors.hpp"
@@ -26,6 +27,7 @@ void FirefighterDeviceConfig::validate() const {
   in_range(odometry_rate_hz, "odometry_rate_hz", 0.0, 50.0);
   in_range(dead_reckoning_drift, "dead_reckoning_drift", 0.0, 1.0);
   in_range(history_s, "history_s", 1.0, 86400.0);
+  in_range(own_position_period_s, "own_position_period_s", 0.01, 3600.0);
 }
 
 FirefighterDevice::FirefighterDevice(std::string responder_id, std::string team_id, FirefighterDeviceConfig config,
@@ -46,6 +48,7 @@ void FirefighterDevice::push(const firefighter::ImuSample& sample) {
     started_ = true;
     interval_start_s_ = ins_.time();
     history_.push_back({now(), ins_.nominal().p, ins_.yaw(), 0.0});
+    if (start_) start_at(*std::exchange(start_, std::nullopt));
   }
   update_motionless();
 }
@@ -156,6 +159,28 @@ bool FirefighterDevice::on_fix(const responder::ResponderPosition& fix) {
   }
   fix_ = fix;
   return true;
+}
+
+void FirefighterDevice::start_at(responder::ResponderPosition entry) {
+  if (!started_) {
+    start_ = std::move(entry);
+    return;
+  }
+  entry.stamp = history_.front().stamp;
+  on_fix(entry);
+}
+
+std::optional<responder::ResponderPosition> FirefighterDevice::take_own_position() {
+  if (history_.empty()) return std::nullopt;
+  if (own_position_at_ && history_.back().stamp - *own_position_at_ < to_ns(config_.own_position_period_s) - 1) {
+    return std::nullopt;
+  }
+  auto own = dead_reckoning();
+  if (!own) return std::nullopt;
+  own->responder_id = id_;
+  own->team_id = team_;
+  own_position_at_ = own->stamp;
+  return own;
 }
 
 std::optional<FirefighterDevice::InsPose> FirefighterDevice::pose_at(TimestampNs stamp) const {

@@ -442,6 +442,56 @@ TEST(FirefighterLive, DeadReckoningFromTheLastFixFollowsTheWalkWithinItsGrownUnc
   EXPECT_GT(device.distance_walked_m(), 30.0);
 }
 
+// The device's loop and the latency bench both start a device at its reported entry and publish
+// its own position once a mission second: one implementation of each, here. The entry anchors
+// dead reckoning at the INS's first pose (where the boot aligned), before any odometry, and the
+// own positions come one a second under the device's ids, the entry's uncertainty grown by the walk.
+TEST(FirefighterLive, ADeviceStartedAtItsEntryReckonsFromItsFirstPoseAndGivesItsOwnPositionOnceASecond) {
+  std::mt19937_64 rng(9);
+  const FootTrajectory foot(walk_with_stop(5, 1.0, 40));  // 36 m along +x from (0, 0)
+  firefighter::ImuErrors errors(firefighter::ImuErrorConfig{}, rng);
+  FirefighterDevice device("ff1", "alpha", FirefighterDeviceConfig{}, kOrigin);
+  responder::ResponderPosition entry;
+  entry.responder_id = "someone else";  // the device's own ids win
+  entry.position.position = Vec3(10.0, 20.0, 0.0);
+  entry.position.covariance = 0.09 * Mat3::Identity();
+  entry.heading_rad = 0.0;  // the boot faces +x of the incident frame, as it walks
+  entry.source = responder::PositionSource::kManual;
+  device.start_at(entry);
+  EXPECT_FALSE(device.dead_reckoning()) << "not before the INS has aligned";
+  std::vector<responder::ResponderPosition> own;
+  std::optional<TimestampNs> first_odometry_start;
+  for (const auto& ideal : foot.imu_samples(100.0)) {
+    device.push(errors.apply(ideal, rng));
+    const auto o = device.take_odometry();
+    if (!o) continue;
+    if (!first_odometry_start) {
+      first_odometry_start = o->interval_start;
+      ASSERT_TRUE(device.dead_reckoning()) << "anchored at the first pose, before the first odometry was taken";
+    }
+    if (auto p = device.take_own_position()) own.push_back(*p);
+  }
+  ASSERT_GT(own.size(), 20U);
+  for (std::size_t i = 1; i < own.size(); ++i) {
+    const double gap = seconds(own[i].stamp) - seconds(own[i - 1].stamp);
+    EXPECT_GE(gap, 1.0 - 1e-9) << "position " << i;
+    EXPECT_LE(gap, 1.5 + 1e-9) << "position " << i << ": one at the first odometry step past the second";
+  }
+  for (const auto& p : own) {
+    EXPECT_EQ(p.responder_id, "ff1");
+    EXPECT_EQ(p.team_id, "alpha");
+    EXPECT_EQ(p.source, responder::PositionSource::kDeadReckoning);
+  }
+  // The entry's heading 0 turns the INS frame's yaw at its stamp onto +x: the walk heads
+  // along +x from (10, 20) up to the INS's heading error at alignment.
+  const auto& last = own.back();
+  const Eigen::Vector2d truth = Eigen::Vector2d(10.0, 20.0) + foot.at(seconds(last.stamp)).position.head<2>() -
+                                foot.at(seconds(*first_odometry_start)).position.head<2>();
+  const double err = (last.position.position.head<2>() - truth).norm();
+  EXPECT_GT(last.position.covariance(0, 0), 0.09 + 0.1) << "grown with the ~36 m walked";
+  EXPECT_LT(err, 3.0 * std::sqrt(last.position.covariance(0, 0))) << "error " << err;
+}
+
 // A daemon restarted mid-search first answers with the mean of a cloud spread over the plan. The
 // device keeps dead reckoning from its surer anchor through those answers, and takes a fix again
 // once it is surer or has converged (the kill-core building mission: docs/estimation/firefighter.md).

@@ -12,8 +12,10 @@
 //     its uncertainty grown by `dead_reckoning_drift` of the distance walked since.
 //
 //   FirefighterDevice dev("ff1", "alpha", FirefighterDeviceConfig{}, mission_start_ns);
+//   dev.start_at(*entry_fix(plan, placement, "ff1", "alpha", "front", Hand::kRight));
 //   dev.push(imu_sample);                                  // t: s since power-up
 //   if (auto o = dev.take_odometry()) publish(*o);         // when an interval is due
+//   if (auto own = dev.take_own_position()) publish(*own);  // once a mission second
 //   for (auto& a : dev.alarm_changes()) publish(a);
 //   dev.on_fix(daemon_position);
 //   auto p = dev.dead_reckoning();                          // POSITION_DEAD_RECKONING
@@ -38,6 +40,8 @@ struct FirefighterDeviceConfig {
   double dead_reckoning_drift = 0.02;
   /// How long the INS history for dead reckoning reaches back (a fix older than this is not used).
   double history_s = 600.0;
+  /// Mission seconds between two of the device's own positions (take_own_position).
+  double own_position_period_s = 1.0;
   void validate() const;
 };
 
@@ -61,6 +65,9 @@ class FirefighterDevice {
   /// Every alarm active now.
   std::vector<responder::ResponderAlarm> active_alarms() const;
 
+  /// The device's first anchor before any fix (entry_fix: where the crew aligns its boots),
+  /// taken at the INS's first pose, whose stamp it gets; at once when the INS has started.
+  void start_at(responder::ResponderPosition entry);
   /// The daemon's map-aided position (or a manual one): the anchor of dead reckoning. A fix that
   /// has not converged does not replace an anchor whose dead reckoning is surer (a smaller
   /// horizontal covariance): a daemon restarted mid-search first answers with the mean of a
@@ -71,6 +78,11 @@ class FirefighterDevice {
   /// The last fix moved by the INS since (source kDeadReckoning), or nullopt without a fix
   /// in the history's reach.
   std::optional<responder::ResponderPosition> dead_reckoning() const;
+  /// The dead reckoning under the device's own ids, once own_position_period_s of mission time
+  /// has passed since the last one taken (nullopt otherwise, or without an anchor). Published, it
+  /// is the firefighter's link at incident command while the daemon is silent, and the start a
+  /// daemon that meets the firefighter mid-search takes (ResponderEstimator::hint_position).
+  std::optional<responder::ResponderPosition> take_own_position();
 
   TimestampNs now() const;
   bool aligned() const { return ins_.aligned(); }
@@ -100,6 +112,8 @@ class FirefighterDevice {
   double walked_m_ = 0.0;
   std::deque<InsPose> history_;
   std::optional<responder::ResponderPosition> fix_;
+  std::optional<responder::ResponderPosition> start_;  ///< start_at's anchor until the INS starts
+  std::optional<TimestampNs> own_position_at_;         ///< stamp of the last take_own_position
   std::optional<responder::ResponderAlarm> motionless_, mayday_;
   double motionless_reset_at_s_ = -1.0;  ///< a reset while still motionless re-arms from here
   std::vector<responder::ResponderAlarm> changes_;
