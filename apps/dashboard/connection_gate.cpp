@@ -242,8 +242,9 @@ void ConnectionGate::admit(tcp::socket socket) {
 // certificate, whoever opens connections. Of the rest, the address holding the most unfinished
 // connections gives up its oldest: a flood then closes its own connections, and a newcomer's
 // (a commander's browser in its TLS handshake, or on a slow link) outlasts it unless the flood
-// comes from as many addresses as the gate holds connections. Oldest alone, any flood faster than
-// one handshake closed the commander's connection before it could show its certificate.
+// comes from about as many addresses as the gate holds unfinished connections, divided by the
+// newcomer's own. Oldest alone, any flood faster than one handshake closed the commander's
+// connection before it could show its certificate.
 std::shared_ptr<ConnectionGate::Relay> ConnectionGate::to_evict() const {
   auto evictable = [](const std::shared_ptr<Relay>& r) { return r->holding && !r->closed && !r->certified; };
   std::map<std::string_view, int> held_per_address;

@@ -13,7 +13,8 @@
 //  - refuses a client address that already has `max_per_address` connections open;
 //  - at `max_total` open connections, makes room for a new one by closing a connection whose
 //    request has not arrived whole: the oldest of the address holding the most of them (counted
-//    `evicted`); refuses it only when every open connection's request has reached the server;
+//    `evicted`); refuses it only when none may be closed (every request has reached the
+//    server, or its client showed an operator's certificate);
 //  - closes a connection whose request has not arrived whole within `request_deadline_s` of
 //    its opening. The server reports a GET's head (request_arrived) by the port the relay's
 //    connection comes from; the GET is then served as long as it lasts (event streams). A
@@ -28,7 +29,8 @@
 // of that authority gets past the handshake, and its connection is never evicted to make room:
 // anyone else on the network can cost the gate handshakes, but never reach the server, nor close
 // an operator's connection once it has shown its certificate; during its handshake, only a flood
-// from at least as many addresses as the gate holds connections can (to_evict).
+// from about as many addresses as the gate holds unfinished connections, divided by the
+// operator's own, can (to_evict).
 #include <boost/asio.hpp>
 #include <boost/asio/ssl.hpp>
 #include <chrono>
@@ -98,7 +100,8 @@ class ConnectionGate {
   void accept();
   void admit(boost::asio::ip::tcp::socket socket);
   void sweep();
-  /// Under mutex_: the connection to close for a newcomer when the gate is full, or null.
+  /// On the io thread, under mutex_ (it reads the relays' io-thread flags): the connection to
+  /// close for a newcomer when the gate is full, or null.
   std::shared_ptr<Relay> to_evict() const;
   void hold(const std::shared_ptr<Relay>& relay);
   void connect(const std::shared_ptr<Relay>& relay);

@@ -47,7 +47,8 @@ void FirefighterDevice::push(const firefighter::ImuSample& sample) {
     (void)ins_.take_displacement();
     started_ = true;
     interval_start_s_ = ins_.time();
-    history_.push_back({now(), ins_.nominal().p, ins_.yaw(), 0.0});
+    first_pose_stamp_ = now();
+    history_.push_back({first_pose_stamp_, ins_.nominal().p, ins_.yaw(), 0.0});
     if (start_) start_at(*std::exchange(start_, std::nullopt));
   }
   update_motionless();
@@ -147,10 +148,18 @@ std::vector<responder::ResponderAlarm> FirefighterDevice::active_alarms() const 
   return out;
 }
 
-bool FirefighterDevice::on_fix(const responder::ResponderPosition& fix) {
+namespace {
+
+void check_finite(const responder::ResponderPosition& fix) {
   if (!fix.position.position.allFinite() || !fix.position.covariance.allFinite() || !std::isfinite(fix.heading_rad)) {
     throw InputError("fix of '" + fix.responder_id + "': position, covariance or heading not finite");
   }
+}
+
+}  // namespace
+
+bool FirefighterDevice::on_fix(const responder::ResponderPosition& fix) {
+  check_finite(fix);
   if (fix_ && fix.stamp < fix_->stamp) return false;  // an older fix overtaken on the way
   if (const auto own = dead_reckoning();
       own && !fix.converged &&
@@ -161,13 +170,16 @@ bool FirefighterDevice::on_fix(const responder::ResponderPosition& fix) {
   return true;
 }
 
-void FirefighterDevice::start_at(responder::ResponderPosition entry) {
+bool FirefighterDevice::start_at(responder::ResponderPosition entry) {
+  check_finite(entry);  // here, not in push(), which throws only before touching anything
   if (!started_) {
     start_ = std::move(entry);
-    return;
+    return true;
   }
-  entry.stamp = history_.front().stamp;
-  on_fix(entry);
+  // The first pose, as long as the history reaches back to it.
+  if (history_.empty() || history_.front().stamp != first_pose_stamp_) return false;
+  entry.stamp = first_pose_stamp_;
+  return on_fix(entry);
 }
 
 std::optional<responder::ResponderPosition> FirefighterDevice::take_own_position() {

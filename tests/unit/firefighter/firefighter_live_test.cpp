@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
 
 #include "sarloc/core/common/errors.hpp"
@@ -457,20 +458,28 @@ TEST(FirefighterLive, ADeviceStartedAtItsEntryReckonsFromItsFirstPoseAndGivesIts
   entry.position.covariance = 0.09 * Mat3::Identity();
   entry.heading_rad = 0.0;  // the boot faces +x of the incident frame, as it walks
   entry.source = responder::PositionSource::kManual;
-  device.start_at(entry);
+  ASSERT_TRUE(device.start_at(entry));
   EXPECT_FALSE(device.dead_reckoning()) << "not before the INS has aligned";
   std::vector<responder::ResponderPosition> own;
-  std::optional<TimestampNs> first_odometry_start;
+  std::optional<TimestampNs> first_odometry_start, aligned_at;
   for (const auto& ideal : foot.imu_samples(100.0)) {
     device.push(errors.apply(ideal, rng));
+    if (device.aligned() && !aligned_at) {
+      aligned_at = device.now();
+      // Anchored in the push that started the INS, before any odometry: an alarm raised now
+      // already carries the entry.
+      const auto at_start = device.dead_reckoning();
+      ASSERT_TRUE(at_start) << "not anchored when the INS started";
+      EXPECT_EQ(at_start->stamp, *aligned_at);
+      EXPECT_EQ(at_start->position.position, entry.position.position);
+    }
     const auto o = device.take_odometry();
     if (!o) continue;
-    if (!first_odometry_start) {
-      first_odometry_start = o->interval_start;
-      ASSERT_TRUE(device.dead_reckoning()) << "anchored at the first pose, before the first odometry was taken";
-    }
+    if (!first_odometry_start) first_odometry_start = o->interval_start;
     if (auto p = device.take_own_position()) own.push_back(*p);
   }
+  ASSERT_TRUE(first_odometry_start);
+  EXPECT_EQ(*first_odometry_start, *aligned_at) << "the first odometry starts at the anchored pose";
   ASSERT_GT(own.size(), 20U);
   for (std::size_t i = 1; i < own.size(); ++i) {
     const double gap = seconds(own[i].stamp) - seconds(own[i - 1].stamp);
@@ -490,6 +499,43 @@ TEST(FirefighterLive, ADeviceStartedAtItsEntryReckonsFromItsFirstPoseAndGivesIts
   const double err = (last.position.position.head<2>() - truth).norm();
   EXPECT_GT(last.position.covariance(0, 0), 0.09 + 0.1) << "grown with the ~36 m walked";
   EXPECT_LT(err, 3.0 * std::sqrt(last.position.covariance(0, 0))) << "error " << err;
+}
+
+// An entry given after the INS started is taken at its first pose while the history reaches
+// back to it, and refused (false) once it does not; a position that is not finite is refused
+// by start_at itself, never inside push().
+TEST(FirefighterLive, AnEntryIsTakenAtTheFirstPoseOnlyWhileTheHistoryHoldsItAndNeverIfNotFinite) {
+  std::mt19937_64 rng(10);
+  const FootTrajectory foot(walk_with_stop(5, 1.0, 20));
+  firefighter::ImuErrors errors(firefighter::ImuErrorConfig{}, rng);
+  FirefighterDeviceConfig config;
+  config.history_s = 5.0;
+  FirefighterDevice early("ff1", "alpha", config, kOrigin), late("ff1", "alpha", config, kOrigin);
+  responder::ResponderPosition entry;
+  entry.position.position = Vec3(10.0, 20.0, 0.0);
+  entry.position.covariance = 0.09 * Mat3::Identity();
+  entry.source = responder::PositionSource::kManual;
+  responder::ResponderPosition broken = entry;
+  broken.heading_rad = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(early.start_at(broken), InputError);
+  bool early_taken = false;
+  std::optional<bool> late_taken;
+  for (const auto& ideal : foot.imu_samples(100.0)) {
+    const auto sample = errors.apply(ideal, rng);
+    early.push(sample);
+    late.push(sample);
+    (void)early.take_odometry();
+    (void)late.take_odometry();
+    if (early.aligned() && !early_taken) {
+      early_taken = true;
+      EXPECT_TRUE(early.start_at(entry)) << "the INS has just started: its first pose is in the history";
+      ASSERT_TRUE(early.dead_reckoning());
+    }
+    if (late.aligned() && !late_taken && late.distance_walked_m() > 10.0) late_taken = late.start_at(entry);
+  }
+  ASSERT_TRUE(late_taken);
+  EXPECT_FALSE(*late_taken) << "the first pose left the 5 s history: no anchor at a later pose";
+  EXPECT_FALSE(late.dead_reckoning());
 }
 
 // A daemon restarted mid-search first answers with the mean of a cloud spread over the plan. The

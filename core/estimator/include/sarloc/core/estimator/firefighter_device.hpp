@@ -66,8 +66,11 @@ class FirefighterDevice {
   std::vector<responder::ResponderAlarm> active_alarms() const;
 
   /// The device's first anchor before any fix (entry_fix: where the crew aligns its boots),
-  /// taken at the INS's first pose, whose stamp it gets; at once when the INS has started.
-  void start_at(responder::ResponderPosition entry);
+  /// taken at the INS's first pose, whose stamp it gets: when the INS starts (so an alarm
+  /// raised before the first odometry already carries it), or at once if it has. Returns false
+  /// when it is not taken (on_fix's rules, or the history no longer reaches the first pose);
+  /// throws InputError for a position, covariance or heading not finite.
+  bool start_at(responder::ResponderPosition entry);
   /// The daemon's map-aided position (or a manual one): the anchor of dead reckoning. A fix that
   /// has not converged does not replace an anchor whose dead reckoning is surer (a smaller
   /// horizontal covariance): a daemon restarted mid-search first answers with the mean of a
@@ -114,6 +117,7 @@ class FirefighterDevice {
   std::optional<responder::ResponderPosition> fix_;
   std::optional<responder::ResponderPosition> start_;  ///< start_at's anchor until the INS starts
   std::optional<TimestampNs> own_position_at_;         ///< stamp of the last take_own_position
+  TimestampNs first_pose_stamp_ = 0;                   ///< when the INS started
   std::optional<responder::ResponderAlarm> motionless_, mayday_;
   double motionless_reset_at_s_ = -1.0;  ///< a reset while still motionless re-arms from here
   std::vector<responder::ResponderAlarm> changes_;
