@@ -169,6 +169,7 @@ int main(int argc, char** argv) {
     const auto period_ns = seconds_to_ns(mission.period_s);
     sarloc::dds::EpochResult last;
     std::optional<responder::ResponderPosition> last_fix;
+    std::string sector = mission.sector_of.count(rescuer_id) != 0 ? mission.sector_of.at(rescuer_id) : "";
     for (std::size_t k = 0; !app::shutdown_requested(); ++k) {
       const TimestampNs stamp = epoch + static_cast<TimestampNs>(k) * period_ns;
       // Wait for this epoch's moment on the (possibly accelerated) mission clock.
@@ -190,6 +191,17 @@ int main(int argc, char** argv) {
       }
       last = node.epoch(samples->odometry, samples->position, samples->samples);
       if (samples->position) last_fix = samples->position;
+      if (samples->position && !mission.sector_areas.empty()) {
+        // Walked into another sector's area: its daemon serves this device from now on, and
+        // takes the search over from this one's (docs/architecture.md, "Hand-over between sectors").
+        const std::string next =
+            mission.sector_areas.sector_for(sector, samples->position->position.position.head<2>());
+        if (next != sector) {
+          spdlog::info("walked into sector '{}' (from '{}'): its core daemon serves this device now", next, sector);
+          node.move_to(app::MissionConfig::partitions_of_sector(next));
+          sector = next;
+        }
+      }
       ++epochs;
       if (last.latency_ms >= 0.0) latencies.push_back(last.latency_ms);
       followed = last.guidance;

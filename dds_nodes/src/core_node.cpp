@@ -14,6 +14,7 @@
 #include "sarloc/core/common/validate.hpp"
 #include "sarloc/core/incident/signal_pursuit.hpp"
 #include "sarloc/dds/conversions.hpp"
+#include "sarloc/dds/handover_message.hpp"
 #include "sarloc/dds/mission_clock.hpp"
 #include "sarloc/dds/process_stats.hpp"
 #include "sarloc/dds/return_code.hpp"
@@ -68,6 +69,11 @@ void CoreNodeConfig::validate() const {
   for (const auto& p : partitions) {
     if (p.empty()) throw ConfigError("core.partitions contains an empty name");
   }
+  if (handover_journal_entries > ::sarloc::HANDOVER_ENTRIES_MAX) {
+    throw ConfigError("core.handover_journal_entries = " + config_value(handover_journal_entries) +
+                      ": must be in [0, " + std::to_string(::sarloc::HANDOVER_ENTRIES_MAX) +
+                      "] (the most a rescuer_handover carries)");
+  }
 }
 
 CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig config)
@@ -83,7 +89,8 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
       position_writer_(participant_),
       candidates_writer_(participant_),
       position_refresh_(refresh_within_lifespan(position_writer_)),
-      status_writer_(participant_) {
+      status_writer_(participant_),
+      handover_writer_(participant_) {
   for (unsigned i = 0; i < config_.workers; ++i) {
     workers_.push_back(std::make_unique<Worker>());
     Worker& w = *workers_.back();
@@ -187,6 +194,45 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
           }
         },
         device_position_options(true));
+    if (config_.handover_journal_entries > 0) {
+      // Other daemons' requests and journals; the worker of the responder decides.
+      handover_reader_ = std::make_unique<Reader<::sarloc::RescuerHandover>>(
+          participant_, [this](const ::sarloc::RescuerHandover& h, const auto& info) {
+            if (participant_->is_own_writer(info.publication_handle)) return;
+            const std::string id = h.responder_id().to_string();
+            const std::string from = h.from_node().to_string();
+            if (!is_identifier(id) || !is_identifier(from) || from == config_.node_id) return;
+            // Only the mission's core daemons hand responders over (when the mission names them),
+            // and with DDS Security only the identity CN=from_node speaks as it: a device's
+            // identity asking for a rescuer's estimator would have it released from his daemon.
+            const auto& cores = participant_->config().core_node_ids;
+            if (!cores.empty() && std::find(cores.begin(), cores.end(), from) == cores.end()) {
+              reject(id, "unauthorized_writer",
+                     "rescuer_handover from '" + from + "', which is no core daemon of the mission");
+              return;
+            }
+            if (!authority_.admits(info.publication_handle, from, WriterAuthority::Speakers::kDevice)) {
+              reject(id, "unauthorized_writer", authority_.refusal("rescuer_handover", info.publication_handle, from));
+              return;
+            }
+            if (h.kind() == ::sarloc::HANDOVER_REQUEST) {
+              enqueue(id, HandOverTo{id, from});
+              return;
+            }
+            if (h.to_node().to_string() != config_.node_id) return;
+            if (h.kind() == ::sarloc::HANDOVER_UNAVAILABLE) {
+              spdlog::warn(
+                  "{}: '{}' cannot hand over the estimator of '{}' (its journal overflowed): it goes on afresh here",
+                  config_.node_id, from, id);
+              return;
+            }
+            try {
+              enqueue(id, TakeOver{id, from, journal_of(h)});
+            } catch (const InputError& e) {
+              reject(id, "invalid_value", std::string("rescuer_handover from '") + from + "': " + e.what());
+            }
+          });
+    }
   } catch (...) {
     stop_threads();
     throw;
@@ -214,6 +260,7 @@ void CoreNode::stop() {
   odometry_reader_.reset();
   victim_reader_.reset();
   device_position_reader_.reset();
+  handover_reader_.reset();
   stop_threads();
 }
 
@@ -445,10 +492,99 @@ estimator::SampleSequencer& CoreNode::sequencer_for(Worker& worker, const std::s
   spdlog::info("{}: new responder '{}' ({})", config_.node_id, rescuer_id, estimator::to_string(role));
   const auto wait = std::chrono::duration_cast<estimator::SampleSequencer::Clock::duration>(
       std::chrono::duration<double>(config_.odometry_wait_s));
-  return worker.responders
-      .emplace(rescuer_id,
-               estimator::SampleSequencer(estimator::make_estimator(role, rescuer_id, config_.estimators), wait))
-      .first->second;
+  auto estimator = estimator::make_estimator(role, rescuer_id, config_.estimators);
+  if (config_.handover_journal_entries > 0) {
+    estimator = std::make_unique<estimator::JournaledEstimator>(std::move(estimator), config_.handover_journal_entries);
+    // Whoever holds this responder's estimator (the daemon of the sector it came from) hands it
+    // over; meanwhile this one runs from scratch, and the journal, when it comes, takes its place.
+    if (!handover_writer_.write(handover_request(rescuer_id, config_.node_id, MissionClock::wall_now_ns()))) {
+      spdlog::error("{}: DDS refused the hand-over request for '{}'", config_.node_id, rescuer_id);
+    }
+  }
+  return worker.responders.emplace(rescuer_id, estimator::SampleSequencer(std::move(estimator), wait)).first->second;
+}
+
+bool CoreNode::straggler(Worker& worker, const std::string& rescuer_id, TimestampNs stamp) {
+  const auto it = worker.handed_away.find(rescuer_id);
+  if (it == worker.handed_away.end()) return false;
+  if (stamp <= it->second) {
+    counters_.rejected("handed_over");
+    warnings_.warn(rescuer_id, "handed_over",
+                   "rejected sample (handed_over): rescuer '" + rescuer_id + "': stamp " + std::to_string(stamp) +
+                       " is no later than its hand-over to another sector's daemon");
+    return true;
+  }
+  worker.handed_away.erase(it);  // it came back: a new responder here, which asks for its estimator
+  return false;
+}
+
+void CoreNode::hand_over(Worker& worker, const HandOverTo& request) {
+  const auto it = worker.responders.find(request.rescuer_id);
+  if (it == worker.responders.end()) return;  // not here: another daemon's, or none
+  const auto* journaled = dynamic_cast<const estimator::JournaledEstimator*>(&it->second.estimator());
+  if (journaled == nullptr) return;
+  const estimator::EstimatorJournal& journal = journaled->journal();
+  ::sarloc::RescuerHandover message;
+  try {
+    message = handover_journal(journal, config_.node_id, request.to_node, MissionClock::wall_now_ns());
+  } catch (const InputError& e) {
+    spdlog::error("{}: cannot hand the estimator of '{}' to '{}': {}", config_.node_id, request.rescuer_id,
+                  request.to_node, e.what());
+    return;
+  }
+  if (!handover_writer_.write(message)) {
+    spdlog::error("{}: DDS refused the hand-over of '{}' to '{}': it stays here", config_.node_id, request.rescuer_id,
+                  request.to_node);
+    return;
+  }
+  if (journal.overflowed) {
+    spdlog::warn(
+        "{}: '{}' met '{}', whose journal overflowed (core.handover_journal_entries = {}): it starts afresh there",
+        config_.node_id, request.to_node, request.rescuer_id, config_.handover_journal_entries);
+    return;  // its state stays here until idle
+  }
+  spdlog::info("{}: handed '{}' to '{}' ({} calls); its state here is released", config_.node_id, request.rescuer_id,
+               request.to_node, journal.entries.size());
+  worker.handed_away[request.rescuer_id] = estimator::reach_of(journal).latest;
+  handed_over_.fetch_add(1);
+  if (position_refresh_) position_refresh_->forget(request.rescuer_id);  // the new daemon writes his positions
+  active_filters_.fetch_sub(it->second.estimator().active_filters());
+  worker.responders.erase(it);
+  std::lock_guard<std::mutex> lock(roster_mutex_);
+  roster_.release(request.rescuer_id);
+}
+
+void CoreNode::take_over(Worker& worker, TakeOver& handed) {
+  const auto it = worker.responders.find(handed.rescuer_id);
+  if (it == worker.responders.end()) return;  // asked for and gone since (idle, released): nothing to resume
+  const auto* own = dynamic_cast<const estimator::JournaledEstimator*>(&it->second.estimator());
+  if (own == nullptr) return;
+  const auto began = std::chrono::steady_clock::now();
+  estimator::MergedEstimator merged;
+  try {
+    merged = estimator::resume_with_newer(handed.journal, own->journal(), config_.estimators,
+                                          config_.handover_journal_entries);
+  } catch (const InputError& e) {
+    reject(handed.rescuer_id, "invalid_value",
+           "rescuer_handover from '" + handed.from_node + "': " + std::string(e.what()) + "; it goes on afresh here");
+    return;
+  }
+  if (!merged.estimator) {
+    spdlog::warn(
+        "{}: the journal of '{}' from '{}' is not its estimator any more (the device numbers its steps "
+        "afresh: it restarted): it goes on afresh here",
+        config_.node_id, handed.rescuer_id, handed.from_node);
+    return;
+  }
+  const std::size_t filters_before = it->second.estimator().active_filters();
+  const auto reach = estimator::reach_of(handed.journal);
+  it->second.replace_estimator(std::move(merged.estimator), reach.odometry_until, reach.measured_at);
+  active_filters_.fetch_add(it->second.estimator().active_filters() - filters_before);
+  taken_over_.fetch_add(1);
+  spdlog::info(
+      "{}: took '{}' over from '{}': {} calls replayed and {} of its own since ({} within the journal) in {:.1f} ms",
+      config_.node_id, handed.rescuer_id, handed.from_node, handed.journal.entries.size(), merged.applied,
+      merged.skipped, 1e3 * std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count());
 }
 
 void CoreNode::handle(Worker& worker, Work& work) {
@@ -471,6 +607,14 @@ void CoreNode::handle(Worker& worker, Work& work) {
     }
     return;
   }
+  if (auto* request = std::get_if<HandOverTo>(&work)) {
+    hand_over(worker, *request);
+    return;
+  }
+  if (auto* handed = std::get_if<TakeOver>(&work)) {
+    take_over(worker, *handed);
+    return;
+  }
   if (auto* evict = std::get_if<Evict>(&work)) {
     if (auto it = worker.responders.find(evict->rescuer_id); it != worker.responders.end()) {
       active_filters_.fetch_sub(it->second.estimator().active_filters());
@@ -483,9 +627,26 @@ void CoreNode::handle(Worker& worker, Work& work) {
     return;
   }
   if (auto* odometry = std::get_if<responder::Odometry>(&work)) {
-    sequencer_for(worker, odometry->rescuer_id).on_odometry(*odometry, report);
+    if (straggler(worker, odometry->rescuer_id, odometry->interval_end)) return;
+    auto& sequencer = sequencer_for(worker, odometry->rescuer_id);
+    const TimestampNs motion_known = sequencer.odometry_until();
+    sequencer.on_odometry(*odometry, report);
+    if (odometry->sequence == 1 && odometry->interval_start >= motion_known && !report.rejections.empty() &&
+        report.rejections.back().reason == responder::RejectReason::kSequenceBackwards) {
+      // The device numbers its steps from 1 again, from after the last step it sent: it
+      // restarted, and its signals are numbered afresh too. Its state here (or the estimator a
+      // daemon handed over) would refuse all it sends until idle; it starts afresh instead, with
+      // this step. (Step 1 replayed from before is refused as numbered backwards, as any replay.)
+      spdlog::warn("{}: '{}' numbers its steps from 1 again (its device restarted): its state here starts afresh",
+                   config_.node_id, odometry->rescuer_id);
+      report.rejections.pop_back();
+      active_filters_.fetch_sub(sequencer.estimator().active_filters());
+      worker.responders.erase(odometry->rescuer_id);
+      sequencer_for(worker, odometry->rescuer_id).on_odometry(*odometry, report);
+    }
   } else {
     auto& sample = std::get<estimator::SensorSample>(work);
+    if (straggler(worker, estimator::responder_of(sample), estimator::stamp_of(sample))) return;
     auto& sequencer = sequencer_for(worker, estimator::responder_of(sample));
     const std::size_t filters_before = sequencer.estimator().active_filters();
     sequencer.on_sample(sample, std::chrono::steady_clock::now(), report);

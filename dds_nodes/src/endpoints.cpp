@@ -27,4 +27,32 @@ eprosima::fastdds::dds::Subscriber* create_subscriber(eprosima::fastdds::dds::Do
   return subscriber;
 }
 
+namespace {
+
+// Publisher and Subscriber alike: the partition policy is mutable.
+template <class Entity, class Qos>
+void replace_partitions(Entity* entity, const std::vector<std::string>& partitions, const std::string& what) {
+  Qos qos;
+  entity->get_qos(qos);
+  qos.partition().clear();
+  for (const auto& name : partitions) qos.partition().push_back(name.c_str());
+  if (entity->set_qos(qos) != eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+    throw DdsError("cannot move " + what + " to other partitions");
+  }
+}
+
+}  // namespace
+
+void set_partitions(eprosima::fastdds::dds::Publisher* publisher, const std::vector<std::string>& partitions,
+                    const std::string& what) {
+  replace_partitions<eprosima::fastdds::dds::Publisher, eprosima::fastdds::dds::PublisherQos>(publisher, partitions,
+                                                                                              what);
+}
+
+void set_partitions(eprosima::fastdds::dds::Subscriber* subscriber, const std::vector<std::string>& partitions,
+                    const std::string& what) {
+  replace_partitions<eprosima::fastdds::dds::Subscriber, eprosima::fastdds::dds::SubscriberQos>(subscriber, partitions,
+                                                                                                what);
+}
+
 }  // namespace sarloc::dds::detail

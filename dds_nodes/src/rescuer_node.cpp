@@ -150,6 +150,15 @@ RescuerNode::RescuerNode(std::shared_ptr<Participant> participant, RescuerNodeCo
       });
 }
 
+void RescuerNode::move_to(const std::vector<std::string>& partitions) {
+  guidance_reader_->set_partitions(partitions);
+  estimate_reader_->set_partitions(partitions);
+  sample_writers_.set_partitions(partitions);
+  odometry_writer_.set_partitions(partitions);
+  estimate_writer_.set_partitions(partitions);
+  config_.partitions = partitions;
+}
+
 bool RescuerNode::wait_for_daemon(std::chrono::milliseconds timeout) const {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   auto remaining = [&] {

@@ -30,7 +30,8 @@ const std::vector<CatalogTopic>& topic_catalog() {
       entry<SearchPlan>("incident.idl"),        entry<ResponderAlarm>("incident.idl"),
       entry<IncidentAlarm>("incident.idl"),     entry<AlarmAcknowledgement>("incident.idl"),
       entry<VictimRecovery>("incident.idl"),    entry<DigOrder>("incident.idl"),
-      entry<DepositDrawing>("incident.idl"),    entry<NodeStatus>("status.idl"),
+      entry<DepositDrawing>("incident.idl"),    entry<RescuerHandover>("handover.idl"),
+      entry<NodeStatus>("status.idl"),
   };
   return catalog;
 }

@@ -11,7 +11,8 @@
 # A node's role decides the topics it may publish (every role may subscribe to every topic):
 #   command    the incident picture: incident_frame, fused_victim, team_status, incident_summary,
 #              incident_alarm, search_plan (so no other identity can inject a victim, a team or an alarm)
-#   core       victim_estimate, guidance, responder_position (map-aided fixes), responder_candidates
+#   core       victim_estimate, guidance, responder_position (map-aided fixes), responder_candidates,
+#              rescuer_handover (a responder's estimator handed to another sector's daemon)
 #   device     (the default) a rescuer's or firefighter's device: field_measurement, odometry,
 #              responder_position, victim_estimate (while its core daemon is unreachable),
 #              responder_alarm, victim_recovery (the finder marks a victim dug out)
@@ -44,7 +45,7 @@ not_after=$(date -u -d '+10 years' +%Y-%m-%dT%H:%M:%S)
 role_topics() {
   case "$1" in
     command) echo "sarloc/incident_frame sarloc/fused_victim sarloc/team_status sarloc/incident_summary sarloc/incident_alarm sarloc/search_plan" ;;
-    core) echo "sarloc/victim_estimate sarloc/guidance sarloc/responder_position sarloc/responder_candidates" ;;
+    core) echo "sarloc/victim_estimate sarloc/guidance sarloc/responder_position sarloc/responder_candidates sarloc/rescuer_handover" ;;
     device) echo "sarloc/field_measurement sarloc/odometry sarloc/responder_position sarloc/victim_estimate sarloc/responder_alarm sarloc/victim_recovery" ;;
     dashboard) echo "sarloc/alarm_acknowledgement sarloc/victim_recovery sarloc/dig_order sarloc/deposit_drawing" ;;
     recorder) echo "" ;;

@@ -5,11 +5,15 @@
 // times the filter without what the receiver's physics added on 2026-12-05 (the field at the
 // carrier, the calibration as consider parameters): the cost of each shipped step's model.
 // BM_LookaheadHeading: one information-aware opening decision on that first mixture.
+// BM_ResumeJournal: what a daemon taking a rescuer over from another's sector spends
+// (estimator::resume_estimator): the journal of a closed-loop search with the realistic receiver
+// after `steps` epochs, replayed into a new estimator; counters give its entries and bytes.
 #include <benchmark/benchmark.h>
 
 #include "sarloc/core/avalanche/lookahead_heading.hpp"
 #include "sarloc/core/avalanche/simulator.hpp"
 #include "sarloc/core/avalanche/sog_filter.hpp"
+#include "support/journaled_search.hpp"
 
 namespace {
 
@@ -54,6 +58,14 @@ void BM_LookaheadHeading(benchmark::State& state) {
   state.counters["components"] = static_cast<double>(f.size());
 }
 
+void BM_ResumeJournal(benchmark::State& state) {
+  const auto journal = sarloc::test::journaled_search(sarloc::derive_seed(7, 0), static_cast<int>(state.range(0)));
+  const sarloc::estimator::EstimatorConfigs configs;
+  for (auto _ : state) benchmark::DoNotOptimize(sarloc::estimator::resume_estimator(journal, configs, 1U << 20));
+  state.counters["entries"] = static_cast<double>(journal.entries.size());
+  state.counters["bytes"] = static_cast<double>(journal.entries.size() * sizeof(sarloc::estimator::JournalEntry));
+}
+
 }  // namespace
 
 BENCHMARK(BM_SogStep)
@@ -61,4 +73,5 @@ BENCHMARK(BM_SogStep)
     ->ArgNames({"components", "shipped_model"})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LookaheadHeading)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ResumeJournal)->Arg(20)->Arg(60)->Arg(300)->ArgName("epochs")->Unit(benchmark::kMillisecond);
 BENCHMARK_MAIN();

@@ -31,6 +31,8 @@ enum DdsTestDomain : std::uint32_t {
   kDomainPositionCandidates = 178,
   kDomainAdmissionShed = 179,
   kDomainAdmissionDoorStart = 180,
+  kDomainHandover = 181,
+  kDomainMissionSectorMove = 182,  // tests/integration/mission/sector-move.yaml names it too
   kDomainDiscoveryServer = 140,
   kDomainBenchEchoListener = 141,
   kDomainBenchEchoQueue = 142,

@@ -24,6 +24,27 @@ void require_identifier(const std::string& value, const std::string& where, bool
   if (auto problem = identifier_problem(value, where, empty_allowed); !problem.empty()) throw ConfigError(problem);
 }
 
+// An outline in WGS-84 (a list of {latitude_deg, longitude_deg}), into the incident frame about
+// the incident's origin: the deposit's, a sector's area.
+std::vector<incident::Vec2> read_outline(YamlReader& r, const std::string& key, const GeodeticOrigin& origin,
+                                         const std::string& file) {
+  const incident::GeodeticFrame frame(origin);
+  std::vector<incident::Vec2> outline;
+  for (auto& vertex : r.child_list(key)) {
+    incident::Geodetic g;
+    g.altitude_m = origin.altitude_m;
+    vertex.require("latitude_deg", g.latitude_deg);
+    vertex.require("longitude_deg", g.longitude_deg);
+    vertex.expect_done();
+    try {
+      outline.push_back(frame.to_enu(g).head<2>());
+    } catch (const InputError& e) {
+      throw ConfigError(file + ": " + vertex.path() + ": " + e.what());
+    }
+  }
+  return outline;
+}
+
 std::string resolve(const std::string& path, const std::string& base_dir) {
   if (path.empty() || std::filesystem::path(path).is_absolute()) return path;
   return (std::filesystem::path(base_dir) / path).lexically_normal().string();
@@ -93,10 +114,11 @@ dds::CoreNodeConfig MissionConfig::core_config(const std::string& sector) const 
   c.roles = role_of;
   c.partitions = partitions_of_sector(sector);
   c.node_id = core_node_id(sector);
-  // Roster mode: the rescuers this daemon serves are the mission's, of its sector.
+  // Roster mode: the rescuers this daemon serves are the mission's, of its sector; with sector
+  // areas, every one of them (any may walk into this sector's area).
   c.roster.listed.clear();
   for (const auto& [id, responder_sector] : sector_of) {
-    if (responder_sector == sector) c.roster.listed.push_back(id);
+    if (responder_sector == sector || !sector_areas.empty()) c.roster.listed.push_back(id);
   }
   return c;
 }
@@ -177,6 +199,8 @@ MissionConfig load_mission_config(const std::string& path) {
 MissionConfig load_mission_config_text(const std::string& text, const std::string& name, const std::string& base_dir) {
   MissionConfig c;
   auto root = YamlReader::from_string(text, name);
+  double sector_margin_m = 5.0;  // rescuer.sector_margin_m
+  bool handover_set = false;     // core.handover_journal_entries is in the file
   {
     auto r = root.child("mission");
     r.read("name", c.name);
@@ -193,23 +217,8 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("latitude_deg", c.command.incident.origin.latitude_deg);
     r.read("longitude_deg", c.command.incident.origin.longitude_deg);
     r.read("altitude_m", c.command.incident.origin.altitude_m);
-    std::vector<incident::Vec2> outline;
     if (r.has("deposit")) {
-      // The deposit's outline in WGS-84, into the incident frame about the incident's origin.
-      const incident::GeodeticFrame frame(c.command.incident.origin);
-      for (auto& vertex : r.child_list("deposit")) {
-        incident::Geodetic g;
-        g.altitude_m = c.command.incident.origin.altitude_m;
-        vertex.require("latitude_deg", g.latitude_deg);
-        vertex.require("longitude_deg", g.longitude_deg);
-        vertex.expect_done();
-        try {
-          outline.push_back(frame.to_enu(g).head<2>());
-        } catch (const InputError& e) {
-          throw ConfigError(name + ": " + vertex.path() + ": " + e.what());
-        }
-      }
-      c.deposit.emplace(outline, name + ": incident.deposit");
+      c.deposit.emplace(read_outline(r, "deposit", c.command.incident.origin, name), name + ": incident.deposit");
       c.command.incident.deposit = c.deposit;  // incident command plans the search over it
     }
     r.expect_done();
@@ -316,11 +325,13 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     c.sector_of[id] = sector;
     c.role_of[id] = parsed_role;
   }
+  std::vector<incident::SectorAreas::Area> areas;
   for (auto& r : root.child_list("sectors")) {
     std::string sector;
     r.require("name", sector);
-    r.expect_done();
     require_identifier(sector, name + ": " + r.path() + ".name");
+    if (r.has("area")) areas.push_back({sector, read_outline(r, "area", c.command.incident.origin, name)});
+    r.expect_done();
     c.sectors.push_back(sector);
   }
   {
@@ -439,6 +450,10 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("busy_hold_s", c.core.busy.hold_s);
     r.read("busy_shed_wait_s", c.core.busy.shed_wait_s);
     r.read("new_rescuers_per_s", c.core.roster.new_per_s);
+    u = static_cast<unsigned>(c.core.handover_journal_entries);
+    handover_set = r.has("handover_journal_entries");
+    r.read("handover_journal_entries", u);
+    c.core.handover_journal_entries = u;
     r.expect_done();
   }
   {
@@ -446,7 +461,14 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("fallback_timeout_s", c.rescuer.fallback_timeout_s);
     r.read("guidance_wait_s", c.rescuer.guidance_wait_s);
     r.read("rejoin_epochs", c.rescuer.rejoin_epochs);
+    r.read("sector_margin_m", sector_margin_m);
     r.expect_done();
+  }
+  if (!areas.empty()) {
+    c.sector_areas = incident::SectorAreas(std::move(areas), sector_margin_m, name + ": sectors");
+    // A device walking into another sector's area takes its estimator along: every daemon keeps
+    // the journals, unless the file says otherwise (core.handover_journal_entries).
+    if (!handover_set) c.core.handover_journal_entries = kHandoverJournalWithAreas;
   }
   {
     auto r = root.child("command");

@@ -33,6 +33,11 @@ std::vector<responder::ResponderPosition> PositionRefresh::due(Clock::time_point
   return out;
 }
 
+void PositionRefresh::forget(const std::string& responder_id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  held_.erase(responder_id);
+}
+
 std::size_t PositionRefresh::size() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return held_.size();

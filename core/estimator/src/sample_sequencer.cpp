@@ -79,6 +79,14 @@ void SampleSequencer::release(Clock::time_point now, SequencerReport& report) {
   }
 }
 
+void SampleSequencer::replace_estimator(std::unique_ptr<ResponderEstimator> estimator, TimestampNs odometry_until,
+                                        std::optional<TimestampNs> measured_at) {
+  if (!estimator) throw ConfigError("SampleSequencer: no estimator");
+  estimator_ = std::move(estimator);
+  odometry_until_ = std::max(odometry_until_, odometry_until);
+  if (measured_at) measured_at_ = std::max(measured_at_.value_or(*measured_at), *measured_at);
+}
+
 std::optional<SampleSequencer::Clock::time_point> SampleSequencer::next_deadline() const {
   if (held_.empty()) return std::nullopt;
   return held_.front().deadline;

@@ -14,4 +14,8 @@ std::uint64_t sequence_of(const SensorSample& sample) {
   return std::visit([](const auto& s) { return s.sequence; }, sample);
 }
 
+std::uint32_t signal_of(const SensorSample& sample) {
+  return std::visit([](const auto& s) { return s.signal_id; }, sample);
+}
+
 }  // namespace sarloc::estimator

@@ -11,7 +11,7 @@ namespace sarloc::incident {
 Deposit::Deposit(std::vector<Vec2> outline, const std::string& key) {
   if (outline.size() >= 2 && outline.front() == outline.back()) outline.pop_back();
   if (outline.size() < 3)
-    throw ConfigError(key + ": " + std::to_string(outline.size()) + " vertices: a deposit needs at least 3");
+    throw ConfigError(key + ": " + std::to_string(outline.size()) + " vertices: an outline needs at least 3");
   for (std::size_t k = 0; k < outline.size(); ++k)
     if (!outline[k].allFinite())
       throw ConfigError(key + "[" + std::to_string(k) + "] = (" + config_value(outline[k].x()) + ", " +

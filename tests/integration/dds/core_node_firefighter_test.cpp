@@ -15,6 +15,7 @@
 #include "sarloc/app/floor_plan_yaml.hpp"
 #include "sarloc/app/mission_config.hpp"
 #include "sarloc/core/estimator/firefighter_device.hpp"
+#include "sarloc/core/estimator/make_estimator.hpp"
 #include "sarloc/core/firefighter/foot_trajectory.hpp"
 #include "sarloc/core/firefighter/imu_error_model.hpp"
 #include "sarloc/core/firefighter/search_walk.hpp"
@@ -54,6 +55,39 @@ SimulatedSearch simulated_search(const app::MissionConfig& mission, std::uint64_
   return out;
 }
 
+// The positions of one responder a participant hears, by stamp.
+class HeardPositions {
+ public:
+  HeardPositions(std::shared_ptr<Participant> participant, std::string responder_id)
+      : id_(std::move(responder_id)),
+        reader_(std::move(participant), [this](const ::sarloc::ResponderPosition& p, const auto&) {
+          if (p.responder_id().to_string() != id_) return;
+          std::lock_guard<std::mutex> lock(mutex_);
+          const auto r = to_core(p);
+          positions_[r.stamp] = r;
+          cv_.notify_all();
+        }) {}
+  /// Waits until positions of `count` stamps were heard; false after `timeout`.
+  bool wait_for(std::size_t count, std::chrono::milliseconds timeout) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    return cv_.wait_for(lock, timeout, [&] { return positions_.size() >= count; });
+  }
+  std::map<TimestampNs, responder::ResponderPosition> all() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return positions_;
+  }
+  bool wait_for_writers(int count, std::chrono::milliseconds timeout) const {
+    return reader_.wait_for_writers(count, timeout);
+  }
+
+ private:
+  std::string id_;
+  mutable std::mutex mutex_;
+  std::condition_variable cv_;
+  std::map<TimestampNs, responder::ResponderPosition> positions_;
+  Reader<::sarloc::ResponderPosition> reader_;  // last: it calls back as soon as it exists
+};
+
 TEST(CoreNodeFirefighter, AnswersBootOdometryWithMapAidedPositionsThatTrackTheSearch) {
   const auto mission =
       app::load_mission_config(std::string(SARLOC_SOURCE_DIR) + "/tests/integration/mission/firefighters.yaml");
@@ -63,18 +97,9 @@ TEST(CoreNodeFirefighter, AnswersBootOdometryWithMapAidedPositionsThatTrackTheSe
 
   auto device_participant = test::make_participant(test::kDomainCoreFirefighter, "ff1");
   Writer<::sarloc::Odometry> odometry(device_participant);
-  std::mutex mutex;
-  std::condition_variable cv;
-  std::map<TimestampNs, responder::ResponderPosition> positions;
-  Reader<::sarloc::ResponderPosition> reader(device_participant, [&](const ::sarloc::ResponderPosition& p, const auto&) {
-    if (p.responder_id().to_string() != "ff1") return;
-    std::lock_guard<std::mutex> lock(mutex);
-    const auto r = to_core(p);
-    positions[r.stamp] = r;
-    cv.notify_all();
-  });
+  HeardPositions heard(device_participant, "ff1");
   ASSERT_TRUE(odometry.wait_for_readers(1, 10s));
-  ASSERT_TRUE(reader.wait_for_writers(1, 10s));
+  ASSERT_TRUE(heard.wait_for_writers(1, 10s));
 
   // The truth: a right-hand search of the mission's building from its front door.
   const auto search = simulated_search(mission, 21, 120.0);
@@ -84,16 +109,12 @@ TEST(CoreNodeFirefighter, AnswersBootOdometryWithMapAidedPositionsThatTrackTheSe
     ASSERT_TRUE(odometry.write(to_idl(o)));
     sent.push_back(o.interval_end);
     if (sent.size() % 40 == 0) {  // pace: no more than 40 steps ahead of the daemon's answers
-      std::unique_lock<std::mutex> lock(mutex);
-      ASSERT_TRUE(cv.wait_for(lock, 10s, [&] { return positions.size() + 10 >= sent.size(); }))
-          << positions.size() << " answers to " << sent.size() << " steps";
+      ASSERT_TRUE(heard.wait_for(sent.size() - 10, 10s))
+          << heard.all().size() << " answers to " << sent.size() << " steps";
     }
   }
-  {
-    std::unique_lock<std::mutex> lock(mutex);
-    ASSERT_TRUE(cv.wait_for(lock, 10s, [&] { return positions.size() >= sent.size(); }))
-        << positions.size() << " answers to " << sent.size() << " steps";
-  }
+  ASSERT_TRUE(heard.wait_for(sent.size(), 10s)) << heard.all().size() << " answers to " << sent.size() << " steps";
+  const auto positions = heard.all();
   const auto& placement = mission.estimators.firefighter;
   const Eigen::Rotation2Dd R(placement.rotation_deg * kPi / 180.0);
   double sum2 = 0.0;
@@ -322,6 +343,84 @@ TEST(CoreNodeFirefighter, ABusyDaemonStillAdmitsAFirefightersFirstStepFromItsRep
       << "not started at the door: a cloud of " << std::sqrt(first.position.covariance.topLeftCorner<2, 2>().trace())
       << " m";
   EXPECT_EQ(node->rescuers_served(), 2U) << "ff2 and ff1; r1 refused";
+}
+
+// Issue 64, item 4: a firefighter who moves from one sector's daemon to another's keeps his
+// filter. Each daemon serves its sector's partition; the device's steps go to the west daemon,
+// then to the east one. The east daemon meets him, asks for his estimator on
+// sarloc/rescuer_handover, and the west daemon hands its journal over and releases it. From
+// then on the east daemon answers exactly as one daemon that never lost him would have (bit
+// for bit: the same filter, its particles' generator included); only its first answer, from
+// the fresh filter it ran before the journal came, may differ. A straggler of the switch still
+// reaching the west daemon is refused there, not answered from a filter started again.
+TEST(CoreNodeFirefighter, AFirefighterWhoMovesToAnotherSectorKeepsHisFilterThere) {
+  const auto mission =
+      app::load_mission_config(std::string(SARLOC_SOURCE_DIR) + "/tests/integration/mission/firefighters.yaml");
+  const auto config_of = [&](const std::string& sector) {
+    CoreNodeConfig c = mission.core_config("");
+    c.node_id = "core-" + sector;
+    c.partitions = {"sector-" + sector};
+    c.roster.open = true;
+    c.handover_journal_entries = 4096;
+    return c;
+  };
+  auto west = std::make_unique<CoreNode>(test::make_participant(test::kDomainHandover, "core-west"), config_of("west"));
+  auto east = std::make_unique<CoreNode>(test::make_participant(test::kDomainHandover, "core-east"), config_of("east"));
+  auto device_participant = test::make_participant(test::kDomainHandover, "ff1");
+  Writer<::sarloc::Odometry> to_west(device_participant, EndpointOptions::in({"sector-west"}));
+  Writer<::sarloc::Odometry> to_east(device_participant, EndpointOptions::in({"sector-east"}));
+  HeardPositions heard(device_participant, "ff1");
+  ASSERT_TRUE(to_west.wait_for_readers(1, 10s));
+  ASSERT_TRUE(to_east.wait_for_readers(1, 10s));
+  ASSERT_TRUE(heard.wait_for_writers(2, 10s));
+
+  const auto search = simulated_search(mission, 22, 80.0);
+  const auto& steps = search.odometry;
+  constexpr std::size_t kSwitch = 100;  // 50 s into the search
+  ASSERT_GT(steps.size(), kSwitch + 40);
+  const auto answered = [&](std::size_t n) { return heard.wait_for(n, 20s); };
+  for (std::size_t k = 0; k < kSwitch; ++k) {
+    ASSERT_TRUE(to_west.write(to_idl(steps[k])));
+    if (k % 40 == 39) {
+      ASSERT_TRUE(answered(k - 9)) << "step " << k;
+    }
+  }
+  ASSERT_TRUE(answered(kSwitch));
+  ASSERT_TRUE(to_east.write(to_idl(steps[kSwitch])));
+  ASSERT_TRUE(test::eventually([&] { return east->taken_over() == 1; }, 20s))
+      << "the journal never reached the east daemon";
+  EXPECT_EQ(west->handed_over(), 1U);
+  ASSERT_TRUE(to_west.write(to_idl(steps[kSwitch - 1])));  // a straggler of the switch
+  ASSERT_TRUE(test::eventually([&] { return west->counters().rejected_for("handed_over") == 1; }, 10s));
+  for (std::size_t k = kSwitch + 1; k < steps.size(); ++k) ASSERT_TRUE(to_east.write(to_idl(steps[k])));
+  ASSERT_TRUE(answered(steps.size()));
+  // Then his device restarts, numbering its steps from 1 again: the east daemon starts him
+  // afresh rather than refusing all he sends as numbered backwards.
+  auto restarted = steps.front();
+  restarted.interval_start = steps.back().interval_end + 1'000'000'000;
+  restarted.interval_end = restarted.interval_start + 500'000'000;
+  ASSERT_TRUE(to_east.write(to_idl(restarted)));
+  ASSERT_TRUE(answered(steps.size() + 1)) << "the restarted device's first step was not answered";
+
+  // One daemon that never lost him, with the same configuration.
+  auto never_moved =
+      estimator::make_estimator(estimator::ResponderRole::kFirefighter, "ff1", config_of("west").estimators);
+  const auto positions = heard.all();
+  std::size_t compared = 0;
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    const auto outcome = never_moved->add_odometry(steps[k]);
+    const auto* out = std::get_if<estimator::EstimatorOutput>(&outcome);
+    ASSERT_TRUE(out != nullptr && out->position) << "step " << k;
+    if (k == kSwitch) continue;  // the east daemon's fresh filter, before the journal came
+    const auto it = positions.find(steps[k].interval_end);
+    ASSERT_NE(it, positions.end()) << "no answer to step " << k;
+    EXPECT_EQ(it->second.position.position, out->position->position.position) << "step " << k;
+    EXPECT_EQ(it->second.position.covariance, out->position->position.covariance) << "step " << k;
+    EXPECT_EQ(it->second.confirmed, out->position->confirmed) << "step " << k;
+    ++compared;
+  }
+  EXPECT_EQ(compared, steps.size() - 1);
+  EXPECT_EQ(east->counters().rejected, 0U);
 }
 
 }  // namespace

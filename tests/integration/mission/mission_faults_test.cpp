@@ -140,5 +140,21 @@ TEST(Mission, TwoCoreInstancesSplitTheRescuersBySector) {
   EXPECT_EQ(east.find("west-1"), std::string::npos) << "the east daemon served a west rescuer";
 }
 
+// Issue 64, item 4: a rescuer who follows a signal from the west sector into the east one keeps
+// his search. His device moves to the east partition, the east daemon asks for his estimator and
+// the west daemon hands it over: the victim is found as in one sector, and each daemon says what
+// it did.
+TEST(Mission, ARescuerWhoWalksIntoAnotherSectorIsHandedOverWithHisFilters) {
+  const auto run = run_mission("sector-move.yaml", kDomainMissionSectorMove, "--log-level info");
+  expect_complete(run, /*max_incident_error_m=*/2.0);
+  const std::string west = file_text(run.run_dir / "core-west.log");
+  const std::string east = file_text(run.run_dir / "core-east.log");
+  const std::string device = file_text(run.run_dir / "rescuer-r1.log");
+  EXPECT_NE(device.find("walked into sector 'east' (from 'west')"), std::string::npos) << device;
+  EXPECT_NE(west.find("handed 'r1' to 'sarloc-core-east'"), std::string::npos) << west;
+  EXPECT_NE(east.find("took 'r1' over from 'sarloc-core-west'"), std::string::npos) << east;
+  EXPECT_EQ(east.find("rejected sample"), std::string::npos) << east;
+}
+
 }  // namespace
 }  // namespace sarloc::test

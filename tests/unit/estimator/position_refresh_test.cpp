@@ -52,4 +52,19 @@ TEST(PositionRefresh, TheNewestStampIsHeldAndTheOldestWriteComesFirst) {
   EXPECT_EQ(refresh.due(t0 + 15s).size(), 2U);
 }
 
+// A firefighter handed to another sector's daemon: the old daemon stops writing his last
+// position again (the new one writes his newer ones); the others' go on.
+TEST(PositionRefresh, AForgottenResponderIsNeverWrittenAgain) {
+  PositionRefresh refresh(5s);
+  const auto t0 = PositionRefresh::Clock::time_point{} + 1000s;
+  refresh.written(at("handed", 10), t0);
+  refresh.written(at("stays", 20), t0);
+  refresh.forget("handed");
+  refresh.forget("never-seen");
+  const auto due = refresh.due(t0 + 10s);
+  ASSERT_EQ(due.size(), 1U);
+  EXPECT_EQ(due[0].responder_id, "stays");
+  EXPECT_EQ(refresh.size(), 1U);
+}
+
 TEST(PositionRefresh, RefusesAnIntervalThatIsNotPositive) { EXPECT_THROW(PositionRefresh(0s), std::invalid_argument); }

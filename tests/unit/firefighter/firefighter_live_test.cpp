@@ -10,6 +10,7 @@
 #include <random>
 
 #include "sarloc/core/common/errors.hpp"
+#include "sarloc/core/estimator/estimator_journal.hpp"
 #include "sarloc/core/estimator/firefighter_device.hpp"
 #include "sarloc/core/estimator/make_estimator.hpp"
 #include "sarloc/core/firefighter/foot_trajectory.hpp"
@@ -76,21 +77,37 @@ bool within99(const GaussianPosition& p, const firefighter::Vec2& truth) {
   return err.dot(P.ldlt().solve(err)) <= 9.21;  // chi2_2(0.99)
 }
 
+// A right-hand search of `plan` and the boot that walks it: the device turns its simulated
+// MTi-3 samples (errors.apply) into 2 Hz odometry.
+struct BootWalk {
+  static std::vector<Footfall> leader_of(const firefighter::FloorPlan& plan, double duration_s, std::mt19937_64& rng) {
+    firefighter::SearchWalkConfig walk;
+    walk.duration_s = duration_s;
+    return firefighter::generate_search_walk(plan, walk, firefighter::Hand::kRight, rng).leader;
+  }
+  static FirefighterDeviceConfig device_config() {
+    FirefighterDeviceConfig c;
+    c.ins.initial_yaw_rad = 0.0;
+    return c;
+  }
+  BootWalk(const firefighter::FloorPlan& plan, std::uint64_t seed, double duration_s)
+      : rng(seed),
+        foot(leader_of(plan, duration_s, rng)),
+        errors(firefighter::ImuErrorConfig{}, rng),
+        device("ff1", "alpha", device_config(), kOrigin) {}
+  std::mt19937_64 rng;
+  FootTrajectory foot;
+  firefighter::ImuErrors errors;
+  FirefighterDevice device;
+};
+
 // One right-hand search of `building` from its first entry, IMU to estimator.
 LiveRun run_search(const std::string& building, const std::string& entry, std::uint64_t seed,
                    firefighter::Vec2 origin = firefighter::Vec2::Zero(), double rotation_deg = 0.0,
                    std::uint64_t first_step = 1, bool* started_mid_search = nullptr, bool device_hints = false) {
   const EstimatorConfigs configs = configs_for(building, "ff1", entry, origin, rotation_deg);
-  const auto& plan = configs.firefighter.building->plan();
-  std::mt19937_64 rng(seed);
-  firefighter::SearchWalkConfig walk;
-  walk.duration_s = 150.0;
-  const auto search = firefighter::generate_search_walk(plan, walk, firefighter::Hand::kRight, rng);
-  const FootTrajectory foot(search.leader);
-  firefighter::ImuErrors errors(firefighter::ImuErrorConfig{}, rng);
-  FirefighterDeviceConfig device_config;
-  device_config.ins.initial_yaw_rad = 0.0;
-  FirefighterDevice device("ff1", "alpha", device_config, kOrigin);
+  BootWalk boot(configs.firefighter.building->plan(), seed, 150.0);
+  auto& [rng, foot, errors, device] = boot;
   auto estimator = make_estimator(ResponderRole::kFirefighter, "ff1", configs);
   const Eigen::Rotation2Dd R(rotation_deg * kPi / 180.0);
   LiveRun run;
@@ -589,6 +606,53 @@ TEST(FirefighterLive, ADeviceKeepsItsReckoningAgainstAFixThatHasNotConvergedAndI
     }
   }
   EXPECT_EQ(anchored, (std::vector<bool>{true, false, true, false, true}));
+}
+
+// Issue 64, item 4: a firefighter handed from one sector's daemon to another's keeps his filter
+// (20000 particles from an unknown start, their generator included): the new daemon replays the
+// old one's journal and answers as it would have, to the last bit.
+TEST(FirefighterLive, ADaemonResumingTheJournalAnswersAsTheOldOneWouldHave) {
+  const EstimatorConfigs configs = configs_for("house-125", "ff1", "");  // unknown start
+  BootWalk boot(configs.firefighter.building->plan(), 4, 120.0);
+  auto& [rng, foot, errors, device] = boot;
+  JournaledEstimator first(make_estimator(ResponderRole::kFirefighter, "ff1", configs), 100000);
+  std::unique_ptr<JournaledEstimator> second;
+  std::size_t compared = 0, hints = 0;
+  for (const auto& ideal : foot.imu_samples(100.0)) {
+    device.push(errors.apply(ideal, rng));
+    const auto odometry = device.take_odometry();
+    if (!odometry) continue;
+    if (odometry->sequence == 100) second = resume_estimator(first.journal(), configs, 100000);
+    if (odometry->sequence % 40 == 0) {  // a position hint now and then, journaled too
+      responder::ResponderPosition own;
+      own.responder_id = "ff1";
+      own.stamp = odometry->interval_end;
+      own.position.position = Vec3(2.0, 3.0, 0.0);
+      own.position.covariance = 4.0 * Mat3::Identity();
+      own.source = responder::PositionSource::kDeadReckoning;
+      first.hint_position(own);
+      if (second) second->hint_position(own);
+      ++hints;
+    }
+    const Outcome a = first.add_odometry(*odometry);
+    if (!second) continue;
+    const Outcome b = second->add_odometry(*odometry);
+    const auto* x = std::get_if<EstimatorOutput>(&a);
+    const auto* y = std::get_if<EstimatorOutput>(&b);
+    ASSERT_TRUE(x != nullptr && y != nullptr) << "odometry " << odometry->sequence;
+    ASSERT_EQ(x->position.has_value(), y->position.has_value());
+    if (!x->position) continue;
+    ++compared;
+    EXPECT_EQ(x->position->position.position, y->position->position.position) << "odometry " << odometry->sequence;
+    EXPECT_EQ(x->position->position.covariance, y->position->position.covariance) << "odometry " << odometry->sequence;
+    EXPECT_EQ(x->position->converged, y->position->converged);
+    EXPECT_EQ(x->position->ambiguous, y->position->ambiguous);
+    EXPECT_EQ(x->candidates.has_value(), y->candidates.has_value());
+  }
+  EXPECT_GT(compared, 100U) << "2 Hz for the last 70 s";
+  EXPECT_GT(hints, 3U);
+  // The journal of a firefighter: one odometry a half second and the odd hint.
+  std::printf("journal: %zu entries after %zu odometry steps\n", first.journal().entries.size(), compared + 99);
 }
 
 }  // namespace

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "sarloc/core/estimator/busy_gate.hpp"
+#include "sarloc/core/estimator/estimator_journal.hpp"
 #include "sarloc/core/estimator/make_estimator.hpp"
 #include "sarloc/core/estimator/position_refresh.hpp"
 #include "sarloc/core/estimator/responder_roster.hpp"
@@ -62,6 +63,10 @@ struct CoreNodeConfig {
   /// A sample of a new epoch waits at most this long (wall) for the odometry up to its stamp
   /// (estimator::SampleSequencer); then it is processed with unknown motion in its place.
   double odometry_wait_s = 0.25;
+  /// Hand-over between sectors' daemons (docs/architecture.md): each responder's estimator keeps
+  /// the journal of its calls, up to this many (0: none, and no hand-over); a daemon meeting a
+  /// responder asks for it on sarloc/rescuer_handover, and the one holding it hands it over.
+  std::size_t handover_journal_entries = 0;
 
   /// Throws ConfigError naming the key ("core.workers = 0: must be in [1, 64]").
   void validate() const;
@@ -76,6 +81,9 @@ class CoreNode {
 
   RejectCounters::Snapshot counters() const { return counters_.snapshot(); }
   std::size_t rescuers_served() const { return rescuers_served_.load(); }
+  /// Responders whose estimator this daemon handed to another sector's, and took from one.
+  std::size_t handed_over() const { return handed_over_.load(); }
+  std::size_t taken_over() const { return taken_over_.load(); }
 
   /// The daemon stops in order: stops taking samples, then disposes its NodeStatus instance
   /// (sign_off.hpp) so that devices log a stop, not a loss. Call once, last, before the
@@ -102,7 +110,19 @@ class CoreNode {
   struct PositionHint {
     responder::ResponderPosition own;
   };
-  using Work = std::variant<responder::Odometry, estimator::SensorSample, MarkDone, Evict, LeaveToOthers, PositionHint>;
+  /// Another daemon met this responder (its request): hand its estimator over, if here.
+  struct HandOverTo {
+    std::string rescuer_id;
+    std::string to_node;
+  };
+  /// Another daemon handed this responder's estimator over (its journal).
+  struct TakeOver {
+    std::string rescuer_id;
+    std::string from_node;
+    estimator::EstimatorJournal journal;
+  };
+  using Work = std::variant<responder::Odometry, estimator::SensorSample, MarkDone, Evict, LeaveToOthers, PositionHint,
+                            HandOverTo, TakeOver>;
   struct Queued {
     Work work;
     std::chrono::steady_clock::time_point at;  ///< enqueued: its wait tells the BusyGate
@@ -113,6 +133,9 @@ class CoreNode {
     std::condition_variable cv;
     std::deque<Queued> queue;
     std::map<std::string, estimator::SampleSequencer> responders;  // only this worker's thread touches them
+    /// Responders whose estimator went to another daemon, with the latest stamp it had taken:
+    /// their samples stamped no later are stragglers of the switch and are dropped.
+    std::map<std::string, TimestampNs> handed_away;
     std::atomic<std::int64_t> busy_ns{0};                          ///< steady time spent handling and publishing
     std::int64_t busy_noted_ns = 0;  ///< busy_ns at the last note_worker_load (status thread)
     /// Each responder's share of this worker's time: handling seconds, halved every second (so
@@ -143,6 +166,10 @@ class CoreNode {
   void publish(estimator::SequencerReport& report);
   void reject(const std::string& rescuer_id, const std::string& reason, const std::string& detail);
   void publish_status();
+  void hand_over(Worker& worker, const HandOverTo& request);
+  void take_over(Worker& worker, TakeOver& handed);
+  /// A sample or step of a responder handed away that is no later than its hand-over: dropped.
+  bool straggler(Worker& worker, const std::string& rescuer_id, TimestampNs stamp);
   /// Writes again the last position of every responder whose positions stopped (status thread).
   void refresh_silent_positions();
   /// Tells the BusyGate the busiest worker's share of the time since the last call (status thread).
@@ -157,6 +184,8 @@ class CoreNode {
   RateLimitedLog warnings_;
   std::atomic<std::size_t> rescuers_served_{0};
   std::atomic<std::size_t> active_filters_{0};
+  std::atomic<std::size_t> handed_over_{0};
+  std::atomic<std::size_t> taken_over_{0};
   std::mutex roster_mutex_;  // listener threads admit, the status thread evicts
   estimator::ResponderRoster roster_;
   estimator::BusyGate busy_gate_;
@@ -169,6 +198,7 @@ class CoreNode {
   /// the writer keeps its samples for ever).
   std::unique_ptr<estimator::PositionRefresh> position_refresh_;
   Writer<::sarloc::NodeStatus> status_writer_;
+  Writer<::sarloc::RescuerHandover> handover_writer_;  ///< default partition: every sector's daemon reads it
   std::vector<std::unique_ptr<Worker>> workers_;
   std::atomic<bool> stopping_{false};
   std::thread status_thread_;
@@ -179,6 +209,7 @@ class CoreNode {
   std::unique_ptr<Reader<::sarloc::FusedVictim>> victim_reader_;
   std::unique_ptr<Reader<::sarloc::SearchPlan>> plan_reader_;
   std::unique_ptr<Reader<::sarloc::ResponderPosition>> device_position_reader_;
+  std::unique_ptr<Reader<::sarloc::RescuerHandover>> handover_reader_;
   /// Rescuers with signals handed over in the last plan (plan reader thread only): those no
   /// longer in it get an empty set.
   std::set<std::string> handed_over_rescuers_;

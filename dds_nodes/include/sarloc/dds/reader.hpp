@@ -1,16 +1,16 @@
 #pragma once
 // A typed DataReader created from its topic's XML profile. The callback runs on a Fast DDS
 // listener thread: it must only convert and enqueue (estimation runs on the node's own threads).
+#include <atomic>
+#include <chrono>
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
-
-#include <atomic>
-#include <chrono>
 #include <functional>
 #include <memory>
 #include <thread>
+#include <vector>
 
 #include "sarloc/dds/dds_error.hpp"
 #include "sarloc/dds/endpoint_options.hpp"
@@ -31,6 +31,9 @@ namespace detail {
 
 eprosima::fastdds::dds::Subscriber* create_subscriber(eprosima::fastdds::dds::DomainParticipant* participant,
                                                       const EndpointOptions& options);
+/// Replaces the subscriber's partitions; throws DdsError naming `what` if Fast DDS refuses.
+void set_partitions(eprosima::fastdds::dds::Subscriber* subscriber, const std::vector<std::string>& partitions,
+                    const std::string& what);
 
 template <class T>
 class TypedReaderListener : public eprosima::fastdds::dds::DataReaderListener {
@@ -119,6 +122,12 @@ class Reader {
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
     return true;
+  }
+
+  /// Moves the reader to other DDS partitions (Writer::set_partitions). Throws DdsError if
+  /// Fast DDS refuses.
+  void set_partitions(const std::vector<std::string>& partitions) {
+    detail::set_partitions(subscriber_, partitions, std::string("the '") + TopicTraits<T>::kName + "' reader");
   }
 
   eprosima::fastdds::dds::DataReader* get() const { return reader_; }

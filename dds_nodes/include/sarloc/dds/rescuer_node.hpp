@@ -78,6 +78,12 @@ class RescuerNode {
                     const std::optional<responder::ResponderPosition>& fix,
                     const std::vector<estimator::SensorSample>& samples);
 
+  /// Moves the device to another sector's partitions (it walked into that sector's area,
+  /// incident::SectorAreas): its readers of the daemon's answers first, then its writers, so
+  /// that it hears the new daemon from its first answer. The new daemon takes the responder's
+  /// estimator over from the old one (docs/architecture.md, "Hand-over between sectors").
+  /// Throws DdsError if Fast DDS refuses.
+  void move_to(const std::vector<std::string>& partitions);
   /// Waits until the daemon's readers matched this device's writers (or `timeout` passes), so
   /// the first samples are not published to nobody. Returns whether they matched.
   bool wait_for_daemon(std::chrono::milliseconds timeout) const;

@@ -15,6 +15,8 @@ class SampleWriters {
 
   /// Converts (to_idl) and writes; false if DDS refused the sample.
   bool write(const estimator::SensorSample& sample);
+  /// Moves every writer to other DDS partitions (Writer::set_partitions).
+  void set_partitions(const std::vector<std::string>& partitions) { field_writer_.set_partitions(partitions); }
   /// Every sample topic has at least `count` matched readers within `timeout`.
   bool wait_for_readers(int count, std::chrono::milliseconds timeout) const;
 

@@ -5,6 +5,7 @@
 #include "sarloc/dds/key_hashed_type.hpp"
 #include "sarloc/idl/avalanchePubSubTypes.h"
 #include "sarloc/idl/commonPubSubTypes.h"
+#include "sarloc/idl/handoverPubSubTypes.h"
 #include "sarloc/idl/incidentPubSubTypes.h"
 #include "sarloc/idl/responderPubSubTypes.h"
 #include "sarloc/idl/statusPubSubTypes.h"
@@ -39,6 +40,7 @@ SARLOC_DDS_TOPIC(AlarmAcknowledgement, "alarm_acknowledgement");
 SARLOC_DDS_TOPIC(VictimRecovery, "victim_recovery");
 SARLOC_DDS_TOPIC(DigOrder, "dig_order");
 SARLOC_DDS_TOPIC(DepositDrawing, "deposit_drawing");
+SARLOC_DDS_TOPIC(RescuerHandover, "rescuer_handover");
 SARLOC_DDS_TOPIC(NodeStatus, "node_status");
 
 #undef SARLOC_DDS_TOPIC

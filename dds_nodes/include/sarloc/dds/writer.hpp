@@ -1,16 +1,16 @@
 #pragma once
 // A typed DataWriter created from its topic's XML profile, deleted with its publisher.
+#include <atomic>
+#include <chrono>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/DataWriterListener.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/publisher/qos/PublisherQos.hpp>
-
-#include <atomic>
-#include <chrono>
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "sarloc/dds/dds_error.hpp"
 #include "sarloc/dds/endpoint_options.hpp"
@@ -38,6 +38,9 @@ class CountingWriterListener : public eprosima::fastdds::dds::DataWriterListener
 
 eprosima::fastdds::dds::Publisher* create_publisher(eprosima::fastdds::dds::DomainParticipant* participant,
                                                     const EndpointOptions& options);
+/// Replaces the publisher's partitions; throws DdsError naming `what` if Fast DDS refuses.
+void set_partitions(eprosima::fastdds::dds::Publisher* publisher, const std::vector<std::string>& partitions,
+                    const std::string& what);
 
 }  // namespace detail
 
@@ -96,6 +99,12 @@ class Writer {
     }
   }
 
+  /// Moves the writer to other DDS partitions (a sector's, as a device walks into it): the
+  /// policy is mutable, and readers match or unmatch as their partitions say. Throws DdsError
+  /// if Fast DDS refuses.
+  void set_partitions(const std::vector<std::string>& partitions) {
+    detail::set_partitions(publisher_, partitions, std::string("the '") + TopicTraits<T>::kName + "' writer");
+  }
   /// Asserts a MANUAL_BY_TOPIC writer's liveliness without writing.
   bool assert_liveliness() {
     return writer_->assert_liveliness() == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;

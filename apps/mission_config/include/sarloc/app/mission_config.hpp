@@ -11,6 +11,7 @@
 #include "sarloc/app/dashboard_config.hpp"
 #include "sarloc/core/estimator/make_estimator.hpp"
 #include "sarloc/core/incident/deposit.hpp"
+#include "sarloc/core/incident/sector_areas.hpp"
 #include "sarloc/core/mission/mission_scenario.hpp"
 #include "sarloc/core/mission/simulated_firefighter.hpp"
 #include "sarloc/dds/command_node.hpp"
@@ -39,6 +40,9 @@ struct FirefighterEntry {
 inline constexpr const char* kDashboardIdentity = "dashboard";
 inline constexpr const char* kRecorderIdentity = "recorder";
 inline constexpr const char* kMissionIdentity = "mission";  ///< sarloc-mission's picture watcher
+/// core.handover_journal_entries when a sector has an area and the file does not set it: about
+/// an hour of a rescuer's search at 1 Hz.
+inline constexpr std::size_t kHandoverJournalWithAreas = 8192;
 
 struct MissionConfig {
   std::string name = "mission";
@@ -55,6 +59,9 @@ struct MissionConfig {
   std::map<std::string, std::string> sector_of;       ///< rescuer id -> sector name ("" = none)
   std::map<std::string, estimator::ResponderRole> role_of;  ///< rescuer id -> role (rescuers[].role)
   std::vector<std::string> sectors;                   ///< one sarloc-core per sector (none: one core)
+  /// sectors[].area (WGS-84 in the file), in the incident frame, and rescuer.sector_margin_m:
+  /// a device moves to the sector whose area it walks into (empty: devices stay in their sector).
+  incident::SectorAreas sector_areas;
   estimator::EstimatorConfigs estimators;             ///< every role's estimator (sog:, search:, rescuer_search:, building:, firefighter:)
   std::string building_path;                          ///< building.plan, resolved ("" = no building)
   /// The building as it is (the simulated world); the daemon's map (estimators.firefighter.

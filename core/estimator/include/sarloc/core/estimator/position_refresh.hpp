@@ -40,6 +40,8 @@ class PositionRefresh {
   /// The positions not written for `interval` by `now`, oldest first; each counts as written at
   /// `now`.
   std::vector<responder::ResponderPosition> due(Clock::time_point now);
+  /// Stops writing `responder_id`'s position again (another daemon serves him now).
+  void forget(const std::string& responder_id);
   /// Responders whose last position is held.
   std::size_t size() const;
 

@@ -84,6 +84,9 @@ class ResponderRoster {
   /// The responder admitted last of those `among` accepts (all by default; door starts count
   /// as admitted first), removed from the served set; none when there is none.
   std::optional<std::string> release_newest(const std::function<bool(const std::string&)>& among = {});
+  /// Removes `id` from the served set (its estimator went to another sector's daemon); false
+  /// when it was not served. A later sample of it is a new id again.
+  bool release(const std::string& id) { return served_.erase(id) > 0; }
 
   std::size_t served() const { return served_.size(); }
   bool open() const { return config_.open; }

@@ -61,9 +61,17 @@ class SampleSequencer {
   /// When release() next has something to do because a wait expires (nullopt: nothing held).
   std::optional<Clock::time_point> next_deadline() const;
 
+  /// Runs `estimator` from now on (one resumed from another daemon's journal,
+  /// estimator_journal.hpp), whose calls reach `odometry_until` and `measured_at`; the samples
+  /// held stay held for it.
+  void replace_estimator(std::unique_ptr<ResponderEstimator> estimator, TimestampNs odometry_until,
+                         std::optional<TimestampNs> measured_at);
+
   ResponderEstimator& estimator() { return *estimator_; }
   const ResponderEstimator& estimator() const { return *estimator_; }
   std::size_t held() const { return held_.size(); }
+  /// How far the responder's motion is known (the interval_end of the odometry dealt with).
+  TimestampNs odometry_until() const { return odometry_until_; }
 
  private:
   struct Held {

@@ -16,5 +16,7 @@ const std::string& responder_of(const SensorSample& sample);
 TimestampNs stamp_of(const SensorSample& sample);
 /// Strictly increasing per (responder, channel) on the wire.
 std::uint64_t sequence_of(const SensorSample& sample);
+/// The channel its sequence counts in (a beacon signal), per responder.
+std::uint32_t signal_of(const SensorSample& sample);
 
 }  // namespace sarloc::estimator
