@@ -3,7 +3,6 @@
 #include <openssl/ssl.h>
 #include <spdlog/spdlog.h>
 
-#include <algorithm>
 #include <array>
 #include <cctype>
 #include <charconv>
@@ -55,15 +54,6 @@ bool request_ready(std::string_view held) {
   // A body over the server's limit is refused on its head: no need to wait for it.
   if (!length || *length > kMaxRequestBody) return true;
   return held.size() - body_start >= *length;
-}
-
-std::string client_of(const asio::ip::address& address) {
-  if (address.is_v4()) return address.to_string();
-  const asio::ip::address_v6 v6 = address.to_v6();
-  if (v6.is_v4_mapped()) return asio::ip::make_address_v4(asio::ip::v4_mapped, v6).to_string();
-  asio::ip::address_v6::bytes_type network = v6.to_bytes();
-  std::fill(network.begin() + 8, network.end(), 0);
-  return asio::ip::address_v6(network).to_string() + "/64";
 }
 
 // One client connection and its copy towards the HTTP server. Its sockets and flags belong to
@@ -182,7 +172,7 @@ void ConnectionGate::admit(tcp::socket socket) {
   const auto remote = socket.remote_endpoint(ec);
   if (ec) return;  // gone already
   auto relay = std::make_shared<Relay>(std::move(socket));
-  relay->address = client_of(remote.address());
+  relay->address = remote.address().to_string();
   const char* refusal = nullptr;
   std::shared_ptr<Relay> evicted;
   {

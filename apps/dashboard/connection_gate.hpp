@@ -10,8 +10,7 @@
 //  - holds each request until it has arrived whole (request_ready) before it connects to the
 //    server: a connection being dribbled costs a socket and a buffer here, never a server
 //    thread, so slow clients from any number of addresses cannot hold the server's threads;
-//  - refuses a client (an IPv4 address, an IPv6 /64: client_of) that already has
-//    `max_per_address` connections open;
+//  - refuses a client address that already has `max_per_address` connections open;
 //  - at `max_total` open connections, makes room for a new one by closing a connection whose
 //    request has not arrived whole: the oldest of the address holding the most of them (counted
 //    `evicted`); refuses it only when none may be closed (every request has reached the
@@ -58,12 +57,6 @@ inline constexpr std::size_t kMaxRequestBody = 8192;
 /// Content-Length announces (at most kMaxRequestBody) has arrived, or it is TLS (first byte 0x16,
 /// a handshake record: it cannot be read here), or it is over kHeldRequestMax.
 bool request_ready(std::string_view held);
-
-/// Who a connection counts against, for max_per_address and eviction: an IPv4 address (an
-/// IPv4-mapped IPv6 one as its IPv4), or an IPv6 address's /64 network ("2001:db8:1:2::/64").
-/// One IPv6 host holds a whole /64 (SLAAC privacy addresses), so counted per address, a laptop
-/// could open max_per_address connections from each of 2^64 addresses and win every eviction.
-std::string client_of(const boost::asio::ip::address& address);
 
 struct ConnectionLimits {
   int max_per_address = 32;         ///< open connections from one client address
