@@ -220,6 +220,10 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
               return;
             }
             if (h.to_node().to_string() != config_.node_id) return;
+            if (h.kind() == ::sarloc::HANDOVER_TAKEN) {
+              enqueue(id, HandedOver{id, from}, /*droppable=*/false);
+              return;
+            }
             if (h.kind() == ::sarloc::HANDOVER_UNAVAILABLE) {
               spdlog::warn(
                   "{}: '{}' cannot hand over the estimator of '{}' (its journal overflowed): it goes on afresh here",
@@ -227,7 +231,7 @@ CoreNode::CoreNode(std::shared_ptr<Participant> participant, CoreNodeConfig conf
               return;
             }
             try {
-              enqueue(id, TakeOver{id, from, journal_of(h)});
+              enqueue(id, TakeOver{id, from, journal_of(h)}, /*droppable=*/false);
             } catch (const InputError& e) {
               reject(id, "invalid_value", std::string("rescuer_handover from '") + from + "': " + e.what());
             }
@@ -384,12 +388,12 @@ void CoreNode::release_newest(Worker& worker, std::chrono::steady_clock::duratio
       total_s > 0.0 ? 100.0 * released_s / total_s : 0.0, released.front(), dropped);
 }
 
-void CoreNode::enqueue(const std::string& rescuer_id, Work work) {
+void CoreNode::enqueue(const std::string& rescuer_id, Work work, bool droppable) {
   Worker& w = worker_of(rescuer_id);
   bool dropped = false;
   {
     std::lock_guard<std::mutex> lock(w.mutex);
-    if (w.queue.size() >= config_.queue_limit) {
+    if (droppable && w.queue.size() >= config_.queue_limit) {
       w.queue.pop_front();
       dropped = true;
     }
@@ -514,7 +518,9 @@ bool CoreNode::straggler(Worker& worker, const std::string& rescuer_id, Timestam
                        " is no later than its hand-over to another sector's daemon");
     return true;
   }
-  worker.handed_away.erase(it);  // it came back: a new responder here, which asks for its estimator
+  // It came back: served on with the state still here (the other daemon's TAKEN is then
+  // ignored), or, released already, a new responder here, which asks for its estimator.
+  worker.handed_away.erase(it);
   return false;
 }
 
@@ -523,6 +529,11 @@ void CoreNode::hand_over(Worker& worker, const HandOverTo& request) {
   if (it == worker.responders.end()) return;  // not here: another daemon's, or none
   const auto* journaled = dynamic_cast<const estimator::JournaledEstimator*>(&it->second.estimator());
   if (journaled == nullptr) return;
+  // Samples still waiting for their odometry go in first (with unknown motion in its place):
+  // the device sends the rest to the other daemon now, so they would reach no estimator.
+  estimator::SequencerReport report;
+  it->second.release(estimator::SampleSequencer::Clock::time_point::max(), report);
+  publish(report);
   const estimator::EstimatorJournal& journal = journaled->journal();
   ::sarloc::RescuerHandover message;
   try {
@@ -543,15 +554,27 @@ void CoreNode::hand_over(Worker& worker, const HandOverTo& request) {
         config_.node_id, request.to_node, request.rescuer_id, config_.handover_journal_entries);
     return;  // its state stays here until idle
   }
-  spdlog::info("{}: handed '{}' to '{}' ({} calls); its state here is released", config_.node_id, request.rescuer_id,
-               request.to_node, journal.entries.size());
+  // The state stays until the other daemon says it took the responder over (HANDOVER_TAKEN):
+  // a journal lost on the way, or refused there, leaves the search here, not nowhere.
+  spdlog::info("{}: handed '{}' to '{}' ({} calls); its state here goes once taken over", config_.node_id,
+               request.rescuer_id, request.to_node, journal.entries.size());
   worker.handed_away[request.rescuer_id] = estimator::reach_of(journal).latest;
+}
+
+void CoreNode::release_handed(Worker& worker, const HandedOver& taken) {
+  const auto it = worker.responders.find(taken.rescuer_id);
+  // Came back since (straggler() forgot the hand-over) or gone already: nothing to release.
+  if (it == worker.responders.end() || worker.handed_away.count(taken.rescuer_id) == 0) return;
+  {
+    // Under the roster's lock, as evict_idle: a sample admitted after the release is queued after it.
+    std::lock_guard<std::mutex> lock(roster_mutex_);
+    roster_.release(taken.rescuer_id);
+    active_filters_.fetch_sub(it->second.estimator().active_filters());
+    worker.responders.erase(it);
+  }
+  if (position_refresh_) position_refresh_->forget(taken.rescuer_id);  // the new daemon writes his positions
   handed_over_.fetch_add(1);
-  if (position_refresh_) position_refresh_->forget(request.rescuer_id);  // the new daemon writes his positions
-  active_filters_.fetch_sub(it->second.estimator().active_filters());
-  worker.responders.erase(it);
-  std::lock_guard<std::mutex> lock(roster_mutex_);
-  roster_.release(request.rescuer_id);
+  spdlog::info("{}: '{}' took '{}' over: its state here is released", config_.node_id, taken.by_node, taken.rescuer_id);
 }
 
 void CoreNode::take_over(Worker& worker, TakeOver& handed) {
@@ -559,21 +582,36 @@ void CoreNode::take_over(Worker& worker, TakeOver& handed) {
   if (it == worker.responders.end()) return;  // asked for and gone since (idle, released): nothing to resume
   const auto* own = dynamic_cast<const estimator::JournaledEstimator*>(&it->second.estimator());
   if (own == nullptr) return;
+  if (handed.journal.role != own->role()) {
+    reject(handed.rescuer_id, "invalid_value",
+           "rescuer_handover from '" + handed.from_node + "': the journal of a " +
+               estimator::to_string(handed.journal.role) + ", here a " + estimator::to_string(own->role()) +
+               "; it goes on afresh here");
+    return;
+  }
   const auto began = std::chrono::steady_clock::now();
   estimator::MergedEstimator merged;
   try {
     merged = estimator::resume_with_newer(handed.journal, own->journal(), config_.estimators,
                                           config_.handover_journal_entries);
-  } catch (const InputError& e) {
+  } catch (const Error& e) {  // a refused entry, or a configuration that cannot make its estimator
     reject(handed.rescuer_id, "invalid_value",
            "rescuer_handover from '" + handed.from_node + "': " + std::string(e.what()) + "; it goes on afresh here");
     return;
   }
+  const auto taken = [&] {
+    if (!handover_writer_.write(
+            handover_taken(handed.rescuer_id, config_.node_id, handed.from_node, MissionClock::wall_now_ns()))) {
+      spdlog::error("{}: DDS refused to tell '{}' that '{}' was taken over", config_.node_id, handed.from_node,
+                    handed.rescuer_id);
+    }
+  };
   if (!merged.estimator) {
     spdlog::warn(
-        "{}: the journal of '{}' from '{}' is not its estimator any more (the device numbers its steps "
-        "afresh: it restarted): it goes on afresh here",
+        "{}: the journal of '{}' from '{}' is not its estimator any more (the device numbers its steps or "
+        "samples afresh: it restarted): it goes on afresh here",
         config_.node_id, handed.rescuer_id, handed.from_node);
+    taken();  // the old session's state is of no use there either
     return;
   }
   const std::size_t filters_before = it->second.estimator().active_filters();
@@ -581,6 +619,7 @@ void CoreNode::take_over(Worker& worker, TakeOver& handed) {
   it->second.replace_estimator(std::move(merged.estimator), reach.odometry_until, reach.measured_at);
   active_filters_.fetch_add(it->second.estimator().active_filters() - filters_before);
   taken_over_.fetch_add(1);
+  taken();
   spdlog::info(
       "{}: took '{}' over from '{}': {} calls replayed and {} of its own since ({} within the journal) in {:.1f} ms",
       config_.node_id, handed.rescuer_id, handed.from_node, handed.journal.entries.size(), merged.applied,
@@ -615,7 +654,12 @@ void CoreNode::handle(Worker& worker, Work& work) {
     take_over(worker, *handed);
     return;
   }
+  if (auto* taken = std::get_if<HandedOver>(&work)) {
+    release_handed(worker, *taken);
+    return;
+  }
   if (auto* evict = std::get_if<Evict>(&work)) {
+    worker.handed_away.erase(evict->rescuer_id);
     if (auto it = worker.responders.find(evict->rescuer_id); it != worker.responders.end()) {
       active_filters_.fetch_sub(it->second.estimator().active_filters());
       worker.responders.erase(it);
@@ -631,8 +675,11 @@ void CoreNode::handle(Worker& worker, Work& work) {
     auto& sequencer = sequencer_for(worker, odometry->rescuer_id);
     const TimestampNs motion_known = sequencer.odometry_until();
     sequencer.on_odometry(*odometry, report);
+    // Not a firefighter's: his step 1 is his door start, which for a device restarted mid-search
+    // would be a confident wrong place; he stays refused until idle, then is met mid-search.
     if (odometry->sequence == 1 && odometry->interval_start >= motion_known && !report.rejections.empty() &&
-        report.rejections.back().reason == responder::RejectReason::kSequenceBackwards) {
+        report.rejections.back().reason == responder::RejectReason::kSequenceBackwards &&
+        sequencer.estimator().role() == estimator::ResponderRole::kAvalancheRescuer) {
       // The device numbers its steps from 1 again, from after the last step it sent: it
       // restarted, and its signals are numbered afresh too. Its state here (or the estimator a
       // daemon handed over) would refuse all it sends until idle; it starts afresh instead, with

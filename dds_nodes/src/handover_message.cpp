@@ -49,6 +49,15 @@ const typename Sequence::value_type& next(const Sequence& sequence, std::size_t&
   return out;
 }
 
+::sarloc::RescuerHandover handover_taken(const std::string& responder_id, const std::string& from_node,
+                                         const std::string& to_node, TimestampNs stamp) {
+  auto out = handover_request(responder_id, from_node, stamp);
+  check_id_fits(to_node, "to_node");
+  out.to_node(to_node);
+  out.kind(::sarloc::HANDOVER_TAKEN);
+  return out;
+}
+
 ::sarloc::RescuerHandover handover_journal(const estimator::EstimatorJournal& journal, const std::string& from_node,
                                            const std::string& to_node, TimestampNs stamp) {
   if (journal.entries.size() > ::sarloc::HANDOVER_ENTRIES_MAX) {

@@ -33,6 +33,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainAdmissionDoorStart = 180,
   kDomainHandover = 181,
   kDomainMissionSectorMove = 182,  // tests/integration/mission/sector-move.yaml names it too
+  kDomainDeviceRestart = 183,
   kDomainDiscoveryServer = 140,
   kDomainBenchEchoListener = 141,
   kDomainBenchEchoQueue = 142,

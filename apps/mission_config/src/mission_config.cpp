@@ -464,6 +464,10 @@ MissionConfig load_mission_config_text(const std::string& text, const std::strin
     r.read("sector_margin_m", sector_margin_m);
     r.expect_done();
   }
+  if (!(sector_margin_m >= 0.0 && sector_margin_m <= 100.0)) {
+    throw ConfigError(name + ": rescuer.sector_margin_m = " + config_value(sector_margin_m) +
+                      ": must be in [0, 100] m");
+  }
   if (!areas.empty()) {
     c.sector_areas = incident::SectorAreas(std::move(areas), sector_margin_m, name + ": sectors");
     // A device walking into another sector's area takes its estimator along: every daemon keeps

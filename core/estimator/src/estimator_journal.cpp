@@ -179,10 +179,17 @@ MergedEstimator resume_with_newer(const EstimatorJournal& handed, const Estimato
     return true;  // mark_done, leave_to_others: idempotent, the latest wins
   };
   MergedEstimator merged;
+  const TimestampNs reach = reach_of(handed).latest;
   for (const auto& entry : met.entries) {
+    // A later step, or a later sample of a signal, numbered no higher: the device restarted.
     const auto* odometry = std::get_if<responder::Odometry>(&entry);
     if (odometry != nullptr && last_step && odometry->interval_end > motion_until && odometry->sequence <= *last_step) {
-      return merged;  // a later step numbered no higher: the device restarted
+      return merged;
+    }
+    const auto* sample = std::get_if<SensorSample>(&entry);
+    if (sample != nullptr && stamp_of(*sample) > reach) {
+      const auto last = last_sample.find(signal_of(*sample));
+      if (last != last_sample.end() && sequence_of(*sample) <= last->second) return merged;
     }
   }
   merged.estimator = resume_estimator(handed, configs, max_entries);

@@ -348,11 +348,12 @@ TEST(CoreNodeFirefighter, ABusyDaemonStillAdmitsAFirefightersFirstStepFromItsRep
 // Issue 64, item 4: a firefighter who moves from one sector's daemon to another's keeps his
 // filter. Each daemon serves its sector's partition; the device's steps go to the west daemon,
 // then to the east one. The east daemon meets him, asks for his estimator on
-// sarloc/rescuer_handover, and the west daemon hands its journal over and releases it. From
-// then on the east daemon answers exactly as one daemon that never lost him would have (bit
-// for bit: the same filter, its particles' generator included); only its first answer, from
-// the fresh filter it ran before the journal came, may differ. A straggler of the switch still
-// reaching the west daemon is refused there, not answered from a filter started again.
+// sarloc/rescuer_handover, the west daemon hands its journal over, and releases him once the
+// east one says it took him over. From then on the east daemon answers exactly as one daemon
+// that never lost him would have (bit for bit: the same filter, its particles' generator
+// included); only the answers to the steps sent while the journal was on its way, from the
+// fresh filter it ran meanwhile, may differ. A straggler of the switch still reaching the west
+// daemon is refused there, not answered from a filter started again.
 TEST(CoreNodeFirefighter, AFirefighterWhoMovesToAnotherSectorKeepsHisFilterThere) {
   const auto mission =
       app::load_mission_config(std::string(SARLOC_SOURCE_DIR) + "/tests/integration/mission/firefighters.yaml");
@@ -386,21 +387,18 @@ TEST(CoreNodeFirefighter, AFirefighterWhoMovesToAnotherSectorKeepsHisFilterThere
     }
   }
   ASSERT_TRUE(answered(kSwitch));
-  ASSERT_TRUE(to_east.write(to_idl(steps[kSwitch])));
+  // The first steps in the east go out at once, while the request and the journal are on their
+  // way: the east daemon answers them from a fresh filter, then merges them into the journal's.
+  constexpr std::size_t kInFlight = 5;
+  for (std::size_t k = kSwitch; k < kSwitch + kInFlight; ++k) ASSERT_TRUE(to_east.write(to_idl(steps[k])));
   ASSERT_TRUE(test::eventually([&] { return east->taken_over() == 1; }, 20s))
       << "the journal never reached the east daemon";
-  EXPECT_EQ(west->handed_over(), 1U);
+  ASSERT_TRUE(test::eventually([&] { return west->handed_over() == 1; }, 10s)) << "the west daemon kept him";
   ASSERT_TRUE(to_west.write(to_idl(steps[kSwitch - 1])));  // a straggler of the switch
   ASSERT_TRUE(test::eventually([&] { return west->counters().rejected_for("handed_over") == 1; }, 10s));
-  for (std::size_t k = kSwitch + 1; k < steps.size(); ++k) ASSERT_TRUE(to_east.write(to_idl(steps[k])));
+  ASSERT_TRUE(answered(kSwitch + kInFlight));
+  for (std::size_t k = kSwitch + kInFlight; k < steps.size(); ++k) ASSERT_TRUE(to_east.write(to_idl(steps[k])));
   ASSERT_TRUE(answered(steps.size()));
-  // Then his device restarts, numbering its steps from 1 again: the east daemon starts him
-  // afresh rather than refusing all he sends as numbered backwards.
-  auto restarted = steps.front();
-  restarted.interval_start = steps.back().interval_end + 1'000'000'000;
-  restarted.interval_end = restarted.interval_start + 500'000'000;
-  ASSERT_TRUE(to_east.write(to_idl(restarted)));
-  ASSERT_TRUE(answered(steps.size() + 1)) << "the restarted device's first step was not answered";
 
   // One daemon that never lost him, with the same configuration.
   auto never_moved =
@@ -411,7 +409,8 @@ TEST(CoreNodeFirefighter, AFirefighterWhoMovesToAnotherSectorKeepsHisFilterThere
     const auto outcome = never_moved->add_odometry(steps[k]);
     const auto* out = std::get_if<estimator::EstimatorOutput>(&outcome);
     ASSERT_TRUE(out != nullptr && out->position) << "step " << k;
-    if (k == kSwitch) continue;  // the east daemon's fresh filter, before the journal came
+    if (k >= kSwitch && k < kSwitch + kInFlight)
+      continue;  // perhaps the east daemon's fresh filter, before the journal
     const auto it = positions.find(steps[k].interval_end);
     ASSERT_NE(it, positions.end()) << "no answer to step " << k;
     EXPECT_EQ(it->second.position.position, out->position->position.position) << "step " << k;
@@ -419,7 +418,7 @@ TEST(CoreNodeFirefighter, AFirefighterWhoMovesToAnotherSectorKeepsHisFilterThere
     EXPECT_EQ(it->second.confirmed, out->position->confirmed) << "step " << k;
     ++compared;
   }
-  EXPECT_EQ(compared, steps.size() - 1);
+  EXPECT_EQ(compared, steps.size() - kInFlight);
   EXPECT_EQ(east->counters().rejected, 0U);
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <set>
 
 #include "sarloc/core/mission/simulated_rescuer.hpp"
 #include "sarloc/dds/conversions.hpp"
@@ -163,6 +164,59 @@ TEST(CoreNodeRobustness, MalformedStreamNeitherCrashesNorTouchesOtherRescuers) {
     EXPECT_GT(counters.by_reason.count(reason), 0U) << "no rejection counted as " << reason;
   }
   EXPECT_EQ(node->rescuers_served(), 2U) << "'good' and 'bad' (its valid-looking samples were refused)";
+}
+
+// A rescuer's device restarted mid-search numbers its steps and samples from 1 again, and its
+// signals afresh. The daemon serves it afresh from its first step after the restart, instead of
+// refusing all it sends as numbered backwards until the responder's state goes idle (300 s).
+TEST(CoreNodeRobustness, ARestartedDeviceIsServedAfreshNotRefusedUntilIdle) {
+  auto daemon_participant = test::make_participant(test::kDomainDeviceRestart, "core");
+  CoreNodeConfig config;
+  config.estimators.avalanche_rescuer = small_search();
+  auto node = std::make_unique<CoreNode>(daemon_participant, config);
+  auto device = test::make_participant(test::kDomainDeviceRestart, "good");
+  Writer<::sarloc::FieldMeasurement> measurements(device);
+  Writer<::sarloc::Odometry> odometry(device);
+  std::mutex mutex;
+  std::condition_variable cv;
+  std::set<std::pair<TimestampNs, std::uint64_t>> answered;  // (stamp, sequence) of each estimate
+  Reader<::sarloc::VictimEstimate> estimates(device, [&](const ::sarloc::VictimEstimate& e, const auto&) {
+    if (e.rescuer_id().to_string() != "good") return;
+    std::lock_guard<std::mutex> lock(mutex);
+    answered.insert({e.stamp(), e.measurement_sequence()});
+    cv.notify_all();
+  });
+  ASSERT_TRUE(measurements.wait_for_readers(1, 10s));
+  ASSERT_TRUE(odometry.wait_for_readers(1, 10s));
+  ASSERT_TRUE(estimates.wait_for_writers(1, 10s));
+
+  // Two sessions of the same device: the second starts 100 s after the first's last epoch.
+  const auto run_session = [&](TimestampNs first_stamp, int epochs, int answered_from) {
+    mission::SimulatedRescuer sim(two_victim_scenario(), "good");
+    for (int k = 0; k < epochs; ++k) {
+      const TimestampNs stamp = first_stamp + 1'000'000'000LL * k;
+      if (k > 0) {
+        ASSERT_TRUE(odometry.write(to_idl(sim.walk(0.0, 1.0, stamp - 1'000'000'000LL, stamp))));
+      }
+      const auto epoch = sim.measure(stamp);
+      for (const auto& m : epoch) ASSERT_TRUE(measurements.write(to_idl(m)));
+      if (k < answered_from) continue;
+      std::unique_lock<std::mutex> lock(mutex);
+      ASSERT_TRUE(cv.wait_for(lock, 10s,
+                              [&] {
+                                for (const auto& m : epoch) {
+                                  if (answered.count({m.stamp, m.sequence}) == 0) return false;
+                                }
+                                return true;
+                              }))
+          << "no estimate for epoch " << k << " of the session from " << first_stamp;
+    }
+  };
+  run_session(1'000'000'000LL, 6, 0);
+  // Its first epoch has no step yet: its samples are refused as numbered backwards; its first
+  // step says the device restarted, and from then on it is answered.
+  run_session(106'000'000'000LL, 6, 1);
+  EXPECT_LE(node->counters().rejected, 2U) << "at most the restarted session's first samples";
 }
 
 }  // namespace

@@ -121,8 +121,13 @@ class CoreNode {
     std::string from_node;
     estimator::EstimatorJournal journal;
   };
+  /// The daemon this responder was handed to took him over: release his state here.
+  struct HandedOver {
+    std::string rescuer_id;
+    std::string by_node;
+  };
   using Work = std::variant<responder::Odometry, estimator::SensorSample, MarkDone, Evict, LeaveToOthers, PositionHint,
-                            HandOverTo, TakeOver>;
+                            HandOverTo, TakeOver, HandedOver>;
   struct Queued {
     Work work;
     std::chrono::steady_clock::time_point at;  ///< enqueued: its wait tells the BusyGate
@@ -133,8 +138,9 @@ class CoreNode {
     std::condition_variable cv;
     std::deque<Queued> queue;
     std::map<std::string, estimator::SampleSequencer> responders;  // only this worker's thread touches them
-    /// Responders whose estimator went to another daemon, with the latest stamp it had taken:
-    /// their samples stamped no later are stragglers of the switch and are dropped.
+    /// Responders whose estimator was handed to another daemon, with the latest stamp it had
+    /// taken: their samples stamped no later are stragglers of the switch and are dropped. The
+    /// state stays until that daemon says it took the responder over (HandedOver).
     std::map<std::string, TimestampNs> handed_away;
     std::atomic<std::int64_t> busy_ns{0};                          ///< steady time spent handling and publishing
     std::int64_t busy_noted_ns = 0;  ///< busy_ns at the last note_worker_load (status thread)
@@ -146,7 +152,8 @@ class CoreNode {
 
   /// The input readers' filter: does the roster serve this sample's responder? Counts and logs a refusal.
   bool admit(const ResponderSample& sample);
-  void enqueue(const std::string& rescuer_id, Work work);
+  /// `droppable` false: never pushed out of a full queue (a journal taken over, its release).
+  void enqueue(const std::string& rescuer_id, Work work, bool droppable = true);
   /// Queues a hint unless the worker's queue is half full (it never displaces a sample).
   void enqueue_hint(const std::string& rescuer_id, PositionHint hint);
   /// Queues the release of every idle responder's state on its worker.
@@ -168,6 +175,7 @@ class CoreNode {
   void publish_status();
   void hand_over(Worker& worker, const HandOverTo& request);
   void take_over(Worker& worker, TakeOver& handed);
+  void release_handed(Worker& worker, const HandedOver& taken);
   /// A sample or step of a responder handed away that is no later than its hand-over: dropped.
   bool straggler(Worker& worker, const std::string& rescuer_id, TimestampNs stamp);
   /// Writes again the last position of every responder whose positions stopped (status thread).

@@ -12,6 +12,9 @@ namespace sarloc::dds {
 /// Whoever holds `responder_id`'s estimator: hand it to `from_node`.
 ::sarloc::RescuerHandover handover_request(const std::string& responder_id, const std::string& from_node,
                                            TimestampNs stamp);
+/// `from_node` took `responder_id` over from `to_node` (HANDOVER_TAKEN): `to_node` may release it.
+::sarloc::RescuerHandover handover_taken(const std::string& responder_id, const std::string& from_node,
+                                         const std::string& to_node, TimestampNs stamp);
 /// `journal` from `from_node` to `to_node` (HANDOVER_JOURNAL), or HANDOVER_UNAVAILABLE when it
 /// overflowed. Throws InputError when it holds more than HANDOVER_ENTRIES_MAX entries or an id
 /// the wire refuses.

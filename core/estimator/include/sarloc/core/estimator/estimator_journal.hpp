@@ -117,9 +117,11 @@ JournalReach reach_of(const EstimatorJournal& journal);
 /// every mark_done and leave_to_others (idempotent); one the estimator refuses is skipped and
 /// counted.
 struct MergedEstimator {
-  /// Null when `met` numbers the device's steps afresh (an odometry sequence after the journal's
-  /// reach no higher than the journal's last): the device restarted, its signals are numbered
-  /// afresh too, and the journal is not its estimator any more.
+  /// Null when `met` numbers the device's steps or a signal's samples afresh (later than the
+  /// journal's reach, numbered no higher than the journal's last): the device restarted, its
+  /// signals are numbered afresh too, and the journal is not its estimator any more. A restart
+  /// that `met` shows neither way (no step nor sample of a known signal yet, or numbered past the
+  /// journal's) is not seen: the wire carries no device session.
   std::unique_ptr<JournaledEstimator> estimator;
   std::size_t applied = 0;  ///< calls of `met` applied
   std::size_t skipped = 0;  ///< calls of `met` within the journal's reach, or refused
