@@ -508,6 +508,11 @@ estimator::SampleSequencer& CoreNode::sequencer_for(Worker& worker, const std::s
   return worker.responders.emplace(rescuer_id, estimator::SampleSequencer(std::move(estimator), wait)).first->second;
 }
 
+void CoreNode::drop_state(Worker& worker, std::map<std::string, estimator::SampleSequencer>::iterator it) {
+  active_filters_.fetch_sub(it->second.estimator().active_filters());
+  worker.responders.erase(it);
+}
+
 bool CoreNode::straggler(Worker& worker, const std::string& rescuer_id, TimestampNs stamp) {
   const auto it = worker.handed_away.find(rescuer_id);
   if (it == worker.handed_away.end()) return false;
@@ -569,8 +574,7 @@ void CoreNode::release_handed(Worker& worker, const HandedOver& taken) {
     // Under the roster's lock, as evict_idle: a sample admitted after the release is queued after it.
     std::lock_guard<std::mutex> lock(roster_mutex_);
     roster_.release(taken.rescuer_id);
-    active_filters_.fetch_sub(it->second.estimator().active_filters());
-    worker.responders.erase(it);
+    drop_state(worker, it);
   }
   if (position_refresh_) position_refresh_->forget(taken.rescuer_id);  // the new daemon writes his positions
   handed_over_.fetch_add(1);
@@ -661,8 +665,7 @@ void CoreNode::handle(Worker& worker, Work& work) {
   if (auto* evict = std::get_if<Evict>(&work)) {
     worker.handed_away.erase(evict->rescuer_id);
     if (auto it = worker.responders.find(evict->rescuer_id); it != worker.responders.end()) {
-      active_filters_.fetch_sub(it->second.estimator().active_filters());
-      worker.responders.erase(it);
+      drop_state(worker, it);
       if (!evict->shed) {
         spdlog::info("{}: responder '{}' idle for {} s: its state is released", config_.node_id, evict->rescuer_id,
                      config_.roster.idle_evict_s);
@@ -687,8 +690,7 @@ void CoreNode::handle(Worker& worker, Work& work) {
       spdlog::warn("{}: '{}' numbers its steps from 1 again (its device restarted): its state here starts afresh",
                    config_.node_id, odometry->rescuer_id);
       report.rejections.pop_back();
-      active_filters_.fetch_sub(sequencer.estimator().active_filters());
-      worker.responders.erase(odometry->rescuer_id);
+      drop_state(worker, worker.responders.find(odometry->rescuer_id));
       sequencer_for(worker, odometry->rescuer_id).on_odometry(*odometry, report);
     }
   } else {

@@ -20,11 +20,6 @@ void check_id_fits(const std::string& id, const char* field) {
   }
 }
 
-template <class Sequence>
-void append(Sequence& sequence, typename Sequence::value_type value) {
-  sequence.push_back(std::move(value));
-}
-
 // Takes a kind's next value, or refuses a journal whose calls name more of them than it carries.
 template <class Sequence>
 const typename Sequence::value_type& next(const Sequence& sequence, std::size_t& taken, const char* field) {
@@ -78,18 +73,18 @@ const typename Sequence::value_type& next(const Sequence& sequence, std::size_t&
   for (const auto& entry : journal.entries) {
     out.calls().push_back(static_cast<std::uint8_t>(entry.index()));
     if (const auto* odometry = std::get_if<responder::Odometry>(&entry)) {
-      append(out.odometry_steps(), to_idl(*odometry));
+      out.odometry_steps().push_back(to_idl(*odometry));
     } else if (const auto* motion = std::get_if<estimator::UnknownMotionCall>(&entry)) {
       ::sarloc::JournalSpan span;
       span.from(motion->from);
       span.until(motion->until);
-      append(out.unknown_motion(), span);
+      out.unknown_motion().push_back(span);
     } else if (const auto* sample = std::get_if<estimator::SensorSample>(&entry)) {
-      append(out.field_measurements(), to_idl(std::get<avalanche::FieldMeasurement>(*sample)));
+      out.field_measurements().push_back(to_idl(std::get<avalanche::FieldMeasurement>(*sample)));
     } else if (const auto* coast = std::get_if<estimator::CoastCall>(&entry)) {
-      append(out.coasts(), coast->stamp);
+      out.coasts().push_back(coast->stamp);
     } else if (const auto* done = std::get_if<estimator::MarkDoneCall>(&entry)) {
-      append(out.done_signals(), done->signal_id);
+      out.done_signals().push_back(done->signal_id);
     } else if (const auto* leave = std::get_if<estimator::LeaveToOthersCall>(&entry)) {
       if (leave->signal_ids.size() > ::sarloc::HANDOVER_SIGNALS_MAX) {
         throw InputError("rescuer_handover.leaves.signal_ids: " + std::to_string(leave->signal_ids.size()) +
@@ -98,9 +93,9 @@ const typename Sequence::value_type& next(const Sequence& sequence, std::size_t&
       ::sarloc::JournalLeave out_leave;
       out_leave.signal_ids().assign(leave->signal_ids.begin(), leave->signal_ids.end());
       out_leave.until(leave->until);
-      append(out.leaves(), out_leave);
+      out.leaves().push_back(out_leave);
     } else if (const auto* hint = std::get_if<estimator::PositionHintCall>(&entry)) {
-      append(out.position_hints(), to_idl(hint->own));
+      out.position_hints().push_back(to_idl(hint->own));
     }
   }
   return out;

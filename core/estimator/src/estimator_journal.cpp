@@ -149,13 +149,11 @@ MergedEstimator resume_with_newer(const EstimatorJournal& handed, const Estimato
   std::optional<std::uint64_t> last_step;
   std::map<std::uint32_t, std::uint64_t> last_sample;  // per signal
   std::optional<TimestampNs> last_coast, last_hint;
-  TimestampNs motion_until = 0;
+  const JournalReach reach = reach_of(handed);
+  const TimestampNs motion_until = reach.odometry_until;
   for (const auto& entry : handed.entries) {
     if (const auto* odometry = std::get_if<responder::Odometry>(&entry)) {
       last_step = std::max(last_step.value_or(0), odometry->sequence);
-      motion_until = std::max(motion_until, odometry->interval_end);
-    } else if (const auto* motion = std::get_if<UnknownMotionCall>(&entry)) {
-      motion_until = std::max(motion_until, motion->until);
     } else if (const auto* sample = std::get_if<SensorSample>(&entry)) {
       auto& last = last_sample[signal_of(*sample)];
       last = std::max(last, sequence_of(*sample));
@@ -179,7 +177,6 @@ MergedEstimator resume_with_newer(const EstimatorJournal& handed, const Estimato
     return true;  // mark_done, leave_to_others: idempotent, the latest wins
   };
   MergedEstimator merged;
-  const TimestampNs reach = reach_of(handed).latest;
   for (const auto& entry : met.entries) {
     // A later step, or a later sample of a signal, numbered no higher: the device restarted.
     const auto* odometry = std::get_if<responder::Odometry>(&entry);
@@ -187,7 +184,7 @@ MergedEstimator resume_with_newer(const EstimatorJournal& handed, const Estimato
       return merged;
     }
     const auto* sample = std::get_if<SensorSample>(&entry);
-    if (sample != nullptr && stamp_of(*sample) > reach) {
+    if (sample != nullptr && stamp_of(*sample) > reach.latest) {
       const auto last = last_sample.find(signal_of(*sample));
       if (last != last_sample.end() && sequence_of(*sample) <= last->second) return merged;
     }

@@ -176,6 +176,8 @@ class CoreNode {
   void hand_over(Worker& worker, const HandOverTo& request);
   void take_over(Worker& worker, TakeOver& handed);
   void release_handed(Worker& worker, const HandedOver& taken);
+  /// Erases a responder's state on its worker (`it` in worker.responders), with its filters' count.
+  void drop_state(Worker& worker, std::map<std::string, estimator::SampleSequencer>::iterator it);
   /// A sample or step of a responder handed away that is no later than its hand-over: dropped.
   bool straggler(Worker& worker, const std::string& rescuer_id, TimestampNs stamp);
   /// Writes again the last position of every responder whose positions stopped (status thread).
