@@ -317,7 +317,8 @@ namespace {
 // One rescuer per victim: who incident command sends to each victim heard by several.
 std::map<std::uint32_t, std::string> pursuers_of(const incident::SearchPlanPicture& plan) {
   std::map<std::uint32_t, std::string> out;
-  for (const auto& h : plan.handed_over) out[h.victim_id] = h.pursued_by;
+  for (const auto& h : plan.handed_over)
+    if (h.victim_id != 0) out[h.victim_id] = h.pursued_by;  // 0: a transmitter not yet placed
   return out;
 }
 

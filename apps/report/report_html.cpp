@@ -253,7 +253,8 @@ std::string plan_outcome(const MissionRecord& r) {
   const auto& plan = *r.search_plan;
   std::string html;
   std::map<std::uint32_t, std::string> sent;
-  for (const auto& h : plan.handed_over) sent[h.victim_id] = h.pursued_by;
+  for (const auto& h : plan.handed_over)
+    if (h.victim_id != 0) sent[h.victim_id] = h.pursued_by;  // 0: a transmitter not yet placed
   if (!sent.empty()) {
     html += "<p>One rescuer per victim, at the end: ";
     std::string list;

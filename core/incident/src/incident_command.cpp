@@ -317,6 +317,35 @@ void IncidentCommand::note_separation_event(const responder::VictimEstimate& e, 
                                       " (its victim estimate continues from it)");
 }
 
+void IncidentCommand::note_heard(const responder::VictimEstimate& e, TimestampNs now) {
+  if (!pursuits_) return;  // no search plan: nobody is sent or handed over
+  auto [it, added] = heard_.try_emplace({e.rescuer_id, e.signal_id});
+  HeardSignal& s = it->second.signal;
+  if (added) {
+    s.rescuer_id = e.rescuer_id;
+    s.signal_id = e.signal_id;
+    s.first_heard = e.stamp;
+  }
+  s.first_heard = std::min(s.first_heard, e.stamp);
+  if (e.transmitter.known()) s.transmitter = e.transmitter;
+  s.placed = e.status >= responder::EstimatorStatus::kConverged;
+  it->second.arrived = std::max(it->second.arrived, now);
+}
+
+std::vector<HeardSignal> IncidentCommand::heard_signals(TimestampNs now) {
+  const auto timeout = seconds_to_ns(config_.fusion.source_timeout_s);
+  std::vector<HeardSignal> out;
+  for (auto it = heard_.begin(); it != heard_.end();) {
+    if (now - it->second.arrived > timeout) {
+      it = heard_.erase(it);
+      continue;
+    }
+    out.push_back(it->second.signal);
+    ++it;
+  }
+  return out;
+}
+
 void IncidentCommand::fuse_pending(TimestampNs now, CommandCycle& out) {
   std::deque<PendingEstimate> waiting;
   while (!pending_estimates_.empty()) {
@@ -324,6 +353,7 @@ void IncidentCommand::fuse_pending(TimestampNs now, CommandCycle& out) {
     pending_estimates_.pop_front();
     const auto& e = pending.estimate;
     note_separation_event(e, pending.from_device);
+    note_heard(e, pending.arrived);
     if (e.status < responder::EstimatorStatus::kConverged) continue;  // a multimodal mean means nothing
     const auto fix = fix_for(e);
     if (!fix) {
@@ -452,7 +482,8 @@ std::optional<SearchPlanPicture> IncidentCommand::plan_search(const std::vector<
                                         " (" + strips[i].rescuer_id + "'s) from the bottom up");
   }
   SearchPlanPicture picture = planner_->picture(config_.incident_id, now);
-  picture.handed_over = pursuits_->update(victims, searching, now);
+  picture.handed_over = pursuits_->update(
+      victims, searching, now, group_heard_signals(heard_signals(now), victims, config_.fusion.gate_probability));
   for (const auto& e : pursuits_->events())
     say(e.warning ? IncidentEvent::Kind::kWarning : IncidentEvent::Kind::kInfo, "search plan: " + e.text);
   // The dig order: free rescuers walk no strip and pursue no victim.

@@ -306,6 +306,43 @@ TEST(IncidentCommand, WithADepositItPlansTheSearchAndALostRescuersStripOpens) {
   }
 }
 
+// Two rescuers hear one transmitter (its signature alike on both receivers) before either has
+// placed it: the first to take it pursues it, the other's signal is handed over (victim id 0).
+// Signals without a signature (the ideal receiver) are handed nothing.
+TEST(IncidentCommand, ATransmitterTwoRescuersHearBeforeEitherPlacesItGoesToTheFirst) {
+  auto config = command_config();
+  config.deposit.emplace(std::vector<Vec2>{{0, 0}, {150, 0}, {150, 200}, {0, 200}}, "incident.deposit");
+  IncidentCommand command(config, at(0));
+  command.on_position(gnss_fix("r1", at(1), Vec3(40, 205, 0)), "w-r1", at(1));
+  command.on_position(gnss_fix("r2", at(1), Vec3(110, 205, 0)), "w-r2", at(1));
+  auto r1 = estimate_of("r1", 3, at(1.2), EstimatorStatus::kMultimodal);
+  auto r2 = estimate_of("r2", 1, at(1), EstimatorStatus::kMultimodal);
+  command.on_estimate(r1, "w-core", false, at(1.3));
+  command.on_estimate(r2, "w-core", false, at(1.3));
+  auto out = command.cycle(at(1.5), at(1.5));
+  ASSERT_TRUE(out.search_plan);
+  EXPECT_TRUE(out.search_plan->handed_over.empty()) << "no signature: nobody can tell it is one transmitter";
+
+  r1.transmitter = {12.0, 0.3, 0.850, 0.002};
+  r2.transmitter = {12.2, 0.3, 0.851, 0.002};
+  command.on_estimate(r1, "w-core", false, at(2));
+  command.on_estimate(r2, "w-core", false, at(2));
+  out = command.cycle(at(2.5), at(2.5));
+  ASSERT_TRUE(out.search_plan);
+  ASSERT_EQ(out.search_plan->handed_over.size(), 1u);
+  const auto& h = out.search_plan->handed_over[0];
+  EXPECT_EQ(h.rescuer_id, "r1");
+  EXPECT_EQ(h.signal_id, 3u);
+  EXPECT_EQ(h.victim_id, 0u);
+  EXPECT_EQ(h.pursued_by, "r2") << "r2 heard it first (stamp 1 s against 1.2 s)";
+  EXPECT_TRUE(
+      has_event(out, Kind::kInfo, "signal r2/1 (carrier +12.2 Hz, period 0.851 s; not yet placed): pursued by r2"));
+  // Nothing heard of them for longer than the fusion's source timeout: nothing handed over.
+  out = command.cycle(at(2.5 + config.fusion.source_timeout_s + 1), at(2.5 + config.fusion.source_timeout_s + 1));
+  ASSERT_TRUE(out.search_plan);
+  EXPECT_TRUE(out.search_plan->handed_over.empty());
+}
+
 TEST(IncidentCommand, ADeviceThatDisposesItsPositionSignedOffAndRaisesNothing) {
   IncidentCommand command(command_config(), at(0));
   command.on_position(gnss_fix("r1", at(1), Vec3(5, 5, 0)), "w-r1", at(1));

@@ -97,5 +97,90 @@ TEST(SignalPursuits, FoundConflictingAmbiguousOrSingleHeardVictimsHandNothingOve
   EXPECT_TRUE(pursuits.update({found, conflict, maybe, named, alone, nan}, searching, 0).empty());
 }
 
+// Before anyone has placed it (signal_groups.hpp): the first of those who hear a transmitter to
+// take it pursues it, the others' signals of it are handed over (victim id 0); once placed, the
+// victim stays with him; a pursuer busy with another goes to the next; not placed in time, it
+// is given back to all; a standby adopts it.
+responder::TransmitterSignature signature(double carrier_hz, double period_s) {
+  return {carrier_hz, 0.3, period_s, 0.002};
+}
+
+HeardSignal heard(const std::string& rescuer, std::uint32_t signal, double first_heard_s, bool placed = false) {
+  return {rescuer, signal, signature(12.0, 0.850), placed, static_cast<TimestampNs>(first_heard_s * 1e9)};
+}
+
+TEST(SignalPursuits, BeforeAnyonePlacesItTheFirstToTakeASignalPursuesItAndKeepsItsVictim) {
+  SignalPursuits pursuits(240.0);
+  std::map<std::string, Vec2> searching{{"r1", {0, 0}}, {"r2", {10, 0}}, {"r3", {20, 0}}};
+  std::vector<HeardSignal> signals{heard("r1", 2, 9.0), heard("r2", 5, 4.0), heard("r3", 1, 6.0)};
+  auto handed = pursuits.update({}, searching, 10 * kSecond, group_heard_signals(signals, {}, 0.999));
+  ASSERT_EQ(handed.size(), 2u);
+  EXPECT_EQ(signals_left_to_others(handed, "r1"), std::set<std::uint32_t>{2});
+  EXPECT_EQ(signals_left_to_others(handed, "r3"), std::set<std::uint32_t>{1});
+  for (const auto& h : handed) {
+    EXPECT_EQ(h.pursued_by, "r2") << "the first to take it";
+    EXPECT_EQ(h.victim_id, 0u) << "not yet placed";
+  }
+  EXPECT_EQ(pursuits.pursuer_of_signal({"r3", 1}), "r2");
+  ASSERT_EQ(pursuits.events().size(), 1u);
+  EXPECT_NE(pursuits.events()[0].text.find("signal r2/5 (carrier +12.0 Hz, period 0.850 s; not yet placed): pursued "
+                                           "by r2 (of 3 who hear it"),
+            std::string::npos)
+      << pursuits.events()[0].text;
+
+  // The same next cycle: nothing new said.
+  handed = pursuits.update({}, searching, 11 * kSecond, group_heard_signals(signals, {}, 0.999));
+  EXPECT_EQ(handed.size(), 2u);
+  EXPECT_TRUE(pursuits.events().empty());
+
+  // r1 places it first (it walked nearest): the victim stays with r2, whose signal (and r3's)
+  // have not converged yet and join it.
+  signals[0].placed = true;
+  const std::vector<FusedVictim> victims{victim(4, {0, 0}, {{"r1", 2}})};
+  handed = pursuits.update(victims, searching, 12 * kSecond, group_heard_signals(signals, victims, 0.999));
+  EXPECT_EQ(pursuits.pursuer_of(4), "r2");
+  EXPECT_EQ(signals_left_to_others(handed, "r1"), std::set<std::uint32_t>{2});
+  EXPECT_EQ(signals_left_to_others(handed, "r3"), std::set<std::uint32_t>{1});
+  for (const auto& h : handed) EXPECT_EQ(h.victim_id, 4u);
+  EXPECT_FALSE(pursuits.pursuer_of_signal({"r3", 1}));
+
+  // A standby that adopts a cycle before the victim keeps r2 on it.
+  signals[0].placed = false;
+  SignalPursuits standby(240.0);
+  standby.adopt(pursuits.update({}, searching, 13 * kSecond, group_heard_signals(signals, {}, 0.999)), 13 * kSecond);
+  EXPECT_EQ(standby.pursuer_of_signal({"r1", 2}), "r2");
+  EXPECT_FALSE(standby.pursuer_of(0)) << "no victim 0";
+}
+
+TEST(SignalPursuits, BeforeAnyonePlacesItAPursuerBusyWithAVictimIsNotSentAndTheLostAreReplaced) {
+  SignalPursuits pursuits(240.0);
+  std::map<std::string, Vec2> searching{{"r1", {0, 0}}, {"r2", {10, 0}}};
+  const std::vector<FusedVictim> victims{victim(1, {1, 0}, {{"r1", 1}, {"r2", 1}})};  // r1 is nearest
+  std::vector<HeardSignal> signals{heard("r1", 1, 0.0, true), heard("r2", 1, 0.0, true), heard("r1", 2, 3.0),
+                                   heard("r2", 2, 5.0)};
+  signals[0].transmitter = signals[1].transmitter = signature(-50.0, 1.2);
+  auto handed = pursuits.update(victims, searching, kSecond, group_heard_signals(signals, victims, 0.999));
+  EXPECT_EQ(pursuits.pursuer_of(1), "r1");
+  EXPECT_EQ(pursuits.pursuer_of_signal({"r1", 2}), "r2") << "r1 took it first but pursues victim 1";
+  EXPECT_EQ(signals_left_to_others(handed, "r1"), std::set<std::uint32_t>{2});
+  // r2 signs off: a group heard by one searching rescuer hands nothing over.
+  searching.erase("r2");
+  handed = pursuits.update(victims, searching, 2 * kSecond, group_heard_signals(signals, victims, 0.999));
+  EXPECT_TRUE(handed.empty());
+}
+
+TEST(SignalPursuits, ATransmitterNotPlacedInTimeIsGivenBackToAll) {
+  SignalPursuits pursuits(60.0);
+  const std::map<std::string, Vec2> searching{{"r1", {0, 0}}, {"r2", {10, 0}}};
+  const std::vector<HeardSignal> signals{heard("r1", 1, 0.0), heard("r2", 1, 1.0)};
+  const auto groups = group_heard_signals(signals, {}, 0.999);
+  EXPECT_EQ(pursuits.update({}, searching, 0, groups).size(), 1u);
+  EXPECT_EQ(pursuits.update({}, searching, 60 * kSecond, groups).size(), 1u) << "not yet";
+  EXPECT_TRUE(pursuits.update({}, searching, 61 * kSecond, groups).empty());
+  ASSERT_EQ(pursuits.events().size(), 1u);
+  EXPECT_TRUE(pursuits.events()[0].warning);
+  EXPECT_TRUE(pursuits.update({}, searching, 100 * kSecond, groups).empty()) << "given up for good";
+}
+
 }  // namespace
 }  // namespace sarloc::incident

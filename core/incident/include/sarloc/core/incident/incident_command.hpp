@@ -226,6 +226,10 @@ class IncidentCommand {
   /// signals handed over to each victim's one pursuer.
   std::optional<SearchPlanPicture> plan_search(const std::vector<TeamStatus>& teams,
                                                const std::vector<FusedVictim>& victims, TimestampNs now);
+  /// Every rescuer's signal as last heard of (any status), for handing a transmitter to one
+  /// rescuer before anyone has placed it (signal_groups.hpp).
+  void note_heard(const responder::VictimEstimate& e, TimestampNs now);
+  std::vector<HeardSignal> heard_signals(TimestampNs now);
   /// A signal's separation event and repeat state as the log should say them, once each.
   void note_separation_event(const responder::VictimEstimate& e, bool from_device);
   void say(IncidentEvent::Kind kind, std::string text);
@@ -254,6 +258,11 @@ class IncidentCommand {
   std::map<std::string, std::string> link_writers_;      ///< writer -> the responder it stands for
   std::map<std::pair<std::string, std::uint32_t>, TimestampNs> separation_events_logged_;
   std::map<std::pair<std::string, std::uint32_t>, responder::RepeatState> repeats_logged_;
+  struct HeardRecord {
+    HeardSignal signal;
+    TimestampNs arrived = 0;  ///< the last estimate's arrival; older than fusion.source_timeout_s: dropped
+  };
+  std::map<SignalKey, HeardRecord> heard_;
   std::vector<TeamStatus> last_teams_;
   std::vector<IncidentEvent> events_;
 

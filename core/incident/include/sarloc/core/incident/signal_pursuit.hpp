@@ -15,10 +15,17 @@
 //     hears the victim (no flapping between two rescuers who walk about equally near);
 //   - a pursuer who has not found the victim within `pursuit_timeout_s` gives it up for good:
 //     every rescuer who hears it may pursue it again (a wrong filter must not hide a victim);
-//   - every other rescuer's signal of the victim is handed over.
+//   - every other rescuer's signal of the victim is handed over;
+//   - before anyone has placed it, a transmitter that several rescuers hear (their signals
+//     grouped by its signature, signal_groups.hpp) goes to the first of them to take it,
+//     among those pursuing nothing else, and the others' signals of it are handed over (victim
+//     id 0);
+//     once it is placed, its victim stays with that pursuer; signals not yet placed that are a
+//     victim's transmitter count as hearing it, and are handed over with its sources.
 //
 //   SignalPursuits pursuits(240.0);
-//   picture.handed_over = pursuits.update(fusion.victims(), searching_positions, now);
+//   picture.handed_over = pursuits.update(fusion.victims(), searching_positions, now,
+//                                         group_heard_signals(heard, fusion.victims(), 0.999));
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -28,6 +35,7 @@
 
 #include "sarloc/core/incident/deposit.hpp"
 #include "sarloc/core/incident/fused_victim.hpp"
+#include "sarloc/core/incident/signal_groups.hpp"
 
 namespace sarloc::incident {
 
@@ -39,7 +47,7 @@ inline constexpr std::size_t kSignalHandOversMax = 256;
 struct SignalHandOver {
   std::string rescuer_id;  ///< whose signal
   std::uint32_t signal_id = 0;
-  std::uint32_t victim_id = 0;
+  std::uint32_t victim_id = 0;  ///< 0: a transmitter not yet placed (SignalGroups::unplaced)
   std::string pursued_by;  ///< the rescuer incident command sends
 };
 
@@ -57,10 +65,14 @@ class SignalPursuits {
   explicit SignalPursuits(double pursuit_timeout_s);
 
   /// The hand-overs now. `searching`: the searching rescuers' latest positions (incident
-  /// frame). What changed since the last call is in events().
+  /// frame); `groups`: the signals heard and not yet placed, grouped by transmitter. What
+  /// changed since the last call is in events().
   std::vector<SignalHandOver> update(const std::vector<FusedVictim>& victims,
-                                     const std::map<std::string, Vec2>& searching, TimestampNs now);
+                                     const std::map<std::string, Vec2>& searching, TimestampNs now,
+                                     const SignalGroups& groups = {});
   std::optional<std::string> pursuer_of(std::uint32_t victim_id) const;
+  /// Who pursues the transmitter not yet placed that `signal` (a rescuer's) is one of.
+  std::optional<std::string> pursuer_of_signal(const SignalKey& signal) const;
   /// A standby takes the active incident command's pursuits (its hand-overs), so that taking
   /// over sends nobody else; a pursuit new to it counts from `now` (the active one's start is
   /// not on the wire).
@@ -78,9 +90,19 @@ class SignalPursuits {
     std::string rescuer_id;
     TimestampNs since = 0;
   };
+  /// A transmitter not yet placed: its pursuer and the rescuers' signals of it.
+  struct GroupPursuit {
+    Pursuit pursuit;
+    std::set<SignalKey> signals;
+  };
+  void pursue_unplaced(const SignalGroups& groups, const std::map<std::string, Vec2>& searching,
+                       std::set<std::string>& busy, TimestampNs now, std::vector<SignalHandOver>& out);
+
   TimestampNs timeout_ns_;
   std::map<std::uint32_t, Pursuit> pursuits_;  ///< by victim id
   std::set<std::uint32_t> given_up_;           ///< victims every rescuer may pursue again
+  std::vector<GroupPursuit> group_pursuits_;
+  std::set<SignalKey> given_up_signals_;  ///< of transmitters not placed, given up
   std::vector<Event> events_;
 };
 
