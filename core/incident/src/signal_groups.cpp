@@ -43,11 +43,31 @@ std::vector<std::vector<std::size_t>> alike_pairs(const std::vector<HeardSignal>
   return out;
 }
 
+/// `alike`, and the pairs with a signal whose signature is partly known (a carrier without its
+/// period, or the reverse) whose known part agrees: such a pair may be one transmitter, so it
+/// makes the other signal ambiguous, never a group.
+std::vector<std::vector<std::size_t>> maybe_pairs(const std::vector<HeardSignal>& heard,
+                                                  std::vector<std::vector<std::size_t>> alike, double gate) {
+  for (std::size_t p = 0; p < heard.size(); ++p) {
+    const auto& sp = heard[p].transmitter;
+    if (!sp.known() || fully_known(sp)) continue;
+    for (std::size_t j = 0; j < heard.size(); ++j) {
+      const bool partial = heard[j].transmitter.known() && !fully_known(heard[j].transmitter);
+      if (j == p || (partial && j < p)) continue;  // a pair of two partial ones once
+      if (responder::compare_signatures(sp, heard[j].transmitter, gate) != responder::SignatureMatch::kAlike) continue;
+      alike[p].push_back(j);
+      alike[j].push_back(p);
+    }
+  }
+  return alike;
+}
+
 }  // namespace
 
 SignalGroups group_heard_signals(const std::vector<HeardSignal>& heard, const std::vector<FusedVictim>& victims,
                                  double gate_probability) {
   const auto alike = alike_pairs(heard, gate_probability);
+  const auto maybe = maybe_pairs(heard, alike, gate_probability);
   auto key_of = [&](std::size_t i) { return SignalKey{heard[i].rescuer_id, heard[i].signal_id}; };
   std::map<SignalKey, std::size_t> index;
   for (std::size_t i = 0; i < heard.size(); ++i) index[key_of(i)] = i;
@@ -64,7 +84,7 @@ SignalGroups group_heard_signals(const std::vector<HeardSignal>& heard, const st
   for (std::size_t i = 0; i < heard.size(); ++i) {
     if (stands_placed(i) || !fully_known(heard[i].transmitter)) continue;
     // Alike with another signal of its own rescuer: it could be either transmitter.
-    const bool self_ambiguous = std::any_of(alike[i].begin(), alike[i].end(),
+    const bool self_ambiguous = std::any_of(maybe[i].begin(), maybe[i].end(),
                                             [&](std::size_t j) { return heard[j].rescuer_id == heard[i].rescuer_id; });
     candidate[i] = !self_ambiguous;
   }
@@ -76,7 +96,7 @@ SignalGroups group_heard_signals(const std::vector<HeardSignal>& heard, const st
     if (!candidate[i]) continue;
     std::set<const FusedVictim*> victims_alike;
     bool unknown_placed = false;  // alike with a placed signal not (yet) a victim's source
-    for (const std::size_t j : alike[i]) {
+    for (const std::size_t j : maybe[i]) {
       const auto v = victim_of.find(key_of(j));
       if (v != victim_of.end())
         victims_alike.insert(v->second);
@@ -86,12 +106,18 @@ SignalGroups group_heard_signals(const std::vector<HeardSignal>& heard, const st
     if (unknown_placed || victims_alike.size() != 1) continue;
     const FusedVictim* v = *victims_alike.begin();
     bool all = true;
+    bool one_whole = false;  // at least one source with a whole signature alike
     for (const auto& s : v->sources) {
       if (s.rescuer_id == heard[i].rescuer_id) all = false;  // one receiver's two signals: its repeat test decides
       const auto it = index.find({s.rescuer_id, s.signal_id});
-      if (it != index.end() && fully_known(heard[it->second].transmitter) && !is_alike(i, it->second)) all = false;
+      if (it == index.end() || !heard[it->second].transmitter.known()) continue;
+      const bool whole = fully_known(heard[it->second].transmitter);
+      const bool agrees =
+          whole ? is_alike(i, it->second) : std::find(maybe[i].begin(), maybe[i].end(), it->second) != maybe[i].end();
+      all = all && agrees;
+      one_whole = one_whole || (whole && agrees);
     }
-    if (!all) continue;
+    if (!all || !one_whole) continue;
     join[i] = v;
     ++joining[{heard[i].rescuer_id, v->victim_id}];
   }
@@ -105,7 +131,7 @@ SignalGroups group_heard_signals(const std::vector<HeardSignal>& heard, const st
   // The rest: alike with nothing on the picture and with no signal that joined a victim.
   std::vector<bool> free(heard.size(), false);
   for (std::size_t i = 0; i < heard.size(); ++i) {
-    free[i] = candidate[i] && !joined[i] && std::none_of(alike[i].begin(), alike[i].end(), [&](std::size_t j) {
+    free[i] = candidate[i] && !joined[i] && std::none_of(maybe[i].begin(), maybe[i].end(), [&](std::size_t j) {
                 return stands_placed(j) || joined[j];
               });
   }
@@ -115,13 +141,14 @@ SignalGroups group_heard_signals(const std::vector<HeardSignal>& heard, const st
     std::vector<std::size_t> group{start};
     seen[start] = true;
     bool whole = true;  // every member free (a neighbour that is not makes the group ambiguous)
-    for (std::size_t k = 0; k < group.size(); ++k)
+    for (std::size_t k = 0; k < group.size(); ++k) {
+      for (const std::size_t j : maybe[group[k]]) whole = whole && free[j];
       for (const std::size_t j : alike[group[k]]) {
-        if (!free[j]) whole = false;
         if (seen[j]) continue;
         seen[j] = true;
         group.push_back(j);
       }
+    }
     if (!whole || group.size() < 2) continue;
     std::set<std::string> rescuers;
     bool clique = true;

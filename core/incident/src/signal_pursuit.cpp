@@ -42,7 +42,8 @@ std::vector<SignalHandOver> SignalPursuits::update(const std::vector<FusedVictim
   struct Eligible {
     const FusedVictim* victim;
     std::vector<SignalKey> signals;  ///< its sources, and the signals not yet placed that joined it
-    std::set<std::string> hearing;   ///< searching rescuers among them
+    std::set<std::string> placing;   ///< searching rescuers with a source of it
+    std::set<std::string> hearing;   ///< searching rescuers with any of its signals
   };
   std::vector<Eligible> eligible;
   for (const auto& v : victims) {
@@ -50,53 +51,79 @@ std::vector<SignalHandOver> SignalPursuits::update(const std::vector<FusedVictim
         given_up_.count(v.victim_id) != 0 || !v.position.position.allFinite()) {
       continue;
     }
-    Eligible e{&v, {}, {}};
-    for (const auto& s : v.sources) e.signals.emplace_back(s.rescuer_id, s.signal_id);
+    Eligible e{&v, {}, {}, {}};
+    for (const auto& s : v.sources) {
+      e.signals.emplace_back(s.rescuer_id, s.signal_id);
+      if (searching.count(s.rescuer_id) != 0) e.placing.insert(s.rescuer_id);
+    }
     const auto joined = groups.joined.find(v.victim_id);
     if (joined != groups.joined.end())
       for (const auto& s : joined->second) e.signals.emplace_back(s.rescuer_id, s.signal_id);
     for (const auto& [rescuer, signal] : e.signals)
       if (searching.count(rescuer) != 0) e.hearing.insert(rescuer);
-    if (e.hearing.size() >= 2) eligible.push_back(std::move(e));
+    // Given back to everyone before it was placed: for good, placed or not.
+    const bool given_up = std::any_of(e.signals.begin(), e.signals.end(),
+                                      [&](const SignalKey& k) { return given_up_signals_.count(k) != 0; });
+    if (e.hearing.size() >= 2 && !e.placing.empty() && !given_up) eligible.push_back(std::move(e));
   }
   // Pursuits under way first, so that a new victim goes to a rescuer who pursues nothing: with
   // several victims close together, one each, not all to whoever stands nearest the cluster.
+  // A rescuer pursuing a transmitter not yet placed is busy too.
   std::map<std::uint32_t, Pursuit> kept;
   std::set<std::string> busy;
+  for (const auto& g : group_pursuits_) busy.insert(g.pursuit.rescuer_id);
   for (const auto& e : eligible) {
     const auto id = e.victim->victim_id;
     const auto previous = pursuits_.find(id);
     if (previous == pursuits_.end() || e.hearing.count(previous->second.rescuer_id) == 0) continue;
-    if (now - previous->second.since > timeout_ns_) {
+    Pursuit p = previous->second;
+    if (now - p.since > timeout_ns_) {
       given_up_.insert(id);
-      events_.push_back({true, "victim " + std::to_string(id) + " not found by " + previous->second.rescuer_id +
+      events_.push_back({true, "victim " + std::to_string(id) + " not found by " + p.rescuer_id +
                                    " in time: every rescuer who hears it may pursue it again"});
       continue;
     }
-    kept.emplace(id, previous->second);
-    busy.insert(previous->second.rescuer_id);
+    if (e.placing.count(p.rescuer_id) != 0) {
+      p.matched_only_since = 0;
+    } else if (p.matched_only_since == 0) {
+      p.matched_only_since = now;
+    } else if (now - p.matched_only_since > kMatchedPursuerGraceNs) {
+      events_.push_back({true, "victim " + std::to_string(id) + ": " + p.rescuer_id +
+                                   " has not placed it in time (his signal only matched its signature): the "
+                                   "nearest of those who placed it is sent"});
+      continue;
+    }
+    kept.emplace(id, p);
+    busy.insert(p.rescuer_id);
   }
+  std::set<std::size_t> carried_groups;
   for (const auto& e : eligible) {
     const auto id = e.victim->victim_id;
     if (kept.count(id) != 0 || given_up_.count(id) != 0) continue;
-    // Its transmitter was pursued before anyone placed it: that pursuer keeps it.
-    const auto carried = std::find_if(group_pursuits_.begin(), group_pursuits_.end(), [&](const GroupPursuit& g) {
-      return e.hearing.count(g.pursuit.rescuer_id) != 0 &&
-             std::any_of(e.signals.begin(), e.signals.end(),
-                         [&](const SignalKey& k) { return g.signals.count(k) != 0; });
-    });
-    if (carried != group_pursuits_.end()) {
-      kept.emplace(id, carried->pursuit);
-      busy.insert(carried->pursuit.rescuer_id);
-      events_.push_back({false, "victim " + std::to_string(id) + ": placed; still pursued by " +
-                                    carried->pursuit.rescuer_id + ", who took its signal first"});
+    // Its transmitter was pursued before anyone placed it: that pursuer keeps it, timeout and all.
+    std::size_t carried = group_pursuits_.size();
+    for (std::size_t g = 0; g < group_pursuits_.size() && carried == group_pursuits_.size(); ++g) {
+      const auto& signals = group_pursuits_[g].signals;
+      if (carried_groups.count(g) == 0 && e.hearing.count(group_pursuits_[g].pursuit.rescuer_id) != 0 &&
+          std::any_of(e.signals.begin(), e.signals.end(), [&](const SignalKey& k) { return signals.count(k) != 0; }))
+        carried = g;
+    }
+    if (carried != group_pursuits_.size()) {
+      Pursuit p = group_pursuits_[carried].pursuit;
+      p.matched_only_since = e.placing.count(p.rescuer_id) != 0 ? 0 : now;
+      carried_groups.insert(carried);
+      kept.emplace(id, p);
+      busy.insert(p.rescuer_id);
+      events_.push_back({false, "victim " + std::to_string(id) + ": placed; still pursued by " + p.rescuer_id +
+                                    ", who took its signal first"});
       continue;
     }
+    // The nearest of those who placed it (a signature's match alone sends nobody).
     const Vec2 at = e.victim->position.position.head<2>();
     auto nearest_of = [&](bool only_free) {
       std::string best;
       double nearest = std::numeric_limits<double>::infinity();
-      for (const auto& r : e.hearing) {
+      for (const auto& r : e.placing) {
         if (only_free && busy.count(r) != 0) continue;
         const double d = (searching.at(r) - at).norm();
         if (d < nearest) {
@@ -108,7 +135,7 @@ std::vector<SignalHandOver> SignalPursuits::update(const std::vector<FusedVictim
     };
     std::string pursuer = nearest_of(true);
     if (pursuer.empty()) pursuer = nearest_of(false);
-    kept.emplace(id, Pursuit{pursuer, now});
+    kept.emplace(id, Pursuit{pursuer, now, 0});
     busy.insert(pursuer);
     events_.push_back({false, "victim " + std::to_string(id) + ": pursued by " + pursuer + " (of " +
                                   std::to_string(e.hearing.size()) +
@@ -124,59 +151,87 @@ std::vector<SignalHandOver> SignalPursuits::update(const std::vector<FusedVictim
         out.push_back({rescuer, signal, e.victim->victim_id, it->second.rescuer_id});
   }
   pursuits_ = std::move(kept);
+  std::vector<GroupPursuit> left;  // not carried to a victim
+  for (std::size_t g = 0; g < group_pursuits_.size(); ++g)
+    if (carried_groups.count(g) == 0) left.push_back(std::move(group_pursuits_[g]));
+  group_pursuits_ = std::move(left);
   pursue_unplaced(groups, searching, busy, now, out);
   return out;
 }
 
 void SignalPursuits::pursue_unplaced(const SignalGroups& groups, const std::map<std::string, Vec2>& searching,
                                      std::set<std::string>& busy, TimestampNs now, std::vector<SignalHandOver>& out) {
-  std::vector<GroupPursuit> kept;
+  struct Heard {
+    const std::vector<HeardSignal>* group;
+    std::set<SignalKey> signals;
+    std::vector<std::string> hearing;  ///< searching, in order of first heard
+  };
+  std::vector<Heard> heard;
   for (const auto& group : groups.unplaced) {
-    GroupPursuit now_pursued;
-    std::vector<const HeardSignal*> hearing;  // searching, in order of first heard
+    Heard h{&group, {}, {}};
     for (const auto& s : group) {
-      now_pursued.signals.emplace(s.rescuer_id, s.signal_id);
-      if (searching.count(s.rescuer_id) != 0) hearing.push_back(&s);
+      h.signals.emplace(s.rescuer_id, s.signal_id);
+      if (searching.count(s.rescuer_id) != 0) h.hearing.push_back(s.rescuer_id);
     }
-    const bool given_up = std::any_of(now_pursued.signals.begin(), now_pursued.signals.end(),
+    const bool given_up = std::any_of(h.signals.begin(), h.signals.end(),
                                       [&](const SignalKey& k) { return given_up_signals_.count(k) != 0; });
-    if (hearing.size() < 2 || given_up) continue;
-    auto hears = [&](const std::string& rescuer) {
-      return std::any_of(hearing.begin(), hearing.end(),
-                         [&](const HeardSignal* s) { return s->rescuer_id == rescuer; });
-    };
-    const auto previous = std::find_if(group_pursuits_.begin(), group_pursuits_.end(), [&](const GroupPursuit& g) {
-      return hears(g.pursuit.rescuer_id) && std::any_of(g.signals.begin(), g.signals.end(), [&](const SignalKey& k) {
-               return now_pursued.signals.count(k) != 0;
-             });
-    });
-    const std::string label = "signal " + group.front().rescuer_id + "/" + std::to_string(group.front().signal_id) +
-                              " (" + signature_text(group.front().transmitter) + "; not yet placed)";
-    if (previous != group_pursuits_.end()) {
-      if (now - previous->pursuit.since > timeout_ns_) {
-        given_up_signals_.insert(now_pursued.signals.begin(), now_pursued.signals.end());
-        events_.push_back({true, label + " not placed by " + previous->pursuit.rescuer_id +
-                                     " in time: every rescuer who hears it may pursue it again"});
+    if (h.hearing.size() >= 2 && !given_up) heard.push_back(std::move(h));
+  }
+  auto label_of = [](const std::vector<HeardSignal>& group) {
+    return "signal " + group.front().rescuer_id + "/" + std::to_string(group.front().signal_id) + " (" +
+           signature_text(group.front().transmitter) + "; not yet placed)";
+  };
+  auto hand_over = [&](const Heard& h, const Pursuit& p) {
+    for (const auto& s : *h.group)
+      if (s.rescuer_id != p.rescuer_id && out.size() < kSignalHandOversMax)
+        out.push_back({s.rescuer_id, s.signal_id, 0, p.rescuer_id});
+  };
+  std::vector<GroupPursuit> kept;
+  std::vector<bool> continued(group_pursuits_.size(), false);
+  std::vector<bool> served(heard.size(), false);
+  // Pursuits under way first (as for victims), then new ones.
+  for (std::size_t i = 0; i < heard.size(); ++i) {
+    const Heard& h = heard[i];
+    for (std::size_t g = 0; g < group_pursuits_.size() && !served[i]; ++g) {
+      const GroupPursuit& previous = group_pursuits_[g];
+      const bool hears = std::find(h.hearing.begin(), h.hearing.end(), previous.pursuit.rescuer_id) != h.hearing.end();
+      if (continued[g] || !hears ||
+          std::none_of(previous.signals.begin(), previous.signals.end(),
+                       [&](const SignalKey& k) { return h.signals.count(k) != 0; }))
+        continue;
+      continued[g] = served[i] = true;
+      if (now - previous.pursuit.since > std::min(timeout_ns_, kUnplacedPursuitPlaceNs)) {
+        given_up_signals_.insert(h.signals.begin(), h.signals.end());
+        events_.push_back({true, label_of(*h.group) + " not placed by " + previous.pursuit.rescuer_id + " within " +
+                                     std::to_string(std::min(timeout_ns_, kUnplacedPursuitPlaceNs) / 1'000'000'000) +
+                                     " s: every rescuer who hears it may pursue it again"});
         continue;
       }
-      now_pursued.pursuit = previous->pursuit;
-    } else {
-      // The first to take it keeps it (the standard practice), unless he pursues another:
-      // `group` is in order of first heard.
-      const auto free = std::find_if(hearing.begin(), hearing.end(),
-                                     [&](const HeardSignal* s) { return busy.count(s->rescuer_id) == 0; });
-      now_pursued.pursuit = {(free != hearing.end() ? *free : hearing.front())->rescuer_id, now};
-      events_.push_back({false, label + ": pursued by " + now_pursued.pursuit.rescuer_id + " (of " +
-                                    std::to_string(hearing.size()) +
-                                    " who hear it, the first to take it not pursuing another); the others' signals "
-                                    "of it are handed over"});
+      kept.push_back({previous.pursuit, h.signals, now});
+      hand_over(h, previous.pursuit);
     }
-    busy.insert(now_pursued.pursuit.rescuer_id);
-    for (const auto& s : group)
-      if (s.rescuer_id != now_pursued.pursuit.rescuer_id && out.size() < kSignalHandOversMax)
-        out.push_back({s.rescuer_id, s.signal_id, 0, now_pursued.pursuit.rescuer_id});
-    kept.push_back(std::move(now_pursued));
   }
+  for (std::size_t i = 0; i < heard.size(); ++i) {
+    if (served[i]) continue;
+    const Heard& h = heard[i];
+    // The first to take it keeps it (the standard practice), among those pursuing nothing else;
+    // when everyone who hears it pursues another, nobody is sent away from it.
+    const auto free =
+        std::find_if(h.hearing.begin(), h.hearing.end(), [&](const std::string& r) { return busy.count(r) == 0; });
+    if (free == h.hearing.end()) continue;
+    const Pursuit p{*free, now, 0};
+    busy.insert(p.rescuer_id);
+    events_.push_back({false, label_of(*h.group) + ": pursued by " + p.rescuer_id + " (of " +
+                                  std::to_string(h.hearing.size()) +
+                                  " who hear it, the first to take it not pursuing another); the others' signals "
+                                  "of it are handed over"});
+    kept.push_back({p, h.signals, now});
+    hand_over(h, p);
+  }
+  // A group broken for a moment keeps its pursuer (handing nothing over) for the grace.
+  for (std::size_t g = 0; g < group_pursuits_.size(); ++g)
+    if (!continued[g] && now - group_pursuits_[g].last_seen <= kUnplacedPursuitGraceNs)
+      kept.push_back(std::move(group_pursuits_[g]));
   group_pursuits_ = std::move(kept);
 }
 
@@ -204,6 +259,7 @@ void SignalPursuits::adopt(const std::vector<SignalHandOver>& active, TimestampN
                          [&](const SignalKey& k) { return g.signals.count(k) != 0; });
     });
     g.pursuit.since = own != group_pursuits_.end() ? own->pursuit.since : now;
+    g.last_seen = now;
     adopted_groups.push_back(std::move(g));
   }
   group_pursuits_ = std::move(adopted_groups);

@@ -337,8 +337,12 @@ TEST(IncidentCommand, ATransmitterTwoRescuersHearBeforeEitherPlacesItGoesToTheFi
   EXPECT_EQ(h.pursued_by, "r2") << "r2 heard it first (stamp 1 s against 1.2 s)";
   EXPECT_TRUE(
       has_event(out, Kind::kInfo, "signal r2/1 (carrier +12.2 Hz, period 0.851 s; not yet placed): pursued by r2"));
-  // Nothing heard of them for longer than the fusion's source timeout: nothing handed over.
-  out = command.cycle(at(2.5 + config.fusion.source_timeout_s + 1), at(2.5 + config.fusion.source_timeout_s + 1));
+  // Nothing heard of their signals for longer than the fusion's source timeout (the rescuers
+  // still searching): nothing handed over.
+  const double later = 2.5 + config.fusion.source_timeout_s + 1;
+  command.on_position(gnss_fix("r1", at(later - 0.5), Vec3(40, 200, 0)), "w-r1", at(later - 0.5));
+  command.on_position(gnss_fix("r2", at(later - 0.5), Vec3(110, 200, 0)), "w-r2", at(later - 0.5));
+  out = command.cycle(at(later), at(later));
   ASSERT_TRUE(out.search_plan);
   EXPECT_TRUE(out.search_plan->handed_over.empty());
 }

@@ -63,6 +63,12 @@ TEST(SignalGroups, ASignatureNotKnownOrThatCouldBeTwoTransmittersGroupsNothing) 
                                    heard("r2", 2, signature(12.2, 0.851))},
                                   {}, kGate)
                   .unplaced.empty());
+  // A third rescuer's signal whose carrier alone is known and agrees: it may be the same
+  // transmitter or another alike, so nothing is grouped.
+  EXPECT_TRUE(group_heard_signals({heard("r1", 1, signature(12.0, 0.850)), heard("r2", 1, signature(12.0, 0.850)),
+                                   heard("r3", 1, carrier_only)},
+                                  {}, kGate)
+                  .unplaced.empty());
   // a ~ b and b ~ c, but a and c differ: not one transmitter.
   EXPECT_TRUE(group_heard_signals({heard("r1", 1, signature(11.0, 0.850)), heard("r2", 1, signature(12.0, 0.850)),
                                    heard("r3", 1, signature(13.0, 0.850))},

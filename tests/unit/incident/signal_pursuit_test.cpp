@@ -152,7 +152,7 @@ TEST(SignalPursuits, BeforeAnyonePlacesItTheFirstToTakeASignalPursuesItAndKeepsI
   EXPECT_FALSE(standby.pursuer_of(0)) << "no victim 0";
 }
 
-TEST(SignalPursuits, BeforeAnyonePlacesItAPursuerBusyWithAVictimIsNotSentAndTheLostAreReplaced) {
+TEST(SignalPursuits, BeforeAnyonePlacesItOnlyAFreeRescuerIsSentAndOneWhoHearsItAloneHandsNothingOver) {
   SignalPursuits pursuits(240.0);
   std::map<std::string, Vec2> searching{{"r1", {0, 0}}, {"r2", {10, 0}}};
   const std::vector<FusedVictim> victims{victim(1, {1, 0}, {{"r1", 1}, {"r2", 1}})};  // r1 is nearest
@@ -163,9 +163,25 @@ TEST(SignalPursuits, BeforeAnyonePlacesItAPursuerBusyWithAVictimIsNotSentAndTheL
   EXPECT_EQ(pursuits.pursuer_of(1), "r1");
   EXPECT_EQ(pursuits.pursuer_of_signal({"r1", 2}), "r2") << "r1 took it first but pursues victim 1";
   EXPECT_EQ(signals_left_to_others(handed, "r1"), std::set<std::uint32_t>{2});
-  // r2 signs off: a group heard by one searching rescuer hands nothing over.
-  searching.erase("r2");
+  // A third transmitter both hear: both pursue another, so nobody is sent away from it.
+  signals.push_back(heard("r1", 3, 6.0));
+  signals.push_back(heard("r2", 3, 7.0));
+  signals[4].transmitter = signals[5].transmitter = signature(40.0, 0.75);
   handed = pursuits.update(victims, searching, 2 * kSecond, group_heard_signals(signals, victims, 0.999));
+  EXPECT_FALSE(pursuits.pursuer_of_signal({"r1", 3}));
+  EXPECT_TRUE(signals_left_to_others(handed, "r1").count(3) == 0 && signals_left_to_others(handed, "r2").count(3) == 0);
+  // Nor is a rescuer pursuing a transmitter not yet placed sent to a new victim: r2 pursues the
+  // second, so victim 9, nearest to r2, goes to r3.
+  searching["r3"] = {30, 0};
+  auto more = victims;
+  more.push_back(victim(9, {10, 0}, {{"r2", 9}, {"r3", 9}}));
+  pursuits.update(more, searching, 3 * kSecond, group_heard_signals(signals, more, 0.999));
+  EXPECT_EQ(pursuits.pursuer_of(9), "r3");
+  EXPECT_EQ(pursuits.pursuer_of_signal({"r1", 2}), "r2");
+  // r2 and r3 sign off: a group heard by one searching rescuer hands nothing over.
+  searching.erase("r2");
+  searching.erase("r3");
+  handed = pursuits.update(more, searching, 4 * kSecond, group_heard_signals(signals, more, 0.999));
   EXPECT_TRUE(handed.empty());
 }
 
@@ -180,6 +196,60 @@ TEST(SignalPursuits, ATransmitterNotPlacedInTimeIsGivenBackToAll) {
   ASSERT_EQ(pursuits.events().size(), 1u);
   EXPECT_TRUE(pursuits.events()[0].warning);
   EXPECT_TRUE(pursuits.update({}, searching, 100 * kSecond, groups).empty()) << "given up for good";
+  // Placed since: still given back to everyone.
+  const std::vector<FusedVictim> victims{victim(3, {5, 0}, {{"r1", 1}})};
+  auto placed = signals;
+  placed[0].placed = true;
+  EXPECT_TRUE(pursuits.update(victims, searching, 110 * kSecond, group_heard_signals(placed, victims, 0.999)).empty());
+
+  // With the shipped 240 s pursuit timeout, placing it has kUnplacedPursuitPlaceNs (90 s).
+  SignalPursuits shipped(240.0);
+  EXPECT_EQ(shipped.update({}, searching, 0, groups).size(), 1u);
+  EXPECT_EQ(shipped.update({}, searching, 90 * kSecond, groups).size(), 1u) << "not yet";
+  EXPECT_TRUE(shipped.update({}, searching, 91 * kSecond, groups).empty());
+  ASSERT_EQ(shipped.events().size(), 1u);
+  EXPECT_NE(shipped.events()[0].text.find("not placed by r1 within 90 s"), std::string::npos)
+      << shipped.events()[0].text;
+}
+
+// The timeout counts from the start of the pursuit, before it was placed, and across a group
+// broken for a cycle (a fix on its way); a pursuer who only matched the victim's signature must
+// place it within kMatchedPursuerGraceNs, else the nearest who placed it is sent.
+TEST(SignalPursuits, APursuitKeepsItsStartThroughABreakAndPlacingAndAMatchAloneMustPlaceItSoon) {
+  SignalPursuits pursuits(60.0);
+  const std::map<std::string, Vec2> searching{{"r1", {0, 0}}, {"r2", {10, 0}}, {"r3", {50, 0}}};
+  std::vector<HeardSignal> signals{heard("r1", 1, 1.0), heard("r2", 1, 0.0), heard("r3", 1, 2.0)};
+  EXPECT_EQ(pursuits.update({}, searching, 0, group_heard_signals(signals, {}, 0.999)).size(), 2u);
+  EXPECT_TRUE(pursuits.update({}, searching, 5 * kSecond, {}).empty()) << "broken: nothing handed over";
+  EXPECT_EQ(pursuits.pursuer_of_signal({"r1", 1}), "r2") << "but the pursuit waits";
+  EXPECT_EQ(pursuits.update({}, searching, 10 * kSecond, group_heard_signals(signals, {}, 0.999)).size(), 2u);
+  EXPECT_TRUE(pursuits.events().empty()) << "the same pursuit again, nothing new said";
+
+  // r3 places it (r3 is the nearest to it); r2, who took it first, keeps it.
+  signals[2].placed = true;
+  const std::vector<FusedVictim> victims{victim(6, {45, 0}, {{"r3", 1}})};
+  auto handed = pursuits.update(victims, searching, 20 * kSecond, group_heard_signals(signals, victims, 0.999));
+  EXPECT_EQ(pursuits.pursuer_of(6), "r2");
+  EXPECT_EQ(signals_left_to_others(handed, "r3"), std::set<std::uint32_t>{1});
+  // 31 s on, r2's own signal still not placed: r3 is sent (a warning says why).
+  handed = pursuits.update(victims, searching, 51 * kSecond, group_heard_signals(signals, victims, 0.999));
+  EXPECT_EQ(pursuits.pursuer_of(6), "r3");
+  ASSERT_FALSE(pursuits.events().empty());
+  EXPECT_TRUE(pursuits.events()[0].warning);
+  EXPECT_TRUE(signals_left_to_others(handed, "r3").empty());
+
+  // Had r2 placed it, he would have kept it only until the pursuit's timeout, counted from 0 s.
+  SignalPursuits kept(60.0);
+  const std::vector<HeardSignal> unplaced{heard("r1", 1, 1.0), heard("r2", 1, 0.0), heard("r3", 1, 2.0)};
+  kept.update({}, searching, 0, group_heard_signals(unplaced, {}, 0.999));
+  auto both = unplaced;
+  both[1].placed = both[2].placed = true;
+  const std::vector<FusedVictim> by_both{victim(6, {45, 0}, {{"r3", 1}, {"r2", 1}})};
+  kept.update(by_both, searching, 20 * kSecond, group_heard_signals(both, by_both, 0.999));
+  EXPECT_EQ(kept.pursuer_of(6), "r2");
+  EXPECT_FALSE(kept.update(by_both, searching, 60 * kSecond, group_heard_signals(both, by_both, 0.999)).empty());
+  EXPECT_TRUE(kept.update(by_both, searching, 61 * kSecond, group_heard_signals(both, by_both, 0.999)).empty())
+      << "60 s after the pursuit began, not after the victim was placed";
 }
 
 }  // namespace

@@ -6,7 +6,8 @@
 // sigmas; responder::compare_signatures).
 //
 // Conservative by construction: a signal whose signature could be two transmitters' is in no
-// group, so that a wrong group only ever delays a victim, never hides one.
+// group (a partly known signature whose known part agrees counts as could-be), so that a wrong
+// group only ever delays a victim for a bounded time (signal_pursuit.hpp), never hides one.
 //   - a signal not yet placed (its estimate below CONVERGED) joins a fused victim when its
 //     signature is alike (carrier and period both known and within the gate) with every
 //     source of that victim that has one, with no source of any other victim and with no

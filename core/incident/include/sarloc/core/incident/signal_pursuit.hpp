@@ -54,6 +54,20 @@ struct SignalHandOver {
 /// A plan's hand-overs hold this long after its stamp (mission time) without a newer plan: a
 /// silent incident command (and no standby) hides no victim for long.
 inline constexpr TimestampNs kHandOverLapseNs = 30'000'000'000;
+/// A pursuit of a transmitter not yet placed outlives its group by this long (handing nothing
+/// over meanwhile), so that a group that breaks for a cycle or two (a fix on its way, a position
+/// late) comes back with the same pursuer and the same start of its timeout.
+inline constexpr TimestampNs kUnplacedPursuitGraceNs = 10'000'000'000;
+/// A transmitter not yet placed must be placed by its pursuer within this long (or the pursuit
+/// timeout, if shorter), else it is given back to everyone: walking at about 1 m/s towards a
+/// signal heard from at most 60-70 m, a filter converges within about a minute (20-45 s measured
+/// on large-deposit.yaml); one that has not in 90 s is not closing in, and the others who hear
+/// it must not wait for the whole pursuit timeout.
+inline constexpr TimestampNs kUnplacedPursuitPlaceNs = 90'000'000'000;
+/// A victim's pursuer who only matched its signature (his own signal not yet placed) must place
+/// it within this long, else the nearest of those who placed it is sent: a wrong match must not
+/// keep the rescuer who placed it away for a whole pursuit timeout.
+inline constexpr TimestampNs kMatchedPursuerGraceNs = 30'000'000'000;
 
 /// The signals of `rescuer_id` that `handed_over` gives to others.
 std::set<std::uint32_t> signals_left_to_others(const std::vector<SignalHandOver>& handed_over,
@@ -89,11 +103,14 @@ class SignalPursuits {
   struct Pursuit {
     std::string rescuer_id;
     TimestampNs since = 0;
+    /// Since when the pursuer only matches the victim's signature (0: a signal of his placed it).
+    TimestampNs matched_only_since = 0;
   };
   /// A transmitter not yet placed: its pursuer and the rescuers' signals of it.
   struct GroupPursuit {
     Pursuit pursuit;
     std::set<SignalKey> signals;
+    TimestampNs last_seen = 0;  ///< its group last formed
   };
   void pursue_unplaced(const SignalGroups& groups, const std::map<std::string, Vec2>& searching,
                        std::set<std::string>& busy, TimestampNs now, std::vector<SignalHandOver>& out);
