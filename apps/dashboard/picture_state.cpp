@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <set>
 
 #include "sarloc/app/incident_geojson.hpp"
 #include "sarloc/core/common/gaussian.hpp"
@@ -322,6 +323,15 @@ std::map<std::uint32_t, std::string> pursuers_of(const incident::SearchPlanPictu
   return out;
 }
 
+// One rescuer per signal before anyone has placed it: each pursuer and the other rescuers whose
+// signal of that transmitter is handed over to him.
+std::map<std::string, std::set<std::string>> unplaced_pursuits_of(const incident::SearchPlanPicture& plan) {
+  std::map<std::string, std::set<std::string>> out;
+  for (const auto& h : plan.handed_over)
+    if (h.victim_id == 0) out[h.pursued_by].insert(h.rescuer_id);
+  return out;
+}
+
 // What the dig order shows: victims in order, their diggers and survival in whole percent (the
 // minutes buried grow every cycle; the page need not be sent each time).
 std::string dig_order_key(const incident::SearchPlanPicture& plan) {
@@ -342,6 +352,7 @@ void PictureState::on_search_plan(const incident::SearchPlanPicture& plan) {
   if (new_deposit) store_deposit(plan.deposit);
   const bool changed = new_deposit || !plan_ || plan_->plan.revision != plan.plan.revision ||
                        plan_->plan.searched != plan.plan.searched || pursuers_of(*plan_) != pursuers_of(plan) ||
+                       unplaced_pursuits_of(*plan_) != unplaced_pursuits_of(plan) ||
                        dig_order_key(*plan_) != dig_order_key(plan);
   plan_ = plan;
   if (changed) plan_version_ = ++version_;
@@ -368,6 +379,9 @@ json PictureState::plan_json() const {
   // One rescuer per victim: who incident command sends to each victim heard by several.
   json pursuers = json::object();
   for (const auto& [victim, rescuer] : pursuers_of(*plan_)) pursuers[std::to_string(victim)] = rescuer;
+  json unplaced = json::array();
+  for (const auto& [pursuer, others] : unplaced_pursuits_of(*plan_))
+    unplaced.push_back({{"pursuer", pursuer}, {"others", others}});
   // Triage: the FOUND victims in the order incident command would dig them out.
   json digs = json::array();
   for (const auto& d : plan_->digs.digs)
@@ -382,6 +396,7 @@ json PictureState::plan_json() const {
           {"searched", plan_->plan.searched},
           {"strips", strips},
           {"pursuers", pursuers},
+          {"unplaced_pursuits", unplaced},
           {"digs", digs},
           {"expected_survivors", plan_->digs.expected_survivors},
           {"deposit", deposit_}};

@@ -22,6 +22,9 @@ await reportFromBrowser({ width: 1400, height: 900 }, result, async (context) =>
   await page.waitForFunction(() => document.getElementById("status").textContent === "live", null, { timeout: 15000 });
   const first = page.locator(`button.dig-first[data-victim="${digFirst}"]`);
   await first.waitFor({ timeout: 10000 });
+  // One rescuer per signal: the victim row's "sent", and the line for a transmitter not yet placed.
+  result.sentTo = await page.locator(`#victims tr[data-victim="${dugOut}"] .pursuer`).textContent();
+  result.unplacedPursuits = await page.locator("#unplaced-pursuits").textContent();
   await Promise.all([page.waitForResponse((r) => r.url().endsWith(`/api/victims/${digFirst}/dig-first`)), first.click()]);
   const dug = page.locator(`button.dug-out[data-victim="${dugOut}"]`);
   await dug.waitFor({ timeout: 10000 });

@@ -204,7 +204,7 @@ inline incident::SearchPlanPicture sample_search_plan() {
   p.plan.strips = {a, b};
   p.next_points = {incident::Vec2(20, 80), std::nullopt};
   p.helper_next_points = {incident::Vec2(20, 12), std::nullopt};
-  p.handed_over = {{"r2", 3, 7, "r1"}};
+  p.handed_over = {{"r2", 3, 7, "r1"}, {"r1", 5, 0, "r3"}};  // victim 0: a transmitter not yet placed
   // Victim 7 (0.6 m deep) dug first by r3, then victim 9 (1.8 m) when a team is free.
   p.digs.digs = {{7, 0.6, 12.0, 0.0, 4.8, 0.92, "r3"}, {9, 1.8, 12.0, 4.8, 30.0, 0.43, ""}};
   p.digs.expected_survivors = 1.35;

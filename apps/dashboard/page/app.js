@@ -448,6 +448,12 @@ function renderLists() {
                       pursuer(v.id) ? `<br><small class="pursuer">sent: ${esc(pursuer(v.id))}</small>` : ''}</td></tr>`)
           .join(''));
 
+  // One rescuer per signal before anyone has placed it: not yet a victim, so not in the table.
+  const unplaced = (picture.plan && picture.plan.unplaced_pursuits) || [];
+  $('unplaced-pursuits').textContent = unplaced.length ? 'Signals not yet placed: ' +
+          unplaced.map((u) => `${u.pursuer} pursues one also heard by ${u.others.join(', ')}`).join('; ') :
+                                                         '';
+
   // Triage: incident command's dig order over the FOUND victims (survival at each dig-out).
   const digs = (picture.plan && picture.plan.digs) || [];
   $('dig-survivors').textContent = digs.length ? picture.plan.expected_survivors.toFixed(2) : '—';

@@ -100,23 +100,36 @@ std::vector<SignalHandOver> SignalPursuits::update(const std::vector<FusedVictim
   for (const auto& e : eligible) {
     const auto id = e.victim->victim_id;
     if (kept.count(id) != 0 || given_up_.count(id) != 0) continue;
-    // Its transmitter was pursued before anyone placed it: that pursuer keeps it, timeout and all.
+    // Its transmitter was pursued before anyone placed it: a pursuer who placed it keeps it,
+    // timeout and all. One who did not ends his pursuit, and the nearest of those who placed it
+    // is sent: having placed it is better evidence of being near than having heard it first;
+    // unless all of those pursue another victim, when he keeps it a while (the matched grace).
     std::size_t carried = group_pursuits_.size();
     for (std::size_t g = 0; g < group_pursuits_.size() && carried == group_pursuits_.size(); ++g) {
       const auto& signals = group_pursuits_[g].signals;
-      if (carried_groups.count(g) == 0 && e.hearing.count(group_pursuits_[g].pursuit.rescuer_id) != 0 &&
+      if (carried_groups.count(g) == 0 &&
           std::any_of(e.signals.begin(), e.signals.end(), [&](const SignalKey& k) { return signals.count(k) != 0; }))
         carried = g;
     }
     if (carried != group_pursuits_.size()) {
       Pursuit p = group_pursuits_[carried].pursuit;
-      p.matched_only_since = e.placing.count(p.rescuer_id) != 0 ? 0 : now;
       carried_groups.insert(carried);
-      kept.emplace(id, p);
-      busy.insert(p.rescuer_id);
-      events_.push_back({false, "victim " + std::to_string(id) + ": placed; still pursued by " + p.rescuer_id +
-                                    ", who took its signal first"});
-      continue;
+      const bool placed_by_him = e.placing.count(p.rescuer_id) != 0;
+      const bool placer_free =
+          std::any_of(e.placing.begin(), e.placing.end(), [&](const std::string& r) { return busy.count(r) == 0; });
+      if (placed_by_him || (!placer_free && e.hearing.count(p.rescuer_id) != 0)) {
+        p.matched_only_since = placed_by_him ? 0 : now;
+        kept.emplace(id, p);
+        events_.push_back({false, "victim " + std::to_string(id) + ": placed; still pursued by " + p.rescuer_id +
+                                      ", who took its signal first" +
+                                      (placed_by_him ? "" : " (those who placed it pursue another)")});
+        continue;
+      }
+      const bool pursues_other =
+          std::any_of(kept.begin(), kept.end(), [&](const auto& k) { return k.second.rescuer_id == p.rescuer_id; });
+      if (!pursues_other) busy.erase(p.rescuer_id);
+      events_.push_back({false, "victim " + std::to_string(id) + ": placed by others before " + p.rescuer_id +
+                                    ", who took its signal first; his pursuit ends"});
     }
     // The nearest of those who placed it (a signature's match alone sends nobody).
     const Vec2 at = e.victim->position.position.head<2>();
@@ -134,13 +147,14 @@ std::vector<SignalHandOver> SignalPursuits::update(const std::vector<FusedVictim
       return best;
     };
     std::string pursuer = nearest_of(true);
-    if (pursuer.empty()) pursuer = nearest_of(false);
+    const bool free = !pursuer.empty();
+    if (!free) pursuer = nearest_of(false);
     kept.emplace(id, Pursuit{pursuer, now, 0});
     busy.insert(pursuer);
     events_.push_back({false, "victim " + std::to_string(id) + ": pursued by " + pursuer + " (of " +
-                                  std::to_string(e.hearing.size()) +
-                                  " who hear it, the nearest not pursuing another); the others' signals of it are "
-                                  "handed over"});
+                                  std::to_string(e.hearing.size()) + " who hear it, the nearest who placed it" +
+                                  (free ? " not pursuing another" : "; all of them pursue another") +
+                                  "); the others' signals of it are handed over"});
   }
   std::vector<SignalHandOver> out;
   for (const auto& e : eligible) {
@@ -186,6 +200,7 @@ void SignalPursuits::pursue_unplaced(const SignalGroups& groups, const std::map<
       if (s.rescuer_id != p.rescuer_id && out.size() < kSignalHandOversMax)
         out.push_back({s.rescuer_id, s.signal_id, 0, p.rescuer_id});
   };
+  const TimestampNs place_within = std::min(timeout_ns_, kUnplacedPursuitPlaceNs);
   std::vector<GroupPursuit> kept;
   std::vector<bool> continued(group_pursuits_.size(), false);
   std::vector<bool> served(heard.size(), false);
@@ -200,10 +215,10 @@ void SignalPursuits::pursue_unplaced(const SignalGroups& groups, const std::map<
                        [&](const SignalKey& k) { return h.signals.count(k) != 0; }))
         continue;
       continued[g] = served[i] = true;
-      if (now - previous.pursuit.since > std::min(timeout_ns_, kUnplacedPursuitPlaceNs)) {
+      if (now - previous.pursuit.since > place_within) {
         given_up_signals_.insert(h.signals.begin(), h.signals.end());
         events_.push_back({true, label_of(*h.group) + " not placed by " + previous.pursuit.rescuer_id + " within " +
-                                     std::to_string(std::min(timeout_ns_, kUnplacedPursuitPlaceNs) / 1'000'000'000) +
+                                     std::to_string(place_within / 1'000'000'000) +
                                      " s: every rescuer who hears it may pursue it again"});
         continue;
       }

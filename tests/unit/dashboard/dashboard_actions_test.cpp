@@ -71,6 +71,8 @@ TEST(DashboardActions, TheOperatorsDigFirstDugOutDrawnAndEditedDepositWorkInABro
   EXPECT_TRUE(report["errors"].empty()) << said;
   EXPECT_EQ(report["statuses"]["/api/victims/9/dig-first"], 202) << said;
   EXPECT_EQ(report["statuses"]["/api/victims/7/dug-out"], 202) << said;
+  EXPECT_EQ(report["sentTo"], "sent: r1") << said;
+  EXPECT_EQ(report["unplacedPursuits"], "Signals not yet placed: r3 pursues one also heard by r1") << said;
   std::lock_guard<std::mutex> lock(mutex);
   ASSERT_EQ(dig_orders.size(), 1u);
   EXPECT_EQ(dig_orders[0].first, (std::vector<std::uint32_t>{9, 7})) << "victim 9 first, then the rest as shown";

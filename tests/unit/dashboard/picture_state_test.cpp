@@ -59,6 +59,9 @@ TEST(PictureState, TheSearchPlanIsInSnapshotsAndInDeltasWhenItChanged) {
   EXPECT_EQ(snapshot["plan"]["strips"][0]["rescuer"], "r1");
   EXPECT_EQ(snapshot["plan"]["strips"][0]["next"], nlohmann::json::parse("[20.0, 80.0]"));
   EXPECT_EQ(snapshot["plan"]["pursuers"]["7"], "r1") << "victim 7 is r1's; r2's signal of it handed over";
+  EXPECT_FALSE(snapshot["plan"]["pursuers"].contains("0")) << "victim id 0 is no victim";
+  EXPECT_EQ(snapshot["plan"]["unplaced_pursuits"], nlohmann::json::parse(R"([{"pursuer": "r3", "others": ["r1"]}])"))
+      << "a transmitter not yet placed: r3 pursues it, r1's signal of it handed over";
   ASSERT_EQ(snapshot["plan"]["digs"].size(), 2u);
   EXPECT_EQ(snapshot["plan"]["digs"][0]["victim"], 7) << "dig order: victim 7 first";
   EXPECT_EQ(snapshot["plan"]["digs"][0]["digger"], "r3");
@@ -78,6 +81,10 @@ TEST(PictureState, TheSearchPlanIsInSnapshotsAndInDeltasWhenItChanged) {
   plan.digs.digs[1].digger_id = "r2";  // a rescuer free for victim 9 now
   state.on_search_plan(plan);
   EXPECT_EQ(state.delta(before_dig)["plan"]["digs"][1]["digger"], "r2") << "a new digger is sent";
+  const auto before_placed = state.version();
+  plan.handed_over.pop_back();  // r3 placed that transmitter (or it was given back to all)
+  state.on_search_plan(plan);
+  EXPECT_TRUE(state.delta(before_placed)["plan"]["unplaced_pursuits"].empty()) << "the page drops the line";
   // An operator drew another deposit: the plan over it replaces the mission's on the map.
   EXPECT_EQ(state.snapshot()["deposit"],
             nlohmann::json::parse("[[0.0, 0.0], [80.0, 0.0], [80.0, 100.0], [0.0, 100.0]]"));

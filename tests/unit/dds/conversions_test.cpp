@@ -329,11 +329,13 @@ TEST(Conversions, SearchPlanRoundTrips) {
     EXPECT_EQ(back.plan.strips[i].helper_id, p.plan.strips[i].helper_id);
     EXPECT_EQ(back.helper_next_points[i], p.helper_next_points[i]);
   }
-  ASSERT_EQ(back.handed_over.size(), 1u);
+  ASSERT_EQ(back.handed_over.size(), 2u);
   EXPECT_EQ(back.handed_over[0].rescuer_id, "r2");
   EXPECT_EQ(back.handed_over[0].signal_id, 3u);
   EXPECT_EQ(back.handed_over[0].victim_id, 7u);
   EXPECT_EQ(back.handed_over[0].pursued_by, "r1");
+  EXPECT_EQ(back.handed_over[1].victim_id, 0u) << "a transmitter not yet placed";
+  EXPECT_EQ(back.handed_over[1].pursued_by, "r3");
   ASSERT_EQ(back.digs.digs.size(), 2u);
   for (std::size_t i = 0; i < 2; ++i) {
     EXPECT_EQ(back.digs.digs[i].victim_id, p.digs.digs[i].victim_id);

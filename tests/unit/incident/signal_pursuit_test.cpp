@@ -99,8 +99,8 @@ TEST(SignalPursuits, FoundConflictingAmbiguousOrSingleHeardVictimsHandNothingOve
 
 // Before anyone has placed it (signal_groups.hpp): the first of those who hear a transmitter to
 // take it pursues it, the others' signals of it are handed over (victim id 0); once placed, the
-// victim stays with him; a pursuer busy with another goes to the next; not placed in time, it
-// is given back to all; a standby adopts it.
+// victim stays with him if he is among those who placed it; a pursuer busy with another goes to the next; not placed in
+// time, it is given back to all; a standby adopts it.
 responder::TransmitterSignature signature(double carrier_hz, double period_s) {
   return {carrier_hz, 0.3, period_s, 0.002};
 }
@@ -133,19 +133,19 @@ TEST(SignalPursuits, BeforeAnyonePlacesItTheFirstToTakeASignalPursuesItAndKeepsI
   EXPECT_EQ(handed.size(), 2u);
   EXPECT_TRUE(pursuits.events().empty());
 
-  // r1 places it first (it walked nearest): the victim stays with r2, whose signal (and r3's)
-  // have not converged yet and join it.
-  signals[0].placed = true;
-  const std::vector<FusedVictim> victims{victim(4, {0, 0}, {{"r1", 2}})};
+  // r2 places it first: the victim stays with r2; r1's and r3's signals, not converged yet,
+  // join it and stay handed over.
+  signals[1].placed = true;
+  std::vector<FusedVictim> victims{victim(4, {10, 1}, {{"r2", 5}})};
   handed = pursuits.update(victims, searching, 12 * kSecond, group_heard_signals(signals, victims, 0.999));
   EXPECT_EQ(pursuits.pursuer_of(4), "r2");
   EXPECT_EQ(signals_left_to_others(handed, "r1"), std::set<std::uint32_t>{2});
   EXPECT_EQ(signals_left_to_others(handed, "r3"), std::set<std::uint32_t>{1});
   for (const auto& h : handed) EXPECT_EQ(h.victim_id, 4u);
   EXPECT_FALSE(pursuits.pursuer_of_signal({"r3", 1}));
+  signals[1].placed = false;
 
   // A standby that adopts a cycle before the victim keeps r2 on it.
-  signals[0].placed = false;
   SignalPursuits standby(240.0);
   standby.adopt(pursuits.update({}, searching, 13 * kSecond, group_heard_signals(signals, {}, 0.999)), 13 * kSecond);
   EXPECT_EQ(standby.pursuer_of_signal({"r1", 2}), "r2");
@@ -213,9 +213,9 @@ TEST(SignalPursuits, ATransmitterNotPlacedInTimeIsGivenBackToAll) {
 }
 
 // The timeout counts from the start of the pursuit, before it was placed, and across a group
-// broken for a cycle (a fix on its way); a pursuer who only matched the victim's signature must
-// place it within kMatchedPursuerGraceNs, else the nearest who placed it is sent.
-TEST(SignalPursuits, APursuitKeepsItsStartThroughABreakAndPlacingAndAMatchAloneMustPlaceItSoon) {
+// broken for a cycle (a fix on its way); placed by others first, the nearest who placed it is sent;
+// a pursuer whose signal only matches the victim's signature keeps it for kMatchedPursuerGraceNs.
+TEST(SignalPursuits, APursuitKeepsItsStartThroughABreakAndGoesToOneWhoPlacedIt) {
   SignalPursuits pursuits(60.0);
   const std::map<std::string, Vec2> searching{{"r1", {0, 0}}, {"r2", {10, 0}}, {"r3", {50, 0}}};
   std::vector<HeardSignal> signals{heard("r1", 1, 1.0), heard("r2", 1, 0.0), heard("r3", 1, 2.0)};
@@ -225,18 +225,72 @@ TEST(SignalPursuits, APursuitKeepsItsStartThroughABreakAndPlacingAndAMatchAloneM
   EXPECT_EQ(pursuits.update({}, searching, 10 * kSecond, group_heard_signals(signals, {}, 0.999)).size(), 2u);
   EXPECT_TRUE(pursuits.events().empty()) << "the same pursuit again, nothing new said";
 
-  // r3 places it (r3 is the nearest to it); r2, who took it first, keeps it.
+  // r3 places it first (r3 is the nearest to it): having placed it is better evidence of being
+  // near than having heard it first, so r2's pursuit ends and r3 is sent, with a new timeout.
   signals[2].placed = true;
   const std::vector<FusedVictim> victims{victim(6, {45, 0}, {{"r3", 1}})};
   auto handed = pursuits.update(victims, searching, 20 * kSecond, group_heard_signals(signals, victims, 0.999));
-  EXPECT_EQ(pursuits.pursuer_of(6), "r2");
-  EXPECT_EQ(signals_left_to_others(handed, "r3"), std::set<std::uint32_t>{1});
-  // 31 s on, r2's own signal still not placed: r3 is sent (a warning says why).
-  handed = pursuits.update(victims, searching, 51 * kSecond, group_heard_signals(signals, victims, 0.999));
   EXPECT_EQ(pursuits.pursuer_of(6), "r3");
-  ASSERT_FALSE(pursuits.events().empty());
-  EXPECT_TRUE(pursuits.events()[0].warning);
+  EXPECT_FALSE(pursuits.pursuer_of_signal({"r1", 1})) << "the pursuit before placing ends";
+  EXPECT_EQ(signals_left_to_others(handed, "r2"), std::set<std::uint32_t>{1});
   EXPECT_TRUE(signals_left_to_others(handed, "r3").empty());
+  ASSERT_EQ(pursuits.events().size(), 2u);
+  EXPECT_NE(pursuits.events()[0].text.find("placed by others before r2, who took its signal first; his pursuit ends"),
+            std::string::npos)
+      << pursuits.events()[0].text;
+  EXPECT_FALSE(pursuits.update(victims, searching, 79 * kSecond, group_heard_signals(signals, victims, 0.999)).empty())
+      << "r3's 60 s count from 20 s";
+  EXPECT_EQ(pursuits.pursuer_of(6), "r3");
+  // And r2 is free for a new victim.
+  const std::vector<FusedVictim> two{victims[0], victim(7, {10, 0}, {{"r2", 2}, {"r1", 2}})};
+  pursuits.update(two, searching, 80 * kSecond, group_heard_signals({}, two, 0.999));
+  EXPECT_EQ(pursuits.pursuer_of(7), "r2");
+
+  // Placed by others who all pursue another victim: the one who took its signal first keeps it,
+  // for kMatchedPursuerGraceNs if he does not place it himself.
+  SignalPursuits busy_placer(240.0);
+  std::vector<HeardSignal> two_transmitters{heard("r2", 2, 0.0, true), heard("r3", 2, 0.0, true), heard("r1", 1, 1.0),
+                                            heard("r3", 1, 2.0)};
+  two_transmitters[0].transmitter = two_transmitters[1].transmitter = signature(-50.0, 1.2);
+  std::vector<FusedVictim> near_r3{victim(5, {48, 0}, {{"r3", 2}, {"r2", 2}})};
+  busy_placer.update(near_r3, searching, 0, group_heard_signals(two_transmitters, near_r3, 0.999));
+  EXPECT_EQ(busy_placer.pursuer_of(5), "r3");
+  EXPECT_EQ(busy_placer.pursuer_of_signal({"r3", 1}), "r1") << "r3 is busy";
+  two_transmitters[3].placed = true;
+  near_r3.push_back(victim(6, {45, 0}, {{"r3", 1}}));
+  handed = busy_placer.update(near_r3, searching, 5 * kSecond, group_heard_signals(two_transmitters, near_r3, 0.999));
+  EXPECT_EQ(busy_placer.pursuer_of(6), "r1");
+  EXPECT_EQ(signals_left_to_others(handed, "r3"), (std::set<std::uint32_t>{1}));
+  ASSERT_FALSE(busy_placer.events().empty());
+  EXPECT_NE(busy_placer.events()[0].text.find("still pursued by r1, who took its signal first (those who placed it "
+                                              "pursue another)"),
+            std::string::npos)
+      << busy_placer.events()[0].text;
+  busy_placer.update(near_r3, searching, 35 * kSecond, group_heard_signals(two_transmitters, near_r3, 0.999));
+  EXPECT_EQ(busy_placer.pursuer_of(6), "r1");
+  busy_placer.update(near_r3, searching, 36 * kSecond, group_heard_signals(two_transmitters, near_r3, 0.999));
+  EXPECT_EQ(busy_placer.pursuer_of(6), "r3") << "r1 did not place it in 30 s: the one who did, busy or not";
+
+  // A pursuer who placed it, then lost his source of it (his filter fell back below CONVERGED)
+  // while his signal still matches its signature: he keeps it for kMatchedPursuerGraceNs, then the
+  // nearest of those who placed it is sent (a warning says why).
+  SignalPursuits matched(240.0);
+  const std::vector<FusedVictim> by_two{victim(6, {45, 0}, {{"r3", 1}, {"r2", 1}})};
+  std::vector<HeardSignal> placed_by_two{heard("r2", 1, 0.0, true), heard("r3", 1, 2.0, true)};
+  matched.update(by_two, searching, 0, group_heard_signals(placed_by_two, by_two, 0.999));
+  EXPECT_EQ(matched.pursuer_of(6), "r3") << "the nearest who placed it";
+  const std::vector<FusedVictim> by_r2{victim(6, {45, 0}, {{"r2", 1}, {"r1", 1}})};
+  std::vector<HeardSignal> r3_lost{heard("r1", 1, 0.0, true), heard("r2", 1, 0.0, true), heard("r3", 1, 2.0)};
+  handed = matched.update(by_r2, searching, kSecond, group_heard_signals(r3_lost, by_r2, 0.999));
+  EXPECT_EQ(matched.pursuer_of(6), "r3") << "r3's signal only matches now: he keeps it a while";
+  EXPECT_EQ(signals_left_to_others(handed, "r2"), std::set<std::uint32_t>{1});
+  handed = matched.update(by_r2, searching, 31 * kSecond, group_heard_signals(r3_lost, by_r2, 0.999));
+  EXPECT_EQ(matched.pursuer_of(6), "r3");
+  handed = matched.update(by_r2, searching, 32 * kSecond, group_heard_signals(r3_lost, by_r2, 0.999));
+  EXPECT_EQ(matched.pursuer_of(6), "r2") << "the nearest of r1 and r2, who placed it";
+  ASSERT_FALSE(matched.events().empty());
+  EXPECT_TRUE(matched.events()[0].warning);
+  EXPECT_EQ(signals_left_to_others(handed, "r3"), std::set<std::uint32_t>{1});
 
   // Had r2 placed it, he would have kept it only until the pursuit's timeout, counted from 0 s.
   SignalPursuits kept(60.0);

@@ -20,8 +20,10 @@
 //     grouped by its signature, signal_groups.hpp) goes to the first of them to take it,
 //     among those pursuing nothing else, and the others' signals of it are handed over (victim
 //     id 0);
-//     once it is placed, its victim stays with that pursuer; signals not yet placed that are a
-//     victim's transmitter count as hearing it, and are handed over with its sources.
+//     once it is placed, its victim stays with that pursuer if he is among those who placed it
+//     (or all of those pursue another), else the nearest of those is sent; signals not yet
+//     placed that are a victim's transmitter count as hearing it, and are handed over with its
+//     sources.
 //
 //   SignalPursuits pursuits(240.0);
 //   picture.handed_over = pursuits.update(fusion.victims(), searching_positions, now,
