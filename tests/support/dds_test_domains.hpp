@@ -34,6 +34,8 @@ enum DdsTestDomain : std::uint32_t {
   kDomainHandover = 181,
   kDomainMissionSectorMove = 182,  // tests/integration/mission/sector-move.yaml names it too
   kDomainDeviceRestart = 183,
+  kDomainEstimateStallReader = 184,  // not kDomainEstimateStall: ctest -j runs the two at once
+  kDomainRecorderFullDisk = 185,     // not kDomainRecorderKill, likewise
   kDomainDiscoveryServer = 140,
   kDomainBenchEchoListener = 141,
   kDomainBenchEchoQueue = 142,

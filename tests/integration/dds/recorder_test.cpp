@@ -346,7 +346,7 @@ TEST(Replayer, SendsTheChosenTopicsBetweenStartAndEndAtTheRecordedPaceTimesTheRa
 
 TEST(Recorder, AFullDiskOrANonMcapFileIsAClearErrorWithExitCode4) {
   const fs::path dir = temp_dir("errors");
-  const std::string domain = std::to_string(static_cast<int>(kDomainRecorderKill) + 0);
+  const std::string domain = std::to_string(static_cast<int>(kDomainRecorderFullDisk));
   const Command full = run(SARLOC_BIN_DIR "/sarloc-record -c " SARLOC_SOURCE_DIR
                            "/config/missions/default.yaml --domain " + domain + " -o /dev/full --duration 1");
   EXPECT_EQ(full.exit_code, 4) << full.output;
