@@ -96,40 +96,66 @@ std::vector<SignalHandOver> SignalPursuits::update(const std::vector<FusedVictim
     kept.emplace(id, p);
     busy.insert(p.rescuer_id);
   }
+  // A victim whose transmitter was pursued before anyone placed it: its pursuit then (the one
+  // whose pursuer placed it, else one whose pursuer hears it, else any that overlaps).
   std::set<std::size_t> carried_groups;
+  std::map<std::uint32_t, std::size_t> carried_to;  // victim id -> group pursuit
   for (const auto& e : eligible) {
     const auto id = e.victim->victim_id;
     if (kept.count(id) != 0 || given_up_.count(id) != 0) continue;
-    // Its transmitter was pursued before anyone placed it: a pursuer who placed it keeps it,
-    // timeout and all. One who did not ends his pursuit, and the nearest of those who placed it
-    // is sent: having placed it is better evidence of being near than having heard it first;
-    // unless all of those pursue another victim, when he keeps it a while (the matched grace).
-    std::size_t carried = group_pursuits_.size();
-    for (std::size_t g = 0; g < group_pursuits_.size() && carried == group_pursuits_.size(); ++g) {
+    std::size_t best = group_pursuits_.size();
+    int best_rank = 3;
+    for (std::size_t g = 0; g < group_pursuits_.size(); ++g) {
       const auto& signals = group_pursuits_[g].signals;
-      if (carried_groups.count(g) == 0 &&
-          std::any_of(e.signals.begin(), e.signals.end(), [&](const SignalKey& k) { return signals.count(k) != 0; }))
-        carried = g;
+      if (carried_groups.count(g) != 0 ||
+          std::none_of(e.signals.begin(), e.signals.end(), [&](const SignalKey& k) { return signals.count(k) != 0; }))
+        continue;
+      const auto& r = group_pursuits_[g].pursuit.rescuer_id;
+      const int rank = e.placing.count(r) != 0 ? 0 : e.hearing.count(r) != 0 ? 1 : 2;
+      if (rank < best_rank) {
+        best = g;
+        best_rank = rank;
+      }
     }
-    if (carried != group_pursuits_.size()) {
-      Pursuit p = group_pursuits_[carried].pursuit;
-      carried_groups.insert(carried);
+    if (best == group_pursuits_.size()) continue;
+    carried_groups.insert(best);
+    carried_to[id] = best;
+  }
+  // Those pursuers who did not place their victim are free before anyone is chosen, so that
+  // whether a placer is free does not depend on the order of the victims.
+  for (const auto& e : eligible) {
+    const auto carried = carried_to.find(e.victim->victim_id);
+    if (carried == carried_to.end()) continue;
+    const auto& r = group_pursuits_[carried->second].pursuit.rescuer_id;
+    const bool pursues_victim =
+        std::any_of(kept.begin(), kept.end(), [&](const auto& k) { return k.second.rescuer_id == r; });
+    if (e.placing.count(r) == 0 && !pursues_victim) busy.erase(r);
+  }
+  for (const auto& e : eligible) {
+    const auto id = e.victim->victim_id;
+    if (kept.count(id) != 0 || given_up_.count(id) != 0) continue;
+    // A pursuer who placed it keeps it, timeout and all. One who did not ends his pursuit, and
+    // the nearest of those who placed it is sent: having placed it is better evidence of being
+    // near than having heard it first; unless all of those pursue another, when one who hears
+    // it keeps it a while (the matched grace).
+    const auto carried = carried_to.find(id);
+    if (carried != carried_to.end()) {
+      Pursuit p = group_pursuits_[carried->second].pursuit;
       const bool placed_by_him = e.placing.count(p.rescuer_id) != 0;
       const bool placer_free =
           std::any_of(e.placing.begin(), e.placing.end(), [&](const std::string& r) { return busy.count(r) == 0; });
       if (placed_by_him || (!placer_free && e.hearing.count(p.rescuer_id) != 0)) {
         p.matched_only_since = placed_by_him ? 0 : now;
         kept.emplace(id, p);
+        busy.insert(p.rescuer_id);
         events_.push_back({false, "victim " + std::to_string(id) + ": placed; still pursued by " + p.rescuer_id +
                                       ", who took its signal first" +
                                       (placed_by_him ? "" : " (those who placed it pursue another)")});
         continue;
       }
-      const bool pursues_other =
-          std::any_of(kept.begin(), kept.end(), [&](const auto& k) { return k.second.rescuer_id == p.rescuer_id; });
-      if (!pursues_other) busy.erase(p.rescuer_id);
-      events_.push_back({false, "victim " + std::to_string(id) + ": placed by others before " + p.rescuer_id +
-                                    ", who took its signal first; his pursuit ends"});
+      events_.push_back({false, "victim " + std::to_string(id) + ": placed; " + p.rescuer_id +
+                                    ", who took its signal first, did not place it (or no longer searches): his "
+                                    "pursuit ends"});
     }
     // The nearest of those who placed it (a signature's match alone sends nobody).
     const Vec2 at = e.victim->position.position.head<2>();

@@ -84,7 +84,9 @@ TEST(PictureState, TheSearchPlanIsInSnapshotsAndInDeltasWhenItChanged) {
   const auto before_placed = state.version();
   plan.handed_over.pop_back();  // r3 placed that transmitter (or it was given back to all)
   state.on_search_plan(plan);
-  EXPECT_TRUE(state.delta(before_placed)["plan"]["unplaced_pursuits"].empty()) << "the page drops the line";
+  const auto placed = state.delta(before_placed);
+  ASSERT_TRUE(placed.contains("plan")) << "a pursuit before placement ended: the plan is sent";
+  EXPECT_EQ(placed["plan"]["unplaced_pursuits"], nlohmann::json::array()) << "the page drops the line";
   // An operator drew another deposit: the plan over it replaces the mission's on the map.
   EXPECT_EQ(state.snapshot()["deposit"],
             nlohmann::json::parse("[[0.0, 0.0], [80.0, 0.0], [80.0, 100.0], [0.0, 100.0]]"));

@@ -235,16 +235,30 @@ TEST(SignalPursuits, APursuitKeepsItsStartThroughABreakAndGoesToOneWhoPlacedIt) 
   EXPECT_EQ(signals_left_to_others(handed, "r2"), std::set<std::uint32_t>{1});
   EXPECT_TRUE(signals_left_to_others(handed, "r3").empty());
   ASSERT_EQ(pursuits.events().size(), 2u);
-  EXPECT_NE(pursuits.events()[0].text.find("placed by others before r2, who took its signal first; his pursuit ends"),
+  EXPECT_NE(pursuits.events()[0].text.find(
+                "placed; r2, who took its signal first, did not place it (or no longer searches): his pursuit ends"),
             std::string::npos)
       << pursuits.events()[0].text;
   EXPECT_FALSE(pursuits.update(victims, searching, 79 * kSecond, group_heard_signals(signals, victims, 0.999)).empty())
       << "r3's 60 s count from 20 s";
   EXPECT_EQ(pursuits.pursuer_of(6), "r3");
-  // And r2 is free for a new victim.
-  const std::vector<FusedVictim> two{victims[0], victim(7, {10, 0}, {{"r2", 2}, {"r1", 2}})};
-  pursuits.update(two, searching, 80 * kSecond, group_heard_signals({}, two, 0.999));
-  EXPECT_EQ(pursuits.pursuer_of(7), "r2");
+  // Whether a placer is free does not depend on the order of the victims: r3 placed V1 alone
+  // and pursued T2's signal, which r4 placed alone. r3's pursuit of T2 ends, so he is free for
+  // V1, which r1, who took its signal first, did not place.
+  SignalPursuits ordered(240.0);
+  const std::map<std::string, Vec2> four{{"r1", {0, 0}}, {"r3", {50, 0}}, {"r4", {100, 0}}};
+  std::vector<HeardSignal> t1_t2{heard("r1", 1, 0.0), heard("r3", 1, 1.0), heard("r3", 2, 0.0), heard("r4", 2, 1.0)};
+  t1_t2[2].transmitter = t1_t2[3].transmitter = signature(-50.0, 1.2);
+  ordered.update({}, four, 0, group_heard_signals(t1_t2, {}, 0.999));
+  ASSERT_EQ(ordered.pursuer_of_signal({"r3", 1}), "r1");
+  ASSERT_EQ(ordered.pursuer_of_signal({"r4", 2}), "r3");
+  t1_t2[1].placed = t1_t2[3].placed = true;
+  const std::vector<FusedVictim> v1_v2{victim(1, {48, 0}, {{"r3", 1}}), victim(2, {98, 0}, {{"r4", 2}})};
+  handed = ordered.update(v1_v2, four, kSecond, group_heard_signals(t1_t2, v1_v2, 0.999));
+  EXPECT_EQ(ordered.pursuer_of(1), "r3") << "r3 is free: his pursuit of T2 ended";
+  EXPECT_EQ(ordered.pursuer_of(2), "r4");
+  EXPECT_EQ(signals_left_to_others(handed, "r1"), std::set<std::uint32_t>{1});
+  EXPECT_EQ(signals_left_to_others(handed, "r3"), std::set<std::uint32_t>{2});
 
   // Placed by others who all pursue another victim: the one who took its signal first keeps it,
   // for kMatchedPursuerGraceNs if he does not place it himself.
@@ -255,7 +269,7 @@ TEST(SignalPursuits, APursuitKeepsItsStartThroughABreakAndGoesToOneWhoPlacedIt) 
   std::vector<FusedVictim> near_r3{victim(5, {48, 0}, {{"r3", 2}, {"r2", 2}})};
   busy_placer.update(near_r3, searching, 0, group_heard_signals(two_transmitters, near_r3, 0.999));
   EXPECT_EQ(busy_placer.pursuer_of(5), "r3");
-  EXPECT_EQ(busy_placer.pursuer_of_signal({"r3", 1}), "r1") << "r3 is busy";
+  EXPECT_EQ(busy_placer.pursuer_of_signal({"r3", 1}), "r1") << "r1 heard it first (and r3 is busy)";
   two_transmitters[3].placed = true;
   near_r3.push_back(victim(6, {45, 0}, {{"r3", 1}}));
   handed = busy_placer.update(near_r3, searching, 5 * kSecond, group_heard_signals(two_transmitters, near_r3, 0.999));

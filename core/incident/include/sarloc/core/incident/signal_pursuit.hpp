@@ -21,7 +21,8 @@
 //     among those pursuing nothing else, and the others' signals of it are handed over (victim
 //     id 0);
 //     once it is placed, its victim stays with that pursuer if he is among those who placed it
-//     (or all of those pursue another), else the nearest of those is sent; signals not yet
+//     (or all of those pursue another and he hears it, for kMatchedPursuerGraceNs), else the
+//     nearest of those is sent; signals not yet
 //     placed that are a victim's transmitter count as hearing it, and are handed over with its
 //     sources.
 //
