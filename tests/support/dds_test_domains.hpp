@@ -1,6 +1,7 @@
 #pragma once
 // One DDS domain per test, so tests running in parallel (ctest -j) never see each other.
-// Add new ones here; a duplicate would make two tests talk across each other.
+// Add new ones here; a duplicate would make two tests talk across each other. Checked by
+// tests/unit/dds/dds_test_domains_test.cpp (also that no two tests that may run at once use one).
 #include <cstdint>
 
 namespace sarloc::test {
