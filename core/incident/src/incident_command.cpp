@@ -329,6 +329,12 @@ void IncidentCommand::note_heard(const responder::VictimEstimate& e, TimestampNs
   s.first_heard = std::min(s.first_heard, e.stamp);
   if (e.transmitter.known()) s.transmitter = e.transmitter;
   s.placed = e.status >= responder::EstimatorStatus::kConverged;
+  double weight = 0.0, range = 0.0;
+  for (const auto& c : e.top_components) {
+    weight += c.weight;
+    range += c.weight * c.mean.norm();
+  }
+  s.range_m = weight > 0.0 && std::isfinite(range) ? range / weight : std::numeric_limits<double>::quiet_NaN();
   it->second.arrived = std::max(it->second.arrived, now);
 }
 

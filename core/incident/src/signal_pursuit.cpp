@@ -1,6 +1,7 @@
 #include "sarloc/core/incident/signal_pursuit.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 
@@ -144,7 +145,9 @@ std::vector<SignalHandOver> SignalPursuits::update(const std::vector<FusedVictim
       const bool placed_by_him = e.placing.count(p.rescuer_id) != 0;
       const bool placer_free =
           std::any_of(e.placing.begin(), e.placing.end(), [&](const std::string& r) { return busy.count(r) == 0; });
-      if (placed_by_him || (!placer_free && e.hearing.count(p.rescuer_id) != 0)) {
+      // (Not if he was freed above and has just been sent to another victim.)
+      const bool exception = !placer_free && busy.count(p.rescuer_id) == 0 && e.hearing.count(p.rescuer_id) != 0;
+      if (placed_by_him || exception) {
         p.matched_only_since = placed_by_him ? 0 : now;
         kept.emplace(id, p);
         busy.insert(p.rescuer_id);
@@ -255,17 +258,32 @@ void SignalPursuits::pursue_unplaced(const SignalGroups& groups, const std::map<
   for (std::size_t i = 0; i < heard.size(); ++i) {
     if (served[i]) continue;
     const Heard& h = heard[i];
-    // The first to take it keeps it (the standard practice), among those pursuing nothing else;
-    // when everyone who hears it pursues another, nobody is sent away from it.
-    const auto free =
-        std::find_if(h.hearing.begin(), h.hearing.end(), [&](const std::string& r) { return busy.count(r) == 0; });
-    if (free == h.hearing.end()) continue;
-    const Pursuit p{*free, now, 0};
+    // The nearest by his own distance reading, among those pursuing nothing else (the first to
+    // take it when one of them reads none); when everyone who hears it pursues another, nobody
+    // is sent away from it.
+    std::string first, nearest;
+    double nearest_range = std::numeric_limits<double>::infinity();
+    bool all_read = true;
+    for (const auto& s : *h.group) {
+      if (searching.count(s.rescuer_id) == 0 || busy.count(s.rescuer_id) != 0) continue;
+      if (first.empty()) first = s.rescuer_id;
+      if (!std::isfinite(s.range_m)) {
+        all_read = false;
+      } else if (s.range_m < nearest_range) {
+        nearest_range = s.range_m;
+        nearest = s.rescuer_id;
+      }
+    }
+    if (first.empty()) continue;
+    const Pursuit p{all_read ? nearest : first, now, 0};
     busy.insert(p.rescuer_id);
+    char reading[48] = "";
+    if (all_read) std::snprintf(reading, sizeof reading, " (%.0f m)", nearest_range);
     events_.push_back({false, label_of(*h.group) + ": pursued by " + p.rescuer_id + " (of " +
-                                  std::to_string(h.hearing.size()) +
-                                  " who hear it, the first to take it not pursuing another); the others' signals "
-                                  "of it are handed over"});
+                                  std::to_string(h.hearing.size()) + " who hear it, " +
+                                  (all_read ? std::string("the nearest by his distance reading") + reading
+                                            : std::string("the first to take it")) +
+                                  " not pursuing another); the others' signals of it are handed over"});
     kept.push_back({p, h.signals, now});
     hand_over(h, p);
   }

@@ -337,6 +337,24 @@ TEST(IncidentCommand, ATransmitterTwoRescuersHearBeforeEitherPlacesItGoesToTheFi
   EXPECT_EQ(h.pursued_by, "r2") << "r2 heard it first (stamp 1 s against 1.2 s)";
   EXPECT_TRUE(
       has_event(out, Kind::kInfo, "signal r2/1 (carrier +12.2 Hz, period 0.851 s; not yet placed): pursued by r2"));
+  {
+    // With their distance readings (their mixtures' components: r1's 20-30 m off, r2's 50 m),
+    // the nearer by reading is sent, although r2 heard it first.
+    IncidentCommand by_reading(config, at(0));
+    by_reading.on_position(gnss_fix("r1", at(1), Vec3(40, 205, 0)), "w-r1", at(1));
+    by_reading.on_position(gnss_fix("r2", at(1), Vec3(110, 205, 0)), "w-r2", at(1));
+    auto near = r1, far = r2;
+    near.top_components = {{0.6, Vec3(20, 0, -1), Mat3::Identity()}, {0.4, Vec3(0, -30, -1), Mat3::Identity()}};
+    far.top_components = {{1.0, Vec3(-30, -40, -1), Mat3::Identity()}};
+    by_reading.on_estimate(near, "w-core", false, at(2));
+    by_reading.on_estimate(far, "w-core", false, at(2));
+    const auto read = by_reading.cycle(at(2.5), at(2.5));
+    ASSERT_TRUE(read.search_plan);
+    ASSERT_EQ(read.search_plan->handed_over.size(), 1u);
+    EXPECT_EQ(read.search_plan->handed_over[0].pursued_by, "r1");
+    EXPECT_TRUE(
+        has_event(read, Kind::kInfo, "pursued by r1 (of 2 who hear it, the nearest by his distance reading (24 m)"));
+  }
   // Nothing heard of their signals for longer than the fusion's source timeout (the rescuers
   // still searching): nothing handed over.
   const double later = 2.5 + config.fusion.source_timeout_s + 1;

@@ -152,6 +152,27 @@ TEST(SignalPursuits, BeforeAnyonePlacesItTheFirstToTakeASignalPursuesItAndKeepsI
   EXPECT_FALSE(standby.pursuer_of(0)) << "no victim 0";
 }
 
+// With every free hearer's distance reading (a transceiver's display), the nearest by it is
+// sent, not the first to take it; one without a reading leaves it to the first.
+TEST(SignalPursuits, BeforeAnyonePlacesItTheNearestByHisDistanceReadingIsSent) {
+  SignalPursuits pursuits(240.0);
+  const std::map<std::string, Vec2> searching{{"r1", {0, 0}}, {"r2", {10, 0}}, {"r3", {20, 0}}};
+  std::vector<HeardSignal> signals{heard("r1", 2, 9.0), heard("r2", 5, 4.0), heard("r3", 1, 6.0)};
+  signals[0].range_m = 48.0;
+  signals[1].range_m = 55.0;
+  signals[2].range_m = 31.0;
+  pursuits.update({}, searching, 10 * kSecond, group_heard_signals(signals, {}, 0.999));
+  EXPECT_EQ(pursuits.pursuer_of_signal({"r1", 2}), "r3") << "r3 reads 31 m";
+  ASSERT_EQ(pursuits.events().size(), 1u);
+  EXPECT_NE(pursuits.events()[0].text.find("pursued by r3 (of 3 who hear it, the nearest by his distance reading"),
+            std::string::npos)
+      << pursuits.events()[0].text;
+  SignalPursuits unread(240.0);
+  signals[0].range_m = std::nan("");
+  unread.update({}, searching, 10 * kSecond, group_heard_signals(signals, {}, 0.999));
+  EXPECT_EQ(unread.pursuer_of_signal({"r1", 2}), "r2") << "r1 reads none: the first to take it";
+}
+
 TEST(SignalPursuits, BeforeAnyonePlacesItOnlyAFreeRescuerIsSentAndOneWhoHearsItAloneHandsNothingOver) {
   SignalPursuits pursuits(240.0);
   std::map<std::string, Vec2> searching{{"r1", {0, 0}}, {"r2", {10, 0}}};
@@ -259,6 +280,24 @@ TEST(SignalPursuits, APursuitKeepsItsStartThroughABreakAndGoesToOneWhoPlacedIt) 
   EXPECT_EQ(ordered.pursuer_of(2), "r4");
   EXPECT_EQ(signals_left_to_others(handed, "r1"), std::set<std::uint32_t>{1});
   EXPECT_EQ(signals_left_to_others(handed, "r3"), std::set<std::uint32_t>{2});
+
+  // Nor does the exception below (all who placed it pursue another) keep a victim with one who
+  // has just been sent to another: r1, freed from T1 (placed by r3 alone, busy with T2), is the
+  // only one who placed V0 and is sent there; V1 goes to r3, who placed it, although busy.
+  SignalPursuits one_each(240.0);
+  std::vector<HeardSignal> three{heard("r1", 1, 0.0), heard("r3", 1, 1.0), heard("r3", 2, 0.0), heard("r4", 2, 1.0)};
+  three[2].transmitter = three[3].transmitter = signature(-50.0, 1.2);
+  one_each.update({}, four, 0, group_heard_signals(three, {}, 0.999));
+  ASSERT_EQ(one_each.pursuer_of_signal({"r3", 1}), "r1");
+  ASSERT_EQ(one_each.pursuer_of_signal({"r4", 2}), "r3");
+  three[1].placed = true;
+  three.push_back(heard("r1", 5, 2.0, true));
+  three.push_back(heard("r4", 5, 3.0));
+  three[4].transmitter = three[5].transmitter = signature(40.0, 0.75);
+  const std::vector<FusedVictim> v0_v1{victim(7, {2, 0}, {{"r1", 5}}), victim(1, {48, 0}, {{"r3", 1}})};
+  one_each.update(v0_v1, four, kSecond, group_heard_signals(three, v0_v1, 0.999));
+  EXPECT_EQ(one_each.pursuer_of(7), "r1");
+  EXPECT_EQ(one_each.pursuer_of(1), "r3") << "not r1 as well";
 
   // Placed by others who all pursue another victim: the one who took its signal first keeps it,
   // for kMatchedPursuerGraceNs if he does not place it himself.

@@ -20,6 +20,7 @@
 //   groups.joined[victim_id]   // rescuers' signals of that victim not yet placed
 //   groups.unplaced            // each a transmitter heard by several, not yet placed
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <string>
 #include <utility>
@@ -37,9 +38,12 @@ struct HeardSignal {
   responder::TransmitterSignature transmitter;
   /// Its estimate is CONVERGED or better: it is (or is about to be) a source of a fused victim.
   bool placed = false;
-  /// When incident command first heard of it (the stamp of its first estimate): the first to
-  /// take a signal keeps it.
+  /// When incident command first heard of it (the stamp of its first estimate): without
+  /// distance readings, the first to take a signal keeps it.
   TimestampNs first_heard = 0;
+  /// The distance its estimate reads (its top components' weighted mean range, as a
+  /// transceiver's display reads one before any position); NaN when it states none.
+  double range_m = std::numeric_limits<double>::quiet_NaN();
 };
 
 using SignalKey = std::pair<std::string, std::uint32_t>;  ///< (rescuer_id, signal_id)

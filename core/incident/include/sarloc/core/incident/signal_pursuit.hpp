@@ -17,7 +17,8 @@
 //     every rescuer who hears it may pursue it again (a wrong filter must not hide a victim);
 //   - every other rescuer's signal of the victim is handed over;
 //   - before anyone has placed it, a transmitter that several rescuers hear (their signals
-//     grouped by its signature, signal_groups.hpp) goes to the first of them to take it,
+//     grouped by its signature, signal_groups.hpp) goes to the nearest of them by his own
+//     distance reading (HeardSignal::range_m; the first to take it when one reads none),
 //     among those pursuing nothing else, and the others' signals of it are handed over (victim
 //     id 0);
 //     once it is placed, its victim stays with that pursuer if he is among those who placed it
