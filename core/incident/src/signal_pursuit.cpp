@@ -121,13 +121,9 @@ std::vector<SignalHandOver> SignalPursuits::update(const std::vector<FusedVictim
     if (best == group_pursuits_.size()) continue;
     carried_groups.insert(best);
     carried_to[id] = best;
-  }
-  // Those pursuers who did not place their victim are free before anyone is chosen, so that
-  // whether a placer is free does not depend on the order of the victims.
-  for (const auto& e : eligible) {
-    const auto carried = carried_to.find(e.victim->victim_id);
-    if (carried == carried_to.end()) continue;
-    const auto& r = group_pursuits_[carried->second].pursuit.rescuer_id;
+    // A pursuer who did not place it is free before anyone is chosen, so that whether a placer
+    // is free does not depend on the order of the victims.
+    const auto& r = group_pursuits_[best].pursuit.rescuer_id;
     const bool pursues_victim =
         std::any_of(kept.begin(), kept.end(), [&](const auto& k) { return k.second.rescuer_id == r; });
     if (e.placing.count(r) == 0 && !pursues_victim) busy.erase(r);
