@@ -33,6 +33,7 @@ std::vector<SignalHandOver> SignalPursuits::update(const std::vector<FusedVictim
                                                    const std::map<std::string, Vec2>& searching, TimestampNs now,
                                                    const SignalGroups& groups) {
   events_.clear();
+  forget_given_up(victims, groups, now);
   // Victims incident command cannot tell apart: nobody is sent away from either.
   std::set<std::uint32_t> ambiguous;
   for (const auto& v : victims) {
@@ -79,7 +80,7 @@ std::vector<SignalHandOver> SignalPursuits::update(const std::vector<FusedVictim
     if (previous == pursuits_.end() || e.hearing.count(previous->second.rescuer_id) == 0) continue;
     Pursuit p = previous->second;
     if (now - p.since > timeout_ns_) {
-      given_up_.insert(id);
+      given_up_[id] = now;
       events_.push_back({true, "victim " + std::to_string(id) + " not found by " + p.rescuer_id +
                                    " in time: every rescuer who hears it may pursue it again"});
       continue;
@@ -148,13 +149,14 @@ std::vector<SignalHandOver> SignalPursuits::update(const std::vector<FusedVictim
         kept.emplace(id, p);
         busy.insert(p.rescuer_id);
         events_.push_back({false, "victim " + std::to_string(id) + ": placed; still pursued by " + p.rescuer_id +
-                                      ", who took its signal first" +
+                                      ", who pursued its signal before it was placed" +
                                       (placed_by_him ? "" : " (those who placed it pursue another)")});
         continue;
       }
-      events_.push_back({false, "victim " + std::to_string(id) + ": placed; " + p.rescuer_id +
-                                    ", who took its signal first, did not place it (or no longer searches): his "
-                                    "pursuit ends"});
+      events_.push_back(
+          {false, "victim " + std::to_string(id) + ": placed; " + p.rescuer_id +
+                      ", who pursued its signal before it was placed, did not place it (or no longer searches): his "
+                      "pursuit ends"});
     }
     // The nearest of those who placed it (a signature's match alone sends nobody).
     const Vec2 at = e.victim->position.position.head<2>();
@@ -196,6 +198,27 @@ std::vector<SignalHandOver> SignalPursuits::update(const std::vector<FusedVictim
   group_pursuits_ = std::move(left);
   pursue_unplaced(groups, searching, busy, now, out);
   return out;
+}
+
+void SignalPursuits::forget_given_up(const std::vector<FusedVictim>& victims, const SignalGroups& groups,
+                                     TimestampNs now) {
+  auto seen = [&](const SignalKey& k) {
+    const auto it = given_up_signals_.find(k);
+    if (it != given_up_signals_.end()) it->second = now;
+  };
+  for (const auto& v : victims) {
+    const auto it = given_up_.find(v.victim_id);
+    if (it != given_up_.end()) it->second = now;
+    for (const auto& s : v.sources) seen({s.rescuer_id, s.signal_id});
+  }
+  for (const auto& [victim_id, signals] : groups.joined)
+    for (const auto& s : signals) seen({s.rescuer_id, s.signal_id});
+  for (const auto& group : groups.unplaced)
+    for (const auto& s : group) seen({s.rescuer_id, s.signal_id});
+  for (auto it = given_up_.begin(); it != given_up_.end();)
+    it = now - it->second > timeout_ns_ ? given_up_.erase(it) : std::next(it);
+  for (auto it = given_up_signals_.begin(); it != given_up_signals_.end();)
+    it = now - it->second > timeout_ns_ ? given_up_signals_.erase(it) : std::next(it);
 }
 
 void SignalPursuits::pursue_unplaced(const SignalGroups& groups, const std::map<std::string, Vec2>& searching,
@@ -241,7 +264,7 @@ void SignalPursuits::pursue_unplaced(const SignalGroups& groups, const std::map<
         continue;
       continued[g] = served[i] = true;
       if (now - previous.pursuit.since > place_within) {
-        given_up_signals_.insert(h.signals.begin(), h.signals.end());
+        for (const auto& k : h.signals) given_up_signals_[k] = now;
         events_.push_back({true, label_of(*h.group) + " not placed by " + previous.pursuit.rescuer_id + " within " +
                                      std::to_string(place_within / 1'000'000'000) +
                                      " s: every rescuer who hears it may pursue it again"});

@@ -233,6 +233,31 @@ TEST(SignalPursuits, ATransmitterNotPlacedInTimeIsGivenBackToAll) {
       << shipped.events()[0].text;
 }
 
+// Incident command runs for hours: what was given back to everyone is remembered while it is in
+// the picture, and forgotten a pursuit timeout after it left it (pursued afresh if it returns).
+TEST(SignalPursuits, WhatWasGivenUpIsForgottenAPursuitTimeoutAfterItLeftThePicture) {
+  SignalPursuits pursuits(60.0);
+  const std::map<std::string, Vec2> searching{{"r1", {0, 0}}, {"r2", {10, 0}}};
+  const std::vector<HeardSignal> signals{heard("r1", 1, 0.0), heard("r2", 1, 1.0)};
+  const auto groups = group_heard_signals(signals, {}, 0.999);
+  const std::vector<FusedVictim> victims{victim(7, {0, 0}, {{"r1", 2}, {"r2", 2}})};
+  EXPECT_EQ(pursuits.update(victims, searching, 0, groups).size(), 2u);
+  EXPECT_TRUE(pursuits.update(victims, searching, 61 * kSecond, groups).empty());
+  EXPECT_EQ(pursuits.given_up_count(), 3u) << "victim 7 and both signals of the transmitter";
+  // Both leave the picture for less than a timeout and come back: still given up.
+  EXPECT_TRUE(pursuits.update({}, searching, 100 * kSecond).empty());
+  EXPECT_TRUE(pursuits.update(victims, searching, 110 * kSecond, groups).empty());
+  EXPECT_EQ(pursuits.given_up_count(), 3u);
+  // Gone for longer: forgotten, and pursued afresh when heard again.
+  EXPECT_TRUE(pursuits.update({}, searching, 150 * kSecond).empty());
+  EXPECT_EQ(pursuits.given_up_count(), 3u) << "40 s unseen";
+  EXPECT_TRUE(pursuits.update({}, searching, 171 * kSecond).empty());
+  EXPECT_EQ(pursuits.given_up_count(), 0u) << "61 s unseen";
+  EXPECT_EQ(pursuits.update(victims, searching, 180 * kSecond, groups).size(), 2u);
+  EXPECT_EQ(pursuits.pursuer_of(7), "r1");
+  EXPECT_EQ(pursuits.pursuer_of_signal({"r1", 1}), "r2") << "r1 pursues the victim";
+}
+
 // The timeout counts from the start of the pursuit, before it was placed, and across a group
 // broken for a cycle (a fix on its way); placed by others first, the nearest who placed it is sent;
 // a pursuer whose signal only matches the victim's signature keeps it for kMatchedPursuerGraceNs.
@@ -256,8 +281,8 @@ TEST(SignalPursuits, APursuitKeepsItsStartThroughABreakAndGoesToOneWhoPlacedIt) 
   EXPECT_EQ(signals_left_to_others(handed, "r2"), std::set<std::uint32_t>{1});
   EXPECT_TRUE(signals_left_to_others(handed, "r3").empty());
   ASSERT_EQ(pursuits.events().size(), 2u);
-  EXPECT_NE(pursuits.events()[0].text.find(
-                "placed; r2, who took its signal first, did not place it (or no longer searches): his pursuit ends"),
+  EXPECT_NE(pursuits.events()[0].text.find("placed; r2, who pursued its signal before it was placed, did not place it "
+                                           "(or no longer searches): his pursuit ends"),
             std::string::npos)
       << pursuits.events()[0].text;
   EXPECT_FALSE(pursuits.update(victims, searching, 79 * kSecond, group_heard_signals(signals, victims, 0.999)).empty())
@@ -315,8 +340,9 @@ TEST(SignalPursuits, APursuitKeepsItsStartThroughABreakAndGoesToOneWhoPlacedIt) 
   EXPECT_EQ(busy_placer.pursuer_of(6), "r1");
   EXPECT_EQ(signals_left_to_others(handed, "r3"), (std::set<std::uint32_t>{1}));
   ASSERT_FALSE(busy_placer.events().empty());
-  EXPECT_NE(busy_placer.events()[0].text.find("still pursued by r1, who took its signal first (those who placed it "
-                                              "pursue another)"),
+  EXPECT_NE(busy_placer.events()[0].text.find(
+                "still pursued by r1, who pursued its signal before it was placed (those who placed it "
+                "pursue another)"),
             std::string::npos)
       << busy_placer.events()[0].text;
   busy_placer.update(near_r3, searching, 35 * kSecond, group_heard_signals(two_transmitters, near_r3, 0.999));

@@ -13,7 +13,8 @@
 //     those not pursuing another victim if any (victims close together go one to each rescuer,
 //     not all to whoever stands nearest the cluster), and stays the pursuer while it searches and
 //     hears the victim (no flapping between two rescuers who walk about equally near);
-//   - a pursuer who has not found the victim within `pursuit_timeout_s` gives it up for good:
+//   - a pursuer who has not found the victim within `pursuit_timeout_s` gives it up for good
+//     (while it is in the picture; forgotten a timeout after it left it):
 //     every rescuer who hears it may pursue it again (a wrong filter must not hide a victim);
 //   - every other rescuer's signal of the victim is handed over;
 //   - before anyone has placed it, a transmitter that several rescuers hear (their signals
@@ -95,6 +96,8 @@ class SignalPursuits {
   /// over sends nobody else; a pursuit new to it counts from `now` (the active one's start is
   /// not on the wire).
   void adopt(const std::vector<SignalHandOver>& active, TimestampNs now);
+  /// Victims and signals given back to everyone and still remembered (forget_given_up).
+  std::size_t given_up_count() const { return given_up_.size() + given_up_signals_.size(); }
   /// For incident command's log, of the last update: a pursuit begun or moved (info), given up
   /// (a warning: the pursuer did not find it).
   struct Event {
@@ -119,11 +122,18 @@ class SignalPursuits {
   void pursue_unplaced(const SignalGroups& groups, const std::map<std::string, Vec2>& searching,
                        std::set<std::string>& busy, TimestampNs now, std::vector<SignalHandOver>& out);
 
+  /// Given-up victims and signals seen this cycle are kept, those unseen for a pursuit timeout
+  /// forgotten: incident command runs for hours, and a victim id or signal nobody reports any
+  /// more needs no memory (should it come back, it is pursued afresh, under a new timeout).
+  void forget_given_up(const std::vector<FusedVictim>& victims, const SignalGroups& groups, TimestampNs now);
+
   TimestampNs timeout_ns_;
   std::map<std::uint32_t, Pursuit> pursuits_;  ///< by victim id
-  std::set<std::uint32_t> given_up_;           ///< victims every rescuer may pursue again
+  /// Victims every rescuer may pursue again, with when each was last in the picture.
+  std::map<std::uint32_t, TimestampNs> given_up_;
   std::vector<GroupPursuit> group_pursuits_;
-  std::set<SignalKey> given_up_signals_;  ///< of transmitters not placed, given up
+  /// Signals of transmitters not placed, given up, with when each was last reported.
+  std::map<SignalKey, TimestampNs> given_up_signals_;
   std::vector<Event> events_;
 };
 
