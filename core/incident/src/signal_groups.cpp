@@ -71,6 +71,8 @@ SignalGroups group_heard_signals(const std::vector<HeardSignal>& heard, const st
   auto key_of = [&](std::size_t i) { return SignalKey{heard[i].rescuer_id, heard[i].signal_id}; };
   std::map<SignalKey, std::size_t> index;
   for (std::size_t i = 0; i < heard.size(); ++i) index[key_of(i)] = i;
+  SignalGroups out;
+  for (const auto& [key, i] : index) out.heard.insert(key);
   std::map<SignalKey, const FusedVictim*> victim_of;
   for (const auto& v : victims)
     for (const auto& s : v.sources) victim_of[{s.rescuer_id, s.signal_id}] = &v;
@@ -89,7 +91,6 @@ SignalGroups group_heard_signals(const std::vector<HeardSignal>& heard, const st
     candidate[i] = !self_ambiguous;
   }
 
-  SignalGroups out;
   std::vector<const FusedVictim*> join(heard.size(), nullptr);
   std::map<std::pair<std::string, std::uint32_t>, int> joining;  // (rescuer, victim id) -> its signals joining
   for (std::size_t i = 0; i < heard.size(); ++i) {

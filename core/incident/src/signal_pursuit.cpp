@@ -33,7 +33,7 @@ std::vector<SignalHandOver> SignalPursuits::update(const std::vector<FusedVictim
                                                    const std::map<std::string, Vec2>& searching, TimestampNs now,
                                                    const SignalGroups& groups) {
   events_.clear();
-  forget_given_up(victims, groups, now);
+  refresh_given_up(victims, groups, now);
   // Victims incident command cannot tell apart: nobody is sent away from either.
   std::set<std::uint32_t> ambiguous;
   for (const auto& v : victims) {
@@ -200,8 +200,8 @@ std::vector<SignalHandOver> SignalPursuits::update(const std::vector<FusedVictim
   return out;
 }
 
-void SignalPursuits::forget_given_up(const std::vector<FusedVictim>& victims, const SignalGroups& groups,
-                                     TimestampNs now) {
+void SignalPursuits::refresh_given_up(const std::vector<FusedVictim>& victims, const SignalGroups& groups,
+                                      TimestampNs now) {
   auto seen = [&](const SignalKey& k) {
     const auto it = given_up_signals_.find(k);
     if (it != given_up_signals_.end()) it->second = now;
@@ -211,14 +211,13 @@ void SignalPursuits::forget_given_up(const std::vector<FusedVictim>& victims, co
     if (it != given_up_.end()) it->second = now;
     for (const auto& s : v.sources) seen({s.rescuer_id, s.signal_id});
   }
-  for (const auto& [victim_id, signals] : groups.joined)
-    for (const auto& s : signals) seen({s.rescuer_id, s.signal_id});
-  for (const auto& group : groups.unplaced)
-    for (const auto& s : group) seen({s.rescuer_id, s.signal_id});
-  for (auto it = given_up_.begin(); it != given_up_.end();)
-    it = now - it->second > timeout_ns_ ? given_up_.erase(it) : std::next(it);
-  for (auto it = given_up_signals_.begin(); it != given_up_signals_.end();)
-    it = now - it->second > timeout_ns_ ? given_up_signals_.erase(it) : std::next(it);
+  for (const auto& k : groups.heard) seen(k);
+  auto forget_unseen = [&](auto& given_up) {
+    for (auto it = given_up.begin(); it != given_up.end();)
+      it = now - it->second > timeout_ns_ ? given_up.erase(it) : std::next(it);
+  };
+  forget_unseen(given_up_);
+  forget_unseen(given_up_signals_);
 }
 
 void SignalPursuits::pursue_unplaced(const SignalGroups& groups, const std::map<std::string, Vec2>& searching,

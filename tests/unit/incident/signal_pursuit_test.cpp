@@ -258,6 +258,23 @@ TEST(SignalPursuits, WhatWasGivenUpIsForgottenAPursuitTimeoutAfterItLeftThePictu
   EXPECT_EQ(pursuits.pursuer_of_signal({"r1", 1}), "r2") << "r1 pursues the victim";
 }
 
+// A given-up signal that only its own rescuer hears for a while (in no group) is still in the
+// picture: when a second rescuer hears it again, it is not pursued afresh.
+TEST(SignalPursuits, AGivenUpSignalHeardByItsRescuerAloneStaysGivenUp) {
+  SignalPursuits pursuits(60.0);
+  const std::map<std::string, Vec2> searching{{"r1", {0, 0}}, {"r2", {10, 0}}};
+  const std::vector<HeardSignal> signals{heard("r1", 1, 0.0), heard("r2", 1, 1.0)};
+  const auto groups = group_heard_signals(signals, {}, 0.999);
+  EXPECT_EQ(pursuits.update({}, searching, 0, groups).size(), 1u);
+  EXPECT_TRUE(pursuits.update({}, searching, 61 * kSecond, groups).empty());
+  const auto alone = group_heard_signals({signals[0]}, {}, 0.999);
+  ASSERT_TRUE(alone.unplaced.empty());
+  for (int s = 70; s <= 200; s += 10) EXPECT_TRUE(pursuits.update({}, searching, s * kSecond, alone).empty());
+  EXPECT_EQ(pursuits.given_up_count(), 1u) << "r1/1 still heard; r2/1 unheard for 139 s";
+  EXPECT_TRUE(pursuits.update({}, searching, 205 * kSecond, groups).empty()) << "r1/1 was never out of the picture";
+  EXPECT_EQ(pursuits.given_up_count(), 1u);
+}
+
 // The timeout counts from the start of the pursuit, before it was placed, and across a group
 // broken for a cycle (a fix on its way); placed by others first, the nearest who placed it is sent;
 // a pursuer whose signal only matches the victim's signature keeps it for kMatchedPursuerGraceNs.
@@ -290,7 +307,7 @@ TEST(SignalPursuits, APursuitKeepsItsStartThroughABreakAndGoesToOneWhoPlacedIt) 
   EXPECT_EQ(pursuits.pursuer_of(6), "r3");
   // Whether a placer is free does not depend on the order of the victims: r3 placed V1 alone
   // and pursued T2's signal, which r4 placed alone. r3's pursuit of T2 ends, so he is free for
-  // V1, which r1, who took its signal first, did not place.
+  // V1, which r1, who pursued its signal before it was placed, did not place.
   SignalPursuits ordered(240.0);
   const std::map<std::string, Vec2> four{{"r1", {0, 0}}, {"r3", {50, 0}}, {"r4", {100, 0}}};
   std::vector<HeardSignal> t1_t2{heard("r1", 1, 0.0), heard("r3", 1, 1.0), heard("r3", 2, 0.0), heard("r4", 2, 1.0)};
@@ -324,7 +341,7 @@ TEST(SignalPursuits, APursuitKeepsItsStartThroughABreakAndGoesToOneWhoPlacedIt) 
   EXPECT_EQ(one_each.pursuer_of(7), "r1");
   EXPECT_EQ(one_each.pursuer_of(1), "r3") << "not r1 as well";
 
-  // Placed by others who all pursue another victim: the one who took its signal first keeps it,
+  // Placed by others who all pursue another victim: the one who pursued its signal before it was placed keeps it,
   // for kMatchedPursuerGraceNs if he does not place it himself.
   SignalPursuits busy_placer(240.0);
   std::vector<HeardSignal> two_transmitters{heard("r2", 2, 0.0, true), heard("r3", 2, 0.0, true), heard("r1", 1, 1.0),

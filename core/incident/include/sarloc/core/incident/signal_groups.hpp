@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -54,6 +55,8 @@ struct SignalGroups {
   /// Transmitters heard by two or more rescuers and placed by none; each group's signals are of
   /// different rescuers, in order of first heard.
   std::vector<std::vector<HeardSignal>> unplaced;
+  /// Every signal heard, grouped or not (one rescuer's alone, a signature that could be two).
+  std::set<SignalKey> heard;
 };
 
 /// `gate_probability`: the signature gate (incident command's fusion.gate_probability).

@@ -14,7 +14,7 @@
 //     not all to whoever stands nearest the cluster), and stays the pursuer while it searches and
 //     hears the victim (no flapping between two rescuers who walk about equally near);
 //   - a pursuer who has not found the victim within `pursuit_timeout_s` gives it up for good
-//     (while it is in the picture; forgotten a timeout after it left it):
+//     (while it is in the picture; forgotten once unseen for a whole timeout):
 //     every rescuer who hears it may pursue it again (a wrong filter must not hide a victim);
 //   - every other rescuer's signal of the victim is handed over;
 //   - before anyone has placed it, a transmitter that several rescuers hear (their signals
@@ -96,7 +96,7 @@ class SignalPursuits {
   /// over sends nobody else; a pursuit new to it counts from `now` (the active one's start is
   /// not on the wire).
   void adopt(const std::vector<SignalHandOver>& active, TimestampNs now);
-  /// Victims and signals given back to everyone and still remembered (forget_given_up).
+  /// Victims and signals given back to everyone and still remembered (for tests).
   std::size_t given_up_count() const { return given_up_.size() + given_up_signals_.size(); }
   /// For incident command's log, of the last update: a pursuit begun or moved (info), given up
   /// (a warning: the pursuer did not find it).
@@ -122,17 +122,18 @@ class SignalPursuits {
   void pursue_unplaced(const SignalGroups& groups, const std::map<std::string, Vec2>& searching,
                        std::set<std::string>& busy, TimestampNs now, std::vector<SignalHandOver>& out);
 
-  /// Given-up victims and signals seen this cycle are kept, those unseen for a pursuit timeout
-  /// forgotten: incident command runs for hours, and a victim id or signal nobody reports any
-  /// more needs no memory (should it come back, it is pursued afresh, under a new timeout).
-  void forget_given_up(const std::vector<FusedVictim>& victims, const SignalGroups& groups, TimestampNs now);
+  /// Given-up victims and signals in the picture this cycle (a fused victim; a signal heard,
+  /// grouped or not) are kept, those unseen for a whole pursuit timeout forgotten: incident
+  /// command runs for hours, and a victim id or signal nobody reports any more needs no memory
+  /// (should it come back, it is pursued afresh, under a new timeout).
+  void refresh_given_up(const std::vector<FusedVictim>& victims, const SignalGroups& groups, TimestampNs now);
 
   TimestampNs timeout_ns_;
   std::map<std::uint32_t, Pursuit> pursuits_;  ///< by victim id
   /// Victims every rescuer may pursue again, with when each was last in the picture.
   std::map<std::uint32_t, TimestampNs> given_up_;
   std::vector<GroupPursuit> group_pursuits_;
-  /// Signals of transmitters not placed, given up, with when each was last reported.
+  /// Signals of transmitters not placed, given up, with when each was last heard.
   std::map<SignalKey, TimestampNs> given_up_signals_;
   std::vector<Event> events_;
 };
