@@ -206,11 +206,17 @@ TEST(SignalPursuits, BeforeAnyonePlacesItOnlyAFreeRescuerIsSentAndOneWhoHearsItA
   EXPECT_TRUE(handed.empty());
 }
 
+// r1 and r2, 10 m apart, both hear one transmitter that neither has placed (r1 first).
+struct OneTransmitterTwoHearers {
+  std::map<std::string, Vec2> searching{{"r1", {0, 0}}, {"r2", {10, 0}}};
+  std::vector<HeardSignal> signals{heard("r1", 1, 0.0), heard("r2", 1, 1.0)};
+  SignalGroups groups = group_heard_signals(signals, {}, 0.999);
+};
+
 TEST(SignalPursuits, ATransmitterNotPlacedInTimeIsGivenBackToAll) {
   SignalPursuits pursuits(60.0);
-  const std::map<std::string, Vec2> searching{{"r1", {0, 0}}, {"r2", {10, 0}}};
-  const std::vector<HeardSignal> signals{heard("r1", 1, 0.0), heard("r2", 1, 1.0)};
-  const auto groups = group_heard_signals(signals, {}, 0.999);
+  const OneTransmitterTwoHearers heard_by_two;
+  const auto& [searching, signals, groups] = heard_by_two;
   EXPECT_EQ(pursuits.update({}, searching, 0, groups).size(), 1u);
   EXPECT_EQ(pursuits.update({}, searching, 60 * kSecond, groups).size(), 1u) << "not yet";
   EXPECT_TRUE(pursuits.update({}, searching, 61 * kSecond, groups).empty());
@@ -237,9 +243,8 @@ TEST(SignalPursuits, ATransmitterNotPlacedInTimeIsGivenBackToAll) {
 // the picture, and forgotten a pursuit timeout after it left it (pursued afresh if it returns).
 TEST(SignalPursuits, WhatWasGivenUpIsForgottenAPursuitTimeoutAfterItLeftThePicture) {
   SignalPursuits pursuits(60.0);
-  const std::map<std::string, Vec2> searching{{"r1", {0, 0}}, {"r2", {10, 0}}};
-  const std::vector<HeardSignal> signals{heard("r1", 1, 0.0), heard("r2", 1, 1.0)};
-  const auto groups = group_heard_signals(signals, {}, 0.999);
+  const OneTransmitterTwoHearers heard_by_two;
+  const auto& [searching, signals, groups] = heard_by_two;
   const std::vector<FusedVictim> victims{victim(7, {0, 0}, {{"r1", 2}, {"r2", 2}})};
   EXPECT_EQ(pursuits.update(victims, searching, 0, groups).size(), 2u);
   EXPECT_TRUE(pursuits.update(victims, searching, 61 * kSecond, groups).empty());
@@ -262,9 +267,8 @@ TEST(SignalPursuits, WhatWasGivenUpIsForgottenAPursuitTimeoutAfterItLeftThePictu
 // picture: when a second rescuer hears it again, it is not pursued afresh.
 TEST(SignalPursuits, AGivenUpSignalHeardByItsRescuerAloneStaysGivenUp) {
   SignalPursuits pursuits(60.0);
-  const std::map<std::string, Vec2> searching{{"r1", {0, 0}}, {"r2", {10, 0}}};
-  const std::vector<HeardSignal> signals{heard("r1", 1, 0.0), heard("r2", 1, 1.0)};
-  const auto groups = group_heard_signals(signals, {}, 0.999);
+  const OneTransmitterTwoHearers heard_by_two;
+  const auto& [searching, signals, groups] = heard_by_two;
   EXPECT_EQ(pursuits.update({}, searching, 0, groups).size(), 1u);
   EXPECT_TRUE(pursuits.update({}, searching, 61 * kSecond, groups).empty());
   const auto alone = group_heard_signals({signals[0]}, {}, 0.999);
