@@ -552,6 +552,15 @@ const FusedVictim* VictimFusion::indistinct_twin(const FusedVictim& v) const {
   return twin;
 }
 
+const FusedVictim* VictimFusion::confirmed_alike(const FusedVictim& v) const {
+  for (const FusedVictim& u : victims_) {
+    if (u.victim_id == v.victim_id || u.state == VictimState::kUnconfirmed || u.state == VictimState::kRecovered)
+      continue;
+    if (one_transmitter(v, u)) return &u;
+  }
+  return nullptr;
+}
+
 void VictimFusion::update_states(TimestampNs now) {
   for (FusedVictim& v : victims_) {
     if (v.state == VictimState::kRecovered) continue;       // final
@@ -604,7 +613,11 @@ void VictimFusion::update_states(TimestampNs now) {
     // on the fused radius alone is withdrawn (never one a device gave: its finder may have
     // walked on). Seen live (four within 5 m, clean seed 1): three devices each held two signals
     // of one victim, and incident command confirmed it twice, 0.56 m apart.
-    const FusedVictim* twin = target == VictimState::kUnconfirmed ? indistinct_twin(v) : nullptr;
+    const FusedVictim* twin = nullptr;
+    if (target == VictimState::kUnconfirmed) {
+      twin = indistinct_twin(v);
+      if (twin == nullptr) twin = confirmed_alike(v);
+    }
     if (target != VictimState::kUnconfirmed) {
       by_radius_only_.erase(v.victim_id);
     } else if (twin != nullptr) {

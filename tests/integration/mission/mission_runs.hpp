@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -71,15 +72,23 @@ inline std::string run_report(const MissionRun& run) {
 // incident-frame error, which includes the finder's GNSS error. With `unconfirmed_contacts`
 // the picture may also hold unconfirmed contacts (a signal a device still tracks, not located):
 // only the confirmed victims must be exactly the buried ones. A withdrawn victim (unconfirmed,
-// evidence conflict, no source: VictimFusion, "Withdrawal") is an honest contact either way.
+// evidence conflict, no source: VictimFusion, "Withdrawal") is an honest contact either way, and
+// so is an unconfirmed one the picture itself names as possibly a confirmed victim's transmitter
+// (possibly_same_as: a twin, a repeat, or alike transmitter signatures).
 inline void expect_complete(const MissionRun& run, double max_incident_error_m = 1.0, bool unconfirmed_contacts = false) {
   ASSERT_FALSE(run.summary.is_null()) << "no summary; see " << run.run_dir;
   EXPECT_EQ(run.exit_code, 0) << run_report(run);
   EXPECT_TRUE(run.summary["all_found"].get<bool>());
+  std::set<std::uint32_t> confirmed_ids;
+  for (const auto& f : run.summary["fused_victims"])
+    if (f["confirmed"].get<bool>()) confirmed_ids.insert(f["victim_id"].get<std::uint32_t>());
   std::size_t counted = 0;
   for (const auto& f : run.summary["fused_victims"]) {
-    const bool withdrawn = !f["confirmed"].get<bool>() && f["evidence_conflict"].get<bool>() && f["sources"] == 0;
-    if (unconfirmed_contacts ? f["confirmed"].get<bool>() : !withdrawn) ++counted;
+    const bool confirmed = f["confirmed"].get<bool>();
+    const bool withdrawn = !confirmed && f["evidence_conflict"].get<bool>() && f["sources"] == 0;
+    const bool names_a_confirmed_one =
+        !confirmed && confirmed_ids.count(f["possibly_same_as"].get<std::uint32_t>()) != 0;
+    if (unconfirmed_contacts ? confirmed : !withdrawn && !names_a_confirmed_one) ++counted;
   }
   EXPECT_EQ(counted, run.summary["true_victim_count"].get<std::size_t>())
       << "duplicates or misses: " << run.summary["fused_victims"].dump() << "\n"

@@ -230,6 +230,48 @@ TEST(VictimFusion, TwoFoundVictimsOfOneTransmitterAreOne) {
   }
 }
 
+// The restart mission in a loaded CI (twice): r1's filter of C's signal, fed another
+// transmitter's pulses, converged 48 m from C (where r2 had FOUND it) with a 1.45 m radius and
+// stayed there. Its signature is C's: the picture names C as what the contact may be, and it
+// confirms nothing, not even with a second rescuer's estimate beside it; it keeps saying so
+// once r1 is gone. A contact of another transmitter there is a victim more.
+TEST(VictimFusion, AContactOfAConfirmedVictimsTransmitterElsewhereNamesIt) {
+  const Vec3 c(18.0, 62.0, -1.2), ghost(-26.3, 42.5, -0.9);
+  for (const double r1_carrier : {67.9, 20.0}) {  // C's carrier as r1 hears it, then another transmitter's
+    VictimFusion f;
+    for (int k = 0; k < 3; ++k) {
+      const TimestampNs t = k * kSec;
+      f.update(signed_by(src("r2", 3, t, c, 0.3, EstimatorStatus::kFound), 68.1, 1.0585));
+      f.update(signed_by(src("r1", 4, t, ghost, 0.5), r1_carrier, 1.0585));
+      f.update(signed_by(src("r3", 1, t, ghost + Vec3(0.1, 0.0, 0.0), 0.1), r1_carrier, 1.0585));
+      f.step(t);
+    }
+    ASSERT_EQ(f.victims().size(), 2u);
+    const bool c_first = f.victims()[0].state == VictimState::kFound;
+    const FusedVictim& found = f.victims()[c_first ? 0 : 1];
+    const FusedVictim& contact = f.victims()[c_first ? 1 : 0];
+    ASSERT_EQ(found.state, VictimState::kFound);
+    ASSERT_LT((found.position.position - c).norm(), 0.5);
+    if (r1_carrier == 20.0) {
+      EXPECT_EQ(contact.possibly_same_as, 0u) << "another transmitter";
+      EXPECT_EQ(contact.state, VictimState::kLocated) << "two rescuers' devices agree on it";
+      continue;
+    }
+    EXPECT_EQ(contact.state, VictimState::kUnconfirmed);
+    EXPECT_EQ(contact.possibly_same_as, found.victim_id);
+    // r1 and r3 stop (signed off, out of range): the contact keeps what it may be.
+    for (int k = 3; k < 20; ++k) {
+      f.update(signed_by(src("r2", 3, k * kSec, c, 0.3, EstimatorStatus::kFound), 68.1, 1.0585));
+      f.step(k * kSec);
+    }
+    ASSERT_EQ(f.victims().size(), 2u);
+    const FusedVictim& left = f.victims()[c_first ? 1 : 0];
+    EXPECT_TRUE(left.sources.empty());
+    EXPECT_EQ(left.state, VictimState::kUnconfirmed);
+    EXPECT_EQ(left.possibly_same_as, f.victims()[c_first ? 0 : 1].victim_id);
+  }
+}
+
 // Seen live (four-within-5m under load): r2's FOUND signal of A fell silent for 12 s (its pulses
 // went to a new signal, a suspected repeat of it), the repeat took A's place beside r1's FOUND,
 // and the FOUND signal, heard again, opened a second FOUND victim: A twice. A signal its device
