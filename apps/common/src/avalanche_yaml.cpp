@@ -83,6 +83,7 @@ void read_sog(YamlReader r, avalanche::SogConfig& c) {
   r.read("calibration_gain_sigma", c.calibration_gain_sigma);
   r.read("calibration_pointing_sigma_deg", c.calibration_pointing_sigma_deg);
   r.read("censored_axis_sigmas", c.censored_axis_sigmas);
+  r.read("censored_axes_in_update", c.censored_axes_in_update);
   r.read("idle_translation_sigma_m", c.idle_translation_sigma_m);
   r.read("idle_rotation_sigma_rad", c.idle_rotation_sigma_rad);
   r.read("use_orientation", c.use_orientation);

@@ -64,9 +64,20 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   move_anchor(disp);
   const OrientationObservation* orientation =
       measurement.orientation && config_.use_orientation ? &*measurement.orientation : nullptr;
-  update_field(measurement.field, config_.noise().floor(measurement.noise_stddev), measurement.valid_axes, disp,
-               orientation, result);
-  record_.add(result.min_nis, static_cast<int>(std::bitset<3>(measurement.valid_axes).count()), radius95_before);
+  Vec3 floor = config_.noise().floor(measurement.noise_stddev);
+  std::uint8_t axes = measurement.valid_axes;
+  Vec3 field = measurement.field;
+  if (config_.censored_axes_in_update) {
+    // An axis below detection is read as 0 with the detection threshold as its noise floor.
+    for (int a = 0; a < 3; ++a) {
+      if ((axes & (1U << a)) != 0) continue;
+      field[a] = 0.0;
+      floor[a] *= config_.censored_axis_sigmas;
+    }
+    axes = kAllAxes;
+  }
+  update_field(field, floor, axes, disp, orientation, result);
+  record_.add(result.min_nis, static_cast<int>(std::bitset<3>(axes).count()), radius95_before);
   gate_failures_ = result.min_nis > nis_gate_ ? gate_failures_ + 1 : 0;
   bool diverged = config_.reinit_after > 0 && gate_failures_ >= config_.reinit_after;
   diverged = diverged || record_.window_exceeded();

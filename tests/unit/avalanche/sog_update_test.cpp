@@ -255,5 +255,37 @@ TEST(SogFilterTest, InvalidAxisIsIgnored) {
   EXPECT_THROW(a.process(beyond), InputError);
 }
 
+// sog.censored_axes_in_update: an axis below detection bounds the field there. A mixture pinned
+// down near the transmitter predicts a strong field on every axis; a sample whose x axis agrees
+// and whose y and z are reported below detection fits it when only the valid axis is asked (off,
+// shipped), and fits no Gaussian when all three are (on).
+TEST(SogFilterTest, AnAxisBelowDetectionBoundsTheFieldOnlyWhenAskedTo) {
+  for (const bool censored : {false, true}) {
+    SogConfig cfg;
+    cfg.censored_axes_in_update = censored;
+    AvalancheSimulator sim(SimulationConfig{}, fixed_scenario(), 5);
+    SogFilter f(cfg);
+    f.process(sim.measure());
+    for (int k = 0; k < 40 && sim.true_relative_position().head<2>().norm() > 3.0; ++k) {
+      f.add_odometry(sim.walk(bearing_to_truth(sim), 1.0));
+      f.process(sim.measure());
+    }
+    ASSERT_GE(f.estimate().status, EstimatorStatus::kConverged) << censored;
+    f.add_odometry(sim.walk(bearing_to_truth(sim), 0.5));
+    FieldMeasurement z = sim.measure();
+    ASSERT_GT(z.field.tail<2>().cwiseAbs().minCoeff(), 100.0 * z.noise_stddev.maxCoeff()) << "y and z are strong";
+    z.valid_axes = 0b001;
+    const SogStepResult r = f.process(z);
+    if (censored) {
+      // Each axis's sigma is 5 % of |h| plus the floor: y and z at a good fraction of |h| are
+      // several sigmas from 0, beyond any Gaussian's 3-axis gate.
+      EXPECT_GT(r.min_nis, chi_square_quantile(0.9999, 3.0))
+          << "y and z read as 0 where the mixture predicts them strong";
+    } else {
+      EXPECT_LT(r.min_nis, chi_square_quantile(0.9999, 1.0)) << "the valid x axis alone agrees";
+    }
+  }
+}
+
 }  // namespace
 }  // namespace sarloc::avalanche

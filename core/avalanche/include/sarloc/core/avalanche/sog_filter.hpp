@@ -110,6 +110,12 @@ struct SogConfig {
   /// An axis the receiver reports invalid is below this many times its noise (the receiver's
   /// detection threshold, ReceiverModelConfig::detect_snr): used when initialising.
   double censored_axis_sigmas = 3.0;
+  /// Every update, not only the first, takes an invalid axis as 0 +- censored_axis_sigmas times
+  /// its noise: "below detection" bounds the field there. Without it an update sees the valid
+  /// axes only, and a mixture fed one-axis pulses from the detection floor was seen converged on
+  /// a single Gaussian 48 m from its transmitter, kept while the rescuer walked to 1.5 m of it
+  /// (docs/estimation/avalanche.md, "Left").
+  bool censored_axes_in_update = false;
   // --- odometry ---
   double idle_translation_sigma_m = 0.02;  ///< displacement sigma when no odometry arrived
   double idle_rotation_sigma_rad = 0.005;
