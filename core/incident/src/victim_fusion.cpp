@@ -485,6 +485,8 @@ void VictimFusion::merge_into(std::uint32_t keep_id, std::uint32_t gone_id) {
   keep.last_update = std::max(keep.last_update, gone.last_update);
   keep.located_at = earliest_set(keep.located_at, gone.located_at);
   keep.found_at = earliest_set(keep.found_at, gone.found_at);
+  for (FusedVictim& other : victims_)
+    if (other.possibly_same_as == gone_id) other.possibly_same_as = other.victim_id != keep_id ? keep_id : 0;
   removed_.push_back(gone_id);
 }
 
@@ -552,13 +554,23 @@ const FusedVictim* VictimFusion::indistinct_twin(const FusedVictim& v) const {
   return twin;
 }
 
-const FusedVictim* VictimFusion::confirmed_alike(const FusedVictim& v) const {
+const FusedVictim* VictimFusion::alike_transmitter(const FusedVictim& v) const {
+  // A device's LOCATED or FOUND, now or once (not the fused radius alone), says where the
+  // transmitter is: such a victim is named first, whatever the order the victims are judged in.
+  auto stood_by = [&](const FusedVictim& u) {
+    if (u.state >= VictimState::kLocated && by_radius_only_.count(u.victim_id) == 0) return true;
+    return std::any_of(u.sources.begin(), u.sources.end(), [&](const VictimSource& vs) {
+      const auto st = confirming_state(sources_.at({vs.rescuer_id, vs.signal_id}));
+      return st && (*st == SourceState::kLocated || *st == SourceState::kFound);
+    });
+  };
+  const FusedVictim* alike = nullptr;
   for (const FusedVictim& u : victims_) {
-    if (u.victim_id == v.victim_id || u.state == VictimState::kUnconfirmed || u.state == VictimState::kRecovered)
-      continue;
-    if (one_transmitter(v, u)) return &u;
+    if (u.victim_id == v.victim_id || u.state == VictimState::kRecovered || !one_transmitter(v, u)) continue;
+    if (stood_by(u)) return &u;
+    if (alike == nullptr) alike = &u;
   }
-  return nullptr;
+  return alike;
 }
 
 void VictimFusion::update_states(TimestampNs now) {
@@ -575,7 +587,10 @@ void VictimFusion::update_states(TimestampNs now) {
       v.located_at = 0;
       v.found_at = 0;
     }
-    if (v.sources.empty()) continue;
+    if (v.sources.empty()) {
+      if (v.possibly_same_as != 0 && find_victim(v.possibly_same_as) == nullptr) v.possibly_same_as = 0;
+      continue;
+    }
     // A reporter cannot tell every source here from another signal of its own: possibly one
     // transmitter seen twice, which the picture cannot stand by either.
     v.possibly_same_as = 0;
@@ -616,7 +631,7 @@ void VictimFusion::update_states(TimestampNs now) {
     const FusedVictim* twin = nullptr;
     if (target == VictimState::kUnconfirmed) {
       twin = indistinct_twin(v);
-      if (twin == nullptr) twin = confirmed_alike(v);
+      if (twin == nullptr) twin = alike_transmitter(v);
     }
     if (target != VictimState::kUnconfirmed) {
       by_radius_only_.erase(v.victim_id);

@@ -230,45 +230,76 @@ TEST(VictimFusion, TwoFoundVictimsOfOneTransmitterAreOne) {
   }
 }
 
-// The restart mission in a loaded CI (twice): r1's filter of C's signal, fed another
-// transmitter's pulses, converged 48 m from C (where r2 had FOUND it) with a 1.45 m radius and
-// stayed there. Its signature is C's: the picture names C as what the contact may be, and it
-// confirms nothing, not even with a second rescuer's estimate beside it; it keeps saying so
-// once r1 is gone. A contact of another transmitter there is a victim more.
+// The restart mission in a loaded CI (twice): r1's filter of C's signal, fed C's pulses from
+// the detection floor, converged 48 m from C and stayed there. Here r1 and r3 place it there
+// first (LOCATED by the fused radius: nothing says otherwise yet), then r2 FOUND C: the contact's
+// signature is C's, so its confirmation is withdrawn and it names C, and it keeps saying so once
+// r1 and r3 are gone. A contact of another transmitter there stays a victim more.
 TEST(VictimFusion, AContactOfAConfirmedVictimsTransmitterElsewhereNamesIt) {
   const Vec3 c(18.0, 62.0, -1.2), ghost(-26.3, 42.5, -0.9);
   for (const double r1_carrier : {67.9, 20.0}) {  // C's carrier as r1 hears it, then another transmitter's
     VictimFusion f;
-    for (int k = 0; k < 3; ++k) {
-      const TimestampNs t = k * kSec;
-      f.update(signed_by(src("r2", 3, t, c, 0.3, EstimatorStatus::kFound), 68.1, 1.0585));
+    auto contact_at = [&](TimestampNs t) {
       f.update(signed_by(src("r1", 4, t, ghost, 0.5), r1_carrier, 1.0585));
       f.update(signed_by(src("r3", 1, t, ghost + Vec3(0.1, 0.0, 0.0), 0.1), r1_carrier, 1.0585));
-      f.step(t);
+    };
+    contact_at(0);
+    f.step(0);
+    ASSERT_EQ(f.victims().size(), 1u);
+    const std::uint32_t contact_id = f.victims()[0].victim_id;
+    ASSERT_EQ(f.victims()[0].state, VictimState::kLocated) << "two rescuers' devices agree, nothing alike yet";
+    for (int k = 1; k < 3; ++k) {
+      f.update(signed_by(src("r2", 3, k * kSec, c, 0.3, EstimatorStatus::kFound), 68.1, 1.0585));
+      contact_at(k * kSec);
+      f.step(k * kSec);
+      ASSERT_EQ(f.victims().size(), 2u);
+      const FusedVictim& contact = *f.victim(contact_id);
+      const FusedVictim& found = f.victims()[f.victims()[0].victim_id == contact_id ? 1 : 0];
+      ASSERT_EQ(found.state, VictimState::kFound);
+      if (r1_carrier == 20.0) {
+        EXPECT_EQ(contact.possibly_same_as, 0u) << "another transmitter";
+        EXPECT_EQ(contact.state, VictimState::kLocated);
+      } else {
+        EXPECT_EQ(contact.state, VictimState::kUnconfirmed) << "step " << k << ": withdrawn in the step C is FOUND";
+        EXPECT_EQ(contact.located_at, 0);
+        EXPECT_EQ(contact.possibly_same_as, found.victim_id);
+      }
     }
-    ASSERT_EQ(f.victims().size(), 2u);
-    const bool c_first = f.victims()[0].state == VictimState::kFound;
-    const FusedVictim& found = f.victims()[c_first ? 0 : 1];
-    const FusedVictim& contact = f.victims()[c_first ? 1 : 0];
-    ASSERT_EQ(found.state, VictimState::kFound);
-    ASSERT_LT((found.position.position - c).norm(), 0.5);
-    if (r1_carrier == 20.0) {
-      EXPECT_EQ(contact.possibly_same_as, 0u) << "another transmitter";
-      EXPECT_EQ(contact.state, VictimState::kLocated) << "two rescuers' devices agree on it";
-      continue;
-    }
-    EXPECT_EQ(contact.state, VictimState::kUnconfirmed);
-    EXPECT_EQ(contact.possibly_same_as, found.victim_id);
+    if (r1_carrier == 20.0) continue;
     // r1 and r3 stop (signed off, out of range): the contact keeps what it may be.
     for (int k = 3; k < 20; ++k) {
       f.update(signed_by(src("r2", 3, k * kSec, c, 0.3, EstimatorStatus::kFound), 68.1, 1.0585));
       f.step(k * kSec);
     }
     ASSERT_EQ(f.victims().size(), 2u);
-    const FusedVictim& left = f.victims()[c_first ? 1 : 0];
+    const FusedVictim& left = *f.victim(contact_id);
     EXPECT_TRUE(left.sources.empty());
     EXPECT_EQ(left.state, VictimState::kUnconfirmed);
-    EXPECT_EQ(left.possibly_same_as, f.victims()[c_first ? 0 : 1].victim_id);
+    ASSERT_NE(left.possibly_same_as, 0u);
+    ASSERT_NE(f.victim(left.possibly_same_as), nullptr);
+    EXPECT_EQ(f.victim(left.possibly_same_as)->state, VictimState::kFound);
+  }
+}
+
+// One transmitter placed in two places 40 m apart, each by two rescuers' converged estimates and
+// by no device's LOCATED or FOUND: which place is right nobody knows, so neither is confirmed by
+// the fused radius, whichever is judged first; each names the other.
+TEST(VictimFusion, TwoPlacesOfOneTransmitterNoDeviceStandsByConfirmNeither) {
+  const Vec3 here(0.0, 40.0, -1.0), there(40.0, 40.0, -1.0);
+  VictimFusion f;
+  for (int k = 0; k < 3; ++k) {
+    const TimestampNs t = k * kSec;
+    f.update(signed_by(src("r1", 1, t, here, 0.1), 30.0, 1.1));
+    f.update(signed_by(src("r2", 1, t, here + Vec3(0.1, 0.0, 0.0), 0.1), 30.0, 1.1));
+    f.update(signed_by(src("r3", 1, t, there, 0.1), 31.0, 1.1));
+    f.update(signed_by(src("r4", 1, t, there + Vec3(0.1, 0.0, 0.0), 0.1), 31.0, 1.1));
+    f.step(t);
+    ASSERT_EQ(f.victims().size(), 2u);
+    for (const FusedVictim& v : f.victims()) {
+      EXPECT_EQ(v.state, VictimState::kUnconfirmed) << "victim " << v.victim_id << ", step " << k;
+      EXPECT_NE(v.possibly_same_as, 0u);
+      EXPECT_NE(v.possibly_same_as, v.victim_id);
+    }
   }
 }
 

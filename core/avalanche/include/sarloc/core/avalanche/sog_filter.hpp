@@ -110,11 +110,13 @@ struct SogConfig {
   /// An axis the receiver reports invalid is below this many times its noise (the receiver's
   /// detection threshold, ReceiverModelConfig::detect_snr): used when initialising.
   double censored_axis_sigmas = 3.0;
-  /// Every update, not only the first, takes an invalid axis as 0 +- censored_axis_sigmas times
-  /// its noise: "below detection" bounds the field there. Without it an update sees the valid
-  /// axes only, and a mixture fed one-axis pulses from the detection floor was seen converged on
-  /// a single Gaussian 48 m from its transmitter, kept while the rescuer walked to 1.5 m of it
-  /// (docs/estimation/avalanche.md, "Left").
+  /// Every update, not only the first, reads an invalid axis as 0 with its noise floor raised to
+  /// censored_axis_sigmas times its noise (plus the relative term of any axis): "below
+  /// detection" bounds the field there; predictive_fit still asks the valid axes only. Without
+  /// it an update sees the valid axes only, and a mixture fed one-axis pulses from the
+  /// detection floor was seen converged on a single Gaussian 48 m from its transmitter, kept
+  /// while the rescuer walked to 1.5 m of it (docs/estimation/avalanche.md, "Left"). Off:
+  /// measured worse on multiple burials (the same page).
   bool censored_axes_in_update = false;
   // --- odometry ---
   double idle_translation_sigma_m = 0.02;  ///< displacement sigma when no odometry arrived

@@ -99,8 +99,9 @@
 //      or FOUND stands by names it (possibly_same_as), is not confirmed by the fused radius, and
 //      loses a confirmation that rested on the fused radius alone. So does a victim that no
 //      device's LOCATED or FOUND stands by and whose sources' transmitter signatures are alike
-//      those of a LOCATED or FOUND victim's sources (other rescuers, carrier and period), however
-//      far apart: one transmitter, most likely, placed wrongly by the unconfirmed one (seen in
+//      those of another victim's sources (other rescuers, carrier and period), however far
+//      apart: one transmitter, most likely; it names one a device stands by if there is one,
+//      which the unconfirmed one placed wrongly, else the other is as unconfirmed as it (seen in
 //      the restart mission: r1's filter of C's signal, fed only pulses at the detection floor
 //      from 45-50 m, converged 48 m from C, stated 95 % radius 1.45 m, and stayed there).
 //      Only CORROBORATED sources confirm (confirm_requires_device, the default): a source
@@ -294,9 +295,10 @@ class VictimFusion {
   /// The closest other victim inside v's merge gate (one the same-rescuer rule keeps apart), or
   /// nullptr.
   const FusedVictim* indistinct_twin(const FusedVictim& v) const;
-  /// A LOCATED or FOUND victim (not dug out) whose transmitter v's sources heard too, by their
-  /// signatures (one_transmitter), however far from v; nullptr if none.
-  const FusedVictim* confirmed_alike(const FusedVictim& v) const;
+  /// Another victim (not dug out) whose transmitter v's sources heard too, by their signatures
+  /// (one_transmitter), however far from v: one a device's LOCATED or FOUND stands by if any,
+  /// else any such; nullptr if none.
+  const FusedVictim* alike_transmitter(const FusedVictim& v) const;
   /// The state a source confirms with (step 6): its device's, nullopt if not corroborated.
   std::optional<SourceState> confirming_state(const Source& s) const;
   /// Records the estimate as its estimator's latest; marks the source conflicted when it
