@@ -471,7 +471,13 @@ void DashboardServer::start() {
     throw std::runtime_error(std::string(e.what()) + ": address in use, or not this machine's");
   }
   port_ = gate_->port();
-  thread_ = std::thread([this] { server_->listen_after_bind(); });
+  thread_ = std::thread([this] {
+    server_->listen_after_bind();
+    listen_returned_ = true;
+  });
+  // cpp-httplib 0.11's stop() does nothing until listen has begun (is_running): a stop right after
+  // start left listen running and its join hanging for ever (a CI timeout, 2026-12-07).
+  while (!server_->is_running() && !listen_returned_) std::this_thread::sleep_for(std::chrono::milliseconds(1));
 }
 
 void DashboardServer::stop() {

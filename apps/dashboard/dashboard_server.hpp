@@ -141,6 +141,7 @@ class DashboardServer {
   std::unique_ptr<ConnectionGate> gate_;     ///< the public port
   std::shared_ptr<boost::asio::ssl::context> tls_context_;  ///< the gate's TLS, when configured
   std::thread thread_;
+  std::atomic<bool> listen_returned_{false};
   std::atomic<bool> stopping_{false};
   std::atomic<int> streams_{0};
   std::mutex cache_mutex_;

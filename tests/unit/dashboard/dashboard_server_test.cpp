@@ -71,6 +71,31 @@ class Server : public ::testing::Test {
   std::unique_ptr<httplib::Client> client;
 };
 
+// cpp-httplib 0.11's stop() does nothing before its listen has begun, so a server stopped right
+// after start waited for ever in its join (CI, 2026-12-07: the gate test that restarts the
+// server with another deadline timed out at 180 s). Each round here has 10 s or the test fails.
+TEST(ServerLifetime, StopsAtOnceRightAfterStart) {
+  auto state = std::make_shared<PictureState>(
+      PictureStateConfig{}, [] { return TimestampNs{0}; }, 0);
+  DashboardServerConfig config;
+  config.port = 0;
+  config.token = kToken;
+  config.view_token = kViewToken;
+  for (int round = 0; round < 50; ++round) {
+    auto server =
+        std::make_shared<DashboardServer>(config, *state, [](std::uint32_t, const std::string&) { return true; });
+    server->start();
+    auto stopped = std::make_shared<std::atomic<bool>>(false);
+    std::thread([state, server, stopped]() mutable {
+      server->stop();
+      server.reset();  // before the state it reads
+      *stopped = true;
+    }).detach();  // detached: a hung stop must fail this test, not hang it
+    for (int ms = 0; ms < 10000 && !*stopped; ++ms) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    ASSERT_TRUE(*stopped) << "round " << round << ": stop() right after start() did not return within 10 s";
+  }
+}
+
 TEST_F(Server, ServesThePageItsAssetsAndThePictureWithNothingFromElsewhere) {
   auto page = client->Get("/");
   ASSERT_TRUE(page);
