@@ -213,6 +213,9 @@ class CoreNode {
   std::atomic<bool> stopping_{false};
   std::thread status_thread_;
   std::chrono::steady_clock::time_point load_noted_at_;  ///< status thread only
+  /// Rescuers with signals handed over in the last plan (plan reader thread only): those no
+  /// longer in it get an empty set.
+  std::set<std::string> handed_over_rescuers_;
   // Readers last: they start calling back as soon as they exist.
   std::unique_ptr<SampleReaders> sample_readers_;
   std::unique_ptr<Reader<::sarloc::Odometry>> odometry_reader_;
@@ -220,9 +223,6 @@ class CoreNode {
   std::unique_ptr<Reader<::sarloc::SearchPlan>> plan_reader_;
   std::unique_ptr<Reader<::sarloc::ResponderPosition>> device_position_reader_;
   std::unique_ptr<Reader<::sarloc::RescuerHandover>> handover_reader_;
-  /// Rescuers with signals handed over in the last plan (plan reader thread only): those no
-  /// longer in it get an empty set.
-  std::set<std::string> handed_over_rescuers_;
 };
 
 }  // namespace sarloc::dds
