@@ -11,6 +11,7 @@
 #include <chrono>
 #include <filesystem>
 #include <regex>
+#include <stdexcept>
 
 #include "json_text.hpp"
 #include "sarloc/core/common/errors.hpp"
@@ -458,6 +459,8 @@ void widen_listen_backlog(int port) {
 }  // namespace
 
 void DashboardServer::start() {
+  // One listen per server: a second would leave a joinable thread behind (std::terminate).
+  if (stopping_ || thread_.joinable()) throw std::logic_error("DashboardServer::start: already started or stopped");
   const int backend_port = server_->bind_to_any_port("127.0.0.1");
   if (backend_port < 0) throw std::runtime_error("cannot listen on a loopback port for the page's server");
   widen_listen_backlog(backend_port);

@@ -103,7 +103,8 @@ class DashboardServer {
   /// session). Set before start(); without it, those are 404.
   void set_basemap(std::shared_ptr<const app::Basemap> basemap) { basemap_ = std::move(basemap); }
 
-  /// Binds (throws std::runtime_error naming the address when it cannot) and serves on a thread.
+  /// Binds (throws std::runtime_error naming the address when it cannot) and serves on a thread;
+  /// returns once it listens. Once per server: std::logic_error after a start or a stop.
   void start();
   /// Ends every stream and the server; idempotent.
   void stop();

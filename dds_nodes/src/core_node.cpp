@@ -263,7 +263,7 @@ void CoreNode::stop() {
   sample_readers_.reset();
   odometry_reader_.reset();
   victim_reader_.reset();
-  plan_reader_.reset();  // its callback uses handed_over_rescuers_, destroyed before the readers
+  plan_reader_.reset();  // its callback uses handed_over_rescuers_ (declared before the readers)
   device_position_reader_.reset();
   handover_reader_.reset();
   stop_threads();
