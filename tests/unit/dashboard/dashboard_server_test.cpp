@@ -72,15 +72,21 @@ class Server : public ::testing::Test {
   std::unique_ptr<httplib::Client> client;
 };
 
+/// A server on any free port with the tests' tokens.
+DashboardServerConfig any_port_config() {
+  DashboardServerConfig config;
+  config.port = 0;
+  config.token = kToken;
+  config.view_token = kViewToken;
+  return config;
+}
+
 // cpp-httplib 0.11's stop() does nothing before its listen has begun, so a server stopped right
 // after start waited for ever in its join (CI, 2026-12-07: the gate test that restarts the
 // server with another deadline timed out at 180 s). Each round here has 10 s or the test fails.
 TEST(ServerLifetime, StopsAtOnceRightAfterStart) {
   PictureState state{PictureStateConfig{}, [] { return TimestampNs{0}; }, 0};
-  DashboardServerConfig config;
-  config.port = 0;
-  config.token = kToken;
-  config.view_token = kViewToken;
+  DashboardServerConfig config = any_port_config();
   for (int round = 0; round < 50; ++round) {
     DashboardServer server(config, state, [](std::uint32_t, const std::string&) { return true; });
     server.start();
@@ -369,10 +375,7 @@ TEST(DashboardServer, FiftyEventStreamsAtOnceDoNotGrowTheServersMemory) {
 
 TEST(DashboardServer, MoreStreamsThanAllowedGet503) {
   PictureState state{PictureStateConfig{}, [] { return TimestampNs{0}; }, 0};
-  DashboardServerConfig config;
-  config.port = 0;
-  config.token = kToken;
-  config.view_token = kViewToken;
+  DashboardServerConfig config = any_port_config();
   config.max_streams = 10;
   DashboardServer server_(config, state, [](std::uint32_t, const std::string&) { return true; });
   server_.start();
