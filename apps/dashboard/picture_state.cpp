@@ -133,7 +133,14 @@ void PictureState::on_victim_gone(std::uint32_t id) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (victims_.erase(id) == 0) return;
   events(picture_events_.on_victim_gone(id, mission_now_()));
-  removed_.push_back({++version_, {"victim", std::to_string(id)}});
+  note_removed("victim", id);
+}
+
+void PictureState::note_removed(const char* kind, std::uint32_t id) {
+  removed_.push_back({++version_, {kind, std::to_string(id)}});
+  if (removed_.size() <= kRemovedKept) return;
+  removed_floor_ = removed_.front().first;
+  removed_.pop_front();
 }
 
 void PictureState::on_team(const incident::TeamStatus& t) {
@@ -150,6 +157,9 @@ void PictureState::on_team(const incident::TeamStatus& t) {
 void PictureState::on_alarm(const incident::IncidentAlarm& a) {
   std::lock_guard<std::mutex> lock(mutex_);
   touch_data();
+  // Incident command republishes every alarm each cycle: only a change goes to the pages.
+  const auto it = alarms_.find(a.alarm_id);
+  if (it != alarms_.end() && incident::same_alarm(it->second.first, a)) return;
   events(picture_events_.on_alarm(a));
   ++version_;
   alarms_[a.alarm_id] = {a, version_};
@@ -159,7 +169,7 @@ void PictureState::on_alarm_gone(std::uint32_t id) {
   std::lock_guard<std::mutex> lock(mutex_);
   if (alarms_.erase(id) == 0) return;
   events(picture_events_.on_alarm_gone(id, mission_now_()));
-  removed_.push_back({++version_, {"alarm", std::to_string(id)}});
+  note_removed("alarm", id);
 }
 
 void PictureState::on_position(const responder::ResponderPosition& p) {
@@ -456,7 +466,7 @@ void PictureState::reset() {
 
 bool PictureState::needs_snapshot(std::uint64_t since) const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return since < reset_version_;
+  return stale(since);
 }
 
 void PictureState::set_extra(const std::string& key, json value) {
@@ -480,7 +490,7 @@ json PictureState::snapshot() const {
 json PictureState::delta(std::uint64_t since) const {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (since >= reset_version_) {
+    if (!stale(since)) {
       json out = collect(since, false);
       out["type"] = "delta";
       return out;

@@ -137,6 +137,11 @@ class PictureState {
   MissionClock mission_now_;
   TimestampNs epoch_ns_;
   WallClock wall_now_;
+  static constexpr std::size_t kRemovedKept = 4096;
+  void note_removed(const char* kind, std::uint32_t id);
+  /// A page that has seen `since` cannot be brought up to date by a delta.
+  bool stale(std::uint64_t since) const { return since < reset_version_ || since < removed_floor_; }
+
   mutable std::mutex mutex_;
   std::uint64_t version_ = 0;
   std::uint64_t reset_version_ = 0;
@@ -150,7 +155,10 @@ class PictureState {
   std::map<std::uint32_t, std::pair<incident::IncidentAlarm, std::uint64_t>> alarms_;
   std::deque<std::pair<std::uint64_t, nlohmann::json>> events_;
   incident::PictureEvents picture_events_;  ///< what the samples changed, in words (as the report)
-  std::deque<std::pair<std::uint64_t, std::pair<std::string, std::string>>> removed_;  // (version, (kind, id))
+  /// Removals a page may not have seen yet, (version, (kind, id)): the newest kRemovedKept. A
+  /// page older than the oldest dropped (removed_floor_) gets a snapshot instead of a delta.
+  std::deque<std::pair<std::uint64_t, std::pair<std::string, std::string>>> removed_;
+  std::uint64_t removed_floor_ = 0;
   std::string picture_writer_;
   std::map<std::string, std::uint64_t> rejected_;
   nlohmann::json building_;

@@ -350,16 +350,18 @@ void CommandNode::publish(const incident::CommandCycle& out) {
     key.victim_id(id);
     if (!victim_writer_.dispose(key)) spdlog::error("{}: cannot dispose of victim {}", config_.node_id, id);
   }
+  // A refused write is never silent: past a topic's max_instances Fast DDS refuses new keys.
+  std::size_t refused_victims = 0, refused_teams = 0, refused_alarms = 0;
   for (const auto& v : out.victims) {
     try {
-      victim_writer_.write(to_idl(v));
+      if (!victim_writer_.write(to_idl(v))) ++refused_victims;
     } catch (const InputError& e) {
       spdlog::error("cannot publish victim {}: {}", v.victim_id, e.what());
     }
   }
   for (const auto& t : out.teams) {
     try {
-      team_writer_.write(to_idl(t));
+      if (!team_writer_.write(to_idl(t))) ++refused_teams;
     } catch (const InputError& e) {
       spdlog::error("cannot publish team '{}': {}", t.team_id, e.what());
     }
@@ -371,10 +373,15 @@ void CommandNode::publish(const incident::CommandCycle& out) {
   }
   for (const auto& a : out.alarms) {
     try {
-      alarm_writer_.write(to_idl(a));
+      if (!alarm_writer_.write(to_idl(a))) ++refused_alarms;
     } catch (const InputError& e) {
       spdlog::error("cannot publish alarm {}: {}", a.alarm_id, e.what());
     }
+  }
+  if (refused_victims + refused_teams + refused_alarms > 0) {
+    spdlog::error("{}: DDS refused {} of {} victims, {} of {} teams, {} of {} alarms (history or max_instances full)",
+                  config_.node_id, refused_victims, out.victims.size(), refused_teams, out.teams.size(), refused_alarms,
+                  out.alarms.size());
   }
   ::sarloc::IncidentSummary summary;
   summary.incident_id(config_.incident.incident_id);

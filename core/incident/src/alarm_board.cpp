@@ -6,18 +6,52 @@
 
 namespace sarloc::incident {
 
-IncidentAlarm& AlarmBoard::open(const responder::ResponderAlarm& alarm) {
+bool same_alarm(const IncidentAlarm& a, const IncidentAlarm& b) {
+  const responder::ResponderAlarm& x = a.alarm;
+  const responder::ResponderAlarm& y = b.alarm;
+  return a.alarm_id == b.alarm_id && a.acknowledged == b.acknowledged && a.acknowledged_by == b.acknowledged_by &&
+         a.acknowledged_at == b.acknowledged_at && x.responder_id == y.responder_id && x.team_id == y.team_id &&
+         x.kind == y.kind && x.raised_at == y.raised_at && x.cleared_at == y.cleared_at && x.active == y.active &&
+         x.position_known == y.position_known && x.floor == y.floor &&
+         x.last_position.position == y.last_position.position &&
+         x.last_position.covariance == y.last_position.covariance;
+}
+
+IncidentAlarm* AlarmBoard::find(const std::string& responder_id, responder::AlarmKind kind) {
+  const auto it = alarm_of_.find({responder_id, kind});
+  if (it == alarm_of_.end()) return nullptr;
+  const auto alarm = alarms_.find(it->second);
+  return alarm == alarms_.end() ? nullptr : &alarm->second;
+}
+
+void AlarmBoard::raise(const responder::ResponderAlarm& alarm) {
+  if (IncidentAlarm* current = find(alarm.responder_id, alarm.kind)) {
+    if (!current->acknowledged) {
+      current->alarm = alarm;  // nobody answered it yet: the same alarm, now this episode
+      return;
+    }
+    remove(current->alarm_id);  // answered, and its episode is over
+  }
   IncidentAlarm a;
   a.alarm_id = next_id_++;
   a.alarm = alarm;
-  return alarms_[a.alarm_id] = a;
+  alarms_[a.alarm_id] = a;
+  alarm_of_[{alarm.responder_id, alarm.kind}] = a.alarm_id;
+}
+
+void AlarmBoard::remove(std::uint32_t alarm_id) {
+  const auto it = alarms_.find(alarm_id);
+  if (it == alarms_.end()) return;
+  const auto index = alarm_of_.find({it->second.alarm.responder_id, it->second.alarm.kind});
+  if (index != alarm_of_.end() && index->second == alarm_id) alarm_of_.erase(index);
+  alarms_.erase(it);
+  removed_.push_back(alarm_id);
 }
 
 void AlarmBoard::remove_if_done(std::uint32_t alarm_id) {
   const auto it = alarms_.find(alarm_id);
   if (it == alarms_.end() || it->second.alarm.active || !it->second.acknowledged) return;
-  alarms_.erase(it);
-  removed_.push_back(alarm_id);
+  remove(alarm_id);
 }
 
 void AlarmBoard::on_device_alarm(const responder::ResponderAlarm& alarm, TimestampNs /*now*/) {
@@ -26,29 +60,26 @@ void AlarmBoard::on_device_alarm(const responder::ResponderAlarm& alarm, Timesta
     throw InputError("responder_alarm of '" + alarm.responder_id + "': cleared_at " + std::to_string(alarm.cleared_at) +
                      " before raised_at " + std::to_string(alarm.raised_at));
   }
-  for (auto& [id, a] : alarms_) {
-    if (a.alarm.responder_id != alarm.responder_id || a.alarm.kind != alarm.kind || a.alarm.raised_at != alarm.raised_at) {
-      continue;
-    }
-    if (!a.alarm.active) return;  // cleared already: a raise arriving late changes nothing
-    const bool acknowledged = a.acknowledged;
-    a.alarm = alarm;
-    a.acknowledged = acknowledged;
-    remove_if_done(id);
+  IncidentAlarm* current = find(alarm.responder_id, alarm.kind);
+  // A newer episode, or a clear whose raise never arrived: it happened, so it shows.
+  if (current == nullptr || alarm.raised_at > current->alarm.raised_at) {
+    raise(alarm);
     return;
   }
-  open(alarm);  // a clear never seen raised still shows: it happened
+  if (alarm.raised_at < current->alarm.raised_at) return;  // an earlier episode's sample, late
+  if (!current->alarm.active) return;                      // cleared already: a raise arriving late changes nothing
+  const std::uint32_t id = current->alarm_id;
+  current->alarm = alarm;
+  remove_if_done(id);
 }
 
 void AlarmBoard::set_condition(const std::string& responder_id, const std::string& team_id, responder::AlarmKind kind,
                                bool active, TimestampNs now, const std::optional<GaussianPosition>& position,
                                std::int32_t floor) {
   if (responder_id.empty()) throw InputError("alarm condition: responder_id must not be empty");
-  IncidentAlarm* current = nullptr;
-  for (auto& [id, a] : alarms_) {
-    if (a.alarm.responder_id == responder_id && a.alarm.kind == kind && a.alarm.active) current = &a;
-  }
-  if (active && current == nullptr) {
+  IncidentAlarm* current = find(responder_id, kind);
+  const bool raised = current != nullptr && current->alarm.active;
+  if (active && !raised) {
     responder::ResponderAlarm alarm;
     alarm.responder_id = responder_id;
     alarm.team_id = team_id;
@@ -60,8 +91,8 @@ void AlarmBoard::set_condition(const std::string& responder_id, const std::strin
       alarm.position_known = true;
       alarm.floor = floor;
     }
-    open(alarm);
-  } else if (!active && current != nullptr) {
+    raise(alarm);
+  } else if (!active && raised) {
     current->alarm.active = false;
     current->alarm.cleared_at = now;
     remove_if_done(current->alarm_id);
@@ -94,9 +125,20 @@ std::vector<std::uint32_t> AlarmBoard::take_removed() {
 
 void AlarmBoard::adopt(const std::vector<IncidentAlarm>& alarms) {
   alarms_.clear();
+  alarm_of_.clear();
   for (const IncidentAlarm& a : alarms) {
     alarms_[a.alarm_id] = a;
     next_id_ = std::max(next_id_, a.alarm_id + 1);
+    auto [it, fresh] = alarm_of_.try_emplace({a.alarm.responder_id, a.alarm.kind}, a.alarm_id);
+    if (!fresh) it->second = std::max(it->second, a.alarm_id);
+  }
+  // Two of one (responder, kind) come only from a board of before one alarm per condition: the
+  // newest goes on; an older one's episode ended when the newer began.
+  for (auto& [id, a] : alarms_) {
+    const std::uint32_t newest = alarm_of_.at({a.alarm.responder_id, a.alarm.kind});
+    if (id == newest || !a.alarm.active) continue;
+    a.alarm.active = false;
+    a.alarm.cleared_at = std::max(a.alarm.raised_at, alarms_.at(newest).alarm.raised_at);
   }
 }
 

@@ -101,14 +101,19 @@ std::vector<PictureEvent> PictureEvents::on_alarm(const IncidentAlarm& a) {
                            " for " + a.alarm.responder_id;
   auto [it, first] = alarms_.try_emplace(a.alarm_id);
   AlarmSeen& seen = it->second;
-  if (first) out.push_back({a.alarm.raised_at, "alarm", name + " RAISED"});
+  if (first) {
+    out.push_back({a.alarm.raised_at, "alarm", name + " RAISED"});
+  } else if (a.alarm.raised_at != seen.raised_at) {
+    out.push_back({a.alarm.raised_at, "alarm", name + " RAISED again"});
+    seen.active = true;  // so this episode's clear, if it came with it, is told too
+  }
   if (a.acknowledged && !seen.acknowledged) {
     out.push_back(
         {stamp_or(a.acknowledged_at, a.alarm.raised_at), "alarm", name + " acknowledged by " + a.acknowledged_by});
   }
   if (!a.alarm.active && seen.active)
     out.push_back({stamp_or(a.alarm.cleared_at, a.alarm.raised_at), "alarm", name + " cleared"});
-  seen = {a.acknowledged, a.alarm.active};
+  seen = {a.acknowledged, a.alarm.active, a.alarm.raised_at};
   return out;
 }
 

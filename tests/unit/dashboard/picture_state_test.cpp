@@ -185,6 +185,56 @@ TEST(PictureState, LinksAlarmsAndPar) {
   EXPECT_EQ(state.snapshot()["alarms"].size(), 0u);
 }
 
+// Incident command republishes every alarm each cycle: an unchanged one is not sent to the pages
+// again (a page re-read every alarm four times a second before), a reopened one is.
+TEST(PictureState, AnAlarmRepublishedUnchangedIsNotSentAgain) {
+  Clocks c;
+  auto state = make(c);
+  auto a = test::sample_incident_alarm();
+  a.alarm_id = 4;
+  a.alarm.active = false;
+  state.on_alarm(a);
+  const auto seen = state.version();
+  for (int cycle = 0; cycle < 5; ++cycle) state.on_alarm(a);
+  EXPECT_EQ(state.version(), seen);
+  EXPECT_EQ(state.delta(seen)["alarms"].size(), 0u);
+  a.alarm.active = true;
+  a.alarm.raised_at += 1'000'000'000;
+  a.alarm.cleared_at = 0;
+  state.on_alarm(a);
+  const auto delta = state.delta(seen);
+  ASSERT_EQ(delta["alarms"].size(), 1u);
+  EXPECT_TRUE(has_event(delta, "alarm 4 for ff-7 RAISED again"));
+}
+
+// Removals are kept for pages that have not seen them, up to a bound: a page further behind gets
+// a snapshot, which holds no removed victim.
+TEST(PictureState, APageBehindTheRemovalsKeptGetsASnapshot) {
+  Clocks c;
+  auto state = make(c);
+  auto v = test::sample_fused_victim();
+  v.victim_id = 1;
+  state.on_victim(v);
+  const auto behind = state.version();
+  state.on_victim_gone(1);
+  const auto caught_up = state.version();
+  EXPECT_EQ(state.delta(behind)["type"], "delta");
+  EXPECT_FALSE(state.needs_snapshot(behind));
+  for (std::uint32_t id = 2; id < 6000; ++id) {
+    v.victim_id = id;
+    state.on_victim(v);
+    state.on_victim_gone(id);
+  }
+  EXPECT_TRUE(state.needs_snapshot(behind));
+  EXPECT_TRUE(state.needs_snapshot(caught_up));
+  const auto delta = state.delta(behind);
+  EXPECT_EQ(delta["type"], "snapshot");
+  EXPECT_EQ(delta["victims"].size(), 0u);
+  const auto recent = state.version() - 10;
+  EXPECT_FALSE(state.needs_snapshot(recent));
+  EXPECT_EQ(state.delta(recent)["type"], "delta");
+}
+
 TEST(PictureState, TheBannerComesWhenNoDataArrivesForStaleAfter) {
   Clocks c;
   PictureStateConfig config;

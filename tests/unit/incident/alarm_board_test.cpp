@@ -1,6 +1,6 @@
 // Incident command's alarm board: an alarm stays until it is acknowledged and cleared, a device's
-// raise and clear are one alarm in any order, conditions open one alarm per episode, and a standby
-// adopts the active board with its ids.
+// raise and clear are one alarm in any order, one alarm per (responder, kind) that a new episode
+// reopens until someone acknowledges it, and a standby adopts the active board with its ids.
 #include <gtest/gtest.h>
 
 #include "sarloc/core/common/errors.hpp"
@@ -52,27 +52,76 @@ TEST(AlarmBoard, AClearedAlarmNobodyAcknowledgedIsStillShown) {
   board.on_device_alarm(device_alarm(AlarmKind::kMayday, 200, true), 222);
   EXPECT_EQ(board.alarms().size(), 2U);
   EXPECT_EQ(board.active_count(), 0U);
-  // A new raise of the same kind is a new alarm.
+  // A new raise of the same kind nobody acknowledged the last of: the same alarm, active again.
+  const auto motionless = board.alarms()[0].alarm_id;
   board.on_device_alarm(device_alarm(AlarmKind::kMotionless, 300, true), 301);
-  EXPECT_EQ(board.alarms().size(), 3U);
+  ASSERT_EQ(board.alarms().size(), 2U);
+  EXPECT_EQ(board.alarms()[0].alarm_id, motionless);
+  EXPECT_EQ(board.alarms()[0].alarm.raised_at, 300);
+  EXPECT_TRUE(board.alarms()[0].alarm.active);
   EXPECT_EQ(board.active_count(), 1U);
+  // The earlier episode's samples, arriving late, change nothing.
+  board.on_device_alarm(device_alarm(AlarmKind::kMotionless, 100, false, 130), 302);
+  board.on_device_alarm(device_alarm(AlarmKind::kMotionless, 100, true), 303);
+  EXPECT_EQ(board.alarms().size(), 2U);
+  EXPECT_EQ(board.alarms()[0].alarm.raised_at, 300);
+  EXPECT_TRUE(board.alarms()[0].alarm.active);
 }
 
-TEST(AlarmBoard, ConditionsOpenOneAlarmPerEpisode) {
+TEST(AlarmBoard, AnAcknowledgedAlarmIsAnsweredAndTheNextEpisodeIsANewAlarm) {
+  AlarmBoard board;
+  board.on_device_alarm(device_alarm(AlarmKind::kMayday, 100, true), 101);
+  const auto first = board.alarms()[0].alarm_id;
+  EXPECT_EQ(board.acknowledge(first, "ic", 102), AckResult::kAcknowledged);
+  // The device's clear was lost; its next raise is a new mayday to answer, and the first goes.
+  board.on_device_alarm(device_alarm(AlarmKind::kMayday, 200, true), 201);
+  ASSERT_EQ(board.alarms().size(), 1U);
+  EXPECT_NE(board.alarms()[0].alarm_id, first);
+  EXPECT_FALSE(board.alarms()[0].acknowledged);
+  EXPECT_EQ(board.alarms()[0].alarm.raised_at, 200);
+  EXPECT_EQ(board.take_removed(), std::vector<std::uint32_t>{first});
+  // A condition acknowledged while active, cleared, and raised again: a new alarm.
+  board.set_condition("ff2", "alpha", AlarmKind::kLinkLost, true, 300);
+  const auto link = board.alarms().back().alarm_id;
+  EXPECT_EQ(board.acknowledge(link, "ic", 301), AckResult::kAcknowledged);
+  board.set_condition("ff2", "alpha", AlarmKind::kLinkLost, false, 310);
+  EXPECT_EQ(board.take_removed(), std::vector<std::uint32_t>{link});
+  board.set_condition("ff2", "alpha", AlarmKind::kLinkLost, true, 320);
+  EXPECT_GT(board.alarms().back().alarm_id, link);
+  EXPECT_FALSE(board.alarms().back().acknowledged);
+}
+
+TEST(AlarmBoard, AConditionThatComesAndGoesIsOneAlarmUntilAcknowledged) {
   AlarmBoard board;
   for (TimestampNs t = 0; t < 5; ++t) board.set_condition("ff1", "alpha", AlarmKind::kLinkLost, true, 10 + t);
   ASSERT_EQ(board.alarms().size(), 1U);
   EXPECT_EQ(board.alarms()[0].alarm.raised_at, 10);
+  const auto id = board.alarms()[0].alarm_id;
   board.set_condition("ff1", "alpha", AlarmKind::kLinkLost, false, 20);
   board.set_condition("ff1", "alpha", AlarmKind::kLinkLost, false, 21);
-  board.set_condition("ff1", "alpha", AlarmKind::kLinkLost, true, 30, GaussianPosition{}, 2);
-  ASSERT_EQ(board.alarms().size(), 2U) << "the first, cleared and unacknowledged, and a second episode";
   EXPECT_EQ(board.alarms()[0].alarm.cleared_at, 20);
-  EXPECT_TRUE(board.alarms()[1].alarm.active);
-  EXPECT_TRUE(board.alarms()[1].alarm.position_known);
-  EXPECT_EQ(board.alarms()[1].alarm.floor, 2);
-  EXPECT_EQ(board.acknowledge(board.alarms()[0].alarm_id, "ic", 40), AckResult::kAcknowledged);
-  EXPECT_EQ(board.alarms().size(), 1U);
+  EXPECT_EQ(board.active_count(), 0U);
+  board.set_condition("ff1", "alpha", AlarmKind::kLinkLost, true, 30, GaussianPosition{}, 2);
+  ASSERT_EQ(board.alarms().size(), 1U) << "cleared and unacknowledged: the second episode reopens it";
+  EXPECT_EQ(board.alarms()[0].alarm_id, id);
+  EXPECT_TRUE(board.alarms()[0].alarm.active);
+  EXPECT_EQ(board.alarms()[0].alarm.raised_at, 30);
+  EXPECT_EQ(board.alarms()[0].alarm.cleared_at, 0);
+  EXPECT_TRUE(board.alarms()[0].alarm.position_known);
+  EXPECT_EQ(board.alarms()[0].alarm.floor, 2);
+  // A map error flickering at a doorway for hours, for 200 firefighters: 200 alarms, not one
+  // per episode (670 in an hour before, each republished every cycle).
+  for (int episode = 0; episode < 50; ++episode) {
+    for (int f = 0; f < 200; ++f) {
+      const std::string who = "ff" + std::to_string(f);
+      board.set_condition(who, "crew", AlarmKind::kMapError, true, 100 + 2 * episode);
+      board.set_condition(who, "crew", AlarmKind::kMapError, false, 101 + 2 * episode);
+    }
+  }
+  EXPECT_EQ(board.alarms().size(), 201U);
+  EXPECT_TRUE(board.take_removed().empty());
+  EXPECT_EQ(board.acknowledge(id, "ic", 40), AckResult::kAcknowledged);
+  EXPECT_EQ(board.alarms()[0].alarm_id, id) << "acknowledged while active: stays";
 }
 
 TEST(AlarmBoard, StandbyAdoptsTheActiveBoardAndGoesOnWithItsIds) {
@@ -90,6 +139,46 @@ TEST(AlarmBoard, StandbyAdoptsTheActiveBoardAndGoesOnWithItsIds) {
   // New alarms continue after the adopted ids.
   standby.set_condition("ff3", "bravo", AlarmKind::kMapError, true, 150);
   EXPECT_GT(standby.alarms().back().alarm_id, active.alarms().back().alarm_id);
+  // The adopted alarms are still each one's condition: a new episode reopens them.
+  standby.set_condition("ff2", "alpha", AlarmKind::kLinkLost, true, 160);
+  EXPECT_EQ(standby.alarms().size(), 3U);
+  EXPECT_EQ(standby.active_count(), 2U);
+}
+
+TEST(AlarmBoard, AdoptingTwoAlarmsOfOneConditionGoesOnWithTheNewest) {
+  // A board published before one alarm per (responder, kind): two episodes of ff1's link.
+  IncidentAlarm older, newer;
+  older.alarm_id = 3;
+  older.alarm = device_alarm(AlarmKind::kLinkLost, 100, true);
+  newer.alarm_id = 7;
+  newer.alarm = device_alarm(AlarmKind::kLinkLost, 200, true);
+  AlarmBoard standby;
+  standby.adopt({older, newer});
+  ASSERT_EQ(standby.alarms().size(), 2U);
+  EXPECT_FALSE(standby.alarms()[0].alarm.active) << "its episode ended when the newer began";
+  EXPECT_EQ(standby.alarms()[0].alarm.cleared_at, 200);
+  standby.set_condition("ff1", "alpha", AlarmKind::kLinkLost, false, 250);
+  EXPECT_EQ(standby.active_count(), 0U);
+  EXPECT_EQ(standby.alarms()[1].alarm.cleared_at, 250);
+}
+
+TEST(AlarmBoard, SameAlarmTellsEveryField) {
+  IncidentAlarm a;
+  a.alarm_id = 4;
+  a.alarm = device_alarm(AlarmKind::kMayday, 100, true);
+  EXPECT_TRUE(same_alarm(a, a));
+  auto b = a;
+  b.alarm.last_position.covariance(1, 1) = 2.0;
+  EXPECT_FALSE(same_alarm(a, b));
+  b = a;
+  b.acknowledged_by = "ic";
+  EXPECT_FALSE(same_alarm(a, b));
+  b = a;
+  b.alarm.raised_at = 101;
+  EXPECT_FALSE(same_alarm(a, b));
+  b = a;
+  b.alarm.floor = 1;
+  EXPECT_FALSE(same_alarm(a, b));
 }
 
 TEST(AlarmBoard, RefusesAnEmptyResponderAndAClearBeforeItsRaise) {

@@ -148,6 +148,25 @@ TEST(PictureEvents, AnAlarmRaisedAcknowledgedClearedAndClosed) {
   EXPECT_EQ(all[2].stamp, 25 * kS);
 }
 
+// A new episode of an alarm nobody acknowledged reopens it (AlarmBoard): told as raised again, and
+// its clear too when both come in one sample.
+TEST(PictureEvents, AnAlarmReopenedByANewEpisodeIsRaisedAgain) {
+  PictureEvents events;
+  events.on_alarm(alarm(false, false));
+  auto again = alarm(false, true);
+  again.alarm.raised_at = 40 * kS;
+  const auto raised = events.on_alarm(again);
+  ASSERT_EQ(raised.size(), 1u);
+  EXPECT_EQ(raised[0].text, "MAYDAY alarm 5 for ff1 RAISED again");
+  EXPECT_EQ(raised[0].stamp, 40 * kS);
+  EXPECT_TRUE(events.on_alarm(again).empty());
+  auto over = alarm(false, false);
+  over.alarm.raised_at = 50 * kS;
+  over.alarm.cleared_at = 55 * kS;
+  EXPECT_EQ(texts(events.on_alarm(over)),
+            (std::vector<std::string>{"MAYDAY alarm 5 for ff1 RAISED again", "MAYDAY alarm 5 for ff1 cleared"}));
+}
+
 responder::ResponderPosition fix(responder::PositionSource source, bool suspected, TimestampNs stamp) {
   responder::ResponderPosition p;
   p.responder_id = "ff2";

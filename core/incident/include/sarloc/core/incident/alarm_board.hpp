@@ -3,13 +3,21 @@
 // board until an operator acknowledged it *and* its condition cleared, so an alarm that came
 // and went while nobody looked is still there to be seen.
 //
+// One alarm per (responder, kind) at most, as an alarm system's state machine has it (ISA-18.2:
+// a cleared alarm nobody acknowledged that goes off again is the same alarm, active again). A
+// condition that comes and goes (a map error flickering at a doorway) is then one row to answer
+// and not one per episode: 670 such rows piled up for 200 firefighters in an hour, each
+// republished every cycle, and the board and its readers grew without end (issue 64).
+//
 // Sources:
-//   - a device's alarms (motionless, mayday; responder::ResponderAlarm), one alarm per raise,
-//     identified by (responder, kind, raised_at): the raise and its clear are one alarm, in
-//     whichever order and however often they arrive;
-//   - conditions incident command sees itself (link lost, map error), one alarm per episode:
-//     set_condition(true) opens one if none is open for (responder, kind), set_condition(false)
-//     clears the open one.
+//   - a device's alarms (motionless, mayday; responder::ResponderAlarm), identified by
+//     (responder, kind, raised_at): the raise and its clear are one alarm, in whichever order and
+//     however often they arrive; a newer raise is a new episode, an older one's samples are late;
+//   - conditions incident command sees itself (link lost, map error): set_condition(true) raises
+//     the (responder, kind) alarm unless it is active, set_condition(false) clears it.
+// A new episode reopens the alarm when nobody acknowledged it (same id, active, raised_at the new
+// episode's). Once acknowledged it is answered: the next episode is a new alarm, and the
+// acknowledged one, if still active, goes (a device's clear was lost).
 // Acknowledging a cleared alarm removes it (its id is reported by take_removed so the picture
 // can dispose of it); acknowledging an active one marks it, and it goes when it clears.
 //
@@ -25,6 +33,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sarloc/core/responder/alarm.hpp"
@@ -39,6 +48,9 @@ struct IncidentAlarm {
   TimestampNs acknowledged_at = 0;
 };
 
+/// Every field equal: a reader of the alarms republished each cycle tells a change by it.
+bool same_alarm(const IncidentAlarm& a, const IncidentAlarm& b);
+
 enum class AckResult : std::uint8_t {
   kAcknowledged,  ///< marked (and removed if it had cleared)
   kAlready,       ///< acknowledged before: nothing changed
@@ -47,12 +59,13 @@ enum class AckResult : std::uint8_t {
 
 class AlarmBoard {
  public:
-  /// A device's alarm raised or cleared. Throws InputError for an empty responder_id or a
+  /// A device's alarm raised or cleared: the (responder, kind) alarm's episode `alarm.raised_at`
+  /// (see the top). Throws InputError for an empty responder_id or a
   /// clear before its raise (cleared_at < raised_at).
   void on_device_alarm(const responder::ResponderAlarm& alarm, TimestampNs now);
-  /// A condition incident command watches (kLinkLost, kMapError): opens an alarm when it
-  /// becomes true, clears the open one when it becomes false. `position` (if known) is where
-  /// the responder was last known.
+  /// A condition incident command watches (kLinkLost, kMapError): raises its alarm when it
+  /// becomes true (opened, or reopened if nobody acknowledged it), clears it when it becomes false. `position` (if
+  /// known) is where the responder was last known.
   void set_condition(const std::string& responder_id, const std::string& team_id, responder::AlarmKind kind,
                      bool active, TimestampNs now, const std::optional<GaussianPosition>& position = std::nullopt,
                      std::int32_t floor = 0);
@@ -67,10 +80,18 @@ class AlarmBoard {
   std::size_t active_count() const;
 
  private:
-  IncidentAlarm& open(const responder::ResponderAlarm& alarm);
+  using Condition = std::pair<std::string, responder::AlarmKind>;
+
+  /// The (responder, kind) alarm, or null.
+  IncidentAlarm* find(const std::string& responder_id, responder::AlarmKind kind);
+  /// A new episode: reopens the (responder, kind) alarm if nobody acknowledged it, else opens one
+  /// (removing the acknowledged one, whose episode has ended).
+  void raise(const responder::ResponderAlarm& alarm);
+  void remove(std::uint32_t alarm_id);
   void remove_if_done(std::uint32_t alarm_id);
 
   std::map<std::uint32_t, IncidentAlarm> alarms_;
+  std::map<Condition, std::uint32_t> alarm_of_;  ///< the one alarm of each (responder, kind)
   std::uint32_t next_id_ = 1;
   std::vector<std::uint32_t> removed_;
 };

@@ -40,7 +40,8 @@ class PictureEvents {
   std::vector<PictureEvent> on_victim_gone(std::uint32_t victim_id, TimestampNs stamp);
   /// A member's link or accountability changing (nothing for a member's first status).
   std::vector<PictureEvent> on_team(const TeamStatus& t);
-  /// Raised, acknowledged (by whom), cleared; an alarm first seen already cleared gives both.
+  /// Raised (again when a new episode reopened it), acknowledged (by whom), cleared; an alarm
+  /// first seen already cleared gives both.
   std::vector<PictureEvent> on_alarm(const IncidentAlarm& a);
   /// Disposed by incident command: acknowledged and cleared.
   std::vector<PictureEvent> on_alarm_gone(std::uint32_t alarm_id, TimestampNs stamp);
@@ -59,6 +60,7 @@ class PictureEvents {
   };
   struct AlarmSeen {
     bool acknowledged = false, active = true;
+    TimestampNs raised_at = 0;  ///< the episode: a newer one reopened the alarm (AlarmBoard)
   };
   struct MapAidedSeen {
     TimestampNs stamp = 0;
