@@ -133,9 +133,9 @@ void CommandNode::create_input_readers() {
   acknowledgement_reader_ = std::make_unique<Reader<::sarloc::AlarmAcknowledgement>>(
       participant_, [this](const ::sarloc::AlarmAcknowledgement& ack, const auto&) {
         enqueue(printable_id(ack.operator_id()),
-                [alarm_id = ack.alarm_id(), operator_id = ack.operator_id().to_string(),
+                [alarm_id = ack.alarm_id(), operator_id = ack.operator_id().to_string(), stamp = ack.stamp(),
                  now = clock_.now()](incident::IncidentCommand& command) {
-                  command.on_acknowledgement(alarm_id, operator_id, now);
+                  command.on_acknowledgement(alarm_id, operator_id, stamp, now);
                 });
       });
   // An operator's or a finder device's word that a victim is dug out. Under DDS Security the
@@ -379,9 +379,11 @@ void CommandNode::publish(const incident::CommandCycle& out) {
     }
   }
   if (refused_victims + refused_teams + refused_alarms > 0) {
-    spdlog::error("{}: DDS refused {} of {} victims, {} of {} teams, {} of {} alarms (history or max_instances full)",
-                  config_.node_id, refused_victims, out.victims.size(), refused_teams, out.teams.size(), refused_alarms,
-                  out.alarms.size());
+    warnings_.warn(config_.node_id, "picture_write_refused",
+                   fmt::format("{}: DDS refused {} of {} victims, {} of {} teams, {} of {} alarms (history or "
+                               "max_instances full)",
+                               config_.node_id, refused_victims, out.victims.size(), refused_teams, out.teams.size(),
+                               refused_alarms, out.alarms.size()));
   }
   ::sarloc::IncidentSummary summary;
   summary.incident_id(config_.incident.incident_id);

@@ -1,7 +1,10 @@
 #include "sarloc/dds/dashboard_node.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <map>
 #include <mutex>
+#include <set>
 
 #include "sarloc/dds/conversions.hpp"
 #include "sarloc/dds/reader.hpp"
@@ -20,6 +23,9 @@ struct DashboardNode::Impl {
   std::mutex mutex;
   // Disposals name only the instance: remember which id each instance carried.
   std::map<Handle, std::uint32_t> victim_of_instance, alarm_of_instance;
+  // Declared before the readers, so that it outlives the alarm reader's callbacks.
+  std::unique_ptr<Writer<::sarloc::AlarmAcknowledgement>> acknowledgements;
+  std::set<std::uint32_t> acknowledged;  ///< alarms whose acknowledgement instance this writer holds
   std::unique_ptr<Reader<::sarloc::FusedVictim>> victims;
   std::unique_ptr<Reader<::sarloc::TeamStatus>> teams;
   std::unique_ptr<Reader<::sarloc::IncidentAlarm>> alarms;
@@ -28,7 +34,6 @@ struct DashboardNode::Impl {
   std::unique_ptr<Reader<::sarloc::ResponderCandidates>> candidates;
   std::unique_ptr<Reader<::sarloc::Guidance>> guidance;
   std::unique_ptr<Reader<::sarloc::SearchPlan>> plan;
-  std::unique_ptr<Writer<::sarloc::AlarmAcknowledgement>> acknowledgements;
   std::unique_ptr<Writer<::sarloc::VictimRecovery>> recoveries;
   std::unique_ptr<Writer<::sarloc::DigOrder>> dig_orders;
   std::unique_ptr<Writer<::sarloc::DepositDrawing>> deposits;
@@ -70,6 +75,18 @@ struct DashboardNode::Impl {
     }
     callback(id);
   }
+
+  // An alarm disposed needs no acknowledgement any more: its instance goes too, or every alarm
+  // ever acknowledged would hold one until max_instances refused the next.
+  void forget_acknowledgement(std::uint32_t alarm_id) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (acknowledged.erase(alarm_id) == 0) return;
+    }
+    ::sarloc::AlarmAcknowledgement key;
+    key.alarm_id(alarm_id);
+    if (!acknowledgements->dispose(key)) spdlog::warn("cannot dispose of the acknowledgement of alarm {}", alarm_id);
+  }
 };
 
 DashboardNode::DashboardNode(std::shared_ptr<Participant> participant, DashboardSink sink) : impl_(std::make_unique<Impl>()) {
@@ -98,7 +115,13 @@ DashboardNode::DashboardNode(std::shared_ptr<Participant> participant, Dashboard
     });
   });
   ReaderEvents alarm_events;
-  alarm_events.on_instance_gone = [&d](const fdds::SampleInfo& info) { d.gone(info, d.alarm_of_instance, d.sink.on_alarm_gone); };
+  d.acknowledgements = std::make_unique<Writer<::sarloc::AlarmAcknowledgement>>(d.participant);
+  alarm_events.on_instance_gone = [&d](const fdds::SampleInfo& info) {
+    d.gone(info, d.alarm_of_instance, [&d](std::uint32_t id) {
+      if (d.sink.on_alarm_gone) d.sink.on_alarm_gone(id);
+      d.forget_acknowledgement(id);
+    });
+  };
   d.alarms = std::make_unique<Reader<::sarloc::IncidentAlarm>>(
       d.participant,
       [&d](const ::sarloc::IncidentAlarm& a, const fdds::SampleInfo& info) {
@@ -129,7 +152,6 @@ DashboardNode::DashboardNode(std::shared_ptr<Participant> participant, Dashboard
           if (d.sink.on_search_plan) d.sink.on_search_plan(to_core(p));
         });
       });
-  d.acknowledgements = std::make_unique<Writer<::sarloc::AlarmAcknowledgement>>(d.participant);
   d.recoveries = std::make_unique<Writer<::sarloc::VictimRecovery>>(d.participant);
   d.dig_orders = std::make_unique<Writer<::sarloc::DigOrder>>(d.participant);
   d.deposits = std::make_unique<Writer<::sarloc::DepositDrawing>>(d.participant);
@@ -142,7 +164,15 @@ bool DashboardNode::acknowledge(std::uint32_t alarm_id, const std::string& opera
   ack.alarm_id(alarm_id);
   ack.operator_id(operator_id);
   ack.stamp(stamp);
-  return impl_->acknowledgements->write(ack);
+  {
+    // Before the write: the alarm's disposal may come back before write() returns.
+    std::lock_guard<std::mutex> lock(impl_->mutex);
+    impl_->acknowledged.insert(alarm_id);
+  }
+  if (impl_->acknowledgements->write(ack)) return true;
+  std::lock_guard<std::mutex> lock(impl_->mutex);
+  impl_->acknowledged.erase(alarm_id);
+  return false;
 }
 
 bool DashboardNode::report_dug_out(std::uint32_t victim_id, const std::string& operator_id, TimestampNs stamp) {

@@ -37,6 +37,7 @@ enum DdsTestDomain : std::uint32_t {
   kDomainDeviceRestart = 183,
   kDomainEstimateStallReader = 184,  // not kDomainEstimateStall: ctest -j runs the two at once
   kDomainRecorderFullDisk = 185,     // not kDomainRecorderKill, likewise
+  kDomainCommandAlarmsReopen = 186,  // not kDomainCommandAlarms: ctest runs them side by side
   kDomainDiscoveryServer = 140,
   kDomainBenchEchoListener = 141,
   kDomainBenchEchoQueue = 142,

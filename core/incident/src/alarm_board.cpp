@@ -1,6 +1,8 @@
 #include "sarloc/core/incident/alarm_board.hpp"
 
 #include <algorithm>
+#include <tuple>
+#include <vector>
 
 #include "sarloc/core/common/errors.hpp"
 
@@ -66,7 +68,11 @@ void AlarmBoard::on_device_alarm(const responder::ResponderAlarm& alarm, Timesta
     raise(alarm);
     return;
   }
-  if (alarm.raised_at < current->alarm.raised_at) return;  // an earlier episode's sample, late
+  if (alarm.raised_at < current->alarm.raised_at) {
+    // An earlier episode's sample, late; but a raise is never hidden (a device's clock went back).
+    if (alarm.active && !current->alarm.active) raise(alarm);
+    return;
+  }
   if (!current->alarm.active) return;                      // cleared already: a raise arriving late changes nothing
   const std::uint32_t id = current->alarm_id;
   current->alarm = alarm;
@@ -99,10 +105,13 @@ void AlarmBoard::set_condition(const std::string& responder_id, const std::strin
   }
 }
 
-AckResult AlarmBoard::acknowledge(std::uint32_t alarm_id, const std::string& operator_id, TimestampNs now) {
+AckResult AlarmBoard::acknowledge(std::uint32_t alarm_id, const std::string& operator_id, TimestampNs stamp,
+                                  TimestampNs now) {
   const auto it = alarms_.find(alarm_id);
   if (it == alarms_.end()) return AckResult::kUnknown;
   if (it->second.acknowledged) return AckResult::kAlready;
+  // The operator answered the episode shown before this one reopened the alarm.
+  if (stamp > 0 && stamp < it->second.alarm.raised_at) return AckResult::kEarlierEpisode;
   it->second.acknowledged = true;
   it->second.acknowledged_by = operator_id;
   it->second.acknowledged_at = now;
@@ -126,20 +135,28 @@ std::vector<std::uint32_t> AlarmBoard::take_removed() {
 void AlarmBoard::adopt(const std::vector<IncidentAlarm>& alarms) {
   alarms_.clear();
   alarm_of_.clear();
+  const auto newer = [](const IncidentAlarm& a, const IncidentAlarm& b) {
+    return std::tie(a.alarm.raised_at, a.alarm_id) > std::tie(b.alarm.raised_at, b.alarm_id);
+  };
   for (const IncidentAlarm& a : alarms) {
     alarms_[a.alarm_id] = a;
     next_id_ = std::max(next_id_, a.alarm_id + 1);
     auto [it, fresh] = alarm_of_.try_emplace({a.alarm.responder_id, a.alarm.kind}, a.alarm_id);
-    if (!fresh) it->second = std::max(it->second, a.alarm_id);
+    if (!fresh && newer(a, alarms_.at(it->second))) it->second = a.alarm_id;
   }
   // Two of one (responder, kind) come only from a board of before one alarm per condition: the
-  // newest goes on; an older one's episode ended when the newer began.
+  // newest episode goes on; an older one ended when the newer began, and goes if acknowledged.
+  std::vector<std::uint32_t> answered;
   for (auto& [id, a] : alarms_) {
-    const std::uint32_t newest = alarm_of_.at({a.alarm.responder_id, a.alarm.kind});
-    if (id == newest || !a.alarm.active) continue;
-    a.alarm.active = false;
-    a.alarm.cleared_at = std::max(a.alarm.raised_at, alarms_.at(newest).alarm.raised_at);
+    const IncidentAlarm& newest = alarms_.at(alarm_of_.at({a.alarm.responder_id, a.alarm.kind}));
+    if (id == newest.alarm_id) continue;
+    if (a.alarm.active) {
+      a.alarm.active = false;
+      a.alarm.cleared_at = std::max(a.alarm.raised_at, newest.alarm.raised_at);
+    }
+    if (a.acknowledged) answered.push_back(id);
   }
+  for (const std::uint32_t id : answered) remove(id);
 }
 
 std::size_t AlarmBoard::active_count() const {

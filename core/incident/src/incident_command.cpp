@@ -134,16 +134,20 @@ void IncidentCommand::on_device_alarm(const responder::ResponderAlarm& alarm, Ti
   }
 }
 
-void IncidentCommand::on_acknowledgement(std::uint32_t alarm_id, const std::string& operator_id, TimestampNs now) {
+void IncidentCommand::on_acknowledgement(std::uint32_t alarm_id, const std::string& operator_id, TimestampNs stamp,
+                                         TimestampNs now) {
   if (arbiter_.role() != CommandRole::kActive) return;  // the active one's picture carries it
   if (!is_identifier(operator_id)) {
     // It would travel on as the alarm's acknowledged_by, which every reader refuses.
     reject(printable_excerpt(operator_id), "invalid_value", "alarm acknowledgement: operator_id is not an identifier");
     return;
   }
-  const auto result = alarm_board_.acknowledge(alarm_id, operator_id, now);
+  const auto result = alarm_board_.acknowledge(alarm_id, operator_id, stamp, now);
   if (result == AckResult::kUnknown) {
     reject(operator_id, "unknown_alarm", "acknowledgement of alarm " + std::to_string(alarm_id) + ": no such alarm");
+  } else if (result == AckResult::kEarlierEpisode) {
+    say(IncidentEvent::Kind::kWarning, "alarm " + std::to_string(alarm_id) + " went off again after '" + operator_id +
+                                           "' acknowledged it: still to be acknowledged");
   } else if (result == AckResult::kAcknowledged) {
     say(IncidentEvent::Kind::kInfo, "alarm " + std::to_string(alarm_id) + " acknowledged by '" + operator_id + "'");
   }

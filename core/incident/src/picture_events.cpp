@@ -119,7 +119,7 @@ std::vector<PictureEvent> PictureEvents::on_alarm(const IncidentAlarm& a) {
 
 std::vector<PictureEvent> PictureEvents::on_alarm_gone(std::uint32_t alarm_id, TimestampNs stamp) {
   if (alarms_.erase(alarm_id) == 0) return {};
-  return {{stamp, "alarm", "alarm " + std::to_string(alarm_id) + " closed (acknowledged and cleared)"}};
+  return {{stamp, "alarm", "alarm " + std::to_string(alarm_id) + " closed"}};
 }
 
 std::vector<PictureEvent> PictureEvents::on_position(const responder::ResponderPosition& p) {

@@ -27,15 +27,15 @@ TEST(AlarmBoard, AnAlarmStaysUntilAcknowledgedAndCleared) {
   board.on_device_alarm(device_alarm(AlarmKind::kMotionless, 100, true), 101);
   ASSERT_EQ(board.alarms().size(), 1U);
   const auto id = board.alarms()[0].alarm_id;
-  EXPECT_EQ(board.acknowledge(id, "ic", 102), AckResult::kAcknowledged);
-  EXPECT_EQ(board.acknowledge(id, "ic", 103), AckResult::kAlready);
+  EXPECT_EQ(board.acknowledge(id, "ic", 102, 102), AckResult::kAcknowledged);
+  EXPECT_EQ(board.acknowledge(id, "ic", 103, 103), AckResult::kAlready);
   ASSERT_EQ(board.alarms().size(), 1U) << "acknowledged but still active: stays";
   EXPECT_TRUE(board.alarms()[0].acknowledged);
   EXPECT_TRUE(board.take_removed().empty());
   board.on_device_alarm(device_alarm(AlarmKind::kMotionless, 100, false, 150), 151);
   EXPECT_TRUE(board.alarms().empty()) << "acknowledged and cleared: gone";
   EXPECT_EQ(board.take_removed(), std::vector<std::uint32_t>{id});
-  EXPECT_EQ(board.acknowledge(id, "ic", 160), AckResult::kUnknown);
+  EXPECT_EQ(board.acknowledge(id, "ic", 160, 160), AckResult::kUnknown);
 }
 
 TEST(AlarmBoard, AClearedAlarmNobodyAcknowledgedIsStillShown) {
@@ -72,7 +72,7 @@ TEST(AlarmBoard, AnAcknowledgedAlarmIsAnsweredAndTheNextEpisodeIsANewAlarm) {
   AlarmBoard board;
   board.on_device_alarm(device_alarm(AlarmKind::kMayday, 100, true), 101);
   const auto first = board.alarms()[0].alarm_id;
-  EXPECT_EQ(board.acknowledge(first, "ic", 102), AckResult::kAcknowledged);
+  EXPECT_EQ(board.acknowledge(first, "ic", 102, 102), AckResult::kAcknowledged);
   // The device's clear was lost; its next raise is a new mayday to answer, and the first goes.
   board.on_device_alarm(device_alarm(AlarmKind::kMayday, 200, true), 201);
   ASSERT_EQ(board.alarms().size(), 1U);
@@ -83,7 +83,7 @@ TEST(AlarmBoard, AnAcknowledgedAlarmIsAnsweredAndTheNextEpisodeIsANewAlarm) {
   // A condition acknowledged while active, cleared, and raised again: a new alarm.
   board.set_condition("ff2", "alpha", AlarmKind::kLinkLost, true, 300);
   const auto link = board.alarms().back().alarm_id;
-  EXPECT_EQ(board.acknowledge(link, "ic", 301), AckResult::kAcknowledged);
+  EXPECT_EQ(board.acknowledge(link, "ic", 301, 301), AckResult::kAcknowledged);
   board.set_condition("ff2", "alpha", AlarmKind::kLinkLost, false, 310);
   EXPECT_EQ(board.take_removed(), std::vector<std::uint32_t>{link});
   board.set_condition("ff2", "alpha", AlarmKind::kLinkLost, true, 320);
@@ -120,7 +120,7 @@ TEST(AlarmBoard, AConditionThatComesAndGoesIsOneAlarmUntilAcknowledged) {
   }
   EXPECT_EQ(board.alarms().size(), 201U);
   EXPECT_TRUE(board.take_removed().empty());
-  EXPECT_EQ(board.acknowledge(id, "ic", 40), AckResult::kAcknowledged);
+  EXPECT_EQ(board.acknowledge(id, "ic", 40, 40), AckResult::kAcknowledged);
   EXPECT_EQ(board.alarms()[0].alarm_id, id) << "acknowledged while active: stays";
 }
 
@@ -145,21 +145,59 @@ TEST(AlarmBoard, StandbyAdoptsTheActiveBoardAndGoesOnWithItsIds) {
   EXPECT_EQ(standby.active_count(), 2U);
 }
 
-TEST(AlarmBoard, AdoptingTwoAlarmsOfOneConditionGoesOnWithTheNewest) {
-  // A board published before one alarm per (responder, kind): two episodes of ff1's link.
-  IncidentAlarm older, newer;
-  older.alarm_id = 3;
-  older.alarm = device_alarm(AlarmKind::kLinkLost, 100, true);
-  newer.alarm_id = 7;
-  newer.alarm = device_alarm(AlarmKind::kLinkLost, 200, true);
+TEST(AlarmBoard, AdoptingSeveralAlarmsOfOneConditionGoesOnWithTheNewestEpisode) {
+  // A board published before one alarm per (responder, kind): four episodes of ff1's mayday, the
+  // highest id a clear whose raise never came, of an episode older than the active one.
+  const auto adopted = [](std::uint32_t id, TimestampNs raised, bool active, bool acknowledged) {
+    IncidentAlarm a;
+    a.alarm_id = id;
+    a.alarm = device_alarm(AlarmKind::kMayday, raised, active, active ? 0 : raised + 5);
+    a.acknowledged = acknowledged;
+    return a;
+  };
   AlarmBoard standby;
-  standby.adopt({older, newer});
-  ASSERT_EQ(standby.alarms().size(), 2U);
-  EXPECT_FALSE(standby.alarms()[0].alarm.active) << "its episode ended when the newer began";
-  EXPECT_EQ(standby.alarms()[0].alarm.cleared_at, 200);
-  standby.set_condition("ff1", "alpha", AlarmKind::kLinkLost, false, 250);
+  standby.adopt({adopted(3, 100, true, false), adopted(4, 50, true, true), adopted(7, 200, true, false),
+                 adopted(9, 150, false, false)});
+  EXPECT_EQ(standby.take_removed(), std::vector<std::uint32_t>{4}) << "acknowledged, and its episode over";
+  ASSERT_EQ(standby.alarms().size(), 3U);
+  EXPECT_EQ(standby.active_count(), 1U) << "the newest episode, 7, is still a mayday";
+  EXPECT_FALSE(standby.alarms()[0].alarm.active);
+  EXPECT_EQ(standby.alarms()[0].alarm.cleared_at, 200) << "ended when the newer began";
+  EXPECT_TRUE(standby.alarms()[1].alarm.active);
+  EXPECT_EQ(standby.alarms()[1].alarm_id, 7U);
+  standby.on_device_alarm(device_alarm(AlarmKind::kMayday, 200, false, 250), 251);
   EXPECT_EQ(standby.active_count(), 0U);
-  EXPECT_EQ(standby.alarms()[1].alarm.cleared_at, 250);
+  // The older ones can still be answered and closed.
+  EXPECT_EQ(standby.acknowledge(3, "ic", 260, 260), AckResult::kAcknowledged);
+  EXPECT_EQ(standby.acknowledge(9, "ic", 260, 260), AckResult::kAcknowledged);
+  EXPECT_EQ(standby.take_removed(), (std::vector<std::uint32_t>{3, 9}));
+}
+
+TEST(AlarmBoard, AnAcknowledgementMadeBeforeTheAlarmWentOffAgainLeavesItToBeAnswered) {
+  AlarmBoard board;
+  board.set_condition("ff1", "alpha", AlarmKind::kMapError, true, 100);
+  board.set_condition("ff1", "alpha", AlarmKind::kMapError, false, 110);
+  const auto id = board.alarms()[0].alarm_id;
+  board.set_condition("ff1", "alpha", AlarmKind::kMapError, true, 130);
+  // The operator answered the cleared row at 125; it arrives after the alarm went off again.
+  EXPECT_EQ(board.acknowledge(id, "ic", 125, 131), AckResult::kEarlierEpisode);
+  ASSERT_EQ(board.alarms().size(), 1U);
+  EXPECT_FALSE(board.alarms()[0].acknowledged);
+  EXPECT_TRUE(board.alarms()[0].alarm.active);
+  EXPECT_EQ(board.acknowledge(id, "ic", 140, 141), AckResult::kAcknowledged);
+}
+
+TEST(AlarmBoard, ADeviceRaiseIsNeverHiddenEvenWithAnEarlierStamp) {
+  AlarmBoard board;
+  board.on_device_alarm(device_alarm(AlarmKind::kMayday, 500, true), 501);
+  board.on_device_alarm(device_alarm(AlarmKind::kMayday, 500, false, 520), 521);
+  // The device restarted with its clock behind: its next mayday is stamped earlier.
+  board.on_device_alarm(device_alarm(AlarmKind::kMayday, 40, true), 530);
+  ASSERT_EQ(board.alarms().size(), 1U);
+  EXPECT_TRUE(board.alarms()[0].alarm.active);
+  EXPECT_EQ(board.alarms()[0].alarm.raised_at, 40);
+  board.on_device_alarm(device_alarm(AlarmKind::kMayday, 40, false, 60), 540);
+  EXPECT_EQ(board.active_count(), 0U);
 }
 
 TEST(AlarmBoard, SameAlarmTellsEveryField) {

@@ -99,7 +99,7 @@ TEST(IncidentCommandStandby, TheStandbyTakesOverWithTheSameIdsFrameAndAlarms) {
   ASSERT_EQ(taken.alarms.size(), 1U);
   EXPECT_EQ(taken.alarms[0].alarm_id, last.alarms[0].alarm_id);
   // Acknowledgements go to the active instance only: now this one.
-  two.on_acknowledgement(taken.alarms[0].alarm_id, "ic-1", at(6));
+  two.on_acknowledgement(taken.alarms[0].alarm_id, "ic-1", at(6), at(6));
   const auto acked = two.cycle(at(6.5), at(6.5));
   ASSERT_EQ(acked.alarms.size(), 1U);
   EXPECT_TRUE(acked.alarms[0].acknowledged);
@@ -164,8 +164,8 @@ TEST(IncidentCommandStandby, AStandbyIgnoresAcknowledgementsItsPictureWillCarry)
   const auto out = one.cycle(at(4), at(4));
   deliver_picture(out, two, "summary-1", at(4));
   two.cycle(at(4.5), at(4.5));
-  two.on_acknowledgement(out.alarms.at(0).alarm_id, "ic-1", at(5));
-  two.on_acknowledgement(999, "ic-1", at(5));  // not even refused: not its business
+  two.on_acknowledgement(out.alarms.at(0).alarm_id, "ic-1", at(5), at(5));
+  two.on_acknowledgement(999, "ic-1", at(5), at(5));  // not even refused: not its business
   const auto standby = two.cycle(at(5.5), at(5.5));
   EXPECT_TRUE(standby.events.empty());
   EXPECT_FALSE(two.alarms().at(0).acknowledged);

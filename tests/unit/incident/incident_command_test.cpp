@@ -191,7 +191,7 @@ TEST(IncidentCommand, ALostDeviceWriterRaisesLinkLostUntilAcknowledgedAndBack) {
   out = command.cycle(at(3.5), at(3.5));
   ASSERT_NE(alarm_of(out, "r1", AlarmKind::kLinkLost), nullptr) << "cleared, but stays until acknowledged";
   EXPECT_NE(alarm_of(out, "r1", AlarmKind::kLinkLost)->alarm.cleared_at, 0);
-  command.on_acknowledgement(id, "ic-1", at(4));
+  command.on_acknowledgement(id, "ic-1", at(4), at(4));
   out = command.cycle(at(4.5), at(4.5));
   EXPECT_EQ(alarm_of(out, "r1", AlarmKind::kLinkLost), nullptr);
   EXPECT_EQ(out.disposed_alarms, std::vector<std::uint32_t>{id});
@@ -410,8 +410,8 @@ TEST(IncidentCommand, DeviceAlarmsAndAcknowledgementsAreCheckedAndSaid) {
   backwards.active = false;
   backwards.cleared_at = at(0.5);  // cleared before it was raised
   command.on_device_alarm(backwards, at(1));
-  command.on_acknowledgement(99, "ic-1", at(1));
-  command.on_acknowledgement(1, "bad id!", at(1));
+  command.on_acknowledgement(99, "ic-1", at(1), at(1));
+  command.on_acknowledgement(1, "bad id!", at(1), at(1));
   auto out = command.cycle(at(1.5), at(1.5));
   EXPECT_TRUE(has_event(out, Kind::kWarning, "mayday alarm from 'ff2' (team 'engine-1')"));
   ASSERT_NE(alarm_of(out, "ff2", AlarmKind::kMayday), nullptr);

@@ -25,7 +25,7 @@ struct DashboardSink {
   std::function<void(std::uint32_t victim_id)> on_victim_gone;  ///< disposed: merged into another
   std::function<void(const incident::TeamStatus&)> on_team;
   std::function<void(const incident::IncidentAlarm&)> on_alarm;
-  std::function<void(std::uint32_t alarm_id)> on_alarm_gone;  ///< acknowledged and cleared
+  std::function<void(std::uint32_t alarm_id)> on_alarm_gone;  ///< acknowledged, and cleared or superseded
   std::function<void(const responder::ResponderPosition&)> on_position;
   std::function<void(const responder::ResponderCandidates&)> on_candidates;
   std::function<void(const responder::Guidance&)> on_guidance;

@@ -12,12 +12,15 @@
 // Sources:
 //   - a device's alarms (motionless, mayday; responder::ResponderAlarm), identified by
 //     (responder, kind, raised_at): the raise and its clear are one alarm, in whichever order and
-//     however often they arrive; a newer raise is a new episode, an older one's samples are late;
+//     however often they arrive. A newer raise is a new episode; an older episode's samples are
+//     late and change nothing, unless they say active while the alarm is not (a device whose clock
+//     went back): a raise is never hidden;
 //   - conditions incident command sees itself (link lost, map error): set_condition(true) raises
 //     the (responder, kind) alarm unless it is active, set_condition(false) clears it.
 // A new episode reopens the alarm when nobody acknowledged it (same id, active, raised_at the new
 // episode's). Once acknowledged it is answered: the next episode is a new alarm, and the
-// acknowledged one, if still active, goes (a device's clear was lost).
+// acknowledged one, if still active, goes (a device's clear was lost). An acknowledgement made
+// before the alarm's current episode began is of an earlier one: it leaves this one to be answered.
 // Acknowledging a cleared alarm removes it (its id is reported by take_removed so the picture
 // can dispose of it); acknowledging an active one marks it, and it goes when it clears.
 //
@@ -27,7 +30,7 @@
 //   AlarmBoard board;
 //   board.on_device_alarm(alarm, now);
 //   board.set_condition("ff1", "alpha", AlarmKind::kLinkLost, true, now, last_position);
-//   board.acknowledge(id, "ic-1", now);
+//   board.acknowledge(id, "ic-1", acknowledged_at, now);
 //   publish(board.alarms()); dispose(board.take_removed());
 #include <cstdint>
 #include <map>
@@ -52,9 +55,10 @@ struct IncidentAlarm {
 bool same_alarm(const IncidentAlarm& a, const IncidentAlarm& b);
 
 enum class AckResult : std::uint8_t {
-  kAcknowledged,  ///< marked (and removed if it had cleared)
-  kAlready,       ///< acknowledged before: nothing changed
-  kUnknown,       ///< no such alarm (never raised, or removed already)
+  kAcknowledged,    ///< marked (and removed if it had cleared)
+  kAlready,         ///< acknowledged before: nothing changed
+  kEarlierEpisode,  ///< made before the alarm's current episode began: nothing changed
+  kUnknown,         ///< no such alarm (never raised, or removed already)
 };
 
 class AlarmBoard {
@@ -69,11 +73,14 @@ class AlarmBoard {
   void set_condition(const std::string& responder_id, const std::string& team_id, responder::AlarmKind kind,
                      bool active, TimestampNs now, const std::optional<GaussianPosition>& position = std::nullopt,
                      std::int32_t floor = 0);
-  AckResult acknowledge(std::uint32_t alarm_id, const std::string& operator_id, TimestampNs now);
+  /// An operator's acknowledgement, made at `stamp` (the operator's clock; 0: unknown), received
+  /// at `now`.
+  AckResult acknowledge(std::uint32_t alarm_id, const std::string& operator_id, TimestampNs stamp, TimestampNs now);
 
   /// Every alarm on the board, by id.
   std::vector<IncidentAlarm> alarms() const;
-  /// Ids removed since the previous call (acknowledged and cleared).
+  /// Ids removed since the previous call (acknowledged and cleared, or acknowledged and followed
+  /// by a new episode).
   std::vector<std::uint32_t> take_removed();
   /// Replaces the board by the active instance's (hot standby).
   void adopt(const std::vector<IncidentAlarm>& alarms);

@@ -155,7 +155,9 @@ class IncidentCommand {
   /// A position writer disposed of its instance: its responder signed off.
   void on_writer_disposed(const std::string& writer, TimestampNs now);
   void on_device_alarm(const responder::ResponderAlarm& alarm, TimestampNs now);
-  void on_acknowledgement(std::uint32_t alarm_id, const std::string& operator_id, TimestampNs now);
+  /// An operator's acknowledgement of an alarm, made at `stamp` (the acknowledgement's), received
+  /// at `now`.
+  void on_acknowledgement(std::uint32_t alarm_id, const std::string& operator_id, TimestampNs stamp, TimestampNs now);
   /// An operator or the finder's device reports a FOUND victim dug out: it stays in the picture
   /// as kRecovered (VictimFusion::recover). Refused (an event, on the active instance) for an
   /// unknown victim, one not FOUND, or a reporter that is not an identifier. The dig happened at
