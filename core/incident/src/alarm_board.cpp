@@ -26,10 +26,11 @@ IncidentAlarm* AlarmBoard::find(const std::string& responder_id, responder::Alar
   return alarm == alarms_.end() ? nullptr : &alarm->second;
 }
 
-void AlarmBoard::raise(const responder::ResponderAlarm& alarm) {
+void AlarmBoard::raise(const responder::ResponderAlarm& alarm, TimestampNs now) {
   if (IncidentAlarm* current = find(alarm.responder_id, alarm.kind)) {
     if (!current->acknowledged) {
       current->alarm = alarm;  // nobody answered it yet: the same alarm, now this episode
+      current->reopened_at = now;
       return;
     }
     remove(current->alarm_id);  // answered, and its episode is over
@@ -56,7 +57,7 @@ void AlarmBoard::remove_if_done(std::uint32_t alarm_id) {
   remove(alarm_id);
 }
 
-void AlarmBoard::on_device_alarm(const responder::ResponderAlarm& alarm, TimestampNs /*now*/) {
+void AlarmBoard::on_device_alarm(const responder::ResponderAlarm& alarm, TimestampNs now) {
   if (alarm.responder_id.empty()) throw InputError("responder_alarm.responder_id = \"\": must not be empty");
   if (!alarm.active && alarm.cleared_at < alarm.raised_at) {
     throw InputError("responder_alarm of '" + alarm.responder_id + "': cleared_at " + std::to_string(alarm.cleared_at) +
@@ -65,12 +66,12 @@ void AlarmBoard::on_device_alarm(const responder::ResponderAlarm& alarm, Timesta
   IncidentAlarm* current = find(alarm.responder_id, alarm.kind);
   // A newer episode, or a clear whose raise never arrived: it happened, so it shows.
   if (current == nullptr || alarm.raised_at > current->alarm.raised_at) {
-    raise(alarm);
+    raise(alarm, now);
     return;
   }
   if (alarm.raised_at < current->alarm.raised_at) {
     // An earlier episode's sample, late; but a raise is never hidden (a device's clock went back).
-    if (alarm.active && !current->alarm.active) raise(alarm);
+    if (alarm.active && !current->alarm.active) raise(alarm, now);
     return;
   }
   if (!current->alarm.active) return;                      // cleared already: a raise arriving late changes nothing
@@ -97,7 +98,7 @@ void AlarmBoard::set_condition(const std::string& responder_id, const std::strin
       alarm.position_known = true;
       alarm.floor = floor;
     }
-    raise(alarm);
+    raise(alarm, now);
   } else if (!active && raised) {
     current->alarm.active = false;
     current->alarm.cleared_at = now;
@@ -111,7 +112,7 @@ AckResult AlarmBoard::acknowledge(std::uint32_t alarm_id, const std::string& ope
   if (it == alarms_.end()) return AckResult::kUnknown;
   if (it->second.acknowledged) return AckResult::kAlready;
   // The operator answered the episode shown before this one reopened the alarm.
-  if (stamp > 0 && stamp < it->second.alarm.raised_at) return AckResult::kEarlierEpisode;
+  if (stamp > 0 && stamp < it->second.reopened_at) return AckResult::kEarlierEpisode;
   it->second.acknowledged = true;
   it->second.acknowledged_by = operator_id;
   it->second.acknowledged_at = now;

@@ -185,6 +185,11 @@ TEST(AlarmBoard, AnAcknowledgementMadeBeforeTheAlarmWentOffAgainLeavesItToBeAnsw
   EXPECT_FALSE(board.alarms()[0].acknowledged);
   EXPECT_TRUE(board.alarms()[0].alarm.active);
   EXPECT_EQ(board.acknowledge(id, "ic", 140, 141), AckResult::kAcknowledged);
+
+  // A device whose clock is a minute ahead: its first mayday, acknowledged at once, is answered.
+  board.on_device_alarm(device_alarm(AlarmKind::kMayday, 60'000, true), 200);
+  const auto mayday = board.alarms().back().alarm_id;
+  EXPECT_EQ(board.acknowledge(mayday, "ic", 210, 211), AckResult::kAcknowledged);
 }
 
 TEST(AlarmBoard, ADeviceRaiseIsNeverHiddenEvenWithAnEarlierStamp) {

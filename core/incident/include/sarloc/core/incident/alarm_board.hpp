@@ -20,7 +20,8 @@
 // A new episode reopens the alarm when nobody acknowledged it (same id, active, raised_at the new
 // episode's). Once acknowledged it is answered: the next episode is a new alarm, and the
 // acknowledged one, if still active, goes (a device's clear was lost). An acknowledgement made
-// before the alarm's current episode began is of an earlier one: it leaves this one to be answered.
+// before the alarm was reopened is of an earlier episode: it leaves this one to be answered. The
+// time compared is incident command's, not the device's raised_at: a device's clock may be ahead.
 // Acknowledging a cleared alarm removes it (its id is reported by take_removed so the picture
 // can dispose of it); acknowledging an active one marks it, and it goes when it clears.
 //
@@ -49,6 +50,9 @@ struct IncidentAlarm {
   bool acknowledged = false;
   std::string acknowledged_by;
   TimestampNs acknowledged_at = 0;
+  /// Incident command's time when a new episode last reopened it (0: not since it was opened, or
+  /// adopted). Not published: a standby's board starts from 0.
+  TimestampNs reopened_at = 0;
 };
 
 /// Every field equal: a reader of the alarms republished each cycle tells a change by it.
@@ -93,7 +97,7 @@ class AlarmBoard {
   IncidentAlarm* find(const std::string& responder_id, responder::AlarmKind kind);
   /// A new episode: reopens the (responder, kind) alarm if nobody acknowledged it, else opens one
   /// (removing the acknowledged one, whose episode has ended).
-  void raise(const responder::ResponderAlarm& alarm);
+  void raise(const responder::ResponderAlarm& alarm, TimestampNs now);
   void remove(std::uint32_t alarm_id);
   void remove_if_done(std::uint32_t alarm_id);
 
