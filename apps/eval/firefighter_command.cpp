@@ -74,6 +74,12 @@ void print_summary(const ff::FirefighterSummary& s, double every_s, unsigned thr
           v.variant.name.c_str(), 100.0 * v.ambiguous_share, 100.0 * v.ambiguous_wrong_fraction);
     }
   }
+  for (const auto& v : s.variants) {
+    std::printf(
+        "%s: map-error flag raised %.1f times per hour of walking on the right plan (false alarms), up in "
+        "%.1f %% of the estimates\n",
+        v.variant.name.c_str(), v.false_map_errors_per_hour, 100.0 * v.false_map_error_share);
+  }
   std::printf("Wall clock %.1f s\n", s.wall_s);
 }
 

@@ -164,6 +164,8 @@ nlohmann::json to_json(const firefighter::FirefighterSummary& s, double rmse_eve
                        {"confirmed_wrong_fraction", v.confirmed_wrong_fraction},
                        {"ambiguous_share", v.ambiguous_share},
                        {"ambiguous_wrong_fraction", v.ambiguous_wrong_fraction},
+                       {"false_map_errors_per_hour", v.false_map_errors_per_hour},
+                       {"false_map_error_share", v.false_map_error_share},
                        {"nees",
                         {{"mean", v.nees_mean},
                          {"lower", v.nees_lower},

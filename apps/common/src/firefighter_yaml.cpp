@@ -35,6 +35,7 @@ void read_map_filter(YamlReader section, firefighter::MapFilterConfig& filter) {
   section.read("floor_tolerance_m", filter.floor_tolerance_m);
   section.read("map_error_removed_fraction", filter.map_error_removed_fraction);
   section.read("map_error_clear_updates", filter.map_error_clear_updates);
+  section.read("map_error_spread_factor", filter.map_error_spread_factor);
   section.expect_done();
 }
 

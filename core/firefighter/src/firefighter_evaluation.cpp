@@ -155,6 +155,8 @@ struct VariantTrace {
   std::size_t confirmed = 0, confirmed_wrong = 0;
   std::size_t ambiguous = 0, ambiguous_wrong = 0;
   std::vector<double> nees_late;     // converged estimates after 150 s
+  std::size_t map_error_raises = 0;  // rising edges of the map-error flag (the map is right here)
+  std::size_t map_error_flagged = 0;  // updates with the flag up
   bool converged_at_end = false;
   double nees_end = -1.0;            // -1: not converged at the end
 };
@@ -173,6 +175,7 @@ VariantTrace run_filter(const FloorPlan& plan, const NavigableGrid& grid, const 
   }
   VariantTrace trace;
   std::vector<PseudoObservation> restricted;
+  bool flag_was_up = false;
   for (std::size_t k = 0; k < m.delta.size(); ++k) {
     auto t0 = Clock::now();
     pf.predict(m.delta[k], rng);
@@ -192,6 +195,9 @@ VariantTrace run_filter(const FloorPlan& plan, const NavigableGrid& grid, const 
     trace.error.push_back(err.norm());
     trace.wrong_floor.push_back(e.floor != m.truth_floor[k] ? 1 : 0);
     trace.particles.push_back(pf.particles().size());
+    if (e.map_error_suspected && !flag_was_up) ++trace.map_error_raises;
+    trace.map_error_flagged += e.map_error_suspected ? 1 : 0;
+    flag_was_up = e.map_error_suspected;
     const bool last = k + 1 == m.delta.size();
     if (e.converged) {
       const Eigen::Matrix2d P = e.covariance + 1e-9 * Eigen::Matrix2d::Identity();
@@ -331,7 +337,7 @@ FirefighterSummary FirefighterEvaluation::run(const std::function<void()>& on_ru
     std::vector<double> step_ms, nees_end, variant_comparison_ms;
     double particle_sum = 0.0;
     std::size_t converged_estimates = 0, converged_wrong = 0, confirmed_estimates = 0, confirmed_wrong = 0;
-    std::size_t ambiguous_estimates = 0, ambiguous_wrong = 0;
+    std::size_t ambiguous_estimates = 0, ambiguous_wrong = 0, map_error_raises = 0, map_error_flagged = 0;
     for (const RunResult& r : run.results) {
       for (std::size_t mi = 0; mi < r.members.size(); ++mi) {
         const MemberOdometry& m = r.members[mi];
@@ -366,6 +372,8 @@ FirefighterSummary FirefighterEvaluation::run(const std::function<void()>& on_ru
         confirmed_wrong += tr.confirmed_wrong;
         ambiguous_estimates += tr.ambiguous;
         ambiguous_wrong += tr.ambiguous_wrong;
+        map_error_raises += tr.map_error_raises;
+        map_error_flagged += tr.map_error_flagged;
       }
     }
     for (std::size_t j = 0; j < marks; ++j) vs.rmse_at_s.push_back(count[j] ? std::sqrt(sum_sq[j] / count[j]) : 0.0);
@@ -386,6 +394,10 @@ FirefighterSummary FirefighterEvaluation::run(const std::function<void()>& on_ru
     vs.ambiguous_share = all_n ? static_cast<double>(ambiguous_estimates) / static_cast<double>(all_n) : 0.0;
     vs.ambiguous_wrong_fraction =
         ambiguous_estimates ? static_cast<double>(ambiguous_wrong) / static_cast<double>(ambiguous_estimates) : 0.0;
+    // Every walk here is on the plan the filter holds: each raise is a false alarm.
+    const double walked_h = static_cast<double>(all_n) * period / 3600.0;
+    vs.false_map_errors_per_hour = walked_h > 0.0 ? static_cast<double>(map_error_raises) / walked_h : 0.0;
+    vs.false_map_error_share = all_n ? static_cast<double>(map_error_flagged) / static_cast<double>(all_n) : 0.0;
     const double comparison_total = std::accumulate(variant_comparison_ms.begin(), variant_comparison_ms.end(), 0.0);
     vs.ms_per_comparison_median = variant_comparison_ms.empty() ? 0.0 : median(variant_comparison_ms);
     vs.ms_per_update_amortised =

@@ -74,12 +74,15 @@ void MapFilterConfig::validate() const {
   check("floor_tolerance_m", floor_tolerance_m, 0.1, 10.0);
   check("map_error_removed_fraction", map_error_removed_fraction, 0.05, 1.0);
   check("map_error_clear_updates", map_error_clear_updates, 1.0, 1e6);
+  check("map_error_spread_factor", map_error_spread_factor, 1.0, 100.0);
 }
 
 MapParticleFilter::MapParticleFilter(const FloorPlan& plan, const NavigableGrid& grid, MapFilterConfig config)
     : plan_(plan),
       grid_(grid),
       config_((config.validate(), config)),
+      map_error_(MapErrorFlagConfig{config_.converged_variance_m2, config_.map_error_spread_factor,
+                                    config_.map_error_removed_fraction, config_.map_error_clear_updates}),
       kld_needed_(config_.kld_epsilon, config_.kld_confidence) {
   for (std::size_t f = 0; f < plan.floors.size(); ++f) {
     walls_.push_back(std::make_unique<WallIndex>(plan.solid_walls(f, WallSet::kNavigation)));
@@ -114,9 +117,8 @@ void MapParticleFilter::init_around(const Vec2& position, std::size_t floor, dou
   }
   weights_.assign(config_.particles, 1.0 / config_.particles);
   walked_in_ = false;
-  was_converged_ = map_error_ = map_error_since_start_ = false;
-  converged_run_ = moving_steps_ = converged_steps_ = 0;
-  map_error_armed_ = from_entry;
+  moving_steps_ = converged_steps_ = 0;
+  map_error_.restart(from_entry);
   refresh_flags();
 }
 
@@ -154,9 +156,8 @@ void MapParticleFilter::init_unknown(std::mt19937_64& rng, UnknownStart start) {
     weights_[i] =
         prior > 0.0 ? (particles_[i].from_entry ? prior / at_entry : (1.0 - prior) / (n - at_entry)) : 1.0 / n;
   }
-  was_converged_ = map_error_ = map_error_since_start_ = false;
-  converged_run_ = moving_steps_ = converged_steps_ = 0;
-  map_error_armed_ = true;
+  moving_steps_ = converged_steps_ = 0;
+  map_error_.restart(true);
   refresh_flags();
 }
 
@@ -307,7 +308,7 @@ std::optional<EndMask> MapParticleFilter::observation_ends(const PatternMatcher&
   if (!config_.pseudo_observations || particles_.empty()) return mask;  // the update uses none
   const bool replacing = config_.replace_fraction > 0.0 &&
                          (config_.resampling == PseudoResampling::kAlways ||
-                          (config_.resampling == PseudoResampling::kUntilConverged && !was_converged_));
+                          (config_.resampling == PseudoResampling::kUntilConverged && !map_error_.ever_concentrated()));
   if (replacing) return std::nullopt;
   // Particles grouped in cells: the ends that may be nearest to any point of a cell, which
   // holds every particle's nearest end (update() looks up only that one).
@@ -337,7 +338,7 @@ void MapParticleFilter::update(const std::vector<PseudoObservation>& observation
   // error was suspected: the cloud may have converged again in the wrong room, and they are
   // its only way back.
   const double sigma =
-      converged_ && !map_error_since_start_ ? config_.likelihood_sigma_converged : config_.likelihood_sigma;
+      converged_ && !map_error_.since_start() ? config_.likelihood_sigma_converged : config_.likelihood_sigma;
   const double inv_sigma2 = 1.0 / (sigma * sigma);
   // One k-d tree per floor over the observations' distinct positions (a node carries one per
   // column and more where sequences share it), each position with its observations: a particle
@@ -404,7 +405,7 @@ void MapParticleFilter::update(const std::vector<PseudoObservation>& observation
   refresh_flags();
 
   const bool resample = config_.resampling == PseudoResampling::kAlways ||
-                        (config_.resampling == PseudoResampling::kUntilConverged && !was_converged_);
+                        (config_.resampling == PseudoResampling::kUntilConverged && !map_error_.ever_concentrated());
   if (!resample || config_.replace_fraction <= 0.0) return;
   // The q % lowest-weighted particles are drawn from the observations, in proportion to eq. (2).
   std::vector<double> cumulative;
@@ -477,8 +478,8 @@ MapEstimate MapParticleFilter::estimate() const {
   e.covariance = cov;
   e.variance_m2 = cov.trace();
   e.concentrated = converged_;
-  e.map_error_suspected = map_error_;
-  e.map_error_since_start = map_error_since_start_;
+  e.map_error_suspected = map_error_.up();
+  e.map_error_since_start = map_error_.since_start();
   for (std::size_t i = 0; i < particles_.size(); ++i) e.entry_lineage += particles_[i].from_entry ? weights_[i] : 0.0;
   e.converged = e.concentrated && (!walked_in_ || e.entry_lineage >= config_.converged_entry_share);
   if (!e.converged) {
@@ -512,24 +513,7 @@ void MapParticleFilter::refresh_flags(double removed_weight) {
     var += weights_[i] * (particles_[i].position - mean).squaredNorm();
     if (particles_[i].floor != floor0) off_floor += weights_[i];
   }
-  const bool was = converged_;
-  converged_ = var < config_.converged_variance_m2 && (off_floor < 0.05 || off_floor > 0.95);
-  if (!map_error_armed_) {
-    converged_run_ = converged_ ? converged_run_ + 1 : 0;
-    map_error_armed_ = converged_run_ >= config_.map_error_clear_updates;
-    return;
-  }
-  if (removed_weight > config_.map_error_removed_fraction && (was || was_converged_)) {
-    map_error_ = true;
-    converged_run_ = 0;
-  } else if (!converged_ && was_converged_) {
-    map_error_ = true;
-    converged_run_ = 0;
-  } else if (converged_ && ++converged_run_ >= config_.map_error_clear_updates) {
-    map_error_ = false;
-  }
-  map_error_since_start_ = map_error_since_start_ || map_error_;
-  if (converged_) was_converged_ = true;
+  converged_ = map_error_.refresh({var, off_floor >= 0.05 && off_floor <= 0.95, removed_weight});
 }
 
 }  // namespace sarloc::firefighter

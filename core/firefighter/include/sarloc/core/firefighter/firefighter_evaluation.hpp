@@ -80,6 +80,11 @@ struct VariantSummary {
   /// and of those, the share whose truth lies in none of the places' 99 % ellipses.
   double ambiguous_share = 0.0;
   double ambiguous_wrong_fraction = 0.0;
+  /// The map-error flag on walks whose plan is right (every walk of the evaluation but the
+  /// map-error experiment): raises per hour of walking, and the share of estimates flagged. Each
+  /// is a false alarm on incident command's board (ALARM_MAP_ERROR).
+  double false_map_errors_per_hour = 0.0;
+  double false_map_error_share = 0.0;
   double nees_mean = 0.0;              ///< at the end, members converged there (2 dof)
   double nees_lower = 0.0, nees_upper = 0.0;
   std::uint32_t nees_members = 0;

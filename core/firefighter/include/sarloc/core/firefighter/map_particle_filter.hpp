@@ -23,12 +23,13 @@
 //
 // Map errors (section V-E): concentrated while the position variance (trace, horizontal) is
 // below `converged_variance_m2`; converged when concentrated and, for a walk that came in from an
-// unknown start, with `converged_entry_share` of the weight from an entry (below). Map-error-suspected is raised when a
-// converged estimate loses that (the paper's flag), and also when one odometry step removes more than
-// `map_error_removed_fraction` of the weight at walls (the firefighter walked where the map has
-// a wall: a moved door, a new opening), a case the variance alone misses because the survivors
-// converge again, confidently and wrongly. It clears after `map_error_clear_updates` concentrated
-// updates in a row without such a step.
+// unknown start, with `converged_entry_share` of the weight from an entry (below). Map-error-suspected
+// (map_error_flag.hpp) is raised when a concentrated cloud spreads past `map_error_spread_factor`
+// times that variance or onto two floors (the paper's flag, with a deadband), and also when one
+// odometry step removes more than `map_error_removed_fraction` of the weight at walls (the
+// firefighter walked where the map has a wall: a moved door, a new opening), a case the variance
+// alone misses because the survivors converge again, confidently and wrongly. It clears after `map_error_clear_updates`
+// concentrated updates in a row without such a step.
 //
 // Not converged, the estimate lists the places the cloud is in (cloud_places.hpp) and says when
 // it is ambiguous between 2-4 compact ones.
@@ -57,6 +58,7 @@
 #include <vector>
 
 #include "sarloc/core/common/kld_sampling.hpp"
+#include "sarloc/core/firefighter/map_error_flag.hpp"
 #include "sarloc/core/firefighter/pattern_matcher.hpp"
 #include "sarloc/core/firefighter/search_pattern.hpp"
 #include "sarloc/core/firefighter/wall_index.hpp"
@@ -127,6 +129,9 @@ struct MapFilterConfig {
   double floor_tolerance_m = 0.5;
   double map_error_removed_fraction = 0.5;
   std::uint32_t map_error_clear_updates = 60;  ///< 30 s at 2 Hz
+  /// A converged cloud that spreads raises the flag only past this many times
+  /// converged_variance_m2 (a deadband: MapErrorFlagConfig::spread_factor)
+  double map_error_spread_factor = 2.0;
   void validate() const;
 };
 
@@ -191,7 +196,7 @@ class MapParticleFilter {
   /// A start near a place told by someone else (a device's dead reckoning when a daemon meets the
   /// firefighter mid-search): as init_known with its own spreads, and not traced back to an entry
   /// (so never confirmed: only an entry confirms). Such a cloud is a prior, not a lock the map
-  /// made: its first brushes with walls raise no map error (see map_error_armed_).
+  /// made: its first brushes with walls raise no map error (MapErrorFlag::restart).
   void init_near(const Vec2& position, std::size_t floor, double heading, double position_sigma_m,
                  double heading_sigma_deg, std::mt19937_64& rng);
   /// Unknown: drawn uniformly over the navigable area of every floor, any heading; a walk that
@@ -241,15 +246,9 @@ class MapParticleFilter {
   std::vector<Particle> particles_;
   std::vector<Particle> before_;  ///< the cloud before this predict (used if every particle dies)
   std::vector<double> weights_;
-  bool was_converged_ = false;
-  bool map_error_ = false;
-  bool map_error_since_start_ = false;
   bool converged_ = false;  ///< concentrated (MapEstimate::concentrated)
   bool walked_in_ = false;  ///< an unknown start of UnknownStart::kWalkedIn
-  /// The map-error detector watches a cloud the map has locked; after init_near it arms once the
-  /// cloud has stayed concentrated for `map_error_clear_updates` updates.
-  bool map_error_armed_ = true;
-  std::uint32_t converged_run_ = 0;
+  MapErrorFlag map_error_;
   std::uint32_t converged_steps_ = 0;  ///< odometry steps in a row that ended converged
   std::uint32_t moving_steps_ = 0;
   KldSampleCount kld_needed_;
