@@ -77,12 +77,24 @@ void MapFilterConfig::validate() const {
   check("map_error_spread_factor", map_error_spread_factor, 1.0, 100.0);
 }
 
+namespace {
+
+MapErrorFlagConfig map_error_flag_config(const MapFilterConfig& filter) {
+  MapErrorFlagConfig c;
+  c.converged_variance_m2 = filter.converged_variance_m2;
+  c.spread_factor = filter.map_error_spread_factor;
+  c.removed_fraction = filter.map_error_removed_fraction;
+  c.clear_updates = filter.map_error_clear_updates;
+  return c;
+}
+
+}  // namespace
+
 MapParticleFilter::MapParticleFilter(const FloorPlan& plan, const NavigableGrid& grid, MapFilterConfig config)
     : plan_(plan),
       grid_(grid),
       config_((config.validate(), config)),
-      map_error_(MapErrorFlagConfig{config_.converged_variance_m2, config_.map_error_spread_factor,
-                                    config_.map_error_removed_fraction, config_.map_error_clear_updates}),
+      map_error_(map_error_flag_config(config_)),
       kld_needed_(config_.kld_epsilon, config_.kld_confidence) {
   for (std::size_t f = 0; f < plan.floors.size(); ++f) {
     walls_.push_back(std::make_unique<WallIndex>(plan.solid_walls(f, WallSet::kNavigation)));

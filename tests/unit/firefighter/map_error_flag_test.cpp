@@ -48,13 +48,27 @@ TEST(MapErrorFlag, ACloudThatSpreadsPastTheDeadbandRaisesItUntilConcentratedForC
   EXPECT_TRUE(flag.since_start()) << "that it was raised stays said";
 }
 
-TEST(MapErrorFlag, AConcentratedRefreshInsideTheDeadbandDoesNotCountTowardsClearing) {
+TEST(MapErrorFlag, OnlyRefreshesUnderTheThresholdCountTowardsClearing) {
   const MapErrorFlagConfig config;
   MapErrorFlag flag = converged_flag();
   flag.refresh({10.0, false, 0.0});
   for (std::uint32_t k = 0; k < 2 * config.clear_updates; ++k)
     flag.refresh({k % 10 == 9 ? 4.0 : kConcentrated, false, 0.0});
   EXPECT_TRUE(flag.up()) << "every tenth refresh was not concentrated: never clear_updates in a row";
+}
+
+TEST(MapErrorFlag, ACloudThatSpreadsSlowlyThroughTheDeadbandRaisesItOnceThrough) {
+  // A real map error may spread the cloud a little each step: it is concentrated at no refresh
+  // in between, and the flag still rises once the variance leaves the deadband.
+  const MapErrorFlagConfig config;
+  MapErrorFlag flag = converged_flag();
+  const double edge = config.spread_factor * config.converged_variance_m2;
+  for (double variance = 3.5; variance < edge; variance += 0.5) {
+    flag.refresh({variance, false, 0.0});
+    ASSERT_FALSE(flag.up()) << variance << " m2 is inside the deadband";
+  }
+  flag.refresh({edge, false, 0.0});
+  EXPECT_TRUE(flag.up());
 }
 
 TEST(MapErrorFlag, AStepThatRemovesMostOfTheWeightAtWallsRaisesIt) {

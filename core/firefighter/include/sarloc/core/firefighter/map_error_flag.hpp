@@ -15,7 +15,9 @@ struct MapErrorFlagConfig {
   /// each time (docs/estimation/firefighter.md, "False map errors").
   double spread_factor = 2.0;
   double removed_fraction = 0.5;     ///< one step removing more of the weight at walls raises it
-  std::uint32_t clear_updates = 60;  ///< concentrated refreshes in a row that clear it (30 s at 2 Hz)
+  /// Concentrated refreshes in a row that clear it: one per odometry step (2 Hz) and one per
+  /// pattern comparison (every 2 m walked), about 25 s at walking pace.
+  std::uint32_t clear_updates = 60;
 };
 
 /// The cloud at one refresh.

@@ -128,8 +128,8 @@ struct MapFilterConfig {
   double known_heading_sigma_deg = 2.0;
   double floor_tolerance_m = 0.5;
   double map_error_removed_fraction = 0.5;
-  std::uint32_t map_error_clear_updates = 60;  ///< 30 s at 2 Hz
-  /// A converged cloud that spreads raises the flag only past this many times
+  std::uint32_t map_error_clear_updates = 60;  ///< refreshes: about 25 s at walking pace (MapErrorFlagConfig)
+  /// A concentrated cloud that spreads raises the flag only past this many times
   /// converged_variance_m2 (a deadband: MapErrorFlagConfig::spread_factor)
   double map_error_spread_factor = 2.0;
   void validate() const;
