@@ -234,7 +234,7 @@ void MapParticleFilter::predict(const Eigen::Vector3d& delta, std::mt19937_64& r
   for (std::size_t i = 0; i < particles_.size(); ++i) removed += dead[i] ? weights_[i] : 0.0;
   replace_dead(dead, rng);
   refresh_flags(removed);
-  converged_steps_ = converged_ ? converged_steps_ + 1 : 0;
+  converged_steps_ = map_error_.concentrated() ? converged_steps_ + 1 : 0;
   if (moving && ++moving_steps_ % kAdaptEveryMovingSteps == 0) adapt_count(rng);
 }
 
@@ -265,7 +265,7 @@ void MapParticleFilter::adapt_count(std::mt19937_64& rng) {
   if (config_.particles_max <= config_.particles) return;  // a fixed count, the paper's
   // Until the cloud has converged, KLD-sampling on a multi-modal cloud keeps a count that
   // loses the true mode at random (house-125: a wrong room confirmed); hold every particle.
-  if (!converged_) return;
+  if (!map_error_.concentrated()) return;
   std::vector<double> cumulative(weights_.size());
   std::partial_sum(weights_.begin(), weights_.end(), cumulative.begin());
   std::unordered_set<std::uint64_t> bins;
@@ -349,8 +349,8 @@ void MapParticleFilter::update(const std::vector<PseudoObservation>& observation
   // count in full (seed 004 VI: of most use before convergence), and so for good once a map
   // error was suspected: the cloud may have converged again in the wrong room, and they are
   // its only way back.
-  const double sigma =
-      converged_ && !map_error_.since_start() ? config_.likelihood_sigma_converged : config_.likelihood_sigma;
+  const double sigma = map_error_.concentrated() && !map_error_.since_start() ? config_.likelihood_sigma_converged
+                                                                              : config_.likelihood_sigma;
   const double inv_sigma2 = 1.0 / (sigma * sigma);
   // One k-d tree per floor over the observations' distinct positions (a node carries one per
   // column and more where sequences share it), each position with its observations: a particle
@@ -489,7 +489,7 @@ MapEstimate MapParticleFilter::estimate() const {
   e.position = mean;
   e.covariance = cov;
   e.variance_m2 = cov.trace();
-  e.concentrated = converged_;
+  e.concentrated = map_error_.concentrated();
   e.map_error_suspected = map_error_.up();
   e.map_error_since_start = map_error_.since_start();
   for (std::size_t i = 0; i < particles_.size(); ++i) e.entry_lineage += particles_[i].from_entry ? weights_[i] : 0.0;
@@ -525,7 +525,7 @@ void MapParticleFilter::refresh_flags(double removed_weight) {
     var += weights_[i] * (particles_[i].position - mean).squaredNorm();
     if (particles_[i].floor != floor0) off_floor += weights_[i];
   }
-  converged_ = map_error_.refresh({var, off_floor >= 0.05 && off_floor <= 0.95, removed_weight});
+  map_error_.refresh({var, off_floor >= 0.05 && off_floor <= 0.95, removed_weight});
 }
 
 }  // namespace sarloc::firefighter

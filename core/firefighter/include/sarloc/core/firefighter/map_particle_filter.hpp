@@ -246,9 +246,8 @@ class MapParticleFilter {
   std::vector<Particle> particles_;
   std::vector<Particle> before_;  ///< the cloud before this predict (used if every particle dies)
   std::vector<double> weights_;
-  bool converged_ = false;  ///< concentrated (MapEstimate::concentrated)
   bool walked_in_ = false;  ///< an unknown start of UnknownStart::kWalkedIn
-  MapErrorFlag map_error_;
+  MapErrorFlag map_error_;  ///< also whether the cloud is concentrated (MapEstimate::concentrated)
   std::uint32_t converged_steps_ = 0;  ///< odometry steps in a row that ended converged
   std::uint32_t moving_steps_ = 0;
   KldSampleCount kld_needed_;
