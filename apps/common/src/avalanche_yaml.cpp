@@ -95,6 +95,8 @@ void read_sog(YamlReader r, avalanche::SogConfig& c) {
   r.read("converged_divergence_ratio", c.converged_divergence_ratio);
   r.read("leap_gate_probability", c.leap_gate_probability);
   r.read("leap_min_range_m", c.leap_min_range_m);
+  r.read("window_fit_samples", c.window_fit_samples);
+  r.read("window_region_probability", c.window_region_probability);
   r.read("implausible_rebuild_steps", c.implausible_rebuild_steps);
   r.read("iterated_update_max", c.iterated_update_max);
   r.read("relinearise_threshold_sigmas", c.relinearise_threshold_sigmas);
@@ -139,6 +141,7 @@ void read_search(YamlReader r, avalanche::SearchConfig& c, incident::SearchPlanC
   r.read("confirm_max_last_nis", c.confirm_max_last_nis);
   r.read("confirm_probe_window", c.confirm_probe_window);
   r.read("confirm_probe_gate_probability", c.confirm_probe_gate_probability);
+  r.read("confirm_window_reach_factor", c.confirm_window_reach_factor);
   r.read("found_confirmations", c.found_confirmations);
   r.read("confirm_max_waits", c.confirm_max_waits);
   r.read("confirm_probe_per_depth", c.confirm_probe_per_depth);

@@ -65,6 +65,7 @@ void SearchConfig::validate() const {
   check("confirm_innovation_window", confirm_innovation_window, 1.0, static_cast<double>(InnovationRecord::kHistory), false);
   check("confirm_probe_window", confirm_probe_window, 1.0, static_cast<double>(InnovationRecord::kHistory), false);
   check("confirm_probe_gate_probability", confirm_probe_gate_probability, 0.5, 1.0, true);
+  check("confirm_window_reach_factor", confirm_window_reach_factor, 0.0, 100.0, false);
   check("found_confirmations", found_confirmations, 1.0, 20.0, false);
   check("confirm_probe_per_depth", confirm_probe_per_depth, 0.0, 2.0, false);
   check("confirm_max_waits", confirm_max_waits, static_cast<double>(kConfirmWaits), 600.0, false);
@@ -119,6 +120,11 @@ ConfirmationEvidence SearchController::evidence(const TransmitterFilter& filter,
   const InnovationRecord::Sum probe = record.within(located_radius(relative_position), config_.confirm_probe_window);
   // A NaN sum (a numerically failed update) is no evidence of fit: probability 1, not a throw.
   if (probe.dof > 0.0) e.probe_nis_probability = probe.nis >= 0.0 ? chi_square_cdf(probe.nis, probe.dof) : 1.0;
+  // The window fit costs about a millisecond: asked only where a confirmation could follow.
+  const double located = located_radius(relative_position);
+  const Mat3 cov = filter.moments().covariance.block<3, 3>(idx::kPos, idx::kPos);
+  if (config_.confirm_window_reach_factor > 0.0 && radius95_3d(cov) <= located)
+    e.window_reaches_farther = filter.window_reaches(config_.confirm_window_reach_factor * located);
   return e;
 }
 
@@ -136,6 +142,9 @@ EstimatorStatus SearchController::assess(const VictimEstimate& e, const Confirma
   if (!below_receiver(e.relative.position, e.relative.covariance))
     return std::min(e.status, EstimatorStatus::kConverged);
   if (radius95_3d(e.relative.covariance) > located_radius(e.relative.position)) return e.status;
+  // How far its latest samples alone allow the victim: a filter collapsed early on a wrong place
+  // near a deep victim states a radius its samples do not hold (SogFilter::window_reaches).
+  if (evidence.window_reaches_farther) return e.status;
   if (e.relative.position.head<2>().norm() <= config_.found_distance_m)
     return EstimatorStatus::kFound;
   return EstimatorStatus::kLocated;

@@ -81,6 +81,10 @@ void SogConfig::validate() const {
           "sog.leap_gate_probability", leap_gate_probability, "must be 0 (off) or in (0.5, 1)");
   require(std::isfinite(leap_min_range_m) && leap_min_range_m >= 0.0 && leap_min_range_m <= 100.0,
           "sog.leap_min_range_m", leap_min_range_m, "must be in [0, 100]");
+  require(window_fit_samples == 0 || (window_fit_samples >= 4 && window_fit_samples <= 200), "sog.window_fit_samples",
+          window_fit_samples, "must be 0 (off) or in [4, 200]");
+  require(window_region_probability > 0.5 && window_region_probability < 1.0, "sog.window_region_probability",
+          window_region_probability, "must be in (0.5, 1)");
   require(implausible_rebuild_steps <= 10000, "sog.implausible_rebuild_steps", implausible_rebuild_steps,
           "must be in [0, 10000]");
   require(converged_divergence_ratio >= 1.0 && converged_divergence_ratio <= 1e6, "sog.converged_divergence_ratio",

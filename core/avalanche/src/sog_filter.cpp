@@ -32,6 +32,7 @@ void SogFilter::add_odometry(const Odometry& odometry) {
 
 SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   check_sample(measurement, rescuer_id_, last_sequence_);
+  ++updates_;
   SogStepResult result;
   if (measurement.valid_axes == 0) {
     // A pulse of this signal was due and not heard: nothing to initialise from or update with,
@@ -59,9 +60,11 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   last_stamp_ = measurement.stamp;
   heard_at_ = Vec3::Zero();
   result.components_before = components_.size();
-  const double radius95_before = radius95_3d(moments().covariance.block<3, 3>(idx::kPos, idx::kPos));
+  const MixtureMoments before = moments();
+  const double radius95_before = radius95_3d(before.covariance.block<3, 3>(idx::kPos, idx::kPos));
   const Displacement disp = odometry_.take();
   move_anchor(disp);
+  move_window(before, disp);
   const OrientationObservation* orientation =
       measurement.orientation && config_.use_orientation ? &*measurement.orientation : nullptr;
   Vec3 floor = config_.noise().floor(measurement.noise_stddev);
@@ -105,6 +108,7 @@ SogStepResult SogFilter::process(const FieldMeasurement& measurement) {
   }
   apply_priors();
   normalise_and_prune();
+  remember_sample(measurement.field, config_.noise().floor(measurement.noise_stddev), measurement.valid_axes);
   ++steps_;
   ++mixture_samples_;
   if (config_.merge_interval > 0 && steps_ % config_.merge_interval == 0) result.merged = merge();
@@ -141,6 +145,7 @@ bool SogFilter::add_hypotheses(const SogFilter& other) {
     components_.push_back(c);
   }
   anchor_.reset();  // a new posterior: the leap test starts from it
+  ++updates_;       // and a new reach
   return true;
 }
 

@@ -87,6 +87,7 @@ void SogFilter::initialise(const FieldMeasurement& meas) {
   if (meas.valid_axes == 0) throw InputError("field_measurement.valid_axes = 0: a pulse not heard initialises nothing");
   heard_at_ = Vec3::Zero();
   anchor_.reset();
+  window_.clear();     // the window holds the current mixture's samples, as mixture_samples_ counts
   gate_failures_ = 0;  // a new mixture starts a new innovation history
   implausible_steps_ = 0;
   mixture_samples_ = 1;

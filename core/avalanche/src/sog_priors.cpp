@@ -19,8 +19,10 @@ double SogFilter::apply_miss(const Vec3& floor) {
   // Move every Gaussian, and the place the signal was last heard, to where the rescuer stands
   // now (composition, no correction).
   const Displacement disp = odometry_.take();
-  heard_at_ = moved_point(moments(), heard_at_, disp.mean);
+  const MixtureMoments before = moments();
+  heard_at_ = moved_point(before, heard_at_, disp.mean);
   move_anchor(disp);
+  move_window(before, disp);
   for (auto& c : components_) {
     CompositionJacobians f;
     const StateVec x = CompositionModel::f(c.x, disp.mean, &f);

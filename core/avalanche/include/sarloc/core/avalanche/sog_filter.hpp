@@ -32,12 +32,13 @@
 
 #include "sarloc/core/avalanche/detection_curve.hpp"
 #include "sarloc/core/avalanche/dipole_model.hpp"
+#include "sarloc/core/avalanche/dipole_window_fit.hpp"
 #include "sarloc/core/avalanche/field_fit.hpp"
 #include "sarloc/core/avalanche/field_measurement.hpp"
 #include "sarloc/core/avalanche/field_noise_model.hpp"
-#include "sarloc/core/avalanche/responder_types.hpp"
 #include "sarloc/core/avalanche/odometry_accumulator.hpp"
 #include "sarloc/core/avalanche/receiver_model.hpp"
+#include "sarloc/core/avalanche/responder_types.hpp"
 #include "sarloc/core/avalanche/transmitter_filter.hpp"
 #include "sarloc/core/avalanche/transmitter_standard.hpp"
 
@@ -166,6 +167,15 @@ struct SogConfig {
   /// mixtures are exempt from the divergence test), and a ring rebuilt from a near-field
   /// sample converged 1.6 m off a victim (4 victims seed 2, trial 43: leaps at 1.4-2.4 m).
   double leap_min_range_m = 3.0;
+  /// What the latest samples say (DipoleWindowFit, window_reaches()): the filter keeps its last
+  /// this-many samples, placed where they were taken, and one dipole fitted to them at once
+  /// tells how far from the estimate they alone allow the transmitter. A filter collapsed early
+  /// on a wrong place near a deep victim was FOUND 1.2 m off with a 0.29 m radius, where its last
+  /// 11 samples allowed 1.22 m (docs/estimation/avalanche.md, "What the latest samples say").
+  /// 0 = off (no window: it allows nothing).
+  std::uint32_t window_fit_samples = 24;
+  /// The window's region: where the profile likelihood is within chi2_3 of this of its best.
+  double window_region_probability = 0.95;
   /// A converged mixture that has pinned down nothing a transmitter could be (its moment outside
   /// the standard's bounds, or above the receiver) for this many updates in a row is rebuilt
   /// from z_k: it fits the data, so neither the divergence nor the leap test undoes it (seen: a
@@ -287,6 +297,12 @@ class SogFilter : public TransmitterFilter {
   /// rebuilt mixture is a new guess, and a guess converged in a few near-field samples next to a
   /// cluster is no victim (SearchConfig::confirm_min_samples counts these).
   std::uint64_t mixture_samples() const override { return mixture_samples_; }
+  /// Whether the window's samples alone allow the transmitter `distance` (m) or farther from the
+  /// mixture's mean: a point of their 95 % region (SogConfig::window_region_probability) that far
+  /// out along the window fit's principal axes or the line to the mean. false with fewer than 10
+  /// samples in the window; true when no dipole fits them. Remembered for the update it was
+  /// asked on (a dozen small fits: about a millisecond).
+  bool window_reaches(double distance) const override;
 
   /// Eq. (18) over the full state (angles averaged relative to the heaviest component).
   MixtureMoments moments() const override;
@@ -367,6 +383,19 @@ class SogFilter : public TransmitterFilter {
   };
   std::optional<PositionAnchor> anchor_;
   void move_anchor(const Displacement& disp);
+  /// The window's samples moved to the frame after `disp` on the attitude of `mm` (the
+  /// mixture's moments before it), their position variance grown by it.
+  void move_window(const MixtureMoments& mm, const Displacement& disp);
+  /// This sample (already composed into the current frame) joins the window.
+  void remember_sample(const Vec3& field, const Vec3& floor, std::uint8_t axes);
+  std::deque<WindowSample> window_;
+  std::uint64_t updates_ = 0;  ///< process() calls: what window_reaches()'s cache is keyed on
+  struct ReachCache {
+    std::uint64_t update = 0;
+    double distance = 0.0;
+    bool reaches = false;
+  };
+  mutable std::optional<ReachCache> reach_cache_;
   /// The mixture re-initialised from this measurement (divergence or leap).
   void rebuild(const FieldMeasurement& measurement, SogStepResult& result);
   /// Squared Mahalanobis distance of the position posterior from the anchor; tightens it.

@@ -104,6 +104,11 @@ class TransmitterFilter {
   virtual std::uint64_t mixture_samples() const = 0;
   /// The posterior's moment magnitude within the transmitter standard's bounds (2 sigma).
   virtual bool moment_plausible() const = 0;
+  /// Whether the filter's latest samples alone allow the transmitter `distance` (m) or farther
+  /// from the estimate (95 %): a filter's confidence may come from a history that was wrong
+  /// (SogFilter::window_reaches). false for a filter that keeps no window of samples (the
+  /// particle and grid baselines).
+  virtual bool window_reaches(double /*distance*/) const { return false; }
 
   /// The field noise model the filter applies (field_noise_model.hpp).
   virtual FieldNoiseModel noise() const = 0;
