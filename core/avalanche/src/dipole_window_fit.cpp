@@ -31,7 +31,7 @@ DipoleWindowFit::DipoleWindowFit(const DipoleFitModel& model, std::vector<Window
     const Vec3 z = s.field.cwiseProduct(Vec3((s.axes & 1U) != 0, (s.axes & 2U) != 0, (s.axes & 4U) != 0));
     // The filter's noise, its calibration errors as white noise, and the antenna's position
     // error times the field's gradient (|dH/dr| is about 3 |H| / r).
-    const Vec3 base = model_.noise.sigma(z.norm(), s.floor);
+    const Vec3 base = model_.noise.sigma(z.norm(), model_.noise.floor(s.floor));  // never a zero sigma
     const double gradient = 3.0 * z.norm() / std::max(kMinRange, (s.antenna - reference).norm());
     Vec3 sigma;
     for (int a = 0; a < 3; ++a) {
@@ -124,8 +124,10 @@ std::optional<DipoleFit> DipoleWindowFit::solve(const Vec3& p0, const Vec3& m0, 
       }
       lambda *= 10.0;
     }
-    // No step lowers the deviance, or the last lowered it by nothing that matters: a minimum.
-    if (!accepted || gain < 1e-6 * std::max(1.0, current->deviance)) break;
+    // No step lowers the deviance, or a Gauss-Newton-sized step (lambda small) lowered it by
+    // nothing that matters: a minimum. A tiny gain under a large lambda is a short step in a flat
+    // valley (a deep victim), not the bottom of it.
+    if (!accepted || (gain < 1e-6 * std::max(1.0, current->deviance) && lambda < 1e-2)) break;
   }
   DipoleFit out;
   out.position = p;

@@ -120,7 +120,8 @@ ConfirmationEvidence SearchController::evidence(const TransmitterFilter& filter,
   const InnovationRecord::Sum probe = record.within(located_radius(relative_position), config_.confirm_probe_window);
   // A NaN sum (a numerically failed update) is no evidence of fit: probability 1, not a throw.
   if (probe.dof > 0.0) e.probe_nis_probability = probe.nis >= 0.0 ? chi_square_cdf(probe.nis, probe.dof) : 1.0;
-  // The window fit costs about a millisecond: asked only where a confirmation could follow.
+  // The window fit costs about a millisecond: asked only once the radius is within the located
+  // radius, where a confirmation could follow.
   const double located = located_radius(relative_position);
   const Mat3 cov = filter.moments().covariance.block<3, 3>(idx::kPos, idx::kPos);
   if (config_.confirm_window_reach_factor > 0.0 && radius95_3d(cov) <= located)

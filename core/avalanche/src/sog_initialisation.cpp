@@ -87,7 +87,7 @@ void SogFilter::initialise(const FieldMeasurement& meas) {
   if (meas.valid_axes == 0) throw InputError("field_measurement.valid_axes = 0: a pulse not heard initialises nothing");
   heard_at_ = Vec3::Zero();
   anchor_.reset();
-  window_.clear();     // the window holds the current mixture's samples, as mixture_samples_ counts
+  window_.clear();     // the window holds the current mixture's samples (this one: below)
   gate_failures_ = 0;  // a new mixture starts a new innovation history
   implausible_steps_ = 0;
   mixture_samples_ = 1;
@@ -211,6 +211,7 @@ void SogFilter::initialise(const FieldMeasurement& meas) {
   }
   apply_priors();
   normalise_and_prune();
+  if (initialised()) remember_sample(meas.field, config_.noise().floor(meas.noise_stddev), meas.valid_axes);
 }
 
 }  // namespace sarloc::avalanche

@@ -140,7 +140,7 @@ TEST(SogWindowReach, SamplesFromOneSpotOverADeepVictimAllowItFartherThanSamplesA
   double error = 0.0;
   const SogFilter ring = walked_filter(2.8, true, 24, &error);
   EXPECT_LT(error, 0.4);
-  EXPECT_FALSE(ring.window_reaches(0.8));
+  EXPECT_FALSE(ring.window_reaches(0.8));  // so a dipole was fitted to this geometry
   EXPECT_TRUE(ring.window_reaches(0.05));  // no window pins a victim 3.8 m away to 5 cm
   const SogFilter spot = walked_filter(2.8, false, 24, &error);
   EXPECT_TRUE(spot.window_reaches(0.8));

@@ -54,6 +54,17 @@ VictimEstimate tight_estimate_under_the_rescuer() {
   return e;
 }
 
+// A filter whose latest samples alone allow the victim farther than twice the located radius
+// (SogFilter::window_reaches) is neither LOCATED nor FOUND, however tight its own radius.
+TEST(SearchControllerTest, LatestSamplesThatReachFartherConfirmNothing) {
+  const SearchController ctl;
+  const VictimEstimate e = tight_estimate_under_the_rescuer();
+  ConfirmationEvidence evidence{100};
+  EXPECT_EQ(ctl.assess(e, evidence), EstimatorStatus::kFound);
+  evidence.window_reaches_farther = true;
+  EXPECT_EQ(ctl.assess(e, evidence), EstimatorStatus::kConverged);
+}
+
 // A filter whose last six samples fit but whose longer history does not (it lost its transmitter
 // while converged, and crept off) confirms nothing.
 TEST(SearchControllerTest, AnInconsistentHistoryConfirmsNothing) {

@@ -6,9 +6,9 @@
 // samples to come from there, linearised at its own mean: a victim 2.8 m deep was confirmed
 // 1.2 m off with a 0.29 m radius while the samples fitted the truth far better (NIS 0.5-1.6
 // against 4-8; docs/estimation/avalanche.md, "What the latest samples say"). A batch fit has no
-// such memory: it re-linearises every sample at every iteration. The SOG filter runs it on its
-// window when converged (SogFilter, SogConfig::window_fit_samples) and takes a place that fits
-// significantly better, outside its own posterior, as a hypothesis beside its own.
+// such memory: it re-linearises every sample at every iteration. The SOG filter fits its window
+// of latest samples when a confirmation is asked (SogFilter::window_reaches) and tells how far
+// from its estimate they alone allow the transmitter.
 //
 // Each sample's noise is set once, from the field measured (as FieldNoiseModel does where no
 // prediction is at hand) and its range to a reference point: the deviance is then a weighted

@@ -299,8 +299,9 @@ class SogFilter : public TransmitterFilter {
   std::uint64_t mixture_samples() const override { return mixture_samples_; }
   /// Whether the window's samples alone allow the transmitter `distance` (m) or farther from the
   /// mixture's mean: a point of their 95 % region (SogConfig::window_region_probability) that far
-  /// out along the window fit's principal axes or the line to the mean. false with fewer than 10
-  /// samples in the window; true when no dipole fits them. Remembered for the update it was
+  /// out along the window fit's principal axes or the line to the mean (8 directions: a curved
+  /// region may reach farther between them). false with fewer than 10 samples in the window (or
+  /// window_fit_samples, if fewer); true when no dipole fits them. Remembered for the update it was
   /// asked on (a dozen small fits: about a millisecond).
   bool window_reaches(double distance) const override;
 
